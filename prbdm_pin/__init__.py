@@ -1,0 +1,58 @@
+"""prbdm_pin: pseudo-rigid-body dynamic models (PRBDM) of compliant cantilevers on Pinocchio.
+
+The public API is re-exported here and imported lazily, so ``import prbdm_pin`` stays cheap and
+optional dependencies load only when used.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+__version__ = "0.1.0"
+
+_EXPORTS = {
+    # geometry
+    "Material": "geometry",
+    "Beam": "geometry",
+    "load_beam": "geometry",
+    "save_beam": "geometry",
+    "random_beam": "geometry",
+    "beam_from_dict": "geometry",
+    # errors
+    "BeamInputError": "errors",
+    "SolveError": "errors",
+    "TruthError": "errors",
+    # sections, layout, stiffness
+    "LinkSections": "sections",
+    "link_sections": "sections",
+    "pose_sweep": "stiffness",
+    "paper_stiffness": "stiffness",
+    "finite_segment_stiffness": "stiffness",
+    # model
+    "PrbdmModel": "model",
+    "build_model": "model",
+    "load_urdf": "model",
+    # truth
+    "TruthResult": "truth",
+    "compute_truth": "truth",
+    # fitting
+    "fit": "fitting",
+    "fit_pareto": "fitting",
+    # simulation
+    "simulate": "simulation",
+    "Trajectory": "simulation",
+}
+
+__all__ = ["__version__", *_EXPORTS]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'prbdm_pin' has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
