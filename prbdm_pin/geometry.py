@@ -1,7 +1,7 @@
 """Beam input: material, planform and thickness; validation, beam JSON, random beams.
 
-Conventions (see the method note): the beam axis is x with the clamped root at x = 0 and the tip at
-x = L; the planform is symmetric about the x axis with a piecewise-linear half-width w(x) through the
+Conventions: the beam axis is x with the clamped root at x = 0 and the tip at x = L; the
+planform is symmetric about the x axis with a piecewise-linear half-width w(x) through the
 vertices (x_k, w_k); the thickness t is uniform and bending is out of plane (deflection along z).
 """
 

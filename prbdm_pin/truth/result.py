@@ -1,0 +1,169 @@
+"""Data carried out of the finite-element truth: modal and static solutions, and the TruthResult.
+
+Every array is read-only; every field has its unit in its name or docstring.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Timings", "ModalSolution", "StaticSolution", "TruthResult"]
+
+
+@dataclass(frozen=True)
+class Timings:
+    """Wall times of one finite-element solve, in s."""
+
+    mesh_s: float = 0.0
+    basis_s: float = 0.0
+    assembly_s: float = 0.0
+    solve_s: float = 0.0
+
+    @property
+    def total_s(self) -> float:
+        return self.mesh_s + self.basis_s + self.assembly_s + self.solve_s
+
+
+@dataclass(frozen=True, eq=False)
+class ModalSolution:
+    """All computed modes of one model on one mesh, ascending in frequency.
+
+    Attributes
+    ----------
+    model : str
+        ``"plate-argyris"``, ``"plate-morley"``, ``"solid"`` or ``"beam"``.
+    omega_rad_s : ndarray, shape (k,)
+        Natural frequencies in rad/s.
+    mpf_z : ndarray, shape (k,)
+        z mass-participation factor (phi^T M r_z)^2 / (phi^T M phi), in kg.
+    mpf_z_fraction : ndarray, shape (k,)
+        ``mpf_z`` divided by the total mass (sums to <= 1 over all modes).
+    symmetric : ndarray of bool, shape (k,)
+        Whether the mode's z displacement is symmetric about the x axis.
+    mac_beam : ndarray, shape (k,)
+        Best modal assurance criterion of the mode's centreline z displacement with a 1D beam
+        bending mode (NaN where not computed).
+    beam_mode_index : ndarray of int, shape (k,)
+        Index (0-based) of that best-matching beam mode (-1 where not computed).
+    centerline_x_m : ndarray, shape (s,)
+        Stations along the axis y = 0 where ``centerline_uz`` is sampled, m.
+    centerline_uz : ndarray, shape (k, s)
+        Mode shapes' z displacement along the axis (arbitrary scale).
+    dofs : int
+    mesh_level : int
+    timings : Timings
+    nodes_m : ndarray, shape (N, 3)
+        Mesh nodes for export, m.
+    cells : ndarray, shape (c, v)
+        Mesh connectivity for export.
+    cell_type : str
+        meshio cell type name (``"triangle"``, ``"hexahedron27"``, ``"line"`` ...).
+    node_uz : ndarray, shape (k, N)
+        Nodal z displacement of each mode (not the element's raw DOF vector).
+    """
+
+    model: str
+    omega_rad_s: np.ndarray
+    mpf_z: np.ndarray
+    mpf_z_fraction: np.ndarray
+    symmetric: np.ndarray
+    mac_beam: np.ndarray
+    beam_mode_index: np.ndarray
+    centerline_x_m: np.ndarray
+    centerline_uz: np.ndarray
+    dofs: int
+    mesh_level: int
+    timings: Timings = field(default_factory=Timings)
+    nodes_m: np.ndarray | None = None
+    cells: np.ndarray | None = None
+    cell_type: str = ""
+    node_uz: np.ndarray | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class StaticSolution:
+    """Tip response under a tip force spread uniformly over the free edge.
+
+    Attributes
+    ----------
+    model : str
+    nonlinear : bool
+        True for a geometrically nonlinear (large-deflection) solve.
+    tip_force_N : ndarray, shape (3,)
+    tip_position_m : ndarray, shape (3,)
+        Deformed position of the tip centre (x = L, y = 0, mid-surface), m.
+    tip_displacement_m : ndarray, shape (3,)
+        ``tip_position_m`` minus the undeformed tip (L, 0, 0), m.
+    dofs : int
+    mesh_level : int
+    load_steps : int
+    timings : Timings
+    """
+
+    model: str
+    nonlinear: bool
+    tip_force_N: np.ndarray
+    tip_position_m: np.ndarray
+    tip_displacement_m: np.ndarray
+    dofs: int
+    mesh_level: int
+    load_steps: int = 1
+    timings: Timings = field(default_factory=Timings)
+
+
+@dataclass(frozen=True, eq=False)
+class TruthResult:
+    """The finite-element truth a fit is measured against.
+
+    Attributes
+    ----------
+    beam_fingerprint : str
+    model : str
+    mesh_level : int
+    selection : str
+        Mode-selection policy: ``"paper"`` (largest z mass participation) or ``"shape"``.
+    omega_rad_s : ndarray, shape (N,)
+        The selected bending modes' natural frequencies, ascending, rad/s.
+    mode_index : ndarray of int, shape (N,)
+        Their indices into ``modal.omega_rad_s``.
+    mpf_z_fraction, mac_beam : ndarray, shape (N,)
+        Their mass participation (fraction of total mass) and MAC with a beam bending mode.
+    labels : tuple of str
+        A label for every computed mode (``"bending"``, ``"torsion"``, ``"chordwise"``, ...).
+    modal : ModalSolution
+    static_linear, static_nonlinear : StaticSolution or None
+        Under the beam file's tip force.
+    version : str
+        Package version that computed it.
+    warnings : tuple of str
+        E.g. a selected mode that is not beam-like.
+    """
+
+    beam_fingerprint: str
+    model: str
+    mesh_level: int
+    selection: str
+    omega_rad_s: np.ndarray
+    mode_index: np.ndarray
+    mpf_z_fraction: np.ndarray
+    mac_beam: np.ndarray
+    labels: tuple[str, ...]
+    modal: ModalSolution
+    static_linear: StaticSolution | None
+    static_nonlinear: StaticSolution | None
+    version: str
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def tip_position_m(self) -> np.ndarray | None:
+        """Large-deflection tip position if computed, else the linear one (m)."""
+        s = self.static_nonlinear or self.static_linear
+        return None if s is None else s.tip_position_m
+
+    @property
+    def tip_displacement_m(self) -> np.ndarray | None:
+        """Large-deflection tip displacement if computed, else the linear one (m)."""
+        s = self.static_nonlinear or self.static_linear
+        return None if s is None else s.tip_displacement_m
