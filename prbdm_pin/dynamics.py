@@ -1,0 +1,374 @@
+"""Dynamics and statics of a PRBDM chain: free functions in Pinocchio's style f(model, data, ...).
+
+``pin_model`` is a ``pinocchio.Model`` of a serial chain of revolute joints about y (the model
+builder's output); ``data`` is its workspace (``pin_model.createData()``), created once and reused;
+stiffness is the diagonal of K in N m/rad. Frequencies solve the symmetric generalised problem
+K phi = omega^2 M phi through the diagonal scaling K^(-1/2) M K^(-1/2) (exact, no inverse of M, and
+the lowest frequencies come out of the largest eigenvalues, where the solver is most accurate).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from .errors import BeamInputError, SolveError
+
+__all__ = [
+    "mass_matrix",
+    "mass_matrices",
+    "natural_frequencies",
+    "natural_frequencies_batch",
+    "modes",
+    "modal_damping",
+    "tip_position",
+    "tip_jacobian",
+    "planar_lengths",
+    "planar_tip",
+    "static_deflection",
+    "static_deflection_planar",
+]
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def _q(pin_model: pin.Model, q: np.ndarray | None) -> np.ndarray:
+    n = pin_model.nq
+    if q is None:
+        return np.zeros(n)
+    arr = np.asarray(q, dtype=float)
+    if arr.shape != (n,):
+        raise BeamInputError(f"q has shape {arr.shape}: must be ({n},) joint angles (rad)")
+    if not np.all(np.isfinite(arr)):
+        raise BeamInputError(f"q = {arr.tolist()}: must be finite (rad)")
+    return arr
+
+
+def mass_matrix(pin_model: pin.Model, data: pin.Data, q: np.ndarray | None = None) -> np.ndarray:
+    """Joint-space mass matrix M(q) by CRBA, kg m^2, shape (n, n), symmetric.
+
+    Pinocchio's C++ CRBA fills only the upper triangle; the Python binding returns the
+    symmetrised matrix (tests check that it stays so).
+    """
+    return pin.crba(pin_model, data, _q(pin_model, q))
+
+
+def mass_matrices(pin_model: pin.Model, data: pin.Data, Q: np.ndarray) -> np.ndarray:
+    """Mass matrices at the poses in the rows of ``Q`` (rad), kg m^2, shape (m, n, n)."""
+    Q = _poses(pin_model, Q)
+    out = np.empty((Q.shape[0], pin_model.nv, pin_model.nv))
+    crba = pin.crba
+    for i in range(Q.shape[0]):
+        out[i] = crba(pin_model, data, Q[i])
+    return out
+
+
+def _poses(pin_model: pin.Model, Q: np.ndarray) -> np.ndarray:
+    Q = np.asarray(Q, dtype=float)
+    n = pin_model.nq
+    if Q.ndim != 2 or Q.shape[1] != n:
+        raise BeamInputError(f"Q has shape {Q.shape}: must be (m, {n}) joint angles (rad)")
+    if not np.all(np.isfinite(Q)):
+        raise BeamInputError("Q: every joint angle must be finite (rad)")
+    return Q
+
+
+def _stiffness(k: np.ndarray, n: int, m: int | None = None) -> np.ndarray:
+    k = np.asarray(k, dtype=float)
+    ok_shapes = [(n,)] if m is None else [(n,), (m, n)]
+    if k.shape not in ok_shapes:
+        raise BeamInputError(
+            f"stiffness has shape {k.shape}: must be one of {ok_shapes} (N m/rad)"
+        )
+    bad = ~(np.isfinite(k) & (k > 0.0))
+    if np.any(bad):
+        i = np.unravel_index(int(np.flatnonzero(bad)[0]), k.shape)
+        raise BeamInputError(f"stiffness[{', '.join(map(str, i))}] = {k[i]}: must be finite, > 0")
+    return k
+
+
+def _eig_from_mass(M: np.ndarray, k: np.ndarray, squared: bool) -> np.ndarray:
+    s = 1.0 / np.sqrt(k)
+    A = M * s[..., :, None] * s[..., None, :]
+    mu = np.linalg.eigvalsh(A)  # ascending: mu = 1 / omega^2
+    if np.any(mu <= 0.0) or not np.all(np.isfinite(mu)):
+        raise SolveError("mass matrix is not positive definite: frequencies are undefined")
+    w2 = 1.0 / mu[..., ::-1]
+    return w2 if squared else np.sqrt(w2)
+
+
+def natural_frequencies(
+    pin_model: pin.Model,
+    data: pin.Data,
+    stiffness_Nm_per_rad: np.ndarray,
+    q: np.ndarray | None = None,
+    squared: bool = False,
+) -> np.ndarray:
+    """Natural frequencies at pose ``q`` (rad; default straight), rad/s ascending, shape (n,).
+
+    ``squared=True`` returns omega^2 (rad^2/s^2), the quantity the paper's code compares.
+    """
+    k = _stiffness(stiffness_Nm_per_rad, pin_model.nv)
+    return _eig_from_mass(mass_matrix(pin_model, data, q), k, squared)
+
+
+def natural_frequencies_batch(
+    pin_model: pin.Model,
+    data: pin.Data,
+    Q: np.ndarray,
+    stiffness_Nm_per_rad: np.ndarray,
+    squared: bool = False,
+) -> np.ndarray:
+    """Natural frequencies at many poses, rad/s ascending per row, shape (m, n).
+
+    One CRBA per pose, then a single stacked symmetric eigensolve. ``stiffness_Nm_per_rad`` is
+    (n,) for all poses or (m, n), one row per pose (e.g. one SCF per pose).
+    """
+    M = mass_matrices(pin_model, data, Q)
+    k = _stiffness(stiffness_Nm_per_rad, pin_model.nv, M.shape[0])
+    return _eig_from_mass(M, k, squared)
+
+
+def modes(
+    pin_model: pin.Model,
+    data: pin.Data,
+    stiffness_Nm_per_rad: np.ndarray,
+    q: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies (rad/s, ascending) and mass-normalised mode shapes (columns of Phi).
+
+    Phi satisfies Phi^T M Phi = I and Phi^T K Phi = diag(omega^2).
+    """
+    k = _stiffness(stiffness_Nm_per_rad, pin_model.nv)
+    M = mass_matrix(pin_model, data, q)
+    s = 1.0 / np.sqrt(k)
+    mu, V = np.linalg.eigh(M * s[:, None] * s[None, :])
+    if np.any(mu <= 0.0):
+        raise SolveError("mass matrix is not positive definite: modes are undefined")
+    order = np.argsort(-mu)
+    mu, V = mu[order], V[:, order]
+    # K^(1/2) phi = V/sqrt(mu) makes phi^T M phi = v^T (S M S) v / mu = 1
+    Phi = s[:, None] * V / np.sqrt(mu)[None, :]
+    return np.sqrt(1.0 / mu), Phi
+
+
+def modal_damping(M: np.ndarray, Phi: np.ndarray, omega_rad_s: np.ndarray, xi: np.ndarray | float):
+    """Modal damping matrix C = M Phi diag(2 xi omega) Phi^T M, N m s/rad.
+
+    With mass-normalised Phi each mode gets the damping ratio ``xi`` exactly.
+    """
+    d = 2.0 * np.broadcast_to(np.asarray(xi, dtype=float), omega_rad_s.shape) * omega_rad_s
+    MP = M @ Phi
+    return (MP * d[None, :]) @ MP.T
+
+
+def tip_position(
+    pin_model: pin.Model, data: pin.Data, q: np.ndarray, tip_frame_id: int
+) -> np.ndarray:
+    """World position of the tip frame, m, shape (3,) (joint kinematics plus one frame update)."""
+    pin.forwardKinematics(pin_model, data, _q(pin_model, q))
+    return pin.updateFramePlacement(pin_model, data, tip_frame_id).translation.copy()
+
+
+def tip_jacobian(
+    pin_model: pin.Model, data: pin.Data, q: np.ndarray, tip_frame_id: int
+) -> np.ndarray:
+    """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
+    J = pin.computeFrameJacobian(pin_model, data, _q(pin_model, q), tip_frame_id, _LWA)
+    return J[:3].copy()
+
+
+# --- statics ------------------------------------------------------------------------------------
+
+def planar_lengths(pin_model: pin.Model, tip_frame_id: int) -> np.ndarray:
+    """Link lengths (m) of a serial chain of y-revolute joints laid out along x, shape (n+1,).
+
+    Raises BeamInputError when the model is not such a chain (the planar statics need it).
+    """
+    n = pin_model.njoints - 1
+    out = np.empty(n + 1)
+    for j in range(1, n + 1):
+        if pin_model.parents[j] != j - 1 or pin_model.joints[j].shortname() != "JointModelRY":
+            raise BeamInputError(f"joint {pin_model.names[j]!r}: must be a serial RY joint")
+        out[j - 1] = _along_x(pin_model.jointPlacements[j], pin_model.names[j])
+    frame = pin_model.frames[tip_frame_id]
+    if frame.parentJoint != n:
+        raise BeamInputError(f"frame {frame.name!r}: the tip frame must sit on the last joint")
+    out[n] = _along_x(frame.placement, frame.name)
+    return out
+
+
+def _along_x(M: pin.SE3, name: str) -> float:
+    p = M.translation
+    if not (np.allclose(M.rotation, np.eye(3), atol=1e-12) and abs(p[1]) + abs(p[2]) <= 1e-12):
+        raise BeamInputError(f"placement of {name!r} = {p.tolist()}: must be a pure x offset")
+    return float(p[0])
+
+
+def planar_tip(lengths_m: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Closed-form tip position (3,) and linear Jacobian (3, n) of the planar chain.
+
+    Link i >= 1 has world angle phi_i = q_1 + ... + q_i about +y, so its axis is
+    (cos phi_i, 0, -sin phi_i) and p_tip = L_0 e_x + sum_i L_i (cos phi_i, 0, -sin phi_i).
+    """
+    L = np.asarray(lengths_m, dtype=float)
+    phi = np.cumsum(q)
+    lc, ls = L[1:] * np.cos(phi), L[1:] * np.sin(phi)
+    p = np.array([L[0] + lc.sum(), 0.0, -ls.sum()])
+    J = np.zeros((3, q.size))
+    J[0] = -np.cumsum(ls[::-1])[::-1]
+    J[2] = -np.cumsum(lc[::-1])[::-1]
+    return p, J
+
+
+class _Potential:
+    """V(q) = 1/2 q^T K q - lam F . p_tip(q) of the planar chain, with exact gradient and Hessian.
+
+    With T_m = sum_(i >= m) L_i (-Fx cos phi_i + Fz sin phi_i), d^2(F . p)/dq_j dq_k = T_max(j,k),
+    so the Hessian is diag(K) - T[max(j, k)].
+    """
+
+    def __init__(self, lengths: np.ndarray, k: np.ndarray, force: np.ndarray) -> None:
+        self.L0, self.L = float(lengths[0]), lengths[1:]
+        self.k = k
+        self.fx, self.fz = float(force[0]), float(force[2])
+        idx = np.arange(k.size)
+        self.imax = np.maximum(idx[:, None], idx[None, :])
+
+    def value(self, q: np.ndarray, lam: float) -> float:
+        phi = np.cumsum(q)
+        work = self.fx * (self.L0 + self.L @ np.cos(phi)) - self.fz * (self.L @ np.sin(phi))
+        return 0.5 * float(q @ (self.k * q)) - lam * work
+
+    def derivatives(self, q: np.ndarray, lam: float):
+        phi = np.cumsum(q)
+        c, s = np.cos(phi), np.sin(phi)
+        lc, ls = self.L * c, self.L * s
+        # J^T F with J rows dp_x = -rcumsum(L s), dp_z = -rcumsum(L c)
+        jtf = -lam * np.cumsum((self.fx * ls + self.fz * lc)[::-1])[::-1]
+        kq = self.k * q
+        g = kq - jtf
+        T = lam * np.cumsum((-self.fx * lc + self.fz * ls)[::-1])[::-1]
+        H = -T[self.imax]
+        H[np.diag_indices_from(H)] += self.k
+        scale = max(float(np.linalg.norm(kq)), float(np.linalg.norm(jtf)), 1e-300)
+        return g, H, scale
+
+
+def _newton(pot: _Potential, q: np.ndarray, lam: float, rtol: float, max_iter: int,
+            max_step: float) -> tuple[np.ndarray, bool]:
+    """Damped Newton descent on V from ``q``; returns (q, converged)."""
+    for _ in range(max_iter):
+        g, H, scale = pot.derivatives(q, lam)
+        gn = float(np.linalg.norm(g))
+        try:
+            C = np.linalg.cholesky(H)
+            pd = True
+        except np.linalg.LinAlgError:
+            pd = False
+        if gn <= rtol * scale:
+            if pd:
+                return q, True
+            # a stationary point that is not a minimum (e.g. the straight pose under a buckling
+            # load): leave it along the direction of negative curvature
+            w, V = np.linalg.eigh(H)
+            d = V[:, 0] * min(max_step, 1e-2)
+        elif pd:
+            d = -np.linalg.solve(C.T, np.linalg.solve(C, g))
+        else:
+            w, V = np.linalg.eigh(H)
+            floor = 1e-8 * max(float(np.max(np.abs(w))), 1e-300)
+            d = -V @ ((V.T @ g) / np.maximum(np.abs(w), floor))
+        step = float(np.max(np.abs(d)))
+        if step > max_step:
+            d *= max_step / step
+        # backtracking (Armijo) on the potential; near the solution V stops resolving the
+        # decrease, so a step that shrinks the gradient is accepted as well
+        v0, slope = pot.value(q, lam), float(g @ d)
+        alpha = 1.0
+        for _ in range(40):
+            qn = q + alpha * d
+            if pot.value(qn, lam) <= v0 + 1e-4 * alpha * min(slope, 0.0):
+                break
+            gn_new = float(np.linalg.norm(pot.derivatives(qn, lam)[0]))
+            if gn_new < 0.5 * gn:
+                break
+            alpha *= 0.5
+        else:
+            return q, False
+        q = qn
+    g, H, scale = pot.derivatives(q, lam)
+    return q, bool(np.linalg.norm(g) <= rtol * scale)
+
+
+def static_deflection_planar(
+    lengths_m: np.ndarray,
+    stiffness_Nm_per_rad: np.ndarray,
+    tip_force_N: np.ndarray,
+    q0: np.ndarray | None = None,
+    rtol: float = 1e-10,
+    max_iter: int = 60,
+    max_step_rad: float = 0.5,
+) -> np.ndarray:
+    """Equilibrium joint angles (rad) of the planar chain under a dead tip force (N).
+
+    Minimises V(q) = 1/2 q^T K q - F . p_tip(q) by damped Newton steps with the exact Hessian,
+    starting from ``q0`` (default straight). If the full load does not converge, the load is
+    applied in adaptive steps (continuation), each solved from the previous equilibrium.
+    Converged means ||K q - J^T F|| <= rtol * max(||K q||, ||J^T F||) at a minimum of V.
+
+    Raises
+    ------
+    SolveError
+        If no equilibrium is found.
+    """
+    k = np.asarray(stiffness_Nm_per_rad, dtype=float)
+    n = k.size
+    F = np.asarray(tip_force_N, dtype=float)
+    if F.shape != (3,) or not np.all(np.isfinite(F)):
+        raise BeamInputError(f"tip_force = {F.tolist()}: must be 3 finite numbers (N)")
+    q = np.zeros(n) if q0 is None else np.array(q0, dtype=float)
+    if q.shape != (n,) or not np.all(np.isfinite(q)):
+        raise BeamInputError(f"q0 = {q.tolist()}: must be {n} finite joint angles (rad)")
+    if F[0] == 0.0 and F[2] == 0.0:
+        return np.zeros(n)  # no in-plane load: V = 1/2 q^T K q has its only minimum at 0
+    pot = _Potential(np.asarray(lengths_m, dtype=float), k, F)
+    q1, ok = _newton(pot, q, 1.0, rtol, max_iter, max_step_rad)
+    if ok:
+        return q1
+    # load stepping from the start pose
+    lam, dlam = 0.0, 0.25
+    while lam < 1.0:
+        target = min(1.0, lam + dlam)
+        qn, ok = _newton(pot, q, target, rtol, 30, max_step_rad)
+        if ok:
+            q, lam = qn, target
+            dlam *= 1.5
+        else:
+            dlam *= 0.5
+            if dlam < 1e-5:
+                raise SolveError(
+                    f"static deflection: no equilibrium beyond {lam:.4g} of the load "
+                    f"{F.tolist()} N (load stepping stalled)"
+                )
+    return q
+
+
+def static_deflection(
+    pin_model: pin.Model,
+    data: pin.Data,
+    stiffness_Nm_per_rad: np.ndarray,
+    tip_frame_id: int,
+    tip_force_N: np.ndarray,
+    q0: np.ndarray | None = None,
+    rtol: float = 1e-10,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Large-deflection equilibrium K q = J(q)^T F under a dead tip force.
+
+    Returns the joint angles q (rad) and the tip position (m, world). See
+    :func:`static_deflection_planar` for the method.
+    """
+    k = _stiffness(stiffness_Nm_per_rad, pin_model.nv)
+    lengths = planar_lengths(pin_model, tip_frame_id)
+    q = static_deflection_planar(lengths, k, tip_force_N, q0=q0, rtol=rtol)
+    return q, tip_position(pin_model, data, q, tip_frame_id)

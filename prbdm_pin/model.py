@@ -1,0 +1,291 @@
+"""PrbdmModel: a Pinocchio model of the link chain plus the joint springs it cannot hold.
+
+``build_model`` is called inside optimisation loops, so it builds the ``pinocchio.Model`` by hand
+through the Pinocchio API (no URDF rendering or parsing); the hand-built model equals the one
+Pinocchio's URDF parser makes from ``model.urdf``, which is rendered lazily on first access.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from . import dynamics as dyn
+from .errors import BeamInputError
+from .geometry import Beam, atomic_write_text
+from .layout import validate_lengths
+from .sections import LinkSections, _sections
+from .urdf import (
+    JOINT_EFFORT_LIMIT_NM,
+    JOINT_LIMIT_RAD,
+    JOINT_VELOCITY_LIMIT_RAD_S,
+    read_springs,
+    render_urdf,
+)
+
+__all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
+
+TIP_FRAME = "tip"
+
+
+def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:
+    """Joint stiffness as a read-only (n,) array, N m/rad; BeamInputError names a bad value."""
+    if isinstance(stiffness_Nm_per_rad, (str, bytes, dict)):
+        raise BeamInputError(f"stiffness = {stiffness_Nm_per_rad!r}: must be numbers (N m/rad)")
+    try:
+        k = np.array(stiffness_Nm_per_rad, dtype=float)
+    except (TypeError, ValueError):
+        raise BeamInputError(
+            f"stiffness = {stiffness_Nm_per_rad!r}: must be numbers (N m/rad)"
+        ) from None
+    if k.ndim == 0:
+        k = k.reshape(1)
+    if k.shape != (n_joints,):
+        raise BeamInputError(
+            f"stiffness has shape {k.shape}: needs {n_joints} values, one per joint (N m/rad)"
+        )
+    bad = np.flatnonzero(~(np.isfinite(k) & (k > 0.0)))
+    if bad.size:
+        i = int(bad[0])
+        raise BeamInputError(f"stiffness[{i}] = {k[i]}: must be finite and > 0 (N m/rad)")
+    k.setflags(write=False)
+    return k
+
+
+@dataclass(frozen=True, eq=False)
+class PrbdmModel:
+    """A pseudo-rigid-body dynamic model: n + 1 rigid links, n revolute joints about y with springs.
+
+    Attributes
+    ----------
+    beam : Beam or None
+        The source beam (None for a model read from a URDF file).
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    stiffness_Nm_per_rad : ndarray, shape (n,)
+        Joint spring stiffness, N m/rad.
+    sections : LinkSections
+        Link rigid-body properties (from a URDF file: mass, COM and inertia as written there;
+        ``area_moment_m4`` is NaN because a URDF does not carry it).
+    pin_model : pinocchio.Model
+        The chain; joint j + 1 of Pinocchio is our joint j. Gravity is zero (no gravity unless
+        a user sets ``pin_model.gravity``).
+    tip_frame_id : int
+        The frame at the free end of link n.
+
+    Methods use one cached ``pinocchio.Data``; for threads or processes, create one per worker
+    with :meth:`new_data` and pass it to :mod:`prbdm_pin.dynamics`.
+    """
+
+    beam: Beam | None
+    lengths_m: np.ndarray
+    stiffness_Nm_per_rad: np.ndarray
+    sections: LinkSections
+    pin_model: pin.Model
+    tip_frame_id: int
+    _cache: dict = field(default_factory=dict, init=False, repr=False)
+
+    @property
+    def n_joints(self) -> int:
+        """Number of joints n."""
+        return int(self.pin_model.nv)
+
+    @property
+    def urdf(self) -> str:
+        """The URDF string (rendered from ``urdf_templates/`` on first access, then cached)."""
+        text = self._cache.get("urdf")
+        if text is None:
+            name = "prbdm" if self.beam is None else f"prbdm_{self.beam.name}"
+            text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name)
+            self._cache["urdf"] = text
+        return text
+
+    def write_urdf(self, path: str | os.PathLike) -> Path:
+        """Write :attr:`urdf` to ``path`` atomically."""
+        return atomic_write_text(path, self.urdf)
+
+    def new_data(self) -> pin.Data:
+        """A fresh Pinocchio workspace for this model."""
+        return self.pin_model.createData()
+
+    @property
+    def _data(self) -> pin.Data:
+        d = self._cache.get("data")
+        if d is None:
+            d = self._cache["data"] = self.pin_model.createData()
+        return d
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """K = diag(stiffness), N m/rad, shape (n, n)."""
+        return np.diag(self.stiffness_Nm_per_rad)
+
+    def mass_matrix(self, q: np.ndarray | None = None, data: pin.Data | None = None) -> np.ndarray:
+        """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
+        return dyn.mass_matrix(self.pin_model, self._data if data is None else data, q)
+
+    def natural_frequencies(
+        self, q: np.ndarray | None = None, squared: bool = False
+    ) -> np.ndarray:
+        """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
+        return dyn.natural_frequencies(
+            self.pin_model, self._data, self.stiffness_Nm_per_rad, q, squared
+        )
+
+    def natural_frequencies_batch(
+        self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False
+    ) -> np.ndarray:
+        """Frequencies at the poses in the rows of ``Q`` (rad), rad/s, shape (m, n).
+
+        ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
+        """
+        k = self.stiffness_Nm_per_rad if stiffness is None else stiffness
+        return dyn.natural_frequencies_batch(self.pin_model, self._data, Q, k, squared)
+
+    def modes(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
+        return dyn.modes(self.pin_model, self._data, self.stiffness_Nm_per_rad, q)
+
+    def tip_position(self, q: np.ndarray | None = None) -> np.ndarray:
+        """World position of the tip, m, shape (3,)."""
+        return dyn.tip_position(self.pin_model, self._data, q, self.tip_frame_id)
+
+    def tip_jacobian(self, q: np.ndarray | None = None) -> np.ndarray:
+        """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
+        return dyn.tip_jacobian(self.pin_model, self._data, q, self.tip_frame_id)
+
+    def static_deflection(
+        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Equilibrium under a dead tip force (N, world): joint angles (rad), tip position (m).
+
+        Raises SolveError when no equilibrium is found.
+        """
+        q = dyn.static_deflection_planar(
+            self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
+        )
+        return q, self.tip_position(q)
+
+    def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
+        """The same chain with other springs (shares ``pin_model``)."""
+        k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
+        return PrbdmModel(
+            self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id
+        )
+
+
+def _pin_model(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
+    """The chain built through the Pinocchio API, frame for frame as its URDF parser builds it."""
+    n = lengths.size - 1
+    model = pin.Model()
+    model.name = name
+    eye = np.eye(3)
+
+    def inertia(i: int) -> pin.Inertia:
+        c = sections.com_m[i] - np.array([sections.start_m[i], 0.0, 0.0])
+        return pin.Inertia(float(sections.mass_kg[i]), c, sections.inertia_com_kg_m2[i])
+
+    ident = pin.SE3.Identity()
+    world = model.addBodyFrame("world", 0, ident, 0)
+    # a fixed-joint frame carrying an inertia adds it to its joint (here the universe)
+    clamp = model.addFrame(pin.Frame("clamp", 0, world, ident, pin.FrameType.FIXED_JOINT,
+                                     inertia(0)))
+    prev = model.addBodyFrame("link_0", 0, ident, clamp)
+    big = np.array([JOINT_EFFORT_LIMIT_NM])
+    vel = np.array([JOINT_VELOCITY_LIMIT_RAD_S])
+    lim = np.array([JOINT_LIMIT_RAD])
+    zero = np.zeros(1)
+    for j in range(1, n + 1):
+        placement = pin.SE3(eye, np.array([float(lengths[j - 1]), 0.0, 0.0]))
+        jid = model.addJoint(j - 1, pin.JointModelRY(), placement, f"joint_{j}",
+                             -big, big, -vel, vel, -lim, lim, zero, zero, zero)
+        jf = model.addJointFrame(jid, prev)
+        model.appendBodyToJoint(jid, inertia(j), ident)
+        prev = model.addBodyFrame(f"link_{j}", jid, ident, jf)
+    tip_place = pin.SE3(eye, np.array([float(lengths[n]), 0.0, 0.0]))
+    tf = model.addFrame(pin.Frame("tip_joint", n, prev, tip_place, pin.FrameType.FIXED_JOINT))
+    tip = model.addBodyFrame(TIP_FRAME, n, tip_place, tf)
+    model.gravity = pin.Motion.Zero()
+    return model, tip
+
+
+def build_model(
+    beam: Beam,
+    lengths_m: np.ndarray,
+    stiffness_Nm_per_rad: np.ndarray,
+    *,
+    min_fraction: float = 0.02,
+) -> PrbdmModel:
+    """A PRBDM of ``beam`` with the given link lengths and joint springs.
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : array_like, shape (n+1,)
+        Link lengths in m, n >= 1: summing to the beam length (relative 1e-9), each in
+        [0.02 L, 0.98 L].
+    stiffness_Nm_per_rad : array_like, shape (n,)
+        Joint spring stiffness, N m/rad (finite, > 0).
+    min_fraction : float
+        Lower bound on each link as a fraction of L (Eq. 15's 0.02). Fine reference chains
+        (e.g. 32 equal segments with half segments at the ends) need a smaller value.
+
+    Raises
+    ------
+    BeamInputError
+        Naming the offending field and value.
+    """
+    if not isinstance(beam, Beam):
+        raise BeamInputError(f"beam = {beam!r}: must be a Beam")
+    lengths = validate_lengths(beam, lengths_m, min_fraction)
+    lengths.setflags(write=False)
+    k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
+    sections = _sections(beam, lengths)
+    model, tip = _pin_model(sections, lengths, f"prbdm_{beam.name}")
+    return PrbdmModel(beam, lengths, k, sections, model, tip)
+
+
+def load_urdf(path: str | os.PathLike) -> PrbdmModel:
+    """Read a PRBDM URDF file (as written by :attr:`PrbdmModel.urdf`), springs included.
+
+    The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
+    ``sections.area_moment_m4`` is NaN. Gravity is set to zero, as in :func:`build_model`.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise BeamInputError(f"urdf file {str(p)!r}: cannot be read ({exc})") from None
+    try:
+        model = pin.buildModelFromXML(text)
+    except (RuntimeError, ValueError) as exc:
+        raise BeamInputError(f"urdf file {str(p)!r}: Pinocchio cannot parse it ({exc})") from None
+    model.gravity = pin.Motion.Zero()
+    if not model.existFrame(TIP_FRAME):
+        raise BeamInputError(f"urdf file {str(p)!r}: has no {TIP_FRAME!r} link")
+    tip = model.getFrameId(TIP_FRAME)
+    lengths = dyn.planar_lengths(model, tip)
+    lengths.setflags(write=False)
+    names = [model.names[j] for j in range(1, model.njoints)]
+    k = validate_stiffness(read_springs(text, names), len(names))
+    sections = _sections_from_pin(model, lengths)
+    out = PrbdmModel(None, lengths, k, sections, model, tip)
+    out._cache["urdf"] = text
+    return out
+
+
+def _sections_from_pin(model: pin.Model, lengths: np.ndarray) -> LinkSections:
+    n1 = lengths.size
+    ends = np.cumsum(lengths)
+    starts = ends - lengths
+    mass = np.array([model.inertias[i].mass for i in range(n1)])
+    com = np.array([model.inertias[i].lever for i in range(n1)]) + starts[:, None] * [1, 0, 0]
+    inertia = np.array([model.inertias[i].inertia for i in range(n1)])
+    arrs = [starts, ends, mass, com, inertia, np.full(n1, np.nan)]
+    for a in arrs:
+        a.setflags(write=False)
+    return LinkSections(*arrs)

@@ -1,0 +1,102 @@
+"""Pose sweep (the paper's Eqs. 10-11) and joint stiffness laws (Eq. 14, finite segments)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .errors import BeamInputError
+from .geometry import Beam
+from .layout import validate_lengths
+from .sections import LinkSections
+
+__all__ = ["pose_sweep", "paper_stiffness", "finite_segment_stiffness"]
+
+
+def pose_sweep(
+    n_joints: int, xi: float = 0.05, eps: float = 0.1, max_tip_angle_rad: float = math.pi / 2
+) -> np.ndarray:
+    """The poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
+
+    Pose i = 0, 1, ... has every joint at ``xi + i * eps`` while the tip link's world angle
+    ``n_joints * (xi + i * eps)`` stays within ``max_tip_angle_rad`` (a 1e-12 relative slack keeps
+    a pose that lands exactly on the limit).
+    """
+    if isinstance(n_joints, bool) or not isinstance(n_joints, (int, np.integer)) or n_joints < 1:
+        raise BeamInputError(f"n_joints = {n_joints!r}: must be an integer >= 1")
+    for name, v in (("xi", xi), ("eps", eps), ("max_tip_angle", max_tip_angle_rad)):
+        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v)):
+            raise BeamInputError(f"{name} = {v!r}: must be a finite number (rad)")
+    if eps <= 0.0:
+        raise BeamInputError(f"eps = {eps}: must be > 0 (rad)")
+    if xi < 0.0 or n_joints * xi > max_tip_angle_rad * (1 + 1e-12):
+        raise BeamInputError(
+            f"xi = {xi}: must be >= 0 with n_joints * xi <= max_tip_angle ({max_tip_angle_rad})"
+        )
+    m = int(math.floor((max_tip_angle_rad * (1 + 1e-12) / n_joints - xi) / eps)) + 1
+    angles = xi + eps * np.arange(m)
+    return np.repeat(angles[:, None], int(n_joints), axis=1)
+
+
+def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) -> np.ndarray:
+    """Joint stiffness of the paper's Eq. 14, N m/rad.
+
+    Joint j (0-based) drives link j + 1 and uses its properties: K_j = k sqrt(E I_(j+1) / m_(j+1)),
+    with I the link's mean bending area moment (m^4) and m its mass (kg).
+
+    Parameters
+    ----------
+    sections : LinkSections
+    E_Pa : float
+        Young's modulus, Pa.
+    k : float or array_like, shape (m,)
+        Stiffness correction factor(s) (SCF), one per pose.
+
+    Returns
+    -------
+    ndarray, shape (n,) for a scalar k, (m, n) for an array of k.
+    """
+    base = np.sqrt(float(E_Pa) * sections.area_moment_m4[1:] / sections.mass_kg[1:])
+    k_arr = np.asarray(k, dtype=float)
+    if k_arr.ndim > 1:
+        raise BeamInputError(f"k has shape {k_arr.shape}: must be a scalar or 1-D (one per pose)")
+    bad = np.flatnonzero(~(np.isfinite(k_arr.reshape(-1)) & (k_arr.reshape(-1) > 0)))
+    if bad.size:
+        i = int(bad[0])
+        raise BeamInputError(f"k[{i}] = {k_arr.reshape(-1)[i]}: must be finite and > 0")
+    return k_arr[..., None] * base if k_arr.ndim else float(k_arr) * base
+
+
+def _inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m."""
+    x = beam.x_m
+    out = np.zeros(a.size)
+    for i in range(a.size):
+        cuts = np.concatenate([[a[i]], x[(x > a[i]) & (x < b[i])], [b[i]]])
+        u, v = cuts[:-1], cuts[1:]
+        wu, wv = beam.half_width_at(u), beam.half_width_at(v)
+        d = (wv - wu) / wu
+        # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
+        small = np.abs(d) < 1e-8
+        ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
+        out[i] = np.sum((v - u) * ratio / wu)
+    return out
+
+
+def finite_segment_stiffness(
+    beam: Beam, lengths_m: np.ndarray, min_fraction: float = 0.02
+) -> np.ndarray:
+    """Physical joint stiffness of the finite-segment law, N m/rad, shape (n,).
+
+    Joint j joins links j and j + 1; its spring stands for the beam between their centres
+    c_j and c_(j+1) (the geometric mid-points of the links' spans, not their centres of mass),
+    so K_j = E / ∫_(c_j)^(c_(j+1)) dx / I(x) with I(x) = 2 w(x) t^3 / 12. The integral is exact
+    for the piecewise-linear planform (logarithms on each vertex interval).
+    """
+    lengths = validate_lengths(beam, lengths_m, min_fraction)
+    ends = np.cumsum(lengths)
+    centres = ends - 0.5 * lengths
+    integral = _inv_width_integral(beam, centres[:-1], centres[1:])  # ∫ dx / w
+    t = beam.thickness_m
+    return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
