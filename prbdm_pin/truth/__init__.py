@@ -1,0 +1,255 @@
+"""The finite-element truth a PRBDM is fitted against (scikit-fem).
+
+``compute_truth`` runs a modal analysis (Kirchhoff plate by default; 3D solid or 1D beam on
+request), labels and selects the bending modes, solves the tip-load case and refuses results it
+cannot trust (negative or complex eigenvalues, a failed convergence check).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import BeamInputError, TruthError
+from ..geometry import Beam
+from .result import ModalSolution, StaticSolution, Timings, TruthResult
+
+__all__ = [
+    "MODELS",
+    "LARGE_DEFLECTION",
+    "DEFAULT_PLATE_LEVEL",
+    "TruthResult",
+    "ModalSolution",
+    "StaticSolution",
+    "Timings",
+    "compute_truth",
+    "compute_modal",
+]
+
+MODELS = ("plate", "plate-morley", "solid", "beam")
+LARGE_DEFLECTION = ("elastica", "solid", "none")
+# Cheapest level meeting 0.1 % on the five bending modes of the shipped beams
+# (scripts/bench_truth.py).
+DEFAULT_PLATE_LEVEL = 0
+# Enough modes that the z mass participation of the unseen modes cannot reorder a 5-mode selection.
+DEFAULT_COMPUTED_MODES = 25
+CONVERGENCE_TOL = 1e-3
+
+
+def _check_level(level: object) -> int:
+    if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or not 0 <= level <= 6:
+        raise BeamInputError(f"mesh_level = {level!r}: must be an integer in [0, 6]")
+    return int(level)
+
+
+def compute_modal(beam: Beam, model: str = "plate", mesh_level: int | None = None,
+                  n_modes: int = DEFAULT_COMPUTED_MODES) -> ModalSolution:
+    """All computed modes of one model, classified (MPF_z, symmetry, beam MAC).
+
+    Parameters
+    ----------
+    beam : Beam
+    model : {"plate", "plate-morley", "solid", "beam"}
+    mesh_level : int, optional
+        Refinement level; default the cheapest level meeting 0.1 % for the model.
+    n_modes : int
+        Number of lowest modes computed.
+
+    Raises
+    ------
+    TruthError
+        A negative, zero or non-finite eigenvalue.
+    """
+    if model not in MODELS:
+        raise BeamInputError(f"model = {model!r}: must be one of {MODELS}")
+    if model in ("plate", "plate-morley"):
+        from .plate import plate_modal
+
+        level = DEFAULT_PLATE_LEVEL if mesh_level is None else _check_level(mesh_level)
+        element = "argyris" if model == "plate" else "morley"
+        modal = plate_modal(beam, level, n_modes, element)
+    elif model == "solid":
+        from .solid import solid_modal
+
+        level = None if mesh_level is None else _check_level(mesh_level)
+        modal = solid_modal(beam, level=level, n_modes=n_modes)
+    else:
+        from .beam import beam_modal
+
+        modal = beam_modal(beam, n_modes=n_modes)
+    w = np.asarray(modal.omega_rad_s)
+    if not np.all(np.isfinite(w)) or np.any(w <= 0.0):
+        bad = np.flatnonzero(~np.isfinite(w) | (w <= 0.0))
+        raise TruthError(
+            f"{modal.model} model of {beam.name!r} (level {modal.mesh_level}) has "
+            f"{bad.size} non-positive or non-finite eigenvalue(s), first at mode {bad[0] + 1} "
+            f"({w[bad[0]]:.6g} rad/s): the mesh or the solve cannot be trusted"
+        )
+    return modal
+
+
+def _static(beam: Beam, model: str, level: int | None, large: str):
+    linear = nonlinear = None
+    if model == "beam":
+        from .beam import beam_static
+
+        linear = beam_static(beam)
+    elif model == "solid":
+        from .solid import solid_static
+
+        linear = solid_static(beam, level=level)
+    else:
+        try:
+            from .static import plate_static
+        except ImportError:  # the plate static solve is optional
+            plate_static = None
+        if plate_static is not None:
+            linear = plate_static(beam, level=level)
+    if large == "elastica":
+        from .elastica import elastica_static
+
+        nonlinear = elastica_static(beam)
+    elif large == "solid":
+        from .solid import solid_static
+
+        nonlinear = solid_static(beam, nonlinear=True)
+    return linear, nonlinear
+
+
+def compute_truth(
+    beam: Beam,
+    model: str = "plate",
+    modes: int = 5,
+    mesh_level: int | None = None,
+    selection: str = "paper",
+    static: bool = True,
+    cache_dir=None,
+    *,
+    n_computed: int = DEFAULT_COMPUTED_MODES,
+    large_deflection: str = "elastica",
+    check_convergence: bool = False,
+) -> TruthResult:
+    """The finite-element truth of a beam: selected bending frequencies and tip-load response.
+
+    Parameters
+    ----------
+    beam : Beam
+    model : {"plate", "plate-morley", "solid", "beam"}
+        ``plate`` (default): Kirchhoff plate, Argyris elements in element-local coordinates.
+        ``plate-morley``: cheap cross-check from below. ``solid``: 3D elasticity. ``beam``: 1D
+        Euler-Bernoulli (exact for slender strips only, 2-15 % off for wide panels).
+    modes : int
+        Number N of bending modes to select.
+    mesh_level : int, optional
+        Mesh refinement; default the cheapest level meeting 0.1 %.
+    selection : {"paper", "shape"}
+        ``paper``: the N modes of largest z mass participation, ascending; ``shape``: the lowest
+        N symmetric modes with MAC >= 0.8 against a 1D beam mode.
+    static : bool
+        Also solve the tip-load case under ``beam.tip_force_N``.
+    cache_dir : path, optional
+        Reuse a result computed with the same inputs and package version (see ``truth.cache``).
+    n_computed : int
+        Modes computed before selection (20-40 so that the selection is complete).
+    large_deflection : {"elastica", "solid", "none"}
+        Geometrically nonlinear tip solve: the 1D elastica (fast; exact for slender strips) or the
+        3D solid (reference; minutes).
+    check_convergence : bool
+        Also solve one mesh level finer and raise TruthError if a selected frequency moves by
+        more than 0.1 % or increases (Argyris converges from above).
+
+    Returns
+    -------
+    TruthResult
+
+    Raises
+    ------
+    BeamInputError
+        Bad arguments.
+    TruthError
+        Negative/complex eigenvalues, too few bending modes, or a failed convergence check.
+    """
+    from .. import __version__
+    from .modes import SELECTIONS, label_modes, select_modes, selection_warnings
+
+    if not isinstance(beam, Beam):
+        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+    if model not in MODELS:
+        raise BeamInputError(f"model = {model!r}: must be one of {MODELS}")
+    if selection not in SELECTIONS:
+        raise BeamInputError(f"selection = {selection!r}: must be one of {SELECTIONS}")
+    if large_deflection not in LARGE_DEFLECTION:
+        raise BeamInputError(
+            f"large_deflection = {large_deflection!r}: must be one of {LARGE_DEFLECTION}"
+        )
+    if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1:
+        raise BeamInputError(f"modes = {modes!r}: must be an integer >= 1")
+    if isinstance(n_computed, bool) or not isinstance(n_computed, (int, np.integer)):
+        raise BeamInputError(f"n_computed = {n_computed!r}: must be an integer")
+    n_computed = max(int(n_computed), 2 * int(modes))
+    if mesh_level is not None:
+        _check_level(mesh_level)
+
+    key = None
+    if cache_dir is not None:
+        from .cache import cache_key, load_cached
+
+        key = cache_key(beam, model=model, mesh_level=mesh_level, modes=modes,
+                        selection=selection, static=static, n_computed=n_computed,
+                        large_deflection=large_deflection, version=__version__)
+        hit = load_cached(cache_dir, key)
+        if hit is not None:
+            return hit
+
+    modal = compute_modal(beam, model, mesh_level, n_computed)
+    labels = label_modes(modal)
+    try:
+        index = select_modes(modal, modes, selection)
+    except ValueError as exc:
+        raise TruthError(f"{beam.name!r}: {exc}") from exc
+    if check_convergence:
+        finer = compute_modal(beam, model, modal.mesh_level + 1, n_computed)
+        try:
+            index_f = select_modes(finer, modes, selection)
+        except ValueError as exc:
+            raise TruthError(f"{beam.name!r}, finer mesh: {exc}") from exc
+        w0, w1 = modal.omega_rad_s[index], finer.omega_rad_s[index_f]
+        rel = w0 / w1 - 1.0
+        if not np.array_equal(index, index_f) or np.any(np.abs(rel) > CONVERGENCE_TOL) or (
+            model == "plate" and np.any(rel < -1e-5)
+        ):
+            raise TruthError(
+                f"{beam.name!r}: {model} model not converged between mesh levels "
+                f"{modal.mesh_level} and {finer.mesh_level}: selected modes {index + 1} vs "
+                f"{index_f + 1}, relative change {np.array2string(rel, precision=5)}"
+            )
+    linear = nonlinear = None
+    if static:
+        lvl = None if model in ("beam",) else mesh_level
+        linear, nonlinear = _static(beam, model, lvl, large_deflection)
+    result = TruthResult(
+        beam_fingerprint=beam.fingerprint(),
+        model=model,
+        mesh_level=int(modal.mesh_level),
+        selection=selection,
+        omega_rad_s=_ro(modal.omega_rad_s[index]),
+        mode_index=_ro(index),
+        mpf_z_fraction=_ro(modal.mpf_z_fraction[index]),
+        mac_beam=_ro(modal.mac_beam[index]),
+        labels=labels,
+        modal=modal,
+        static_linear=linear,
+        static_nonlinear=nonlinear,
+        version=__version__,
+        warnings=selection_warnings(modal, index, labels),
+    )
+    if key is not None:
+        from .cache import store_cached
+
+        store_cached(cache_dir, key, result)
+    return result
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    a = np.array(a)
+    a.setflags(write=False)
+    return a

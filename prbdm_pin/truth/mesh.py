@@ -14,7 +14,14 @@ from skfem import MeshQuad, MeshTri
 
 from ..geometry import Beam
 
-__all__ = ["element_size", "x_stations", "eta_stations", "planform_quad_mesh", "planform_tri_mesh"]
+__all__ = [
+    "element_size",
+    "x_stations",
+    "eta_stations",
+    "planform_quad_mesh",
+    "planform_tri_mesh",
+    "mirror_nodes",
+]
 
 
 def element_size(beam: Beam, level: int, base_elements: int = 10) -> float:
@@ -82,21 +89,132 @@ def planform_quad_mesh(beam: Beam, level: int = 1) -> MeshQuad:
     return MeshQuad(p, np.vstack([a, b, c, d]))
 
 
-def planform_tri_mesh(beam: Beam, level: int = 1) -> MeshTri:
-    """Mapped triangle mesh of the planform, mirror-symmetric about y = 0 (nodes in m).
+def _local_size(beam: Beam, h_m: float, growth: float, x: np.ndarray) -> np.ndarray:
+    """The size field of ``x_stations`` evaluated at ``x`` (m)."""
+    xv = beam.x_m
+    lengths = np.diff(xv)
+    s = np.full_like(np.asarray(x, dtype=float), h_m)
+    for k in np.flatnonzero(lengths < h_m):
+        d = np.maximum(0.0, np.maximum(xv[k] - x, x - xv[k + 1]))
+        s = np.minimum(s, lengths[k] + growth * d)
+    return s
 
-    Each quad is split along the diagonal that points away from the axis, so the mesh is the
-    mirror image of itself and symmetric modes stay exactly symmetric.
+
+def _upper_outline(beam: Beam, xs: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Points (2, b) on the upper outline y = w(x), a column's top at every station plus
+    extra points on steep pieces so that boundary spacing follows the local size."""
+    w = beam.half_width_at(xs)
+    out = []
+    for i in range(xs.size - 1):
+        a = np.array([xs[i], w[i]])
+        b = np.array([xs[i + 1], w[i + 1]])
+        s = min(sizes[i], sizes[i + 1])
+        n = max(1, int(round(np.linalg.norm(b - a) / s)))
+        tt = np.linspace(0.0, 1.0, n + 1)[:-1]
+        out.append(a[:, None] + (b - a)[:, None] * tt)
+    out.append(np.array([[xs[-1]], [w[-1]]]))
+    return np.hstack(out)
+
+
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance (m) from points p (2, n) to the polyline through a -> b pieces (2, m) each."""
+    d = b - a
+    ap = p[:, :, None] - a[:, None, :]
+    tt = np.clip(np.einsum("inm,im->nm", ap, d) / np.maximum(np.einsum("im,im->m", d, d), 1e-300),
+                 0.0, 1.0)
+    q = a[:, None, :] + d[:, None, :] * tt[None]
+    return np.sqrt(((p[:, :, None] - q) ** 2).sum(axis=0)).min(axis=1)
+
+
+def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndarray:
+    """Indices i of outline pieces (outline[:, i], outline[:, i + 1]) that are not mesh edges."""
+    scale = 1e-9 * max(float(np.ptp(p[0])), float(np.ptp(p[1])))
+    key = {tuple(k): i for i, k in enumerate(np.round(p.T / scale).astype(np.int64))}
+    ids = np.array([key[tuple(k)] for k in np.round(outline.T / scale).astype(np.int64)])
+    edges = np.sort(np.hstack([t[[0, 1]], t[[1, 2]], t[[0, 2]]]), axis=0)
+    have = set(map(tuple, edges.T))
+    pieces = np.sort(np.vstack([ids[:-1], ids[1:]]), axis=0)
+    return np.array([i for i, e in enumerate(map(tuple, pieces.T)) if e not in have], dtype=int)
+
+
+def planform_tri_mesh(beam: Beam, level: int = 1, growth: float = 0.3) -> MeshTri:
+    """Graded triangle mesh of the planform, mirror-symmetric about y = 0 (nodes in m).
+
+    Nodes sit on columns at the graded ``x_stations`` (every planform vertex is a column, so the
+    outline is exact), spaced across the half-width at about the local element size, plus extra
+    nodes along steep outline pieces; interior nodes too close to the outline are dropped and the
+    upper half is Delaunay-triangulated (scipy) and mirrored. A short vertex interval, a narrow
+    section or a steep step of the outline then gets small, well-shaped triangles instead of the
+    slivers of a mapped mesh. The axis y = 0 is a mesh line and symmetric modes stay symmetric.
     """
-    p, nx, ne = _grid(beam, level)
-    idx = np.arange(nx * ne).reshape(nx, ne)
-    a = idx[:-1, :-1]
-    b = idx[1:, :-1]
-    c = idx[1:, 1:]
-    d = idx[:-1, 1:]
-    upper = np.zeros_like(a, dtype=bool)
-    upper[:, (ne - 1) // 2:] = True
-    t1 = np.where(upper, np.stack([a, b, d]), np.stack([a, b, c]))
-    t2 = np.where(upper, np.stack([b, c, d]), np.stack([a, c, d]))
-    t = np.hstack([t1.reshape(3, -1), t2.reshape(3, -1)])
+    from scipy.spatial import Delaunay
+
+    h = element_size(beam, level)
+    xs = x_stations(beam, h, growth)
+    sizes = _local_size(beam, h, growth, xs)
+    gaps = np.diff(xs)
+    near = np.minimum(np.concatenate([gaps, gaps[-1:]]), np.concatenate([gaps[:1], gaps]))
+    sizes = np.minimum(sizes, np.maximum(near, 0.5 * sizes))
+    w = beam.half_width_at(xs)
+    outline = _upper_outline(beam, xs, sizes)
+    col_pts = []
+    for x, wi, s in zip(xs, w, sizes, strict=True):
+        n = max(1, int(np.ceil(wi / s - 0.25)))
+        y = np.linspace(0.0, wi, n + 1)[:-1]
+        col_pts.append(np.vstack([np.full(y.size, x), y]))
+    cp = np.hstack(col_pts)
+    # the clamp edge x = 0, the tip edge x = L and the axis y = 0 lie on the convex hull
+    edge_col = (cp[0] == xs[0]) | (cp[0] == xs[-1]) | (cp[1] == 0.0)
+    s_at = np.interp(cp[0], xs, sizes)
+    keep = edge_col | (_segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
+    interior = cp[:, keep]
+    for _ in range(20):
+        p_up = np.hstack([outline, interior])
+        _, idx = np.unique(np.round(p_up.T / (1e-9 * beam.length_m)), axis=0, return_index=True)
+        p_up = p_up[:, np.sort(idx)]
+        t_up = Delaunay(p_up.T).simplices.T
+        # the outline of a concave planform is not always made of Delaunay edges: split the
+        # missing pieces and triangulate again (boundary recovery by refinement)
+        missing = _missing_edges(p_up, t_up, outline)
+        if not missing.size:
+            break
+        mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
+        outline = np.insert(outline, missing + 1, mid, axis=1)
+    c = p_up[:, t_up].mean(axis=1)
+    t_up = t_up[:, np.abs(c[1]) < beam.half_width_at(c[0])]
+    area = 0.5 * np.abs(
+        (p_up[0, t_up[1]] - p_up[0, t_up[0]]) * (p_up[1, t_up[2]] - p_up[1, t_up[0]])
+        - (p_up[0, t_up[2]] - p_up[0, t_up[0]]) * (p_up[1, t_up[1]] - p_up[1, t_up[0]])
+    )
+    # Qhull leaves zero-area triangles on straight runs of collinear hull points
+    flat = area < 1e-9 * float(np.min(sizes)) ** 2
+    t_up, area = t_up[:, ~flat], area[~flat]
+    if abs(2.0 * area.sum() - beam.planform_area_m2) > 1e-9 * beam.planform_area_m2:
+        raise RuntimeError(
+            f"planform mesh of {beam.name!r} at level {level} does not cover the planform "
+            f"({2.0 * area.sum():.9g} vs {beam.planform_area_m2:.9g} m^2)"
+        )
+    px, py = p_up
+    n_up = px.size
+    on_axis = py == 0.0
+    mirror = np.empty(n_up, dtype=np.int64)
+    off = np.flatnonzero(~on_axis)
+    mirror[off] = n_up + np.arange(off.size)
+    mirror[on_axis] = np.flatnonzero(on_axis)
+    p = np.vstack([np.concatenate([px, px[off]]), np.concatenate([py, -py[off]])])
+    t = np.hstack([t_up, mirror[t_up]])
     return MeshTri(p, t)
+
+
+def mirror_nodes(mesh: MeshTri, tol_m: float = 1e-9) -> np.ndarray:
+    """For every node the index of its mirror image about y = 0 (raises if there is none)."""
+    p = mesh.p
+    key = np.round(p.T / tol_m).astype(np.int64)
+    lookup = {tuple(k): i for i, k in enumerate(key)}
+    out = np.empty(p.shape[1], dtype=np.int64)
+    for i, (kx, ky) in enumerate(key):
+        j = lookup.get((kx, -ky))
+        if j is None:
+            raise ValueError(f"node {i} at {p[:, i]} has no mirror image")
+        out[i] = j
+    return out
