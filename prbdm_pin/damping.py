@@ -1,0 +1,117 @@
+"""Joint-space damping matrices for the PRBDM equations of motion M(q) a + h(q, v) + K q + C v = tau.
+
+The paper adds damping only to make simulations tractable (its Eq. 5). Two forms are offered:
+
+- ``modal_damping(M, K, xi)`` (default): C = M Phi diag(2 xi_k omega_k) Phi^T M with the
+  mass-normalised modes Phi (Phi^T M Phi = I) of K phi = omega^2 M phi. It is symmetric and gives
+  mode k of the linearised system exactly the damping ratio xi_k (Phi^T C Phi = diag(2 xi_k omega_k)).
+  With one ratio for all modes it equals Caughey's 2 xi M (M^-1 K)^(1/2).
+- ``eq5c_damping(M, K, xi)``: the paper's Eq. 5c, C = 2 diag(xi_j) (M K)^(1/2) with per-joint factors
+  xi_j. (M K)^(1/2) is the principal square root (real: M K is similar to the positive definite
+  L^T K L for M = L L^T). It is **not symmetric** in general and does not give the modes the ratios
+  xi; it is kept for comparison with the paper only.
+
+Both take matrices evaluated at one pose; see ``prbdm_pin.simulation`` for how the pose is chosen.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+
+from .errors import BeamInputError, SolveError
+
+__all__ = ["damping_ratios", "modal_damping", "eq5c_damping", "damping_matrix"]
+
+
+def damping_ratios(damping_ratio: float | np.ndarray, n: int, name: str = "damping_ratio") -> np.ndarray:
+    """Validate a damping ratio (scalar or one per mode/joint) and broadcast it to shape (n,).
+
+    Raises :class:`BeamInputError` naming ``name`` for a wrong shape, a non-finite or a negative value.
+    """
+    try:
+        xi = np.asarray(damping_ratio, dtype=float)
+    except (TypeError, ValueError):
+        raise BeamInputError(f"{name} = {damping_ratio!r}: must be a number or a list of numbers") from None
+    if xi.ndim == 0:
+        xi = np.full(n, float(xi))
+    if xi.shape != (n,):
+        raise BeamInputError(f"{name} has shape {xi.shape}: must be a scalar or have {n} entries")
+    bad = np.flatnonzero(~np.isfinite(xi) | (xi < 0.0))
+    if bad.size:
+        i = int(bad[0])
+        raise BeamInputError(f"{name}[{i}] = {xi[i]}: must be finite and >= 0")
+    return xi
+
+
+def _check_pair(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    M = np.asarray(M, dtype=float)
+    K = np.asarray(K, dtype=float)
+    if M.ndim != 2 or M.shape[0] != M.shape[1] or K.shape != M.shape:
+        raise BeamInputError(f"M {M.shape} and K {K.shape}: must be square and of equal shape")
+    return M, K
+
+
+def modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray) -> np.ndarray:
+    """Modal damping matrix C = M Phi diag(2 xi_k omega_k) Phi^T M.
+
+    Parameters
+    ----------
+    M : ndarray, shape (n, n)
+        Joint-space mass matrix at the pose, kg m^2 (symmetric positive definite).
+    K : ndarray, shape (n, n)
+        Joint stiffness, N m/rad (symmetric positive definite).
+    damping_ratio : float or ndarray, shape (n,)
+        Ratio xi_k of critical damping for each mode (ascending frequency), dimensionless.
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        Symmetric damping matrix, N m s/rad.
+    """
+    M, K = _check_pair(M, K)
+    xi = damping_ratios(damping_ratio, M.shape[0])
+    try:
+        # eigh normalises the eigenvectors so that Phi^T M Phi = I
+        w2, phi = sla.eigh(K, M)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolveError(f"modal damping: generalized eigenproblem failed ({exc})") from None
+    omega = np.sqrt(np.clip(w2, 0.0, None))
+    MPhi = M @ phi
+    C = (MPhi * (2.0 * xi * omega)) @ MPhi.T
+    return 0.5 * (C + C.T)
+
+
+def eq5c_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray) -> np.ndarray:
+    """The paper's Eq. 5c damping, C = 2 diag(xi_j) (M K)^(1/2), per-joint factors xi_j.
+
+    Not symmetric in general and does not give mode k the ratio xi_k (use :func:`modal_damping`
+    for that). The principal square root is computed as L (L^T K L)^(1/2) L^-1 with M = L L^T.
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        Damping matrix, N m s/rad.
+    """
+    M, K = _check_pair(M, K)
+    xi = damping_ratios(damping_ratio, M.shape[0])
+    try:
+        L = np.linalg.cholesky(M)
+        s, U = np.linalg.eigh(L.T @ K @ L)
+    except np.linalg.LinAlgError as exc:
+        raise SolveError(f"Eq. 5c damping: mass matrix not positive definite ({exc})") from None
+    sqrt_s = (U * np.sqrt(np.clip(s, 0.0, None))) @ U.T
+    # (M K)^(1/2) = L S^(1/2) L^-1, with L^-1 applied from the right by a triangular solve
+    root = sla.solve_triangular(L, (L @ sqrt_s).T, lower=True, trans="T").T
+    return 2.0 * xi[:, None] * root
+
+
+def damping_matrix(
+    M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray, kind: str = "modal"
+) -> np.ndarray:
+    """Damping matrix of ``kind`` ``"modal"`` (default) or ``"eq5c"``; N m s/rad."""
+    if kind == "modal":
+        return modal_damping(M, K, damping_ratio)
+    if kind == "eq5c":
+        return eq5c_damping(M, K, damping_ratio)
+    raise BeamInputError(f"damping = {kind!r}: must be 'modal' or 'eq5c'")
