@@ -1,15 +1,16 @@
-"""Joint-space damping matrices for the PRBDM equations of motion M(q) a + h(q, v) + K q + C v = tau.
+"""Joint-space damping matrices C for the PRBDM: M(q) a + h(q, v) + K q + C v = tau.
 
 The paper adds damping only to make simulations tractable (its Eq. 5). Two forms are offered:
 
 - ``modal_damping(M, K, xi)`` (default): C = M Phi diag(2 xi_k omega_k) Phi^T M with the
-  mass-normalised modes Phi (Phi^T M Phi = I) of K phi = omega^2 M phi. It is symmetric and gives
-  mode k of the linearised system exactly the damping ratio xi_k (Phi^T C Phi = diag(2 xi_k omega_k)).
+  mass-normalised modes Phi (Phi^T M Phi = I) of K phi = omega^2 M phi. It is symmetric and
+  gives mode k of the linearised system exactly the damping ratio xi_k
+  (Phi^T C Phi = diag(2 xi_k omega_k)).
   With one ratio for all modes it equals Caughey's 2 xi M (M^-1 K)^(1/2).
-- ``eq5c_damping(M, K, xi)``: the paper's Eq. 5c, C = 2 diag(xi_j) (M K)^(1/2) with per-joint factors
-  xi_j. (M K)^(1/2) is the principal square root (real: M K is similar to the positive definite
-  L^T K L for M = L L^T). It is **not symmetric** in general and does not give the modes the ratios
-  xi; it is kept for comparison with the paper only.
+- ``eq5c_damping(M, K, xi)``: the paper's Eq. 5c, C = 2 diag(xi_j) (M K)^(1/2) with per-joint
+  factors xi_j. (M K)^(1/2) is the principal square root (real: M K is similar to the positive
+  definite L^T K L for M = L L^T). It is **not symmetric** in general and does not give the modes
+  the ratios xi; it is kept for comparison with the paper only.
 
 Both take matrices evaluated at one pose; see ``prbdm_pin.simulation`` for how the pose is chosen.
 """
@@ -24,15 +25,20 @@ from .errors import BeamInputError, SolveError
 __all__ = ["damping_ratios", "modal_damping", "eq5c_damping", "damping_matrix"]
 
 
-def damping_ratios(damping_ratio: float | np.ndarray, n: int, name: str = "damping_ratio") -> np.ndarray:
+def damping_ratios(
+    damping_ratio: float | np.ndarray, n: int, name: str = "damping_ratio"
+) -> np.ndarray:
     """Validate a damping ratio (scalar or one per mode/joint) and broadcast it to shape (n,).
 
-    Raises :class:`BeamInputError` naming ``name`` for a wrong shape, a non-finite or a negative value.
+    Raises :class:`BeamInputError` naming ``name`` for a wrong shape, a non-finite or a negative
+    value.
     """
     try:
         xi = np.asarray(damping_ratio, dtype=float)
     except (TypeError, ValueError):
-        raise BeamInputError(f"{name} = {damping_ratio!r}: must be a number or a list of numbers") from None
+        raise BeamInputError(
+            f"{name} = {damping_ratio!r}: must be a number or a list of numbers"
+        ) from None
     if xi.ndim == 0:
         xi = np.full(n, float(xi))
     if xi.shape != (n,):
