@@ -9,8 +9,12 @@ the lowest frequencies come out of the largest eigenvalues, where the solver is 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dpotrf as _potrf
+from scipy.linalg.lapack import dpotrs as _potrs
 
 from .errors import BeamInputError, SolveError
 
@@ -91,7 +95,7 @@ def _eig_from_mass(M: np.ndarray, k: np.ndarray, squared: bool) -> np.ndarray:
     s = 1.0 / np.sqrt(k)
     A = M * s[..., :, None] * s[..., None, :]
     mu = np.linalg.eigvalsh(A)  # ascending: mu = 1 / omega^2
-    if np.any(mu <= 0.0) or not np.all(np.isfinite(mu)):
+    if not (mu[..., 0].min() > 0.0):  # also catches NaN
         raise SolveError("mass matrix is not positive definite: frequencies are undefined")
     w2 = 1.0 / mu[..., ::-1]
     return w2 if squared else np.sqrt(w2)
@@ -229,8 +233,9 @@ class _Potential:
     """
 
     def __init__(self, lengths: np.ndarray, k: np.ndarray, force: np.ndarray) -> None:
-        self.L0, self.L = float(lengths[0]), lengths[1:]
+        self.L0, self.L = float(lengths[0]), np.asarray(lengths[1:], dtype=float)
         self.k = k
+        self.K = np.diag(k)
         self.fx, self.fz = float(force[0]), float(force[2])
         idx = np.arange(k.size)
         self.imax = np.maximum(idx[:, None], idx[None, :])
@@ -242,16 +247,15 @@ class _Potential:
 
     def derivatives(self, q: np.ndarray, lam: float):
         phi = np.cumsum(q)
-        c, s = np.cos(phi), np.sin(phi)
-        lc, ls = self.L * c, self.L * s
+        lcs = np.array([np.cos(phi), np.sin(phi)]) * self.L
+        rc, rs = np.cumsum(lcs[:, ::-1], axis=1)[:, ::-1]  # sum over i >= m of L c, L s
         # J^T F with J rows dp_x = -rcumsum(L s), dp_z = -rcumsum(L c)
-        jtf = -lam * np.cumsum((self.fx * ls + self.fz * lc)[::-1])[::-1]
+        jtf = (-lam * self.fx) * rs - (lam * self.fz) * rc
         kq = self.k * q
         g = kq - jtf
-        T = lam * np.cumsum((-self.fx * lc + self.fz * ls)[::-1])[::-1]
-        H = -T[self.imax]
-        H[np.diag_indices_from(H)] += self.k
-        scale = max(float(np.linalg.norm(kq)), float(np.linalg.norm(jtf)), 1e-300)
+        T = (-lam * self.fx) * rc + (lam * self.fz) * rs
+        H = self.K - T[self.imax]
+        scale = max(math.sqrt(kq @ kq), math.sqrt(jtf @ jtf), 1e-300)
         return g, H, scale
 
 
@@ -260,12 +264,9 @@ def _newton(pot: _Potential, q: np.ndarray, lam: float, rtol: float, max_iter: i
     """Damped Newton descent on V from ``q``; returns (q, converged)."""
     for _ in range(max_iter):
         g, H, scale = pot.derivatives(q, lam)
-        gn = float(np.linalg.norm(g))
-        try:
-            C = np.linalg.cholesky(H)
-            pd = True
-        except np.linalg.LinAlgError:
-            pd = False
+        gn = math.sqrt(g @ g)
+        C, info = _potrf(H, lower=1)  # LAPACK Cholesky: thin wrapper, cheap for small n
+        pd = info == 0
         if gn <= rtol * scale:
             if pd:
                 return q, True
@@ -274,7 +275,7 @@ def _newton(pot: _Potential, q: np.ndarray, lam: float, rtol: float, max_iter: i
             w, V = np.linalg.eigh(H)
             d = V[:, 0] * min(max_step, 1e-2)
         elif pd:
-            d = -np.linalg.solve(C.T, np.linalg.solve(C, g))
+            d = -_potrs(C, g, lower=1)[0]
         else:
             w, V = np.linalg.eigh(H)
             floor = 1e-8 * max(float(np.max(np.abs(w))), 1e-300)
@@ -290,15 +291,15 @@ def _newton(pot: _Potential, q: np.ndarray, lam: float, rtol: float, max_iter: i
             qn = q + alpha * d
             if pot.value(qn, lam) <= v0 + 1e-4 * alpha * min(slope, 0.0):
                 break
-            gn_new = float(np.linalg.norm(pot.derivatives(qn, lam)[0]))
-            if gn_new < 0.5 * gn:
+            gnew = pot.derivatives(qn, lam)[0]
+            if math.sqrt(gnew @ gnew) < 0.5 * gn:
                 break
             alpha *= 0.5
         else:
             return q, False
         q = qn
     g, H, scale = pot.derivatives(q, lam)
-    return q, bool(np.linalg.norm(g) <= rtol * scale)
+    return q, bool(math.sqrt(g @ g) <= rtol * scale and _potrf(H, lower=1)[1] == 0)
 
 
 def static_deflection_planar(
@@ -340,7 +341,7 @@ def static_deflection_planar(
     lam, dlam = 0.0, 0.25
     while lam < 1.0:
         target = min(1.0, lam + dlam)
-        qn, ok = _newton(pot, q, target, rtol, 30, max_step_rad)
+        qn, ok = _newton(pot, q, target, rtol, max(1, max_iter // 2), max_step_rad)
         if ok:
             q, lam = qn, target
             dlam *= 1.5
