@@ -101,7 +101,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option gravity="0 0 0" timestep="{_f(timestep_s)}"/>',
         "  <worldbody>",
-        f'    <body name="link_0" pos="0 0 0">',
+        '    <body name="link_0" pos="0 0 0">',
         f"      {inertial(0)}",
     ]
     indent = "      "
