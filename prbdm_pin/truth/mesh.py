@@ -146,10 +146,17 @@ def planform_tri_mesh(beam: Beam, level: int = 1, growth: float = 0.3) -> MeshTr
     upper half is Delaunay-triangulated (scipy) and mirrored. A short vertex interval, a narrow
     section or a steep step of the outline then gets small, well-shaped triangles instead of the
     slivers of a mapped mesh. The axis y = 0 is a mesh line and symmetric modes stay symmetric.
+    Level ``k > 0`` is the level-0 mesh uniformly refined ``k`` times (nested meshes).
     """
     from scipy.spatial import Delaunay
 
-    h = element_size(beam, level)
+    if level < 0:
+        raise ValueError(f"level = {level}: must be >= 0")
+    if level > 0:
+        # uniform refinement of the base mesh: nested meshes, so the conforming Argyris
+        # frequencies decrease monotonically with the level
+        return planform_tri_mesh(beam, 0, growth).refined(level)
+    h = element_size(beam, 0)
     xs = x_stations(beam, h, growth)
     sizes = _local_size(beam, h, growth, xs)
     gaps = np.diff(xs)
