@@ -1,0 +1,60 @@
+"""On-disk cache of truth results, keyed by a hash of every input that changes the answer.
+
+The key covers the beam's physical content (``Beam.fingerprint``), the model, mesh level, mode
+count, selection policy, static options and the package version. Entries are pickles of the frozen
+``TruthResult`` written atomically (temporary file + ``os.replace``), so a crashed or concurrent
+writer never leaves a half-written entry.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import pickle
+import tempfile
+from pathlib import Path
+
+from ..geometry import Beam
+from .result import TruthResult
+
+__all__ = ["cache_key", "load_cached", "store_cached"]
+
+
+def cache_key(beam: Beam, **inputs) -> str:
+    """SHA-256 hex digest of the beam fingerprint and the keyword inputs (JSON-serialisable)."""
+    payload = json.dumps({"beam": beam.fingerprint(), **inputs}, sort_keys=True, default=str)
+    return hashlib.sha256(payload.encode()).hexdigest()
+
+
+def _path(cache_dir, key: str) -> Path:
+    return Path(cache_dir) / f"truth-{key}.pkl"
+
+
+def load_cached(cache_dir, key: str) -> TruthResult | None:
+    """The cached result for ``key`` or None (a corrupt entry counts as a miss)."""
+    path = _path(cache_dir, key)
+    if not path.is_file():
+        return None
+    try:
+        with open(path, "rb") as fh:
+            obj = pickle.load(fh)
+    except Exception:  # noqa: BLE001 - any unreadable entry is recomputed
+        return None
+    return obj if isinstance(obj, TruthResult) else None
+
+
+def store_cached(cache_dir, key: str, result: TruthResult) -> Path:
+    """Write ``result`` under ``key`` atomically; returns the path."""
+    d = Path(cache_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=d, prefix=".truth-", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            pickle.dump(result, fh, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(tmp, _path(d, key))
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return _path(d, key)
