@@ -36,7 +36,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from . import __version__
-from .damping import modal_damping
+from .damping import damping_ratios, modal_damping
 from .errors import BeamInputError
 from .geometry import atomic_write_text, beam_from_dict, beam_to_dict
 
@@ -81,7 +81,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     n = model.n_joints
     k = np.asarray(model.stiffness_Nm_per_rad, dtype=float)
     M, K = model.mass_matrix(), model.stiffness_matrix()
-    xi = np.broadcast_to(np.asarray(damping_ratio, dtype=float), (n,))
+    xi = damping_ratios(damping_ratio, n)
     c = np.zeros(n) if not np.any(xi > 0) else np.diag(modal_damping(M, K, xi))
     if timestep_s is None:
         timestep_s = 2.0 * np.pi / float(model.natural_frequencies()[-1]) / 20.0

@@ -124,3 +124,44 @@ def test_export_is_atomic_and_checks_format(model, tmp_path):
         export_model(model, tmp_path / "x.sdf", "sdf")
     export_model(model, tmp_path / "m.xml", "mjcf")
     assert [p.name for p in tmp_path.iterdir()] == ["m.xml"]
+
+
+def test_export_cli_and_simulate_cli(model, tmp_path, capsys):
+    from prbdm_pin.cli import main
+
+    src = export_model(model, tmp_path / "model.json", "json")
+    assert main(["export", str(src), "--format", "urdf", "--out", str(tmp_path / "m.urdf"),
+                 "--quiet"]) == 0
+    assert main(["export", str(tmp_path / "m.urdf"), "--format", "mjcf",
+                 "--out", str(tmp_path / "m.xml"), "-q"]) == 0
+    m = mujoco.MjModel.from_xml_path(str(tmp_path / "m.xml"))
+    np.testing.assert_allclose(m.jnt_stiffness, model.stiffness_Nm_per_rad, rtol=1e-15)
+    out = tmp_path / "sim"
+    assert main(["simulate", str(tmp_path / "m.urdf"), "--duration", "0.05",
+                 "--tip-force", "0,0,-100", "--out", str(out), "-q"]) == 0
+    data = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    assert data.shape == (2001, 1 + 5 + 5 + 3)
+    assert (out / "response.png").stat().st_size > 0
+    assert main(["simulate", str(src), "--duration", "0.05", "--compare-truth",
+                 "--out", str(out), "-q"]) == 0
+    summary = json.loads((out / "truth_comparison.json").read_text())
+    assert 0.0 < summary["frf_error"] and 0.0 < summary["step_error"]
+
+
+@pytest.mark.parametrize("argv, match", [
+    (["simulate", "missing.urdf", "--duration", "1", "--out", "x"], "not found"),
+    (["simulate", "{model}", "--duration", "1", "--tip-force", "1,2", "--out", "x"],
+     "--tip-force"),
+    (["simulate", "{model}", "--duration", "-1", "--out", "x"], "--duration"),
+    (["export", "{model}", "--format", "mjcf", "--damping", "-1", "--out", "x.xml"],
+     "damping_ratio"),
+])
+def test_cli_bad_input_is_one_line_exit_2(model, tmp_path, capsys, argv, match):
+    from prbdm_pin.cli import main
+
+    src = export_model(model, tmp_path / "model.json", "json")
+    argv = [a.replace("{model}", str(src)) for a in argv]
+    argv = [str(tmp_path / a) if a in ("x", "x.xml") else a for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and match in err
