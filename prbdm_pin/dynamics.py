@@ -15,6 +15,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg.lapack import dpotrf as _potrf
 from scipy.linalg.lapack import dpotrs as _potrs
+from scipy.linalg.lapack import dsyevd as _syevd
 
 from .errors import BeamInputError, SolveError
 
@@ -23,6 +24,7 @@ __all__ = [
     "mass_matrices",
     "natural_frequencies",
     "natural_frequencies_batch",
+    "eig_scaled",
     "modes",
     "modal_damping",
     "tip_position",
@@ -92,9 +94,22 @@ def _stiffness(k: np.ndarray, n: int, m: int | None = None) -> np.ndarray:
 
 
 def _eig_from_mass(M: np.ndarray, k: np.ndarray, squared: bool) -> np.ndarray:
-    s = 1.0 / np.sqrt(k)
+    return eig_scaled(M, 1.0 / np.sqrt(k), squared)
+
+
+def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarray:
+    """Frequencies from mass matrices M (n, n) or (m, n, n) and s = K^(-1/2) (n,) or (m, n).
+
+    The eigenvalues mu of S M S (S = diag(s)) are 1 / omega^2. No input checks: the callers
+    validate once.
+    """
     A = M * s[..., :, None] * s[..., None, :]
-    mu = np.linalg.eigvalsh(A)  # ascending: mu = 1 / omega^2
+    if A.ndim == 2:
+        mu, _, info = _syevd(A, compute_v=0, lower=0)  # one small matrix: LAPACK directly
+        if info != 0:
+            raise SolveError(f"symmetric eigensolver failed (LAPACK info {info})")
+    else:
+        mu = np.linalg.eigvalsh(A)  # ascending, batched over the stack
     if not (mu[..., 0].min() > 0.0):  # also catches NaN
         raise SolveError("mass matrix is not positive definite: frequencies are undefined")
     w2 = 1.0 / mu[..., ::-1]

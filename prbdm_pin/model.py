@@ -128,13 +128,18 @@ class PrbdmModel:
         """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
         return dyn.mass_matrix(self.pin_model, self._data if data is None else data, q)
 
+    @property
+    def _s(self) -> np.ndarray:
+        s = self._cache.get("s")
+        if s is None:
+            s = self._cache["s"] = 1.0 / np.sqrt(self.stiffness_Nm_per_rad)
+        return s
+
     def natural_frequencies(
         self, q: np.ndarray | None = None, squared: bool = False
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
-        return dyn.natural_frequencies(
-            self.pin_model, self._data, self.stiffness_Nm_per_rad, q, squared
-        )
+        return dyn.eig_scaled(self.mass_matrix(q), self._s, squared)
 
     def natural_frequencies_batch(
         self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False
@@ -143,8 +148,9 @@ class PrbdmModel:
 
         ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
         """
-        k = self.stiffness_Nm_per_rad if stiffness is None else stiffness
-        return dyn.natural_frequencies_batch(self.pin_model, self._data, Q, k, squared)
+        if stiffness is not None:
+            return dyn.natural_frequencies_batch(self.pin_model, self._data, Q, stiffness, squared)
+        return dyn.eig_scaled(dyn.mass_matrices(self.pin_model, self._data, Q), self._s, squared)
 
     def modes(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""

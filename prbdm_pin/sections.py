@@ -93,31 +93,33 @@ def link_sections(beam: Beam, lengths_m: np.ndarray, min_fraction: float = 0.02)
 
 
 def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
+    # called inside optimisation loops: ndarray methods rather than numpy's wrapper functions
     nl = lengths.size
-    ends = np.cumsum(lengths)
+    ends = lengths.cumsum()
     ends[-1] = beam.length_m  # the tip is the beam's end, not a rounded sum
-    starts = np.concatenate([[0.0], ends[:-1]])
+    starts = np.empty(nl)
+    starts[0] = 0.0
+    starts[1:] = ends[:-1]
     mids = 0.5 * (starts + ends)
     # sub-intervals between all planform vertices and link boundaries
-    cuts = np.unique(np.concatenate([beam.x_m, ends, [0.0]]))
+    cuts = np.concatenate((beam.x_m, ends))
+    cuts.sort()
     u, v = cuts[:-1], cuts[1:]
     keep = v > u
     u, v = u[keep], v[keep]
-    link = np.searchsorted(ends, 0.5 * (u + v))
-    link = np.minimum(link, nl - 1)
+    link = ends.searchsorted(0.5 * (u + v))
+    np.minimum(link, nl - 1, out=link)
     h = v - u
-    xg = u[:, None] + h[:, None] * _GAUSS_T[None, :]  # (s, 2) Gauss points
-    wg = beam.half_width_at(xg)
+    xg = u[:, None] + h[:, None] * _GAUSS_T  # (s, 2) Gauss points
+    wg = np.interp(xg, beam.x_m, beam.half_width_m)
     xl = xg - mids[link][:, None]  # about the link's mid-span: avoids cancellation
-    wt = 0.5 * h[:, None]  # Gauss weights on [u, v]
-    area = np.sum(wt * 2.0 * wg, axis=1)
-    s1 = np.sum(wt * 2.0 * wg * xl, axis=1)
-    s2 = np.sum(wt * 2.0 * wg * xl * xl, axis=1)
-    syy = np.sum(wt * (2.0 / 3.0) * wg**3, axis=1)
-    A = np.bincount(link, area, nl)
-    S1 = np.bincount(link, s1, nl)
-    S2 = np.bincount(link, s2, nl)
-    Syy = np.bincount(link, syy, nl)
+    w2 = 2.0 * wg
+    # rows: area, first and second moment in x, y^2 moment (2 w^3 / 3); Gauss weights h / 2
+    f = np.stack((w2, w2 * xl, w2 * xl * xl, w2 * wg * wg / 3.0)).sum(axis=2) * (0.5 * h)
+    A = np.bincount(link, f[0], nl)
+    S1 = np.bincount(link, f[1], nl)
+    S2 = np.bincount(link, f[2], nl)
+    Syy = np.bincount(link, f[3], nl)
 
     t = beam.thickness_m
     rho_t = beam.material.rho_kg_m3 * t
@@ -126,12 +128,12 @@ def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
     com = np.zeros((nl, 3))
     com[:, 0] = mids + dx
     Sxx_c = S2 - A * dx * dx  # second moment about the COM
-    thick = mass * t * t / 12.0
+    thick = mass * (t * t / 12.0)
     inertia = np.zeros((nl, 3, 3))
     inertia[:, 0, 0] = rho_t * Syy + thick
     inertia[:, 1, 1] = rho_t * Sxx_c + thick
     inertia[:, 2, 2] = rho_t * (Sxx_c + Syy)
-    area_moment = A * t**3 / 12.0 / (ends - starts)  # mean of 2 w t^3 / 12 over the span
+    area_moment = A * (t**3 / 12.0) / (ends - starts)  # mean of 2 w t^3 / 12 over the span
     return LinkSections(
         start_m=_ro(starts), end_m=_ro(ends), mass_kg=_ro(mass), com_m=_ro(com),
         inertia_com_kg_m2=_ro(inertia), area_moment_m4=_ro(area_moment),

@@ -120,9 +120,10 @@ def test_frequencies_match_scipy_generalised_eigh(model6):
     for q, w in zip(Q, batch, strict=True):
         ref = np.sqrt(scipy.linalg.eigh(K, model6.mass_matrix(q), eigvals_only=True))
         np.testing.assert_allclose(w, ref, rtol=1e-11)
-        np.testing.assert_allclose(model6.natural_frequencies(q), w, rtol=1e-13)
+        # different LAPACK drivers: the top mode carries eps * (w_max / w_min)^2 ~ 1e-12
+        np.testing.assert_allclose(model6.natural_frequencies(q), w, rtol=1e-11)
     np.testing.assert_allclose(
-        model6.natural_frequencies(Q[0], squared=True), batch[0] ** 2, rtol=1e-13
+        model6.natural_frequencies(Q[0], squared=True), batch[0] ** 2, rtol=1e-11
     )
     # per-pose stiffness: scaling row i by c_i scales its frequencies by sqrt(c_i)
     c = np.linspace(0.5, 3.0, 25)

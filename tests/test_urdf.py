@@ -37,8 +37,9 @@ def test_pinocchio_file_parser_gives_the_same_bodies(model, urdf_path):
     for i in range(5):
         inertia = parsed.inertias[i]
         assert inertia.mass == s.mass_kg[i]
-        np.testing.assert_array_equal(inertia.lever, s.com_m[i] - [s.start_m[i], 0, 0])
-        # Pinocchio keeps inertia in its own symmetric storage: equal to rounding
+        # appending a body to a joint sums inertias (lever = sum m c / sum m): equal to rounding
+        np.testing.assert_allclose(inertia.lever, s.com_m[i] - [s.start_m[i], 0, 0], rtol=1e-14,
+                                   atol=0)
         np.testing.assert_allclose(inertia.inertia, s.inertia_com_kg_m2[i], rtol=1e-14, atol=0)
     for j in range(1, 5):
         assert parsed.joints[j].shortname() == "JointModelRY"
