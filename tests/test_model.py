@@ -146,3 +146,16 @@ def test_with_stiffness_shares_the_chain(model6):
     np.testing.assert_allclose(other.natural_frequencies(), 2.0 * model6.natural_frequencies(),
                                rtol=1e-13)
     assert "springStiffness>1200.0<" in other.urdf
+
+
+def test_modal_damping_gives_each_mode_its_ratio(model6):
+    from prbdm_pin.dynamics import modal_damping
+
+    q = np.full(6, 0.1)
+    w, Phi = model6.modes(q)
+    M = model6.mass_matrix(q)
+    xi = np.linspace(0.01, 0.06, 6)
+    C = modal_damping(M, Phi, w, xi)
+    np.testing.assert_allclose(C, C.T, rtol=0, atol=1e-14 * np.abs(C).max())
+    # Phi^T C Phi = diag(2 xi omega): each mode decouples with damping ratio xi
+    np.testing.assert_allclose(Phi.T @ C @ Phi, np.diag(2 * xi * w), atol=1e-9 * (2 * xi * w).max())
