@@ -116,7 +116,7 @@ def test_postbuckling_tip_angle():
     m = chain(64)
     F = np.array([-alpha * EI / L**2, 0.0, 0.0])
     q, _ = m.static_deflection(F)
-    assert abs(abs(q.sum()) - theta0) < 0.01 * theta0
+    assert abs(abs(q.sum()) - theta0) < 2e-4 * theta0  # 4e-5 measured at n = 64
     assert np.linalg.norm(m.stiffness_Nm_per_rad * q - m.tip_jacobian(q).T @ F) <= \
         1e-9 * np.linalg.norm(m.stiffness_Nm_per_rad * q)
 
