@@ -351,7 +351,7 @@ def _trapezoidal(pm, data, stiffness, C, tau_external, q0, v0, duration, dt, out
     if tau_external(q0, 0.0) is not None:
         # a force sets the scale of the motion: its static deflection angle
         scale = max(scale, float(np.max(np.abs(tau_external(q0, 0.0) / stiffness(q0)))))
-    tol = 1e-12 * scale
+    tol = 1e-10 * scale
     rho = 1.0
     for step in range(1, nsteps + 1):
         t1 = step * h
@@ -397,7 +397,7 @@ def _trapezoidal(pm, data, stiffness, C, tau_external, q0, v0, duration, dt, out
         q = qp + hh4 * a1
         v = vp + h2 * a1
         scale = max(scale, np.abs(q).max())
-        tol = 1e-12 * scale
+        tol = 1e-10 * scale
         a_prev, a = a, a1
         if step % every == 0:
             Q[step // every] = q
