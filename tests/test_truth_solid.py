@@ -1,0 +1,147 @@
+"""3D solid truth against Euler-Bernoulli, the cantilever-plate table and the elastica table."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from prbdm_pin.errors import BeamInputError
+from prbdm_pin.geometry import Beam, Material, load_beam
+from prbdm_pin.truth import solid
+from prbdm_pin.truth.solid import default_solid_level, solid_modal, solid_static
+
+BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
+# Cantilever eigenvalues beta_n L (e.g. Blevins, Formulas for Natural Frequency and Mode Shape).
+BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.9955407, 14.1371684])
+# Converged Kirchhoff cantilever plate, nu = 0.3: omega a^2 sqrt(rho h / D), first five modes
+# (reference/cantilever_plate_square.md; Leissa's Ritz values sit 0.2-0.7 % above).
+PLATE = np.array([3.4710, 8.5063, 21.284, 27.199, 30.955])
+
+
+@pytest.fixture(scope="module")
+def narrow() -> Beam:
+    return load_beam(BEAMS / "uniform-narrow.json")
+
+
+def _euler_bernoulli(beam: Beam) -> np.ndarray:
+    rhoA = beam.material.rho_kg_m3 * 2 * beam.half_width_m[0] * beam.thickness_m
+    return BETA_L**2 * np.sqrt(beam.root_EI_Nm2 / (rhoA * beam.length_m**4))
+
+
+def test_default_level_is_two_and_a_half_thicknesses(narrow):
+    assert default_solid_level(narrow) == 2  # L / (10 * 2^2) = 25 mm = 2.5 t
+
+
+def test_narrow_bending_modes_just_above_euler_bernoulli(narrow):
+    m = solid_modal(narrow, n_modes=12)
+    bending = m.mpf_z_fraction > 1e-3
+    assert np.all(m.symmetric[bending])
+    rel = m.omega_rad_s[bending][:5] / _euler_bernoulli(narrow) - 1
+    # The clamp blocks the root's Poisson contraction: 0.2-0.5 % stiffer than Euler-Bernoulli.
+    assert np.all((rel > 0.002) & (rel < 0.005)), rel
+    # Cantilever effective-mass fractions of modes 1-3 (Blevins): 0.6131, 0.1883, 0.0647.
+    assert m.mpf_z_fraction[bending][:3] == pytest.approx([0.6131, 0.1883, 0.0647], abs=2e-3)
+    # The centreline shape of mode 1 is the Euler-Bernoulli shape.
+    x = m.centerline_x_m
+    b = BETA_L[0]
+    sigma = (np.cosh(b) + np.cos(b)) / (np.sinh(b) + np.sin(b))
+    ref = np.cosh(b * x) - np.cos(b * x) - sigma * (np.sinh(b * x) - np.sin(b * x))
+    u = m.centerline_uz[0]
+    assert (u @ ref) ** 2 / ((u @ u) * (ref @ ref)) > 0.9999
+
+
+def test_linear_tip_deflection(narrow):
+    s = solid_static(narrow)
+    ref = narrow.tip_force_N[2] * narrow.length_m**3 / (3 * narrow.root_EI_Nm2)
+    assert s.tip_displacement_m[2] == pytest.approx(ref, rel=5e-3)
+    assert abs(s.tip_displacement_m[0]) < 1e-9 and abs(s.tip_displacement_m[1]) < 1e-9
+
+
+def test_linear_tip_deflection_without_poisson_is_timoshenko(narrow):
+    # nu = 0: no clamp constraint; Euler-Bernoulli plus shear P L / (k G A), k = 5/6.
+    mat = Material("nu0", 205e9, 7850.0, 0.0)
+    beam = Beam(narrow.x_m, narrow.half_width_m, narrow.thickness_m, mat, narrow.tip_force_N)
+    P, L, A = beam.tip_force_N[2], beam.length_m, 2 * beam.half_width_m[0] * beam.thickness_m
+    ref = P * L**3 / (3 * beam.root_EI_Nm2) + P * L / (5 / 6 * mat.G_Pa * A)
+    assert solid_static(beam).tip_displacement_m[2] == pytest.approx(ref, rel=2e-4)
+
+
+def test_tip_deflection_converges(narrow):
+    ref = narrow.tip_force_N[2] * narrow.length_m**3 / (3 * narrow.root_EI_Nm2)
+    w = np.array([solid_static(narrow, level).tip_displacement_m[2] for level in (1, 2, 3)])
+    d = np.abs(np.diff(w))
+    assert d[1] < 0.7 * d[0]  # about O(h^0.9): the clamp's edge singularity limits the rate
+    assert np.all(np.abs(w / ref - 1) < 5e-3) and np.all(np.diff(np.abs(w)) > 0)
+
+
+def test_tangent_matches_linear_stiffness_and_finite_differences(narrow):
+    d = solid._discretise(narrow, 0)
+    kin = solid._Kinematics(d)
+    f0, K0 = kin.evaluate(np.zeros(d.n_vec))
+    KL = solid._linear_stiffness(d)  # assembled separately from scalar skfem forms
+    assert abs(K0 - KL).max() < 1e-12 * abs(KL).max()
+    assert np.abs(f0).max() == 0.0
+    rng = np.random.default_rng(1)
+    u = 1e-2 * rng.standard_normal(d.n_vec)
+    v = rng.standard_normal(d.n_vec)
+    _, K = kin.evaluate(u)
+    eps = 1e-7
+    fp, _ = kin.evaluate(u + eps * v, tangent=False)
+    fm, _ = kin.evaluate(u - eps * v, tangent=False)
+    assert np.linalg.norm((fp - fm) / (2 * eps) - K @ v) < 1e-6 * np.linalg.norm(K @ v)
+
+
+def _plate_lambda(beam: Beam, omega: np.ndarray) -> np.ndarray:
+    mat, h = beam.material, beam.thickness_m
+    D = mat.E_Pa * h**3 / (12 * (1 - mat.nu**2))
+    return omega * beam.length_m**2 * np.sqrt(mat.rho_kg_m3 * h / D)
+
+
+def test_square_plate_coarse():
+    beam = load_beam(BEAMS / "square-plate.json")
+    m = solid_modal(beam, level=1, n_modes=5)
+    assert _plate_lambda(beam, m.omega_rad_s) == pytest.approx(PLATE, rel=1e-2)
+    # bending, torsion, bending, chordwise (symmetric), torsion
+    assert m.symmetric.tolist() == [True, False, True, True, False]
+    assert np.all(m.mpf_z_fraction[[1, 4]] < 1e-12)
+
+
+@pytest.mark.slow
+def test_square_plate_default_level():
+    beam = load_beam(BEAMS / "square-plate.json")
+    m = solid_modal(beam, n_modes=5)
+    assert _plate_lambda(beam, m.omega_rad_s) == pytest.approx(PLATE, rel=1e-2)
+
+
+# Elastica table ((L - x)/L, y/L): Mattiasson (1981) Table 1
+# (reference/elastica_vertical_tip_load.csv).
+@pytest.mark.parametrize(
+    "alpha2, retreat, deflection",
+    [
+        (1.0, 0.056433, 0.301721),
+        pytest.param(2.0, 0.160642, 0.493457, marks=pytest.mark.slow),
+    ],
+)
+def test_large_deflection_matches_elastica_table(narrow, alpha2, retreat, deflection):
+    P = alpha2 * narrow.root_EI_Nm2 / narrow.length_m**2
+    s = solid_static(narrow, tip_force_N=np.array([0.0, 0.0, -P]), nonlinear=True)
+    ref = np.array([-retreat, 0.0, -deflection]) * narrow.length_m
+    err = np.linalg.norm(s.tip_displacement_m - ref) / np.linalg.norm(ref)
+    assert err < 5e-3, err
+    assert s.nonlinear
+
+
+def test_small_load_nonlinear_equals_linear(narrow):
+    F = 1e-3 * narrow.tip_force_N
+    lin = solid_static(narrow, level=1, tip_force_N=F)
+    nl = solid_static(narrow, level=1, tip_force_N=F, nonlinear=True)
+    assert nl.tip_displacement_m[2] == pytest.approx(lin.tip_displacement_m[2], rel=1e-5)
+
+
+def test_bad_input(narrow):
+    with pytest.raises(BeamInputError, match="level"):
+        solid_modal(narrow, level=-1)
+    with pytest.raises(BeamInputError, match="n_modes"):
+        solid_modal(narrow, n_modes=0)
+    with pytest.raises(BeamInputError, match="tip_force_N"):
+        solid_static(narrow, tip_force_N=np.array([1.0]))
