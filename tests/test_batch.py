@@ -20,7 +20,7 @@ from prbdm_pin.geometry import random_beam
 N_BEAMS = 20
 SEED = 2024
 # The cheapest real pipeline: 1D Euler-Bernoulli truth and a small joint-stiffness fit.
-SETTINGS = FitSettings(joints=2, frequencies=2, objective="eigen", stiffness="joint", starts=4,
+SETTINGS = FitSettings(joints=2, frequencies=2, objective="eigen", stiffness="joint", starts=2,
                        truth_model="beam")
 
 
@@ -57,11 +57,11 @@ def dying_work(task: batch.BeamTask, die_at: int, marker_dir: str | None = None)
     return WORK(task)
 
 
-def interrupting_work(task: batch.BeamTask, at: int) -> dict:
+def interrupting_work(task: batch.BeamTask, at: int, inner=modal_work) -> dict:
     """Ctrl-C as the driver sees it, once beam ``at`` is reached."""
     if task.index == at:
         raise KeyboardInterrupt
-    return WORK(task)
+    return inner(task)
 
 
 def blas_threads() -> int:
@@ -84,68 +84,105 @@ def jsonl_indices(out: Path) -> list[int]:
     return [r["beam_index"] for r in batch.read_records(out / batch.RESULTS_JSONL)]
 
 
+def serial(work, n_beams: int = N_BEAMS) -> dict[int, dict]:
+    """The records computed one after the other in this process: no driver, no pool."""
+    return {t.index: {k: v for k, v in json.loads(batch.record_to_json(work(t))).items()
+                      if k not in batch.RUN_DEPENDENT_FIELDS}
+            for t in batch.plan_tasks(spec(n_beams=n_beams))}
+
+
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory) -> dict[int, dict]:
-    """An uninterrupted run: 20 beams on 2 local workers."""
-    out = tmp_path_factory.mktemp("reference")
-    summary = run_batch(spec(), out, work=WORK, backend=LocalPool(2), progress=False)
+def reference() -> dict[int, dict]:
+    """The cheap stand-in work of the fault tests, computed serially."""
+    return serial(WORK)
+
+
+@pytest.fixture(scope="module")
+def fitted() -> dict[int, dict]:
+    """The real pipeline (truth + fit) of the 20 beams, computed serially."""
+    return serial(batch.evaluate_beam)
+
+
+@pytest.fixture(scope="module")
+def two_workers_dir(tmp_path_factory) -> Path:
+    """The real pipeline of the 20 beams on 2 local workers."""
+    out = tmp_path_factory.mktemp("two-workers")
+    summary = run_batch(spec(), out, backend=LocalPool(2), progress=False)
     assert (summary.n_ok, summary.n_failed, summary.n_skipped) == (N_BEAMS, 0, 0)
-    return results(out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def two_workers(two_workers_dir) -> dict[int, dict]:
+    return results(two_workers_dir)
 
 
 # --- tests ---------------------------------------------------------------------------------------
-def test_twenty_beams_on_two_workers(reference, tmp_path):
-    assert sorted(reference) == list(range(N_BEAMS))
-    for i, rec in reference.items():
+def test_twenty_beams_on_two_workers(fitted, two_workers):
+    assert two_workers == fitted
+    for i, rec in two_workers.items():
         # beam i is reproducible outside the batch from the documented recipe
         beam = random_beam(np.random.default_rng(np.random.SeedSequence(SEED, spawn_key=(i,))))
         assert rec["mass_kg"] == pytest.approx(beam.mass_kg, rel=1e-15)
         assert rec["taper_ratio"] == pytest.approx(beam.half_width_m[-1] / beam.half_width_m[0])
         assert rec["status"] == "ok"
-    masses = [r["mass_kg"] for r in reference.values()]
-    assert len(set(masses)) == N_BEAMS  # 20 different beams
+        # a joint-stiffness fit matches n frequencies exactly (issue 4), so the fitted model
+        # carries the truth through the driver
+        assert rec["eigen_loss_pct"] < 1e-6
+        assert sum(rec["lengths_m"]) == pytest.approx(beam.length_m, rel=1e-12)
+    assert len({r["mass_kg"] for r in two_workers.values()}) == N_BEAMS  # 20 different beams
 
 
-def test_same_seed_one_or_two_workers_identical(reference, tmp_path):
-    run_batch(spec(), tmp_path, work=WORK, backend=LocalPool(1), progress=False)
-    assert results(tmp_path) == reference
+def test_same_seed_one_or_two_workers_identical(two_workers, tmp_path):
+    run_batch(spec(), tmp_path, backend=LocalPool(1), progress=False)
+    assert results(tmp_path) == two_workers
 
 
-def test_csv_sorted_by_index_one_row_per_beam(reference, tmp_path):
-    run_batch(spec(), tmp_path, work=WORK, backend=LocalPool(2), progress=False)
-    import csv
-
-    with open(tmp_path / batch.RESULTS_CSV) as fh:
-        rows = list(csv.DictReader(fh))
-    assert [int(r["beam_index"]) for r in rows] == list(range(N_BEAMS))
-    for r in rows:
-        ref = reference[int(r["beam_index"])]
-        assert float(r["mass_kg"]) == pytest.approx(ref["mass_kg"], rel=1e-15)
-        assert float(r["omega_rad_s_1"]) == pytest.approx(ref["omega_rad_s"][1], rel=1e-15)
-
-
-def test_interrupted_then_resumed_equals_uninterrupted(reference, tmp_path):
-    work = functools.partial(interrupting_work, at=9)
+def test_interrupted_then_resumed_equals_uninterrupted(two_workers, tmp_path):
+    work = functools.partial(interrupting_work, at=9, inner=batch.evaluate_beam)
     with pytest.raises(KeyboardInterrupt):
         run_batch(spec(), tmp_path, work=work, backend=LocalPool(2), progress=False)
     first = jsonl_indices(tmp_path)
     assert 0 < len(first) < N_BEAMS and len(set(first)) == len(first)
     assert 9 not in first
     # everything finished before the interrupt is on disk, consolidated too
-    assert (tmp_path / batch.RESULTS_CSV).exists()
-    summary = run_batch(spec(), tmp_path, work=WORK, backend=LocalPool(2), progress=False)
+    assert len((tmp_path / batch.RESULTS_CSV).read_text().splitlines()) == len(first) + 1
+    summary = run_batch(spec(), tmp_path, backend=LocalPool(2), progress=False)
     assert summary.n_skipped == len(first)
     assert summary.n_ok == N_BEAMS - len(first)
-    idx = jsonl_indices(tmp_path)
-    assert sorted(idx) == list(range(N_BEAMS))  # nothing lost, nothing duplicated
-    assert results(tmp_path) == reference
+    assert sorted(jsonl_indices(tmp_path)) == list(range(N_BEAMS))  # nothing lost or doubled
+    assert results(tmp_path) == two_workers
 
 
-def test_rerun_of_finished_batch_does_nothing(reference, tmp_path):
-    run_batch(spec(), tmp_path, work=WORK, backend=LocalPool(1), progress=False)
-    summary = run_batch(spec(), tmp_path, work=WORK, backend=LocalPool(1), progress=False)
+def test_dask_local_cluster_matches_local_pool(two_workers, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        run_batch(spec(), tmp_path, backend=batch.DaskCluster(client), progress=False)
+    assert results(tmp_path) == two_workers
+
+
+def test_csv_sorted_by_index_one_row_per_beam(fitted, two_workers_dir):
+    import csv
+
+    with open(two_workers_dir / batch.RESULTS_CSV) as fh:
+        rows = list(csv.DictReader(fh))
+    assert [int(r["beam_index"]) for r in rows] == list(range(N_BEAMS))
+    for r in rows:
+        ref = fitted[int(r["beam_index"])]
+        assert float(r["mass_kg"]) == ref["mass_kg"]
+        assert float(r["lengths_m_2"]) == ref["lengths_m"][2]
+        assert float(r["gamma_1"]) == pytest.approx(ref["lengths_m"][0] / ref["length_m"])
+
+
+def test_rerun_of_finished_batch_does_nothing(two_workers_dir, tmp_path):
+    import shutil
+
+    out = shutil.copytree(two_workers_dir, tmp_path / "copy")
+    summary = run_batch(spec(), out, backend=LocalPool(1), progress=False)
     assert (summary.n_skipped, summary.n_ok, summary.n_failed) == (N_BEAMS, 0, 0)
-    assert len(jsonl_indices(tmp_path)) == N_BEAMS
+    assert len(jsonl_indices(out)) == N_BEAMS
 
 
 def test_torn_last_line_is_dropped_and_recomputed(reference, tmp_path):
@@ -174,11 +211,11 @@ def test_other_arguments_refused(tmp_path):
 
 def test_shards_partition_the_batch(reference, tmp_path):
     merged = {}
-    for i in range(3):
+    for i in range(2):
         out = tmp_path / f"shard-{i}"
-        run_batch(spec(shard=(i, 3)), out, work=WORK, backend=LocalPool(1), progress=False)
+        run_batch(spec(shard=(i, 2)), out, work=WORK, backend=LocalPool(1), progress=False)
         got = results(out)
-        assert set(got) == set(range(i, N_BEAMS, 3))
+        assert set(got) == set(range(i, N_BEAMS, 2))
         merged.update(got)
     assert merged == reference
 
@@ -199,6 +236,7 @@ def test_killed_worker_beam_retried_then_recorded_failed(reference, tmp_path):
             assert got[i] == reference[i]
 
 
+@pytest.mark.slow
 def test_worker_dying_once_is_retried_successfully(reference, tmp_path):
     work = functools.partial(dying_work, die_at=3, marker_dir=str(tmp_path))
     out = tmp_path / "out"
@@ -208,6 +246,7 @@ def test_worker_dying_once_is_retried_successfully(reference, tmp_path):
     assert results(out) == {i: reference[i] for i in range(6)}
 
 
+@pytest.mark.slow
 def test_failed_beams_kept_on_resume_unless_asked(reference, tmp_path):
     run_batch(spec(n_beams=4), tmp_path, work=functools.partial(dying_work, die_at=1),
               backend=LocalPool(1), progress=False)
@@ -231,16 +270,6 @@ def test_workers_run_one_blas_thread(monkeypatch):
         ctx = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(1, mp_context=ctx) as ex:
             assert ex.submit(blas_threads).result() > 1
-
-
-def test_dask_local_cluster_matches_local_pool(reference, tmp_path):
-    distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
-        run_batch(spec(), tmp_path, work=WORK, backend=batch.DaskCluster(client),
-                  progress=False)
-    assert results(tmp_path) == reference
 
 
 def test_bad_arguments_name_the_field(tmp_path):

@@ -1,0 +1,297 @@
+"""``prbdm batch-report``: distributions and correlations of a batch study, with plots.
+
+Losses, link-length fractions (gamma_1 is the paper's "characteristic pivot"), and SCF_mean
+against simple geometry features (taper ratio, mean width). Several output folders (the shards
+of one study) are merged; their manifests must agree except for the shard.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import add_common
+
+LOSS_KEYS = ("eigen_loss_pct", "deflection_loss_pct", "displacement_loss_pct",
+             "combined_loss_pct")
+FEATURES = ("taper_ratio", "mean_width_m")
+QUANTILES = (0.0, 0.05, 0.25, 0.5, 0.75, 0.95, 1.0)
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``batch-report`` subparser."""
+    p = subparsers.add_parser(
+        "batch-report",
+        help="summarise a batch study (distributions, correlations, plots)",
+        description="Read OUT/results.jsonl of one batch (or of several shards) and write "
+        "report.md and plots.",
+    )
+    p.add_argument("dirs", nargs="+", metavar="DIR", help="batch output folder(s)")
+    p.add_argument("--out", metavar="DIR", default=None,
+                   help="where report.md and the plots go (default: the first DIR/report)")
+    p.add_argument("--no-plots", action="store_true", help="only the Markdown summary")
+    add_common(p)
+    p.set_defaults(func=run)
+    return p
+
+
+@dataclass(frozen=True)
+class Distribution:
+    """Quantiles (``QUANTILES``) and mean of one quantity over the fitted beams."""
+
+    name: str
+    count: int
+    mean: float
+    quantiles: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Correlation:
+    """Spearman rank correlation of ``y`` with ``x`` over the fitted beams."""
+
+    x: str
+    y: str
+    count: int
+    rho: float
+    p_value: float
+
+
+@dataclass(frozen=True)
+class BatchReport:
+    """What ``batch-report`` found.
+
+    Attributes
+    ----------
+    n_beams, n_ok, n_failed : int
+    failures : tuple of (reason, count)
+        Most frequent first (reasons cut at the first line).
+    losses : tuple of Distribution
+    gammas : tuple of Distribution
+        Link-length fractions gamma_1 .. gamma_{n+1} (gamma_1: root link, first joint position).
+    scf_mean : Distribution or None
+    correlations : tuple of Correlation
+        SCF_mean, gamma_1 and the fitted loss against taper ratio and mean width.
+    settings : dict
+        The batch manifest's fit settings (for the header).
+    """
+
+    n_beams: int
+    n_ok: int
+    n_failed: int
+    failures: tuple[tuple[str, int], ...]
+    losses: tuple[Distribution, ...]
+    gammas: tuple[Distribution, ...]
+    scf_mean: Distribution | None
+    correlations: tuple[Correlation, ...]
+    settings: dict
+
+
+def load_study(dirs: list[str]) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """Latest record of every beam over the given batch folders, and their common manifest."""
+    from ..batch import MANIFEST, RESULTS_JSONL, latest_records, read_records
+    from ..errors import BeamInputError
+
+    records: list[dict[str, Any]] = []
+    common: dict[str, Any] | None = None
+    for d in dirs:
+        folder = Path(d)
+        mpath = folder / MANIFEST
+        if not mpath.exists():
+            raise BeamInputError(f"dir = {d!r}: no {MANIFEST} (not a batch output folder)")
+        manifest = json.loads(mpath.read_text(encoding="utf-8"))
+        key = {k: v for k, v in manifest.items() if k not in ("shard", "version", "beams")}
+        if common is None:
+            common = key
+        elif key != common:
+            raise BeamInputError(f"dir = {d!r}: its batch.json differs from {dirs[0]!r} "
+                                 f"(other seed or settings): not shards of one study")
+        records.extend(read_records(folder / RESULTS_JSONL))
+    return latest_records(records), common or {}
+
+
+def _values(records: list[dict[str, Any]], key: str) -> np.ndarray:
+    v = [r.get(key) for r in records]
+    return np.array([math.nan if x is None else float(x) for x in v], dtype=float)
+
+
+def _distribution(name: str, values: np.ndarray) -> Distribution:
+    v = values[np.isfinite(values)]
+    if v.size == 0:
+        return Distribution(name, 0, math.nan, tuple(math.nan for _ in QUANTILES))
+    return Distribution(name, int(v.size), float(v.mean()),
+                        tuple(float(q) for q in np.quantile(v, QUANTILES)))
+
+
+def _correlation(x_name: str, x: np.ndarray, y_name: str, y: np.ndarray) -> Correlation:
+    from scipy.stats import spearmanr
+
+    ok = np.isfinite(x) & np.isfinite(y)
+    if ok.sum() < 3:
+        return Correlation(x_name, y_name, int(ok.sum()), math.nan, math.nan)
+    res = spearmanr(x[ok], y[ok])
+    return Correlation(x_name, y_name, int(ok.sum()), float(res.statistic), float(res.pvalue))
+
+
+def summarise(records: list[dict[str, Any]], settings: dict | None = None) -> BatchReport:
+    """Distributions and correlations over the latest record of every beam."""
+    ok = [r for r in records if r.get("status") == "ok"]
+    failed = [r for r in records if r.get("status") != "ok"]
+    reasons = Counter(str(r.get("error", "unknown")).splitlines()[0][:120] for r in failed)
+    losses = tuple(_distribution(k, _values(ok, k)) for k in LOSS_KEYS
+                   if np.isfinite(_values(ok, k)).any())
+    n_links = max((len(r.get("gamma") or []) for r in ok), default=0)
+    gammas = tuple(
+        _distribution(f"gamma_{j + 1}", np.array(
+            [r["gamma"][j] if len(r.get("gamma") or []) > j else math.nan for r in ok]))
+        for j in range(n_links))
+    scf = _values(ok, "scf_mean")
+    fitted = _fitted_loss_key(settings)
+    corr = tuple(
+        _correlation(f, _values(ok, f), y, _values(ok, y))
+        for y in ("scf_mean", "gamma_1", fitted) for f in FEATURES
+    )
+    return BatchReport(
+        n_beams=len(records), n_ok=len(ok), n_failed=len(failed),
+        failures=tuple(reasons.most_common()),
+        losses=losses, gammas=gammas,
+        scf_mean=_distribution("scf_mean", scf) if np.isfinite(scf).any() else None,
+        correlations=corr, settings=dict(settings or {}),
+    )
+
+
+def _fitted_loss_key(settings: dict | None) -> str:
+    objective = ((settings or {}).get("settings") or {}).get("objective", "eigen")
+    return f"{objective}_loss_pct"
+
+
+def _fmt(v: float) -> str:
+    if not math.isfinite(v):
+        return "-"
+    return f"{v:.4g}"
+
+
+def to_markdown(rep: BatchReport, plots: list[str]) -> str:
+    """The report as Markdown."""
+    s = rep.settings.get("settings", {})
+    lines = ["# Batch study report", ""]
+    src = (f"{rep.settings.get('n_beams')} random beams, seed {rep.settings.get('seed')}"
+           if rep.settings.get("source") == "random" else "beam files")
+    lines += [
+        f"{src}; {s.get('joints')} joints, {s.get('frequencies') or s.get('joints')} "
+        f"frequencies, objective {s.get('objective')}, stiffness {s.get('stiffness')}, "
+        f"{s.get('starts')} starts, truth model {s.get('truth_model')}.",
+        "",
+        f"Beams with a record: {rep.n_beams}; fitted: {rep.n_ok}; failed: {rep.n_failed}.",
+        "",
+    ]
+    head = "| quantity | n | mean | " + " | ".join(
+        "min" if q == 0 else "max" if q == 1 else f"{q:.0%}" for q in QUANTILES) + " |"
+    sep = "|" + "---|" * (3 + len(QUANTILES))
+
+    def table(title: str, dists) -> None:
+        lines.extend([f"## {title}", "", head, sep])
+        for d in dists:
+            lines.append(f"| {d.name} | {d.count} | {_fmt(d.mean)} | "
+                         + " | ".join(_fmt(q) for q in d.quantiles) + " |")
+        lines.append("")
+
+    if rep.losses:
+        table("Losses (%)", rep.losses)
+    if rep.gammas:
+        table("Link-length fractions (gamma_1: root link, the paper's characteristic pivot)",
+              rep.gammas)
+    if rep.scf_mean is not None:
+        table("SCF_mean (Eq. 25; joint stiffness: mean joint factor)", [rep.scf_mean])
+    if rep.correlations:
+        lines += ["## Against geometry (Spearman rank correlation)", "",
+                  "| y | x | n | rho | p |", "|---|---|---|---|---|"]
+        for c in rep.correlations:
+            lines.append(f"| {c.y} | {c.x} | {c.count} | {_fmt(c.rho)} | {_fmt(c.p_value)} |")
+        lines += ["", "taper_ratio = tip width / root width; mean_width_m = planform area / "
+                      "length.", ""]
+    if rep.failures:
+        lines += ["## Failures", "", "| reason | beams |", "|---|---|"]
+        lines += [f"| {reason.replace('|', '/')} | {n} |" for reason, n in rep.failures]
+        lines.append("")
+    if plots:
+        lines += ["## Plots", ""] + [f"![{Path(p).stem}]({Path(p).name})" for p in plots] + [""]
+    return "\n".join(lines)
+
+
+def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> list[str]:
+    """Histograms of the losses and link fractions, SCF_mean against the geometry features;
+    returns the PNG paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ok = [r for r in records if r.get("status") == "ok"]
+    paths: list[str] = []
+    if not ok:
+        return paths
+
+    def save(fig, name: str) -> None:
+        path = out / name
+        fig.savefig(path, dpi=110, bbox_inches="tight")
+        plt.close(fig)
+        paths.append(str(path))
+
+    if rep.losses:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for d in rep.losses:
+            v = _values(ok, d.name)
+            v = v[np.isfinite(v) & (v > 0)]
+            if v.size:
+                bins = np.logspace(np.log10(v.min()), np.log10(v.max()) + 1e-9, 30)
+                ax.hist(v, bins=bins, histtype="step", label=d.name)
+        ax.set_xscale("log")
+        ax.set_xlabel("loss (%)")
+        ax.set_ylabel("beams")
+        ax.legend()
+        save(fig, "losses.png")
+    if rep.gammas:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        data = [[r["gamma"][j] for r in ok if len(r.get("gamma") or []) > j]
+                for j in range(len(rep.gammas))]
+        ax.boxplot(data, tick_labels=[d.name for d in rep.gammas])
+        ax.set_ylabel("link length / L")
+        ax.set_title("link-length fractions")
+        save(fig, "gammas.png")
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.hist(data[0], bins=30)
+        ax.set_xlabel("gamma_1 (first joint position / L)")
+        ax.set_ylabel("beams")
+        save(fig, "gamma_1.png")
+    if rep.scf_mean is not None:
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+        y = _values(ok, "scf_mean")
+        for ax, f in zip(axes, FEATURES, strict=True):
+            ax.scatter(_values(ok, f), y, s=8, alpha=0.6)
+            ax.set_xlabel(f)
+        axes[0].set_ylabel("SCF_mean")
+        save(fig, "scf_mean_vs_geometry.png")
+    return paths
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write report.md (and plots) for the given batch folders."""
+    from ..geometry import atomic_write_text
+
+    records, manifest = load_study(args.dirs)
+    rep = summarise(records, manifest)
+    out = Path(args.out) if args.out else Path(args.dirs[0]) / "report"
+    out.mkdir(parents=True, exist_ok=True)
+    plots = [] if args.no_plots else write_plots(records, rep, out)
+    path = atomic_write_text(out / "report.md", to_markdown(rep, plots))
+    if not args.quiet:
+        print(f"{rep.n_ok} fitted, {rep.n_failed} failed -> {path}", file=sys.stderr)
+    return 0
