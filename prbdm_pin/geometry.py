@@ -57,6 +57,32 @@ def _float_array(name: str, value: Any, unit: str) -> np.ndarray:
     return arr
 
 
+def _check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Material) -> None:
+    """Reject units so extreme that derived quantities leave double precision's normal range.
+
+    E I = E 2 w t^3 / 12, the mass and the load index L^2 / (E I) must be normal positive floats;
+    otherwise they underflow to 0 or overflow (e.g. a thickness in mm read as m, cubed).
+    """
+    tiny, huge = np.finfo(float).tiny, np.finfo(float).max
+    L = float(x[-1])
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        t3 = np.float64(t) ** 3
+        EI = material.E_Pa * 2.0 * np.array([w.min(), w.max()]) * t3 / 12.0
+        mass = material.rho_kg_m3 * t * 2.0 * float(np.sum(0.5 * (w[1:] + w[:-1]) * np.diff(x)))
+        index = np.float64(L) ** 2 / EI
+    checks = (
+        ("thickness", t, "E I = E 2 w t^3 / 12", EI, "N m^2"),
+        ("thickness", t, "mass", np.array([mass]), "kg"),
+        ("x", L, "L^2 / (E I)", index, "1/N"),
+    )
+    for field_name, value, what, q, unit in checks:
+        if not np.all(np.isfinite(q) & (q >= tiny) & (q <= huge)):
+            raise BeamInputError(
+                f"{field_name} = {value!r}: {what} = {q.min():.3g} ... {q.max():.3g} {unit} is "
+                "outside double precision's normal range (check the units: SI, m, Pa, kg/m^3)"
+            )
+
+
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
@@ -154,6 +180,7 @@ class Beam:
         f = _float_array("tip_force", self.tip_force_N, "N")
         if f.size != 3:
             raise BeamInputError(f"tip_force has {f.size} entries: must be [Fx, Fy, Fz] in N")
+        _check_representable(x, w, t, self.material)
         object.__setattr__(self, "x_m", _readonly(x))
         object.__setattr__(self, "half_width_m", _readonly(w))
         object.__setattr__(self, "thickness_m", t)

@@ -1,0 +1,175 @@
+"""Stress: the mass matrix and frequencies over extreme poses, n = 1 ... 40.
+
+References are independent of Pinocchio: the mass matrix of the planar chain from its closed-form
+Lagrangian (numpy for every n, mpmath at 40 digits for n <= 4) and the generalised eigenproblem
+solved in mpmath through its own Cholesky factor.
+"""
+
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+
+from prbdm_pin.geometry import load_beam
+from prbdm_pin.model import build_model
+from prbdm_pin.stiffness import finite_segment_stiffness
+
+BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
+RANDOM = load_beam(BEAMS / "reference-random.json")
+ANGLES = (0.0, 1e-12, 1e-6, 0.1, np.pi / 2, np.pi)
+MP_RTOL = 1e-9
+
+
+def chain_inputs(model):
+    """Per-link (mass kg, COM offset from the link's joint m, inertia about y at the COM kg m^2)."""
+    s = model.sections
+    return s.mass_kg, s.com_m[:, 0] - s.start_m, s.inertia_com_kg_m2[:, 1, 1]
+
+
+def lagrangian_mass_matrix(lengths, mass, d, Iyy, q, lib=np):
+    """M(q) of the planar chain from T = 1/2 sum_i (m_i |v_i|^2 + Iyy_i phi_i'^2).
+
+    Link i >= 1 has world angle phi_i = q_1 + ... + q_i, axis u(phi) = (cos phi, -sin phi) in
+    (x, z), and COM p_i = joint_i + d_i u(phi_i), so dp_i/dq_j = sum_(k=j)^(i-1) L_k u'(phi_k)
+    + d_i u'(phi_i) for j <= i. ``lib`` is numpy (float) or mpmath (arbitrary precision).
+    """
+    n = len(q)
+    if lib is np:
+        num, zeros, sin, cos = float, lambda: np.zeros((n, n)), np.sin, np.cos
+    else:
+        num, zeros, sin, cos = mpmath.mpf, lambda: mpmath.zeros(n, n), mpmath.sin, mpmath.cos
+    phi, acc = [num(0)], num(0)
+    for v in q:
+        acc += num(v)
+        phi.append(acc)
+    # u'(phi) = (-sin phi, -cos phi)
+    du = [(-sin(p), -cos(p)) for p in phi]
+    M = zeros()
+    for i in range(1, n + 1):
+        m_i, d_i, I_i = num(mass[i]), num(d[i]), num(Iyy[i])
+        # build the COM Jacobian columns j = i, i-1, ..., 1 by accumulating the link terms
+        cols = [None] * i
+        jx, jz = d_i * du[i][0], d_i * du[i][1]
+        cols[i - 1] = (jx, jz)
+        for j in range(i - 1, 0, -1):
+            jx += num(lengths[j]) * du[j][0]
+            jz += num(lengths[j]) * du[j][1]
+            cols[j - 1] = (jx, jz)
+        for a in range(i):
+            for b in range(i):
+                M[a, b] += m_i * (cols[a][0] * cols[b][0] + cols[a][1] * cols[b][1]) + I_i
+    return M
+
+
+def mpmath_omega2(M, k, dps=40):
+    """Ascending omega^2 of K phi = omega^2 M phi via M = C C^T: eig of C^-1 K C^-T, in mpmath."""
+    with mpmath.workdps(dps):
+        C = mpmath.cholesky(M)
+        Ci = mpmath.inverse(C)
+        A = Ci * mpmath.diag([mpmath.mpf(float(v)) for v in k]) * Ci.T
+        A = (A + A.T) / 2
+        E = mpmath.eigsy(A, eigvals_only=True)
+        return np.array(sorted(float(E[i]) for i in range(A.rows)))
+
+
+def reference_omega2(model, q):
+    with mpmath.workdps(40):
+        M = lagrangian_mass_matrix(model.lengths_m, *chain_inputs(model), q, lib=mpmath)
+        return mpmath_omega2(M, model.stiffness_Nm_per_rad)
+
+
+def pose_set(n, rng, count):
+    """Uniform poses at each angle, alternating signs, and random picks from the angle set."""
+    poses = [np.full(n, a) for a in ANGLES]
+    poses += [np.array([a * (-1) ** j for j in range(n)]) for a in ANGLES[1:]]
+    for _ in range(count):
+        poses.append(rng.choice(ANGLES, n) * rng.choice([-1.0, 1.0], n))
+    return poses
+
+
+def model_with(n, beam=RANDOM):
+    lengths = np.full(n + 1, beam.length_m / (n + 1))
+    lengths[-1] = beam.length_m - lengths[:-1].sum()
+    return build_model(beam, lengths, finite_segment_stiffness(beam, lengths))
+
+
+def check_pose(model, q):
+    """SPD mass matrix (Cholesky), numpy Lagrangian agreement, finite ascending frequencies."""
+    M = model.mass_matrix(q)
+    np.testing.assert_array_equal(M, M.T)
+    np.linalg.cholesky(M)  # raises LinAlgError if not positive definite
+    ref = lagrangian_mass_matrix(model.lengths_m, *chain_inputs(model), q)
+    np.testing.assert_allclose(M, ref, rtol=0, atol=1e-13 * np.abs(ref).max())
+    w = model.natural_frequencies(q)
+    assert np.all(np.isfinite(w)) and np.all(w > 0), (q, w)
+    assert np.all(np.diff(w) >= 0), (q, w)
+    return w
+
+
+def check_against_mpmath(model, q):
+    w2 = model.natural_frequencies(q, squared=True)
+    ref = reference_omega2(model, q)
+    err = np.max(np.abs(w2 / ref - 1))
+    assert err <= MP_RTOL, f"n={model.n_joints} q={q}: max relative omega^2 error {err:.2e}"
+    return err
+
+
+@pytest.mark.parametrize("n", [1, 2, 4])
+def test_mpmath_agreement_cheap(n):
+    model = model_with(n)
+    rng = np.random.default_rng(n)
+    for q in pose_set(n, rng, 3)[::2]:
+        check_pose(model, q)
+        check_against_mpmath(model, q)
+
+
+@pytest.mark.parametrize("n", [10, 40])
+def test_large_chain_cheap(n):
+    model = model_with(n)
+    rng = np.random.default_rng(100 + n)
+    for q in pose_set(n, rng, 2)[::3]:
+        check_pose(model, q)
+
+
+def test_tiny_angles_are_continuous_with_the_straight_pose():
+    # 1e-12 rad must give the straight pose's frequencies to ~1e-12 (no branch in the code)
+    model = model_with(4)
+    w0 = model.natural_frequencies(np.zeros(4))
+    for eps in (1e-12, -1e-12):
+        np.testing.assert_allclose(model.natural_frequencies(np.full(4, eps)), w0, rtol=1e-11)
+
+
+@pytest.mark.stress
+@pytest.mark.slow
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_mpmath_agreement_full(n):
+    rng = np.random.default_rng(10 + n)
+    worst = 0.0
+    for beam_lengths in (None, "short-root", "short-tip"):
+        if beam_lengths is None:
+            model = model_with(n)
+        else:
+            lengths = np.full(n + 1, 0.02)
+            lengths[0 if beam_lengths == "short-tip" else -1] = 1.0 - 0.02 * n
+            model = build_model(RANDOM, lengths, finite_segment_stiffness(RANDOM, lengths))
+        for q in pose_set(n, rng, 10):
+            check_pose(model, q)
+            worst = max(worst, check_against_mpmath(model, q))
+    assert worst <= MP_RTOL
+
+
+@pytest.mark.stress
+@pytest.mark.slow
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8, 13, 20, 30, 40])
+def test_every_pose_family_full(n):
+    model = model_with(n)
+    rng = np.random.default_rng(200 + n)
+    for q in pose_set(n, rng, 20):
+        check_pose(model, q)
+    # the batch path (a different LAPACK driver) agrees with the single-pose path within the
+    # rounding bound of the highest mode, eps * cond = eps * (omega_max / omega_min)^2
+    Q = np.array(pose_set(n, rng, 5))
+    single = np.array([model.natural_frequencies(q) for q in Q])
+    bound = 4 * np.finfo(float).eps * np.max((single[:, -1] / single[:, 0]) ** 2)
+    np.testing.assert_allclose(model.natural_frequencies_batch(Q), single, rtol=bound)
