@@ -1,0 +1,636 @@
+"""Single-objective multistart fits and the NSGA-II Pareto fit.
+
+Local solvers (chosen for accuracy per model evaluation; see ``scripts/bench_fit.py``):
+
+- ``joint`` parametrisation: ``scipy.optimize.least_squares`` (trust-region reflective) on the
+  residual vector (frequency residuals over the poses, scaled by ``1/sqrt(m)``, and/or the tip
+  position residual), over x = [u, ln s] with u in the box [0, 1]^n mapped onto the bounded
+  length simplex by stick-breaking (:func:`problem.lengths_from_unit`). With the straight pose
+  (the default) the sum of squares is exactly the squared loss, and n frequencies are matched to
+  round-off. With a sweep (m > 1) the least-squares optimum is polished on the true loss
+  (mean of per-pose norms) by SLSQP.
+- ``paper`` parametrisation, eigen objective: variable projection. For fixed lengths every
+  pose's SCF k_i enters only as ``omega = sqrt(k_i) w_i`` (the mass matrix does not depend on
+  the springs), so its best value is a 1-D linear least-squares solution in closed form
+  (:func:`objectives.best_scale`) and the loss becomes a function of the n free length
+  coordinates only. ``least_squares`` minimises the stacked projected residuals (sum of squared
+  per-pose errors); the best few local optima are then polished by SLSQP (box-bounded u) on the
+  paper's loss (mean of per-pose errors), which differs only in how poses are weighted.
+- ``paper`` with a deflection term: SLSQP over [u, ln k] on the scalar loss, started from the
+  projected SCFs of the start lengths times a random factor.
+
+Start points are uniform on the bounded simplex (``layout.sample_lengths``, Eq. 23) plus random
+factors, all drawn up front from ``numpy.random.default_rng(seed)``; starts are solved in order
+(in processes when ``workers > 1``) and the best is chosen by (loss, start index), so the same
+seed gives the same result whatever the number of workers. ``loss_tol`` stops at the first start
+(in start order) that reaches it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import BeamInputError, SolveError
+from .geometry import Beam
+from .objectives import best_scale, knee_index, scf_deviation_pct, scf_mean
+from .problem import (
+    FitProblem,
+    FitTarget,
+    LengthRepair,
+    ParetoProblem,
+    build,
+    evaluate,
+    lengths_from_unit,
+    make_problem,
+    pareto_objectives,
+    unit_frequencies,
+    unit_from_lengths,
+)
+from .results import FitResult, ParetoResult
+
+__all__ = ["fit", "fit_pareto", "StartResult", "solve_start", "result_from_design"]
+
+OBJECTIVES = ("eigen", "deflection", "combined")
+_BAD = 1e3  # loss (fraction) reported for designs whose model cannot be solved
+_LN_S_BOUNDS = (math.log(1e-3), math.log(1e3))
+
+
+@dataclass(frozen=True)
+class StartResult:
+    """Local optimum of one start: lengths (m), factors, loss (%), evaluations, solver message."""
+
+    index: int
+    lengths_m: np.ndarray
+    factors: np.ndarray
+    loss_pct: float
+    nfev: int
+    success: bool
+    message: str
+
+
+@dataclass(frozen=True, eq=False)
+class _Spec:
+    problem: FitProblem
+    objective: str
+    deflection_norm: str
+    max_nfev: int
+
+
+# --- residuals and losses ----------------------------------------------------------------------
+def _tip_norm(problem: FitProblem, norm: str) -> float:
+    t = problem.target
+    v = t.tip_position_m if norm == "position" else t.tip_displacement_m
+    return float(np.linalg.norm(v))
+
+
+class _Joint:
+    """Residuals of the ``joint`` parametrisation over x = [u (n), ln s (n)]."""
+
+    def __init__(self, spec: _Spec):
+        self.spec = spec
+        p = spec.problem
+        self.p = p
+        self.f = p.target.omega_truth_rad_s ** (2 if p.squared else 1)
+        self.fn = float(np.linalg.norm(self.f))
+        self.q0 = None
+        self.nfev = 0
+        self._cache = None
+
+    def split(self, x):
+        n = self.p.n_joints
+        return lengths_from_unit(x[:n], self.p.length_m, self.p.min_fraction), np.exp(x[n:])
+
+    def residuals(self, x):
+        self.nfev += 1
+        p, spec = self.p, self.spec
+        lengths, s = self.split(x)
+        parts = []
+        try:
+            model, K0 = build(p, lengths)
+            K = s * K0
+            if spec.objective != "deflection":
+                w = np.asarray(model.natural_frequencies_batch(p.poses_rad, stiffness=K))
+                w = w[:, : p.n_freq] ** (2 if p.squared else 1)
+                parts.append(((w - self.f) / self.fn).ravel() / math.sqrt(p.n_poses))
+            if spec.objective != "eigen":
+                q, tip = model.with_stiffness(K).static_deflection(p.target.tip_force_N,
+                                                                   q0=self.q0)
+                self.q0 = q
+                parts.append((tip - p.target.tip_position_m) / _tip_norm(p, spec.deflection_norm))
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            return np.full(self.size(), _BAD)
+        return np.concatenate(parts)
+
+    def size(self):
+        p, o = self.p, self.spec.objective
+        return (p.n_poses * p.n_freq if o != "deflection" else 0) + (3 if o != "eigen" else 0)
+
+    def _eigen_parts(self, x):
+        """Scaled eigen residuals (m*N,) and their analytic derivative in ln s, (m*N, n)."""
+        p = self.p
+        lengths, s = self.split(x)
+        model, K0 = build(p, lengths)
+        K = s * K0
+        mk = model.with_stiffness(K)
+        res, dlns = [], []
+        for q in p.poses_rad:
+            w, Phi = mk.modes(q)
+            w, Phi = w[: p.n_freq], Phi[:, : p.n_freq]
+            # d(omega_k^2)/d ln s_j = phi_jk^2 K_j for mass-normalised phi (M is independent of K)
+            dw2 = (Phi**2 * K[:, None]).T
+            if p.squared:
+                res.append(w**2)
+                dlns.append(dw2)
+            else:
+                res.append(w)
+                dlns.append(dw2 / (2.0 * w[:, None]))
+        c = self.fn * math.sqrt(p.n_poses)
+        return (np.concatenate(res) - np.tile(self.f, p.n_poses)) / c, np.vstack(dlns) / c
+
+    def eigen_residuals(self, x):
+        """Residuals of the eigen objective (caches the ln s derivative for :meth:`eigen_jac`)."""
+        self.nfev += 1
+        try:
+            r, d = self._eigen_parts(x)
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            r, d = np.full(self.size(), _BAD), np.zeros((self.size(), self.p.n_joints))
+        self._cache = (np.array(x, copy=True), r, d)
+        return r
+
+    def eigen_jac(self, x):
+        """Jacobian: forward differences in u (one model build each), analytic in ln s."""
+        n = self.p.n_joints
+        if self._cache is None or not np.array_equal(self._cache[0], x):
+            self.eigen_residuals(x)
+        _, r0, dlns = self._cache
+        Jm = np.empty((r0.size, 2 * n))
+        Jm[:, n:] = dlns
+        for j in range(n):
+            h = 1e-7 if x[j] + 1e-7 <= 1.0 else -1e-7
+            xh = np.array(x, copy=True)
+            xh[j] += h
+            self.nfev += 1
+            try:
+                rh, _ = self._eigen_parts(xh)
+            except (SolveError, BeamInputError, np.linalg.LinAlgError):
+                rh = r0
+            Jm[:, j] = (rh - r0) / h
+        return Jm
+
+    def loss(self, x):
+        """The true loss (fraction): mean of per-pose eigen norms, hypot with the tip term."""
+        r = self.residuals(x)
+        p, o = self.p, self.spec.objective
+        e = d = 0.0
+        if o != "deflection":
+            ne = p.n_poses * p.n_freq
+            e = float(np.mean(np.linalg.norm(
+                r[:ne].reshape(p.n_poses, p.n_freq) * math.sqrt(p.n_poses), axis=1)))
+            r = r[ne:]
+        if o != "eigen":
+            d = float(np.linalg.norm(r))
+        return math.hypot(e, d)
+
+
+class _PaperEigen:
+    """Variable-projected eigen residuals of the ``paper`` parametrisation over u (n)."""
+
+    def __init__(self, spec: _Spec):
+        self.p = spec.problem
+        self.f = self.p.target.omega_truth_rad_s ** (2 if self.p.squared else 1)
+        self.fn = float(np.linalg.norm(self.f))
+        self.nfev = 0
+
+    def lengths(self, u):
+        return lengths_from_unit(u, self.p.length_m, self.p.min_fraction)
+
+    def pose_residuals(self, u):
+        self.nfev += 1
+        p = self.p
+        try:
+            _, _, W = unit_frequencies(p, self.lengths(u))
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            return np.full((p.n_poses, p.n_freq), _BAD)
+        w = W ** (2 if p.squared else 1)
+        c = (w @ self.f) / np.einsum("ij,ij->i", w, w)
+        return (w * c[:, None] - self.f) / self.fn
+
+    def residuals(self, u):
+        return self.pose_residuals(u).ravel() / math.sqrt(self.p.n_poses)
+
+    def loss(self, u):
+        return float(np.mean(np.linalg.norm(self.pose_residuals(u), axis=1)))
+
+    def factors(self, u):
+        _, _, W = unit_frequencies(self.p, self.lengths(u))
+        return best_scale(W, self.p.target.omega_truth_rad_s, self.p.squared)
+
+
+class _PaperScalar:
+    """Scalar loss of the ``paper`` parametrisation with a deflection term, x = [u, ln k]."""
+
+    def __init__(self, spec: _Spec):
+        self.spec = spec
+        self.p = spec.problem
+        self.nfev = 0
+
+    def loss(self, x):
+        self.nfev += 1
+        p, n = self.p, self.p.n_joints
+        lengths = lengths_from_unit(x[:n], p.length_m, p.min_fraction)
+        k = np.exp(x[n:])
+        try:
+            ev = evaluate(p, lengths, k, deflection=True)
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            return _BAD
+        d = (ev.position_errors if self.spec.deflection_norm == "position"
+             else ev.displacement_errors)
+        d = float(np.mean(d))
+        if self.spec.objective == "deflection":
+            return d
+        return math.hypot(float(np.mean(ev.eigen_errors)), d)
+
+
+# --- one start ----------------------------------------------------------------------------------
+def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox"):
+    from scipy.optimize import least_squares
+
+    # measured: dogbox needs ~3x fewer evaluations than trf on the zero-residual joint fits;
+    # trf is faster and finds the better basins on the non-zero-residual projected paper fits
+    x0 = np.clip(x0, lb, ub)
+    return least_squares(fun, x0, jac=jac, bounds=(lb, ub), method=method,
+                         ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev)
+
+
+def _slsqp(fun, x0, lb, ub, max_iter=200):
+    from scipy.optimize import Bounds, minimize
+
+    x0 = np.clip(x0, lb, ub)
+    return minimize(fun, x0, method="SLSQP", bounds=Bounds(lb, ub),
+                    options={"ftol": 1e-14, "maxiter": max_iter, "eps": 1e-8})
+
+
+def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndarray):
+    """Run the local solver from one start; returns a :class:`StartResult`."""
+    p = spec.problem
+    n = p.n_joints
+    u0 = unit_from_lengths(lengths0, p.length_m, p.min_fraction)
+    if p.stiffness == "joint":
+        J = _Joint(spec)
+        lb = np.r_[np.zeros(n), np.full(n, _LN_S_BOUNDS[0])]
+        ub = np.r_[np.ones(n), np.full(n, _LN_S_BOUNDS[1])]
+        x0 = np.r_[u0, np.log(factors0)]
+        if spec.objective == "eigen":
+            r = _ls(J.eigen_residuals, x0, lb, ub, spec.max_nfev, jac=J.eigen_jac)
+        else:
+            r = _ls(J.residuals, x0, lb, ub, spec.max_nfev)
+        x, msg, ok = r.x, r.message, bool(r.success)
+        if p.n_poses > 1:
+            r2 = _slsqp(J.loss, x, lb, ub)
+            if r2.fun <= J.loss(x):
+                x, msg = r2.x, f"{msg}; polished: {r2.message}"
+        lengths, s = J.split(x)
+        return StartResult(index, lengths, s, 100.0 * J.loss(x), J.nfev, ok, str(msg))
+    if spec.objective == "eigen":
+        P = _PaperEigen(spec)
+        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, method="trf")
+        return StartResult(index, P.lengths(r.x), P.factors(r.x), 100.0 * P.loss(r.x),
+                           P.nfev, bool(r.success), str(r.message))
+    S = _PaperScalar(spec)
+    lb = np.r_[np.zeros(n), np.full(p.n_poses, _LN_S_BOUNDS[0] + math.log(1e-2))]
+    ub = np.r_[np.ones(n), np.full(p.n_poses, _LN_S_BOUNDS[1] + math.log(1e3))]
+    r = _slsqp(S.loss, np.r_[u0, np.log(factors0)], lb, ub)
+    lengths = lengths_from_unit(r.x[:n], p.length_m, p.min_fraction)
+    return StartResult(index, lengths, np.exp(r.x[n:]), 100.0 * float(r.fun), S.nfev,
+                       bool(r.success), str(r.message))
+
+
+def polish_paper_eigen(spec: _Spec, start: StartResult) -> StartResult:
+    """Polish a variable-projected ``paper`` eigen optimum on the paper's loss with SLSQP."""
+    P = _PaperEigen(spec)
+    p = spec.problem
+    u0 = unit_from_lengths(start.lengths_m, p.length_m, p.min_fraction)
+    r = _slsqp(P.loss, u0, np.zeros(p.n_joints), np.ones(p.n_joints))
+    loss = 100.0 * P.loss(r.x)
+    if not loss < start.loss_pct:
+        return start
+    return StartResult(start.index, P.lengths(r.x), P.factors(r.x), loss, start.nfev + P.nfev,
+                       start.success, f"{start.message}; polished: {r.message}")
+
+
+# --- multistart driver ------------------------------------------------------------------------
+_WORKER_SPEC: _Spec | None = None
+
+
+def _init_worker(spec: _Spec) -> None:
+    global _WORKER_SPEC
+    _WORKER_SPEC = spec
+
+
+def _run_one(args) -> StartResult:
+    i, lengths0, factors0 = args
+    return solve_start(_WORKER_SPEC, i, lengths0, factors0)
+
+
+def _pool_context():
+    import multiprocessing as mp
+
+    pinned = all(os.environ.get(v) == "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"))
+    if pinned and "fork" in mp.get_all_start_methods():
+        return mp.get_context("fork")
+    # BLAS reads its thread count at import: pin it for children started fresh
+    for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[v] = "1"
+    return mp.get_context("spawn")
+
+
+def run_starts(spec: _Spec, tasks: list, workers: int = 1, progress: bool = True,
+               loss_tol: float | None = None) -> list[StartResult]:
+    """Solve the starts in order, in ``workers`` processes; stop after the first (in start
+    order) whose loss is <= ``loss_tol`` (%). Returns the results of the starts run, in order."""
+    from tqdm.auto import tqdm
+
+    out: list[StartResult] = []
+    bar = tqdm(total=len(tasks), disable=not progress, desc="fit starts", unit="start")
+    try:
+        if workers <= 1:
+            for t in tasks:
+                res = solve_start(spec, *t)
+                out.append(res)
+                bar.update()
+                if loss_tol is not None and res.loss_pct <= loss_tol:
+                    break
+            return out
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(workers, mp_context=_pool_context(), initializer=_init_worker,
+                                 initargs=(spec,)) as ex:
+            futures = [ex.submit(_run_one, t) for t in tasks]
+            for fut in futures:
+                res = fut.result()
+                out.append(res)
+                bar.update()
+                if loss_tol is not None and res.loss_pct <= loss_tol:
+                    for f in futures:
+                        f.cancel()
+                    break
+        return out
+    finally:
+        bar.close()
+
+
+def _check_fit_args(objective, starts, workers, target):
+    if objective not in OBJECTIVES:
+        raise BeamInputError(f"objective = {objective!r}: must be one of {OBJECTIVES}")
+    if isinstance(starts, bool) or not isinstance(starts, (int, np.integer)) or starts < 1:
+        raise BeamInputError(f"starts = {starts!r}: must be an integer >= 1")
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
+    if objective != "eigen" and not target.has_static:
+        raise BeamInputError(
+            f"objective = {objective!r}: the target has no truth tip position/displacement"
+        )
+
+
+def _draw_starts(problem: FitProblem, starts: int, seed: int) -> list:
+    from .layout import sample_lengths
+
+    rng = np.random.default_rng(seed)
+    L0 = sample_lengths(rng, problem.length_m, problem.n_joints + 1, starts,
+                        min_fraction=problem.min_fraction)
+    # random factors: log-uniform within a factor 2 either side of the start's reference
+    F0 = np.exp(rng.uniform(-math.log(2.0), math.log(2.0), (starts, problem.n_factors)))
+    return [(i, L0[i], F0[i]) for i in range(starts)]
+
+
+def fit(
+    beam: Beam,
+    target: FitTarget,
+    joints: int,
+    frequencies: int | None = None,
+    objective: str = "eigen",
+    stiffness: str = "paper",
+    starts: int = 64,
+    seed: int = 0,
+    xi: float = 0.05,
+    eps: float = 0.1,
+    squared: bool = False,
+    workers: int = 1,
+    progress: bool = True,
+    loss_tol: float | None = None,
+    joint_sweep: bool = False,
+    deflection_norm: str = "position",
+    polish: int = 4,
+    max_nfev: int = 400,
+) -> FitResult:
+    """Fit an nR PRBDM to a target by a multistart of a local solver.
+
+    Parameters
+    ----------
+    beam : Beam
+    target : FitTarget
+        Truth frequencies (rad/s) and, for deflection terms, the truth tip under the load.
+    joints : int
+        n, the number of revolute joints.
+    frequencies : int, optional
+        N <= n truth frequencies to match (default min(n, available)).
+    objective : {"eigen", "deflection", "combined"}
+        Eq. 17, Eq. 19 or Eq. 27 (eigen and tip-position, or tip-displacement with
+        ``deflection_norm="displacement"``).
+    stiffness : {"paper", "joint"}
+        One SCF per pose on Eq. 14, or one factor per joint on the finite-segment stiffness.
+    starts, seed : int
+        Number of start points and the seed of their generator.
+    xi, eps : float
+        Pose sweep offset and step, rad (Eqs. 10-11).
+    squared : bool
+        Compare omega^2 instead of omega.
+    workers : int
+        Processes to spread the starts over (BLAS pinned to one thread in each).
+    progress : bool
+        Show a tqdm progress bar.
+    loss_tol : float, optional
+        Stop at the first start (in start order) whose loss (%) is at or below this.
+    joint_sweep : bool
+        ``joint`` only: compare frequencies over the pose sweep instead of the straight pose.
+    polish : int
+        ``paper`` eigen: polish this many of the best starts on the paper's loss.
+    max_nfev : int
+        Evaluation cap of each least-squares start.
+
+    Returns
+    -------
+    FitResult
+    """
+    t0 = time.perf_counter()
+    if deflection_norm not in ("position", "displacement"):
+        raise BeamInputError(
+            f"deflection_norm = {deflection_norm!r}: must be 'position' or 'displacement'")
+    problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared,
+                           joint_sweep)
+    _check_fit_args(objective, starts, workers, target)
+    spec = _Spec(problem, objective, deflection_norm, int(max_nfev))
+    tasks = _draw_starts(problem, int(starts), int(seed))
+    if stiffness == "paper" and objective != "eigen":
+        # random SCFs around each start's projected eigen optimum (the SCF scale is beam-specific)
+        P = _PaperEigen(_Spec(problem, "eigen", deflection_norm, int(max_nfev)))
+        tasks = [(i, L, F * P.factors(unit_from_lengths(L, problem.length_m,
+                                                        problem.min_fraction)))
+                 for i, L, F in tasks]
+    runs = run_starts(spec, tasks, workers, progress, loss_tol)
+    order = sorted(range(len(runs)), key=lambda i: (runs[i].loss_pct, i))
+    best = runs[order[0]]
+    if stiffness == "paper" and objective == "eigen" and polish > 0:
+        polished = [polish_paper_eigen(spec, runs[i]) for i in order[:polish]]
+        best = min(polished, key=lambda r: (r.loss_pct, r.index))
+    nfev = sum(r.nfev for r in runs)
+    return result_from_design(
+        problem, best.lengths_m, best.factors, objective=objective, seed=int(seed),
+        starts=int(starts), starts_run=len(runs), nfev=nfev,
+        start_losses_pct=np.array([r.loss_pct for r in runs]),
+        wall_time_s=time.perf_counter() - t0, success=bool(best.success),
+        message=f"best of {len(runs)} starts (start {best.index}): {best.message}",
+        deflection_norm=deflection_norm,
+    )
+
+
+def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: str, seed: int,
+                       starts: int, starts_run: int, nfev: int, start_losses_pct,
+                       wall_time_s: float, success: bool, message: str,
+                       deflection_norm: str = "position") -> FitResult:
+    """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult."""
+    t = problem.target
+    try:
+        ev = evaluate(problem, lengths_m, factors, deflection=t.has_static)
+    except SolveError as exc:
+        ev = evaluate(problem, lengths_m, factors, deflection=False)
+        message = f"{message}; static deflection failed: {exc}"
+    _, K0 = build(problem, lengths_m)
+    if problem.stiffness == "paper":
+        k_mean = scf_mean(ev.factors)
+        K = k_mean * K0
+        dev = scf_deviation_pct(ev.factors)
+    else:
+        k_mean = float(np.mean(ev.factors))
+        K = ev.factors * K0
+        dev = np.zeros(problem.n_poses)
+    return FitResult(
+        beam_name=problem.beam.name, beam_fingerprint=problem.beam.fingerprint(),
+        joints=problem.n_joints, frequencies=problem.n_freq, objective=objective,
+        stiffness=problem.stiffness, lengths_m=ev.lengths_m, stiffness_Nm_per_rad=K,
+        stiffness_per_pose_Nm_per_rad=ev.stiffness_Nm_per_rad, factors=ev.factors,
+        scf_mean=k_mean, scf_deviation_pct=dev, poses_rad=problem.poses_rad,
+        omega_truth_rad_s=t.omega_truth_rad_s, omega_model_rad_s=ev.omega_model_rad_s,
+        eigen_errors_pct=100.0 * ev.eigen_errors, eigen_loss_pct=ev.eigen_loss_pct,
+        deflection_loss_pct=ev.deflection_loss_pct,
+        displacement_loss_pct=ev.displacement_loss_pct,
+        combined_loss_pct=ev.combined_loss_pct if deflection_norm == "position"
+        else float(math.hypot(ev.eigen_loss_pct, ev.displacement_loss_pct)),
+        tip_position_model_m=ev.tip_position_m, tip_position_truth_m=t.tip_position_m,
+        tip_displacement_truth_m=t.tip_displacement_m, tip_force_N=t.tip_force_N, mac=t.mac,
+        truth_source=t.source, squared=problem.squared, xi=problem.xi, eps=problem.eps,
+        seed=seed, starts=starts, starts_run=starts_run, nfev=nfev,
+        start_losses_pct=start_losses_pct, wall_time_s=wall_time_s, success=success,
+        message=message,
+    )
+
+
+# --- Pareto ----------------------------------------------------------------------------------
+def fit_pareto(
+    beam: Beam,
+    target: FitTarget,
+    joints: int,
+    frequencies: int | None = None,
+    stiffness: str = "paper",
+    pop: int = 100,
+    generations: int = 200,
+    seed: int = 0,
+    xi: float = 0.05,
+    eps: float = 0.01,
+    squared: bool = False,
+    deflection_norm: str = "position",
+    log10_bounds: tuple[float, float] | None = None,
+    progress: bool = True,
+) -> ParetoResult:
+    """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
+
+    Design vector [gamma (n+1), log10 factors]; a Repair projects gamma onto the bounded
+    simplex; termination after ``generations`` generations. ``log10_bounds`` bounds the log10
+    factors (default: joint factors in [-1, 1]; SCFs within 1.5 decades of the projected eigen
+    optimum at equal link lengths). ``eps`` defaults to the paper's Pareto step 0.01 rad.
+    """
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.optimize import minimize
+    from pymoo.termination import get_termination
+
+    t0 = time.perf_counter()
+    if deflection_norm not in ("position", "displacement"):
+        raise BeamInputError(
+            f"deflection_norm = {deflection_norm!r}: must be 'position' or 'displacement'")
+    for name, v in (("pop", pop), ("generations", generations)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+            raise BeamInputError(f"{name} = {v!r}: must be an integer >= 1")
+    problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared)
+    if not target.has_static:
+        raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
+    n1 = problem.n_joints + 1
+    if log10_bounds is None:
+        if stiffness == "joint":
+            log10_bounds = (-1.0, 1.0)
+        else:
+            eq = np.full(n1, problem.length_m / n1)
+            _, _, W = unit_frequencies(problem, eq)
+            k_ref = float(np.mean(best_scale(W, problem.target.omega_truth_rad_s, squared)))
+            log10_bounds = (math.log10(k_ref) - 1.5, math.log10(k_ref) + 1.5)
+    pp = ParetoProblem(problem, log10_bounds, deflection_norm=deflection_norm)
+    algo = NSGA2(pop_size=int(pop), repair=LengthRepair(n1, problem.min_fraction),
+                 eliminate_duplicates=True)
+    callback = _PymooBar(int(generations)) if progress else None
+    res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
+                   verbose=False, callback=callback)
+    if callback is not None:
+        callback.close()
+    F = np.atleast_2d(res.F)
+    X = np.atleast_2d(res.X)
+    order = np.lexsort((F[:, 1], F[:, 0]))
+    F, X = F[order], X[order]
+    ki = knee_index(F)
+    lengths = X[:, :n1] * problem.length_m
+    factors = 10.0 ** X[:, n1:]
+    wall = time.perf_counter() - t0
+    knee = result_from_design(
+        problem, lengths[ki], factors[ki], objective="combined", seed=int(seed), starts=int(pop),
+        starts_run=int(pop), nfev=int(res.algorithm.evaluator.n_eval),
+        start_losses_pct=np.hypot(F[:, 0], F[:, 1]), wall_time_s=wall, success=True,
+        message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs",
+        deflection_norm=deflection_norm)
+    return ParetoResult(
+        beam_name=beam.name, joints=problem.n_joints, frequencies=problem.n_freq,
+        stiffness=stiffness, deflection_norm=deflection_norm, F_pct=F, X=X,
+        front_lengths_m=lengths, front_factors=factors, knee_index=ki, pop=int(pop),
+        generations=int(generations), n_evals=int(res.algorithm.evaluator.n_eval),
+        seed=int(seed), xi=problem.xi, eps=problem.eps, wall_time_s=wall, success=True,
+        message=f"NSGA-II, {generations} generations of {pop}", knee=knee)
+
+
+class _PymooBar:
+    """A pymoo callback driving a tqdm bar, one tick per generation."""
+
+    def __init__(self, total: int):
+        from tqdm.auto import tqdm
+
+        self.bar = tqdm(total=total, desc="NSGA-II", unit="gen")
+
+    def __call__(self, algorithm) -> None:
+        self.bar.update()
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+__all__ += ["pareto_objectives"]

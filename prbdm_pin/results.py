@@ -1,0 +1,294 @@
+"""Fit results with provenance, and their JSON form.
+
+:class:`FitResult` and :class:`ParetoResult` are frozen dataclasses following the conventions of
+``scipy.optimize.OptimizeResult`` (``success``, ``message``, ``x``, ``fun``, ``nfev``); use
+:meth:`FitResult.to_optimize_result` for a real ``OptimizeResult``. Losses are in %.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from .geometry import atomic_write_text
+
+__all__ = ["FitResult", "ParetoResult", "package_versions", "load_fit"]
+
+_ARRAY_FIELDS = {
+    "lengths_m", "stiffness_Nm_per_rad", "stiffness_per_pose_Nm_per_rad", "factors",
+    "scf_deviation_pct", "poses_rad", "omega_truth_rad_s", "omega_model_rad_s",
+    "eigen_errors_pct", "tip_position_model_m", "tip_position_truth_m",
+    "tip_displacement_truth_m", "tip_force_N", "mac", "start_losses_pct",
+    "F_pct", "X", "front_lengths_m", "front_factors",
+}
+
+
+def package_versions() -> tuple[tuple[str, str], ...]:
+    """(name, version) of the packages a fit depends on."""
+    from importlib import metadata
+
+    out = []
+    for name in ("prbdm_pin", "pin", "numpy", "scipy", "pymoo", "scikit-fem"):
+        try:
+            out.append((name, metadata.version(name)))
+        except metadata.PackageNotFoundError:
+            out.append((name, "unknown"))
+    return tuple(out)
+
+
+def _ro(v):
+    if v is None:
+        return None
+    a = np.array(v, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, np.ndarray):
+        return _jsonable(v.tolist())
+    if isinstance(v, (list, tuple)):
+        return [_jsonable(x) for x in v]
+    if isinstance(v, (np.floating, float)):
+        f = float(v)
+        return f if math.isfinite(f) else None
+    if isinstance(v, np.integer):
+        return int(v)
+    return v
+
+
+def _from_json(v: Any) -> Any:
+    if isinstance(v, list):
+        return [_from_json(x) for x in v]
+    return math.nan if v is None else v
+
+
+class _Serialisable:
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready mapping (NaN and inf written as null)."""
+        d = {}
+        for f in fields(self):  # type: ignore[arg-type]
+            v = getattr(self, f.name)
+            if f.name == "versions":
+                v = {k: ver for k, ver in v}
+            d[f.name] = _jsonable(v)
+        return d
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2) + "\n"
+
+    def save(self, path: str | os.PathLike):
+        """Write the JSON form atomically."""
+        return atomic_write_text(path, self.to_json())
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]):
+        names = {f.name for f in fields(cls)}  # type: ignore[arg-type]
+        kw = {}
+        for k, v in d.items():
+            if k not in names:
+                continue
+            if k == "versions":
+                v = tuple((a, b) for a, b in v.items())
+            elif k in _ARRAY_FIELDS:
+                v = None if v is None else np.array(_from_json(v), dtype=float)
+            elif isinstance(v, list):
+                v = tuple(v)
+            elif v is None and k not in ("message",):
+                v = math.nan
+            kw[k] = v
+        return cls(**kw)
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult(_Serialisable):
+    """The best design of a single-objective fit, evaluated against its target.
+
+    Attributes
+    ----------
+    beam_name, beam_fingerprint : str
+    joints, frequencies : int
+        n (joints) and N (frequencies matched).
+    objective : str
+        ``"eigen"``, ``"deflection"`` or ``"combined"``.
+    stiffness : str
+        ``"paper"`` (one SCF per pose, Eq. 14) or ``"joint"`` (one factor per joint).
+    lengths_m : ndarray, shape (n+1,)
+    stiffness_Nm_per_rad : ndarray, shape (n,)
+        One spring per joint: the fitted springs (joint) or the SCF_mean springs (paper).
+    stiffness_per_pose_Nm_per_rad : ndarray, shape (m, n)
+        The springs of every pose of the sweep.
+    factors : ndarray
+        SCFs k_i, shape (m,) (paper), or joint factors s_j, shape (n,) (joint).
+    scf_mean : float
+        Eq. 25 (paper); mean joint factor (joint).
+    scf_deviation_pct : ndarray, shape (m,)
+        P_i of Eq. 26 (paper; zeros for joint).
+    poses_rad : ndarray, shape (m, n)
+    omega_truth_rad_s : ndarray, shape (N,)
+    omega_model_rad_s : ndarray, shape (m, N)
+    eigen_errors_pct : ndarray, shape (m,)
+        Per-pose eigen error (Eq. 16), %.
+    eigen_loss_pct, deflection_loss_pct, displacement_loss_pct, combined_loss_pct : float
+        Eq. 17, Eq. 19 (normalised by the truth tip position), the same normalised by the truth
+        tip displacement, Eq. 27 (eigen and position); NaN when no static truth.
+    tip_position_model_m : ndarray, shape (m', 3) or None
+    tip_position_truth_m, tip_displacement_truth_m, tip_force_N : ndarray, shape (3,)
+    mac : ndarray, shape (N,) or None
+        MAC of every mapped truth mode with a beam bending mode.
+    truth_source : str
+    squared : bool
+    xi, eps : float
+    seed, starts, starts_run, nfev : int
+    start_losses_pct : ndarray, shape (starts_run,)
+        The local optimum's loss of every start run (in start order), %.
+    wall_time_s : float
+    success : bool
+    message : str
+    versions : tuple of (name, version)
+    """
+
+    beam_name: str
+    beam_fingerprint: str
+    joints: int
+    frequencies: int
+    objective: str
+    stiffness: str
+    lengths_m: np.ndarray
+    stiffness_Nm_per_rad: np.ndarray
+    stiffness_per_pose_Nm_per_rad: np.ndarray
+    factors: np.ndarray
+    scf_mean: float
+    scf_deviation_pct: np.ndarray
+    poses_rad: np.ndarray
+    omega_truth_rad_s: np.ndarray
+    omega_model_rad_s: np.ndarray
+    eigen_errors_pct: np.ndarray
+    eigen_loss_pct: float
+    deflection_loss_pct: float
+    displacement_loss_pct: float
+    combined_loss_pct: float
+    tip_position_model_m: np.ndarray | None
+    tip_position_truth_m: np.ndarray | None
+    tip_displacement_truth_m: np.ndarray | None
+    tip_force_N: np.ndarray
+    mac: np.ndarray | None
+    truth_source: str
+    squared: bool
+    xi: float
+    eps: float
+    seed: int
+    starts: int
+    starts_run: int
+    nfev: int
+    start_losses_pct: np.ndarray
+    wall_time_s: float
+    success: bool
+    message: str
+    versions: tuple = field(default_factory=package_versions)
+
+    def __post_init__(self) -> None:
+        for name in _ARRAY_FIELDS & {f.name for f in fields(self)}:
+            object.__setattr__(self, name, _ro(getattr(self, name)))
+
+    @property
+    def loss_pct(self) -> float:
+        """The loss of the fitted objective, %."""
+        return {"eigen": self.eigen_loss_pct, "deflection": self.deflection_loss_pct,
+                "combined": self.combined_loss_pct}[self.objective]
+
+    @property
+    def x(self) -> np.ndarray:
+        """Design vector [gamma (n+1), factors], as the optimiser saw it."""
+        return np.r_[self.lengths_m / np.sum(self.lengths_m), self.factors]
+
+    @property
+    def fun(self) -> float:
+        return self.loss_pct
+
+    def to_optimize_result(self):
+        """A ``scipy.optimize.OptimizeResult`` view (x, fun, success, message, nfev, ...)."""
+        from scipy.optimize import OptimizeResult
+
+        return OptimizeResult(x=self.x, fun=self.fun, success=self.success,
+                              message=self.message, nfev=self.nfev, result=self)
+
+
+@dataclass(frozen=True, eq=False)
+class ParetoResult(_Serialisable):
+    """The whole NSGA-II front and its knee (Eq. 27).
+
+    Attributes
+    ----------
+    F_pct : ndarray, shape (p, 2)
+        (eigen loss %, deflection loss %) of each non-dominated design, sorted by eigen loss.
+    X : ndarray, shape (p, n+1+f)
+        Their design vectors [gamma, log10 factors].
+    front_lengths_m : ndarray, shape (p, n+1)
+    front_factors : ndarray, shape (p, f)
+    knee_index : int
+        Row of the knee in ``F_pct``.
+    knee : FitResult or None
+        The knee evaluated in full (not serialised here; written as its own fit.json).
+    deflection_norm : str
+        ``"position"`` (Eq. 19) or ``"displacement"``.
+    pop, generations, n_evals, seed : int
+    """
+
+    beam_name: str
+    joints: int
+    frequencies: int
+    stiffness: str
+    deflection_norm: str
+    F_pct: np.ndarray
+    X: np.ndarray
+    front_lengths_m: np.ndarray
+    front_factors: np.ndarray
+    knee_index: int
+    pop: int
+    generations: int
+    n_evals: int
+    seed: int
+    xi: float
+    eps: float
+    wall_time_s: float
+    success: bool
+    message: str
+    knee: FitResult | None = None
+    versions: tuple = field(default_factory=package_versions)
+
+    def __post_init__(self) -> None:
+        for name in _ARRAY_FIELDS & {f.name for f in fields(self)}:
+            object.__setattr__(self, name, _ro(getattr(self, name)))
+
+    def to_dict(self) -> dict[str, Any]:
+        d = super().to_dict()
+        d.pop("knee", None)
+        return d
+
+    def to_csv(self) -> str:
+        """The front as CSV: eigen %, deflection %, combined %, lengths, factors."""
+        n1 = self.front_lengths_m.shape[1]
+        nf = self.front_factors.shape[1]
+        head = (["eigen_loss_pct", "deflection_loss_pct", "combined_loss_pct", "knee"]
+                + [f"L{j}_m" for j in range(n1)] + [f"factor{j}" for j in range(nf)])
+        lines = [",".join(head)]
+        for r in range(self.F_pct.shape[0]):
+            e, d = self.F_pct[r]
+            row = [repr(float(e)), repr(float(d)), repr(float(math.hypot(e, d))),
+                   str(int(r == self.knee_index))]
+            row += [repr(float(v)) for v in self.front_lengths_m[r]]
+            row += [repr(float(v)) for v in self.front_factors[r]]
+            lines.append(",".join(row))
+        return "\n".join(lines) + "\n"
+
+
+def load_fit(path: str | os.PathLike) -> FitResult:
+    """Read a ``fit.json`` written by :meth:`FitResult.save`."""
+    with open(path, encoding="utf-8") as fh:
+        return FitResult.from_dict(json.load(fh))

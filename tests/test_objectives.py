@@ -1,0 +1,115 @@
+"""Objectives (Eqs. 16-19, 25-27) against hand-computed values, including closed-form 1R models."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from prbdm_pin import objectives as ob
+from prbdm_pin.geometry import Beam, Material
+from prbdm_pin.problem import FitTarget, evaluate, make_problem
+
+
+def test_eigen_errors_hand_values():
+    truth = np.array([1.0, 2.0])
+    model = np.array([[1.0, 2.0, 9.0], [1.0, 2.2, 9.0], [0.9, 2.0, 9.0]])
+    e = ob.eigen_errors(model, truth)
+    assert e == pytest.approx([0.0, 0.2 / math.sqrt(5.0), 0.1 / math.sqrt(5.0)], rel=1e-14)
+    assert ob.eigen_loss_pct(model, truth) == pytest.approx(100 * 0.3 / math.sqrt(5) / 3)
+    # omega^2: |4.84 - 4| / sqrt(1 + 16)
+    e2 = ob.eigen_errors(model[:2], truth, squared=True)
+    assert e2 == pytest.approx([0.0, 0.84 / math.sqrt(17.0)], rel=1e-14)
+
+
+def test_best_scale_is_the_exact_one_dimensional_least_squares():
+    truth = np.array([3.0, 7.0, 11.0])
+    w = np.array([[1.0, 2.0, 4.0], [3.0, 7.0, 11.0]]) / 2.0
+    k = ob.best_scale(w, truth)
+    # sqrt(k) = f.w / w.w
+    assert k[1] == pytest.approx(4.0, rel=1e-14)
+    assert math.sqrt(k[0]) == pytest.approx((3 + 14 + 44) / (1 + 4 + 16) * 2.0, rel=1e-14)
+    e = ob.projected_eigen_errors(w, truth)
+    assert e[1] == pytest.approx(0.0, abs=1e-15)
+    # no other factor does better
+    for c in np.linspace(0.5, 2.0, 31):
+        assert e[0] <= ob.eigen_errors(w[:1] * math.sqrt(c * k[0]), truth)[0] + 1e-15
+    # squared: k = f^2.w^2 / w^2.w^2
+    k2 = ob.best_scale(w, truth, squared=True)
+    f2, w2 = truth**2, w[0] ** 2
+    assert k2[0] == pytest.approx(f2 @ w2 / (w2 @ w2), rel=1e-14)
+
+
+def test_tip_errors_hand_values():
+    truth = np.array([0.9, 0.0, -0.4])
+    disp = truth - np.array([1.0, 0.0, 0.0])
+    model = np.array([[0.9, 0.0, -0.4], [0.93, 0.0, -0.36]])
+    pos = ob.tip_position_errors(model, truth)
+    assert pos == pytest.approx([0.0, 0.05 / math.sqrt(0.97)], rel=1e-13)
+    d = ob.tip_displacement_errors(model, truth, disp)
+    assert d == pytest.approx([0.0, 0.05 / math.sqrt(0.17)], rel=1e-13)
+
+
+def test_scf_statistics_and_knee():
+    k = np.array([1.0, 2.0, 3.0])
+    assert ob.scf_mean(k) == 2.0
+    assert ob.scf_deviation_pct(k) == pytest.approx([-50.0, 0.0, 50.0])
+    F = np.array([[0.1, 9.0], [1.0, 1.5], [3.0, 0.2]])
+    assert ob.knee_index(F) == 1
+    assert ob.combined_loss_pct(3.0, 4.0) == pytest.approx(5.0)
+
+
+# --- closed-form 1R models ----------------------------------------------------------------------
+B_M, T_M, L_M = 0.05, 0.01, 1.0
+MAT = Material()
+
+
+def _uniform_beam(force=(0.0, 0.0, -100.0)) -> Beam:
+    return Beam([0.0, L_M], [B_M / 2, B_M / 2], T_M, MAT, np.array(force))
+
+
+def _link_inertia_about_joint(ell: float) -> float:
+    # rigid rectangular link of length ell, hinged at one end, rotating about y:
+    # m ell^2 / 3 (along x) + m t^2 / 12 (through the thickness)
+    m = MAT.rho_kg_m3 * B_M * T_M * ell
+    return m * ell**2 / 3.0 + m * T_M**2 / 12.0
+
+
+@pytest.mark.parametrize("a", [0.3, 0.5])
+def test_1r_frequency_closed_form(a):
+    beam = _uniform_beam()
+    ell = L_M - a
+    EI = MAT.E_Pa * B_M * T_M**3 / 12.0
+    # finite-segment stiffness of 1R: E / int dx/I between the link centres (a/2, a + ell/2)
+    K = EI / (L_M / 2.0)
+    omega = math.sqrt(K / _link_inertia_about_joint(ell))
+    truth = FitTarget([1.1 * omega], beam.tip_force_N)
+    prob = make_problem(beam, truth, 1, stiffness="joint")
+    for s in (1.0, 2.5):
+        ev = evaluate(prob, np.array([a, ell]), np.array([s]), deflection=False)
+        assert ev.omega_model_rad_s[0, 0] == pytest.approx(math.sqrt(s) * omega, rel=1e-10)
+        assert ev.eigen_loss_pct == pytest.approx(
+            100 * abs(math.sqrt(s) - 1.1) / 1.1, rel=1e-9)
+
+
+@pytest.mark.parametrize("P", [50.0, 400.0])
+def test_1r_deflection_closed_form(P):
+    beam = _uniform_beam((0.0, 0.0, -P))
+    a, ell = 0.25, 0.75
+    EI = MAT.E_Pa * B_M * T_M**3 / 12.0
+    K = 0.3 * EI / (L_M / 2.0)  # a soft spring: large rotation
+    # equilibrium of a rigid link under a transverse dead load: K theta = P ell cos(theta)
+    theta = brentq(lambda th: K * th - P * ell * math.cos(th), 0.0, math.pi / 2)
+    tip = np.array([a + ell * math.cos(theta), 0.0, -ell * math.sin(theta)])
+    truth_tip = tip + np.array([0.01, 0.0, -0.02])
+    disp = truth_tip - np.array([L_M, 0.0, 0.0])
+    target = FitTarget([10.0], beam.tip_force_N, truth_tip, disp)
+    prob = make_problem(beam, target, 1, stiffness="joint")
+    ev = evaluate(prob, np.array([a, ell]), np.array([0.3]), deflection=True)
+    assert ev.tip_position_m[0] == pytest.approx(tip, abs=1e-9)
+    assert ev.deflection_loss_pct == pytest.approx(
+        100 * math.hypot(0.01, 0.02) / np.linalg.norm(truth_tip), rel=1e-6)
+    assert ev.displacement_loss_pct == pytest.approx(
+        100 * math.hypot(0.01, 0.02) / np.linalg.norm(disp), rel=1e-6)
