@@ -7,7 +7,12 @@ import prbdm_pin.simulation as sim
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
-from prbdm_pin.simulation import StiffnessSchedule, mechanical_energy, simulate
+from prbdm_pin.simulation import (
+    StiffnessSchedule,
+    gauss_frequency_ratio,
+    mechanical_energy,
+    simulate,
+)
 from prbdm_pin.stiffness import finite_segment_stiffness
 
 
@@ -31,16 +36,63 @@ def _mode1_start(model, amplitude_rad=1e-4):
 def test_free_vibration_at_eigenfrequency_and_energy_conserved(model):
     omega, q0 = _mode1_start(model)
     period = 2 * np.pi / omega[0]
-    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0)
-    assert tr.method == "trapezoidal" and tr.steps >= 10_000
+    # dense output (quintic Hermite between the steps) resolves the zero crossings
+    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt=period / 200)
+    assert tr.method == "gauss" and abs(tr.steps - 4000) <= 1
     z = tr.tip_position_m[:, 2]
     tc = _zero_crossings(tr.t_s, z)
     measured = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
-    # stated period error of the trapezoidal rule: (omega dt)^2 / 12 = 3.3e-4 at 100 steps/period
     assert abs(measured / period - 1) < 1e-3
+    # Gauss-Legendre's period error at 20 and 40 steps per period: 1 / ratio - 1 = x^4 / 720
+    for spp in (20, 40):
+        stated = 1 / gauss_frequency_ratio(2 * np.pi / spp) - 1
+        assert stated == pytest.approx((2 * np.pi / spp) ** 4 / 720, rel=0.01)
+    coarse = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt=period / 200,
+                      steps_per_period=20)
+    tc = _zero_crossings(coarse.t_s, coarse.tip_position_m[:, 2])
+    measured20 = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
+    stated20 = 1 / gauss_frequency_ratio(2 * np.pi / 20) - 1
+    assert measured20 / period - 1 == pytest.approx(stated20, rel=0.05)
+    # energy at the steps themselves (no interpolation): symplectic, no drift
+    steps = simulate(model, 100 * period, q0=q0, damping_ratio=0.0)
+    e = mechanical_energy(model, steps.q_rad, steps.v_rad_s)
+    assert np.abs(e / e[0] - 1).max() <= 1e-6
+
+
+def test_trapezoidal_free_vibration_period_error(model):
+    omega, q0 = _mode1_start(model)
+    period = 2 * np.pi / omega[0]
+    tr = simulate(model, 20 * period, q0=q0, damping_ratio=0.0, method="trapezoidal")
+    assert tr.steps >= 2000
+    tc = _zero_crossings(tr.t_s, tr.tip_position_m[:, 2])
+    measured = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
+    # stated period error of the trapezoidal rule: (omega dt)^2 / 12 = 3.3e-4 at 100 steps/period
     assert measured / period - 1 == pytest.approx((2 * np.pi / 100) ** 2 / 12, rel=0.02)
     e = mechanical_energy(model, tr.q_rad, tr.v_rad_s)
     assert np.abs(e / e[0] - 1).max() <= 1e-6
+
+
+def test_dense_output_matches_dop853(model):
+    """Samples between the steps (quintic Hermite) against an independent tight integrator."""
+    force = 0.01 * model.beam.tip_force_N
+    omega = model.natural_frequencies()
+    duration = 2 * np.pi / omega[0]
+    ref = simulate(model, duration, tip_force=force, method="DOP853", rtol=1e-11,
+                   output_dt=duration / 97)
+    tr = simulate(model, duration, tip_force=force, output_dt=duration / 97,
+                  dt=0.25 / omega[-1])
+    assert tr.steps < 97 * 20
+    scale = np.abs(ref.q_rad).max()
+    np.testing.assert_allclose(tr.q_rad, ref.q_rad, atol=1e-5 * scale)
+    np.testing.assert_allclose(tr.v_rad_s, ref.v_rad_s, atol=1e-4 * np.abs(ref.v_rad_s).max())
+
+
+def test_tip_positions_closed_form_equal_pinocchio(model):
+    q = np.array([0.3, -0.2, 0.5, 0.1, -0.4])
+    tr = simulate(model, 0.01, q0=q, damping_ratio=0.0, dt=1e-4)
+    np.testing.assert_allclose(tr.tip_position_m[0], model.tip_position(q), atol=1e-14)
+    np.testing.assert_allclose(tr.tip_position_m[-1], model.tip_position(tr.q_rad[-1]),
+                               atol=1e-14)
 
 
 def test_dop853_free_vibration_frequency(model):
@@ -92,14 +144,19 @@ def test_trapezoidal_agrees_with_dop853_under_a_large_step_load(model):
     duration = 3 * 2 * np.pi / omega[0]
     ref = simulate(model, duration, tip_force=force, method="DOP853", rtol=1e-10,
                    output_dt=duration / 300)
-    # resolve the highest mode too: the comparison covers the whole response
-    tr = simulate(model, duration, tip_force=force, output_dt=duration / 300,
-                  dt=0.2 / omega[-1])
     peak = np.abs(ref.tip_displacement_m).max()
-    assert np.abs(tr.tip_position_m - ref.tip_position_m).max() < 2e-3 * peak
-    # the default step (lowest period / 100) keeps the tip within 1 % of the peak
-    coarse = simulate(model, duration, tip_force=force, output_dt=duration / 300)
-    assert np.abs(coarse.tip_position_m - ref.tip_position_m).max() < 1e-2 * peak
+    # resolve the highest mode too: the comparison covers the whole response
+    for method in ("gauss", "trapezoidal"):
+        tr = simulate(model, duration, tip_force=force, output_dt=duration / 300,
+                      dt=0.2 / omega[-1], method=method)
+        assert np.abs(tr.tip_position_m - ref.tip_position_m).max() < 2e-3 * peak
+    # the default steps keep the tip within 1 % of the peak
+    for method in ("gauss", "trapezoidal"):
+        coarse = simulate(model, duration, tip_force=force, output_dt=duration / 300,
+                          method=method)
+        err = np.abs(coarse.tip_position_m - ref.tip_position_m).max() / peak
+        print(f"{method}: default step, max tip error {err:.2e} of the peak")
+        assert err < 1e-2
 
 
 @pytest.mark.slow
@@ -162,6 +219,7 @@ def test_schedule_constant_in_pose_matches_scaled_model(model):
         ({"duration_s": 1.0, "damping": "rayleigh"}, "damping"),
         ({"duration_s": 1.0, "method": "euler"}, "method"),
         ({"duration_s": 1.0, "dt": 0.0}, "dt"),
+        ({"duration_s": 1.0, "steps_per_period": 0.5}, "steps_per_period"),
         ({"duration_s": 1.0, "damping_ratio": -0.1}, "damping_ratio"),
     ],
 )
