@@ -1,0 +1,129 @@
+"""``prbdm fit``: fit an nR PRBDM to a beam's finite-element truth; writes fit.json, model.urdf
+and plots."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+from . import add_common
+
+EXAMPLE = """examples:
+  prbdm fit examples/beams/reference-random.json --joints 4 --frequencies 3 --stiffness paper \\
+      --starts 64 --seed 0 --out out/fit4r
+  prbdm fit examples/beams/uniform-narrow.json --joints 3 --objective combined --stiffness joint \\
+      --truth-model beam --out out/fit3r
+writes DIR/fit.json, DIR/model.urdf, DIR/planform.png (and DIR/scf.png for --stiffness paper)"""
+
+
+def add_truth_options(p: argparse.ArgumentParser) -> None:
+    """Options selecting the truth a fit is measured against (shared with ``prbdm pareto``)."""
+    p.add_argument("beam", help="beam JSON file")
+    p.add_argument("--joints", type=int, required=True, help="number of revolute joints n")
+    p.add_argument("--frequencies", type=int, default=None,
+                   help="truth frequencies to match, <= n (default n)")
+    p.add_argument("--stiffness", default="paper", choices=["paper", "joint"],
+                   help="paper: one SCF per pose (Eq. 14); joint: one factor per joint")
+    p.add_argument("--truth-model", default="plate", choices=["plate", "beam", "solid"],
+                   help="finite-element truth model (default plate)")
+    p.add_argument("--mode-selection", default="paper", choices=["paper", "shape"],
+                   help="truth modes: largest z participation (paper) or beam-like (shape)")
+    p.add_argument("--mesh-level", type=int, default=None, help="truth mesh level")
+    p.add_argument("--truth", default=None, metavar="TRUTH.json",
+                   help="use a truth.json written by `prbdm truth` instead of computing it")
+    p.add_argument("--cache-dir", default=None,
+                   help="truth cache folder (default $PRBDM_CACHE or ~/.cache/prbdm_pin)")
+    p.add_argument("--xi", type=float, default=0.05, help="pose sweep offset, rad (Eq. 11)")
+    p.add_argument("--squared", action="store_true", help="compare omega^2 instead of omega")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--out", required=True, help="output directory")
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    p = subparsers.add_parser(
+        "fit", help="fit a PRBDM to the truth (multistart, single objective)",
+        description="Multistart fit of an nR PRBDM: eigen (Eq. 17), deflection (Eq. 19) or "
+                    "combined (Eq. 27) objective.",
+        epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_truth_options(p)
+    p.add_argument("--objective", default="eigen", choices=["eigen", "deflection", "combined"])
+    p.add_argument("--starts", type=int, default=64, help="multistart start points")
+    p.add_argument("--eps", type=float, default=0.1, help="pose sweep step, rad (Eq. 11)")
+    p.add_argument("--workers", type=int, default=1, help="processes for the starts")
+    p.add_argument("--loss-tol", type=float, default=None, help="stop once a start reaches it (%%)")
+    add_common(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def _cache_dir(args) -> str:
+    if args.cache_dir:
+        return args.cache_dir
+    return os.environ.get("PRBDM_CACHE") or str(Path.home() / ".cache" / "prbdm_pin")
+
+
+def load_target(args, beam):
+    """The FitTarget of the command: from ``--truth`` or from ``compute_truth`` (cached)."""
+    from ..errors import BeamInputError
+    from ..problem import FitTarget, target_from_truth
+
+    if args.truth:
+        try:
+            d = json.loads(Path(args.truth).read_text(encoding="utf-8"))
+            return FitTarget(d["omega_rad_s"], beam.tip_force_N, d.get("tip_position_m"),
+                             d.get("tip_displacement_m"), d.get("mac"),
+                             source=f"truth file {Path(args.truth).name}")
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
+    from ..truth import compute_truth
+
+    n_modes = max(args.joints, args.frequencies or 0)
+    truth = compute_truth(beam, model=args.truth_model, modes=n_modes,
+                          mesh_level=args.mesh_level, selection=args.mode_selection,
+                          static=True, cache_dir=_cache_dir(args))
+    return target_from_truth(truth, beam.tip_force_N)
+
+
+def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:
+    """fit.json, model.urdf and the plots of a FitResult, each written atomically."""
+    from ..model import build_model
+
+    out.mkdir(parents=True, exist_ok=True)
+    model = build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    written = [model.write_urdf(out / "model.urdf")]
+    if plots:
+        from ..plots import plot_planform, plot_scf
+
+        written.append(plot_planform(beam, result.lengths_m, out / "planform.png",
+                                     title=f"{beam.name}: {result.joints}R, {result.stiffness}, "
+                                           f"{result.objective}"))
+        if result.stiffness == "paper":
+            written.append(plot_scf(result, out / "scf.png"))
+    # fit.json last: its presence marks a complete output folder
+    written.append(result.save(out / "fit.json"))
+    return written
+
+
+def run(args) -> int:
+    from ..fitting import fit
+    from ..geometry import load_beam
+
+    beam = load_beam(args.beam)
+    target = load_target(args, beam)
+    result = fit(beam, target, args.joints, args.frequencies, objective=args.objective,
+                 stiffness=args.stiffness, starts=args.starts, seed=args.seed, xi=args.xi,
+                 eps=args.eps, squared=args.squared, workers=args.workers,
+                 progress=not args.quiet, loss_tol=args.loss_tol)
+    out = Path(args.out)
+    write_fit_outputs(result, beam, out)
+    if not args.quiet:
+        print(f"{result.joints}R {result.stiffness} {result.objective}: "
+              f"eigen {result.eigen_loss_pct:.4g} %, "
+              f"tip position {result.deflection_loss_pct:.4g} %, "
+              f"tip displacement {result.displacement_loss_pct:.4g} %, "
+              f"combined {result.combined_loss_pct:.4g} % ({result.wall_time_s:.1f} s)")
+        print("lengths_m:", " ".join(f"{v:.4f}" for v in result.lengths_m))
+        print(f"wrote {out / 'fit.json'}")
+    return 0

@@ -1,0 +1,58 @@
+"""``prbdm pareto``: NSGA-II front over (eigen loss, deflection loss); writes pareto.csv, the
+knee's fit.json and model.urdf, and plots."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from . import add_common
+from .fit import add_truth_options, load_target, write_fit_outputs
+
+EXAMPLE = """example:
+  prbdm pareto examples/beams/reference-random.json --joints 4 --pop 100 --generations 200 \\
+      --seed 0 --out out/pareto4r
+writes DIR/pareto.csv (the whole front), DIR/pareto.json, DIR/pareto.png and the knee's
+DIR/fit.json, DIR/model.urdf, DIR/planform.png"""
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    p = subparsers.add_parser(
+        "pareto", help="NSGA-II Pareto fit (eigen vs deflection) and its knee",
+        description="NSGA-II over (eigen loss, tip deflection loss); knee by Eq. 27.",
+        epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_truth_options(p)
+    p.add_argument("--pop", type=int, default=100, help="population size")
+    p.add_argument("--generations", type=int, default=200, help="generations (termination)")
+    p.add_argument("--eps", type=float, default=0.01, help="pose sweep step, rad (Eq. 11)")
+    p.add_argument("--deflection-norm", default="position", choices=["position", "displacement"],
+                   help="normalise the tip error by the tip position (Eq. 19) or displacement")
+    add_common(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    from ..fitting import fit_pareto
+    from ..geometry import atomic_write_text, load_beam
+    from ..plots import plot_pareto
+
+    beam = load_beam(args.beam)
+    target = load_target(args, beam)
+    res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
+                     pop=args.pop, generations=args.generations, seed=args.seed, xi=args.xi,
+                     eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
+                     progress=not args.quiet)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / "pareto.csv", res.to_csv())
+    res.save(out / "pareto.json")
+    plot_pareto(res, out / "pareto.png")
+    write_fit_outputs(res.knee, beam, out)
+    if not args.quiet:
+        k = res.knee
+        print(f"{res.joints}R front of {res.F_pct.shape[0]} designs; knee: eigen "
+              f"{k.eigen_loss_pct:.4g} %, deflection {k.deflection_loss_pct:.4g} %, "
+              f"combined {k.combined_loss_pct:.4g} % ({res.wall_time_s:.1f} s)")
+        print(f"wrote {out / 'pareto.csv'} and {out / 'fit.json'}")
+    return 0

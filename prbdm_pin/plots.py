@@ -1,0 +1,108 @@
+"""Figures of a fit (matplotlib, imported lazily, Agg backend): the planform with its links and
+joints (paper Figs. 5, 7, 9, 12), SCF against joint angle (Figs. 8, 10), the Pareto front with its
+knee (Fig. 11). Every function writes a PNG atomically and returns its path."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["plot_planform", "plot_scf", "plot_pareto"]
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path) -> Path:
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")
+        os.replace(tmp, p)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        _pyplot().close(fig)
+    return p
+
+
+def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
+    """The planform (m) with joint lines, link spans and centres of mass.
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    path : path-like
+        PNG to write.
+    """
+    from .sections import link_sections
+
+    plt = _pyplot()
+    lengths = np.asarray(lengths_m, dtype=float)
+    sec = link_sections(beam, lengths)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    x, w = beam.x_m, beam.half_width_m
+    ax.fill_between(x, -w, w, color="0.85", label="planform")
+    ax.plot(np.r_[x, x[::-1], x[:1]], np.r_[w, -w[::-1], w[:1]], color="0.3", lw=1)
+    joints = np.cumsum(lengths)[:-1]
+    wmax = float(np.max(w))
+    for j, xj in enumerate(joints):
+        ax.axvline(xj, color="tab:red", lw=1.2, ls="--")
+        ax.annotate(f"J{j + 1}", (xj, 1.05 * wmax), ha="center", color="tab:red")
+    ax.plot(sec.com_m[:, 0], sec.com_m[:, 1], "o", color="tab:blue", label="link centre of mass")
+    for i in range(lengths.size):
+        ax.annotate(f"{lengths[i]:.3f} m\n{sec.mass_kg[i]:.2f} kg",
+                    (0.5 * (sec.start_m[i] + sec.end_m[i]), -1.25 * wmax), ha="center",
+                    fontsize=7)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_ylim(-1.5 * wmax, 1.2 * wmax)
+    ax.set_title(title or f"{beam.name}: {lengths.size - 1}R PRBDM")
+    ax.legend(loc="upper left", fontsize=7)
+    return _save(fig, path)
+
+
+def plot_scf(result, path) -> Path:
+    """SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis."""
+    plt = _pyplot()
+    ang = np.degrees(np.asarray(result.poses_rad)[:, 0])
+    k = np.asarray(result.factors)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(ang, k, "o-", color="tab:blue")
+    ax.set_xlabel("joint angle (deg)")
+    ax.set_ylabel("stiffness correction factor k_i")
+    ax2 = ax.twinx()
+    ax2.plot(ang, np.asarray(result.scf_deviation_pct), "s--", color="tab:orange", ms=3)
+    ax2.set_ylabel("P_i: change from mean (%)")
+    ax.set_title(f"{result.joints}R, SCF_mean = {result.scf_mean:.4g}")
+    return _save(fig, path)
+
+
+def plot_pareto(pareto, path) -> Path:
+    """The front (eigen %, deflection %) with the knee of Eq. 27 starred."""
+    plt = _pyplot()
+    F = np.asarray(pareto.F_pct)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(F[:, 0], F[:, 1], ".", color="tab:blue", label=f"{pareto.joints}R front")
+    k = pareto.knee_index
+    ax.plot(F[k, 0], F[k, 1], "*", ms=14, color="tab:red",
+            label=f"knee: {np.hypot(*F[k]):.3g} %")
+    ax.set_xlabel("eigen loss (%)")
+    ax.set_ylabel(f"deflection loss (%, {pareto.deflection_norm})")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.legend()
+    return _save(fig, path)
