@@ -558,6 +558,7 @@ def fit_pareto(
     deflection_norm: str = "position",
     log10_bounds: tuple[float, float] | None = None,
     progress: bool = True,
+    workers: int = 1,
 ) -> ParetoResult:
     """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
 
@@ -565,6 +566,8 @@ def fit_pareto(
     simplex; termination after ``generations`` generations. ``log10_bounds`` bounds the log10
     factors (default: joint factors in [-1, 1]; SCFs within 1.5 decades of the projected eigen
     optimum at equal link lengths). ``eps`` defaults to the paper's Pareto step 0.01 rad.
+    ``workers > 1`` evaluates each generation's designs in that many processes (results do not
+    depend on it).
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
@@ -592,11 +595,26 @@ def fit_pareto(
     pp = ParetoProblem(problem, log10_bounds, deflection_norm=deflection_norm)
     algo = NSGA2(pop_size=int(pop), repair=LengthRepair(n1, problem.min_fraction),
                  eliminate_duplicates=True)
-    callback = _PymooBar(int(generations)) if progress else None
-    res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
-                   verbose=False, callback=callback)
-    if callback is not None:
-        callback.close()
+    kw = {}
+    if progress:
+        kw["callback"] = _PymooBar(int(generations))
+    pool = None
+    if workers > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        pool = ProcessPoolExecutor(int(workers), mp_context=_pool_context(),
+                                   initializer=_init_pareto_worker,
+                                   initargs=(problem, deflection_norm))
+        pp.map_rows = lambda X: np.array(list(pool.map(_pareto_row, X,
+                                                       chunksize=max(1, len(X) // (4 * workers)))))
+    try:
+        res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
+                       verbose=False, **kw)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        if progress:
+            kw["callback"].close()
     F = np.atleast_2d(res.F)
     X = np.atleast_2d(res.X)
     order = np.lexsort((F[:, 1], F[:, 0]))
@@ -618,6 +636,21 @@ def fit_pareto(
         generations=int(generations), n_evals=int(res.algorithm.evaluator.n_eval),
         seed=int(seed), xi=problem.xi, eps=problem.eps, wall_time_s=wall, success=True,
         message=f"NSGA-II, {generations} generations of {pop}", knee=knee)
+
+
+_WORKER_PARETO: tuple | None = None
+
+
+def _init_pareto_worker(problem: FitProblem, deflection_norm: str) -> None:
+    global _WORKER_PARETO
+    _WORKER_PARETO = (problem, deflection_norm)
+
+
+def _pareto_row(x: np.ndarray) -> np.ndarray:
+    problem, norm = _WORKER_PARETO
+    n1 = problem.n_joints + 1
+    return pareto_objectives(problem, x[:n1] * problem.length_m, 10.0 ** x[n1:],
+                             deflection_norm=norm)
 
 
 class _PymooBar:

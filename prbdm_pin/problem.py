@@ -473,7 +473,12 @@ def ParetoProblem(problem: FitProblem, log10_bounds: tuple[float, float], penalt
             super().__init__(n_var=n1 + nf, n_obj=2, xl=lo, xu=hi)
             self.fit_problem = problem
 
+        map_rows = None  # optional parallel map over the rows of X (set by fit_pareto)
+
         def _evaluate(self, X, out, *args, **kwargs):
+            if self.map_rows is not None:
+                out["F"] = np.asarray(self.map_rows(X), dtype=float).reshape(-1, 2)
+                return
             F = np.empty((X.shape[0], 2))
             for r, x in enumerate(X):
                 F[r] = pareto_objectives(problem, x[:n1] * L, 10.0 ** x[n1:], penalty,

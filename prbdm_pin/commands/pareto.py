@@ -27,6 +27,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--eps", type=float, default=0.01, help="pose sweep step, rad (Eq. 11)")
     p.add_argument("--deflection-norm", default="position", choices=["position", "displacement"],
                    help="normalise the tip error by the tip position (Eq. 19) or displacement")
+    p.add_argument("--workers", type=int, default=1, help="processes for the evaluations")
     add_common(p)
     p.set_defaults(func=run)
     return p
@@ -42,7 +43,7 @@ def run(args) -> int:
     res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
                      pop=args.pop, generations=args.generations, seed=args.seed, xi=args.xi,
                      eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
-                     progress=not args.quiet)
+                     progress=not args.quiet, workers=args.workers)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "pareto.csv", res.to_csv())

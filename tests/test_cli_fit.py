@@ -1,0 +1,103 @@
+"""``prbdm fit`` and ``prbdm pareto`` end to end, with an independent truth file (Euler-Bernoulli
+frequencies and the elastica tip of uniform-narrow.json at P L^2/EI = 1)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+from prbdm_pin.cli import main
+from prbdm_pin.model import load_urdf
+
+BEAM = "examples/beams/uniform-narrow.json"
+BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376])
+
+
+@pytest.fixture(scope="module")
+def truth_file(tmp_path_factory):
+    b, t, L = 0.05, 0.01, 1.0
+    EI = 205e9 * b * t**3 / 12
+    omega = BETA_L**2 * math.sqrt(EI / (7850.0 * b * t * L**4))
+    # elastica table, alpha^2 = 1: retreat 0.056433 L, deflection 0.301721 L (load along -z)
+    tip = [L * (1 - 0.056433), 0.0, -0.301721 * L]
+    disp = [-0.056433 * L, 0.0, -0.301721 * L]
+    path = tmp_path_factory.mktemp("truth") / "truth.json"
+    path.write_text(json.dumps({"omega_rad_s": omega.tolist(), "tip_position_m": tip,
+                                "tip_displacement_m": disp, "mac": [1.0, 1.0, 1.0]}))
+    return path, omega, np.array(tip)
+
+
+def test_fit_writes_fit_json_urdf_and_plots(truth_file, tmp_path):
+    path, omega, tip = truth_file
+    out = tmp_path / "fit"
+    rc = main(["fit", BEAM, "--joints", "2", "--objective", "eigen", "--stiffness", "joint",
+               "--starts", "3", "--seed", "1", "--truth", str(path), "--out", str(out), "-q"])
+    assert rc == 0
+    d = json.loads((out / "fit.json").read_text())
+    for key in ("joints", "lengths_m", "stiffness_Nm_per_rad", "scf_mean", "omega_truth_rad_s",
+                "omega_model_rad_s", "eigen_loss_pct", "deflection_loss_pct",
+                "displacement_loss_pct", "combined_loss_pct", "seed", "wall_time_s",
+                "versions", "mac"):
+        assert key in d, key
+    assert d["joints"] == 2 and d["seed"] == 1
+    assert d["eigen_loss_pct"] <= 1e-6
+    # the exported URDF (springs read back from it) reproduces the Euler-Bernoulli frequencies
+    model = load_urdf(out / "model.urdf")
+    assert model.natural_frequencies() == pytest.approx(omega[:2], rel=1e-8)
+    # the reported tip error is the distance to the elastica tip
+    p = np.array(d["tip_position_model_m"][0])
+    assert d["deflection_loss_pct"] == pytest.approx(
+        100 * np.linalg.norm(p - tip) / np.linalg.norm(tip), rel=1e-9)
+    assert (out / "planform.png").stat().st_size > 1000
+    assert not list(out.glob(".*tmp"))
+
+
+def test_fit_paper_writes_scf_plot(truth_file, tmp_path):
+    path, _, _ = truth_file
+    out = tmp_path / "paper"
+    rc = main(["fit", BEAM, "--joints", "2", "--stiffness", "paper", "--starts", "2",
+               "--truth", str(path), "--out", str(out), "-q"])
+    assert rc == 0
+    d = json.loads((out / "fit.json").read_text())
+    assert len(d["factors"]) == len(d["poses_rad"]) == len(d["stiffness_per_pose_Nm_per_rad"])
+    assert d["scf_mean"] == pytest.approx(np.mean(d["factors"]))
+    assert (out / "scf.png").is_file()
+
+
+def test_pareto_writes_front_and_knee(truth_file, tmp_path):
+    path, _, _ = truth_file
+    out = tmp_path / "pareto"
+    rc = main(["pareto", BEAM, "--joints", "2", "--stiffness", "joint", "--pop", "12",
+               "--generations", "3", "--truth", str(path), "--out", str(out), "-q"])
+    assert rc == 0
+    rows = list(csv.DictReader((out / "pareto.csv").open()))
+    comb = [math.hypot(float(r["eigen_loss_pct"]), float(r["deflection_loss_pct"]))
+            for r in rows]
+    knee = [r for r in rows if r["knee"] == "1"]
+    assert len(knee) == 1 and float(knee[0]["combined_loss_pct"]) == pytest.approx(min(comb))
+    d = json.loads((out / "fit.json").read_text())
+    assert d["combined_loss_pct"] == pytest.approx(min(comb), rel=1e-6)
+    assert (out / "model.urdf").is_file() and (out / "pareto.png").is_file()
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["--joints", "0"], "joints"),
+    (["--joints", "2", "--frequencies", "3"], "frequencies"),
+    (["--joints", "2", "--starts", "0"], "starts"),
+])
+def test_bad_input_exit_2(truth_file, tmp_path, capsys, argv, msg):
+    path, _, _ = truth_file
+    rc = main(["fit", BEAM, *argv, "--truth", str(path), "--out", str(tmp_path / "x"), "-q"])
+    assert rc == 2
+    assert msg in capsys.readouterr().err
+    assert not (tmp_path / "x" / "fit.json").exists()
+
+
+def test_missing_truth_file_is_an_input_error(tmp_path, capsys):
+    rc = main(["fit", BEAM, "--joints", "2", "--truth", str(tmp_path / "nope.json"),
+               "--out", str(tmp_path / "x"), "-q"])
+    assert rc == 2 and "truth" in capsys.readouterr().err
