@@ -63,7 +63,9 @@ def mutated_beams(draw):
         key = draw(st.sampled_from(["x", "half_width", "thickness", "material", "tip_force",
                                     "length", "name", "extra", "E", "rho", "nu", "drop"]))
         if key in ("E", "rho", "nu"):
-            d["material"][key] = draw(values)
+            mat = d.get("material")
+            d["material"] = dict(mat, **{key: draw(values)}) if isinstance(mat, dict) else \
+                {key: draw(values)}
         elif key == "drop":
             d.pop(draw(st.sampled_from(sorted(d))), None)
         elif key in ("x", "half_width", "tip_force") and draw(st.booleans()):
