@@ -300,7 +300,8 @@ def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndar
         return StartResult(index, lengths, s, 100.0 * J.loss(x), J.nfev, ok, str(msg))
     if spec.objective == "eigen":
         P = _PaperEigen(spec)
-        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, method="trf")
+        # a loose stage-1 tolerance: the best few starts are polished on the true loss
+        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, method="trf", tol=1e-8)
         return StartResult(index, P.lengths(r.x), P.factors(r.x), 100.0 * P.loss(r.x),
                            P.nfev, bool(r.success), str(r.message))
     S = _PaperScalar(spec)

@@ -71,7 +71,7 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
     ax.set_ylabel("y (m)")
     ax.set_ylim(-1.5 * wmax, 1.2 * wmax)
     ax.set_title(title or f"{beam.name}: {lengths.size - 1}R PRBDM")
-    ax.legend(loc="upper left", fontsize=7)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
     return _save(fig, path)
 
 
