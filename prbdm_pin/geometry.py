@@ -68,18 +68,22 @@ def _check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Mater
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         t3 = np.float64(t) ** 3
         EI = material.E_Pa * 2.0 * np.array([w.min(), w.max()]) * t3 / 12.0
-        mass = material.rho_kg_m3 * t * 2.0 * float(np.sum(0.5 * (w[1:] + w[:-1]) * np.diff(x)))
+        area = 2.0 * float(np.sum(0.5 * (w[1:] + w[:-1]) * np.diff(x)))
+        mass = np.array([material.rho_kg_m3 * t * area])
         index = np.float64(L) ** 2 / EI
+    fields_EI = f"thickness = {t!r} m, half_width = {w.min():g} ... {w.max():g} m, " \
+        f"material.E = {material.E_Pa!r} Pa"
     checks = (
-        ("thickness", t, "E I = E 2 w t^3 / 12", EI, "N m^2"),
-        ("thickness", t, "mass", np.array([mass]), "kg"),
-        ("x", L, "L^2 / (E I)", index, "1/N"),
+        (fields_EI, "E I = E 2 w t^3 / 12", EI, "N m^2"),
+        (f"x (L = {L!r} m), half_width, thickness = {t!r} m, material.rho = "
+         f"{material.rho_kg_m3!r} kg/m^3", "mass", mass, "kg"),
+        (f"x (L = {L!r} m), {fields_EI}", "L^2 / (E I)", index, "1/N"),
     )
-    for field_name, value, what, q, unit in checks:
+    for fields, what, q, unit in checks:
         if not np.all(np.isfinite(q) & (q >= tiny) & (q <= huge)):
             raise BeamInputError(
-                f"{field_name} = {value!r}: {what} = {q.min():.3g} ... {q.max():.3g} {unit} is "
-                "outside double precision's normal range (check the units: SI, m, Pa, kg/m^3)"
+                f"{fields}: {what} = {q.min():.3g} ... {q.max():.3g} {unit} is outside double "
+                "precision's normal range (check the units: SI, m, Pa, kg/m^3)"
             )
 
 

@@ -81,7 +81,8 @@ def validate_lengths(beam: Any, lengths_m: Any, min_fraction: float = 0.02) -> n
         raise BeamInputError(f"lengths[{i}] = {arr[i]}: must be finite (m)")
     L = float(beam.length_m)
     _check_fraction(min_fraction, arr.size)
-    total = float(np.sum(arr))
+    with np.errstate(over="ignore"):  # lengths near 1e308 overflow the sum: reported below
+        total = float(np.sum(arr))
     if not math.isclose(total, L, rel_tol=_SUM_RTOL, abs_tol=0.0):
         raise BeamInputError(f"lengths sum to {total!r} m: must equal the beam length {L} m")
     lo, hi = min_fraction * L, (1.0 - min_fraction) * L

@@ -58,7 +58,9 @@ def check_beam_or_error(d):
 
 @st.composite
 def mutated_beams(draw):
+    """GOOD with 1-3 fields replaced or dropped; also returns the names an error may cite."""
     d = json.loads(json.dumps(GOOD))
+    names = set()
     for _ in range(draw(st.integers(1, 3))):
         key = draw(st.sampled_from(["x", "half_width", "thickness", "material", "tip_force",
                                     "length", "name", "extra", "E", "rho", "nu", "drop"]))
@@ -66,31 +68,46 @@ def mutated_beams(draw):
             mat = d.get("material")
             d["material"] = dict(mat, **{key: draw(values)}) if isinstance(mat, dict) else \
                 {key: draw(values)}
+            names |= {f"material.{key}", "material"}
         elif key == "drop":
-            d.pop(draw(st.sampled_from(sorted(d))), None)
+            gone = draw(st.sampled_from(sorted(d)))
+            d.pop(gone)
+            names.add(gone)
         elif key in ("x", "half_width", "tip_force") and draw(st.booleans()):
             d[key] = draw(st.lists(numbers, max_size=8))
+            names.add(key)
         else:
             d[key] = draw(values)
-    return d
+            names.add(key)
+    # x and half_width are checked against each other, and the length against x
+    if names & {"x", "half_width", "length"}:
+        names |= {"x", "half_width"}
+    return d, names
 
 
-def _fuzz_beam_dict(d):
+def _fuzz_beam_dict(case):
+    d, names = case
     check_beam_or_error(d)
+    try:
+        beam_from_dict(d)
+    except BeamInputError as exc:
+        msg = str(exc)
+        assert any(n in msg for n in names) or ("beam =" in msg and not isinstance(d, dict)), \
+            (msg, names)
 
 
 @CHEAP
 @given(mutated_beams())
-def test_fuzzed_beam_dicts_cheap(d):
-    _fuzz_beam_dict(d)
+def test_fuzzed_beam_dicts_cheap(case):
+    _fuzz_beam_dict(case)
 
 
 @pytest.mark.stress
 @pytest.mark.slow
 @FULL
 @given(mutated_beams())
-def test_fuzzed_beam_dicts_full(d):
-    _fuzz_beam_dict(d)
+def test_fuzzed_beam_dicts_full(case):
+    _fuzz_beam_dict(case)
 
 
 @CHEAP
