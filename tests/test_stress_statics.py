@@ -159,3 +159,36 @@ def test_postbuckled_column_matches_elastica():
         amp = q.sum()  # only picks the branch: solve_bvp converges to its own solution
         x, z = elastica_tip(alpha, 0.0, guess_theta=lambda s, a=amp: a * np.sin(np.pi * s / 2))
         assert abs(p[0] / L - x) < 1e-3 and abs(p[2] / L - z) < 1e-3, (alpha, p, x, z)
+
+
+@pytest.mark.stress
+@pytest.mark.slow
+@pytest.mark.parametrize("w", [(0.5, 0.0005), (0.0005, 0.5)], ids=["narrowing", "widening"])
+def test_tapered_1000_to_1_load_sweep_converges_or_raises(w):
+    from prbdm_pin.stiffness import finite_segment_stiffness
+
+    beam = Beam(np.array([0.0, 1.0]), np.array(w), 0.01)
+    n = 32
+    h = 1.0 / n
+    lengths = np.concatenate([[h / 2], np.full(n - 1, h), [h / 2]])
+    model = build_model(beam, lengths, finite_segment_stiffness(beam, lengths, min_fraction=0.0),
+                        min_fraction=0.0)
+    EI_root = beam.root_EI_Nm2
+    for beta_deg in (10.0, 90.0):
+        b = np.radians(beta_deg)
+        tips = []
+        alphas = np.concatenate([np.logspace(-6, -1, 6), np.linspace(0.2, 20.0, 34)])
+        for a in alphas:
+            F = a * EI_root * np.array([-np.cos(b), 0.0, -np.sin(b)])
+            try:
+                q, p = model.static_deflection(F)
+            except SolveError as exc:
+                assert "no equilibrium" in str(exc)
+                tips.append(np.full(3, np.nan))
+                continue
+            check_equilibrium(model, q, F)
+            tips.append(p)
+        tips = np.array(tips)
+        assert np.all(np.isfinite(tips)), (w, beta_deg)
+        # the tip's distance from the clamp never exceeds the length (inextensible chain)
+        assert np.all(np.linalg.norm(tips, axis=1) <= 1.0 + 1e-12)
