@@ -67,7 +67,8 @@ _LOCK = ".batch.lock"
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                 "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 # Fields that describe a run rather than its result: they legitimately differ between two runs.
-RUN_DEPENDENT_FIELDS = frozenset({"wall_s", "truth_s", "fit_s", "attempts", "worker_pid"})
+RUN_DEPENDENT_FIELDS = frozenset({"wall_s", "truth_s", "fit_s", "attempts", "worker_pid",
+                                  "worker_peak_rss_mb"})
 
 OBJECTIVES = ("eigen", "deflection", "combined")
 STIFFNESS_KINDS = ("paper", "joint")
@@ -325,7 +326,19 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
         rec["stage"] = stage
         rec["error"] = f"{type(exc).__name__}: {exc}"
     rec["wall_s"] = time.perf_counter() - t0
+    rec["worker_peak_rss_mb"] = _peak_rss_mb()
     return rec
+
+
+def _peak_rss_mb() -> float | None:
+    # the worker's peak resident memory so far (Linux reports KiB, macOS bytes)
+    try:
+        import resource
+        import sys
+    except ImportError:  # not POSIX
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak / 1024**2 if sys.platform == "darwin" else peak / 1024
 
 
 # One row per beam: the per-pose arrays (model frequencies, springs) stay in fit.json territory;
@@ -711,6 +724,19 @@ def _exclusive(out_dir: Path):
         yield
 
 
+def _raise_interrupt(signum: int, frame: Any) -> None:
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+def _stop_on_sigterm() -> Any:
+    # A job scheduler ends a job with SIGTERM (then SIGKILL): stop as cleanly as on Ctrl-C.
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGTERM, _raise_interrupt)
+
+
 def run_batch(
     spec: BatchSpec,
     out_dir: str | os.PathLike,
@@ -746,7 +772,8 @@ def run_batch(
     BeamInputError
         Bad arguments, or ``out_dir`` holds a batch made with other arguments.
     KeyboardInterrupt
-        After Ctrl-C, once every finished beam is on disk and ``results.csv`` is written.
+        After Ctrl-C (or SIGTERM), once every finished beam is on disk and ``results.csv`` is
+        written.
     """
     t0 = time.perf_counter()
     backend = backend or LocalPool(1)
@@ -772,6 +799,7 @@ def run_batch(
                    desc="batch", disable=not progress, dynamic_ncols=True)
         run = _Run(_Writer(jsonl), records, bar)
         interrupted = False
+        previous = _stop_on_sigterm()
         try:
             suspects = _drive(todo, work, backend, run)
             if suspects:
@@ -780,6 +808,8 @@ def run_batch(
             interrupted = True
             raise
         finally:
+            if previous is not None:
+                signal.signal(signal.SIGTERM, previous)
             run.writer.close()
             bar.close()
             write_csv(run.records, out / RESULTS_CSV)

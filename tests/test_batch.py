@@ -294,3 +294,104 @@ def test_beam_files_folder(tmp_path):
     assert [got[i]["beam_name"] for i in sorted(got)] == names
     manifest = json.loads((out / batch.MANIFEST).read_text())
     assert [b[0] for b in manifest["beams"]] == names
+
+
+# --- the command line ----------------------------------------------------------------------------
+REPO = Path(__file__).resolve().parents[1]
+
+
+def _cli(out: Path) -> list[str]:
+    import sys
+
+    return [sys.executable, "-m", "prbdm_pin", "batch", "--beams", str(N_BEAMS), "--seed",
+            str(SEED), "--joints", "2", "--frequencies", "2", "--stiffness", "joint",
+            "--starts", "2", "--truth-model", "beam", "--out", str(out), "--workers", "2",
+            "--quiet"]
+
+
+def _env() -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    return env
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM", "SIGKILL"])
+def test_cli_killed_part_way_then_resumed(signame, two_workers, tmp_path):
+    import signal
+    import subprocess
+    import time
+
+    out = tmp_path / "out"
+    proc = subprocess.Popen(_cli(out), cwd=tmp_path, env=_env(), start_new_session=True,
+                            stderr=subprocess.PIPE)
+    jsonl = out / batch.RESULTS_JSONL
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and proc.poll() is None:
+        if jsonl.exists() and jsonl.read_bytes().count(b"\n") >= 3:
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the batch finished before it could be interrupted"
+    if signame == "SIGTERM":  # a job scheduler's stop, sent to the driver
+        proc.send_signal(signal.SIGTERM)
+    else:  # Ctrl-C in a terminal signals the whole group; SIGKILL takes driver and workers
+        os.killpg(proc.pid, getattr(signal, signame))
+    rc = proc.wait(60)
+    proc.stderr.close()
+    first = jsonl_indices(out)
+    assert 3 <= len(first) < N_BEAMS and len(set(first)) == len(first)
+    if signame != "SIGKILL":
+        assert rc == 130
+        assert len((out / batch.RESULTS_CSV).read_text().splitlines()) == len(first) + 1
+    done = subprocess.run(_cli(out), cwd=tmp_path, env=_env(), capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert sorted(jsonl_indices(out)) == list(range(N_BEAMS))  # nothing lost, nothing doubled
+    assert results(out) == two_workers
+
+
+def test_cli_refuses_other_arguments_in_same_folder(two_workers_dir, tmp_path, capsys):
+    import shutil
+
+    from prbdm_pin.cli import main
+
+    out = shutil.copytree(two_workers_dir, tmp_path / "copy")
+    argv = _cli(out)[3:]
+    argv[argv.index("--joints") + 1] = "3"
+    assert main(argv) == 2
+    assert "settings.joints = 3" in capsys.readouterr().err
+
+
+# --- the report ----------------------------------------------------------------------------------
+def test_batch_report_of_a_study(two_workers_dir, fitted, tmp_path):
+    from prbdm_pin.cli import main
+
+    assert main(["batch-report", str(two_workers_dir), "--out", str(tmp_path), "--quiet"]) == 0
+    text = (tmp_path / "report.md").read_text()
+    assert f"fitted: {N_BEAMS}; failed: 0" in text
+    gamma_1 = [r["lengths_m"][0] / r["length_m"] for r in fitted.values()]
+    row = next(line for line in text.splitlines() if line.startswith("| gamma_1 | 20 |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert float(cells[2]) == pytest.approx(np.mean(gamma_1), rel=1e-3)
+    assert float(cells[6]) == pytest.approx(np.median(gamma_1), rel=1e-3)
+    for png in ("losses.png", "gammas.png", "gamma_1.png", "scf_mean_vs_geometry.png"):
+        assert (tmp_path / png).stat().st_size > 1000
+
+
+def test_report_correlations_and_failures():
+    from prbdm_pin.commands.batch_report import summarise
+
+    rng = np.random.default_rng(0)
+    taper = rng.random(30)
+    recs = [{"beam_index": i, "status": "ok", "taper_ratio": float(t), "mean_width_m": 0.3,
+             "scf_mean": float(np.exp(3 * t)), "gamma": [0.2, 0.8], "gamma_1": 0.2,
+             "eigen_loss_pct": 0.1} for i, t in enumerate(taper)]
+    recs.append({"beam_index": 30, "status": "failed", "error": "TruthError: bad mesh"})
+    rep = summarise(recs, {"settings": {"objective": "eigen"}})
+    (c,) = [c for c in rep.correlations if (c.y, c.x) == ("scf_mean", "taper_ratio")]
+    assert c.rho == pytest.approx(1.0) and c.count == 30  # a monotone relation: rank rho = 1
+    (c,) = [c for c in rep.correlations if (c.y, c.x) == ("scf_mean", "mean_width_m")]
+    assert np.isnan(c.rho)  # a constant feature has no rank correlation
+    assert (rep.n_ok, rep.n_failed) == (30, 1)
+    assert rep.failures == (("TruthError: bad mesh", 1),)
+    assert rep.gammas[1].quantiles[3] == pytest.approx(0.8)

@@ -134,7 +134,7 @@ def _correlation(x_name: str, x: np.ndarray, y_name: str, y: np.ndarray) -> Corr
     from scipy.stats import spearmanr
 
     ok = np.isfinite(x) & np.isfinite(y)
-    if ok.sum() < 3:
+    if ok.sum() < 3 or np.ptp(x[ok]) == 0 or np.ptp(y[ok]) == 0:  # undefined: no ranks
         return Correlation(x_name, y_name, int(ok.sum()), math.nan, math.nan)
     res = spearmanr(x[ok], y[ok])
     return Correlation(x_name, y_name, int(ok.sum()), float(res.statistic), float(res.pvalue))
