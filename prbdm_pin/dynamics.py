@@ -86,10 +86,11 @@ def _stiffness(k: np.ndarray, n: int, m: int | None = None) -> np.ndarray:
         raise BeamInputError(
             f"stiffness has shape {k.shape}: must be one of {ok_shapes} (N m/rad)"
         )
-    bad = ~(np.isfinite(k) & (k > 0.0))
+    bad = ~(np.isfinite(k) & (k >= np.finfo(float).tiny))
     if np.any(bad):
         i = np.unravel_index(int(np.flatnonzero(bad)[0]), k.shape)
-        raise BeamInputError(f"stiffness[{', '.join(map(str, i))}] = {k[i]}: must be finite, > 0")
+        raise BeamInputError(f"stiffness[{', '.join(map(str, i))}] = {k[i]}: must be finite, > 0 "
+                             "and a normal double (>= 2.2e-308)")
     return k
 
 
@@ -111,9 +112,11 @@ def _check_conditioning(mu: np.ndarray) -> None:
     if not np.all(np.isfinite(mu)):
         raise SolveError("eigenvalues are not finite: the mass or stiffness values overflow "
                          "double precision")
-    if not (lo.min() > 0.0):
+    # an eigenvalue below zero by more than rounding: M itself is not positive definite
+    if np.any(lo < -1e-12 * np.abs(hi)) or not np.all(hi > 0.0):
         raise SolveError("mass matrix is not positive definite: frequencies are undefined")
-    cond = hi / lo
+    with np.errstate(divide="ignore"):
+        cond = np.where(lo > 0.0, hi / np.where(lo > 0.0, lo, 1.0), np.inf)
     worst = int(np.argmax(cond)) if cond.ndim else 0
     c = float(np.max(cond))
     if c > COND_LIMIT:
@@ -126,6 +129,13 @@ def _check_conditioning(mu: np.ndarray) -> None:
         )
 
 
+def _check_finite(w2: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(w2)):
+        raise SolveError("omega^2 overflows double precision: the stiffness is too large for "
+                         "the mass (check the units)")
+    return w2
+
+
 def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarray:
     """Frequencies from mass matrices M (n, n) or (m, n, n) and s = K^(-1/2) (n,) or (m, n).
 
@@ -133,7 +143,10 @@ def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarra
     validate once. Raises SolveError when mu_max / mu_min exceeds ``COND_LIMIT`` (the highest
     frequency would not be accurate to ``FREQUENCY_RTOL``).
     """
-    A = M * s[..., :, None] * s[..., None, :]
+    # S normalised to max 1 keeps S M S as large as M: no underflow for stiff springs
+    smax = s.max(axis=-1, keepdims=True)
+    sn = s / smax
+    A = M * sn[..., :, None] * sn[..., None, :]
     if A.ndim == 2:
         mu, _, info = _syevd(A, compute_v=0, lower=0)  # one small matrix: LAPACK directly
         if info != 0:
@@ -141,7 +154,8 @@ def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarra
     else:
         mu = np.linalg.eigvalsh(A)  # ascending, batched over the stack
     _check_conditioning(mu)
-    w2 = 1.0 / mu[..., ::-1]
+    with np.errstate(over="ignore"):
+        w2 = _check_finite((1.0 / smax) ** 2 / mu[..., ::-1])
     return w2 if squared else np.sqrt(w2)
 
 
@@ -192,6 +206,8 @@ def modes(
     s = 1.0 / np.sqrt(k)
     mu, V = np.linalg.eigh(M * s[:, None] * s[None, :])
     _check_conditioning(mu)
+    with np.errstate(over="ignore", divide="ignore"):
+        _check_finite(1.0 / mu)
     order = np.argsort(-mu)
     mu, V = mu[order], V[:, order]
     # K^(1/2) phi = V/sqrt(mu) makes phi^T M phi = v^T (S M S) v / mu = 1

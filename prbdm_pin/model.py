@@ -49,10 +49,13 @@ def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:
         raise BeamInputError(
             f"stiffness has shape {k.shape}: needs {n_joints} values, one per joint (N m/rad)"
         )
-    bad = np.flatnonzero(~(np.isfinite(k) & (k > 0.0)))
+    # subnormal springs (< 2.2e-308) carry too few digits to compute with
+    bad = np.flatnonzero(~(np.isfinite(k) & (k >= np.finfo(float).tiny)))
     if bad.size:
         i = int(bad[0])
-        raise BeamInputError(f"stiffness[{i}] = {k[i]}: must be finite and > 0 (N m/rad)")
+        raise BeamInputError(
+            f"stiffness[{i}] = {k[i]}: must be finite and > 0, a normal double (N m/rad)"
+        )
     k.setflags(write=False)
     return k
 

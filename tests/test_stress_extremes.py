@@ -15,7 +15,7 @@ from test_stress_poses import (
 )
 
 from prbdm_pin import dynamics as dyn
-from prbdm_pin.errors import SolveError
+from prbdm_pin.errors import BeamInputError, SolveError
 from prbdm_pin.geometry import Beam, Material
 from prbdm_pin.model import build_model
 from prbdm_pin.stiffness import finite_segment_stiffness
@@ -234,3 +234,29 @@ def test_mass_matrix_reference_is_consistent_for_uniform_strip():
     model = build_model(beam, lengths, [1.0, 1.0])
     for got, ref in zip(chain_inputs(model), uniform_strip_sections(beam, lengths), strict=True):
         np.testing.assert_allclose(got, ref, rtol=1e-13)
+
+
+def test_stiffness_at_the_ends_of_double_precision():
+    beam = strip(w=(0.2, 0.05))
+    lengths = np.array([0.3, 0.45, 0.25])
+    base = build_model(beam, lengths, [1.0, 1.0])
+    w1 = base.natural_frequencies()
+    # springs of 1e-307 ... 1e300 N m/rad are answered exactly (omega ∝ sqrt(K))
+    for c in (1e-307, 1e-150, 1e150, 1e300):
+        np.testing.assert_allclose(base.with_stiffness([c, c]).natural_frequencies(),
+                                   w1 * np.sqrt(c), rtol=1e-14)
+    # omega^2 beyond the largest double: a SolveError, not inf
+    with pytest.raises(SolveError, match="overflows double precision"):
+        base.with_stiffness([1e308, 1e308]).natural_frequencies()
+    with pytest.raises(SolveError, match="overflows double precision"):
+        base.with_stiffness([1e308, 1e308]).modes()
+    # subnormal springs carry too few digits: rejected at the boundary, naming the field
+    with pytest.raises(BeamInputError, match=r"stiffness\[1\] = 1e-320"):
+        build_model(beam, lengths, [1.0, 1e-320])
+    with pytest.raises(BeamInputError, match="stiffness"):
+        dyn.natural_frequencies(base.pin_model, base.new_data(), np.array([1.0, 1e-320]))
+    # a scaled eigenvalue lost below zero by rounding is a conditioning failure, not an
+    # indefinite mass matrix (M stays positive definite: Cholesky succeeds)
+    np.linalg.cholesky(base.mass_matrix())
+    with pytest.raises(SolveError, match="cannot be trusted"):
+        base.with_stiffness([1.0, 1.26e14]).natural_frequencies()

@@ -243,7 +243,7 @@ def _fuzz_model(lengths, stiffness):
     try:
         w = model.natural_frequencies()
     except SolveError as exc:
-        assert "cannot be trusted" in str(exc)
+        assert "cannot be trusted" in str(exc) or "overflows double precision" in str(exc)
         return
     assert np.all(np.isfinite(w) & (w > 0))
 
