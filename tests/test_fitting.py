@@ -158,3 +158,32 @@ def test_paper_reference_random_prototype_truth(reference, n, N, limit):
     r = fit(reference, target, n, N, stiffness="paper", squared=True, starts=64, seed=0,
             workers=2, progress=False)
     assert r.eigen_loss_pct <= limit
+
+
+def test_stick_breaking_map_round_trip_and_bounds():
+    from prbdm_pin.problem import lengths_from_unit, unit_from_lengths
+
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        u = rng.random(4)
+        lengths = lengths_from_unit(u, 2.0)
+        assert np.sum(lengths) == pytest.approx(2.0, rel=1e-14)
+        assert np.all(lengths >= 0.04 - 1e-15)
+        assert unit_from_lengths(lengths, 2.0) == pytest.approx(u, abs=1e-12)
+    # the corners of the box reach the corners of the simplex
+    assert lengths_from_unit(np.array([1.0, 0.0]), 1.0) == pytest.approx([0.96, 0.02, 0.02])
+
+
+def test_length_repair_projects_onto_the_bounded_simplex():
+    from prbdm_pin.problem import LengthRepair
+
+    X = np.array([[0.5, 0.5, 0.5, 0.01, 3.0], [0.2, 0.3, 0.1, 0.4, -1.0]])
+    Y = LengthRepair(4)._do(None, X)
+    assert np.sum(Y[:, :4], axis=1) == pytest.approx([1.0, 1.0])
+    assert np.all(Y[:, :4] >= 0.02 - 1e-15)
+    # a feasible row is left alone; the factors are never touched
+    assert Y[1] == pytest.approx(X[1])
+    assert Y[0, 4] == 3.0
+    # [0.5, 0.5, 0.5, 0.01]: the last link is clipped to its bound 0.02 and the others shift
+    # equally: 3 (0.5 - tau) + 0.02 = 1
+    assert Y[0, :4] == pytest.approx([0.98 / 3] * 3 + [0.02])
