@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
+from prbdm_pin.errors import TruthError
 from prbdm_pin.geometry import load_beam, random_beam
-from prbdm_pin.truth.mesh import planform_tri_mesh
+from prbdm_pin.truth import compute_truth
+from prbdm_pin.truth.mesh import CORNER_PASSES, planform_tri_mesh, reentrant_vertices
 from prbdm_pin.truth.plate import plate_modes
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
@@ -62,7 +64,10 @@ def test_argyris_translation_invariant():
     mesh = planform_tri_mesh(beam, 0)
     w0 = plate_modes(beam, mesh=mesh, n_modes=6).omega_rad_s
     w1 = plate_modes(beam, mesh=_translated(mesh, (250.0, -80.0)), n_modes=6).omega_rad_s
-    np.testing.assert_allclose(w1, w0, rtol=1e-9)
+    # scikit-fem's global-coordinate Argyris is off by percents here. What remains is rounding in
+    # the eigensolve, set by the smallest (corner-graded) elements: measured ~1e-7 for shifts of
+    # 2.5, 25 and 250 m alike (independent of the shift, so not a coordinate effect)
+    np.testing.assert_allclose(w1, w0, rtol=1e-6)
 
 
 @pytest.mark.parametrize("seed", [None, 3])
@@ -70,30 +75,84 @@ def test_random_panel_argyris_and_morley_bracket_and_converge(seed):
     if seed is None:
         beam = load_beam(BEAMS / "reference-random.json")
     else:
+        # seed 3 has a neck of half-width 0.02 m (the generator's floor) at x = 0.80 with a
+        # re-entrant corner of ~310 degrees: before grading, levels 0 and 1 differed by 0.9 %
         beam = random_beam(np.random.default_rng(seed))
     a0 = plate_modes(beam, 0, 8).omega_rad_s
     a1 = plate_modes(beam, 1, 8).omega_rad_s
     m2 = plate_modes(beam, 2, 8, "morley").omega_rad_s
     assert np.all(a0 > 0) and np.all(a1 > 0) and np.all(m2 > 0)
-    # meshes are not nested: allow 1e-5 relative noise on the monotone decrease from above
+    # nested meshes: the conforming element decreases monotonically (1e-5 rounding allowance)
     assert np.all(a1 <= a0 * (1 + 1e-5))
     assert np.all(m2 < a1)
-    if seed is None:
-        # measured: modes 1-5 move < 0.04 % from level 0 to 1, mode 8 0.11 %; random seed 3 moves
-        # up to 0.9 % (level 0 is not converged there: compute_truth(check_convergence=True))
-        assert np.all(np.abs(a1[:5] / a0[:5] - 1) < 1e-3)
+    # the graded level-0 mesh is within 0.1 % of the next level on the 8 lowest modes
+    assert np.all(np.abs(a1 / a0 - 1) < 1e-3)
+
+
+def test_reentrant_corners_found_and_graded():
+    beam = load_beam(BEAMS / "reference-random.json")
+    corners = reentrant_vertices(beam)
+    # left turns of the upper outline walking root -> tip (and their mirror images)
+    np.testing.assert_allclose(corners[0, :5], [0.005265, 0.225207, 0.625095, 0.821228, 0.897214])
+    np.testing.assert_allclose(corners[1, 5:], -corners[1, :5])
+    mesh = planform_tri_mesh(beam, 0)
+    h = beam.length_m / 10
+    v = mesh.p[:, mesh.t]
+    diam = np.max([np.linalg.norm(v[:, a] - v[:, b], axis=0) for a, b in ((0, 1), (1, 2), (0, 2))],
+                  axis=0)
+    for c in corners.T:
+        touching = np.any(np.linalg.norm(v - c[:, None, None], axis=0) < 1e-12, axis=0)
+        assert touching.any() and diam[touching].max() <= 1.01 * h / 2**CORNER_PASSES
+
+
+def _min_angle_deg(mesh):
+    v = mesh.p[:, mesh.t]
+    out = np.full(mesh.t.shape[1], 180.0)
+    for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        u, w = v[:, b] - v[:, a], v[:, c] - v[:, a]
+        cos = np.sum(u * w, 0) / np.linalg.norm(u, axis=0) / np.linalg.norm(w, axis=0)
+        out = np.minimum(out, np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return out
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_random_planform_meshes_cover_and_have_no_slivers(seed):
+    beam = random_beam(np.random.default_rng(seed))
+    mesh = planform_tri_mesh(beam, 0)
+    v = mesh.p[:, mesh.t]
+    area = 0.5 * np.abs((v[0, 1] - v[0, 0]) * (v[1, 2] - v[1, 0])
+                        - (v[0, 2] - v[0, 0]) * (v[1, 1] - v[1, 0]))
+    assert abs(area.sum() / beam.planform_area_m2 - 1) < 1e-9
+    # measured worst 2.4 degrees (seed 0, a Delaunay sliver away from the outline vertices); the
+    # re-entrant-corner and narrow-neck grading never lowers the minimum angle
+    assert _min_angle_deg(mesh).min() > 2.0
+
+
+def test_convergence_check_refuses_an_unconverged_result(monkeypatch):
+    import prbdm_pin.truth as truth
+
+    beam = load_beam(BEAMS / "uniform-narrow.json")
+    r = truth.compute_truth(beam, modes=3, static=False, check_convergence=True)
+    assert r.mesh_level == truth.DEFAULT_PLATE_LEVEL
+    # a tolerance below the measured level-0 -> level-1 change must be refused
+    monkeypatch.setattr(truth, "CONVERGENCE_TOL", 1e-9)
+    with pytest.raises(TruthError, match="not converged"):
+        truth.compute_truth(beam, modes=3, static=False, check_convergence=True)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", range(10))
 def test_random_panels_ten_seeds(seed):
     beam = random_beam(np.random.default_rng(seed))
+    # default level, checked against the next level (raises TruthError if a selected mode moves
+    # by more than 0.1 %, rises, or the selection changes)
+    r = compute_truth(beam, modes=5, static=False, check_convergence=True)
+    a0 = r.modal.omega_rad_s[:8]
     a1 = plate_modes(beam, 1, 8).omega_rad_s
-    a2 = plate_modes(beam, 2, 8).omega_rad_s
     m2 = plate_modes(beam, 2, 8, "morley").omega_rad_s
-    assert np.all(a1 > 0) and np.all(a2 > 0) and np.all(m2 > 0)
-    assert np.all(a2 <= a1 * (1 + 1e-5))
-    assert np.all(m2 < a2)
+    assert np.all(a0 > 0) and np.all(a1 > 0) and np.all(m2 > 0)
+    assert np.all(a1 <= a0 * (1 + 1e-5))
+    assert np.all(m2 < a1)
 
 
 def test_vectorised_assembly_matches_scikit_fem_asm():

@@ -14,7 +14,13 @@ from skfem import MeshQuad, MeshTri
 
 from ..geometry import Beam
 
+# elements touching a re-entrant corner are refined to h / 2**CORNER_PASSES (h the level's base
+# element size); measured with scripts/bench_truth.py
+CORNER_PASSES = 4
+
 __all__ = [
+    "CORNER_PASSES",
+    "reentrant_vertices",
     "element_size",
     "x_stations",
     "eta_stations",
@@ -31,22 +37,20 @@ def element_size(beam: Beam, level: int, base_elements: int = 10) -> float:
     return beam.length_m / (base_elements * 2**level)
 
 
-def x_stations(beam: Beam, h_m: float, growth: float = 0.3) -> np.ndarray:
+def x_stations(
+    beam: Beam, h_m: float, growth: float = 0.3, narrow: bool = False
+) -> np.ndarray:
     """Graded x stations (m) that contain every planform vertex.
 
     The size field is s(x) = min(h, min_k(l_k + growth * dist(x, interval_k))) over vertex
     intervals of length l_k < h, so elements next to a short interval are small and grow gently.
+    With ``narrow`` it is also at most w_k + growth * |x - x_k| at every vertex of half-width
+    w_k < h, so a narrow neck gets elements about as long as it is wide instead of slivers.
     """
     xv = beam.x_m
-    lengths = np.diff(xv)
-    short = np.flatnonzero(lengths < h_m)
 
     def size(x: np.ndarray) -> np.ndarray:
-        s = np.full_like(x, h_m)
-        for k in short:
-            d = np.maximum(0.0, np.maximum(xv[k] - x, x - xv[k + 1]))
-            s = np.minimum(s, lengths[k] + growth * d)
-        return s
+        return _local_size(beam, h_m, growth, x, narrow)
 
     out = [xv[:1]]
     for a, b in zip(xv[:-1], xv[1:], strict=True):
@@ -89,14 +93,21 @@ def planform_quad_mesh(beam: Beam, level: int = 1) -> MeshQuad:
     return MeshQuad(p, np.vstack([a, b, c, d]))
 
 
-def _local_size(beam: Beam, h_m: float, growth: float, x: np.ndarray) -> np.ndarray:
+def _local_size(
+    beam: Beam, h_m: float, growth: float, x: np.ndarray, narrow: bool = False
+) -> np.ndarray:
     """The size field of ``x_stations`` evaluated at ``x`` (m)."""
     xv = beam.x_m
     lengths = np.diff(xv)
-    s = np.full_like(np.asarray(x, dtype=float), h_m)
+    x = np.asarray(x, dtype=float)
+    s = np.full_like(x, h_m)
     for k in np.flatnonzero(lengths < h_m):
         d = np.maximum(0.0, np.maximum(xv[k] - x, x - xv[k + 1]))
         s = np.minimum(s, lengths[k] + growth * d)
+    if narrow:
+        wv = beam.half_width_m
+        for k in np.flatnonzero(wv < h_m):
+            s = np.minimum(s, wv[k] + growth * np.abs(x - xv[k]))
     return s
 
 
@@ -137,7 +148,38 @@ def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndar
     return np.array([i for i, e in enumerate(map(tuple, pieces.T)) if e not in have], dtype=int)
 
 
-def planform_tri_mesh(beam: Beam, level: int = 1, growth: float = 0.3) -> MeshTri:
+def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.ndarray:
+    """Planform vertices (2, r) of the upper outline (and their mirror images) where the interior
+    angle exceeds pi + ``min_turn_rad``: re-entrant corners, where plate bending moments are
+    singular and uniform refinement converges slowly, m."""
+    x, w = beam.x_m, beam.half_width_m
+    direction = np.arctan2(np.diff(w), np.diff(x))
+    # walking the upper outline root -> tip the plate lies on the right: a left turn is re-entrant
+    k = 1 + np.flatnonzero(np.diff(direction) > min_turn_rad)
+    return np.hstack([np.vstack([x[k], w[k]]), np.vstack([x[k], -w[k]])])
+
+
+def _refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: float) -> MeshTri:
+    """Refine (red-green-blue, conforming) the elements touching a corner until they are no
+    longer than ``target_m``: a geometric grading towards each corner (sizes double outwards)."""
+    if not corners.size:
+        return mesh
+    tol = 1e-9 * float(np.ptp(mesh.p[0]))
+    for _ in range(40):
+        d = np.sqrt(((mesh.p[:, :, None] - corners[:, None, :]) ** 2).sum(axis=0)).min(axis=1)
+        v = mesh.p[:, mesh.t]
+        diam = np.max([np.linalg.norm(v[:, a] - v[:, b], axis=0)
+                       for a, b in ((0, 1), (1, 2), (0, 2))], axis=0)
+        marked = np.flatnonzero((d[mesh.t].min(axis=0) < tol) & (diam > target_m))
+        if not marked.size:
+            break
+        mesh = mesh.refined(marked)
+    return mesh
+
+
+def planform_tri_mesh(
+    beam: Beam, level: int = 1, growth: float = 0.3, corner_passes: int = CORNER_PASSES
+) -> MeshTri:
     """Graded triangle mesh of the planform, mirror-symmetric about y = 0 (nodes in m).
 
     Nodes sit on columns at the graded ``x_stations`` (every planform vertex is a column, so the
@@ -146,19 +188,27 @@ def planform_tri_mesh(beam: Beam, level: int = 1, growth: float = 0.3) -> MeshTr
     upper half is Delaunay-triangulated (scipy) and mirrored. A short vertex interval, a narrow
     section or a steep step of the outline then gets small, well-shaped triangles instead of the
     slivers of a mapped mesh. The axis y = 0 is a mesh line and symmetric modes stay symmetric.
+    A narrow neck gets elements about as long as it is wide, and the elements touching a
+    re-entrant corner of the outline are refined until no longer than h / 2**corner_passes
+    (geometric grading towards the bending-moment singularity there, which otherwise dominates
+    the error and slows uniform convergence to about O(h) in the frequencies).
     Level ``k > 0`` is the level-0 mesh uniformly refined ``k`` times (nested meshes).
     """
-    from scipy.spatial import Delaunay
-
     if level < 0:
         raise ValueError(f"level = {level}: must be >= 0")
-    if level > 0:
-        # uniform refinement of the base mesh: nested meshes, so the conforming Argyris
-        # frequencies decrease monotonically with the level
-        return planform_tri_mesh(beam, 0, growth).refined(level)
     h = element_size(beam, 0)
-    xs = x_stations(beam, h, growth)
-    sizes = _local_size(beam, h, growth, xs)
+    mesh = _refine_corners(_base_tri_mesh(beam, h, growth), reentrant_vertices(beam),
+                           1.01 * h * 0.5**corner_passes)
+    # uniform refinement of the base mesh: nested meshes, so the conforming Argyris frequencies
+    # decrease monotonically with the level
+    return mesh.refined(level) if level > 0 else mesh
+
+
+def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
+    from scipy.spatial import Delaunay
+
+    xs = x_stations(beam, h, growth, narrow=True)
+    sizes = _local_size(beam, h, growth, xs, narrow=True)
     gaps = np.diff(xs)
     near = np.minimum(np.concatenate([gaps, gaps[-1:]]), np.concatenate([gaps[:1], gaps]))
     sizes = np.minimum(sizes, np.maximum(near, 0.5 * sizes))
@@ -198,7 +248,7 @@ def planform_tri_mesh(beam: Beam, level: int = 1, growth: float = 0.3) -> MeshTr
     t_up, area = t_up[:, ~flat], area[~flat]
     if abs(2.0 * area.sum() - beam.planform_area_m2) > 1e-9 * beam.planform_area_m2:
         raise RuntimeError(
-            f"planform mesh of {beam.name!r} at level {level} does not cover the planform "
+            f"planform mesh of {beam.name!r} does not cover the planform "
             f"({2.0 * area.sum():.9g} vs {beam.planform_area_m2:.9g} m^2)"
         )
     px, py = p_up
@@ -210,7 +260,7 @@ def planform_tri_mesh(beam: Beam, level: int = 1, growth: float = 0.3) -> MeshTr
     mirror[on_axis] = np.flatnonzero(on_axis)
     p = np.vstack([np.concatenate([px, px[off]]), np.concatenate([py, -py[off]])])
     t = np.hstack([t_up, mirror[t_up]])
-    return MeshTri(p, t)
+    return MeshTri(np.ascontiguousarray(p), np.ascontiguousarray(t))
 
 
 def mirror_nodes(mesh: MeshTri, tol_m: float = 1e-9) -> np.ndarray:

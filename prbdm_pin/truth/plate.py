@@ -347,7 +347,8 @@ def plate_modal(
     ----------
     beam : Beam
     level : int
-        Mesh refinement level (element size L / (10 * 2^level), graded at short vertex intervals).
+        Mesh refinement level (element size L / (10 * 2^level), graded at short vertex
+        intervals, narrow necks and re-entrant corners; see ``planform_tri_mesh``).
     n_modes : int
         Number of lowest modes computed (20-30 so that a bending-mode selection is complete).
     element : {"argyris", "morley"}
