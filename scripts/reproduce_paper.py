@@ -15,7 +15,7 @@ The ``paper`` parametrisation compares omega^2 (the paper's published code; ``--
 compare omega), ``joint`` compares omega. BLAS is pinned to one thread.
 
 usage: python scripts/reproduce_paper.py [--out results/paper] [--starts 64] [--workers 2]
-       [--truth computed prototype] [--selection shape] [--combined-starts 16]
+       [--truth prototype computed] [--selection paper] [--combined-starts 16]
 """
 
 from __future__ import annotations
@@ -59,9 +59,9 @@ def main() -> None:
     ap.add_argument("--starts", type=int, default=64)
     ap.add_argument("--combined-starts", type=int, default=16)
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--truth", nargs="+", default=["computed", "prototype"],
+    ap.add_argument("--truth", nargs="+", default=["prototype", "computed"],
                     choices=["computed", "prototype"])
-    ap.add_argument("--selection", default="shape", choices=["paper", "shape"])
+    ap.add_argument("--selection", default="paper", choices=["paper", "shape"])
     ap.add_argument("--paper-omega", action="store_true",
                     help="paper parametrisation: compare omega instead of omega^2")
     ap.add_argument("--joints", type=int, nargs="+", default=[3, 4, 5])
