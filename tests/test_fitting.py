@@ -67,8 +67,8 @@ def test_recovery_2r_frequencies_and_tip(narrow):
     # solutions, so the check is on what the fit promises: the truth's responses, recovered
     lengths, s = np.array([0.25, 0.45, 0.3]), np.array([1.2, 0.8])
     target = _self_truth(narrow, lengths, s)
-    r = fit(narrow, target, 2, objective="combined", stiffness="joint", starts=6, seed=1,
-            progress=False)
+    r = fit(narrow, target, 2, objective="combined", stiffness="joint", starts=4, seed=1,
+            progress=False, loss_tol=1e-7)
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
     assert r.tip_position_model_m[0] == pytest.approx(target.tip_position_m, abs=1e-7)
     assert r.combined_loss_pct < 1e-6
@@ -96,9 +96,9 @@ def test_joint_matches_n_reference_frequencies(reference, n):
 
 def test_paper_scfs_are_each_poses_optimum(reference):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    r = fit(reference, target, 3, 3, stiffness="paper", starts=3, seed=0, progress=False,
+    r = fit(reference, target, 2, 2, stiffness="paper", starts=2, seed=0, progress=False,
             polish=1)
-    prob = make_problem(reference, target, 3, 3, "paper")
+    prob = make_problem(reference, target, 2, 2, "paper")
     base = evaluate(prob, r.lengths_m, r.factors, deflection=False).eigen_errors
     assert 100 * np.mean(base) == pytest.approx(r.eigen_loss_pct, rel=1e-12)
     for i in range(prob.n_poses):
@@ -108,13 +108,12 @@ def test_paper_scfs_are_each_poses_optimum(reference):
             e = evaluate(prob, r.lengths_m, k, deflection=False).eigen_errors
             assert e[i] > base[i]
     assert r.scf_mean == pytest.approx(np.mean(r.factors))
-    assert r.stiffness_per_pose_Nm_per_rad.shape == (prob.n_poses, 3)
+    assert r.stiffness_per_pose_Nm_per_rad.shape == (prob.n_poses, 2)
 
 
 def test_same_seed_same_result_any_workers(narrow):
     target = FitTarget(_euler_bernoulli(narrow) * 1.03, narrow.tip_force_N)
-    kw = dict(joints=2, frequencies=2, stiffness="paper", starts=3, seed=11, progress=False,
-              polish=2)
+    kw = dict(joints=3, frequencies=2, stiffness="joint", starts=3, seed=11, progress=False)
     a = fit(narrow, target, **kw).to_dict()
     b = fit(narrow, target, **kw, workers=2).to_dict()
     for key in ("lengths_m", "factors", "omega_model_rad_s", "eigen_loss_pct",
