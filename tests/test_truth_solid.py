@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import scipy.sparse.linalg
 
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.geometry import Beam, Material, load_beam
@@ -89,6 +90,26 @@ def test_tangent_matches_linear_stiffness_and_finite_differences(narrow):
     fp, _ = kin.evaluate(u + eps * v, tangent=False)
     fm, _ = kin.evaluate(u - eps * v, tangent=False)
     assert np.linalg.norm((fp - fm) / (2 * eps) - K @ v) < 1e-6 * np.linalg.norm(K @ v)
+
+
+def test_free_dof_pattern_and_preconditioned_corrections(narrow):
+    d = solid._discretise(narrow, 0)
+    kin = solid._Kinematics(d)
+    rng = np.random.default_rng(2)
+    u = 1e-2 * rng.standard_normal(d.n_vec)
+    _, Kfull = kin.evaluate(u)
+    _, Kfree = kin.evaluate(u, which="free")
+    ref = Kfull[d.free][:, d.free]  # scipy's slicing of the full COO-free assembly
+    assert abs(Kfree - ref).max() <= 1e-14 * abs(ref).max()
+    # CG preconditioned by the factor of a nearby tangent reaches the direct solution
+    solver = solid._TangentSolver(rtol=1e-10, max_cg=50)
+    r = rng.standard_normal(d.free.size)
+    _, K0 = kin.evaluate(0.99 * u, which="free")
+    solver.solve(K0, r)
+    du = solver.solve(Kfree, r)
+    assert solver.factorisations == 1 and solver.cg_iterations > 0
+    exact = scipy.sparse.linalg.spsolve(Kfree.tocsc(), r)
+    assert np.linalg.norm(du - exact) < 1e-6 * np.linalg.norm(exact)
 
 
 def _plate_lambda(beam: Beam, omega: np.ndarray) -> np.ndarray:
