@@ -34,7 +34,7 @@ from prbdm_pin.truth.modes import select_modes  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 LEVELS = {
     "plate": (0, 1, 2),
-    "plate-morley": (0, 1, 2, 3, 4),
+    "plate-morley": (0, 1, 2, 3),
     "solid": (1, 2),
     "beam": (50, 100, 200, 400),
 }

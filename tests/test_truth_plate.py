@@ -167,3 +167,27 @@ def test_vectorised_assembly_matches_scikit_fem_asm():
     K1, M1 = asm(kf, basis), asm(mf, basis)
     assert abs(K - K1).max() < 1e-12 * abs(K1).max()
     assert abs(M - M1).max() < 1e-12 * abs(M1).max()
+
+
+def _plate_vs_solid(beam):
+    p = compute_truth(beam, modes=5, static=False)
+    s = compute_truth(beam, model="solid", modes=5, static=False)
+    # beam-like bending modes of both models (symmetric, MAC >= 0.8 with a beam mode), in order
+    wp = np.array([p.modal.omega_rad_s[i] for i in p.mode_index if p.labels[i] == "bending"])
+    ws = np.array([s.modal.omega_rad_s[i] for i in s.mode_index if s.labels[i] == "bending"])
+    n = min(wp.size, ws.size)
+    assert n >= 2
+    return wp[:n], ws[:n]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [None, 1])
+def test_plate_and_solid_agree_on_beam_like_modes(seed):
+    if seed is None:
+        beam = load_beam(BEAMS / "reference-random.json")
+    else:
+        beam = random_beam(np.random.default_rng(seed))
+    wp, ws = _plate_vs_solid(beam)
+    # two different theories and discretisations (Kirchhoff plate vs 3D elasticity, quadratic
+    # hexes): within 1 % on the beam-like modes
+    assert np.all(np.abs(ws / wp - 1) < 0.01), (wp, ws)

@@ -17,6 +17,8 @@ from ..geometry import Beam
 # elements touching a re-entrant corner are refined to h / 2**CORNER_PASSES (h the level's base
 # element size); measured with scripts/bench_truth.py
 CORNER_PASSES = 4
+# element size at most NARROW_ELEMENTS x the half-width at a narrow vertex
+NARROW_ELEMENTS = 0.5
 
 __all__ = [
     "CORNER_PASSES",
@@ -44,8 +46,9 @@ def x_stations(
 
     The size field is s(x) = min(h, min_k(l_k + growth * dist(x, interval_k))) over vertex
     intervals of length l_k < h, so elements next to a short interval are small and grow gently.
-    With ``narrow`` it is also at most w_k + growth * |x - x_k| at every vertex of half-width
-    w_k < h, so a narrow neck gets elements about as long as it is wide instead of slivers.
+    With ``narrow`` it is also at most c w_k + growth * |x - x_k| at every vertex of half-width
+    w_k < h / c (c = ``NARROW_ELEMENTS``), so a narrow neck gets two elements across its
+    half-width instead of slivers.
     """
     xv = beam.x_m
 
@@ -106,8 +109,8 @@ def _local_size(
         s = np.minimum(s, lengths[k] + growth * d)
     if narrow:
         wv = beam.half_width_m
-        for k in np.flatnonzero(wv < h_m):
-            s = np.minimum(s, wv[k] + growth * np.abs(x - xv[k]))
+        for k in np.flatnonzero(NARROW_ELEMENTS * wv < h_m):
+            s = np.minimum(s, NARROW_ELEMENTS * wv[k] + growth * np.abs(x - xv[k]))
     return s
 
 
@@ -159,18 +162,21 @@ def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.
     return np.hstack([np.vstack([x[k], w[k]]), np.vstack([x[k], -w[k]])])
 
 
-def _refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: float) -> MeshTri:
+def _refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: np.ndarray) -> MeshTri:
     """Refine (red-green-blue, conforming) the elements touching a corner until they are no
-    longer than ``target_m``: a geometric grading towards each corner (sizes double outwards)."""
+    longer than that corner's ``target_m``: a geometric grading towards each corner (sizes double
+    outwards)."""
     if not corners.size:
         return mesh
     tol = 1e-9 * float(np.ptp(mesh.p[0]))
     for _ in range(40):
-        d = np.sqrt(((mesh.p[:, :, None] - corners[:, None, :]) ** 2).sum(axis=0)).min(axis=1)
+        dist = np.sqrt(((mesh.p[:, :, None] - corners[:, None, :]) ** 2).sum(axis=0))
+        # the size target of the corner a node sits on (inf for nodes on no corner)
+        node_target = np.where(dist < tol, target_m[None, :], np.inf).min(axis=1)
         v = mesh.p[:, mesh.t]
         diam = np.max([np.linalg.norm(v[:, a] - v[:, b], axis=0)
                        for a, b in ((0, 1), (1, 2), (0, 2))], axis=0)
-        marked = np.flatnonzero((d[mesh.t].min(axis=0) < tol) & (diam > target_m))
+        marked = np.flatnonzero(diam > node_target[mesh.t].min(axis=0))
         if not marked.size:
             break
         mesh = mesh.refined(marked)
@@ -188,8 +194,9 @@ def planform_tri_mesh(
     upper half is Delaunay-triangulated (scipy) and mirrored. A short vertex interval, a narrow
     section or a steep step of the outline then gets small, well-shaped triangles instead of the
     slivers of a mapped mesh. The axis y = 0 is a mesh line and symmetric modes stay symmetric.
-    A narrow neck gets elements about as long as it is wide, and the elements touching a
-    re-entrant corner of the outline are refined until no longer than h / 2**corner_passes
+    A narrow neck gets two elements across its half-width, and the elements touching a
+    re-entrant corner of the outline are refined until no longer than s / 2**corner_passes
+    (s the local element size of the x stations)
     (geometric grading towards the bending-moment singularity there, which otherwise dominates
     the error and slows uniform convergence to about O(h) in the frequencies).
     Level ``k > 0`` is the level-0 mesh uniformly refined ``k`` times (nested meshes).
@@ -197,8 +204,13 @@ def planform_tri_mesh(
     if level < 0:
         raise ValueError(f"level = {level}: must be >= 0")
     h = element_size(beam, 0)
-    mesh = _refine_corners(_base_tri_mesh(beam, h, growth), reentrant_vertices(beam),
-                           1.01 * h * 0.5**corner_passes)
+    corners = reentrant_vertices(beam)
+    # relative to the local size: a corner at a narrow neck is refined further than a wide one
+    # (floored at h / 2**(corner_passes + 2): tinier elements buy little accuracy and cost
+    # eigensolver precision, which degrades like the inverse fourth power of the smallest size)
+    target = 1.01 * np.maximum(_local_size(beam, h, growth, corners[0], narrow=True),
+                               0.25 * h) * 0.5**corner_passes
+    mesh = _refine_corners(_base_tri_mesh(beam, h, growth), corners, target)
     # uniform refinement of the base mesh: nested meshes, so the conforming Argyris frequencies
     # decrease monotonically with the level
     return mesh.refined(level) if level > 0 else mesh
