@@ -432,7 +432,14 @@ def _check_manifest(path: Path, wanted: dict[str, Any]) -> None:
         raise BeamInputError(f"{path}: cannot be read ({exc})") from None
     for key in sorted(set(stored) | set(wanted)):
         if key == "version":
-            continue  # a newer package may resume an older batch
+            if stored.get(key) != wanted.get(key):
+                # allowed (a fix may be worth resuming with), but results then mix versions
+                import warnings
+
+                warnings.warn(f"{path} was written by prbdm_pin {stored.get(key)}; resuming "
+                              f"with {wanted.get(key)} mixes versions in one study",
+                              stacklevel=3)
+            continue
         a, b = stored.get(key), wanted.get(key)
         if isinstance(a, dict) and isinstance(b, dict):
             for sub in sorted(set(a) | set(b)):
