@@ -108,6 +108,7 @@ class _Discretisation:
     mu: float
     free: np.ndarray  # free vector DOFs
     n_vec: int
+    order: np.ndarray | None = None  # nested-dissection order of the free DOFs (None: MMD)
 
 
 def _lame(beam: Beam) -> tuple[float, float]:
@@ -124,7 +125,77 @@ def _discretise(beam: Beam, level: int | None) -> _Discretisation:
     n_vec = 3 * basis.N
     free = np.setdiff1d(np.arange(n_vec), fixed)
     lam, mu = _lame(beam)
-    return _Discretisation(mesh, basis, lev, lam, mu, free, n_vec)
+    order = _nested_dissection(beam, basis.doflocs, free)
+    return _Discretisation(mesh, basis, lev, lam, mu, free, n_vec, order)
+
+
+def _dissect(nx: int, ny: int, leaf: int = 3) -> np.ndarray:
+    """Nested-dissection rank of every point of an nx x ny grid of quadratic-element nodes.
+
+    A box is cut along a grid line of even index (an element boundary: the only nodes the two
+    halves share), both halves are ordered recursively and the cut line goes last.
+    """
+    rank = np.empty((nx, ny), dtype=np.int64)
+    count = 0
+
+    def put(i0: int, i1: int, j0: int, j1: int) -> None:
+        nonlocal count
+        n = (i1 - i0) * (j1 - j0)
+        rank[i0:i1, j0:j1] = count + np.arange(n).reshape(i1 - i0, j1 - j0)
+        count += n
+
+    def cut(a: int, b: int) -> int | None:
+        c = a + (b - a) // 2
+        c += c % 2
+        if c >= b - 1:
+            c -= 2
+        return c if c > a else None
+
+    def rec(i0: int, i1: int, j0: int, j1: int) -> None:
+        if i1 - i0 <= leaf and j1 - j0 <= leaf:
+            return put(i0, i1, j0, j1)
+        if i1 - i0 >= j1 - j0:
+            c = cut(i0, i1)
+            if c is None:
+                return put(i0, i1, j0, j1)
+            rec(i0, c, j0, j1)
+            rec(c + 1, i1, j0, j1)
+            return put(c, c + 1, j0, j1)
+        c = cut(j0, j1)
+        if c is None:
+            return put(i0, i1, j0, j1)
+        rec(i0, i1, j0, c)
+        rec(i0, i1, c + 1, j1)
+        return put(i0, i1, c, c + 1)
+
+    rec(0, nx, 0, ny)
+    return rank
+
+
+def _nested_dissection(beam: Beam, doflocs: np.ndarray, free: np.ndarray) -> np.ndarray | None:
+    """Fill-reducing order of the free vector DOFs, or None if the mesh is not a mapped grid.
+
+    The extruded mapped mesh is a structured grid in (x, eta = y / w(x)); geometric nested
+    dissection of that grid (all DOFs of a grid point together) gives SuperLU less fill and
+    larger supernodes than its minimum-degree orders (measured on reference-random at the
+    default level: 37.6 M vs 43.5 M entries, factorisation 2.5 s vs 4.9 s).
+    """
+    scale = 1e-9
+    x = np.round(doflocs[0] / (scale * beam.length_m))
+    eta = np.round(doflocs[1] / beam.half_width_at(doflocs[0]) / scale)
+    ux, ix = np.unique(x, return_inverse=True)
+    ue, iy = np.unique(eta, return_inverse=True)
+    nz = doflocs.shape[1] // max(1, ux.size * ue.size)
+    if ux.size * ue.size * nz != doflocs.shape[1] or ux.size < 3 or ue.size < 3:
+        return None
+    key = _dissect(ux.size, ue.size)[ix, iy]
+    if np.unique(key * nz + np.unique(doflocs[2], return_inverse=True)[1]).size != key.size:
+        return None
+    nodes = np.lexsort((doflocs[2], key))
+    position = np.full(3 * doflocs.shape[1], -1)
+    position[free] = np.arange(free.size)
+    order = position[(3 * nodes[:, None] + np.arange(3)).ravel()]
+    return order[order >= 0]
 
 
 def _gradient_form(k: int, m: int) -> BilinearForm:
@@ -175,12 +246,30 @@ def _mass(beam: Beam, d: _Discretisation) -> sp.csr_matrix:
     return _interleave({(i, i): Ms for i in range(3)}, d.basis.N)
 
 
-def _factor(A: sp.spmatrix):
-    # K is symmetric positive definite: a symmetric fill-reducing order and no pivoting.
-    return spla.splu(
-        sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-        options={"SymmetricMode": True},
-    )
+class _Factor:
+    """LU of a symmetric positive definite matrix in a given order (MMD if none)."""
+
+    def __init__(self, A: sp.spmatrix, order: np.ndarray | None = None):
+        self.order = order
+        A = sp.csc_matrix(A)
+        if order is not None:
+            A = A[order][:, order].tocsc()
+        # symmetric positive definite: a symmetric order and no pivoting
+        self.lu = spla.splu(
+            A, permc_spec="NATURAL" if order is not None else "MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0, options={"SymmetricMode": True},
+        )
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        if self.order is None:
+            return self.lu.solve(b)
+        x = np.empty_like(b)
+        x[self.order] = self.lu.solve(b[self.order])
+        return x
+
+
+def _factor(A: sp.spmatrix, order: np.ndarray | None = None) -> _Factor:
+    return _Factor(A, order)
 
 
 def _mirror_index(points: np.ndarray, scale: float) -> np.ndarray:
@@ -221,7 +310,7 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
     Mff = M[d.free][:, d.free]
     t2 = time.perf_counter()
     k = min(n_modes, d.free.size - 2)
-    lu = _factor(Kff)
+    lu = _factor(Kff, d.order)
     OPinv = spla.LinearOperator(Kff.shape, matvec=lu.solve, dtype=float)
     lam, vec = spla.eigsh(Kff, k=k, M=Mff, sigma=0.0, which="LM", OPinv=OPinv, tol=1e-12)
     t3 = time.perf_counter()
@@ -394,8 +483,9 @@ class _TangentSolver:
     convergence; if CG needs more than ``max_cg`` iterations the tangent is factored again.
     """
 
-    def __init__(self, rtol: float = 1e-6, max_cg: int = 20):
+    def __init__(self, rtol: float = 1e-6, max_cg: int = 20, order: np.ndarray | None = None):
         self.lu = None
+        self.order = order
         self.rtol = rtol
         self.max_cg = max_cg
         self.factorisations = 0
@@ -414,14 +504,14 @@ class _TangentSolver:
             self.cg_iterations += count[0]
             if info == 0 and np.all(np.isfinite(du)):
                 return du
-        self.lu = _factor(K.tocsc())
+        self.lu = _factor(K, self.order)
         self.factorisations += 1
         return self.lu.solve(r)
 
 
 def _nonlinear(beam, d, f_ext, load_steps, tol, max_iter, progress=None, stats=None):
     kin = _Kinematics(d)
-    solver = _TangentSolver()
+    solver = _TangentSolver(order=d.order)
     free = d.free
     u = np.zeros(d.n_vec)
     u_prev, lam_prev = None, 0.0
@@ -525,7 +615,7 @@ def solid_static(
         Kff = K[d.free][:, d.free]
         t2 = time.perf_counter()
         u = np.zeros(d.n_vec)
-        u[d.free] = _factor(Kff).solve(f[d.free])
+        u[d.free] = _factor(Kff, d.order).solve(f[d.free])
         steps = 1
         t3 = time.perf_counter()
     tip = _tip_dofs(beam, d)
