@@ -59,7 +59,8 @@ def bench(settings: FitSettings, beams: int, workers: int, seed: int, out: Path)
         "loss": statistics.median(r["eigen_loss_pct"] for r in ok) if ok else nan,
         "per_core_h": per_core_h,
         "projection_h": PAPER_BEAMS / (per_core_h * PAPER_CORES) if ok else nan,
-        "load": (load0 + os.getloadavg()[0]) / 2.0,
+        # only meaningful while this run computed beams (not for a resumed, finished batch)
+        "load": (load0 + os.getloadavg()[0]) / 2.0 if s.n_ok + s.n_failed else nan,
         "peak_rss_gb": max((r.get("worker_peak_rss_mb") or 0.0 for r in ok), default=0.0)
         / 1024,
         "errors": sorted({r.get("error", "") for r in recs if r.get("status") != "ok"}),
