@@ -26,13 +26,11 @@ def _square_scale(beam):
 
 def test_square_plate_argyris_within_0_05_percent_and_converging():
     beam = load_beam(BEAMS / "square-plate.json")
-    errs = []
-    for level in (0, 1):
-        lam = plate_modes(beam, level, 8).omega_rad_s[:5] * _square_scale(beam)
-        errs.append(np.abs(lam / SQUARE - 1))
-    assert np.all(errs[1] < 5e-4)
-    # refinement reduces the error of every mode (reference given to 5 digits: >= 1e-5 resolvable)
-    assert np.all((errs[1] < errs[0]) | (errs[0] < 2e-5))
+    lam = [plate_modes(beam, level, 8).omega_rad_s[:5] * _square_scale(beam) for level in (0, 1)]
+    assert np.all(np.abs(lam[0] / SQUARE - 1) < 5e-4) and np.all(np.abs(lam[1] / SQUARE - 1) < 5e-4)
+    # with the clamped-free corners graded, level 0 is already converged below the table's
+    # 5-digit resolution: refinement lowers every frequency (from above) by less than 5e-5
+    assert np.all(lam[1] <= lam[0] * (1 + 1e-9)) and np.all(lam[1] > lam[0] * (1 - 5e-5))
 
 
 def test_square_plate_morley_converges_from_below():
@@ -85,7 +83,8 @@ def test_random_panel_argyris_and_morley_bracket_and_converge(seed):
     # nested meshes: the conforming element decreases monotonically (1e-5 rounding allowance)
     assert np.all(a1 <= a0 * (1 + 1e-5))
     assert np.all(m2 < a1)
-    # the graded level-0 mesh is within 0.1 % of the next level on the 8 lowest modes
+    # the graded level-0 mesh is within 0.1 % of the next level on the 8 lowest modes (seed 6,
+    # flaring out of a narrow clamp, moved 0.14 % before the root corners were graded too)
     assert np.all(np.abs(a1 / a0 - 1) < 1e-3)
 
 
@@ -172,12 +171,11 @@ def test_vectorised_assembly_matches_scikit_fem_asm():
 def _plate_vs_solid(beam):
     p = compute_truth(beam, modes=5, static=False)
     s = compute_truth(beam, model="solid", modes=5, static=False)
-    # beam-like bending modes of both models (symmetric, MAC >= 0.8 with a beam mode), in order
-    wp = np.array([p.modal.omega_rad_s[i] for i in p.mode_index if p.labels[i] == "bending"])
-    ws = np.array([s.modal.omega_rad_s[i] for i in s.mode_index if s.labels[i] == "bending"])
-    n = min(wp.size, ws.size)
-    assert n >= 2
-    return wp[:n], ws[:n]
+    # both select the modes of largest z participation; compare rank by rank those the plate
+    # labels beam-like bending (symmetric, MAC >= 0.8 with a beam mode)
+    keep = np.array([p.labels[i] == "bending" for i in p.mode_index])
+    assert keep.sum() >= 2
+    return p.omega_rad_s[keep], s.omega_rad_s[keep]
 
 
 @pytest.mark.slow

@@ -19,6 +19,7 @@ from ..geometry import Beam
 CORNER_PASSES = 4
 # element size at most NARROW_ELEMENTS x the half-width at a narrow vertex
 NARROW_ELEMENTS = 0.5
+CORNER_FLOOR = 0.25
 
 __all__ = [
     "CORNER_PASSES",
@@ -204,12 +205,15 @@ def planform_tri_mesh(
     if level < 0:
         raise ValueError(f"level = {level}: must be >= 0")
     h = element_size(beam, 0)
-    corners = reentrant_vertices(beam)
+    # the clamped-free root corners are singular too (strongly so when the outline flares out
+    # from a narrow root)
+    w0 = beam.half_width_m[0]
+    corners = np.hstack([reentrant_vertices(beam), [[0.0, 0.0], [w0, -w0]]])
     # relative to the local size: a corner at a narrow neck is refined further than a wide one
     # (floored at h / 2**(corner_passes + 2): tinier elements buy little accuracy and cost
     # eigensolver precision, which degrades like the inverse fourth power of the smallest size)
     target = 1.01 * np.maximum(_local_size(beam, h, growth, corners[0], narrow=True),
-                               0.25 * h) * 0.5**corner_passes
+                               CORNER_FLOOR * h) * 0.5**corner_passes
     mesh = _refine_corners(_base_tri_mesh(beam, h, growth), corners, target)
     # uniform refinement of the base mesh: nested meshes, so the conforming Argyris frequencies
     # decrease monotonically with the level
