@@ -2,9 +2,11 @@
 
 Writes results/bench_simulate.md. BLAS is pinned to one thread before numpy is imported.
 Models: the reference random beam cut into near-equal links (half links at both ends) with the
-finite-segment springs; every run is a 2500 N step tip load from rest with modal damping 0.02,
-timed as a whole simulate() call (set-up, integration, 1 ms output), wall and CPU time. Next to
-them: the modal-superposition transient of the 1D beam truth (closed form per mode).
+finite-segment springs, plus the 5R model with six equal links; every run is a 2500 N step tip
+load from rest with modal damping 0.02, timed as a whole simulate() call (set-up, integration,
+1 ms output), wall and CPU time, for the exponential integrator (default), Gauss-Legendre and
+the trapezoidal rule. Next to them: the modal-superposition transient of the 1D beam truth
+(closed form per mode).
 """
 
 import os
@@ -29,8 +31,9 @@ from prbdm_pin.truth.beam import beam_modal  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def chain(beam, n):
-    lengths = np.r_[0.5, np.ones(n - 1), 0.5] * beam.length_m / n
+def chain(beam, n, equal=False):
+    lengths = (np.full(n + 1, 1.0 / (n + 1)) if equal
+               else np.r_[0.5, np.ones(n - 1), 0.5] / n) * beam.length_m
     frac = min(0.02, 0.25 / n)
     return build_model(beam, lengths, finite_segment_stiffness(beam, lengths, frac),
                        min_fraction=frac)
@@ -57,15 +60,16 @@ def main() -> None:
     force = beam.tip_force_N
     modal = beam_modal(beam, n_modes=8)
     rows = []
-    for n in range(1, 9):
-        model = chain(beam, n)
+    for n, equal in [(n, False) for n in range(1, 9)] + [(5, True)]:
+        model = chain(beam, n, equal)
         omega = model.natural_frequencies()
         dur = args.duration
         # reference for the accuracy column: DOP853 at a tight tolerance
         ref = simulate(model, dur, tip_force=force, damping_ratio=0.02, method="DOP853",
                        rtol=1e-10, output_dt=1e-3)
         peak = float(np.abs(ref.tip_displacement_m).max())
-        runs = (("gauss", {}), ("gauss", {"steps_per_period": 20}), ("trapezoidal", {}))
+        runs = (("exponential", {}), ("gauss", {}), ("gauss", {"steps_per_period": 20}),
+                ("trapezoidal", {}))
         for method, kw in runs:
             def run(model=model, method=method, kw=kw, dur=dur):
                 return simulate(model, dur, tip_force=force, damping_ratio=0.02,
@@ -75,7 +79,8 @@ def main() -> None:
             err = omega[: min(n, 5)] / modal.omega_rad_s[: min(n, 5)] - 1
             tip_err = float(np.abs(tr.tip_position_m - ref.tip_position_m).max()) / peak
             label = method + ("" if not kw else f", {kw['steps_per_period']} steps/T1")
-            rows.append((f"{n}R chain", label, tr.steps / dur, tr.rhs_evaluations / tr.steps,
+            name = f"{n}R chain" + (", equal links" if equal else "")
+            rows.append((name, label, tr.steps / dur, tr.rhs_evaluations / tr.steps,
                          wall / dur, cpu / dur, dur / wall, dur / cpu, tip_err,
                          float(np.max(np.abs(err))), float(omega[-1])))
     # modal superposition of the truth (5 modes), 1 ms samples over the duration
@@ -96,10 +101,12 @@ def main() -> None:
         "(shared machine: CPU time is the fairer speed).",
         "Tip error: max |tip - DOP853 (rtol 1e-10)| over the run, relative to the peak "
         "deflection. Frequency error: the chain's first min(n, 5) frequencies against the 1D "
-        "beam truth (finite-segment springs, not a fitted model).",
+        "beam truth (finite-segment springs, not a fitted model). Dynamics evaluations: RNEA "
+        "residuals (gauss, trapezoidal; plus one ABA per step for gauss's dense output) or "
+        "ABA and ABA derivatives (exponential).",
         "",
-        "| model | method | steps per s | RNEA per step | wall s per s | CPU s per s | "
-        "x real time (wall) | x real time (CPU) | tip error | frequency error | "
+        "| model | method | steps per s | dynamics evaluations per step | wall s per s | "
+        "CPU s per s | x real time (wall) | x real time (CPU) | tip error | frequency error | "
         "omega_max (rad/s) |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
