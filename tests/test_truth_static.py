@@ -46,14 +46,16 @@ def test_default_level_is_the_modal_default_and_within_0_05_percent(narrow):
     assert s0.tip_displacement_m[2] / s2.tip_displacement_m[2] - 1 == pytest.approx(0, abs=5e-4)
 
 
-def test_tip_deflection_converges_from_below(narrow):
+def test_tip_deflection_converged_on_the_graded_mesh(narrow):
+    # The only slowly converging error of the strip sits at the two clamped-free root corners;
+    # the mesh refines them, so the deflection is converged at the default level already:
+    # nested refinements change it by < 1e-6 relative (measured 7e-8), far below the 0.47 %
+    # physical gap to P L^3 / (3 E I).
     w = np.array([plate_static(narrow, lv).tip_displacement_m[2] for lv in (0, 1, 2)])
-    # conforming elements are too stiff: |w| grows monotonically with refinement
-    assert np.all(np.diff(np.abs(w)) > 0)
-    d = np.abs(np.diff(w))
-    # measured ratio 3.9 (O(h^2), limited by the clamp corners' singularity)
-    assert d[0] / d[1] > 3.0
-    assert d[1] < 1e-4 * abs(w[-1])
+    np.testing.assert_allclose(w, w[-1], rtol=1e-6)
+    P = abs(narrow.tip_force_N[2])
+    w_eb = -P * narrow.length_m**3 / (3.0 * narrow.root_EI_Nm2)
+    assert 0.0 < 1.0 - w[0] / w_eb < 5e-3
 
 
 def test_square_plate_between_beam_and_plate_strip_bounds():
@@ -105,3 +107,15 @@ def test_plate_agrees_with_the_linear_3d_solid(name):
     # a different theory and discretisation (27-node hexes, shear-flexible): measured 0.03 % and
     # 0.02 % apart, against 5 % and 0.3 % between the plate and Euler-Bernoulli
     assert w_plate / w_solid - 1 == pytest.approx(0.0, abs=1e-3)
+
+
+def test_elastica_truth_warns_where_plate_action_matters():
+    """The square plate's linear plate tip deflection is ~5 % below the 1D beam's (P L^3/3EI
+    bracket above), so an elastica large-deflection truth must say so; a slender strip must not."""
+    from prbdm_pin.truth import compute_truth
+
+    square = load_beam(BEAMS / "square-plate.json")
+    notes = compute_truth(square, modes=3).warnings
+    assert any("plate action" in n for n in notes), notes
+    narrow = load_beam(BEAMS / "uniform-narrow.json")
+    assert not any("plate action" in n for n in compute_truth(narrow, modes=3).warnings)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 from pathlib import Path
 
 from . import add_common
@@ -31,6 +32,8 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mode-selection", default="paper", choices=["paper", "shape"],
                    help="truth modes: largest z participation (paper) or beam-like (shape)")
     p.add_argument("--mesh-level", type=int, default=None, help="truth mesh level")
+    p.add_argument("--large-deflection", default="elastica", choices=["elastica", "solid"],
+                   help="large-deflection truth: 1D elastica (default, fast) or 3D nonlinear solid")
     p.add_argument("--truth", default=None, metavar="TRUTH.json",
                    help="use a truth.json written by `prbdm truth` instead of computing it")
     p.add_argument("--cache-dir", default=None,
@@ -82,7 +85,11 @@ def load_target(args, beam):
     n_modes = max(args.joints, args.frequencies or 0)
     truth = compute_truth(beam, model=args.truth_model, modes=n_modes,
                           mesh_level=args.mesh_level, selection=args.mode_selection,
-                          static=True, cache_dir=_cache_dir(args))
+                          static=True, cache_dir=_cache_dir(args),
+                          large_deflection=args.large_deflection)
+    if not getattr(args, "quiet", False):
+        for note in truth.warnings:
+            print(f"truth warning: {note}", file=sys.stderr)
     return target_from_truth(truth, beam.tip_force_N)
 
 

@@ -25,6 +25,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--mesh", type=int, default=None, help="mesh level (default: model's own)")
     p.add_argument("--selection", default="paper", choices=["paper", "shape"])
     p.add_argument("--no-static", action="store_true", help="skip the tip-load solve")
+    p.add_argument("--large-deflection", default="elastica", choices=["elastica", "solid", "none"],
+                   help="large-deflection tip solve: 1D elastica (default, fast) or the 3D "
+                        "nonlinear solid (reference; minutes on wide panels)")
     p.add_argument("--out", required=True, help="output directory")
     add_common(p)
     p.set_defaults(func=run)
@@ -41,7 +44,8 @@ def run(args) -> int:
     if not args.quiet:
         print(f"truth: {beam.name} with the {args.model} model ...", flush=True)
     r = compute_truth(beam, model=args.model, modes=args.modes, mesh_level=args.mesh,
-                      selection=args.selection, static=not args.no_static)
+                      selection=args.selection, static=not args.no_static,
+                      large_deflection=args.large_deflection)
     wall = time.perf_counter() - t0
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

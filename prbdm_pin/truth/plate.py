@@ -212,7 +212,7 @@ def _assemble_plate(basis: Basis, D_Nm: float, nu: float, rho_h_kg_m2: float):
 
     dx = basis.dx  # (nel, nq)
     H = np.stack([b[0].hess for b in basis.basis])  # (Nd, 2, 2, nel, nq)
-    V = np.stack([b[0].value for b in basis.basis])  # (Nd, nel, nq)
+    V = np.stack([np.asarray(b[0]) for b in basis.basis])  # (Nd, nel, nq)
     B = np.stack([H[:, 0, 0], H[:, 1, 1], np.sqrt(2.0) * H[:, 0, 1]], axis=1)
     T = H[:, 0, 0] + H[:, 1, 1]
     Ke = D_Nm * ((1.0 - nu) * np.einsum("icEq,jcEq,Eq->Eij", B, B, dx, optimize=True)

@@ -23,7 +23,7 @@ __all__ = ["plate_static", "tip_edge_load"]
 
 @LinearForm
 def _unit_line_load(v, w):
-    return 1.0 * v.value
+    return 1.0 * v
 
 
 def tip_edge_load(beam: Beam, facet_basis: FacetBasis, force_z_N: float) -> np.ndarray:
