@@ -1,0 +1,83 @@
+"""``prbdm bench``: error against cost of fitted PRBDMs, finite-segment chains and the FE truth."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+from pathlib import Path
+
+from . import add_common
+
+EXAMPLE = """example:
+  prbdm bench --quick --out results/bench
+  writes results/bench/results.md (tables), results.json (raw numbers) and
+  results/bench/error_vs_cost.png (log-log plot with the non-dominated frontier); the plate
+  truths are cached in results/bench/truth-cache"""
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    p = subparsers.add_parser(
+        "bench", help="benchmark: model error against simulation cost",
+        description="Fitted nR models (n = 1..8) beside finite-segment chains (N = 2..64) and the "
+                    "FE truth mesh levels on the shipped and five seeded random beams.",
+        epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--quick", action="store_true",
+                   help="reduced set (2 beams, n in {2, 4}, N in {4, 16, 32}, one truth level)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--cache-dir", default=None,
+                   help="truth cache directory (default OUT/truth-cache)")
+    p.add_argument("--no-mujoco", action="store_true", help="skip the MuJoCo peer")
+    add_common(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    from dataclasses import replace
+
+    import numpy as np
+
+    from ..benchmark import (
+        FULL,
+        QUICK,
+        markdown_report,
+        plot_error_vs_cost,
+        result_dict,
+        run_benchmark,
+        work_units,
+    )
+    from ..geometry import atomic_write_text
+
+    config = QUICK if args.quick else FULL
+    if args.no_mujoco:
+        config = replace(config, mujoco=False)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    cache = Path(args.cache_dir) if args.cache_dir else out / "truth-cache"
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+
+        bar = tqdm(total=work_units(config), desc="bench", unit="step")
+
+    def tick(label: str) -> None:
+        if bar is not None:
+            bar.set_postfix_str(label, refresh=False)
+            bar.update(1)
+
+    try:
+        result = run_benchmark(config, cache_dir=cache, progress=tick)
+    finally:
+        if bar is not None:
+            bar.close()
+    machine = (f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python "
+               f"{platform.python_version()}, numpy {np.__version__}; BLAS threads "
+               f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}. ")
+    md = atomic_write_text(out / "results.md", markdown_report(result, machine))
+    atomic_write_text(out / "results.json", json.dumps(result_dict(result), indent=1) + "\n")
+    png = plot_error_vs_cost(result, out / "error_vs_cost.png")
+    if not args.quiet:
+        print(f"wrote {md} and {png} ({result.wall_time_s:.1f} s)")
+    return 0
