@@ -856,8 +856,19 @@ def _phi123(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return p1, p2, p3
 
 
+def _eig_with_inverse(J: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Eigenvalues lam, eigenvectors V and V^-1 of a real matrix; SolveError when defective."""
+    try:
+        lam, V = np.linalg.eig(J)
+        return lam, V, np.linalg.inv(V)
+    except np.linalg.LinAlgError:
+        raise SolveError(f"exponential integrator: defective or non-finite Jacobian at "
+                         f"t = {t:.6g} s") from None
+
+
 def _generalised_force(pm, data, fid, lengths):
-    """tau_ext(q, f) = J(q)^T f and its derivative d tau_ext / dq (the load stiffness).
+    """tau_ext(q, f) = J(q)^T f, its derivative d tau_ext / dq (the load stiffness), and a
+    function returning both.
 
     Closed form for the planar chain (link i at world angle phi_i = q_1 + ... + q_i); Pinocchio's
     frame Jacobian and forward differences otherwise.
@@ -877,7 +888,13 @@ def _generalised_force(pm, data, fid, lengths):
             phi = np.cumsum(q)
             return (tail @ (links * (-f[0] * np.cos(phi) + f[2] * np.sin(phi))))[upper]
 
-        return tau_ext, load_stiffness
+        def both(q, f):
+            phi = np.cumsum(q)
+            s, c = np.sin(phi), np.cos(phi)
+            return (tail @ (links * (-f[0] * s - f[2] * c)),
+                    (tail @ (links * (-f[0] * c + f[2] * s)))[upper])
+
+        return tau_ext, load_stiffness, both
 
     lwa = pin.LOCAL_WORLD_ALIGNED
 
@@ -894,7 +911,10 @@ def _generalised_force(pm, data, fid, lengths):
             out[:, j] = (tau_ext(qj, f) - base) / eps
         return out
 
-    return tau_ext, load_stiffness
+    def both(q, f):
+        return tau_ext(q, f), load_stiffness(q, f)
+
+    return tau_ext, load_stiffness, both
 
 
 # a step whose correction 2 h phi_3(h J) D exceeds this fraction of the motion's scale (the
@@ -926,7 +946,7 @@ def _exponential(pm, data, fid, lengths, k_const, stiffness, C, force, constant_
         raise BeamInputError(f"dt = {dt} s: {nsteps} steps exceed max_steps = {max_steps}")
     h0 = duration / nsteps
     n2 = 2 * n
-    tau_ext, load_stiffness = _generalised_force(pm, data, fid, lengths)
+    tau_ext, _, tau_and_load_stiffness = _generalised_force(pm, data, fid, lengths)
     Jm = np.zeros((n2, n2))
     Jm[:n, n:] = np.eye(n)
     const_spring = -np.diag(k_const) if stiffness is None else None
@@ -965,7 +985,14 @@ def _exponential(pm, data, fid, lengths, k_const, stiffness, C, force, constant_
             q, v = y[:n], y[n:]
             if varying:
                 f = force(t)
-            tau = torque(q, v, f)
+            tau = -(k_const if stiffness is None else stiffness(q)) * q
+            if C is not None:
+                tau -= C @ v
+            Kt = const_spring if stiffness is None else -np.diag(stiffness(q))
+            if f is not None:
+                tau_f, k_f = tau_and_load_stiffness(q, f)
+                tau += tau_f
+                Kt = Kt + k_f
             dadq, dadv, Minv = aba_derivatives(pm, data, q, v, tau)
             counts["fev"] += 1
             if half_minv is None:
@@ -975,21 +1002,10 @@ def _exponential(pm, data, fid, lengths, k_const, stiffness, C, force, constant_
                 Minv = np.triu(Minv) + np.triu(Minv, 1).T
             Fn[:n] = v
             Fn[n:] = data.ddq
-            Kt = const_spring if stiffness is None else -np.diag(stiffness(q))
-            if f is not None:
-                Kt = Kt + load_stiffness(q, f)
             Jm[n:, :n] = dadq + Minv @ Kt
             Jm[n:, n:] = dadv if C is None else dadv + Minv @ minus_C
             if q_jac is None or np.abs(q - q_jac).max() > refresh_rad:
-                if not np.all(np.isfinite(Jm)):
-                    raise SolveError(f"exponential integrator: non-finite Jacobian at "
-                                     f"t = {t:.6g} s")
-                lam, Vc = np.linalg.eig(Jm)
-                try:
-                    Vinv = np.linalg.inv(Vc)
-                except np.linalg.LinAlgError:
-                    raise SolveError(f"exponential integrator: defective Jacobian at "
-                                     f"t = {t:.6g} s") from None
+                lam, Vc, Vinv = _eig_with_inverse(Jm, t)
                 J = Jm.copy()
                 hp1, hhp2, hp3 = _phi123(h * lam)
                 hp1 *= h
