@@ -572,7 +572,7 @@ def markdown_report(result: BenchResult, machine: str = "") -> str:
     for r in result.models:
         label = {"fitted": f"fitted {r.joints}R", "chain": f"chain N={r.joints}",
                  "mujoco": f"MuJoCo {r.joints}R"}[r.kind]
-        fe = " ".join(f"{e:+.3g}" for e in r.freq_errors_pct)
+        fe = " ".join(f"{e:+.4g}" for e in r.freq_errors_pct)
         tips = " / ".join(_g(t) for t in r.tip_errors_pct) if r.tip_errors_pct.size else "-"
         lines.append(
             f"| {r.beam} | {label} | {_g(r.fit_wall_s, '.2f')} | {_g(r.fit_loss_pct)} | {fe} "
@@ -593,8 +593,9 @@ def markdown_report(result: BenchResult, machine: str = "") -> str:
         yes = "yes" if c.as_accurate else ("-" if c.chain_joints == 0 else "no")
         ch = "yes" if c.cheaper else ("-" if c.chain_joints == 0 else "no")
         lines.append(
-            f"| {c.beam} | {c.joints} | {_g(c.fitted_error_pct)} | {_g(c.fitted_cost_s_per_s)} "
-            f"| {c.chain_joints or '-'} | {_g(c.chain_error_pct)} | {_g(c.chain_cost_s_per_s)} "
+            f"| {c.beam} | {c.joints} | {_g(c.fitted_error_pct, '.4g')} "
+            f"| {_g(c.fitted_cost_s_per_s, '.4g')} | {c.chain_joints or '-'} "
+            f"| {_g(c.chain_error_pct, '.4g')} | {_g(c.chain_cost_s_per_s, '.4g')} "
             f"| {yes} | {ch} |")
     lines += ["", "## Error against cost (frontier)", "",
               "Per model configuration: mean CPU s per simulated second over the beams, and the "
@@ -606,7 +607,8 @@ def markdown_report(result: BenchResult, machine: str = "") -> str:
         pts = summary_points(result, k)
         mask = frontier_mask(np.array([p[1] for p in pts]), np.array([p[2] for p in pts]))
         for (label, cost, err), m in zip(pts, mask, strict=True):
-            lines.append(f"| {k} | {label} | {_g(cost)} | {_g(err)} | {'*' if m else ''} |")
+            star = "*" if m else ""
+            lines.append(f"| {k} | {label} | {_g(cost, '.4g')} | {_g(err, '.4g')} | {star} |")
     lines += ["", "## FE truth (plate) per mesh level", "",
               "| beam | level | DOFs | CPU s | wall s | error vs finest level per mode % |",
               "|---|---|---|---|---|---|"]
