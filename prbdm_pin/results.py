@@ -288,6 +288,25 @@ class ParetoResult(_Serialisable):
         return "\n".join(lines) + "\n"
 
 
+def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
+    """Write ``fit.json`` atomically; with ``beam`` it carries the beam it was fitted to, so the
+    file alone rebuilds the model (``prbdm simulate fit.json``, ``prbdm export fit.json``)."""
+    from .geometry import beam_to_dict
+
+    d = result.to_dict()
+    if beam is not None:
+        d["beam"] = beam_to_dict(beam)
+    return atomic_write_text(path, json.dumps(d, indent=2) + "\n")
+
+
+def fit_beam(d: dict[str, Any]):
+    """The Beam embedded in a fit.json mapping, or None when it has none."""
+    from .geometry import beam_from_dict
+
+    b = d.get("beam")
+    return None if b is None else beam_from_dict(b)
+
+
 def load_fit(path: str | os.PathLike) -> FitResult:
     """Read a ``fit.json`` written by :meth:`FitResult.save`."""
     with open(path, encoding="utf-8") as fh:

@@ -101,3 +101,26 @@ def test_missing_truth_file_is_an_input_error(tmp_path, capsys):
     rc = main(["fit", BEAM, "--joints", "2", "--truth", str(tmp_path / "nope.json"),
                "--out", str(tmp_path / "x"), "-q"])
     assert rc == 2 and "truth" in capsys.readouterr().err
+
+
+def test_fit_json_alone_drives_export_and_simulate(truth_file, tmp_path):
+    """fit.json carries its beam: export and simulate need no --beam, and the exported model has
+    the Euler-Bernoulli frequencies the fit matched."""
+    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.results import fit_beam
+
+    path, omega, _ = truth_file
+    out = tmp_path / "fit"
+    assert main(["fit", BEAM, "--joints", "2", "--objective", "eigen", "--stiffness", "joint",
+                 "--starts", "2", "--seed", "0", "--truth", str(path), "--out", str(out),
+                 "-q"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    assert fit_beam(d).fingerprint() == load_beam(BEAM).fingerprint()
+    urdf = tmp_path / "model.urdf"
+    assert main(["export", str(out / "fit.json"), "--format", "urdf", "--out", str(urdf),
+                 "-q"]) == 0
+    assert load_urdf(urdf).natural_frequencies() == pytest.approx(omega[:2], rel=1e-8)
+    sim = tmp_path / "sim"
+    assert main(["simulate", str(out / "fit.json"), "--duration", "0.05", "--out", str(sim),
+                 "-q"]) == 0
+    assert (sim / "trajectory.csv").stat().st_size > 100

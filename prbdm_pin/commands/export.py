@@ -9,9 +9,9 @@ from . import add_common
 
 EXAMPLES = """\
 examples:
-  prbdm export runs/ref/fit.json --beam examples/beams/reference-random.json \\
+  prbdm export runs/ref/fit.json \\
       --format urdf --out ref.urdf
-  prbdm export runs/ref/fit.json --beam examples/beams/reference-random.json \\
+  prbdm export runs/ref/fit.json \\
       --format mjcf --damping 0.02 --out ref.xml
   prbdm export ref.urdf --format mjcf --out ref.xml
 
@@ -31,8 +31,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("model", metavar="MODEL", help="fit.json (with --beam), model JSON or URDF")
-    p.add_argument("--beam", metavar="BEAM.json", help="the beam a fit.json was fitted to")
+    p.add_argument("model", metavar="MODEL", help="fit.json, model JSON or URDF")
+    p.add_argument("--beam", metavar="BEAM.json",
+                   help="the beam a fit.json was fitted to (default: the one it carries)")
     p.add_argument("--format", choices=FORMATS, required=True)
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
                    help="MJCF joint damping from this modal ratio (default 0.02)")

@@ -109,7 +109,9 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
         if result.stiffness == "paper":
             written.append(plot_scf(result, out / "scf.png"))
     # fit.json last: its presence marks a complete output folder
-    written.append(result.save(out / "fit.json"))
+    from ..results import save_fit
+
+    written.append(save_fit(result, out / "fit.json", beam))
     return written
 
 

@@ -14,10 +14,10 @@ from . import add_common
 
 EXAMPLES = """\
 examples:
-  prbdm simulate runs/ref/fit.json --beam examples/beams/reference-random.json \\
+  prbdm simulate runs/ref/fit.json \\
       --duration 1 --tip-force 0,0,-2500 --out runs/ref/sim
   prbdm simulate beam.urdf --duration 0.5 --tip-force 0,0,-100 --damping 0.05 --out sim/
-  prbdm simulate runs/ref/fit.json --beam examples/beams/reference-random.json \\
+  prbdm simulate runs/ref/fit.json \\
       --duration 1 --tip-force 0,0,-10 --compare-truth --out runs/ref/sim
 
 Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position) and OUT/response.png.
@@ -37,8 +37,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("model", metavar="MODEL", help="fit.json (with --beam), model JSON or URDF")
-    p.add_argument("--beam", metavar="BEAM.json", help="the beam a fit.json was fitted to")
+    p.add_argument("model", metavar="MODEL", help="fit.json, model JSON or URDF")
+    p.add_argument("--beam", metavar="BEAM.json",
+                   help="the beam a fit.json was fitted to (default: the one it carries)")
     p.add_argument("--duration", type=float, required=True, metavar="S",
                    help="simulated time, s")
     p.add_argument("--tip-force", default="0,0,0", metavar="FX,FY,FZ",
@@ -93,16 +94,19 @@ def load_model(path: str, beam_path: str | None = None):
         from ..export import read_model_json
 
         return read_model_json(p)
-    if beam_path is None:
-        raise BeamInputError(f"MODEL {path!r}: a fit.json needs --beam BEAM.json (the beam it "
-                             "was fitted to)")
-    from ..results import FitResult
+    from ..results import FitResult, fit_beam
 
     try:
         fit = FitResult.from_dict(d)
     except (TypeError, KeyError, ValueError) as exc:
         raise BeamInputError(f"MODEL {path!r}: not a fit.json ({exc})") from None
-    beam = load_beam(beam_path)
+    if beam_path is not None:
+        beam = load_beam(beam_path)
+    else:
+        beam = fit_beam(d) if isinstance(d, dict) else None
+        if beam is None:
+            raise BeamInputError(f"MODEL {path!r}: this fit.json carries no beam; give --beam "
+                                 "BEAM.json (the beam it was fitted to)")
     if fit.beam_fingerprint and fit.beam_fingerprint != beam.fingerprint():
         raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
                              f"({fit.beam_name!r})")
