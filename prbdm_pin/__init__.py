@@ -26,6 +26,9 @@ _EXPORTS = {
     # sections, layout, stiffness
     "LinkSections": "sections",
     "link_sections": "sections",
+    "validate_lengths": "layout",
+    "sample_lengths": "layout",
+    "repair_lengths": "layout",
     "pose_sweep": "stiffness",
     "paper_stiffness": "stiffness",
     "finite_segment_stiffness": "stiffness",
@@ -37,11 +40,25 @@ _EXPORTS = {
     "TruthResult": "truth",
     "compute_truth": "truth",
     # fitting
+    "FitTarget": "problem",
+    "target_from_truth": "problem",
     "fit": "fitting",
     "fit_pareto": "fitting",
-    # simulation
+    "FitResult": "results",
+    "ParetoResult": "results",
+    "load_fit": "results",
+    "save_fit": "results",
+    # simulation and exports
     "simulate": "simulation",
     "Trajectory": "simulation",
+    "StiffnessSchedule": "simulation",
+    "dynamic_accuracy": "response",
+    "export_model": "export",
+    "read_model_json": "export",
+    # batch studies
+    "run_batch": "batch",
+    "BatchSpec": "batch",
+    "FitSettings": "batch",
 }
 
 __all__ = ["__version__", *_EXPORTS]
