@@ -22,16 +22,21 @@ Integrators (``method``)
   joint angle has moved by more than ``refresh_rad`` (0.01 rad) since the last one (in between,
   the Jacobian's change enters as a linearly growing forcing). Output at ``output_dt`` uses the
   method's own continuous extension (exact for the linear part). A step whose correction term
-  exceeds 5 % of the motion's scale (or is not finite) is redone as two half steps, up to 6
-  times. Measured (5R chain, 2500 N step, damping 0.02, 1 s, against DOP853 at rtol 1e-10): tip
-  error 0.05 % of the peak at T1/10 (gauss: 0.7 % at T1/40) at about half gauss's CPU time;
+  exceeds 5 % of the larger of the motion's scale and the step's travel (or is not finite) is
+  redone as two half steps, up to 6 times (a guard against divergence, not an error control).
+  Measured (5R chain, 2500 N step, damping 0.02, 1 s, against DOP853 at rtol 1e-10): tip
+  error 0.05 % of the peak at T1/10 (gauss: 0.7 % at T1/40) at less than half gauss's CPU
+  time (about 16-18 ms per simulated second on one core; ``scripts/bench_simulate.py``);
   three times the load: 0.5 %; harmonic tip load at 1.2 omega_1: 0.5 % (0.07 % at T1/20).
   Limits: it is not symplectic. Linear motion keeps its energy exactly (free vibration of
   amplitude 1e-4 rad: drift 2e-7 over 100 periods) but undamped nonlinear motion drifts
   (2e-6 at 0.01 rad, 2e-3 at 0.1 rad over 100 periods of mode 1): use ``"gauss"`` for long
   undamped runs at large amplitude. Initial states that put much energy into the highest modes
   (a single kinked joint, far from any smooth deflected shape) are not resolved at the default
-  step by either fixed-step scheme; ``"gauss"`` recovers better once that transient has decayed.
+  step by either fixed-step scheme, but the exponential result can then be badly wrong (energy
+  growing several-fold in 0.2 s for a 0.1 rad kink of the last joint, undamped) where
+  ``"gauss"`` keeps it within 5 %: use ``"gauss"`` or a step below 1 / omega_max there.
+  With a ``stiffness_schedule`` the Jacobian leaves out dK/dq (the remainder carries it).
   A time-varying force needs ``dt`` well below its shortest period (1/8 of it for 0.5 %, 1/17
   for 0.07 %, harmonic load at 1.2 omega_1).
 - ``"gauss"``: the 2-stage Gauss-Legendre collocation method, fixed step ``dt``
