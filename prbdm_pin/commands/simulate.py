@@ -50,8 +50,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="modal damping ratio of every mode (default 0.02)")
     p.add_argument("--damping-form", choices=("modal", "eq5c"), default="modal",
                    help="modal damping (default) or the paper's Eq. 5c")
-    p.add_argument("--method", default="trapezoidal",
-                   help="trapezoidal (default) or a solve_ivp method: DOP853, Radau, BDF ...")
+    p.add_argument("--method", default="exponential",
+                   help="exponential (default: exact linear modes, step T1/10), gauss "
+                        "(symplectic; long undamped runs, violent starts), trapezoidal, or a "
+                        "solve_ivp method: DOP853, Radau, BDF ...")
     p.add_argument("--dt", type=float, default=None, metavar="S",
                    help="trapezoidal step, s (default: lowest period / 100)")
     p.add_argument("--output-dt", type=float, default=None, metavar="S",
