@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .dynamics import modes_from_mass, planar_tip, static_deflection_planar
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .objectives import best_scale, knee_index, scf_deviation_pct, scf_mean
@@ -44,7 +45,10 @@ from .problem import (
     LengthRepair,
     ParetoProblem,
     build,
+    chain_frequencies,
+    chain_mass_matrices,
     evaluate,
+    fast_unit_frequencies,
     lengths_from_unit,
     make_problem,
     pareto_objectives,
@@ -111,15 +115,14 @@ class _Joint:
         lengths, s = self.split(x)
         parts = []
         try:
-            model, K0 = build(p, lengths)
+            M, K0 = chain_mass_matrices(p, lengths)
             K = s * K0
             if spec.objective != "deflection":
-                w = np.asarray(model.natural_frequencies_batch(p.poses_rad, stiffness=K))
-                w = w[:, : p.n_freq] ** (2 if p.squared else 1)
+                w = chain_frequencies(M, K)[:, : p.n_freq] ** (2 if p.squared else 1)
                 parts.append(((w - self.f) / self.fn).ravel() / math.sqrt(p.n_poses))
             if spec.objective != "eigen":
-                q, tip = model.with_stiffness(K).static_deflection(p.target.tip_force_N,
-                                                                   q0=self.q0)
+                q = static_deflection_planar(lengths, K, p.target.tip_force_N, q0=self.q0)
+                tip = planar_tip(lengths, q)[0]
                 self.q0 = q
                 parts.append((tip - p.target.tip_position_m) / _tip_norm(p, spec.deflection_norm))
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
@@ -134,23 +137,29 @@ class _Joint:
         """Scaled eigen residuals (m*N,) and their analytic derivative in ln s, (m*N, n)."""
         p = self.p
         lengths, s = self.split(x)
-        model, K0 = build(p, lengths)
+        M, K0 = chain_mass_matrices(p, lengths)
         K = s * K0
-        mk = model.with_stiffness(K)
-        res, dlns = [], []
-        for q in p.poses_rad:
-            w, Phi = mk.modes(q)
-            w, Phi = w[: p.n_freq], Phi[:, : p.n_freq]
+        # the residuals through the same eigensolver as the finite-difference stencil below
+        w = chain_frequencies(M, K)[:, : p.n_freq]
+        _, PHI = modes_from_mass(M, K)
+        dlns = []
+        for wi, Phi in zip(w, PHI, strict=True):
+            Phi = Phi[:, : p.n_freq]
             # d(omega_k^2)/d ln s_j = phi_jk^2 K_j for mass-normalised phi (M is independent of K)
             dw2 = (Phi**2 * K[:, None]).T
-            if p.squared:
-                res.append(w**2)
-                dlns.append(dw2)
-            else:
-                res.append(w)
-                dlns.append(dw2 / (2.0 * w[:, None]))
+            dlns.append(dw2 if p.squared else dw2 / (2.0 * wi[:, None]))
         c = self.fn * math.sqrt(p.n_poses)
-        return (np.concatenate(res) - np.tile(self.f, p.n_poses)) / c, np.vstack(dlns) / c
+        res = (w ** (2 if p.squared else 1)).ravel()
+        return (res - np.tile(self.f, p.n_poses)) / c, np.vstack(dlns) / c
+
+    def _stencil_residuals(self, X):
+        """Scaled eigen residuals of the designs in the rows of X, (B, m*N), in one batch."""
+        p, n = self.p, self.p.n_joints
+        lengths = np.array([self.split(x)[0] for x in X])
+        M, K0 = chain_mass_matrices(p, lengths)
+        w = chain_frequencies(M, np.exp(X[:, n:]) * K0)[..., : p.n_freq]
+        c = self.fn * math.sqrt(p.n_poses)
+        return ((w ** (2 if p.squared else 1)) - self.f).reshape(X.shape[0], -1) / c
 
     def eigen_residuals(self, x):
         """Residuals of the eigen objective (caches the ln s derivative for :meth:`eigen_jac`)."""
@@ -163,23 +172,27 @@ class _Joint:
         return r
 
     def eigen_jac(self, x):
-        """Jacobian: forward differences in u (one model build each), analytic in ln s."""
+        """Jacobian: forward differences in u (all n designs in one batch), analytic in ln s."""
         n = self.p.n_joints
         if self._cache is None or not np.array_equal(self._cache[0], x):
             self.eigen_residuals(x)
         _, r0, dlns = self._cache
         Jm = np.empty((r0.size, 2 * n))
         Jm[:, n:] = dlns
-        for j in range(n):
-            h = 1e-7 if x[j] + 1e-7 <= 1.0 else -1e-7
-            xh = np.array(x, copy=True)
-            xh[j] += h
-            self.nfev += 1
-            try:
-                rh, _ = self._eigen_parts(xh)
-            except (SolveError, BeamInputError, np.linalg.LinAlgError):
-                rh = r0
-            Jm[:, j] = (rh - r0) / h
+        h = np.where(x[:n] + 1e-7 <= 1.0, 1e-7, -1e-7)
+        X = np.tile(x, (n, 1))
+        X[np.arange(n), np.arange(n)] += h
+        self.nfev += n
+        try:
+            RH = self._stencil_residuals(X)
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            RH = np.empty((n, r0.size))
+            for j in range(n):  # find the failing designs one by one
+                try:
+                    RH[j] = self._stencil_residuals(X[j : j + 1])[0]
+                except (SolveError, BeamInputError, np.linalg.LinAlgError):
+                    RH[j] = r0
+        Jm[:, :n] = ((RH - r0) / h[:, None]).T
         return Jm
 
     def loss(self, x):
@@ -211,14 +224,27 @@ class _PaperEigen:
 
     def pose_residuals(self, u):
         self.nfev += 1
+        return self._batch(np.asarray(u, dtype=float)[None])[0]
+
+    def _batch(self, U):
+        """Projected per-pose residuals (B, m, N) of the designs in the rows of U."""
         p = self.p
         try:
-            _, _, W = unit_frequencies(p, self.lengths(u))
+            _, W = fast_unit_frequencies(p, np.array([self.lengths(u) for u in U]))
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
-            return np.full((p.n_poses, p.n_freq), _BAD)
+            if U.shape[0] == 1:
+                return np.full((1, p.n_poses, p.n_freq), _BAD)
+            return np.concatenate([self._batch(U[i : i + 1]) for i in range(U.shape[0])])
         w = W ** (2 if p.squared else 1)
-        c = (w @ self.f) / np.einsum("ij,ij->i", w, w)
-        return (w * c[:, None] - self.f) / self.fn
+        c = (w @ self.f) / np.einsum("bij,bij->bi", w, w)
+        return (w * c[..., None] - self.f) / self.fn
+
+    def map(self, fun, xs):
+        """A ``workers`` map for scipy's finite differences: the stencil in one batch
+        (``fun`` is :meth:`residuals` wrapped by scipy, whose rows these are)."""
+        U = np.array(list(xs), dtype=float)
+        self.nfev += U.shape[0]
+        return list(self._batch(U).reshape(U.shape[0], -1) / math.sqrt(self.p.n_poses))
 
     def residuals(self, u):
         return self.pose_residuals(u).ravel() / math.sqrt(self.p.n_poses)
@@ -227,7 +253,7 @@ class _PaperEigen:
         return float(np.mean(np.linalg.norm(self.pose_residuals(u), axis=1)))
 
     def factors(self, u):
-        _, _, W = unit_frequencies(self.p, self.lengths(u))
+        _, W = fast_unit_frequencies(self.p, self.lengths(u))
         return best_scale(W, self.p.target.omega_truth_rad_s, self.p.squared)
 
 
@@ -257,7 +283,8 @@ class _PaperScalar:
 
 
 # --- one start ----------------------------------------------------------------------------------
-def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0):
+def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0,
+        workers=None):
     from scipy.optimize import least_squares
 
     # measured: dogbox needs ~3x fewer evaluations than trf on the zero-residual joint eigen
@@ -265,7 +292,7 @@ def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_
     # paper eigen, combined): dogbox stalled at 0.13-0.34 % where trf reached 0.04-0.05 %
     x0 = np.clip(x0, lb, ub)
     return least_squares(fun, x0, jac=jac, bounds=(lb, ub), method=method, x_scale=x_scale,
-                         ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev)
+                         ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev, workers=workers)
 
 
 def _slsqp(fun, x0, lb, ub, max_iter=200):
@@ -301,7 +328,8 @@ def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndar
     if spec.objective == "eigen":
         P = _PaperEigen(spec)
         # a loose stage-1 tolerance: the best few starts are polished on the true loss
-        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, method="trf", tol=1e-8)
+        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, method="trf", tol=1e-8,
+                workers=P.map)
         return StartResult(index, P.lengths(r.x), P.factors(r.x), 100.0 * P.loss(r.x),
                            P.nfev, bool(r.success), str(r.message))
     S = _PaperScalar(spec)

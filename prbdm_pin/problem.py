@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .dynamics import eig_scaled, planar_mass_matrices
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .objectives import (
@@ -32,6 +33,8 @@ from .objectives import (
     tip_displacement_errors,
     tip_position_errors,
 )
+from .sections import _planar_sections
+from .stiffness import _finite_segment
 
 __all__ = [
     "FitTarget",
@@ -43,6 +46,9 @@ __all__ = [
     "unit_from_lengths",
     "build",
     "unit_frequencies",
+    "chain_mass_matrices",
+    "fast_unit_frequencies",
+    "chain_frequencies",
     "evaluate",
     "LengthRepair",
     "ParetoProblem",
@@ -356,6 +362,54 @@ def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
     model, K0 = build(problem, lengths_m)
     omega = model.natural_frequencies_batch(problem.poses_rad, stiffness=K0)
     return model, K0, np.asarray(omega)[:, : problem.n_freq]
+
+
+def chain_mass_matrices(problem: FitProblem, lengths_m: np.ndarray):
+    """Mass matrices over the problem's poses and the unit-factor springs, without Pinocchio.
+
+    The fit's inner loop calls this instead of :func:`build`: the closed-form planar mass
+    matrix (``dynamics.planar_mass_matrices``, checked against Pinocchio's CRBA in the tests)
+    saves building a ``pinocchio.Model`` for each trial design. ``lengths_m`` must already be
+    valid (as ``lengths_from_unit`` makes them); every reported result is re-evaluated with
+    the Pinocchio model by :func:`evaluate`.
+
+    Parameters
+    ----------
+    problem : FitProblem
+    lengths_m : ndarray, shape (n+1,) or (B, n+1)
+        One design, or a stack of designs (e.g. a finite-difference stencil), m.
+
+    Returns
+    -------
+    M : ndarray, shape (m, n, n) or (B, m, n, n)
+        Mass matrices at the poses, kg m^2.
+    K0 : ndarray, shape (n,) or (B, n)
+        Unit-factor springs, N m/rad (as :func:`base_stiffness`).
+    """
+    lengths = np.asarray(lengths_m, dtype=float)
+    mass, offset, Iyy, area_moment = _planar_sections(problem.beam, lengths)
+    if problem.stiffness == "paper":
+        K0 = np.sqrt(problem.beam.material.E_Pa * area_moment[..., 1:] / mass[..., 1:])
+    else:
+        K0 = _finite_segment(problem.beam, lengths)
+    M = planar_mass_matrices(lengths, mass, offset, Iyy, problem.poses_rad)
+    return M, K0
+
+
+def chain_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """Frequencies (rad/s, ascending) from :func:`chain_mass_matrices`' M, shape (..., m, n, n),
+    and springs K, shape (..., n) (N m/rad): shape (..., m, n)."""
+    n = M.shape[-1]
+    s = np.broadcast_to((1.0 / np.sqrt(K))[..., None, :], M.shape[:-1])
+    return eig_scaled(M.reshape(-1, n, n), s.reshape(-1, n)).reshape(M.shape[:-1])
+
+
+def fast_unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
+    """Unit-factor springs ``K0`` and frequencies over the poses (rad/s), as
+    :func:`unit_frequencies` but through :func:`chain_mass_matrices` (the fit's inner loop);
+    shapes (n,), (m, N) for one design, (B, n), (B, m, N) for a stack."""
+    M, K0 = chain_mass_matrices(problem, lengths_m)
+    return K0, chain_frequencies(M, K0)[..., : problem.n_freq]
 
 
 def pose_stiffness(problem: FitProblem, K0: np.ndarray, factors: np.ndarray) -> np.ndarray:

@@ -92,35 +92,49 @@ def link_sections(beam: Beam, lengths_m: np.ndarray, min_fraction: float = 0.02)
     return _sections(beam, lengths)
 
 
-def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
+def _integrals(beam: Beam, lengths: np.ndarray):
+    """Link spans, mid-spans and the exact planform integrals of every link (area, first and
+    second moment in x about the mid-span, y^2 moment), all links at once.
+
+    ``lengths`` is (n+1,) or a stack (B, n+1) of designs (the fit's finite differences); every
+    output then has the same leading shape. Each design's numbers do not depend on the stack.
+    """
     # called inside optimisation loops: ndarray methods rather than numpy's wrapper functions
-    nl = lengths.size
-    ends = lengths.cumsum()
-    ends[-1] = beam.length_m  # the tip is the beam's end, not a rounded sum
-    starts = np.empty(nl)
-    starts[0] = 0.0
-    starts[1:] = ends[:-1]
+    L = lengths.reshape(-1, lengths.shape[-1])
+    B, nl = L.shape
+    ends = L.cumsum(axis=1)
+    ends[:, -1] = beam.length_m  # the tip is the beam's end, not a rounded sum
+    starts = np.zeros((B, nl))
+    starts[:, 1:] = ends[:, :-1]
     mids = 0.5 * (starts + ends)
-    # sub-intervals between all planform vertices and link boundaries
-    cuts = np.concatenate((beam.x_m, ends))
-    cuts.sort()
-    u, v = cuts[:-1], cuts[1:]
-    keep = v > u
-    u, v = u[keep], v[keep]
-    link = ends.searchsorted(0.5 * (u + v))
+    # sub-intervals between all planform vertices and link boundaries (an empty one where a
+    # boundary meets a vertex adds exact zeros)
+    cuts = np.concatenate((np.broadcast_to(beam.x_m, (B, beam.x_m.size)), ends), axis=1)
+    cuts.sort(axis=1)
+    u, v = cuts[:, :-1], cuts[:, 1:]
+    link = (0.5 * (u + v))[:, :, None].__gt__(ends[:, None, :]).sum(axis=2)
     np.minimum(link, nl - 1, out=link)
     h = v - u
-    xg = u[:, None] + h[:, None] * _GAUSS_T  # (s, 2) Gauss points
+    xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
     wg = np.interp(xg, beam.x_m, beam.half_width_m)
-    xl = xg - mids[link][:, None]  # about the link's mid-span: avoids cancellation
+    xl = xg - np.take_along_axis(mids, link, axis=1)[..., None]  # about the mid-span
     w2 = 2.0 * wg
     # rows: area, first and second moment in x, y^2 moment (2 w^3 / 3); Gauss weights h / 2
-    f = np.stack((w2, w2 * xl, w2 * xl * xl, w2 * wg * wg / 3.0)).sum(axis=2) * (0.5 * h)
-    A = np.bincount(link, f[0], nl)
-    S1 = np.bincount(link, f[1], nl)
-    S2 = np.bincount(link, f[2], nl)
-    Syy = np.bincount(link, f[3], nl)
+    f = np.empty((4,) + xg.shape)
+    f[0] = w2
+    np.multiply(w2, xl, out=f[1])
+    np.multiply(f[1], xl, out=f[2])
+    f[3] = w2 * wg * wg / 3.0
+    f = f.sum(axis=3) * (0.5 * h)
+    flat = (link + nl * np.arange(B)[:, None]).ravel()
+    out = [np.bincount(flat, f[r].ravel(), B * nl).reshape(lengths.shape) for r in range(4)]
+    shape = lengths.shape
+    return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
 
+
+def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
+    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
+    nl = lengths.size
     t = beam.thickness_m
     rho_t = beam.material.rho_kg_m3 * t
     mass = rho_t * A
@@ -138,3 +152,18 @@ def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
         start_m=_ro(starts), end_m=_ro(ends), mass_kg=_ro(mass), com_m=_ro(com),
         inertia_com_kg_m2=_ro(inertia), area_moment_m4=_ro(area_moment),
     )
+
+
+def _planar_sections(beam: Beam, lengths: np.ndarray):
+    """What the planar bending dynamics needs, as :func:`_sections` computes it (same
+    arithmetic): mass (kg), centre-of-mass distance from the link's start (m), inertia about
+    the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,)."""
+    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
+    t = beam.thickness_m
+    rho_t = beam.material.rho_kg_m3 * t
+    mass = rho_t * A
+    dx = S1 / A
+    offset = (mids + dx) - starts
+    Iyy = rho_t * (S2 - A * dx * dx) + mass * (t * t / 12.0)
+    area_moment = A * (t**3 / 12.0) / (ends - starts)
+    return mass, offset, Iyy, area_moment

@@ -69,19 +69,30 @@ def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) 
 
 
 def _inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m."""
+    """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m.
+
+    ``a``, ``b`` are (k,) or stacks (B, k) of interval ends. All intervals at once: their ends
+    and the planform vertices cut the axis into sub-intervals where w is linear; each
+    sub-interval's integral is added to every interval containing it (called in the fit's
+    inner loop: no Python loop over intervals or vertices).
+    """
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
     x = beam.x_m
-    out = np.zeros(a.size)
-    for i in range(a.size):
-        cuts = np.concatenate([[a[i]], x[(x > a[i]) & (x < b[i])], [b[i]]])
-        u, v = cuts[:-1], cuts[1:]
-        wu, wv = beam.half_width_at(u), beam.half_width_at(v)
-        d = (wv - wu) / wu
-        # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
-        small = np.abs(d) < 1e-8
-        ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
-        out[i] = np.sum((v - u) * ratio / wu)
-    return out
+    a2, b2 = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
+    cuts = np.concatenate((a2, b2, np.broadcast_to(x, (a2.shape[0], x.size))), axis=1)
+    cuts.sort(axis=1)
+    u, v = cuts[:, :-1], cuts[:, 1:]  # empty sub-intervals add exact zeros
+    mid = (0.5 * (u + v))[:, :, None]
+    inside = (mid > a2[:, None, :]) & (mid < b2[:, None, :])  # (B, s, k)
+    wu = np.interp(u, x, beam.half_width_m)
+    wv = np.interp(v, x, beam.half_width_m)
+    d = (wv - wu) / wu
+    # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
+    small = np.abs(d) < 1e-8
+    ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
+    part = (v - u) * ratio / wu
+    return np.where(inside, part[:, :, None], 0.0).sum(axis=1).reshape(a.shape)
 
 
 def finite_segment_stiffness(
@@ -94,9 +105,13 @@ def finite_segment_stiffness(
     so K_j = E / ∫_(c_j)^(c_(j+1)) dx / I(x) with I(x) = 2 w(x) t^3 / 12. The integral is exact
     for the piecewise-linear planform (logarithms on each vertex interval).
     """
-    lengths = validate_lengths(beam, lengths_m, min_fraction)
-    ends = np.cumsum(lengths)
+    return _finite_segment(beam, validate_lengths(beam, lengths_m, min_fraction))
+
+
+def _finite_segment(beam: Beam, lengths: np.ndarray) -> np.ndarray:
+    """:func:`finite_segment_stiffness` for lengths already validated (the fit's inner loop)."""
+    ends = lengths.cumsum(axis=-1)
     centres = ends - 0.5 * lengths
-    integral = _inv_width_integral(beam, centres[:-1], centres[1:])  # ∫ dx / w
+    integral = _inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     t = beam.thickness_m
     return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
