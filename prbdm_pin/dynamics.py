@@ -323,7 +323,8 @@ def tip_jacobian(
 ) -> np.ndarray:
     """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
     J = pin.computeFrameJacobian(pin_model, data, _q(pin_model, q), tip_frame_id, _LWA)
-    return J[:3].copy()
+    # the binding hands a one-column matrix back as a vector: keep (3, n) for n = 1 too
+    return J[:3].reshape(3, pin_model.nv).copy()
 
 
 # --- statics ------------------------------------------------------------------------------------

@@ -148,12 +148,13 @@ def lengths_from_unit(u: np.ndarray, length_m: float, min_fraction: float = 0.02
     n1 = u.size + 1
     a = min_fraction * length_m
     rest = length_m - n1 * a
-    e = np.empty(n1)
-    for j, uj in enumerate(u):
-        e[j] = uj * rest
-        rest -= e[j]
-    e[-1] = max(rest, 0.0)
-    return a + e
+    e = []
+    for uj in u.tolist():  # Python floats: the same IEEE arithmetic, without numpy scalars
+        ej = uj * rest
+        e.append(ej)
+        rest -= ej
+    e.append(max(rest, 0.0))
+    return a + np.array(e)
 
 
 def unit_from_lengths(lengths_m: np.ndarray, length_m: float, min_fraction: float = 0.02):

@@ -1,0 +1,108 @@
+"""The fit's inner-loop kernels against the product path (Pinocchio) and independent quadrature:
+the closed-form planar mass matrix against CRBA, the closed-form tip against Pinocchio's
+kinematics, vectorised integrals against scipy.integrate.quad, and stacked designs against
+one-at-a-time evaluation."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from prbdm_pin.dynamics import mass_matrices, planar_mass_matrices, planar_tip
+from prbdm_pin.geometry import load_beam, random_beam
+from prbdm_pin.layout import sample_lengths
+from prbdm_pin.model import build_model
+from prbdm_pin.problem import (
+    FitTarget,
+    chain_mass_matrices,
+    fast_unit_frequencies,
+    make_problem,
+    unit_frequencies,
+)
+from prbdm_pin.sections import _planar_sections, _sections
+from prbdm_pin.stiffness import _inv_width_integral, finite_segment_stiffness
+
+BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
+REF_OMEGA = [39.65, 333.8, 1018.0, 1974.0, 2800.0]
+
+
+def _beams():
+    rng = np.random.default_rng(7)
+    return [load_beam(p) for p in sorted(BEAMS.glob("*.json"))] + [
+        random_beam(rng) for _ in range(3)
+    ]
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8])
+def test_planar_mass_matrix_equals_pinocchio_crba(n):
+    rng = np.random.default_rng(n)
+    for beam in _beams():
+        for lengths in sample_lengths(rng, beam.length_m, n + 1, 3):
+            model = build_model(beam, lengths, np.ones(n))
+            s = model.sections
+            Q = rng.uniform(-2.0, 2.0, (4, n))
+            ref = mass_matrices(model.pin_model, model.new_data(), Q)
+            M = planar_mass_matrices(lengths, s.mass_kg, s.com_m[:, 0] - s.start_m,
+                                     s.inertia_com_kg_m2[:, 1, 1], Q)
+            assert np.max(np.abs(M - ref)) <= 1e-13 * np.max(np.abs(ref))
+
+
+def test_planar_tip_equals_pinocchio_kinematics():
+    rng = np.random.default_rng(3)
+    beam = load_beam(BEAMS / "reference-random.json")
+    for n in (1, 4, 7):
+        for lengths in sample_lengths(rng, beam.length_m, n + 1, 3):
+            model = build_model(beam, lengths, np.ones(n))
+            q = rng.uniform(-1.5, 1.5, n)
+            p, J = planar_tip(lengths, q)
+            np.testing.assert_allclose(p, model.tip_position(q), rtol=0, atol=1e-14)
+            np.testing.assert_allclose(J, model.tip_jacobian(q), rtol=0, atol=1e-14)
+
+
+def test_inv_width_integral_against_quadrature_and_stacks():
+    rng = np.random.default_rng(11)
+    for beam in _beams():
+        a = np.sort(rng.uniform(0.0, beam.length_m, (6, 4)), axis=1)
+        a[0, 1] = beam.x_m[1]  # an interval end on a planform vertex
+        a = np.sort(a, axis=1)
+        lo, hi = a[:, :-1], a[:, 1:]
+        got = _inv_width_integral(beam, lo, hi)
+        for r in range(a.shape[0]):
+            row = _inv_width_integral(beam, lo[r], hi[r])
+            assert np.array_equal(got[r], row)
+            for j in range(lo.shape[1]):
+                pts = [x for x in beam.x_m if lo[r, j] < x < hi[r, j]]
+                ref = quad(lambda x, b=beam: 1.0 / b.half_width_at(x), lo[r, j], hi[r, j],
+                           points=pts or None, epsabs=0, epsrel=1e-13, limit=200)[0]
+                assert row[j] == pytest.approx(ref, rel=1e-11, abs=1e-14)
+
+
+@pytest.mark.parametrize("stiffness", ["paper", "joint"])
+def test_stacked_designs_equal_single_designs_and_the_pinocchio_path(stiffness):
+    rng = np.random.default_rng(5)
+    for beam in _beams()[:3]:
+        target = FitTarget(REF_OMEGA, beam.tip_force_N)
+        prob = make_problem(beam, target, 4, 4, stiffness, joint_sweep=True)
+        L = sample_lengths(rng, beam.length_m, 5, 6)
+        M, K0 = chain_mass_matrices(prob, L)
+        _, W = fast_unit_frequencies(prob, L)
+        for i, lengths in enumerate(L):
+            # a design's numbers do not depend on the stack it is evaluated in
+            Mi, K0i = chain_mass_matrices(prob, lengths)
+            assert np.array_equal(M[i], Mi) and np.array_equal(K0[i], K0i)
+            assert np.array_equal(W[i], fast_unit_frequencies(prob, lengths)[1])
+            s = _sections(beam, lengths)
+            mass, off, iyy, am = _planar_sections(beam, lengths)
+            assert np.array_equal(mass, s.mass_kg) and np.array_equal(am, s.area_moment_m4)
+            assert np.array_equal(off, s.com_m[:, 0] - s.start_m)
+            assert np.array_equal(iyy, s.inertia_com_kg_m2[:, 1, 1])
+            # the product path: Pinocchio model, CRBA, validated springs
+            _, K0_ref, W_ref = unit_frequencies(prob, lengths)
+            assert K0i == pytest.approx(K0_ref, rel=1e-14)
+            if stiffness == "joint":
+                assert K0i == pytest.approx(finite_segment_stiffness(beam, lengths), rel=1e-14)
+            # frequencies agree to the eigenproblem's rounding (eps * cond, cond <= 1e5 here)
+            assert W[i] == pytest.approx(W_ref, rel=1e-9)
