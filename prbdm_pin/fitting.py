@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -252,6 +252,12 @@ class _PaperEigen:
     def loss(self, u):
         return float(np.mean(np.linalg.norm(self.pose_residuals(u), axis=1)))
 
+    def loss_map(self, fun, xs):
+        """A ``workers`` map for scipy's finite differences of :meth:`loss`, in one batch."""
+        U = np.array(list(xs), dtype=float)
+        self.nfev += U.shape[0]
+        return list(np.linalg.norm(self._batch(U), axis=2).mean(axis=1))
+
     def factors(self, u):
         _, W = fast_unit_frequencies(self.p, self.lengths(u))
         return best_scale(W, self.p.target.omega_truth_rad_s, self.p.squared)
@@ -295,12 +301,14 @@ def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_
                          ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev, workers=workers)
 
 
-def _slsqp(fun, x0, lb, ub, max_iter=200):
+def _slsqp(fun, x0, lb, ub, max_iter=200, workers=None):
     from scipy.optimize import Bounds, minimize
 
     x0 = np.clip(x0, lb, ub)
-    return minimize(fun, x0, method="SLSQP", bounds=Bounds(lb, ub),
-                    options={"ftol": 1e-14, "maxiter": max_iter, "eps": 1e-8})
+    opts = {"ftol": 1e-14, "maxiter": max_iter, "eps": 1e-8}
+    if workers is not None:
+        opts["workers"] = workers
+    return minimize(fun, x0, method="SLSQP", bounds=Bounds(lb, ub), options=opts)
 
 
 def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndarray):
@@ -346,10 +354,10 @@ def polish_paper_eigen(spec: _Spec, start: StartResult) -> StartResult:
     P = _PaperEigen(spec)
     p = spec.problem
     u0 = unit_from_lengths(start.lengths_m, p.length_m, p.min_fraction)
-    r = _slsqp(P.loss, u0, np.zeros(p.n_joints), np.ones(p.n_joints))
+    r = _slsqp(P.loss, u0, np.zeros(p.n_joints), np.ones(p.n_joints), workers=P.loss_map)
     loss = 100.0 * P.loss(r.x)
     if not loss < start.loss_pct:
-        return start
+        return replace(start, nfev=start.nfev + P.nfev)
     return StartResult(start.index, P.lengths(r.x), P.factors(r.x), loss, start.nfev + P.nfev,
                        start.success, f"{start.message}; polished: {r.message}")
 
@@ -490,7 +498,8 @@ def fit(
     joint_sweep : bool
         ``joint`` only: compare frequencies over the pose sweep instead of the straight pose.
     polish : int
-        ``paper`` eigen: polish this many of the best starts on the paper's loss.
+        ``paper`` eigen: polish the best starts, up to this many, on the paper's loss (a start
+        whose lengths are within 1e-3 L of a better one's is not polished again).
     max_nfev : int
         Evaluation cap of each least-squares start.
 
@@ -517,8 +526,18 @@ def fit(
     order = sorted(range(len(runs)), key=lambda i: (runs[i].loss_pct, i))
     best = runs[order[0]]
     if stiffness == "paper" and objective == "eigen" and polish > 0:
-        polished = [polish_paper_eigen(spec, runs[i]) for i in order[:polish]]
+        # starts that ended in the same local optimum polish to the same design: polish
+        # only distinct ones among the best ``polish``
+        chosen: list[int] = []
+        for i in order[:polish]:
+            if all(np.max(np.abs(runs[i].lengths_m - runs[j].lengths_m)) > 1e-3 * beam.length_m
+                   for j in chosen):
+                chosen.append(i)
+        polished = [polish_paper_eigen(spec, runs[i]) for i in chosen]
         best = min(polished, key=lambda r: (r.loss_pct, r.index))
+        runs = [*runs]
+        for q, i in zip(polished, chosen, strict=True):
+            runs[i] = replace(runs[i], nfev=q.nfev)  # count the polishing evaluations too
     nfev = sum(r.nfev for r in runs)
     return result_from_design(
         problem, best.lengths_m, best.factors, objective=objective, seed=int(seed),
