@@ -19,6 +19,13 @@ Local solvers (chosen for accuracy per model evaluation; see ``scripts/bench_fit
 - ``paper`` with a deflection term: SLSQP over [u, ln k] on the scalar loss, started from the
   projected SCFs of the start lengths times a random factor.
 
+Inner loop: trial designs are evaluated without building a ``pinocchio.Model``, through
+:func:`problem.chain_mass_matrices` (exact link sections and the closed-form mass matrix of the
+planar chain, checked against Pinocchio's CRBA in the tests), and each finite-difference stencil
+is evaluated as one stacked batch (scipy's ``workers`` map, or the analytic-in-ln s Jacobian of
+the ``joint`` fit). The chosen design is evaluated again through the Pinocchio model
+(:func:`result_from_design`), so every reported number comes from the product path.
+
 Start points are uniform on the bounded simplex (``layout.sample_lengths``, Eq. 23) plus random
 factors, all drawn up front from ``numpy.random.default_rng(seed)``; starts are solved in order
 (in processes when ``workers > 1``) and the best is chosen by (loss, start index), so the same

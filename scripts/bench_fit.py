@@ -86,7 +86,9 @@ def main() -> None:
         f"{args.starts} starts",
         "",
         "CPU = this process plus its worker processes (user + system). A machine shared with "
-        "other jobs shows wall > CPU / workers; the load average is sampled before each row.",
+        "other jobs shows wall > CPU / workers; the load average is sampled before each row. "
+        "Evaluations count every model evaluation (finite-difference stencils and the SLSQP "
+        "polish of the paper fits included).",
         "",
         "| stiffness | model | N | compared | wall (s) | CPU (s) | load | loss (%) | "
         "evaluations | CPU per evaluation (ms) | starts within 1e-3 rel. of best |",
