@@ -102,8 +102,14 @@ def finite_segment_stiffness(
 
     Joint j joins links j and j + 1; its spring stands for the beam between their centres
     c_j and c_(j+1) (the geometric mid-points of the links' spans, not their centres of mass),
-    so K_j = E / ∫_(c_j)^(c_(j+1)) dx / I(x) with I(x) = 2 w(x) t^3 / 12. The integral is exact
-    for the piecewise-linear planform (logarithms on each vertex interval).
+    so K_j = E / ∫_(c_j)^(c_(j+1)) dx / I(x) with I(x) = 2 w(x) t^3 / 12. The end links are
+    the exception: the clamped link 0 counts from the clamp (c_0 = 0) and the tip link to the
+    tip (c_n = L), so the springs' spans tile the whole beam and the chain's compliance under a
+    tip moment equals the beam's. (Counting from the mid-points of the end links would treat the
+    beam over [0, L_0/2] and [L - L_n/2, L] as rigid: the equal-segment chain with links
+    [h/2, h, ..., h, h/2] would then converge only as 1/N instead of getting K = EI/h at every
+    joint.) The integral is exact for the piecewise-linear planform (logarithms on each vertex
+    interval).
     """
     return _finite_segment(beam, validate_lengths(beam, lengths_m, min_fraction))
 
@@ -112,6 +118,8 @@ def _finite_segment(beam: Beam, lengths: np.ndarray) -> np.ndarray:
     """:func:`finite_segment_stiffness` for lengths already validated (the fit's inner loop)."""
     ends = lengths.cumsum(axis=-1)
     centres = ends - 0.5 * lengths
+    centres[..., 0] = 0.0
+    centres[..., -1] = ends[..., -1]
     integral = _inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     t = beam.thickness_m
     return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral

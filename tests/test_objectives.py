@@ -82,8 +82,9 @@ def test_1r_frequency_closed_form(a):
     beam = _uniform_beam()
     ell = L_M - a
     EI = MAT.E_Pa * B_M * T_M**3 / 12.0
-    # finite-segment stiffness of 1R: E / int dx/I between the link centres (a/2, a + ell/2)
-    K = EI / (L_M / 2.0)
+    # finite-segment stiffness of 1R: the one spring spans the whole beam (from the clamp to the
+    # tip: the end links count from the clamp and to the tip), E / int_0^L dx/I = EI / L
+    K = EI / L_M
     omega = math.sqrt(K / _link_inertia_about_joint(ell))
     truth = FitTarget([1.1 * omega], beam.tip_force_N)
     prob = make_problem(beam, truth, 1, stiffness="joint")
@@ -99,7 +100,7 @@ def test_1r_deflection_closed_form(P):
     beam = _uniform_beam((0.0, 0.0, -P))
     a, ell = 0.25, 0.75
     EI = MAT.E_Pa * B_M * T_M**3 / 12.0
-    K = 0.3 * EI / (L_M / 2.0)  # a soft spring: large rotation
+    K = 0.3 * EI / L_M  # a soft spring (the finite-segment 1R spring is EI / L): large rotation
     # equilibrium of a rigid link under a transverse dead load: K theta = P ell cos(theta)
     theta = brentq(lambda th: K * th - P * ell * math.cos(th), 0.0, math.pi / 2)
     tip = np.array([a + ell * math.cos(theta), 0.0, -ell * math.sin(theta)])

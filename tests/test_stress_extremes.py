@@ -80,8 +80,10 @@ def test_uniform_strip_thickness_and_modulus_sweep(t, E):
     beam = strip(t=t, E=E)
     lengths = np.array([0.1, 0.3, 0.25, 0.35])
     model = build_model(beam, lengths, finite_segment_stiffness(beam, lengths))
-    # K_j = E I / (distance between link centres) for a uniform strip
+    # K_j = E I / (distance between link centres) for a uniform strip; the end links count
+    # from the clamp and to the tip
     centres = np.cumsum(lengths) - lengths / 2
+    centres[0], centres[-1] = 0.0, lengths.sum()
     k_ref = E * (2 * 0.025 * t**3 / 12) / np.diff(centres)
     np.testing.assert_allclose(model.stiffness_Nm_per_rad, k_ref, rtol=1e-13)
     import mpmath
