@@ -256,3 +256,22 @@ def test_paper_omega_fit_beats_the_omega_squared_design_in_omega(reference):
     at_w2 = _projected_loss_pct(prob_w, r_w2.lengths_m)
     assert r_w.eigen_loss_pct <= at_w2
     assert at_w2 > 0.5 * r_w2.eigen_loss_pct
+
+
+@pytest.mark.slow
+def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
+    # NSGA-II seeded with the single-objective optima: the knee (Eq. 27) of the 4R front
+    # against Euler-Bernoulli and the elastica table at P L^2/EI = 1
+    from prbdm_pin.fitting import fit_pareto
+
+    L = narrow.length_m
+    tip = np.array([L * (1 - 0.056433), 0.0, -0.301721 * L])
+    target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
+                       tip - np.array([L, 0.0, 0.0]))
+    p = fit_pareto(narrow, target, 4, 4, stiffness="joint", pop=100, generations=200, seed=0,
+                   workers=2, progress=False)
+    k = p.knee
+    assert k.combined_loss_pct <= 0.1
+    assert k.combined_loss_pct == pytest.approx(math.hypot(k.eigen_loss_pct,
+                                                           k.deflection_loss_pct), rel=1e-12)
+    assert p.knee_index == int(np.argmin(np.hypot(p.F_pct[:, 0], p.F_pct[:, 1])))
