@@ -616,7 +616,7 @@ def fit_pareto(
     workers: int = 1,
     seed_with_fits: bool = True,
     seed_starts: int = 4,
-    polish_knee: bool = True,
+    polish_knee: bool | None = None,
 ) -> ParetoResult:
     """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
 
@@ -631,9 +631,11 @@ def fit_pareto(
     Eq. 27 combined optimum, each the best of a ``seed_starts`` multistart :func:`fit` with the
     same seed) into the initial population, the rest drawn uniformly (lengths on the bounded
     simplex, log10 factors in their bounds), so the front spans its anchors and the knee region.
-    ``polish_knee`` runs the single-objective local solver on Eq. 27 from the NSGA-II knee and
-    adds the result to the front if no front design dominates it; the knee is then taken on that
-    front, and ``message`` records the raw NSGA-II knee beside it.
+    For ``paper`` springs only the eigen anchor is seeded (the others need minutes of static
+    solves). ``polish_knee`` (default: joint springs only, for the same reason) runs the
+    single-objective local solver on Eq. 27 from the NSGA-II knee and adds the result to the front
+    if no front design dominates it; the knee is then taken on that front, and ``message``
+    records the raw NSGA-II knee beside it.
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
@@ -694,6 +696,10 @@ def fit_pareto(
     raw = F[ki].copy()
     note = (f"raw NSGA-II knee: eigen {raw[0]:.6g} %, deflection {raw[1]:.6g} %, "
             f"combined {math.hypot(raw[0], raw[1]):.6g} %")
+    if polish_knee is None:
+        # the Eq. 27 polish of a paper design is an SLSQP over lengths and per-pose SCFs with a
+        # static solve per pose: minutes; by default only joint fronts are polished
+        polish_knee = problem.stiffness == "joint"
     if polish_knee:
         x_p, f_p, nfev_p = _polish_knee(problem, X[ki], deflection_norm, log10_bounds)
         n_evals += nfev_p
@@ -749,7 +755,12 @@ def _initial_population(beam, target, problem: FitProblem, pop: int, seed: int, 
     nfev = 0
     if seed_with_fits:
         rows = []
-        for objective in ("combined", "eigen", "deflection")[:pop]:
+        # paper springs: deflection and combined fits need a static solve per pose (35 poses at
+        # eps = 0.01) in every evaluation and take minutes; the eigen anchor is cheap (variable
+        # projection), so it alone seeds the front there
+        anchors = ("combined", "eigen", "deflection") if problem.stiffness == "joint" \
+            else ("eigen",)
+        for objective in anchors[:pop]:
             r = fit(beam, target, problem.n_joints, problem.n_freq, objective=objective,
                     stiffness=problem.stiffness, starts=seed_starts, seed=seed, xi=problem.xi,
                     eps=problem.eps, squared=problem.squared, workers=workers, progress=False,
