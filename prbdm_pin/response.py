@@ -122,7 +122,15 @@ def centerline_modal_tip(modal, beam, indices: np.ndarray | None = None) -> Moda
     if abs(x[-1] - beam.length_m) > 1e-9 * beam.length_m:
         raise BeamInputError(f"centerline_x_m ends at {x[-1]} m: must reach the tip "
                              f"({beam.length_m} m)")
-    # refine by linear interpolation so the quadrature of mu phi^2 is accurate
+    modal_mass = getattr(modal, "modal_mass_kg", None)
+    if modal_mass is not None:
+        # exact: the finite-element modal mass phi^T M phi at the stored shapes' scale
+        tip = np.asarray(modal.centerline_uz, dtype=float)[:, order][idx, -1]
+        gains = tip**2 / np.asarray(modal_mass, dtype=float)[idx]
+        return ModalTip(np.asarray(modal.omega_rad_s, dtype=float)[idx], gains, float("nan"))
+    # No modal mass: normalise the centreline shapes with the section mass, which assumes each
+    # section moves rigidly (true for beam-like modes only); refine by linear interpolation so
+    # the quadrature of mu phi^2 is accurate
     xf = np.union1d(np.linspace(0.0, beam.length_m, 4001), x)
     mu = beam.material.rho_kg_m3 * 2.0 * beam.half_width_at(xf) * beam.thickness_m
     gains, checks = [], []

@@ -389,4 +389,5 @@ def plate_modal(
         cells=pm.mesh.t.T.copy(),
         cell_type="triangle",
         node_uz=uz,
+        modal_mass_kg=np.ones(pm.omega_rad_s.size),  # the eigenvectors are mass-normalised
     )

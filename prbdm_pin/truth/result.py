@@ -62,6 +62,9 @@ class ModalSolution:
         meshio cell type name (``"triangle"``, ``"hexahedron27"``, ``"line"`` ...).
     node_uz : ndarray, shape (k, N)
         Nodal z displacement of each mode (not the element's raw DOF vector).
+    modal_mass_kg : ndarray, shape (k,), optional
+        phi^T M phi of each mode at the scale of ``centerline_uz`` and ``node_uz`` (ones for
+        mass-normalised shapes); None where the model does not provide it.
     """
 
     model: str
@@ -80,6 +83,7 @@ class ModalSolution:
     cells: np.ndarray | None = None
     cell_type: str = ""
     node_uz: np.ndarray | None = None
+    modal_mass_kg: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
