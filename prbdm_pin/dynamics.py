@@ -35,6 +35,8 @@ __all__ = [
     "planar_tip",
     "static_deflection",
     "static_deflection_planar",
+    "planar_tips",
+    "static_deflection_planar_batch",
 ]
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -498,6 +500,190 @@ def static_deflection_planar(
                     f"{F.tolist()} N (load stepping stalled)"
                 )
     return q
+
+
+def planar_tips(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Closed-form tip positions (m) of stacked planar chains, shape (B, 3).
+
+    ``lengths_m`` (B, n+1) or (n+1,) for all rows, ``Q`` (B, n) joint angles (rad); the
+    kinematics of :func:`planar_tip`, one row per chain.
+    """
+    Q = np.asarray(Q, dtype=float)
+    L = np.broadcast_to(np.asarray(lengths_m, dtype=float), (Q.shape[0], Q.shape[1] + 1))
+    phi = np.cumsum(Q, axis=1)
+    out = np.zeros((Q.shape[0], 3))
+    out[:, 0] = L[:, 0] + np.einsum("bi,bi->b", L[:, 1:], np.cos(phi))
+    out[:, 2] = -np.einsum("bi,bi->b", L[:, 1:], np.sin(phi))
+    return out
+
+
+class _BatchPotential:
+    """:class:`_Potential` of B chains at once: rows of lengths (B, n+1) and springs (B, n)."""
+
+    def __init__(self, lengths: np.ndarray, k: np.ndarray, force: np.ndarray) -> None:
+        self.L0, self.L = lengths[:, 0], lengths[:, 1:]
+        self.k = k
+        self.fx, self.fz = float(force[0]), float(force[2])
+        idx = np.arange(k.shape[1])
+        self.imax = np.maximum(idx[:, None], idx[None, :])
+        self.diag = np.arange(k.shape[1])
+
+    def value(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        phi = np.cumsum(q, axis=1)
+        L = self.L[rows]
+        work = (self.fx * (self.L0[rows] + np.einsum("bi,bi->b", L, np.cos(phi)))
+                - self.fz * np.einsum("bi,bi->b", L, np.sin(phi)))
+        return 0.5 * np.einsum("bi,bi->b", self.k[rows] * q, q) - work
+
+    def derivatives(self, q: np.ndarray, rows: np.ndarray, hessian: bool = True):
+        phi = np.cumsum(q, axis=1)
+        L = self.L[rows]
+        rc = np.cumsum((L * np.cos(phi))[:, ::-1], axis=1)[:, ::-1]
+        rs = np.cumsum((L * np.sin(phi))[:, ::-1], axis=1)[:, ::-1]
+        jtf = -self.fx * rs - self.fz * rc
+        kq = self.k[rows] * q
+        g = kq - jtf
+        scale = np.maximum(np.maximum(np.linalg.norm(kq, axis=1), np.linalg.norm(jtf, axis=1)),
+                           1e-300)
+        if not hessian:
+            return g, None, scale
+        T = -self.fx * rc + self.fz * rs
+        H = -T[:, self.imax]
+        H[:, self.diag, self.diag] += self.k[rows]
+        return g, H, scale
+
+
+# Above this many rows the vectorised factorisation beats a LAPACK call per matrix (measured for
+# n = 2...8: the two cross near 400 rows)
+_ROWS_CHOLESKY_MIN = 400
+
+
+def _cholesky_solve_batch(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Solve H d = g for a stack of small symmetric matrices; returns (d, positive definite per
+    row). Rows that are not positive definite get d = 0."""
+    if g.shape[0] >= _ROWS_CHOLESKY_MIN:
+        return _cholesky_rows(H, g)
+    try:
+        # the common case, every row positive definite: LAPACK's loops
+        np.linalg.cholesky(H)
+        return np.linalg.solve(H, g[..., None])[..., 0], np.ones(g.shape[0], dtype=bool)
+    except np.linalg.LinAlgError:
+        return _cholesky_rows(H, g)
+
+
+def _cholesky_rows(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_cholesky_solve_batch` row by row in the factorisation, so that the rows that are
+    not positive definite are found (n^2 vectorised steps for any batch size)."""
+    B, n = g.shape
+    C = np.zeros_like(H)
+    pd = np.ones(B, dtype=bool)
+    for j in range(n):
+        dj = H[:, j, j] - np.einsum("bk,bk->b", C[:, j, :j], C[:, j, :j])
+        pd &= dj > 0.0
+        cjj = np.sqrt(np.where(dj > 0.0, dj, 1.0))
+        C[:, j, j] = cjj
+        if j + 1 < n:
+            C[:, j + 1:, j] = (H[:, j + 1:, j]
+                               - np.einsum("bik,bk->bi", C[:, j + 1:, :j], C[:, j, :j])) \
+                / cjj[:, None]
+    y = np.empty_like(g)
+    for j in range(n):  # forward: C y = g
+        y[:, j] = (g[:, j] - np.einsum("bk,bk->b", C[:, j, :j], y[:, :j])) / C[:, j, j]
+    d = np.empty_like(g)
+    for j in range(n - 1, -1, -1):  # back: C^T d = y
+        d[:, j] = (y[:, j] - np.einsum("bk,bk->b", C[:, j + 1:, j], d[:, j + 1:])) / C[:, j, j]
+    d[~pd] = 0.0
+    return d, pd
+
+
+def static_deflection_planar_batch(
+    lengths_m: np.ndarray,
+    stiffness_Nm_per_rad: np.ndarray,
+    tip_force_N: np.ndarray,
+    rtol: float = 1e-10,
+    max_iter: int = 60,
+    max_step_rad: float = 0.5,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Equilibria of B planar chains under one dead tip force, solved together.
+
+    The method of :func:`static_deflection_planar` (damped Newton with the exact Hessian on
+    V = 1/2 q^T K q - F . p_tip, Armijo backtracking, the same convergence test), vectorised over
+    the rows, so the fit's inner loop solves a whole population's (or every pose's) statics in
+    one pass instead of one Python-level solve per row. Rows that Newton from the straight pose
+    cannot finish (a non-convex start, say) are handed to :func:`static_deflection_planar` with
+    its load stepping; rows that fail there too are reported, not raised.
+
+    Parameters
+    ----------
+    lengths_m : ndarray, shape (B, n+1) or (n+1,)
+        Link lengths of each chain, m.
+    stiffness_Nm_per_rad : ndarray, shape (B, n)
+        Joint springs of each chain, N m/rad.
+    tip_force_N : ndarray, shape (3,)
+        The dead tip force, N (world).
+
+    Returns
+    -------
+    q : ndarray, shape (B, n)
+        Joint angles, rad (NaN where no equilibrium was found).
+    ok : ndarray of bool, shape (B,)
+        Whether each row converged.
+    """
+    k = np.atleast_2d(np.asarray(stiffness_Nm_per_rad, dtype=float))
+    B, n = k.shape
+    L = np.broadcast_to(np.asarray(lengths_m, dtype=float), (B, n + 1))
+    F = np.asarray(tip_force_N, dtype=float)
+    if F.shape != (3,) or not np.all(np.isfinite(F)):
+        raise BeamInputError(f"tip_force = {F.tolist()}: must be 3 finite numbers (N)")
+    q = np.zeros((B, n))
+    ok = np.zeros(B, dtype=bool)
+    if F[0] == 0.0 and F[2] == 0.0:
+        return q, ~ok  # no in-plane load: the straight pose is the only minimum
+    pot = _BatchPotential(L, k, F)
+    active = np.arange(B)
+    for it in range(max_iter + 1):
+        if active.size == 0:
+            break
+        qa = q[active]
+        g, H, scale = pot.derivatives(qa, active)
+        gn = np.linalg.norm(g, axis=1)
+        d, pd = _cholesky_solve_batch(H, g)
+        done = pd & (gn <= rtol * scale)
+        ok[active[done]] = True
+        # not positive definite, or out of iterations: the scalar solver takes the row over
+        keep = pd & ~done
+        active, qa, g, gn, d = active[keep], qa[keep], g[keep], gn[keep], -d[keep]
+        if it == max_iter or active.size == 0:
+            break
+        step = np.max(np.abs(d), axis=1)
+        d *= np.minimum(1.0, max_step_rad / np.maximum(step, 1e-300))[:, None]
+        v0 = pot.value(qa, active)
+        slope = np.minimum(np.einsum("bi,bi->b", g, d), 0.0)
+        alpha = np.ones(active.size)
+        accepted = np.zeros(active.size, dtype=bool)
+        for _ in range(40):
+            todo = np.flatnonzero(~accepted)
+            if todo.size == 0:
+                break
+            qn = qa[todo] + alpha[todo, None] * d[todo]
+            good = pot.value(qn, active[todo]) <= v0[todo] + 1e-4 * alpha[todo] * slope[todo]
+            bad = todo[~good]
+            if bad.size:
+                gnew = pot.derivatives(qa[bad] + alpha[bad, None] * d[bad], active[bad],
+                                       hessian=False)[0]
+                good[~good] = np.linalg.norm(gnew, axis=1) < 0.5 * gn[bad]
+            accepted[todo[good]] = True
+            alpha[todo[~good]] *= 0.5
+        q[active[accepted]] = qa[accepted] + alpha[accepted, None] * d[accepted]
+        active = active[accepted]  # rows whose line search failed go to the scalar solver
+    for r in np.flatnonzero(~ok):
+        try:
+            q[r] = static_deflection_planar(L[r], k[r], F, rtol=rtol, max_iter=max_iter,
+                                            max_step_rad=max_step_rad)
+            ok[r] = True
+        except SolveError:
+            q[r] = np.nan
+    return q, ok
 
 
 def static_deflection(

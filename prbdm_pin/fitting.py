@@ -17,14 +17,19 @@ Local solvers (chosen for accuracy per model evaluation; see ``scripts/bench_fit
   per-pose errors); the best few local optima are then polished by SLSQP (box-bounded u) on the
   paper's loss (mean of per-pose errors), which differs only in how poses are weighted.
 - ``paper`` with a deflection term: SLSQP over [u, ln k] on the scalar loss, started from the
-  projected SCFs of the start lengths times a random factor.
+  projected SCFs of the start lengths times a random factor. Pose i's errors depend on its own
+  k_i only, so one central difference moving every ln k_i gives all m SCF derivatives; with
+  forward differences in u a gradient costs n + 3 designs, evaluated as one batch with every
+  pose's static solve in one vectorised Newton (``problem.batch_losses``).
 
 Inner loop: trial designs are evaluated without building a ``pinocchio.Model``, through
 :func:`problem.chain_mass_matrices` (exact link sections and the closed-form mass matrix of the
-planar chain, checked against Pinocchio's CRBA in the tests), and each finite-difference stencil
-is evaluated as one stacked batch (scipy's ``workers`` map, or the analytic-in-ln s Jacobian of
-the ``joint`` fit). The chosen design is evaluated again through the Pinocchio model
-(:func:`result_from_design`), so every reported number comes from the product path.
+planar chain, checked against Pinocchio's CRBA in the tests) and the vectorised static solver
+``dynamics.static_deflection_planar_batch``; each finite-difference stencil, and each NSGA-II
+generation, is evaluated as one stacked batch (scipy's ``workers`` map, the analytic-in-ln s
+Jacobian of the ``joint`` fit, ``problem.pareto_objectives_batch``). The chosen design is
+evaluated again through the Pinocchio model (:func:`result_from_design`), so every reported
+number comes from the product path.
 
 Start points are uniform on the bounded simplex (``layout.sample_lengths``, Eq. 23) plus random
 factors, all drawn up front from ``numpy.random.default_rng(seed)``; starts are solved in order
@@ -51,6 +56,7 @@ from .problem import (
     FitTarget,
     LengthRepair,
     ParetoProblem,
+    batch_losses,
     build,
     chain_frequencies,
     chain_mass_matrices,
@@ -59,6 +65,7 @@ from .problem import (
     lengths_from_unit,
     make_problem,
     pareto_objectives,
+    pareto_objectives_batch,
     unit_frequencies,
     unit_from_lengths,
 )
@@ -271,28 +278,63 @@ class _PaperEigen:
 
 
 class _PaperScalar:
-    """Scalar loss of the ``paper`` parametrisation with a deflection term, x = [u, ln k]."""
+    """Scalar loss of the ``paper`` parametrisation with a deflection term, x = [u, ln k].
+
+    Evaluated through ``problem.batch_losses`` (closed-form kinematics, every pose's static
+    solve in one vectorised Newton). The gradient uses the problem's structure: pose i's eigen
+    and tip errors depend on its own SCF k_i only, so one central difference that moves every
+    ln k_i at once gives all m partial derivatives in ln k; the n length coordinates take
+    forward differences. The whole stencil (n + 3 designs) is one batch.
+    """
+
+    _H_U, _H_K = 1e-7, 1e-6
 
     def __init__(self, spec: _Spec):
         self.spec = spec
         self.p = spec.problem
         self.nfev = 0
 
+    def _parts(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per-pose eigen and tip errors (fractions), each (B, m), of the rows of X."""
+        p, n = self.p, self.p.n_joints
+        lengths = np.array([lengths_from_unit(x[:n], p.length_m, p.min_fraction) for x in X])
+        r = batch_losses(p, lengths, np.exp(X[:, n:]))
+        d = r.position_errors if self.spec.deflection_norm == "position" \
+            else r.displacement_errors
+        return r.eigen_errors, d
+
+    def _loss(self, e: np.ndarray, d: np.ndarray) -> np.ndarray:
+        loss = d.mean(axis=-1) if self.spec.objective == "deflection" \
+            else np.hypot(e.mean(axis=-1), d.mean(axis=-1))
+        return np.where(np.isfinite(loss), loss, _BAD)
+
     def loss(self, x):
         self.nfev += 1
-        p, n = self.p, self.p.n_joints
-        lengths = lengths_from_unit(x[:n], p.length_m, p.min_fraction)
-        k = np.exp(x[n:])
-        try:
-            ev = evaluate(p, lengths, k, deflection=True)
-        except (SolveError, BeamInputError, np.linalg.LinAlgError):
-            return _BAD
-        d = (ev.position_errors if self.spec.deflection_norm == "position"
-             else ev.displacement_errors)
-        d = float(np.mean(d))
-        if self.spec.objective == "deflection":
-            return d
-        return math.hypot(float(np.mean(ev.eigen_errors)), d)
+        return float(self._loss(*self._parts(np.asarray(x, dtype=float)[None]))[0])
+
+    def jac(self, x):
+        x = np.asarray(x, dtype=float)
+        n, m = self.p.n_joints, self.p.n_poses
+        hu = np.where(x[:n] + self._H_U <= 1.0, self._H_U, -self._H_U)
+        X = np.tile(x, (n + 3, 1))
+        X[np.arange(1, n + 1), np.arange(n)] += hu
+        X[n + 1, n:] += self._H_K
+        X[n + 2, n:] -= self._H_K
+        self.nfev += n + 3
+        e, d = self._parts(X)
+        f = self._loss(e, d)
+        g = np.empty(n + m)
+        g[:n] = (f[1:n + 1] - f[0]) / hu
+        de = (e[n + 1] - e[n + 2]) / (2 * self._H_K)
+        dd = (d[n + 1] - d[n + 2]) / (2 * self._H_K)
+        E, D = e[0].mean(), d[0].mean()
+        if not (np.all(np.isfinite(de)) and np.all(np.isfinite(dd)) and f[0] < _BAD):
+            g[n:] = 0.0  # an unsolvable neighbour: no information on the SCFs here
+        elif self.spec.objective == "deflection":
+            g[n:] = dd / m
+        else:
+            g[n:] = (E * de + D * dd) / (m * max(f[0], 1e-300))
+        return g
 
 
 # --- one start ----------------------------------------------------------------------------------
@@ -308,14 +350,14 @@ def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_
                          ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev, workers=workers)
 
 
-def _slsqp(fun, x0, lb, ub, max_iter=200, workers=None):
+def _slsqp(fun, x0, lb, ub, max_iter=200, workers=None, jac=None):
     from scipy.optimize import Bounds, minimize
 
     x0 = np.clip(x0, lb, ub)
     opts = {"ftol": 1e-14, "maxiter": max_iter, "eps": 1e-8}
     if workers is not None:
         opts["workers"] = workers
-    return minimize(fun, x0, method="SLSQP", bounds=Bounds(lb, ub), options=opts)
+    return minimize(fun, x0, method="SLSQP", jac=jac, bounds=Bounds(lb, ub), options=opts)
 
 
 def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndarray):
@@ -350,7 +392,7 @@ def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndar
     S = _PaperScalar(spec)
     lb = np.r_[np.zeros(n), np.full(p.n_poses, _LN_S_BOUNDS[0] + math.log(1e-2))]
     ub = np.r_[np.ones(n), np.full(p.n_poses, _LN_S_BOUNDS[1] + math.log(1e3))]
-    r = _slsqp(S.loss, np.r_[u0, np.log(factors0)], lb, ub)
+    r = _slsqp(S.loss, np.r_[u0, np.log(factors0)], lb, ub, jac=S.jac)
     lengths = lengths_from_unit(r.x[:n], p.length_m, p.min_fraction)
     return StartResult(index, lengths, np.exp(r.x[n:]), 100.0 * float(r.fun), S.nfev,
                        bool(r.success), str(r.message))
@@ -616,7 +658,7 @@ def fit_pareto(
     workers: int = 1,
     seed_with_fits: bool = True,
     seed_starts: int = 4,
-    polish_knee: bool | None = None,
+    polish_knee: bool = True,
 ) -> ParetoResult:
     """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
 
@@ -631,11 +673,12 @@ def fit_pareto(
     Eq. 27 combined optimum, each the best of a ``seed_starts`` multistart :func:`fit` with the
     same seed) into the initial population, the rest drawn uniformly (lengths on the bounded
     simplex, log10 factors in their bounds), so the front spans its anchors and the knee region.
-    For ``paper`` springs only the eigen anchor is seeded (the others need minutes of static
-    solves). ``polish_knee`` (default: joint springs only, for the same reason) runs the
-    single-objective local solver on Eq. 27 from the NSGA-II knee and adds the result to the front
-    if no front design dominates it; the knee is then taken on that front, and ``message``
-    records the raw NSGA-II knee beside it.
+    ``polish_knee`` (default on) runs the single-objective local solver on Eq. 27 from the
+    NSGA-II knee and adds the result to the front if no front design dominates it; the knee is
+    then taken on that front, and ``message`` records the raw NSGA-II knee beside it. Each
+    generation is evaluated as one batch (``problem.pareto_objectives_batch``: every design's and
+    pose's static solve in one vectorised Newton), so a ``paper`` front with a static solve per
+    pose costs seconds, not minutes.
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
@@ -679,8 +722,8 @@ def fit_pareto(
         pool = ProcessPoolExecutor(int(workers), mp_context=_pool_context(),
                                    initializer=_init_pareto_worker,
                                    initargs=(problem, deflection_norm))
-        pp.map_rows = lambda X: np.array(list(pool.map(_pareto_row, X,
-                                                       chunksize=max(1, len(X) // (4 * workers)))))
+        pp.map_rows = lambda X: np.vstack(list(pool.map(_pareto_rows,
+                                                        np.array_split(X, int(workers)))))
     try:
         res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
                        verbose=False, **kw)
@@ -696,10 +739,6 @@ def fit_pareto(
     raw = F[ki].copy()
     note = (f"raw NSGA-II knee: eigen {raw[0]:.6g} %, deflection {raw[1]:.6g} %, "
             f"combined {math.hypot(raw[0], raw[1]):.6g} %")
-    if polish_knee is None:
-        # the Eq. 27 polish of a paper design is an SLSQP over lengths and per-pose SCFs with a
-        # static solve per pose: minutes; by default only joint fronts are polished
-        polish_knee = problem.stiffness == "joint"
     if polish_knee:
         x_p, f_p, nfev_p = _polish_knee(problem, X[ki], deflection_norm, log10_bounds)
         n_evals += nfev_p
@@ -755,12 +794,7 @@ def _initial_population(beam, target, problem: FitProblem, pop: int, seed: int, 
     nfev = 0
     if seed_with_fits:
         rows = []
-        # paper springs: deflection and combined fits need a static solve per pose (35 poses at
-        # eps = 0.01) in every evaluation and take minutes; the eigen anchor is cheap (variable
-        # projection), so it alone seeds the front there
-        anchors = ("combined", "eigen", "deflection") if problem.stiffness == "joint" \
-            else ("eigen",)
-        for objective in anchors[:pop]:
+        for objective in ("combined", "eigen", "deflection")[:pop]:
             r = fit(beam, target, problem.n_joints, problem.n_freq, objective=objective,
                     stiffness=problem.stiffness, starts=seed_starts, seed=seed, xi=problem.xi,
                     eps=problem.eps, squared=problem.squared, workers=workers, progress=False,
@@ -790,11 +824,9 @@ def _init_pareto_worker(problem: FitProblem, deflection_norm: str) -> None:
     _WORKER_PARETO = (problem, deflection_norm)
 
 
-def _pareto_row(x: np.ndarray) -> np.ndarray:
+def _pareto_rows(X: np.ndarray) -> np.ndarray:
     problem, norm = _WORKER_PARETO
-    n1 = problem.n_joints + 1
-    return pareto_objectives(problem, x[:n1] * problem.length_m, 10.0 ** x[n1:],
-                             deflection_norm=norm)
+    return pareto_objectives_batch(problem, X, deflection_norm=norm)
 
 
 class _PymooBar:

@@ -106,3 +106,84 @@ def test_stacked_designs_equal_single_designs_and_the_pinocchio_path(stiffness):
                 assert K0i == pytest.approx(finite_segment_stiffness(beam, lengths), rel=1e-14)
             # frequencies agree to the eigenproblem's rounding (eps * cond, cond <= 1e5 here)
             assert W[i] == pytest.approx(W_ref, rel=1e-9)
+
+
+# --- batched statics and losses ------------------------------------------------------------------
+def _pin_residual(model, q, F) -> float:
+    """||K q - J(q)^T F|| / ||J^T F|| with Pinocchio's frame Jacobian (not the solver's)."""
+    JtF = model.tip_jacobian(q).T @ F
+    return float(np.linalg.norm(model.stiffness_Nm_per_rad * q - JtF) / np.linalg.norm(JtF))
+
+
+@pytest.mark.parametrize("n", [1, 2, 4, 8])
+def test_batched_statics_satisfy_pinocchio_equilibrium(n):
+    from prbdm_pin.dynamics import planar_tips, static_deflection_planar_batch
+
+    rng = np.random.default_rng(n)
+    beam = load_beam(BEAMS / "reference-random.json")
+    L = sample_lengths(rng, beam.length_m, n + 1, 40)
+    K = 10.0 ** rng.uniform(2.5, 4.5, (40, n))
+    # transverse, oblique and axially compressive loads: a compressed straight chain is not a
+    # minimum beyond buckling, so those rows leave the vectorised Newton for the scalar solver
+    for F in ([0.0, 0.0, -2500.0], [-3e3, 0.0, -800.0], [-4e4, 0.0, -1e-3]):
+        F = np.array(F)
+        q, ok = static_deflection_planar_batch(L, K, F)
+        assert ok.all()
+        tips = planar_tips(L, q)
+        for i in range(0, 40, 7):
+            model = build_model(beam, L[i], K[i])
+            assert _pin_residual(model, q[i], F) < 1e-9
+            np.testing.assert_allclose(tips[i], model.tip_position(q[i]), atol=1e-14)
+            # a minimum: the Hessian of the potential, by differences of Pinocchio's J^T F
+            h = 1e-6
+            H = np.diag(K[i]) - np.array([
+                (model.tip_jacobian(q[i] + h * e).T @ F - model.tip_jacobian(q[i] - h * e).T @ F)
+                / (2 * h) for e in np.eye(n)])
+            assert np.linalg.eigvalsh(0.5 * (H + H.T)).min() > 0
+
+
+def test_batched_statics_match_the_elastica_table():
+    from prbdm_pin.dynamics import planar_tips, static_deflection_planar_batch
+
+    # inextensible elastica under a dead tip load (Mattiasson 1981, Table 1): P L^2/EI,
+    # retreat (L - x)/L, deflection -z/L; 32 equal segments, springs EI/h, half links at the ends
+    beam = load_beam(BEAMS / "uniform-narrow.json")
+    EI, L, n = beam.root_EI_Nm2, beam.length_m, 32
+    table = [(1.0, 0.056433, 0.301721), (2.0, 0.160642, 0.493457), (10.0, 0.554996, 0.810609)]
+    h = L / n
+    lengths = np.r_[h / 2, np.full(n - 1, h), h / 2]
+    for alpha, retreat, deflection in table:
+        F = np.array([0.0, 0.0, -alpha * EI / L**2])
+        q, ok = static_deflection_planar_batch(lengths, np.full((3, n), EI / h), F)
+        p = planar_tips(lengths, q)
+        assert ok.all() and np.ptp(p, axis=0).max() == 0.0
+        assert abs((L - p[0, 0]) / L - retreat) < 1e-3
+        assert abs(-p[0, 2] / L - deflection) < 1e-3
+
+
+@pytest.mark.parametrize("stiffness", ["paper", "joint"])
+def test_batch_losses_equal_the_pinocchio_path(stiffness):
+    from prbdm_pin.objectives import best_scale
+    from prbdm_pin.problem import batch_losses, evaluate
+
+    rng = np.random.default_rng(11)
+    beam = load_beam(BEAMS / "reference-random.json")
+    L = beam.length_m
+    tip = np.array([0.98 * L, 0.0, -0.14 * L])
+    target = FitTarget(REF_OMEGA, beam.tip_force_N, tip, tip - [L, 0.0, 0.0])
+    for n in (2, 4):
+        prob = make_problem(beam, target, n, n, stiffness, eps=0.05)
+        lengths = sample_lengths(rng, L, n + 1, 12)
+        if stiffness == "paper":
+            _, _, W = unit_frequencies(prob, np.full(n + 1, L / (n + 1)))
+            k_ref = np.mean(best_scale(W, prob.target.omega_truth_rad_s))
+            factors = k_ref * 10.0 ** rng.uniform(-0.5, 0.5, (12, prob.n_factors))
+        else:
+            factors = 10.0 ** rng.uniform(-0.5, 0.5, (12, n))
+        got = batch_losses(prob, lengths, factors)
+        for i in range(12):
+            ev = evaluate(prob, lengths[i], factors[i])  # Pinocchio model, scalar statics
+            np.testing.assert_allclose(got.eigen_errors[i], ev.eigen_errors, rtol=1e-9)
+            np.testing.assert_allclose(got.position_errors[i], ev.position_errors, rtol=1e-8)
+            np.testing.assert_allclose(got.displacement_errors[i], ev.displacement_errors,
+                                       rtol=1e-8)

@@ -275,3 +275,76 @@ def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
     assert k.combined_loss_pct == pytest.approx(math.hypot(k.eigen_loss_pct,
                                                            k.deflection_loss_pct), rel=1e-12)
     assert p.knee_index == int(np.argmin(np.hypot(p.F_pct[:, 0], p.F_pct[:, 1])))
+
+
+@pytest.fixture(scope="module")
+def reference_truth_target(reference):
+    from prbdm_pin.problem import target_from_truth
+    from prbdm_pin.truth import compute_truth
+
+    return target_from_truth(compute_truth(reference), reference.tip_force_N)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("n, paper_knee", [(3, 59.8087), (4, 12.9613), (5, 10.1844)])
+def test_paper_pareto_knee_beats_the_papers(reference, reference_truth_target, n, paper_knee):
+    # the paper's Table 5 knees (its own beam, paretosearch, eps = 0.01) against ours on the
+    # reference beam with the plate and elastica truth, NSGA-II at the paper's eps
+    from prbdm_pin.fitting import fit_pareto
+
+    p = fit_pareto(reference, reference_truth_target, n, n, stiffness="paper", pop=100,
+                   generations=200, seed=0, progress=False)
+    k = p.knee
+    assert p.eps == 0.01 and k.poses_rad.shape[0] == len(np.arange(0.05, np.pi / 2 / n, 0.01))
+    assert k.combined_loss_pct < paper_knee
+    assert k.combined_loss_pct == pytest.approx(math.hypot(k.eigen_loss_pct,
+                                                           k.deflection_loss_pct), rel=1e-12)
+    # the front is mutually non-dominated and the knee is its point nearest the origin
+    F = p.F_pct
+    dominated = [np.any(np.all(F <= f, axis=1) & np.any(F < f, axis=1)) for f in F]
+    assert not any(dominated)
+    assert p.knee_index == int(np.argmin(np.hypot(F[:, 0], F[:, 1])))
+
+
+def test_pareto_same_seed_same_front_any_workers(narrow):
+    from prbdm_pin.fitting import fit_pareto
+
+    L = narrow.length_m
+    tip = np.array([L * (1 - 0.056433), 0.0, -0.301721 * L])
+    target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
+                       tip - np.array([L, 0.0, 0.0]))
+    kw = dict(stiffness="paper", pop=12, generations=4, seed=5, progress=False, seed_starts=1,
+              polish_knee=False)
+    a = fit_pareto(narrow, target, 2, 2, **kw)
+    b = fit_pareto(narrow, target, 2, 2, **kw, workers=2)
+    assert np.array_equal(a.F_pct, b.F_pct) and np.array_equal(a.X, b.X)
+
+
+@pytest.mark.slow
+def test_paper_3r_fit_reaches_the_grid_optimum(reference):
+    # the 3R/3 omega^2 optimum on the prototype truth is 0.117 % (the prototype reported
+    # 0.021 %): an exhaustive 60^3 grid over the stick-breaking box (the closed-form kernel)
+    # and Nelder-Mead from its best points through the Pinocchio model find nothing lower
+    from scipy.optimize import minimize
+
+    from prbdm_pin.fitting import _PaperEigen, _Spec
+    from prbdm_pin.problem import lengths_from_unit
+
+    target = FitTarget(REF_OMEGA, reference.tip_force_N)
+    prob = make_problem(reference, target, 3, 3, "paper", squared=True)
+    kernel = _PaperEigen(_Spec(prob, "eigen", "position", 400))
+    g = (np.arange(60) + 0.5) / 60
+    U = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
+    vals = np.concatenate([100 * np.linalg.norm(kernel._batch(U[i:i + 6000]), axis=2).mean(1)
+                           for i in range(0, U.shape[0], 6000)])
+
+    def loss(u):
+        return _projected_loss_pct(prob, lengths_from_unit(np.clip(u, 0, 1), reference.length_m))
+
+    best = min((minimize(loss, U[i], method="Nelder-Mead",
+                         options={"xatol": 1e-9, "fatol": 1e-12, "maxfev": 3000})
+                for i in np.argsort(vals)[:4]), key=lambda r: r.fun)
+    r = fit(reference, target, 3, 3, stiffness="paper", squared=True, starts=64, seed=0,
+            progress=False)
+    assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
+    assert 0.11 < r.eigen_loss_pct < 0.12
