@@ -100,10 +100,11 @@ class _Spec:
 
 
 # --- residuals and losses ----------------------------------------------------------------------
-def _tip_norm(problem: FitProblem, norm: str) -> float:
-    t = problem.target
-    v = t.tip_position_m if norm == "position" else t.tip_displacement_m
-    return float(np.linalg.norm(v))
+def _tip_norms(problem: FitProblem, norm: str) -> np.ndarray:
+    """The normalisation of each load case's tip error (its truth position or displacement), m."""
+    return np.array([np.linalg.norm(c.tip_position_m if norm == "position"
+                                    else c.tip_displacement_m)
+                     for c in problem.target.load_cases])
 
 
 class _Joint:
@@ -115,7 +116,9 @@ class _Joint:
         self.p = p
         self.f = p.target.omega_truth_rad_s ** (2 if p.squared else 1)
         self.fn = float(np.linalg.norm(self.f))
-        self.q0 = None
+        self.cases = p.target.load_cases if spec.objective != "eigen" else ()
+        self.norms = _tip_norms(p, spec.deflection_norm) if self.cases else np.zeros(0)
+        self.q0 = [None] * len(self.cases)  # warm starts, one per load case
         self.nfev = 0
         self._cache = None
 
@@ -134,18 +137,20 @@ class _Joint:
             if spec.objective != "deflection":
                 w = chain_frequencies(M, K)[:, : p.n_freq] ** (2 if p.squared else 1)
                 parts.append(((w - self.f) / self.fn).ravel() / math.sqrt(p.n_poses))
-            if spec.objective != "eigen":
-                q = static_deflection_planar(lengths, K, p.target.tip_force_N, q0=self.q0)
+            # the squared residuals of k load cases sum to the mean squared tip error
+            wc = 1.0 / math.sqrt(max(len(self.cases), 1))
+            for c, case in enumerate(self.cases):
+                q = static_deflection_planar(lengths, K, case.tip_force_N, q0=self.q0[c])
                 tip = planar_tip(lengths, q)[0]
-                self.q0 = q
-                parts.append((tip - p.target.tip_position_m) / _tip_norm(p, spec.deflection_norm))
+                self.q0[c] = q
+                parts.append((tip - case.tip_position_m) * (wc / self.norms[c]))
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
             return np.full(self.size(), _BAD)
         return np.concatenate(parts)
 
     def size(self):
         p, o = self.p, self.spec.objective
-        return (p.n_poses * p.n_freq if o != "deflection" else 0) + (3 if o != "eigen" else 0)
+        return (p.n_poses * p.n_freq if o != "deflection" else 0) + 3 * len(self.cases)
 
     def _eigen_parts(self, x):
         """Scaled eigen residuals (m*N,) and their analytic derivative in ln s, (m*N, n)."""
@@ -220,7 +225,9 @@ class _Joint:
                 r[:ne].reshape(p.n_poses, p.n_freq) * math.sqrt(p.n_poses), axis=1)))
             r = r[ne:]
         if o != "eigen":
-            d = float(np.linalg.norm(r))
+            # residuals scaled by 1/sqrt(k): the loss averages the k cases' errors (Eq. 18)
+            k = len(self.cases)
+            d = float(np.mean(np.linalg.norm(r.reshape(k, 3), axis=1))) * math.sqrt(k)
         return math.hypot(e, d)
 
 
@@ -610,6 +617,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         ev = evaluate(problem, lengths_m, factors, deflection=False)
         message = f"{message}; static deflection failed: {exc}"
     _, K0 = build(problem, lengths_m)
+    extra = bool(t.extra_loads) and ev.extra_tip_position_m is not None
     if problem.stiffness == "paper":
         k_mean = scf_mean(ev.factors)
         K = k_mean * K0
@@ -636,6 +644,10 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         seed=seed, starts=starts, starts_run=starts_run, nfev=nfev,
         start_losses_pct=start_losses_pct, wall_time_s=wall_time_s, success=success,
         message=message,
+        extra_tip_force_N=np.array([c.tip_force_N for c in t.extra_loads]) if extra else None,
+        extra_tip_position_truth_m=np.array([c.tip_position_m for c in t.extra_loads])
+        if extra else None,
+        extra_tip_position_model_m=ev.extra_tip_position_m if extra else None,
     )
 
 

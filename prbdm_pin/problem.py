@@ -42,6 +42,7 @@ from .sections import _planar_sections
 from .stiffness import _finite_segment
 
 __all__ = [
+    "LoadCase",
     "FitTarget",
     "target_from_truth",
     "FitProblem",
@@ -75,6 +76,32 @@ def _ro(a, shape: tuple | None = None) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
+class LoadCase:
+    """A static load case of the truth: a dead tip force and the truth's tip under it.
+
+    Attributes
+    ----------
+    tip_force_N : ndarray, shape (3,)
+        Force at the tip, N (world).
+    tip_position_m, tip_displacement_m : ndarray, shape (3,)
+        Truth large-deflection tip position and displacement under it, m.
+    """
+
+    tip_force_N: np.ndarray
+    tip_position_m: np.ndarray
+    tip_displacement_m: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name in ("tip_force_N", "tip_position_m", "tip_displacement_m"):
+            v = np.asarray(getattr(self, name), dtype=float)
+            if v.size != 3 or not np.all(np.isfinite(v)):
+                raise BeamInputError(f"{name} = {v.tolist()}: must be 3 finite numbers")
+            object.__setattr__(self, name, _ro(v, (3,)))
+        if not np.linalg.norm(self.tip_displacement_m) > 0.0:
+            raise BeamInputError("tip_displacement_m = 0: a load case needs a deflection")
+
+
+@dataclass(frozen=True, eq=False)
 class FitTarget:
     """What a fit needs from a truth.
 
@@ -90,6 +117,11 @@ class FitTarget:
         MAC of each truth mode with a beam bending mode (recorded, not fitted).
     source : str
         Where the numbers come from (e.g. ``"plate, level 3, selection paper"``).
+    extra_loads : tuple of LoadCase
+        Further load cases (e.g. a load sweep). The deflection objective averages the tip error
+        of every case, each normalised by its own truth tip position or displacement; with none,
+        it is the paper's single-load Eq. 19. n frequencies and one planar tip cannot fix the
+        2n lengths and springs of a ``joint`` model for n >= 2; more load cases can.
     """
 
     omega_truth_rad_s: np.ndarray
@@ -98,6 +130,7 @@ class FitTarget:
     tip_displacement_m: np.ndarray | None = None
     mac: np.ndarray | None = None
     source: str = ""
+    extra_loads: tuple[LoadCase, ...] = ()
 
     def __post_init__(self) -> None:
         w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
@@ -113,11 +146,27 @@ class FitTarget:
                 object.__setattr__(self, name, _ro(v, (3,)))
         if self.mac is not None:
             object.__setattr__(self, "mac", _ro(self.mac, (-1,)))
+        extra = tuple(self.extra_loads)
+        if extra and not self.has_static:
+            raise BeamInputError("extra_loads: need the primary load case's truth tip position "
+                                 "and displacement too")
+        for i, c in enumerate(extra):
+            if not isinstance(c, LoadCase):
+                raise BeamInputError(f"extra_loads[{i}] = {c!r}: must be a LoadCase")
+        object.__setattr__(self, "extra_loads", extra)
 
     @property
     def has_static(self) -> bool:
         """Whether a truth tip position (and displacement) is available."""
         return self.tip_position_m is not None and self.tip_displacement_m is not None
+
+    @property
+    def load_cases(self) -> tuple[LoadCase, ...]:
+        """Every static load case, the primary one (``tip_force_N``) first; () without one."""
+        if not self.has_static:
+            return ()
+        return (LoadCase(self.tip_force_N, self.tip_position_m, self.tip_displacement_m),
+                *self.extra_loads)
 
     def first(self, n_freq: int) -> FitTarget:
         """The same target keeping only the first ``n_freq`` frequencies."""
@@ -128,7 +177,7 @@ class FitTarget:
             )
         mac = None if self.mac is None else self.mac[:n_freq]
         return FitTarget(self.omega_truth_rad_s[:n_freq], self.tip_force_N, self.tip_position_m,
-                         self.tip_displacement_m, mac, self.source)
+                         self.tip_displacement_m, mac, self.source, self.extra_loads)
 
 
 def target_from_truth(truth, tip_force_N: np.ndarray) -> FitTarget:
@@ -302,7 +351,10 @@ class Evaluation:
     tip_position_m : ndarray, shape (m', 3), or None
         Model tip under the load for each distinct stiffness (m' = m for paper, 1 for joint).
     position_errors, displacement_errors : ndarray, shape (m',), or None
-        Relative tip errors (fractions), normalised by the truth tip position / displacement.
+        Relative tip errors (fractions), normalised by the truth tip position / displacement,
+        averaged over the target's load cases.
+    extra_tip_position_m : ndarray, shape (k, m', 3), or None
+        Model tips under the target's ``extra_loads``.
     """
 
     lengths_m: np.ndarray
@@ -313,6 +365,7 @@ class Evaluation:
     tip_position_m: np.ndarray | None = None
     position_errors: np.ndarray | None = None
     displacement_errors: np.ndarray | None = None
+    extra_tip_position_m: np.ndarray | None = None
 
     @property
     def eigen_loss_pct(self) -> float:
@@ -483,14 +536,18 @@ def evaluate(
             problem.poses_rad, stiffness=factors * K0))[:, : problem.n_freq]
     err = eigen_errors(omega, problem.target.omega_truth_rad_s, problem.squared)
     K = pose_stiffness(problem, K0, factors)
-    tips = pos = disp = None
+    tips = pos = disp = extra = None
     if deflection and problem.target.has_static:
         rows = K if problem.stiffness == "paper" else K[:1]
-        tips = static_tips(model, problem.target.tip_force_N, rows)
-        pos = tip_position_errors(tips, problem.target.tip_position_m)
-        disp = tip_displacement_errors(tips, problem.target.tip_position_m,
-                                       problem.target.tip_displacement_m)
-    return Evaluation(lengths, factors, K, omega, err, tips, pos, disp)
+        cases = problem.target.load_cases
+        all_tips = np.array([static_tips(model, c.tip_force_N, rows) for c in cases])
+        pos = np.mean([tip_position_errors(t, c.tip_position_m)
+                       for t, c in zip(all_tips, cases, strict=True)], axis=0)
+        disp = np.mean([tip_displacement_errors(t, c.tip_position_m, c.tip_displacement_m)
+                        for t, c in zip(all_tips, cases, strict=True)], axis=0)
+        tips = all_tips[0]
+        extra = all_tips[1:] if len(cases) > 1 else None
+    return Evaluation(lengths, factors, K, omega, err, tips, pos, disp, extra)
 
 
 @dataclass(frozen=True, eq=False)
@@ -575,16 +632,20 @@ def batch_losses(problem: FitProblem, lengths_m: np.ndarray, factors: np.ndarray
                        problem.squared).reshape(B, m)
     if not static:
         return BatchLosses(eig)
-    t = problem.target
     rows = K.reshape(B * m, n) if problem.stiffness == "paper" else K[:, 0]
     Lr = np.repeat(L, reps, axis=0)
-    q, ok = static_deflection_planar_batch(Lr, rows, t.tip_force_N)
-    tips = planar_tips(Lr, np.where(ok[:, None], q, 0.0))
-    miss = np.linalg.norm(tips - t.tip_position_m, axis=1)
-    miss[~ok] = np.nan
-    miss = miss.reshape(B, reps)
-    return BatchLosses(eig, miss / np.linalg.norm(t.tip_position_m),
-                       miss / np.linalg.norm(t.tip_displacement_m))
+    pos = np.zeros((B, reps))
+    disp = np.zeros((B, reps))
+    cases = problem.target.load_cases
+    for c in cases:
+        q, ok = static_deflection_planar_batch(Lr, rows, c.tip_force_N)
+        tips = planar_tips(Lr, np.where(ok[:, None], q, 0.0))
+        miss = np.linalg.norm(tips - c.tip_position_m, axis=1)
+        miss[~ok] = np.nan
+        miss = miss.reshape(B, reps)
+        pos += miss / np.linalg.norm(c.tip_position_m)
+        disp += miss / np.linalg.norm(c.tip_displacement_m)
+    return BatchLosses(eig, pos / len(cases), disp / len(cases))
 
 
 # --- pymoo ---------------------------------------------------------------------------------

@@ -24,7 +24,8 @@ _ARRAY_FIELDS = {
     "scf_deviation_pct", "poses_rad", "omega_truth_rad_s", "omega_model_rad_s",
     "eigen_errors_pct", "tip_position_model_m", "tip_position_truth_m",
     "tip_displacement_truth_m", "tip_force_N", "mac", "start_losses_pct",
-    "F_pct", "X", "front_lengths_m", "front_factors",
+    "F_pct", "X", "front_lengths_m", "front_factors", "extra_tip_force_N",
+    "extra_tip_position_truth_m", "extra_tip_position_model_m",
 }
 
 
@@ -136,7 +137,8 @@ class FitResult(_Serialisable):
         Per-pose eigen error (Eq. 16), %.
     eigen_loss_pct, deflection_loss_pct, displacement_loss_pct, combined_loss_pct : float
         Eq. 17, Eq. 19 (normalised by the truth tip position), the same normalised by the truth
-        tip displacement, Eq. 27 (eigen and position); NaN when no static truth.
+        tip displacement, Eq. 27 (eigen and position); NaN when no static truth. With extra
+        load cases the tip errors are averaged over all cases.
     tip_position_model_m : ndarray, shape (m', 3) or None
     tip_position_truth_m, tip_displacement_truth_m, tip_force_N : ndarray, shape (3,)
     mac : ndarray, shape (N,) or None
@@ -150,6 +152,10 @@ class FitResult(_Serialisable):
     wall_time_s : float
     success : bool
     message : str
+    extra_tip_force_N, extra_tip_position_truth_m : ndarray, shape (k, 3), or None
+        The target's extra load cases (N) and the truth tip under each (m).
+    extra_tip_position_model_m : ndarray, shape (k, m', 3), or None
+        The model's tip under each extra load case, per distinct stiffness, m.
     versions : tuple of (name, version)
     """
 
@@ -190,6 +196,9 @@ class FitResult(_Serialisable):
     wall_time_s: float
     success: bool
     message: str
+    extra_tip_force_N: np.ndarray | None = None
+    extra_tip_position_truth_m: np.ndarray | None = None
+    extra_tip_position_model_m: np.ndarray | None = None
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

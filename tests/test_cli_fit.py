@@ -124,3 +124,35 @@ def test_fit_json_alone_drives_export_and_simulate(truth_file, tmp_path):
     assert main(["simulate", str(out / "fit.json"), "--duration", "0.05", "--out", str(sim),
                  "-q"]) == 0
     assert (sim / "trajectory.csv").stat().st_size > 100
+
+
+def test_fit_with_extra_loads_matches_the_elastica_table(tmp_path):
+    # uniform-narrow.json carries P L^2/EI = 1; --extra-loads 2,5 adds the table's rows
+    # alpha^2 = 2 (retreat 0.160642, deflection 0.493457) and 5 (0.387628, 0.713792)
+    out = tmp_path / "fit"
+    rc = main(["fit", BEAM, "--joints", "3", "--objective", "combined", "--stiffness", "joint",
+               "--truth-model", "beam", "--extra-loads", "2,5", "--starts", "4", "--seed", "0",
+               "--cache-dir", str(tmp_path / "cache"), "--out", str(out), "-q"])
+    assert rc == 0
+    d = json.loads((out / "fit.json").read_text())
+    F = np.array(d["tip_force_N"])
+    np.testing.assert_allclose(d["extra_tip_force_N"], [2 * F, 5 * F])
+    truth = np.array(d["extra_tip_position_truth_m"])
+    for row, (retreat, deflection) in zip(truth, [(0.160642, 0.493457), (0.387628, 0.713792)],
+                                          strict=True):
+        assert row == pytest.approx([1 - retreat, 0.0, -deflection], abs=2e-5)
+    # the deflection loss is the mean over the three load cases of the relative tip error
+    tips = [np.array(d["tip_position_model_m"][0])] + [np.array(t[0]) for t in
+                                                      d["extra_tip_position_model_m"]]
+    refs = [np.array(d["tip_position_truth_m"])] + list(truth)
+    errs = [np.linalg.norm(p - t) / np.linalg.norm(t) for p, t in zip(tips, refs, strict=True)]
+    assert d["deflection_loss_pct"] == pytest.approx(100 * np.mean(errs), rel=1e-9)
+    # a 3R chain follows the elastica over P L^2/EI = 1...5 to a fraction of a percent
+    assert d["deflection_loss_pct"] < 0.5
+
+
+def test_extra_loads_bad_input_exit_2(tmp_path, capsys):
+    rc = main(["fit", BEAM, "--joints", "2", "--truth-model", "beam", "--extra-loads", "2,x",
+               "--out", str(tmp_path / "o"), "-q"])
+    assert rc == 2
+    assert "extra-loads" in capsys.readouterr().err

@@ -65,6 +65,7 @@ def test_recovery_1r_lengths_and_stiffness(narrow):
 def test_recovery_2r_frequencies_and_tip(narrow):
     # two frequencies and a planar tip fix 4 of the 4 unknowns only up to a discrete set of
     # solutions, so the check is on what the fit promises: the truth's responses, recovered
+    # (a second load case fixes the lengths: test_recovery_2r_lengths_with_two_load_cases)
     lengths, s = np.array([0.25, 0.45, 0.3]), np.array([1.2, 0.8])
     target = _self_truth(narrow, lengths, s)
     r = fit(narrow, target, 2, objective="combined", stiffness="joint", starts=4, seed=1,
@@ -72,6 +73,37 @@ def test_recovery_2r_frequencies_and_tip(narrow):
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
     assert r.tip_position_model_m[0] == pytest.approx(target.tip_position_m, abs=1e-7)
     assert r.combined_loss_pct < 1e-6
+
+
+@pytest.mark.parametrize("seed", [5, pytest.param(7, marks=pytest.mark.slow),
+                                  pytest.param(9, marks=pytest.mark.slow)])
+def test_recovery_2r_lengths_with_two_load_cases(narrow, seed):
+    # n frequencies and one planar tip give n + 2 equations for the 2n lengths and springs;
+    # a second load (P L^2/EI = 1 and 3) makes the lengths identifiable, and the multistart
+    # recovers them from random starts
+    from prbdm_pin.layout import sample_lengths
+    from prbdm_pin.problem import LoadCase
+
+    rng = np.random.default_rng(seed)
+    L, EI = narrow.length_m, narrow.root_EI_Nm2
+    lengths = sample_lengths(rng, L, 3, 1)[0]
+    s = np.exp(rng.uniform(-0.3, 0.3, 2))
+    model = build_model(narrow, lengths, s * finite_segment_stiffness(narrow, lengths))
+    cases = []
+    for alpha in (1.0, 3.0):
+        F = np.array([0.0, 0.0, -alpha * EI / L**2])
+        tip = model.static_deflection(F)[1]
+        cases.append(LoadCase(F, tip, tip - np.array([L, 0.0, 0.0])))
+    target = FitTarget(model.natural_frequencies(), cases[0].tip_force_N,
+                       cases[0].tip_position_m, cases[0].tip_displacement_m,
+                       extra_loads=(cases[1],))
+    r = fit(narrow, target, 2, objective="combined", stiffness="joint", starts=8, seed=1,
+            progress=False)
+    assert r.lengths_m == pytest.approx(lengths, abs=1e-4)
+    assert r.factors == pytest.approx(s, rel=1e-4)
+    assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
+    assert r.extra_tip_position_model_m[0, 0] == pytest.approx(cases[1].tip_position_m,
+                                                               abs=1e-8)
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5, 6])

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 from pathlib import Path
@@ -38,6 +39,9 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
                    help="use a truth.json written by `prbdm truth` instead of computing it")
     p.add_argument("--cache-dir", default=None,
                    help="truth cache folder (default $PRBDM_CACHE or ~/.cache/prbdm_pin)")
+    p.add_argument("--extra-loads", default=None, metavar="F1,F2,...",
+                   help="further load cases, as multiples of the beam's tip force, whose "
+                        "large-deflection truth tips the deflection objective also matches")
     p.add_argument("--xi", type=float, default=0.05, help="pose sweep offset, rad (Eq. 11)")
     p.add_argument("--squared", action="store_true", help="compare omega^2 instead of omega")
     p.add_argument("--seed", type=int, default=0)
@@ -67,8 +71,63 @@ def _cache_dir(args) -> str:
     return os.environ.get("PRBDM_CACHE") or str(Path.home() / ".cache" / "prbdm_pin")
 
 
+def _load_factors(text: str | None) -> list[float]:
+    from ..errors import BeamInputError
+
+    if not text:
+        return []
+    try:
+        factors = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise BeamInputError(f"extra-loads = {text!r}: must be numbers separated by commas "
+                             "(multiples of the beam's tip force)") from None
+    bad = [f for f in factors if not (math.isfinite(f) and f != 0.0)]
+    if bad:
+        raise BeamInputError(f"extra-loads = {text!r}: {bad[0]} is not a finite, non-zero "
+                             "multiple of the tip force")
+    return factors
+
+
+def extra_load_cases(beam, factors: list[float], large_deflection: str) -> tuple:
+    """Load cases at multiples of the beam's tip force, with the large-deflection truth's tip
+    (the 1D elastica, milliseconds each, or the 3D nonlinear solid, about a minute each)."""
+    from ..problem import LoadCase
+
+    cases = []
+    for f in factors:
+        b = beam.with_tip_force(f * beam.tip_force_N)
+        if large_deflection == "solid":
+            from ..truth.solid import solid_static
+
+            st = solid_static(b, nonlinear=True)
+        else:
+            from ..truth.elastica import elastica_static
+
+            st = elastica_static(b)
+        cases.append(LoadCase(b.tip_force_N, st.tip_position_m, st.tip_displacement_m))
+    return tuple(cases)
+
+
 def load_target(args, beam):
-    """The FitTarget of the command: from ``--truth`` or from ``compute_truth`` (cached)."""
+    """The FitTarget of the command: from ``--truth`` or from ``compute_truth`` (cached), with
+    the ``--extra-loads`` cases."""
+    import dataclasses
+
+    target = _base_target(args, beam)
+    factors = _load_factors(getattr(args, "extra_loads", None))
+    if not factors:
+        return target
+    from ..errors import BeamInputError
+
+    if args.truth:
+        raise BeamInputError("extra-loads: needs a computed truth, not --truth TRUTH.json")
+    cases = extra_load_cases(beam, factors, args.large_deflection)
+    return dataclasses.replace(target, extra_loads=cases,
+                               source=f"{target.source}; extra loads x{args.extra_loads} "
+                                      f"({args.large_deflection})")
+
+
+def _base_target(args, beam):
     from ..errors import BeamInputError
     from ..problem import FitTarget, target_from_truth
 
