@@ -31,6 +31,7 @@ __all__ = [
     "modal_damping",
     "tip_position",
     "tip_jacobian",
+    "tip_kinematics",
     "planar_lengths",
     "planar_tip",
     "static_deflection",
@@ -42,6 +43,14 @@ __all__ = [
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
+def _all_finite(arr: np.ndarray) -> bool:
+    # a ufunc and a reduction cost microseconds, as much as a kinematics pass of a short chain;
+    # a Python loop over a short vector is cheaper
+    if arr.size <= 32:
+        return all(map(math.isfinite, arr.tolist()))
+    return bool(np.isfinite(arr).all())
+
+
 def _q(pin_model: pin.Model, q: np.ndarray | None) -> np.ndarray:
     n = pin_model.nq
     if q is None:
@@ -49,7 +58,7 @@ def _q(pin_model: pin.Model, q: np.ndarray | None) -> np.ndarray:
     arr = np.asarray(q, dtype=float)
     if arr.shape != (n,):
         raise BeamInputError(f"q has shape {arr.shape}: must be ({n},) joint angles (rad)")
-    if not np.all(np.isfinite(arr)):
+    if not _all_finite(arr):
         raise BeamInputError(f"q = {arr.tolist()}: must be finite (rad)")
     return arr
 
@@ -327,6 +336,20 @@ def tip_jacobian(
     J = pin.computeFrameJacobian(pin_model, data, _q(pin_model, q), tip_frame_id, _LWA)
     # the binding hands a one-column matrix back as a vector: keep (3, n) for n = 1 too
     return J[:3].reshape(3, pin_model.nv).copy()
+
+
+def tip_kinematics(
+    pin_model: pin.Model, data: pin.Data, q: np.ndarray, tip_frame_id: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tip position (m, (3,)) and world-aligned linear Jacobian (m/rad, (3, n)) in one pass.
+
+    What statics needs: the frame Jacobian's forward kinematics leaves the joint placements in
+    ``data``, so the tip placement costs one frame update more (no second kinematics pass, one
+    input check).
+    """
+    J = pin.computeFrameJacobian(pin_model, data, _q(pin_model, q), tip_frame_id, _LWA)
+    p = pin.updateFramePlacement(pin_model, data, tip_frame_id).translation.copy()
+    return p, J[:3].reshape(3, pin_model.nv).copy()
 
 
 # --- statics ------------------------------------------------------------------------------------

@@ -167,6 +167,10 @@ class PrbdmModel:
         """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
         return dyn.tip_jacobian(self.pin_model, self._data, q, self.tip_frame_id)
 
+    def tip_kinematics(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Tip position (m, (3,)) and its linear Jacobian (m/rad, (3, n)), one kinematics pass."""
+        return dyn.tip_kinematics(self.pin_model, self._data, q, self.tip_frame_id)
+
     def static_deflection(
         self, tip_force_N: np.ndarray, q0: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:

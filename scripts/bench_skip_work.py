@@ -6,8 +6,8 @@ Jacobians, frame kinematics, energies, centre of mass) on every evaluation:
 
 - frequency path: ``PrbdmModel.natural_frequencies`` (CRBA + scaled symmetric eigensolve) against
   computeAllTerms + ``scipy.linalg.eigh(K, M)``;
-- statics path: ``tip_position`` + ``tip_jacobian`` (forward kinematics of the tip frame and its
-  Jacobian) against computeAllTerms + frame placement update + ``getFrameJacobian``;
+- statics path: ``tip_kinematics`` (one forward-kinematics pass for the tip frame's Jacobian,
+  then its placement) against computeAllTerms + frame placement update + ``getFrameJacobian``;
 - dynamics right-hand side: ABA with only the terms the scene has (spring torque; + damping
   torque -C v; + tip force J^T F) against computeAllTerms + Cholesky solve of M qdd = tau - nle;
 - whole simulations (``prbdm_pin.simulate``, step load or none, damping 0.02 or 0): CPU time per
@@ -73,7 +73,7 @@ def paths(model, rng, evals: int, repeats: int) -> list[tuple[str, tuple, tuple]
         return np.sqrt(eigh(K, M, eigvals_only=True))
 
     def stat_lean():
-        return model.tip_position(q), model.tip_jacobian(q)
+        return model.tip_kinematics(q)
 
     def stat_naive():
         d = naive_all()

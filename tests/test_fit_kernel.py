@@ -60,6 +60,11 @@ def test_planar_tip_equals_pinocchio_kinematics():
             p, J = planar_tip(lengths, q)
             np.testing.assert_allclose(p, model.tip_position(q), rtol=0, atol=1e-14)
             np.testing.assert_allclose(J, model.tip_jacobian(q), rtol=0, atol=1e-14)
+            # the one-pass call of the statics path gives the same placement and Jacobian
+            pk, Jk = model.tip_kinematics(q)
+            np.testing.assert_allclose(pk, p, rtol=0, atol=1e-14)
+            np.testing.assert_allclose(Jk, J, rtol=0, atol=1e-14)
+            assert Jk.shape == (3, n)
 
 
 def test_inv_width_integral_against_quadrature_and_stacks():
