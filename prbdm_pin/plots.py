@@ -92,16 +92,20 @@ def plot_scf(result, path) -> Path:
 
 
 def plot_pareto(pareto, path) -> Path:
-    """The front (eigen %, deflection %) with the knee of Eq. 27 starred."""
+    """The front (eigen %, deflection %) with the knee of Eq. 27 starred; ``pareto`` may be a
+    list of ParetoResults, drawn together (as the paper's Fig. 11)."""
     plt = _pyplot()
-    F = np.asarray(pareto.F_pct)
+    fronts = list(pareto) if isinstance(pareto, (list, tuple)) else [pareto]
     fig, ax = plt.subplots(figsize=(6, 4.5))
-    ax.plot(F[:, 0], F[:, 1], ".", color="tab:blue", label=f"{pareto.joints}R front")
-    k = pareto.knee_index
-    ax.plot(F[k, 0], F[k, 1], "*", ms=14, color="tab:red",
-            label=f"knee: {np.hypot(*F[k]):.3g} %")
+    for i, p in enumerate(fronts):
+        F = np.asarray(p.F_pct)
+        color = f"C{i}"
+        ax.plot(F[:, 0], F[:, 1], ".", color=color, label=f"{p.joints}R front")
+        k = p.knee_index
+        ax.plot(F[k, 0], F[k, 1], "*", ms=14, color=color, markeredgecolor="k",
+                label=f"{p.joints}R knee: {np.hypot(*F[k]):.3g} %")
     ax.set_xlabel("eigen loss (%)")
-    ax.set_ylabel(f"deflection loss (%, {pareto.deflection_norm})")
+    ax.set_ylabel(f"deflection loss (%, {fronts[0].deflection_norm})")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.legend()

@@ -1,9 +1,11 @@
 """The paper's study (Vedant & Allison 2020, Tables 3-5) reproduced on reference-random.json.
 
 For 3R, 4R and 5R models and both stiffness parametrisations, eigen-only fits mapping 3 and n
-frequencies (Tables 3 and 4 layout: frequencies mapped, SCF_mean, link lengths, loss), and a
-combined-objective fit (Eq. 27) per model (Table 5 layout), each with its fit.json, model.urdf and
-figures (planform with links and joints, SCF against joint angle) in its own folder.
+frequencies (Tables 3 and 4 layout: frequencies mapped, SCF_mean, link lengths, loss); per model
+the NSGA-II front of the paper parametrisation at the paper's eps = 0.01 and its knee (Table 5,
+Fig. 11) and a combined-objective fit (Eq. 27) of the joint parametrisation, each with its
+fit.json, model.urdf and figures (planform with links and joints, SCF against joint angle, the
+fronts) in its own folder.
 
 Truths:
 - ``computed``: ``prbdm_pin.truth.compute_truth`` (Kirchhoff plate, cached; ``--selection``
@@ -15,7 +17,8 @@ The ``paper`` parametrisation compares omega^2 (the paper's published code; ``--
 compare omega), ``joint`` compares omega. BLAS is pinned to one thread.
 
 usage: python scripts/reproduce_paper.py [--out results/paper] [--starts 64] [--workers 2]
-       [--truth prototype computed] [--selection paper] [--combined-starts 16] [--narrow]
+       [--truth prototype computed] [--selection paper] [--combined-starts 16]
+       [--pop 100] [--pareto-generations 200] [--narrow]
 """
 
 from __future__ import annotations
@@ -100,6 +103,39 @@ def narrow_study(out: Path, joints: list[int], starts: int, workers: int) -> lis
     return md + sweep + [""]
 
 
+def pareto_study(beam, target, out: Path, joints: list[int], pop: int, generations: int,
+                 workers: int, source: str) -> list[str]:
+    """Table 5 and Fig. 11: NSGA-II fronts of the paper parametrisation at the paper's Pareto
+    setting (eps = 0.01), their knees (Eq. 27), and one figure with every front."""
+    from prbdm_pin.fitting import fit_pareto
+    from prbdm_pin.plots import plot_pareto
+
+    md = ["", f"### Pareto fronts (Table 5, Fig. 11), paper parametrisation, truth {source}", "",
+          f"NSGA-II, population {pop}, {generations} generations, seed 0, eps = 0.01 rad, "
+          "omega compared; the knee minimises Eq. 27. Figure: `pareto-paper.png`.", "",
+          "| model | SCF_mean | link lengths (m) | eigen (%) | tip position (%) | "
+          "tip displacement (%) | knee (%) | paper knee (%) | front size | wall (s) |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    fronts = []
+    for n in joints:
+        p = fit_pareto(beam, target, n, n, stiffness="paper", pop=pop, generations=generations,
+                       seed=0, workers=workers, progress=False)
+        fronts.append(p)
+        d = out / f"{n}R-paper-pareto"
+        d.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(d / "pareto.csv", p.to_csv())
+        p.save(d / "pareto.json")
+        write_fit_outputs(p.knee, beam, d)
+        k = p.knee
+        md.append(f"| {n}R | {k.scf_mean:.4f} | {_lengths(k)} | {k.eigen_loss_pct:.4g} | "
+                  f"{k.deflection_loss_pct:.4g} | {k.displacement_loss_pct:.4g} | "
+                  f"{k.combined_loss_pct:.4g} | {PAPER_KNEE[n]} | {p.F_pct.shape[0]} | "
+                  f"{p.wall_time_s:.1f} |")
+        print(md[-1], flush=True)
+    plot_pareto(fronts, out / "pareto-paper.png")
+    return md
+
+
 def _fmt(v, digits=4):
     return "n/a" if v is None else f"{v:.{digits}g}"
 
@@ -120,6 +156,9 @@ def main() -> None:
     ap.add_argument("--paper-omega", action="store_true",
                     help="paper parametrisation: compare omega instead of omega^2")
     ap.add_argument("--joints", type=int, nargs="+", default=[3, 4, 5])
+    ap.add_argument("--pop", type=int, default=100, help="NSGA-II population (Table 5)")
+    ap.add_argument("--pareto-generations", type=int, default=200,
+                    help="NSGA-II generations of the paper-parametrisation fronts (0: skip)")
     ap.add_argument("--narrow", action="store_true",
                     help="only the uniform-narrow combined fits and load sweep (tables-narrow.md)")
     args = ap.parse_args()
@@ -169,6 +208,9 @@ def main() -> None:
                               f"{r.eigen_loss_pct:.4g} | {_fmt(PAPER.get((n, N)))} | "
                               f"{_fmt(proto)} | {r.wall_time_s:.1f} |")
                     print(md[-1], flush=True)
+        if target.has_static and args.pareto_generations > 0:
+            md += pareto_study(beam, target, out / source, args.joints, args.pop,
+                               args.pareto_generations, args.workers, source)
         if target.has_static:
             md += ["", f"### Combined objective (Eq. 27), joint parametrisation, truth {source}",
                    "", "| model | frequencies | link lengths (m) | eigen (%) | tip position (%) | "
