@@ -66,9 +66,9 @@ def main() -> None:
     ap.add_argument("--pop", type=int, default=100)
     ap.add_argument("--generations", type=int, default=200)
     ap.add_argument("--pareto-stiffness", nargs="*", default=["joint", "paper"])
-    ap.add_argument("--paper-generations", type=int, default=20,
-                    help="generations of the paper-parametrisation Pareto run (35 static "
-                         "solves per design at eps = 0.01)")
+    ap.add_argument("--paper-generations", type=int, default=None,
+                    help="generations of the paper-parametrisation Pareto run (default: "
+                         "--generations)")
     ap.add_argument("--out", default=str(ROOT / "results" / "bench_fit.md"))
     args = ap.parse_args()
 
@@ -109,6 +109,18 @@ def main() -> None:
                      f"{wall:.2f} | {cpu:.2f} | {load:.1f} | {r.eigen_loss_pct:.4g} | {r.nfev} | "
                      f"{1e3 * cpu / r.nfev:.3f} | {near}/{r.starts_run} |")
         print(lines[-1], flush=True)
+    lines += ["", f"## Five seeds, {args.starts} starts each: spread of the optimum", "",
+              "| stiffness | model | N | compared | losses, seeds 0-4 (%) | max - min, "
+              "relative to min |", "|---|---|---|---|---|---|"]
+    for stiffness, n, N, sq in [("paper", 4, 3, True), ("paper", 4, 4, True),
+                                ("paper", 5, 5, True), ("paper", 5, 5, False)]:
+        losses = np.array([fit(ref, ref_target, n, N, stiffness=stiffness, starts=args.starts,
+                               seed=s, squared=sq, workers=args.workers,
+                               progress=False).eigen_loss_pct for s in range(5)])
+        lines.append(f"| {stiffness} | {n}R | {N} | {'omega^2' if sq else 'omega'} | "
+                     + ", ".join(f"{v:.7g}" for v in losses)
+                     + f" | {np.ptp(losses) / losses.min():.2g} |")
+        print(lines[-1], flush=True)
     if not args.pareto_stiffness:
         lines += ["", "Targets (issue 4): 5R eigen fit with 64 starts <= 5 s (joint), <= 10 s "
                   "(paper).", ""]
@@ -124,7 +136,8 @@ def main() -> None:
     for stiffness in args.pareto_stiffness:
         load = os.getloadavg()[0]
         t0, c0 = time.perf_counter(), cpu_s()
-        gens = args.generations if stiffness == "joint" else args.paper_generations
+        gens = args.generations if stiffness == "joint" or args.paper_generations is None \
+            else args.paper_generations
         p = fit_pareto(narrow, narrow_target(narrow), 4, 4, stiffness=stiffness, pop=args.pop,
                        generations=gens, seed=0, workers=args.workers, progress=False)
         wall, cpu = time.perf_counter() - t0, cpu_s() - c0

@@ -380,3 +380,14 @@ def test_paper_3r_fit_reaches_the_grid_optimum(reference):
             progress=False)
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
     assert 0.11 < r.eigen_loss_pct < 0.12
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("n, N", [(4, 3), (5, 5)])
+def test_five_seeds_reach_the_same_paper_optimum(reference, n, N):
+    # five independent multistarts (64 starts each): one optimum, within 1e-3 relative
+    # (measured spread 2.6e-4 for 4R/3, 2e-8 for 5R/5)
+    target = FitTarget(REF_OMEGA, reference.tip_force_N)
+    losses = np.array([fit(reference, target, n, N, stiffness="paper", squared=True, starts=64,
+                           seed=s, progress=False).eigen_loss_pct for s in range(5)])
+    assert np.ptp(losses) <= 1e-3 * losses.min(), losses
