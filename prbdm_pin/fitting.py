@@ -683,8 +683,9 @@ def fit_pareto(
 
     ``seed_with_fits`` puts the single-objective optima (eigen-only, deflection-only and the
     Eq. 27 combined optimum, each the best of a ``seed_starts`` multistart :func:`fit` with the
-    same seed) into the initial population, the rest drawn uniformly (lengths on the bounded
-    simplex, log10 factors in their bounds), so the front spans its anchors and the knee region.
+    same seed) and designs on the segments between them into the initial population, the rest
+    drawn uniformly (lengths on the bounded simplex, log10 factors in their bounds), so the front
+    spans its anchors and the knee region.
     ``polish_knee`` (default on) runs the single-objective local solver on Eq. 27 from the
     NSGA-II knee and adds the result to the front if no front design dominates it; the knee is
     then taken on that front, and ``message`` records the raw NSGA-II knee beside it. Each
@@ -813,8 +814,19 @@ def _initial_population(beam, target, problem: FitProblem, pop: int, seed: int, 
                     deflection_norm=deflection_norm)
             nfev += r.nfev
             rows.append(_design_row(problem, r.lengths_m, r.factors, log10_bounds))
+        # designs on the segments eigen -> combined -> deflection anchor (the bounded length
+        # simplex is convex): a start for the middle of the front, which NSGA-II alone fills
+        # slowly when the SCFs add tens of variables
+        combined, eigen, deflection = rows[0], rows[1 % len(rows)], rows[-1]
+        for a, b in ((eigen, combined), (combined, deflection)):
+            for t in np.linspace(0.0, 1.0, INTERPOLATED_SEEDS + 2)[1:-1]:
+                rows.append((1.0 - t) * a + t * b)
+        rows = rows[:pop]
         X[:len(rows)] = rows
     return X, nfev
+
+
+INTERPOLATED_SEEDS = 5  # per segment between two anchors of the initial population
 
 
 def _polish_knee(problem: FitProblem, x: np.ndarray, deflection_norm: str, log10_bounds):
