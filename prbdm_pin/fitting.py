@@ -47,7 +47,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .dynamics import modes_from_mass, planar_tip, static_deflection_planar
+from .dynamics import (
+    modes_from_mass,
+    planar_tip,
+    planar_tips,
+    static_deflection_planar,
+    static_deflection_planar_batch,
+)
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .objectives import best_scale, knee_index, scf_deviation_pct, scf_mean
@@ -179,6 +185,43 @@ class _Joint:
         w = chain_frequencies(M, np.exp(X[:, n:]) * K0)[..., : p.n_freq]
         c = self.fn * math.sqrt(p.n_poses)
         return ((w ** (2 if p.squared else 1)) - self.f).reshape(X.shape[0], -1) / c
+
+    def _batch_residuals(self, X):
+        """:meth:`residuals` of the designs in the rows of X, (B, size), in one batch: one
+        stacked eigensolve and, per load case, every design's static solve in one vectorised
+        Newton. A design that cannot be solved gets NaN residuals."""
+        p, n = self.p, self.p.n_joints
+        lengths = np.array([self.split(x)[0] for x in X])
+        M, K0 = chain_mass_matrices(p, lengths)
+        K = np.exp(X[:, n:]) * K0
+        parts = []
+        if self.spec.objective != "deflection":
+            parts.append(self._stencil_residuals(X))
+        wc = 1.0 / math.sqrt(max(len(self.cases), 1))
+        for c, case in enumerate(self.cases):
+            q, ok = static_deflection_planar_batch(lengths, K, case.tip_force_N)
+            tips = planar_tips(lengths, np.where(ok[:, None], q, 0.0))
+            r = (tips - case.tip_position_m) * (wc / self.norms[c])
+            r[~ok] = np.nan
+            parts.append(r)
+        return np.concatenate(parts, axis=1)
+
+    def jac(self, x):
+        """Forward-difference Jacobian of :meth:`residuals`, the 2n shifted designs in one
+        batch (a design that cannot be solved contributes a zero column)."""
+        x = np.asarray(x, dtype=float)
+        n2 = x.size
+        h = np.full(n2, 1e-7)
+        h[: self.p.n_joints] = np.where(x[: self.p.n_joints] + 1e-7 <= 1.0, 1e-7, -1e-7)
+        X = np.vstack([x, x + np.diag(h)])
+        self.nfev += n2 + 1
+        try:
+            R = self._batch_residuals(X)
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            return np.zeros((self.size(), n2))
+        D = (R[1:] - R[0]) / h[:, None]
+        D[~np.all(np.isfinite(D), axis=1)] = 0.0
+        return D.T
 
     def eigen_residuals(self, x):
         """Residuals of the eigen objective (caches the ln s derivative for :meth:`eigen_jac`)."""
@@ -381,7 +424,8 @@ def solve_start(spec: _Spec, index: int, lengths0: np.ndarray, factors0: np.ndar
             r = _ls(J.eigen_residuals, x0, lb, ub, spec.max_nfev, jac=J.eigen_jac,
                     method="dogbox" if p.n_poses == 1 else "trf")
         else:
-            r = _ls(J.residuals, x0, lb, ub, spec.max_nfev, method="trf", x_scale="jac")
+            r = _ls(J.residuals, x0, lb, ub, spec.max_nfev, jac=J.jac, method="trf",
+                    x_scale="jac")
         x, msg, ok = r.x, r.message, bool(r.success)
         if p.n_poses > 1:
             r2 = _slsqp(J.loss, x, lb, ub)
