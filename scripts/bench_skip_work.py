@@ -104,8 +104,12 @@ def paths(model, rng, evals: int, repeats: int) -> list[tuple[str, tuple, tuple]
             return cho_solve(cho_factor(M), tau)
         return f
 
-    # the lean and naive versions must agree before their times mean anything
-    np.testing.assert_allclose(model.natural_frequencies(q), freq_naive(), rtol=1e-9)
+    # the lean and naive versions must agree before their times mean anything: to 1e-9, or to
+    # the rounding of the highest frequency, eps * cond(K^-1/2 M K^-1/2), when that is larger
+    # (both eigensolvers carry it: 1.9e-9 apart at 64 joints, cond 7e7)
+    w = model.natural_frequencies(q)
+    rtol = max(1e-9, 8 * np.finfo(float).eps * (w[-1] / w[0]) ** 2)
+    np.testing.assert_allclose(w, freq_naive(), rtol=rtol)
     a, b = stat_lean(), stat_naive()
     np.testing.assert_allclose(a[0], b[0], atol=1e-12)
     np.testing.assert_allclose(a[1], b[1], atol=1e-12)
