@@ -34,6 +34,7 @@ __all__ = [
     "DynamicAccuracy",
     "prbdm_modal_tip",
     "centerline_modal_tip",
+    "truth_modal_tip",
     "euler_bernoulli_modal_tip",
     "modal_frf",
     "modal_step_response",
@@ -144,6 +145,30 @@ def centerline_modal_tip(modal, beam, indices: np.ndarray | None = None) -> Moda
             checks.append(abs(mpf / ref - 1.0))
     check = max(checks) if checks else float("nan")
     return ModalTip(np.asarray(modal.omega_rad_s, dtype=float)[idx], np.array(gains), check)
+
+
+def truth_modal_tip(truth, beam) -> ModalTip:
+    """The modal tip of a ``TruthResult``: every computed mode up to the highest selected one.
+
+    Bending, torsion and chordwise modes below the last selected frequency all respond to a tip
+    force, so all of them are superposed (with the finite-element modal masses where the truth
+    has them); the FRF band of :func:`dynamic_accuracy` then ends at 1.2 times the last selected
+    frequency.
+
+    Parameters
+    ----------
+    truth : TruthResult
+        From ``prbdm_pin.truth.compute_truth`` (any model).
+    beam : Beam
+        The beam it was computed for (mass per length where the truth has no modal masses).
+
+    Returns
+    -------
+    ModalTip
+        Frequencies in rad/s, tip gains in m/N times (rad/s)^2.
+    """
+    modes = np.arange(int(np.max(truth.mode_index)) + 1)
+    return centerline_modal_tip(truth.modal, beam, modes)
 
 
 def euler_bernoulli_modal_tip(beam, n_modes: int) -> ModalTip:

@@ -142,7 +142,9 @@ def test_export_cli_and_simulate_cli(model, tmp_path, capsys):
     data = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
     assert data.shape == (2001, 1 + 5 + 5 + 3)
     assert (out / "response.png").stat().st_size > 0
+    # the 1D beam truth (milliseconds; the plate comparison is tests/test_cli_simulate.py's)
     assert main(["simulate", str(src), "--duration", "0.05", "--compare-truth",
+                 "--truth-model", "beam", "--cache-dir", str(tmp_path / "cache"),
                  "--out", str(out), "-q"]) == 0
     summary = json.loads((out / "truth_comparison.json").read_text())
     assert 0.0 < summary["frf_error"] and 0.0 < summary["step_error"]
