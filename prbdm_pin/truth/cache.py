@@ -1,13 +1,16 @@
 """On-disk cache of truth results, keyed by a hash of every input that changes the answer.
 
 The key covers the beam's physical content (``Beam.fingerprint``), the model, mesh level, mode
-count, selection policy, static options and the package version. Entries are pickles of the frozen
+count, selection policy, static options, the package version and a digest of the truth code
+itself (every module of this package), so an edited mesh or solver never serves results computed
+by the code it replaced. Entries are pickles of the frozen
 ``TruthResult`` written atomically (temporary file + ``os.replace``), so a crashed or concurrent
 writer never leaves a half-written entry.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -21,9 +24,21 @@ from .result import TruthResult
 __all__ = ["cache_key", "load_cached", "store_cached"]
 
 
+@functools.lru_cache(maxsize=1)
+def code_digest() -> str:
+    """SHA-256 hex digest of the source of every module of the truth package."""
+    h = hashlib.sha256()
+    for path in sorted(Path(__file__).resolve().parent.glob("*.py")):
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
 def cache_key(beam: Beam, **inputs) -> str:
-    """SHA-256 hex digest of the beam fingerprint and the keyword inputs (JSON-serialisable)."""
-    payload = json.dumps({"beam": beam.fingerprint(), **inputs}, sort_keys=True, default=str)
+    """SHA-256 hex digest of the beam fingerprint, the keyword inputs (JSON-serialisable) and
+    :func:`code_digest`."""
+    payload = json.dumps({"beam": beam.fingerprint(), "code": code_digest(), **inputs},
+                         sort_keys=True, default=str)
     return hashlib.sha256(payload.encode()).hexdigest()
 
 
