@@ -81,6 +81,9 @@ __all__ = ["fit", "fit_pareto", "StartResult", "solve_start", "result_from_desig
 
 OBJECTIVES = ("eigen", "deflection", "combined")
 _BAD = 1e3  # loss (fraction) reported for designs whose model cannot be solved
+# eigen loss (%) above which a joint fit of n frequencies at the straight pose has not matched
+# them (reached fits end at 1e-11 % or below)
+EXACT_MATCH_PCT = 1e-4
 _LN_S_BOUNDS = (math.log(1e-3), math.log(1e3))
 
 
@@ -662,6 +665,12 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         message = f"{message}; static deflection failed: {exc}"
     _, K0 = build(problem, lengths_m)
     extra = bool(t.extra_loads) and ev.extra_tip_position_m is not None
+    notes = t.shape_notes()
+    if (problem.stiffness == "joint" and objective == "eigen" and problem.n_poses == 1
+            and problem.n_freq == problem.n_joints and ev.eigen_loss_pct > EXACT_MATCH_PCT):
+        notes.insert(0, f"the {problem.n_freq} truth frequencies were not matched (eigen loss "
+                        f"{ev.eigen_loss_pct:.3g} % after {starts_run} starts): a joint model "
+                        "matches n frequencies exactly when they are within a chain's reach")
     if problem.stiffness == "paper":
         k_mean = scf_mean(ev.factors)
         K = k_mean * K0
@@ -692,6 +701,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         extra_tip_position_truth_m=np.array([c.tip_position_m for c in t.extra_loads])
         if extra else None,
         extra_tip_position_model_m=ev.extra_tip_position_m if extra else None,
+        warnings=tuple(notes),
     )
 
 

@@ -117,6 +117,8 @@ class FitTarget:
         MAC of each truth mode with a beam bending mode (recorded, not fitted).
     source : str
         Where the numbers come from (e.g. ``"plate, level 3, selection paper"``).
+    labels : tuple of str, or None
+        Each truth mode's shape label (``"bending"``, ``"chordwise"``, ``"mixed"``, ...).
     extra_loads : tuple of LoadCase
         Further load cases (e.g. a load sweep). The deflection objective averages the tip error
         of every case, each normalised by its own truth tip position or displacement; with none,
@@ -131,6 +133,7 @@ class FitTarget:
     mac: np.ndarray | None = None
     source: str = ""
     extra_loads: tuple[LoadCase, ...] = ()
+    labels: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
@@ -154,6 +157,12 @@ class FitTarget:
             if not isinstance(c, LoadCase):
                 raise BeamInputError(f"extra_loads[{i}] = {c!r}: must be a LoadCase")
         object.__setattr__(self, "extra_loads", extra)
+        if self.labels is not None:
+            labels = tuple(str(v) for v in self.labels)
+            if len(labels) != w.size:
+                raise BeamInputError(f"labels has {len(labels)} entries: one per truth "
+                                     f"frequency ({w.size}) needed")
+            object.__setattr__(self, "labels", labels)
 
     @property
     def has_static(self) -> bool:
@@ -176,14 +185,30 @@ class FitTarget:
                 "(truth frequencies available)"
             )
         mac = None if self.mac is None else self.mac[:n_freq]
+        labels = None if self.labels is None else self.labels[:n_freq]
         return FitTarget(self.omega_truth_rad_s[:n_freq], self.tip_force_N, self.tip_position_m,
-                         self.tip_displacement_m, mac, self.source, self.extra_loads)
+                         self.tip_displacement_m, mac, self.source, self.extra_loads, labels)
+
+    def shape_notes(self) -> list[str]:
+        """Why a chain may miss this target: truth modes that are not beam-like (labelled other
+        than bending, or MAC < 0.8 with a beam bending mode), one line each."""
+        out = []
+        for k in range(self.omega_truth_rad_s.size):
+            label = None if self.labels is None else self.labels[k]
+            mac = None if self.mac is None else float(self.mac[k])
+            if (label is not None and label != "bending") or (mac is not None and mac < 0.8):
+                what = f"{label}, " if label is not None else ""
+                out.append(f"truth mode {k + 1} ({self.omega_truth_rad_s[k]:.6g} rad/s; {what}"
+                           f"MAC {mac:.2f} with a beam bending mode) is not beam-like: a chain "
+                           "of rigid links has no mode of its shape")
+        return out
 
 
 def target_from_truth(truth, tip_force_N: np.ndarray) -> FitTarget:
     """A :class:`FitTarget` from a ``truth.TruthResult`` computed under ``tip_force_N`` (N)."""
     mac = getattr(truth, "mac_beam", None)
     src = f"{truth.model}, mesh level {truth.mesh_level}, selection {truth.selection}"
+    labels = tuple(truth.labels[int(i)] for i in truth.mode_index)
     return FitTarget(
         omega_truth_rad_s=truth.omega_rad_s,
         tip_force_N=tip_force_N,
@@ -191,6 +216,7 @@ def target_from_truth(truth, tip_force_N: np.ndarray) -> FitTarget:
         tip_displacement_m=truth.tip_displacement_m,
         mac=mac,
         source=src,
+        labels=labels,
     )
 
 

@@ -156,6 +156,9 @@ class FitResult(_Serialisable):
         The target's extra load cases (N) and the truth tip under each (m).
     extra_tip_position_model_m : ndarray, shape (k, m', 3), or None
         The model's tip under each extra load case, per distinct stiffness, m.
+    warnings : tuple of str
+        What makes the model less than it looks: truth modes that are not beam-like, or n
+        frequencies a ``joint`` fit should match and did not.
     versions : tuple of (name, version)
     """
 
@@ -199,6 +202,7 @@ class FitResult(_Serialisable):
     extra_tip_force_N: np.ndarray | None = None
     extra_tip_position_truth_m: np.ndarray | None = None
     extra_tip_position_model_m: np.ndarray | None = None
+    warnings: tuple = ()
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

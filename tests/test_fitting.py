@@ -391,3 +391,20 @@ def test_five_seeds_reach_the_same_paper_optimum(reference, n, N):
     losses = np.array([fit(reference, target, n, N, stiffness="paper", squared=True, starts=64,
                            seed=s, progress=False).eigen_loss_pct for s in range(5)])
     assert np.ptp(losses) <= 1e-3 * losses.min(), losses
+
+
+def test_warnings_name_modes_a_chain_cannot_represent(reference, tmp_path):
+    from prbdm_pin.results import load_fit, save_fit
+
+    target = FitTarget(REF_OMEGA[:3], reference.tip_force_N, mac=[1.0, 0.99, 0.62],
+                       labels=("bending", "bending", "chordwise"))
+    r = fit(reference, target, 3, stiffness="joint", starts=4, seed=0, progress=False)
+    assert r.eigen_loss_pct < 1e-6  # reachable frequencies: matched, not flagged as missed
+    assert len(r.warnings) == 1 and "truth mode 3" in r.warnings[0]
+    assert "chordwise" in r.warnings[0] and "MAC 0.62" in r.warnings[0]
+    save_fit(r, tmp_path / "fit.json")
+    assert load_fit(tmp_path / "fit.json").warnings == r.warnings
+    # two frequencies 1 % apart are out of a 2R chain's reach: the miss is reported
+    close = FitTarget([300.0, 303.0], reference.tip_force_N)
+    m = fit(reference, close, 2, stiffness="joint", starts=4, seed=0, progress=False)
+    assert m.eigen_loss_pct > 1e-4 and "not matched" in m.warnings[0]

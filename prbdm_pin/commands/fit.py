@@ -187,6 +187,8 @@ def run(args) -> int:
     out = Path(args.out)
     write_fit_outputs(result, beam, out)
     if not args.quiet:
+        for note in result.warnings:
+            print(f"fit warning: {note}", file=sys.stderr)
         print(f"{result.joints}R {result.stiffness} {result.objective}: "
               f"eigen {result.eigen_loss_pct:.4g} %, "
               f"tip position {result.deflection_loss_pct:.4g} %, "

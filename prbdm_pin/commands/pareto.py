@@ -4,6 +4,7 @@ knee's fit.json and model.urdf, and plots."""
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from . import add_common
@@ -51,6 +52,8 @@ def run(args) -> int:
     plot_pareto(res, out / "pareto.png")
     write_fit_outputs(res.knee, beam, out)
     if not args.quiet:
+        for note in res.knee.warnings:
+            print(f"fit warning: {note}", file=sys.stderr)
         k = res.knee
         print(f"{res.joints}R front of {res.F_pct.shape[0]} designs; knee: eigen "
               f"{k.eigen_loss_pct:.4g} %, deflection {k.deflection_loss_pct:.4g} %, "
