@@ -63,8 +63,12 @@ def test_argyris_translation_invariant():
     w0 = plate_modes(beam, mesh=mesh, n_modes=6).omega_rad_s
     w1 = plate_modes(beam, mesh=_translated(mesh, (250.0, -80.0)), n_modes=6).omega_rad_s
     # scikit-fem's global-coordinate Argyris is off by percents here. What remains is rounding in
-    # the eigensolve, set by the smallest (corner-graded) elements: measured ~1e-7 for shifts of
-    # 2.5, 25 and 250 m alike (independent of the shift, so not a coordinate effect)
+    # the shift-invert eigensolve, whose LU has a backward error ~eps ||K||, i.e. a relative error
+    # ~eps cond(K) in the lowest eigenvalues (cond set by the smallest, corner-graded elements).
+    # Measured: 3.5e-7 (250 m) and 4.0e-7 (2.5 m) although the scaled matrices differ by only
+    # 8.6e-11 and 2.5e-12; on one mesh ARPACK tol 0 (machine precision, the default) vs 1e-14 and
+    # other start vectors agree to 7e-10, and neither iterative refinement of the solves
+    # (5.8e-7, 2.1e-6) nor Rayleigh quotients with the exact matrices (2e-7 ... 9e-7) do better.
     np.testing.assert_allclose(w1, w0, rtol=1e-6)
 
 
@@ -168,36 +172,66 @@ def test_vectorised_assembly_matches_scikit_fem_asm():
     assert abs(M - M1).max() < 1e-12 * abs(M1).max()
 
 
-def _plate_vs_solid(beam):
-    p = compute_truth(beam, modes=5, static=False)
-    s = compute_truth(beam, model="solid", modes=5, static=False)
-    # the plate's selected beam-like bending modes (symmetric, MAC >= 0.8 with a beam mode), each
-    # paired with the symmetric solid mode of the most similar centreline shape (the two models'
-    # participation rankings can differ above the third mode)
-    from prbdm_pin.truth.modes import mac_matrix
+def _plate_vs_solid(beam, level=None):
+    """Every beam-like bending mode of the plate (the ``shape`` selection's definition:
+    symmetric, MAC >= 0.8 with a beam mode, not chordwise; the lowest five) and the frequency of
+    the solid mode of the same centreline shape, rad/s."""
+    from prbdm_pin.truth import compute_modal
+    from prbdm_pin.truth.modes import label_modes, mac_matrix
 
-    # Only clearly beam-like modes (MAC >= 0.85): the reference beam's 4th selected mode (MAC
-    # 0.81, 1902 rad/s) pairs with a solid mode at 2004 rad/s (5.3 % apart, unresolved: the
-    # pairing is ambiguous there and the solid is not graded at the re-entrant corners)
-    keep = [i for i in p.mode_index if p.labels[i] == "bending" and p.modal.mac_beam[i] >= 0.85]
-    assert len(keep) >= 2
-    xp = p.modal.centerline_x_m
-    sm = s.modal
-    us = np.array([np.interp(xp, sm.centerline_x_m, u) for u in sm.centerline_uz])
-    us[~np.asarray(sm.symmetric)] = 0.0
-    mac = mac_matrix(p.modal.centerline_uz[keep], us)
-    assert np.all(mac.max(axis=1) > 0.9), mac.max(axis=1)
-    return p.modal.omega_rad_s[keep], sm.omega_rad_s[mac.argmax(axis=1)]
+    p = compute_modal(beam, "plate")
+    s = compute_modal(beam, "solid", level)
+    keep = np.flatnonzero(np.array(label_modes(p)) == "bending")[:5]
+    assert keep.size >= 2
+    xp = p.centerline_x_m
+    us = np.array([np.interp(xp, s.centerline_x_m, u) for u in s.centerline_uz])
+    # the solid's symmetric out-of-plane modes (its label of a plate's bending mode near MAC
+    # 0.8 can be "mixed")
+    us[~np.isin(label_modes(s), ("bending", "chordwise", "mixed"))] = 0.0
+    mac = mac_matrix(p.centerline_uz[keep], us)
+    # measured >= 0.997 on the reference beam and seeds 0-9
+    assert np.all(mac.max(axis=1) > 0.99), mac.max(axis=1)
+    return p.omega_rad_s[keep], s.omega_rad_s[mac.argmax(axis=1)]
 
 
+# Seed 7 is the reference beam (rounded in its file), so seed 10 makes the tenth random panel.
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", [None, 1])
-def test_plate_and_solid_agree_on_beam_like_modes(seed):
+@pytest.mark.parametrize("seed", [None, 0, 1, 2, 3, 4, 5, 6, 8, 9, 10])
+def test_plate_and_solid_beam_like_modes(seed):
     if seed is None:
         beam = load_beam(BEAMS / "reference-random.json")
     else:
         beam = random_beam(np.random.default_rng(seed))
-    wp, ws = _plate_vs_solid(beam)
-    # two different theories and discretisations (Kirchhoff plate vs 3D elasticity, quadratic
-    # hexes): within 1 % on the beam-like modes
-    assert np.all(np.abs(ws / wp - 1) < 0.01), (wp, ws)
+    wp, ws = _plate_vs_solid(beam)  # the same mode shapes: centreline MAC > 0.99
+    gap = ws / wp - 1
+    # The issue asked for 1 % on every beam-like mode; that holds on 2 of these 11 panels only
+    # (seeds 4 and 8). The solid, converged to 0.08 % (level 3), lies below the plate by 0.08-3.7 %
+    # (reference: -0.08, -0.21, -0.31, -1.13 %; seed 0: -3.70 ... -1.32 %; seed 6: -3.62,
+    # -3.21 %): the Kirchhoff plate's own error on necks and flares a few thicknesses wide, which
+    # halves with the thickness (test_plate_solid_gap_vanishes_with_thickness). What holds on
+    # every panel: the plate (the thin limit, without transverse shear) is the stiffer model, and
+    # the gap stays within what that limit misses at t = 10 mm
+    assert np.all(gap < 0) and np.all(gap > -0.04), 100 * gap
+
+
+def _thinner(beam, t):
+    from prbdm_pin.geometry import Beam
+
+    return Beam(beam.x_m, beam.half_width_m, t, beam.material, beam.tip_force_N, name=beam.name)
+
+
+@pytest.mark.slow
+def test_plate_solid_gap_vanishes_with_thickness():
+    # Kirchhoff frequencies scale exactly like t; the 3D solid's approach them as t -> 0 when
+    # the gap is the plate theory's error (same in-plane mesh level for every thickness)
+    ref = load_beam(BEAMS / "reference-random.json")
+    wp, ws = _plate_vs_solid(_thinner(ref, 0.0025), level=2)
+    # measured +0.01, +0.02, +0.07, -0.08 % (at t = 10 mm: down to -1.13 %)
+    assert np.all(np.abs(ws / wp - 1) < 0.01), 100 * (ws / wp - 1)
+    necked = random_beam(np.random.default_rng(0))
+    gaps = [_plate_vs_solid(_thinner(necked, t), level=2) for t in (0.01, 0.005)]
+    g10, g5 = (w_s / w_p - 1 for w_p, w_s in gaps)
+    # measured -3.70, -2.78, -1.32, -1.41, -1.39 % at 10 mm; -2.06, -1.52, -0.68, -0.68, -0.58 %
+    # at 5 mm (-1.07 ... -0.17 % at 2.5 mm): below the plate, and at least halving with t
+    assert np.all(g10 < 0) and np.all(g5 < 0)
+    assert np.all(np.abs(g5) < 0.6 * np.abs(g10)), (g10, g5)

@@ -29,7 +29,7 @@ def test_narrow_strip_within_half_percent_of_euler_bernoulli(narrow):
     s = plate_static(narrow, level=1)
     rel = s.tip_displacement_m[2] / _beam_theory(narrow) - 1
     # The clamp blocks the root's anticlastic (Poisson) curvature: the plate is stiffer than
-    # the beam, by 0.47 % here (converged; the 3D solid gives 0.42 % with its shear flexibility).
+    # the beam, by 0.47 % here (converged; the 3D solid gives 0.38 % with its shear flexibility).
     assert -5e-3 < rel < -4e-3, rel
     assert s.tip_displacement_m[0] == 0.0 and s.tip_displacement_m[1] == 0.0
     np.testing.assert_allclose(s.tip_position_m, [1.0, 0.0, s.tip_displacement_m[2]])
@@ -97,16 +97,27 @@ def test_bad_input(narrow):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["square-plate", "reference-random"])
-def test_plate_agrees_with_the_linear_3d_solid(name):
+@pytest.mark.parametrize("name, thickness_m, low, high", [
+    ("square-plate", None, -1e-3, 1e-3),
+    # -0.23 % (solid level 3: -0.24 %): the plate theory misses the 3D flexibility of the
+    # panel's narrow parts, so the plate is the stiffer model; the gap falls with the thickness
+    # (-0.09 % at 5 mm, next case at 2.5 mm)
+    ("reference-random", None, -5e-3, 0.0),
+    ("reference-random", 0.0025, -1e-3, 1e-3),
+])
+def test_plate_agrees_with_the_linear_3d_solid(name, thickness_m, low, high):
+    from prbdm_pin.geometry import Beam
     from prbdm_pin.truth.solid import solid_static
 
     beam = load_beam(BEAMS / f"{name}.json")
+    if thickness_m is not None:
+        beam = Beam(beam.x_m, beam.half_width_m, thickness_m, beam.material, beam.tip_force_N)
     w_plate = plate_static(beam).tip_displacement_m[2]
-    w_solid = solid_static(beam).tip_displacement_m[2]
-    # a different theory and discretisation (27-node hexes, shear-flexible): measured 0.03 % and
-    # 0.02 % apart, against 5 % and 0.3 % between the plate and Euler-Bernoulli
-    assert w_plate / w_solid - 1 == pytest.approx(0.0, abs=1e-3)
+    w_solid = solid_static(beam, level=2).tip_displacement_m[2]
+    # a different theory and discretisation (27-node hexes, shear-flexible): measured +0.05 %
+    # (square plate) and -0.009 % (reference planform, t = 2.5 mm), against 5 % and 0.3 %
+    # between the plate and Euler-Bernoulli
+    assert low < w_plate / w_solid - 1 < high
 
 
 def test_elastica_truth_warns_where_plate_action_matters():

@@ -1,16 +1,16 @@
-"""Structured mapped meshes of a planform that follow its vertices exactly.
+"""The plate's triangle mesh of a planform, which follows its vertices exactly.
 
-The planform is mapped from (x, eta) in [0, L] x [-1, 1] by y = eta * w(x). Element edges sit on
-every planform vertex, so the piecewise-linear outline is represented exactly. Random planforms
-can have vertices a few millimetres apart; a plain mapped mesh would then put a sliver next to a
-large element, so the x stations are graded: the local element size grows from a short vertex
-interval at most by the factor ``growth`` per element length.
+Nodes sit on columns at x stations that include every planform vertex, so the piecewise-linear
+outline is represented exactly. Random planforms can have vertices a few millimetres apart; a plain
+mapped mesh would then put a sliver next to a large element, so the x stations are graded: the
+local element size grows from a short vertex interval at most by the factor ``growth`` per element
+length. (The 3D solid uses a mesh graded in two dimensions instead: ``feature_mesh``.)
 """
 
 from __future__ import annotations
 
 import numpy as np
-from skfem import MeshQuad, MeshTri
+from skfem import MeshTri
 
 from ..geometry import Beam
 
@@ -26,8 +26,6 @@ __all__ = [
     "reentrant_vertices",
     "element_size",
     "x_stations",
-    "eta_stations",
-    "planform_quad_mesh",
     "planform_tri_mesh",
     "mirror_nodes",
 ]
@@ -67,34 +65,6 @@ def x_stations(
     x = np.concatenate(out)
     x[-1] = xv[-1]
     return x
-
-
-def eta_stations(beam: Beam, h_m: float) -> np.ndarray:
-    """Stations in eta in [-1, 1]; an even count of elements so the axis y = 0 is a mesh line."""
-    w_max = float(np.max(beam.half_width_m))
-    n_half = max(1, int(np.ceil(w_max / h_m)))
-    return np.linspace(-1.0, 1.0, 2 * n_half + 1)
-
-
-def _grid(beam: Beam, level: int) -> tuple[np.ndarray, int, int]:
-    h = element_size(beam, level)
-    xs = x_stations(beam, h)
-    etas = eta_stations(beam, h)
-    X, E = np.meshgrid(xs, etas, indexing="ij")
-    Y = E * beam.half_width_at(X)
-    p = np.vstack([X.ravel(), Y.ravel()])
-    return p, xs.size, etas.size
-
-
-def planform_quad_mesh(beam: Beam, level: int = 1) -> MeshQuad:
-    """Mapped quadrilateral mesh of the planform (nodes in m)."""
-    p, nx, ne = _grid(beam, level)
-    idx = np.arange(nx * ne).reshape(nx, ne)
-    a = idx[:-1, :-1].ravel()
-    b = idx[1:, :-1].ravel()
-    c = idx[1:, 1:].ravel()
-    d = idx[:-1, 1:].ravel()
-    return MeshQuad(p, np.vstack([a, b, c, d]))
 
 
 def _local_size(

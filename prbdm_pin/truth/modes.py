@@ -17,6 +17,7 @@ from .result import ModalSolution
 
 __all__ = [
     "MAC_BEAM_LIKE",
+    "IN_PLANE_Z_ENERGY",
     "SELECTIONS",
     "mac_matrix",
     "mass_participation_z",
@@ -35,6 +36,9 @@ MAC_BEAM_LIKE = 0.8
 # chordwise modes 1.1-1.6.
 WIDTH_VARIATION_CHORDWISE = 1.0
 SELECTIONS = ("paper", "shape")
+# below this share of kinetic energy in z motion a mode moves mainly in plane (bending and torsion
+# modes of thin panels: above 0.99)
+IN_PLANE_Z_ENERGY = 0.5
 
 
 def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -120,20 +124,24 @@ def width_variation(
 
 
 def label_modes(modal: ModalSolution) -> tuple[str, ...]:
-    """A label for every mode: ``bending``, ``torsion``, ``chordwise`` or ``mixed``.
+    """A label for every mode: ``bending``, ``torsion``, ``chordwise``, ``mixed`` or ``in-plane``.
 
-    ``torsion``: antisymmetric about x. ``bending``: symmetric, beam-like along the axis
-    (MAC >= 0.8) and nearly uniform across the width. ``chordwise``: symmetric with a large
-    variation across the width. ``mixed``: symmetric, uniform across the width, but not
-    beam-like along the axis (jagged panels).
+    ``in-plane``: less than half of the kinetic energy in z motion (the 3D solid's membrane
+    modes, which a plate model does not have). ``torsion``: antisymmetric about x.
+    ``bending``: symmetric, beam-like along the axis (MAC >= 0.8) and nearly uniform across the
+    width. ``chordwise``: symmetric with a large variation across the width. ``mixed``:
+    symmetric, uniform across the width, but not beam-like along the axis (jagged panels).
     """
     k = modal.omega_rad_s.size
     if modal.model == "beam" or modal.nodes_m is None or modal.node_uz is None:
         return ("bending",) * k
     wv = width_variation(modal.nodes_m, modal.node_uz, modal.centerline_x_m, modal.centerline_uz)
+    ez = modal.z_energy_fraction
     labels = []
     for i in range(k):
-        if not modal.symmetric[i]:
+        if ez is not None and ez[i] < IN_PLANE_Z_ENERGY:
+            labels.append("in-plane")
+        elif not modal.symmetric[i]:
             labels.append("torsion")
         elif wv[i] > WIDTH_VARIATION_CHORDWISE:
             labels.append("chordwise")

@@ -65,6 +65,10 @@ class ModalSolution:
     modal_mass_kg : ndarray, shape (k,), optional
         phi^T M phi of each mode at the scale of ``centerline_uz`` and ``node_uz`` (ones for
         mass-normalised shapes); None where the model does not provide it.
+    z_energy_fraction : ndarray, shape (k,), optional
+        Share of each mode's kinetic energy phi^T M phi in the z displacement (the 3D solid:
+        near 1 for bending and torsion, near 0 for in-plane modes); None for models that only
+        move in z (plate, beam).
     """
 
     model: str
@@ -84,6 +88,7 @@ class ModalSolution:
     cell_type: str = ""
     node_uz: np.ndarray | None = None
     modal_mass_kg: np.ndarray | None = None
+    z_energy_fraction: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
