@@ -363,7 +363,7 @@ def _mujoco_row(beam: Beam, model, omega_truth, duration_s: float) -> ModelRow |
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
     M = np.zeros((m.nv, m.nv))
-    mujoco.mj_fullM(m, M, d.qM)
+    mujoco.mj_fullM(m, d, M)
     k = min(model.n_joints, omega_truth.size)
     w2 = eigh(np.diag(np.asarray(m.jnt_stiffness, dtype=float)), M, eigvals_only=True)
     omega = np.sqrt(w2)[:k]

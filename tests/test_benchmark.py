@@ -145,3 +145,19 @@ def test_markdown_numbers_parse(quick):
     md = (quick / "results.md").read_text()
     assert re.search(r"Run wall time [0-9.]+ s", md)
     assert "elastica" in md and "joint parametrisation" in md
+
+
+def test_mujoco_peer_row_against_euler_bernoulli():
+    # the MuJoCo peer (the exported MJCF chain): its frequencies from MuJoCo's own mass matrix and
+    # joint stiffness; a 16-joint equal-segment chain of the strip is within 0.6 % of
+    # Euler-Bernoulli on its first three modes (second-order convergence of the chain)
+    from prbdm_pin.benchmark import _mujoco_row, finite_segment_chain
+    from prbdm_pin.geometry import load_beam
+
+    beam = load_beam("examples/beams/uniform-narrow.json")
+    model = finite_segment_chain(beam, 16)
+    eb = np.array([_eb_omega(k) for k in (1, 2, 3)])
+    row = _mujoco_row(beam, model, eb, 0.01)
+    assert row.kind == "mujoco" and row.sim_cpu_s_per_s > 0
+    np.testing.assert_allclose(row.omega_model_rad_s, model.natural_frequencies()[:3], rtol=1e-6)
+    assert np.all(np.abs(row.omega_model_rad_s / eb - 1) < 6e-3)
