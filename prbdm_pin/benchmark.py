@@ -663,10 +663,15 @@ def plot_error_vs_cost(result: BenchResult, path: str | Path) -> Path:
     plt = _pyplot()
     ks = _plot_modes(result)
     fe = [t for t in result.truths if t.errors_pct is not None]
-    ncol = len(ks) + (1 if fe else 0)
-    fig, axes = plt.subplots(1, ncol, figsize=(4.2 * ncol, 3.8), squeeze=False)
+    panels = len(ks) + (1 if fe else 0)
+    ncol = min(panels, 3)  # a grid, so that the figure stays readable at any k
+    nrow = -(-panels // ncol)
+    fig, grid = plt.subplots(nrow, ncol, figsize=(4.6 * ncol, 3.9 * nrow), squeeze=False)
+    axes = grid.ravel()
+    for ax in axes[panels:]:
+        ax.set_visible(False)
     style = {"fitted": ("o", "C0"), "chain": ("s", "C1"), "MuJoCo": ("^", "C2")}
-    for ax, k in zip(axes[0], ks, strict=False):
+    for ax, k in zip(axes, ks, strict=False):
         pts = summary_points(result, k)
         cost = np.array([p[1] for p in pts])
         err = np.maximum(np.array([p[2] for p in pts]), 1e-10)
@@ -686,7 +691,7 @@ def plot_error_vs_cost(result: BenchResult, path: str | Path) -> Path:
         ax.legend(fontsize=7)
         ax.grid(True, which="both", alpha=0.3)
     if fe:
-        ax = axes[0][-1]
+        ax = axes[panels - 1]
         for t in fe:
             ax.loglog(t.cpu_s, max(float(np.max(np.abs(t.errors_pct))), 1e-10), "d")
             ax.annotate(f"{t.beam} L{t.level}", (t.cpu_s, float(np.max(np.abs(t.errors_pct)))),

@@ -180,11 +180,14 @@ class _Joint:
         res = (w ** (2 if p.squared else 1)).ravel()
         return (res - np.tile(self.f, p.n_poses)) / c, np.vstack(dlns) / c
 
-    def _stencil_residuals(self, X):
-        """Scaled eigen residuals of the designs in the rows of X, (B, m*N), in one batch."""
+    def _stencil_residuals(self, X, chain=None):
+        """Scaled eigen residuals of the designs in the rows of X, (B, m*N), in one batch
+        (``chain``: their lengths, mass matrices and unit springs, when already computed)."""
         p, n = self.p, self.p.n_joints
-        lengths = np.array([self.split(x)[0] for x in X])
-        M, K0 = chain_mass_matrices(p, lengths)
+        if chain is None:
+            lengths = np.array([self.split(x)[0] for x in X])
+            chain = (lengths, *chain_mass_matrices(p, lengths))
+        _, M, K0 = chain
         w = chain_frequencies(M, np.exp(X[:, n:]) * K0)[..., : p.n_freq]
         c = self.fn * math.sqrt(p.n_poses)
         return ((w ** (2 if p.squared else 1)) - self.f).reshape(X.shape[0], -1) / c
@@ -199,7 +202,7 @@ class _Joint:
         K = np.exp(X[:, n:]) * K0
         parts = []
         if self.spec.objective != "deflection":
-            parts.append(self._stencil_residuals(X))
+            parts.append(self._stencil_residuals(X, (lengths, M, K0)))
         wc = 1.0 / math.sqrt(max(len(self.cases), 1))
         for c, case in enumerate(self.cases):
             q, ok = static_deflection_planar_batch(lengths, K, case.tip_force_N)

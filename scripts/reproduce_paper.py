@@ -36,6 +36,7 @@ from pathlib import Path  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from prbdm_pin.commands.fit import write_fit_outputs  # noqa: E402
+from prbdm_pin.commands.pareto import write_pareto_outputs  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
 from prbdm_pin.problem import FitTarget, target_from_truth  # noqa: E402
@@ -154,11 +155,7 @@ def pareto_study(beam, target, out: Path, joints: list[int], pop: int, generatio
         p = fit_pareto(beam, target, n, n, stiffness="paper", pop=pop, generations=generations,
                        seed=0, workers=workers, progress=False)
         fronts.append(p)
-        d = out / f"{n}R-paper-pareto"
-        d.mkdir(parents=True, exist_ok=True)
-        atomic_write_text(d / "pareto.csv", p.to_csv())
-        p.save(d / "pareto.json")
-        write_fit_outputs(p.knee, beam, d)
+        write_pareto_outputs(p, beam, out / f"{n}R-paper-pareto")
         k = p.knee
         md.append(f"| {n}R | {k.scf_mean:.4f} | {_lengths(k)} | {k.eigen_loss_pct:.4g} | "
                   f"{k.deflection_loss_pct:.4g} | {k.displacement_loss_pct:.4g} | "

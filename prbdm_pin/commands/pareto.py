@@ -34,10 +34,22 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+def write_pareto_outputs(res, beam, out: Path) -> None:
+    """pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json,
+    model.urdf and plots, each written atomically; the knee's fit.json last."""
+    from ..geometry import atomic_write_text
+    from ..plots import plot_pareto
+
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / "pareto.csv", res.to_csv())
+    res.save(out / "pareto.json")
+    plot_pareto(res, out / "pareto.png")
+    write_fit_outputs(res.knee, beam, out)
+
+
 def run(args) -> int:
     from ..fitting import fit_pareto
-    from ..geometry import atomic_write_text, load_beam
-    from ..plots import plot_pareto
+    from ..geometry import load_beam
 
     beam = load_beam(args.beam)
     target = load_target(args, beam)
@@ -46,11 +58,7 @@ def run(args) -> int:
                      eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
                      progress=not args.quiet, workers=args.workers)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "pareto.csv", res.to_csv())
-    res.save(out / "pareto.json")
-    plot_pareto(res, out / "pareto.png")
-    write_fit_outputs(res.knee, beam, out)
+    write_pareto_outputs(res, beam, out)
     if not args.quiet:
         for note in res.knee.warnings:
             print(f"fit warning: {note}", file=sys.stderr)

@@ -25,6 +25,7 @@ from .mesh import (
     _refine_corners,
     _segment_distance,
     element_size,
+    mirrored_mesh,
     reentrant_vertices,
 )
 
@@ -230,25 +231,10 @@ def _mirror_half(beam: Beam, p_up: np.ndarray, t_up: np.ndarray) -> MeshTri:
     scale = float(np.sqrt(np.median(area)))
     flat = area < 1e-12 * scale**2
     t_up, area = t_up[:, ~flat], area[~flat]
-    if abs(2.0 * area.sum() - beam.planform_area_m2) > 1e-9 * beam.planform_area_m2:
-        raise RuntimeError(
-            f"planform mesh of {beam.name!r} does not cover the planform "
-            f"({2.0 * area.sum():.9g} vs {beam.planform_area_m2:.9g} m^2)"
-        )
     used = np.unique(t_up)
     remap = np.full(p_up.shape[1], -1)
     remap[used] = np.arange(used.size)
-    px, py = p_up[:, used]
-    t_up = remap[t_up]
-    n_up = px.size
-    on_axis = py == 0.0
-    mirror = np.empty(n_up, dtype=np.int64)
-    off = np.flatnonzero(~on_axis)
-    mirror[off] = n_up + np.arange(off.size)
-    mirror[on_axis] = np.flatnonzero(on_axis)
-    p = np.vstack([np.concatenate([px, px[off]]), np.concatenate([py, -py[off]])])
-    t = np.hstack([t_up, mirror[t_up]])
-    return MeshTri(np.ascontiguousarray(p), np.ascontiguousarray(t))
+    return mirrored_mesh(beam, p_up[:, used], remap[t_up], area)
 
 
 def tri_to_quads(mesh: MeshTri) -> MeshQuad:

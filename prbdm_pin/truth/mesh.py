@@ -27,6 +27,7 @@ __all__ = [
     "element_size",
     "x_stations",
     "planform_tri_mesh",
+    "mirrored_mesh",
     "mirror_nodes",
 ]
 
@@ -232,6 +233,16 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     # Qhull leaves zero-area triangles on straight runs of collinear hull points
     flat = area < 1e-9 * float(np.min(sizes)) ** 2
     t_up, area = t_up[:, ~flat], area[~flat]
+    return mirrored_mesh(beam, p_up, t_up, area)
+
+
+def mirrored_mesh(beam: Beam, p_up: np.ndarray, t_up: np.ndarray, area: np.ndarray) -> MeshTri:
+    """The full planform mesh from triangles ``t_up`` (3, k) of the upper half (nodes ``p_up``,
+    (2, N), m; triangle areas ``area``, m^2), mirrored about the axis y = 0, which must carry
+    nodes of both halves.
+
+    Raises RuntimeError when the half mesh does not tile the half planform (1e-9 relative).
+    """
     if abs(2.0 * area.sum() - beam.planform_area_m2) > 1e-9 * beam.planform_area_m2:
         raise RuntimeError(
             f"planform mesh of {beam.name!r} does not cover the planform "
