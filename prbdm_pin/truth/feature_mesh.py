@@ -15,15 +15,15 @@ Every triangle is then split into three quadrilaterals, which the solid extrudes
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import Delaunay, cKDTree
+from scipy.spatial import cKDTree
 from skfem import MeshQuad, MeshTri
 
 from ..geometry import Beam
 from .mesh import (
     CORNER_FLOOR,
-    _missing_edges,
     _refine_corners,
     _segment_distance,
+    delaunay_with_outline,
     element_size,
     mirrored_mesh,
     reentrant_vertices,
@@ -199,16 +199,8 @@ def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
     interior = _interior_points(beam, size, h_m, poly)
     # the upper outline (root to tip) must be made of mesh edges
     outline = _outline_polyline(beam, boundary)
-    for _ in range(20):
-        p_up = np.hstack([boundary, interior, outline])
-        _, idx = np.unique(np.round(p_up.T / (1e-9 * beam.length_m)), axis=0, return_index=True)
-        p_up = p_up[:, np.sort(idx)]
-        t_up = Delaunay(p_up.T).simplices.T
-        missing = _missing_edges(p_up, t_up, outline)
-        if not missing.size:
-            break
-        mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
-        outline = np.insert(outline, missing + 1, mid, axis=1)
+    p_up, t_up = delaunay_with_outline(np.hstack([boundary, interior]), outline,
+                                       np.empty((2, 0)), beam.length_m)
     return _mirror_half(beam, p_up, t_up)
 
 

@@ -10,6 +10,7 @@ length. (The 3D solid uses a mesh graded in two dimensions instead: ``feature_me
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import Delaunay
 from skfem import MeshTri
 
 from ..geometry import Beam
@@ -123,6 +124,29 @@ def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndar
     return np.array([i for i, e in enumerate(map(tuple, pieces.T)) if e not in have], dtype=int)
 
 
+def delaunay_with_outline(
+    before: np.ndarray, outline: np.ndarray, after: np.ndarray, length_m: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Delaunay triangulation of the points ``before``, ``outline``, ``after`` (each (2, k), m;
+    duplicates within 1e-9 ``length_m`` merged, first kept) in which every piece of the
+    polyline ``outline`` is a mesh edge. Returns nodes (2, N) and triangles (3, M).
+
+    The outline of a concave planform is not always made of Delaunay edges: the missing pieces
+    are split and the points triangulated again (boundary recovery by refinement).
+    """
+    for _ in range(20):
+        p = np.hstack([before, outline, after])
+        _, idx = np.unique(np.round(p.T / (1e-9 * length_m)), axis=0, return_index=True)
+        p = p[:, np.sort(idx)]
+        t = Delaunay(p.T).simplices.T
+        missing = _missing_edges(p, t, outline)
+        if not missing.size:
+            break
+        mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
+        outline = np.insert(outline, missing + 1, mid, axis=1)
+    return p, t
+
+
 def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.ndarray:
     """Planform vertices (2, r) of the upper outline (and their mirror images) where the interior
     angle exceeds pi + ``min_turn_rad``: re-entrant corners, where plate bending moments are
@@ -192,8 +216,6 @@ def planform_tri_mesh(
 
 
 def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
-    from scipy.spatial import Delaunay
-
     xs = x_stations(beam, h, growth, narrow=True)
     sizes = _local_size(beam, h, growth, xs, narrow=True)
     gaps = np.diff(xs)
@@ -212,18 +234,7 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     s_at = np.interp(cp[0], xs, sizes)
     keep = edge_col | (_segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
     interior = cp[:, keep]
-    for _ in range(20):
-        p_up = np.hstack([outline, interior])
-        _, idx = np.unique(np.round(p_up.T / (1e-9 * beam.length_m)), axis=0, return_index=True)
-        p_up = p_up[:, np.sort(idx)]
-        t_up = Delaunay(p_up.T).simplices.T
-        # the outline of a concave planform is not always made of Delaunay edges: split the
-        # missing pieces and triangulate again (boundary recovery by refinement)
-        missing = _missing_edges(p_up, t_up, outline)
-        if not missing.size:
-            break
-        mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
-        outline = np.insert(outline, missing + 1, mid, axis=1)
+    p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m)
     c = p_up[:, t_up].mean(axis=1)
     t_up = t_up[:, np.abs(c[1]) < beam.half_width_at(c[0])]
     area = 0.5 * np.abs(
