@@ -296,7 +296,7 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
     """
     from .fitting import fit
     from .problem import target_from_truth
-    from .truth import compute_truth
+    from .truth import TruthRequest
 
     t0 = time.perf_counter()
     s = task.settings
@@ -310,12 +310,12 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
         stage = "truth"
         t1 = time.perf_counter()
         # the eigen objective needs no static solve
-        truth = compute_truth(beam, model=s.truth_model, modes=s.n_frequencies,
-                              static=s.objective != "eigen", cache_dir=s.cache_dir)
+        request = TruthRequest(model=s.truth_model, modes=s.n_frequencies)
+        truth = request.compute(beam, cache_dir=s.cache_dir, static=s.objective != "eigen")
         rec["truth_s"] = time.perf_counter() - t1
         stage = "fit"
         t2 = time.perf_counter()
-        result = fit(beam, target_from_truth(truth, beam.tip_force_N), s.joints,
+        result = fit(beam, target_from_truth(truth, beam.tip_force_N, request), s.joints,
                      frequencies=s.frequencies, objective=s.objective, stiffness=s.stiffness,
                      starts=s.starts, seed=rec["fit_seed"], workers=1, progress=False)
         rec["fit_s"] = time.perf_counter() - t2

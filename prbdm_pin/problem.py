@@ -21,7 +21,8 @@ box-bounded solvers (least_squares, L-BFGS-B) handle the equality exactly; NSGA-
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -40,6 +41,9 @@ from .objectives import (
 )
 from .sections import _planar_sections
 from .stiffness import _finite_segment
+
+if TYPE_CHECKING:
+    from .truth.request import TruthRequest
 
 __all__ = [
     "LoadCase",
@@ -124,6 +128,8 @@ class FitTarget:
         of every case, each normalised by its own truth tip position or displacement; with none,
         it is the paper's single-load Eq. 19. n frequencies and one planar tip cannot fix the
         2n lengths and springs of a ``joint`` model for n >= 2; more load cases can.
+    truth_request : TruthRequest or None
+        The ``compute_truth`` call the numbers came from, when they came from one.
     """
 
     omega_truth_rad_s: np.ndarray
@@ -134,6 +140,7 @@ class FitTarget:
     source: str = ""
     extra_loads: tuple[LoadCase, ...] = ()
     labels: tuple[str, ...] | None = None
+    truth_request: TruthRequest | None = None
 
     def __post_init__(self) -> None:
         w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
@@ -186,8 +193,8 @@ class FitTarget:
             )
         mac = None if self.mac is None else self.mac[:n_freq]
         labels = None if self.labels is None else self.labels[:n_freq]
-        return FitTarget(self.omega_truth_rad_s[:n_freq], self.tip_force_N, self.tip_position_m,
-                         self.tip_displacement_m, mac, self.source, self.extra_loads, labels)
+        return replace(self, omega_truth_rad_s=self.omega_truth_rad_s[:n_freq], mac=mac,
+                       labels=labels)
 
     def shape_notes(self) -> list[str]:
         """Why a chain may miss this target: truth modes that are not beam-like (labelled other
@@ -204,8 +211,10 @@ class FitTarget:
         return out
 
 
-def target_from_truth(truth, tip_force_N: np.ndarray) -> FitTarget:
-    """A :class:`FitTarget` from a ``truth.TruthResult`` computed under ``tip_force_N`` (N)."""
+def target_from_truth(truth, tip_force_N: np.ndarray,
+                      request: TruthRequest | None = None) -> FitTarget:
+    """A :class:`FitTarget` from a ``truth.TruthResult`` computed under ``tip_force_N`` (N), by
+    ``request`` when given."""
     mac = getattr(truth, "mac_beam", None)
     src = f"{truth.model}, mesh level {truth.mesh_level}, selection {truth.selection}"
     labels = tuple(truth.labels[int(i)] for i in truth.mode_index)
@@ -217,6 +226,7 @@ def target_from_truth(truth, tip_force_N: np.ndarray) -> FitTarget:
         mac=mac,
         source=src,
         labels=labels,
+        truth_request=request,
     )
 
 

@@ -11,11 +11,14 @@ import json
 import math
 import os
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .geometry import atomic_write_text
+
+if TYPE_CHECKING:
+    from .truth.request import TruthRequest
 
 __all__ = ["FitResult", "ParetoResult", "package_versions", "load_fit"]
 
@@ -77,6 +80,8 @@ class _Serialisable:
             v = getattr(self, f.name)
             if f.name == "versions":
                 v = {k: ver for k, ver in v}
+            elif f.name == "truth_request" and v is not None:
+                v = v.to_dict()
             d[f.name] = _jsonable(v)
         return d
 
@@ -96,6 +101,10 @@ class _Serialisable:
                 continue
             if k == "versions":
                 v = tuple((a, b) for a, b in v.items())
+            elif k == "truth_request":
+                from .truth.request import TruthRequest
+
+                v = None if v is None else TruthRequest.from_dict(v)
             elif k in _ARRAY_FIELDS:
                 v = None if v is None else np.array(_from_json(v), dtype=float)
             elif isinstance(v, list):
@@ -144,6 +153,9 @@ class FitResult(_Serialisable):
     mac : ndarray, shape (N,) or None
         MAC of every mapped truth mode with a beam bending mode.
     truth_source : str
+    truth_request : TruthRequest or None
+        The ``compute_truth`` call the target came from (None for a truth file or a hand-made
+        target): ``prbdm simulate --compare-truth`` asks for the same truth.
     squared : bool
     xi, eps : float
     seed, starts, starts_run, nfev : int
@@ -203,6 +215,7 @@ class FitResult(_Serialisable):
     extra_tip_position_truth_m: np.ndarray | None = None
     extra_tip_position_model_m: np.ndarray | None = None
     warnings: tuple = ()
+    truth_request: TruthRequest | None = None
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

@@ -149,3 +149,61 @@ def test_unknown_truth_model_is_refused(run, tmp_path):
         main(["simulate", str(d / "fit" / "fit.json"), "--duration", "0.01", "--compare-truth",
               "--truth-model", "solid", "--out", str(tmp_path / "x")])
     assert exc.value.code == 2
+
+
+@pytest.fixture(scope="module")
+def level1(tmp_path_factory):
+    """A 2R eigen fit against the plate truth at mesh level 1 (not the default level 0)."""
+    d = tmp_path_factory.mktemp("level1")
+    assert main(["fit", BEAM, "--joints", "2", "--objective", "eigen", "--stiffness", "joint",
+                 "--starts", "2", "--seed", "0", "--mesh-level", "1", "--cache-dir",
+                 str(d / "cache"), "--out", str(d / "fit"), "-q"]) == 0
+    return d
+
+
+def test_comparison_uses_the_truth_the_fit_was_measured_against(level1, monkeypatch):
+    from prbdm_pin.truth import TruthRequest, compute_truth
+
+    d = level1
+    fit = load_fit(d / "fit" / "fit.json")
+    assert fit.truth_request == TruthRequest(model="plate", modes=2, mesh_level=1)
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("the truth was recomputed")
+
+    with monkeypatch.context() as m:
+        m.setattr("prbdm_pin.truth.compute_modal", no_solve)
+        assert main(["simulate", str(d / "fit" / "fit.json"), "--duration", "0.01",
+                     "--compare-truth", "--cache-dir", str(d / "cache"),
+                     "--out", str(d / "sim"), "-q"]) == 0
+    s = json.loads((d / "sim" / "truth_comparison.json").read_text())
+    assert s["truth"]["mesh_level"] == 1 and s["truth"]["request"]["mesh_level"] == 1
+    assert s["truth"]["selected_omega_rad_s"] == pytest.approx(fit.omega_truth_rad_s, rel=1e-15)
+    # the default-level plate is another truth (on this strip level 0 lies ~6e-8 above level 1;
+    # identical meshes repeat to ~1e-15), which the comparison did not fall back to
+    default = compute_truth(load_beam(BEAM), modes=2, static=False)
+    assert np.all(np.abs(default.omega_rad_s / fit.omega_truth_rad_s - 1.0) > 1e-8)
+
+
+def test_asking_for_another_truth_model_overrides_the_fits(level1):
+    d = level1
+    assert main(["simulate", str(d / "fit" / "fit.json"), "--duration", "0.01",
+                 "--compare-truth", "--truth-model", "beam", "--cache-dir", str(d / "cache"),
+                 "--out", str(d / "beam"), "-q"]) == 0
+    s = json.loads((d / "beam" / "truth_comparison.json").read_text())
+    assert s["truth"]["model"] == "beam" and s["truth"]["request"]["mesh_level"] is None
+
+
+def test_truth_request_round_trips_and_old_fits_read_without_one(level1, tmp_path):
+    from prbdm_pin.errors import BeamInputError
+    from prbdm_pin.results import FitResult
+
+    d = json.loads((level1 / "fit" / "fit.json").read_text())
+    assert d["truth_request"] == {"model": "plate", "modes": 2, "mesh_level": 1,
+                                  "selection": "paper", "large_deflection": "elastica"}
+    assert FitResult.from_dict(d).to_dict()["truth_request"] == d["truth_request"]
+    old = {k: v for k, v in d.items() if k != "truth_request"}
+    assert FitResult.from_dict(old).truth_request is None
+    for bad in ({"model": 3}, {"modes": "2"}, {"mesh": 1}, [1, 2]):
+        with pytest.raises(BeamInputError, match="truth_request"):
+            FitResult.from_dict({**d, "truth_request": bad})

@@ -139,17 +139,16 @@ def _base_target(args, beam):
                              source=f"truth file {Path(args.truth).name}")
         except (OSError, ValueError, KeyError, TypeError) as exc:
             raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
-    from ..truth import compute_truth
+    from ..truth import TruthRequest
 
-    n_modes = max(args.joints, args.frequencies or 0)
-    truth = compute_truth(beam, model=args.truth_model, modes=n_modes,
-                          mesh_level=args.mesh_level, selection=args.mode_selection,
-                          static=True, cache_dir=_cache_dir(args),
-                          large_deflection=args.large_deflection)
+    request = TruthRequest(model=args.truth_model, modes=max(args.joints, args.frequencies or 0),
+                           mesh_level=args.mesh_level, selection=args.mode_selection,
+                           large_deflection=args.large_deflection)
+    truth = request.compute(beam, cache_dir=_cache_dir(args))
     if not getattr(args, "quiet", False):
         for note in truth.warnings:
             print(f"truth warning: {note}", file=sys.stderr)
-    return target_from_truth(truth, beam.tip_force_N)
+    return target_from_truth(truth, beam.tip_force_N, request)
 
 
 def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:

@@ -16,7 +16,7 @@ from . import add_common
 
 if TYPE_CHECKING:
     from ..response import DynamicAccuracy, ModalTip
-    from ..truth import TruthResult
+    from ..truth import TruthRequest, TruthResult
 
 TRUTH_MODELS = ("plate", "beam")
 # the comparison's window and band (the dynamic-accuracy metrics of the README)
@@ -37,9 +37,10 @@ Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position) and OUT/r
 --compare-truth adds OUT/truth_comparison.json and OUT/truth_comparison.png: the tip response to
 a unit step tip force over the first second and the tip FRF over [0, 1.2 omega_n] (n = joints)
 of the model linearised at the straight pose, against the finite-element truth's modal
-superposition at the same modal damping ratio. The truth is the Kirchhoff plate (default; every
-plate mode up to the n-th selected bending mode, exact finite-element modal masses), computed
-once and cached (the cache `prbdm fit` uses), or the 1D Euler-Bernoulli beam (milliseconds).
+superposition at the same modal damping ratio. The truth is the one a fit.json was fitted to
+(its model, mode selection and mesh level, found in the cache `prbdm fit` filled), else the
+Kirchhoff plate (every plate mode up to the n-th selected bending mode, exact finite-element modal
+masses); --truth-model beam asks for the 1D Euler-Bernoulli beam (milliseconds).
 """
 
 
@@ -77,9 +78,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--compare-truth", action="store_true",
                    help="also compare step response and FRF with the truth (needs the beam: "
                         "a fit.json or a model JSON)")
-    p.add_argument("--truth-model", default="plate", choices=TRUTH_MODELS,
-                   help="truth of --compare-truth: plate (default; finite elements, cached) "
-                        "or beam (1D Euler-Bernoulli, milliseconds)")
+    p.add_argument("--truth-model", default=None, choices=TRUTH_MODELS,
+                   help="truth of --compare-truth: plate (finite elements, cached) or beam (1D "
+                        "Euler-Bernoulli, milliseconds); default: the truth a fit.json was "
+                        "fitted to (its model, mode selection and mesh level), else plate")
     p.add_argument("--cache-dir", default=None, metavar="DIR",
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
@@ -103,6 +105,11 @@ def parse_force(text: str) -> np.ndarray:
 
 def load_model(path: str, beam_path: str | None = None):
     """A PrbdmModel from a URDF, a model JSON (export) or a fit.json (with its beam file)."""
+    return load_model_and_fit(path, beam_path)[0]
+
+
+def load_model_and_fit(path: str, beam_path: str | None = None):
+    """:func:`load_model`, and the ``FitResult`` when ``path`` is a fit.json (else None)."""
     from ..geometry import load_beam
     from ..model import build_model, load_urdf
 
@@ -110,7 +117,7 @@ def load_model(path: str, beam_path: str | None = None):
     if not p.is_file():
         raise BeamInputError(f"MODEL {path!r}: not found")
     if p.suffix.lower() == ".urdf":
-        return load_urdf(p)
+        return load_urdf(p), None
     try:
         d = json.loads(p.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
@@ -118,7 +125,7 @@ def load_model(path: str, beam_path: str | None = None):
     if isinstance(d, dict) and str(d.get("format", "")).startswith("prbdm-model"):
         from ..export import read_model_json
 
-        return read_model_json(p)
+        return read_model_json(p), None
     from ..results import FitResult, fit_beam
 
     try:
@@ -136,8 +143,9 @@ def load_model(path: str, beam_path: str | None = None):
         raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
                              f"({fit.beam_name!r})")
     lengths = np.asarray(fit.lengths_m, dtype=float)
-    return build_model(beam, lengths, fit.stiffness_Nm_per_rad,
-                       min_fraction=min(0.02, 0.5 * float(lengths.min() / lengths.sum())))
+    model = build_model(beam, lengths, fit.stiffness_Nm_per_rad,
+                        min_fraction=min(0.02, 0.5 * float(lengths.min() / lengths.sum())))
+    return model, fit
 
 
 def _csv(tr) -> str:
@@ -174,7 +182,7 @@ def run(args: argparse.Namespace) -> int:
     if args.compare_truth and not (np.isfinite(args.damping) and 0.0 <= args.damping < 1.0):
         raise BeamInputError(f"--damping = {args.damping}: --compare-truth needs 0 <= ZETA < 1 "
                              "(an underdamped step response)")
-    model = load_model(args.model, args.beam)
+    model, fitted = load_model_and_fit(args.model, args.beam)
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
@@ -212,14 +220,15 @@ def run(args: argparse.Namespace) -> int:
     if args.compare_truth:
         from .fit import _cache_dir
 
-        cmp = compare_truth(model, args.truth_model, args.damping, _cache_dir(args),
+        request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
+        cmp = compare_truth(model, request, args.damping, _cache_dir(args),
                             quiet=args.quiet)
         _plot_comparison(cmp, out / "truth_comparison.png", plt)
         # the JSON last: its presence marks a complete comparison
         atomic_write_text(out / "truth_comparison.json",
                           json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
         if not args.quiet:
-            print(f"against the {args.truth_model} truth: step error "
+            print(f"against the {request.model} truth: step error "
                   f"{100 * cmp.accuracy.step_error:.3g} %, FRF error "
                   f"{100 * cmp.accuracy.frf_error:.3g} %; wrote {out / 'truth_comparison.json'}",
                   file=sys.stderr)
@@ -232,8 +241,8 @@ class TruthComparison:
 
     Attributes
     ----------
-    truth_model : str
-        ``"plate"`` or ``"beam"``.
+    request : TruthRequest
+        The truth asked for (``model`` is ``"plate"`` or ``"beam"``).
     truth : TruthResult
         The truth (selected modes, modal solution, linear static solve).
     superposed : ModalTip
@@ -246,12 +255,17 @@ class TruthComparison:
         Modal damping ratio of every mode on both sides.
     """
 
-    truth_model: str
+    request: TruthRequest
     truth: TruthResult
     superposed: ModalTip
     prbdm: ModalTip
     accuracy: DynamicAccuracy
     damping_ratio: float
+
+    @property
+    def truth_model(self) -> str:
+        """``"plate"`` or ``"beam"``."""
+        return self.request.model
 
     @property
     def linear_static_compliance_m_per_N(self) -> float | None:
@@ -271,6 +285,7 @@ class TruthComparison:
                 "mesh_level": int(truth.mesh_level),
                 "dofs": int(truth.modal.dofs),
                 "selection": truth.selection,
+                "request": self.request.to_dict(),
                 "selected_omega_rad_s": [float(w) for w in truth.omega_rad_s],
                 "superposed_modes": int(self.superposed.omega_rad_s.size),
                 "superposed_omega_rad_s": [float(w) for w in self.superposed.omega_rad_s],
@@ -299,32 +314,52 @@ class TruthComparison:
         }
 
 
-def compare_truth(model, truth_model: str, damping_ratio: float, cache_dir,
+def comparison_request(model, fitted, truth_model: str | None = None,
+                       quiet: bool = True) -> TruthRequest:
+    """The truth ``--compare-truth`` asks for.
+
+    With no ``truth_model`` (or the fit's own model), the request recorded in the fit
+    (``fitted.truth_request``: model, selection, mesh level, ...) when it is a plate or beam truth,
+    so the comparison finds the fit's truth in the cache; otherwise ``truth_model`` (default
+    plate) at ``prbdm fit``'s defaults with n = joints modes.
+    """
+    from ..truth import TruthRequest
+
+    if truth_model is not None and truth_model not in TRUTH_MODELS:
+        raise BeamInputError(f"--truth-model = {truth_model!r}: must be one of {TRUTH_MODELS}")
+    recorded = getattr(fitted, "truth_request", None)
+    if recorded is not None and truth_model in (None, recorded.model):
+        if recorded.model in TRUTH_MODELS:
+            return recorded
+        if not quiet:
+            print(f"note: the fit's {recorded.model} truth has no modal superposition here; "
+                  "comparing with the plate truth", file=sys.stderr)
+    return TruthRequest(model=truth_model or "plate", modes=int(model.n_joints))
+
+
+def compare_truth(model, request: TruthRequest, damping_ratio: float, cache_dir,
                   quiet: bool = True) -> TruthComparison:
     """Step and FRF comparison of ``model`` (linearised, straight pose) with its beam's truth.
 
-    The truth is ``compute_truth(beam, model=truth_model, modes=n_joints, cache_dir=...)`` with
-    every other argument at the default of ``prbdm fit`` (static solve and elastica included),
-    so that a model fitted by ``prbdm fit --joints n`` finds the very truth it was fitted to in
-    the cache. Its modal superposition is :func:`truth_modal_tip`; the metrics are
+    The truth is ``request.compute(beam, cache_dir)`` (static solve included; see
+    :func:`comparison_request`), so a model fitted by ``prbdm fit`` finds the very truth it was
+    fitted to in the cache. Its modal superposition is :func:`truth_modal_tip`; the metrics are
     :func:`dynamic_accuracy` over the first ``STEP_DURATION_S`` (s) and the band
     [0, BAND_FACTOR * omega_n] (rad/s).
     """
     from ..response import dynamic_accuracy, prbdm_modal_tip, truth_modal_tip
-    from ..truth import compute_truth
 
-    if truth_model not in TRUTH_MODELS:
-        raise BeamInputError(f"--truth-model = {truth_model!r}: must be one of {TRUTH_MODELS}")
+    if request.model not in TRUTH_MODELS:
+        raise BeamInputError(f"--truth-model = {request.model!r}: must be one of {TRUTH_MODELS}")
     beam = model.beam
-    truth = compute_truth(beam, model=truth_model, modes=int(model.n_joints), static=True,
-                          cache_dir=cache_dir)
+    truth = request.compute(beam, cache_dir=cache_dir)
     if not quiet:
         for note in truth.warnings:
             print(f"truth warning: {note}", file=sys.stderr)
     ref = truth_modal_tip(truth, beam)
     acc = dynamic_accuracy(model, ref, damping_ratio=damping_ratio, duration_s=STEP_DURATION_S,
                            band_factor=BAND_FACTOR)
-    return TruthComparison(truth_model, truth, ref, prbdm_modal_tip(model), acc,
+    return TruthComparison(request, truth, ref, prbdm_modal_tip(model), acc,
                            float(damping_ratio))
 
 

@@ -11,12 +11,14 @@ import numpy as np
 
 from ..errors import BeamInputError, TruthError
 from ..geometry import Beam
+from .request import TruthRequest
 from .result import ModalSolution, StaticSolution, Timings, TruthResult
 
 __all__ = [
     "MODELS",
     "LARGE_DEFLECTION",
     "DEFAULT_PLATE_LEVEL",
+    "TruthRequest",
     "TruthResult",
     "ModalSolution",
     "StaticSolution",

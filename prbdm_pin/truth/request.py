@@ -1,0 +1,66 @@
+"""What truth a fit was measured against: the arguments of one ``compute_truth`` call.
+
+A fit records its request (in ``fit.json``) so that a later command (``prbdm simulate
+--compare-truth``) asks for the very same truth and finds it in the cache.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+from ..errors import BeamInputError
+
+
+@dataclass(frozen=True)
+class TruthRequest:
+    """Arguments of :func:`prbdm_pin.truth.compute_truth` besides the beam and the cache.
+
+    Attributes
+    ----------
+    model : str
+        ``"plate"``, ``"plate-morley"``, ``"solid"`` or ``"beam"``.
+    modes : int
+        Number of bending modes selected.
+    mesh_level : int or None
+        Mesh level as asked (None: the model's default level).
+    selection : str
+        ``"paper"`` or ``"shape"``.
+    large_deflection : str
+        ``"elastica"``, ``"solid"`` or ``"none"``.
+    """
+
+    model: str = "plate"
+    modes: int = 5
+    mesh_level: int | None = None
+    selection: str = "paper"
+    large_deflection: str = "elastica"
+
+    def compute(self, beam, cache_dir=None, static: bool = True):
+        """The ``TruthResult`` of this request for ``beam`` (cached in ``cache_dir``)."""
+        from . import compute_truth
+
+        return compute_truth(beam, model=self.model, modes=self.modes,
+                             mesh_level=self.mesh_level, selection=self.selection,
+                             static=static, cache_dir=cache_dir,
+                             large_deflection=self.large_deflection)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (a flat mapping of the attributes)."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: Any) -> TruthRequest:
+        """Read the JSON form; BeamInputError naming ``truth_request`` when it is not one."""
+        names = {f.name for f in fields(cls)}
+        if not isinstance(d, dict) or not set(d) <= names:
+            raise BeamInputError(f"truth_request = {d!r}: must be a mapping with keys from "
+                                 f"{sorted(names)}")
+        for key in ("model", "selection", "large_deflection"):
+            if key in d and not isinstance(d[key], str):
+                raise BeamInputError(f"truth_request.{key} = {d[key]!r}: must be a string")
+        for key in ("modes", "mesh_level"):
+            v = d.get(key, 0)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, int)):
+                raise BeamInputError(f"truth_request.{key} = {v!r}: must be an integer")
+        return cls(**d)
