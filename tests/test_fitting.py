@@ -106,6 +106,39 @@ def test_recovery_2r_lengths_with_two_load_cases(narrow, seed):
                                                                abs=1e-8)
 
 
+@pytest.mark.parametrize("seed", [0, pytest.param(3, marks=pytest.mark.slow),
+                                  pytest.param(5, marks=pytest.mark.slow)])
+def test_recovery_3r_lengths_with_three_load_cases(narrow, seed):
+    # 3 frequencies and three planar tips (P L^2/EI = 1, 3, 5) give 9 equations for the 6
+    # lengths and springs. The known models are drawn with every link >= 0.05 L: a joint closer
+    # than that to its neighbour or to the tip is barely seen by the data (a draw with links of
+    # 0.031 L and 0.021 L at the tip stalled at 2e-4 % loss, none of 32 starts reaching it).
+    # Measured: lengths within 2e-8 m in 2-24 starts on seeds 0-5.
+    from prbdm_pin.layout import sample_lengths
+    from prbdm_pin.problem import LoadCase
+
+    rng = np.random.default_rng(seed)
+    L, EI = narrow.length_m, narrow.root_EI_Nm2
+    lengths = sample_lengths(rng, L, 4, 1)[0]
+    while lengths.min() < 0.05 * L:
+        lengths = sample_lengths(rng, L, 4, 1)[0]
+    s = np.exp(rng.uniform(-0.3, 0.3, 3))
+    model = build_model(narrow, lengths, s * finite_segment_stiffness(narrow, lengths))
+    cases = []
+    for alpha in (1.0, 3.0, 5.0):
+        F = np.array([0.0, 0.0, -alpha * EI / L**2])
+        tip = model.static_deflection(F)[1]
+        cases.append(LoadCase(F, tip, tip - np.array([L, 0.0, 0.0])))
+    target = FitTarget(model.natural_frequencies(), cases[0].tip_force_N,
+                       cases[0].tip_position_m, cases[0].tip_displacement_m,
+                       extra_loads=tuple(cases[1:]))
+    r = fit(narrow, target, 3, objective="combined", stiffness="joint", starts=32, seed=1,
+            progress=False, loss_tol=1e-8)
+    assert r.lengths_m == pytest.approx(lengths, abs=1e-4)
+    assert r.factors == pytest.approx(s, rel=1e-4)
+    assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
+
+
 @pytest.mark.parametrize("n", [2, 3, 4, 5, 6])
 def test_joint_matches_n_euler_bernoulli_frequencies(narrow, n):
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N)
