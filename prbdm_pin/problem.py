@@ -49,6 +49,7 @@ __all__ = [
     "LoadCase",
     "FitTarget",
     "target_from_truth",
+    "model_target",
     "FitProblem",
     "make_problem",
     "Evaluation",
@@ -228,6 +229,22 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
         labels=labels,
         truth_request=request,
     )
+
+
+def model_target(model, tip_forces_N) -> FitTarget:
+    """A PRBDM as its own truth: its frequencies (rad/s) and its large-deflection tip (m) under
+    each force of ``tip_forces_N`` (k, 3), N; the first is the primary load case, the others
+    ``extra_loads``. A fit to it should recover the model (identifiability checks)."""
+    forces = np.asarray(tip_forces_N, dtype=float).reshape(-1, 3)
+    rest = model.tip_position()
+    cases = []
+    for F in forces:
+        tip = model.static_deflection(F)[1]
+        cases.append(LoadCase(F, tip, tip - rest))
+    first = cases[0]
+    return FitTarget(model.natural_frequencies(), first.tip_force_N, first.tip_position_m,
+                     first.tip_displacement_m, extra_loads=tuple(cases[1:]),
+                     source=f"a {model.n_joints}R PRBDM")
 
 
 # --- the length parametrisation -------------------------------------------------------------

@@ -12,7 +12,7 @@ from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
-from prbdm_pin.problem import FitTarget, evaluate, make_problem
+from prbdm_pin.problem import FitTarget, evaluate, make_problem, model_target
 from prbdm_pin.results import FitResult
 from prbdm_pin.stiffness import finite_segment_stiffness
 
@@ -44,11 +44,12 @@ def _euler_bernoulli(beam):
 def _self_truth(beam, lengths, s):
     """A PRBDM as its own truth: its frequencies and its tip under the beam's load."""
     K = np.asarray(s) * finite_segment_stiffness(beam, np.asarray(lengths))
-    model = build_model(beam, np.asarray(lengths), K)
-    _, tip = model.static_deflection(beam.tip_force_N)
-    target = FitTarget(model.natural_frequencies(), beam.tip_force_N, tip,
-                       tip - np.array([beam.length_m, 0.0, 0.0]))
-    return target
+    return model_target(build_model(beam, np.asarray(lengths), K), [beam.tip_force_N])
+
+
+def _load_indices(beam, alphas):
+    """Tip forces (N) of the load indices P L^2 / EI = ``alphas`` (root section), along -z."""
+    return [np.array([0.0, 0.0, -a * beam.root_EI_Nm2 / beam.length_m**2]) for a in alphas]
 
 
 def test_recovery_1r_lengths_and_stiffness(narrow):
@@ -82,28 +83,19 @@ def test_recovery_2r_lengths_with_two_load_cases(narrow, seed):
     # a second load (P L^2/EI = 1 and 3) makes the lengths identifiable, and the multistart
     # recovers them from random starts
     from prbdm_pin.layout import sample_lengths
-    from prbdm_pin.problem import LoadCase
 
     rng = np.random.default_rng(seed)
-    L, EI = narrow.length_m, narrow.root_EI_Nm2
-    lengths = sample_lengths(rng, L, 3, 1)[0]
+    lengths = sample_lengths(rng, narrow.length_m, 3, 1)[0]
     s = np.exp(rng.uniform(-0.3, 0.3, 2))
     model = build_model(narrow, lengths, s * finite_segment_stiffness(narrow, lengths))
-    cases = []
-    for alpha in (1.0, 3.0):
-        F = np.array([0.0, 0.0, -alpha * EI / L**2])
-        tip = model.static_deflection(F)[1]
-        cases.append(LoadCase(F, tip, tip - np.array([L, 0.0, 0.0])))
-    target = FitTarget(model.natural_frequencies(), cases[0].tip_force_N,
-                       cases[0].tip_position_m, cases[0].tip_displacement_m,
-                       extra_loads=(cases[1],))
+    target = model_target(model, _load_indices(narrow, (1.0, 3.0)))
     r = fit(narrow, target, 2, objective="combined", stiffness="joint", starts=8, seed=1,
             progress=False)
     assert r.lengths_m == pytest.approx(lengths, abs=1e-4)
     assert r.factors == pytest.approx(s, rel=1e-4)
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
-    assert r.extra_tip_position_model_m[0, 0] == pytest.approx(cases[1].tip_position_m,
-                                                               abs=1e-8)
+    assert r.extra_tip_position_model_m[0, 0] == pytest.approx(
+        target.extra_loads[0].tip_position_m, abs=1e-8)
 
 
 @pytest.mark.parametrize("seed", [0, pytest.param(3, marks=pytest.mark.slow),
@@ -113,25 +105,17 @@ def test_recovery_3r_lengths_with_three_load_cases(narrow, seed):
     # lengths and springs. The known models are drawn with every link >= 0.05 L: a joint closer
     # than that to its neighbour or to the tip is barely seen by the data (a draw with links of
     # 0.031 L and 0.021 L at the tip stalled at 2e-4 % loss, none of 32 starts reaching it).
-    # Measured: lengths within 2e-8 m in 2-24 starts on seeds 0-5.
+    # Measured (scripts/recovery_study.py): lengths within 3e-8 m in 2-24 starts on seeds 0-5.
     from prbdm_pin.layout import sample_lengths
-    from prbdm_pin.problem import LoadCase
 
     rng = np.random.default_rng(seed)
-    L, EI = narrow.length_m, narrow.root_EI_Nm2
+    L = narrow.length_m
     lengths = sample_lengths(rng, L, 4, 1)[0]
     while lengths.min() < 0.05 * L:
         lengths = sample_lengths(rng, L, 4, 1)[0]
     s = np.exp(rng.uniform(-0.3, 0.3, 3))
     model = build_model(narrow, lengths, s * finite_segment_stiffness(narrow, lengths))
-    cases = []
-    for alpha in (1.0, 3.0, 5.0):
-        F = np.array([0.0, 0.0, -alpha * EI / L**2])
-        tip = model.static_deflection(F)[1]
-        cases.append(LoadCase(F, tip, tip - np.array([L, 0.0, 0.0])))
-    target = FitTarget(model.natural_frequencies(), cases[0].tip_force_N,
-                       cases[0].tip_position_m, cases[0].tip_displacement_m,
-                       extra_loads=tuple(cases[1:]))
+    target = model_target(model, _load_indices(narrow, (1.0, 3.0, 5.0)))
     r = fit(narrow, target, 3, objective="combined", stiffness="joint", starts=32, seed=1,
             progress=False, loss_tol=1e-8)
     assert r.lengths_m == pytest.approx(lengths, abs=1e-4)
