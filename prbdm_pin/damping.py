@@ -1,6 +1,6 @@
 """Joint-space damping matrices C for the PRBDM: M(q) a + h(q, v) + K q + C v = tau.
 
-The paper adds damping only to make simulations tractable (its Eq. 5). Two forms are offered:
+The paper adds damping only to make simulations tractable (its Eq. 5). Three forms are offered:
 
 - ``modal_damping(M, K, xi)`` (default): C = M Phi diag(2 xi_k omega_k) Phi^T M with the
   mass-normalised modes Phi (Phi^T M Phi = I) of K phi = omega^2 M phi. It is symmetric and
@@ -11,8 +11,16 @@ The paper adds damping only to make simulations tractable (its Eq. 5). Two forms
   factors xi_j. (M K)^(1/2) is the principal square root (real: M K is similar to the positive
   definite L^T K L for M = L L^T). It is **not symmetric** in general and does not give the modes
   the ratios xi; it is kept for comparison with the paper only.
+- ``stiffness_damping(M, K, xi_1)``: stiffness-proportional C = beta K with beta = 2 xi_1 / omega_1,
+  so mode 1 gets the ratio xi_1 and mode k gets xi_1 omega_k / omega_1 (the modes of K, M
+  diagonalise C). With the diagonal joint springs of the PRBDM, C is diagonal: it is the form a
+  diagonal joint damping (MJCF ``damping``, URDF ``<dynamics damping>``) carries exactly, and
+  it does not depend on the pose once beta is set. High modes are damped heavily (beyond
+  critical when omega_k / omega_1 > 1 / xi_1).
 
-Both take matrices evaluated at one pose; see ``prbdm_pin.simulation`` for how the pose is chosen.
+All take matrices evaluated at one pose; see ``prbdm_pin.simulation`` for how the pose is chosen.
+``modal_ratios(M, K, C)`` gives the ratio of each mode for a damping matrix that the modes
+diagonalise (modal and stiffness forms).
 """
 
 from __future__ import annotations
@@ -22,7 +30,18 @@ import scipy.linalg as sla
 
 from .errors import BeamInputError, SolveError
 
-__all__ = ["damping_ratios", "modal_damping", "eq5c_damping", "damping_matrix"]
+__all__ = [
+    "DAMPING_FORMS",
+    "damping_ratios",
+    "modal_damping",
+    "eq5c_damping",
+    "stiffness_damping",
+    "stiffness_damping_coefficient",
+    "modal_ratios",
+    "damping_matrix",
+]
+
+DAMPING_FORMS = ("modal", "eq5c", "stiffness")
 
 
 def damping_ratios(
@@ -112,12 +131,95 @@ def eq5c_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray
     return 2.0 * xi[:, None] * root
 
 
+def _first_mode_ratio(damping_ratio: float | np.ndarray, n: int) -> float:
+    xi = damping_ratios(damping_ratio, n)
+    if np.any(xi != xi[0]):
+        raise BeamInputError(
+            f"damping_ratio = {xi.tolist()}: the stiffness form takes one ratio (mode 1's); "
+            "the other modes' ratios follow from the frequencies"
+        )
+    return float(xi[0])
+
+
+def stiffness_damping_coefficient(
+    M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray
+) -> float:
+    """beta = 2 xi_1 / omega_1 of the stiffness form C = beta K, s.
+
+    Parameters
+    ----------
+    M, K : ndarray, shape (n, n)
+        Mass matrix (kg m^2) and stiffness (N m/rad) at the pose.
+    damping_ratio : float or ndarray, shape (n,)
+        Ratio xi_1 of mode 1 (an array must hold one value for every mode), dimensionless.
+    """
+    M, K = _check_pair(M, K)
+    xi1 = _first_mode_ratio(damping_ratio, M.shape[0])
+    try:
+        w2 = sla.eigh(K, M, eigvals_only=True, subset_by_index=[0, 0])
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolveError(f"stiffness damping: generalized eigenproblem failed ({exc})") from None
+    if not w2[0] > 0.0:
+        raise SolveError(f"stiffness damping: omega_1^2 = {w2[0]}: must be > 0")
+    return 2.0 * xi1 / float(np.sqrt(w2[0]))
+
+
+def stiffness_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray
+                      ) -> np.ndarray:
+    """Stiffness-proportional damping C = beta K, beta = 2 xi_1 / omega_1.
+
+    Mode k of the linearised system gets the ratio xi_1 omega_k / omega_1.
+
+    Parameters
+    ----------
+    M : ndarray, shape (n, n)
+        Joint-space mass matrix at the pose, kg m^2.
+    K : ndarray, shape (n, n)
+        Joint stiffness, N m/rad (diagonal for the PRBDM, so C is diagonal).
+    damping_ratio : float or ndarray, shape (n,)
+        Ratio xi_1 of mode 1, dimensionless (an array must hold one value).
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        Damping matrix, N m s/rad.
+    """
+    return stiffness_damping_coefficient(M, K, damping_ratio) * np.asarray(K, dtype=float)
+
+
+def modal_ratios(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """Damping ratio of each mode, diag(Phi^T C Phi) / (2 omega), ascending frequency.
+
+    Exact for a damping matrix that the mass-normalised modes Phi of K phi = omega^2 M phi
+    diagonalise (modal, stiffness-proportional); for another C it is the ratio each mode would
+    have if the coupling Phi^T C Phi off the diagonal were dropped.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Ratios, dimensionless (above 1: the mode is overdamped).
+    """
+    M, K = _check_pair(M, K)
+    C = np.asarray(C, dtype=float)
+    if C.shape != M.shape:
+        raise BeamInputError(f"C {C.shape}: must have the shape of M {M.shape}")
+    try:
+        w2, phi = sla.eigh(K, M)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolveError(f"modal ratios: generalized eigenproblem failed ({exc})") from None
+    omega = np.sqrt(np.clip(w2, 0.0, None))
+    return np.einsum("ik,ij,jk->k", phi, C, phi) / (2.0 * omega)
+
+
 def damping_matrix(
     M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray, kind: str = "modal"
 ) -> np.ndarray:
-    """Damping matrix of ``kind`` ``"modal"`` (default) or ``"eq5c"``; N m s/rad."""
+    """Damping matrix of ``kind`` ``"modal"`` (default), ``"eq5c"`` or ``"stiffness"``;
+    N m s/rad."""
     if kind == "modal":
         return modal_damping(M, K, damping_ratio)
     if kind == "eq5c":
         return eq5c_damping(M, K, damping_ratio)
-    raise BeamInputError(f"damping = {kind!r}: must be 'modal' or 'eq5c'")
+    if kind == "stiffness":
+        return stiffness_damping(M, K, damping_ratio)
+    raise BeamInputError(f"damping = {kind!r}: must be one of {', '.join(DAMPING_FORMS)}")

@@ -263,10 +263,20 @@ def build_model(
 
 
 def load_urdf(path: str | os.PathLike) -> PrbdmModel:
-    """Read a PRBDM URDF file (as written by :attr:`PrbdmModel.urdf`), springs included.
+    """Read a PRBDM URDF file (as written by :attr:`PrbdmModel.urdf` or the URDF export),
+    springs included.
 
     The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
-    ``sections.area_moment_m4`` is NaN. Gravity is set to zero, as in :func:`build_model`.
+    ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'
+    ``<dynamics damping>`` (N m s/rad; :func:`prbdm_pin.simulate` takes its damping from its own
+    arguments, not from there).
+
+    Gravity: URDF carries none and Pinocchio's parser gives every model its default gravity,
+    -9.81 m/s^2 along z (so does ``pinocchio.buildModelFromUrdf``). The PRBDM has no gravity, so
+    this loader sets ``pin_model.gravity`` to zero, as :func:`build_model` does; set it back
+    (``pin_model.gravity = pinocchio.Motion(np.array([0, 0, -9.81, 0, 0, 0]))``) to simulate
+    with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
+    ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
     """
     p = Path(path)
     try:

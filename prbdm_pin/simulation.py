@@ -76,11 +76,15 @@ Integrators (``method``)
   methods get the analytic Jacobian from ``pin.computeABADerivatives`` (the derivative of the
   tip force's generalised torque with q is left out; it only slows Newton down).
 
-Damping: ``damping="modal"`` (default) or ``"eq5c"`` (the paper's Eq. 5c). C depends on the pose
-through M(q); it is computed once, at ``damping_pose`` (default: ``q0``), and frozen for the run: it
-then gives the modes of the system linearised at that pose exactly their ratios, costs nothing per
-step and keeps the damping force linear in v. Pass the static equilibrium as ``damping_pose``
-to damp the oscillation about a deflected pose with exactly the requested ratios.
+Damping: ``damping="modal"`` (default), ``"eq5c"`` (the paper's Eq. 5c) or ``"stiffness"``
+(C = beta K, beta = 2 xi_1 / omega_1: what the MJCF and URDF exports carry as joint damping). C
+depends on the pose through M(q) (the stiffness form only through omega_1, hence beta); it is
+computed once, at ``damping_pose`` (default: ``q0``), from M there and K there (the schedule's
+springs at that pose, if any), and frozen for the run: it then gives the modes of the system
+linearised at that pose exactly their ratios, costs nothing per step and keeps the damping force
+linear in v. Pass the static equilibrium as ``damping_pose`` to damp the oscillation about a
+deflected pose with exactly the requested ratios. A MuJoCo run of the MJCF export matches a run
+from the straight pose with ``damping="stiffness"`` (both have C = beta K with beta from q = 0).
 
 Only what the scene needs is computed: no tip Jacobian without a tip force, no damping matrix
 when every ratio is zero.
@@ -98,7 +102,7 @@ import pinocchio as pin
 import scipy.linalg as sla
 from scipy.linalg import lapack
 
-from .damping import damping_matrix, damping_ratios
+from .damping import DAMPING_FORMS, damping_matrix, damping_ratios
 from .dynamics import planar_lengths
 from .errors import BeamInputError, SolveError
 
@@ -299,9 +303,9 @@ def simulate(
     tip_force : ndarray (3,) or callable t -> (3,), optional
         World-frame force at the tip point, N (a constant array is a step load applied at t = 0).
     damping_ratio : float or ndarray (n,)
-        Modal damping ratios xi_k (``"modal"``) or per-joint factors (``"eq5c"``); 0 disables
-        damping.
-    damping : {"modal", "eq5c"}
+        Modal damping ratios xi_k (``"modal"``), per-joint factors (``"eq5c"``) or mode 1's
+        ratio (``"stiffness"``, one value); 0 disables damping.
+    damping : {"modal", "eq5c", "stiffness"}
         Damping form, see ``prbdm_pin.damping``.
     stiffness_schedule : StiffnessSchedule, optional
         Pose-dependent stiffness (paper parametrisation); default: the model's constant stiffness.
@@ -344,8 +348,8 @@ def simulate(
     v0 = _vector("v0", v0, n)
     force, constant_force = _force_function(tip_force)
     xi = damping_ratios(damping_ratio, n)
-    if damping not in ("modal", "eq5c"):
-        raise BeamInputError(f"damping = {damping!r}: must be 'modal' or 'eq5c'")
+    if damping not in DAMPING_FORMS:
+        raise BeamInputError(f"damping = {damping!r}: must be one of {', '.join(DAMPING_FORMS)}")
     if stiffness_schedule is not None and not isinstance(stiffness_schedule, StiffnessSchedule):
         raise BeamInputError("stiffness_schedule: must be a StiffnessSchedule")
     if stiffness_schedule is not None and stiffness_schedule.stiffness_Nm_per_rad.shape[1] != n:

@@ -2,9 +2,13 @@
 
 Layout of the URDF: a ``world`` link, a fixed joint ``clamp`` to ``link_0`` (the clamped link),
 revolute joints ``joint_1`` ... ``joint_n`` about y (each with a generous ``<limit>`` tag, which
-Pinocchio's parser requires), links ``link_1`` ... ``link_n`` with their inertia about the centre of
-mass, and a fixed joint ``tip_joint`` to a massless ``tip`` link at the free end. Pinocchio has no
-joint stiffness, so springs are written as Gazebo's extension
+Pinocchio's parser requires, and ``<dynamics damping>``, N m s/rad, 0 unless given), links
+``link_1`` ... ``link_n`` with their inertia about the centre of mass, and a fixed joint
+``tip_joint`` to the ``tip`` link at the free end. The ``tip`` link has an explicit zero
+``<inertial>`` (a consumer that defaults a link without one to 1 kg and unit inertia, as pybullet
+does, then reads it as massless); ``world`` is the root and has none (the URDF convention for a
+fixed base; KDL warns about a root link with an inertia). Pinocchio has no joint stiffness, so
+springs are written as Gazebo's extension
 ``<gazebo reference="joint_j"><springStiffness>K</springStiffness>`` (N m/rad).
 """
 
@@ -65,6 +69,8 @@ def render_urdf(
     lengths_m: np.ndarray,
     stiffness_Nm_per_rad: np.ndarray,
     robot_name: str = "prbdm",
+    damping_Nms_per_rad: np.ndarray | None = None,
+    comment: str = "",
 ) -> str:
     """The URDF string of the chain.
 
@@ -77,10 +83,21 @@ def render_urdf(
     stiffness_Nm_per_rad : ndarray, shape (n,)
         Joint spring stiffness, N m/rad.
     robot_name : str
+    damping_Nms_per_rad : ndarray, shape (n,), optional
+        Joint damping written to ``<dynamics damping>``, N m s/rad (default 0).
+    comment : str
+        Text of an XML comment placed before ``<robot>`` (must not contain ``--``).
     """
     lengths = np.asarray(lengths_m, dtype=float)
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     n = lengths.size - 1
+    damp = np.zeros(n) if damping_Nms_per_rad is None else np.asarray(damping_Nms_per_rad, float)
+    if damp.shape != (n,) or not np.all(np.isfinite(damp) & (damp >= 0.0)):
+        raise BeamInputError(
+            f"damping = {damp.tolist()} N m s/rad: needs {n} finite values >= 0"
+        )
+    if "--" in comment:
+        raise BeamInputError("urdf comment: must not contain '--' (XML comments cannot)")
     link_t, joint_t, spring_t = _t("link.urdf.tmpl"), _t("joint.urdf.tmpl"), _t("spring.urdf.tmpl")
     body = []
     for i in range(n + 1):
@@ -90,7 +107,7 @@ def render_urdf(
             body.append(joint_t.substitute(
                 i=i, parent=i - 1, x=_f(lengths[i - 1]), lower=_f(-JOINT_LIMIT_RAD),
                 upper=_f(JOINT_LIMIT_RAD), effort=_f(JOINT_EFFORT_LIMIT_NM),
-                velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S),
+                velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S), damping=_f(damp[i - 1]),
             ))
         body.append(link_t.substitute(
             i=i, com_x=_f(c[0]), com_y=_f(c[1]), com_z=_f(c[2]), mass=_f(sections.mass_kg[i]),
@@ -101,6 +118,7 @@ def render_urdf(
     return _t("robot.urdf.tmpl").substitute(
         robot_name=escape(robot_name, {'"': "&quot;"}), body="".join(body).rstrip("\n"),
         n=n, tip_x=_f(lengths[n]), springs="".join(springs).rstrip("\n"),
+        record=f"<!--{comment}-->\n" if comment else "",
     )
 
 

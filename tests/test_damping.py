@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from prbdm_pin.damping import damping_matrix, eq5c_damping, modal_damping
+from prbdm_pin.damping import (
+    damping_matrix,
+    eq5c_damping,
+    modal_damping,
+    modal_ratios,
+    stiffness_damping,
+)
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
@@ -66,6 +72,35 @@ def test_single_dof_forms_agree():
     expected = 2 * xi * np.sqrt(m * k)
     assert modal_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=1e-14)
     assert eq5c_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=1e-14)
+    assert stiffness_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize("pose", [0.0, 0.15])
+def test_stiffness_damping_ratios_from_the_damped_eigenvalues(pose):
+    """C = beta K: the damped pairs of M a + C v + K q = 0 have -Re(s)/|s| = xi_1 omega_k/omega_1
+    (a 3R chain, every mode underdamped at xi_1 = 0.01)."""
+    beam = load_beam("examples/beams/reference-random.json")
+    lengths = np.array([0.15, 0.3, 0.3, 0.25])
+    m3 = build_model(beam, lengths, finite_segment_stiffness(beam, lengths))
+    q = np.full(3, pose)
+    M, K = m3.mass_matrix(q), m3.stiffness_matrix()
+    C = stiffness_damping(M, K, 0.01)
+    np.testing.assert_array_equal(C, np.diag(np.diag(C)))
+    ratios, wn = _damped_ratios(M, K, C)
+    omega = m3.natural_frequencies(q)
+    np.testing.assert_allclose(wn, omega, rtol=1e-9)
+    np.testing.assert_allclose(ratios, 0.01 * omega / omega[0], rtol=1e-9)
+    np.testing.assert_allclose(modal_ratios(M, K, C), 0.01 * omega / omega[0], rtol=1e-9)
+    np.testing.assert_allclose(damping_matrix(M, K, 0.01, kind="stiffness"), C, rtol=0)
+
+
+def test_stiffness_damping_takes_one_ratio(model):
+    M, K = model.mass_matrix(), model.stiffness_matrix()
+    with pytest.raises(BeamInputError, match="one ratio"):
+        stiffness_damping(M, K, [0.01, 0.02, 0.02, 0.02, 0.02])
+    # the same value for every mode is that one ratio
+    np.testing.assert_allclose(stiffness_damping(M, K, np.full(5, 0.02)),
+                               stiffness_damping(M, K, 0.02), rtol=0)
 
 
 @pytest.mark.parametrize("bad", [-0.1, np.nan, [0.1, 0.2], "x"])

@@ -152,12 +152,21 @@ def _base_target(args, beam):
 
 
 def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:
-    """fit.json, model.urdf and the plots of a FitResult, each written atomically."""
+    """fit.json, model.urdf and the plots of a FitResult, each written atomically.
+
+    model.urdf is what ``prbdm export fit.json --format urdf`` writes: fit.json's
+    ``stiffness_Nm_per_rad``, 2 % stiffness-proportional joint damping, and the record comment
+    (its frequencies at the straight pose, its per-mode errors against ``omega_truth_rad_s``).
+    """
+    from ..export import write_urdf
     from ..model import build_model
 
     out.mkdir(parents=True, exist_ok=True)
-    model = build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
-    written = [model.write_urdf(out / "model.urdf")]
+    lengths = result.lengths_m
+    model = build_model(beam, lengths, result.stiffness_Nm_per_rad,
+                        min_fraction=min(0.02, 0.5 * float(min(lengths) / sum(lengths))))
+    written = [write_urdf(model, out / "model.urdf",
+                          omega_truth_rad_s=result.omega_truth_rad_s)]
     if plots:
         from ..plots import plot_planform, plot_scf
 

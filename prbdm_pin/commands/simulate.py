@@ -64,9 +64,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--initial-angle", type=float, default=0.0, metavar="RAD",
                    help="start with every joint at this angle, rad (default 0)")
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
-                   help="modal damping ratio of every mode (default 0.02)")
-    p.add_argument("--damping-form", choices=("modal", "eq5c"), default="modal",
-                   help="modal damping (default) or the paper's Eq. 5c")
+                   help="damping ratio: of every mode (modal), of mode 1 (stiffness), per-joint "
+                        "factor (eq5c) (default 0.02)")
+    p.add_argument("--damping-form", choices=("modal", "eq5c", "stiffness"), default="modal",
+                   help="modal damping (default: every mode gets ZETA), the paper's Eq. 5c, or "
+                        "stiffness-proportional C = beta K (mode 1 gets ZETA, mode k ZETA "
+                        "omega_k/omega_1; what MJCF/URDF exports carry, so a run matches MuJoCo's)")
     p.add_argument("--method", default="exponential",
                    help="exponential (default: exact linear modes, step T1/10), gauss "
                         "(symplectic; long undamped runs, violent starts), trapezoidal, or a "
