@@ -355,3 +355,40 @@ def test_simulate_cli_stiffness_form_matches_mujoco_of_the_export(tmp_path):
                  "--output-dt", "0.001", "--out", str(out), "-q"]) == 0
     tip_modal = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)[:, -1]
     assert np.abs(tip_modal - tip_mj[:, 2]).max() > 0.005 * peak
+
+
+def test_fit_model_urdf_records_its_frequencies_and_errors(tmp_path, capsys):
+    """model.urdf of `prbdm fit` states its frequencies and per-mode errors against fit.json's
+    truth; checked with a plain Pinocchio parse (gravity zeroed) and the springs read by
+    ElementTree; `prbdm export fit.json` prints the same errors."""
+    import pinocchio as pin
+
+    from prbdm_pin.cli import main
+    from prbdm_pin.urdf import read_springs
+
+    out = tmp_path / "fit"
+    assert main(["fit", "examples/beams/uniform-narrow.json", "--joints", "2", "--objective",
+                 "eigen", "--stiffness", "joint", "--starts", "2", "--truth-model", "beam",
+                 "--cache-dir", str(tmp_path / "cache"), "--out", str(out), "-q"]) == 0
+    fit = json.loads((out / "fit.json").read_text())
+    text = (out / "model.urdf").read_text()
+    rec = read_export_record(text)
+    pm = pin.buildModelFromXML(text)
+    pm.gravity = pin.Motion.Zero()
+    M = pin.crba(pm, pm.createData(), np.zeros(pm.nq))
+    M = np.triu(M) + np.triu(M, 1).T
+    k = read_springs(text, ["joint_1", "joint_2"])
+    np.testing.assert_array_equal(k, fit["stiffness_Nm_per_rad"])
+    omega = np.sqrt(sla.eigh(np.diag(k), M, eigvals_only=True))
+    truth = np.asarray(fit["omega_truth_rad_s"])
+    np.testing.assert_allclose(rec.natural_frequencies_rad_s, omega, rtol=1e-12)
+    np.testing.assert_array_equal(rec.omega_truth_rad_s, truth)
+    err = 100 * (omega / truth - 1)
+    np.testing.assert_allclose(rec.omega_errors_pct, err, atol=1e-9)
+    capsys.readouterr()
+    assert main(["export", str(out / "fit.json"), "--format", "json",
+                 "--out", str(tmp_path / "m.json")]) == 0
+    assert "errors vs truth %: " in capsys.readouterr().out
+    d = json.loads((tmp_path / "m.json").read_text())
+    np.testing.assert_allclose(d["omega_errors_pct"], err, atol=1e-9)
+    assert d["worst_mode_error_pct"] == pytest.approx(np.abs(err).max(), abs=1e-9)

@@ -1,4 +1,5 @@
-"""URDF round trip: Pinocchio's parser and an independent ElementTree reading agree."""
+"""URDF round trip: Pinocchio's parser and an independent ElementTree reading agree; Pinocchio,
+MuJoCo, yourdfpy and pybullet read the exported file's mass matrix and damping alike."""
 
 import shutil
 import subprocess
@@ -11,8 +12,10 @@ import pinocchio as pin
 import pytest
 
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.export import read_export_record, urdf_text
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model, load_urdf
+from prbdm_pin.urdf import read_springs
 
 ROOT = Path(__file__).resolve().parent.parent
 BEAM = load_beam(ROOT / "examples" / "beams" / "reference-random.json")
@@ -134,3 +137,168 @@ def test_installed_package_finds_templates(tmp_path):
     assert lines[0].startswith(str(target))
     assert lines[1] == "joint.urdf.tmpl,link.urdf.tmpl,robot.urdf.tmpl,spring.urdf.tmpl"
     assert lines[2] == "True"
+
+
+POSES = [np.zeros(4), np.array([0.1, 0.4, -0.2, 0.3]), np.array([-0.6, 0.25, 0.5, -0.9])]
+
+
+@pytest.fixture(scope="module")
+def export_path(model, tmp_path_factory):
+    path = tmp_path_factory.mktemp("export") / "beam.urdf"
+    path.write_text(urdf_text(model, 0.02))
+    return path
+
+
+def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
+    a = axis / np.linalg.norm(axis)
+    S = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + np.sin(angle) * S + (1 - np.cos(angle)) * S @ S
+
+
+def _yourdfpy_mass_and_damping(path, poses):
+    """M = sum_i m_i Jv_i^T Jv_i + Jw_i^T R_i I_i R_i^T Jw_i over yourdfpy's parsed links, with
+    the kinematics walked from its joint origins and axes."""
+    yourdfpy = pytest.importorskip("yourdfpy")
+    robot = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
+    names = robot.actuated_joint_names
+    joints = list(robot.joint_map.values())
+    (base,) = set(robot.link_map) - {j.child for j in joints}
+    n = len(names)
+    Ms = []
+    for q in poses:
+        qmap = dict(zip(names, q, strict=True))
+        frames = {base: (np.eye(4), [])}  # link -> (world pose, [(dof, point, axis)])
+        pending = list(joints)
+        while pending:
+            joint = next(j for j in pending if j.parent in frames)
+            pending.remove(joint)
+            T, chain = frames[joint.parent]
+            T = T @ joint.origin
+            chain = list(chain)
+            if joint.type == "revolute":
+                axis = np.asarray(joint.axis, dtype=float)
+                chain.append((names.index(joint.name), T[:3, 3].copy(), T[:3, :3] @ axis))
+                R = np.eye(4)
+                R[:3, :3] = _rot(axis, qmap[joint.name])
+                T = T @ R
+            frames[joint.child] = (T, chain)
+        M = np.zeros((n, n))
+        for name, link in robot.link_map.items():
+            if link.inertial is None:
+                assert name == base
+                continue
+            T, chain = frames[name]
+            Tc = T @ link.inertial.origin
+            c, R = Tc[:3, 3], Tc[:3, :3]
+            Jv, Jw = np.zeros((3, n)), np.zeros((3, n))
+            for dof, point, axis in chain:
+                Jv[:, dof] = np.cross(axis, c - point)
+                Jw[:, dof] = axis
+            M += link.inertial.mass * Jv.T @ Jv + Jw.T @ R @ link.inertial.inertia @ R.T @ Jw
+        Ms.append(M)
+    # yourdfpy keeps the damping attribute as the file's string
+    damping = np.array([float(robot.joint_map[j].dynamics.damping) for j in names])
+    return Ms, damping
+
+
+def _pybullet_mass_and_damping(path, poses):
+    p = pytest.importorskip("pybullet")
+    cid = p.connect(p.DIRECT)
+    try:
+        body = p.loadURDF(str(path), useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE,
+                          physicsClientId=cid)
+        info = [p.getJointInfo(body, j, physicsClientId=cid)
+                for j in range(p.getNumJoints(body, physicsClientId=cid))]
+        dofs = [i for i in info if i[2] == p.JOINT_REVOLUTE]
+        masses = {i[12].decode(): p.getDynamicsInfo(body, i[0], physicsClientId=cid)[0]
+                  for i in info}
+        Ms = [np.array(p.calculateMassMatrix(body, [float(v) for v in q], physicsClientId=cid))
+              for q in poses]
+        return Ms, np.array([i[6] for i in dofs]), masses
+    finally:
+        p.disconnect(cid)
+
+
+def _mujoco_mass_and_damping(path, poses):
+    mujoco = pytest.importorskip("mujoco")
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    assert m.nv == 4 and tuple(m.opt.gravity) == (0.0, 0.0, -9.81)
+    Ms = []
+    for q in poses:
+        d.qpos[:] = q
+        mujoco.mj_forward(m, d)
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        Ms.append(M)
+    return Ms, np.array(m.dof_damping)
+
+
+def _pinocchio_mass_and_damping(path, poses):
+    pm = pin.buildModelFromUrdf(str(path))
+    pm.gravity = pin.Motion.Zero()
+    data = pm.createData()
+    Ms = []
+    for q in poses:
+        M = pin.crba(pm, data, q)
+        Ms.append(np.triu(M) + np.triu(M, 1).T)
+    return Ms, np.array(pm.damping)
+
+
+@pytest.mark.parametrize("consumer", ["pinocchio", "mujoco", "yourdfpy", "pybullet"])
+def test_every_consumer_reads_the_same_mass_matrix_and_damping(model, export_path, consumer):
+    """Each tool's joint-space mass matrix of the exported URDF equals ours at three poses (1e-9
+    relative), and its joint damping is the file's stiffness-proportional damping."""
+    if consumer == "pybullet":
+        Ms, damping, masses = _pybullet_mass_and_damping(export_path, POSES)
+        # no link defaults to 1 kg: the tip is massless, the links weigh what we computed
+        assert masses["tip"] == 0.0
+        for i in range(5):
+            assert masses[f"link_{i}"] == pytest.approx(model.sections.mass_kg[i], rel=1e-12)
+    else:
+        Ms, damping = {"pinocchio": _pinocchio_mass_and_damping,
+                       "mujoco": _mujoco_mass_and_damping,
+                       "yourdfpy": _yourdfpy_mass_and_damping}[consumer](export_path, POSES)
+    for q, M in zip(POSES, Ms, strict=True):
+        ours = model.mass_matrix(q)
+        assert np.abs(M - ours).max() <= 1e-9 * np.abs(ours).max(), (consumer, q)
+    rec = read_export_record(export_path.read_text())
+    assert rec.damping_form == "stiffness"
+    np.testing.assert_allclose(damping, rec.joint_damping_Nms_per_rad, rtol=1e-12)
+    np.testing.assert_allclose(damping, rec.damping_beta_s * STIFFNESS, rtol=1e-12)
+
+
+def test_gravity_convention(model, export_path):
+    """Pinocchio's parser turns gravity on (-9.81 m/s^2 along z); load_urdf zeroes it. A plain
+    buildModelFromUrdf model with gravity zeroed is our model: same M, frequencies, no
+    gravity torque."""
+    plain = pin.buildModelFromUrdf(str(export_path))
+    np.testing.assert_array_equal(plain.gravity.linear, [0.0, 0.0, -9.81])
+    ours = load_urdf(export_path)
+    np.testing.assert_array_equal(ours.pin_model.gravity.vector, np.zeros(6))
+    q = POSES[1]
+    assert np.abs(pin.rnea(plain, plain.createData(), q, np.zeros(4), np.zeros(4))).max() > 1.0
+    np.testing.assert_array_equal(
+        pin.rnea(ours.pin_model, ours.new_data(), q, np.zeros(4), np.zeros(4)), np.zeros(4))
+    plain.gravity = pin.Motion.Zero()
+    data = plain.createData()
+    M = pin.crba(plain, data, q)
+    M = np.triu(M) + np.triu(M, 1).T
+    np.testing.assert_allclose(M, model.mass_matrix(q), rtol=1e-14, atol=1e-16)
+    k = read_springs(export_path.read_text(), [plain.names[j] for j in range(1, plain.njoints)])
+    import scipy.linalg as sla
+
+    omega = np.sqrt(sla.eigh(np.diag(k), M, eigvals_only=True))
+    np.testing.assert_allclose(omega, model.natural_frequencies(q), rtol=1e-12)
+    np.testing.assert_allclose(ours.natural_frequencies(q), omega, rtol=1e-12)
+
+
+def test_every_link_has_an_inertial_but_the_fixed_root(export_path):
+    root = ET.parse(export_path).getroot()
+    links = {el.get("name"): el for el in root.findall("link")}
+    assert links["world"].find("inertial") is None
+    assert all(links[name].find("inertial") is not None for name in links if name != "world")
+    assert float(links["tip"].find("inertial/mass").get("value")) == 0.0
+    for j in range(1, 5):
+        dyn = root.find(f"joint[@name='joint_{j}']/dynamics")
+        assert float(dyn.get("damping")) > 0.0
