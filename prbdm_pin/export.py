@@ -39,7 +39,8 @@ MJCF (``--format mjcf --out beam.xml``)
     with hinge joints about y carrying ``stiffness`` (N m/rad), ``springref="0"`` and ``damping``
     (N m s/rad, the stiffness form above), each body's ``inertial`` (mass, centre of mass,
     ``fullinertia`` about the centre of mass), a ``tip`` site at the free end, and
-    ``<option gravity="0 0 0">``. Apply a tip force through ``data.xfrc_applied`` on ``link_n``
+    ``<option gravity="0 0 0" integrator="RK4">`` with a step of a twentieth of the shortest
+    period. Apply a tip force through ``data.xfrc_applied`` on ``link_n``
     (the force at the body's centre of mass plus the moment (tip - com) x F), refreshed every
     step as the pose changes.
 JSON (``--format json --out model.json``)
@@ -349,7 +350,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         Mode 1's damping ratio: joint ``damping`` is beta K_jj (N m s/rad), the stiffness form
         (see :func:`export_record`). 0 writes undamped joints.
     timestep_s : float, optional
-        MuJoCo time step, s (default: a twentieth of the shortest natural period).
+        MuJoCo time step, s (default: a twentieth of the shortest natural period; the
+        integrator is RK4).
     damping_form, omega_truth_rad_s
         See :func:`export_record`; the record is written as a comment.
     """
@@ -379,7 +381,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         "       stiffness-proportional damping beta K. -->",
         f"  <!--{rec.comment_text()}  -->",
         '  <compiler angle="radian" autolimits="true"/>',
-        f'  <option gravity="0 0 0" timestep="{_f(timestep_s)}"/>',
+        # RK4: at T_n/20 its step response is within 0.02 % of the peak of an accurate
+        # integration (3R and 5R reference chains), the default Euler 0.1-0.6 % (1st order)
+        f'  <option gravity="0 0 0" timestep="{_f(timestep_s)}" integrator="RK4"/>',
         "  <worldbody>",
         '    <body name="link_0" pos="0 0 0">',
         f"      {inertial(0)}",
