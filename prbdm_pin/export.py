@@ -26,14 +26,18 @@ URDF (``prbdm export fit.json --format urdf --out beam.urdf``)
     ``model.gravity = pinocchio.Motion.Zero()``; the springs are not part of ``pinocchio.Model``
     (read them with ``prbdm_pin.urdf.read_springs``), the joint damping is ``model.damping``.
     pybullet: ``p.loadURDF("beam.urdf", useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE)``
-    (without the flag pybullet replaces the inertia tensors by its own estimate); it reads the
-    joint damping, not the springs (apply -K q as joint torques). yourdfpy and MuJoCo
-    (``mujoco.MjModel.from_xml_path("beam.urdf")``; the springs are lost, use the MJCF) read the
-    same masses and inertias. ROS tooling: the file is a standard URDF (``world`` -> fixed
-    ``clamp`` -> ``link_0`` -> revolute ``joint_1`` ... ``joint_n`` about y -> fixed ``tip_joint``
-    -> ``tip``), so ``check_urdf beam.urdf``, ``robot_state_publisher`` and RViz display it;
-    Gazebo-classic reads ``<springStiffness>``/``<springReference>`` from the
-    ``<gazebo reference="joint_j">`` tags (N m/rad, rad).
+    (without the flag pybullet replaces the inertia tensors by its own estimate); its mass matrix
+    (``p.calculateMassMatrix``) is ours. It reads ``<dynamics damping>`` as the joint damping
+    (``p.getJointInfo``), not the springs (apply -K q as joint torques), and its default
+    velocity motors hold the joints until released
+    (``p.setJointMotorControlArray(body, joints, p.VELOCITY_CONTROL, forces=[0] * n)``).
+    yourdfpy reads the same masses, inertias and joint origins; MuJoCo compiles the URDF
+    (``mujoco.MjModel.from_xml_path("beam.urdf")``: same mass matrix and joint damping, gravity
+    -9.81 m/s^2, no springs: use the MJCF for MuJoCo). ROS tooling: the file is a standard URDF
+    (``world`` -> fixed ``clamp`` -> ``link_0`` -> revolute ``joint_1`` ... ``joint_n`` about y
+    -> fixed ``tip_joint`` -> ``tip``), so ``check_urdf beam.urdf``, ``robot_state_publisher``
+    and RViz display it; Gazebo-classic reads ``<springStiffness>``/``<springReference>`` from
+    the ``<gazebo reference="joint_j">`` tags (N m/rad, rad).
 MJCF (``--format mjcf --out beam.xml``)
     MuJoCo: ``mujoco.MjModel.from_xml_path("beam.xml")``. A body chain ``link_1`` ... ``link_n``
     with hinge joints about y carrying ``stiffness`` (N m/rad), ``springref="0"`` and ``damping``

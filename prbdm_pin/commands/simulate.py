@@ -68,8 +68,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "factor (eq5c) (default 0.02)")
     p.add_argument("--damping-form", choices=("modal", "eq5c", "stiffness"), default="modal",
                    help="modal damping (default: every mode gets ZETA), the paper's Eq. 5c, or "
-                        "stiffness-proportional C = beta K (mode 1 gets ZETA, mode k ZETA "
-                        "omega_k/omega_1; what MJCF/URDF exports carry, so a run matches MuJoCo's)")
+                        "stiffness-proportional C = beta K (mode 1 of the straight pose gets "
+                        "ZETA, mode k ZETA omega_k/omega_1: what MJCF/URDF exports carry, so a "
+                        "run matches MuJoCo's). Modal and eq5c are computed at the initial pose")
     p.add_argument("--method", default="exponential",
                    help="exponential (default: exact linear modes, step T1/10), gauss "
                         "(symplectic; long undamped runs, violent starts), trapezoidal, or a "
@@ -192,10 +193,13 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     output_dt = args.output_dt or args.duration / 2000
+    # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
+    # other forms are exact about the initial pose
+    damping_pose = np.zeros(model.n_joints) if args.damping_form == "stiffness" else None
     tr = simulate(model, args.duration, q0=np.full(model.n_joints, args.initial_angle),
                   tip_force=force if np.any(force) else None, damping_ratio=args.damping,
                   damping=args.damping_form, method=args.method, dt=args.dt,
-                  output_dt=output_dt)
+                  output_dt=output_dt, damping_pose=damping_pose)
     atomic_write_text(out / "trajectory.csv", _csv(tr))
 
     import matplotlib
