@@ -3,6 +3,8 @@
 Conventions: the beam axis is x with the clamped root at x = 0 and the tip at x = L; the
 planform is symmetric about the x axis with a piecewise-linear half-width w(x) through the
 vertices (x_k, w_k); the thickness t is uniform and bending is out of plane (deflection along z).
+Two vertices may share a station x_k (never more, and never at the root or the tip): a width step,
+where the half-width jumps; w(x) is right-continuous there (the tip-side value).
 """
 
 from __future__ import annotations
@@ -87,6 +89,41 @@ def _check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Mater
             )
 
 
+def _check_stations(x: np.ndarray, w: np.ndarray) -> None:
+    """x non-decreasing from 0 to L, at most two vertices per station, steps inside (0, L) with
+    different half-widths (a repeated vertex is not a step and would only hide a typo)."""
+    dx = np.diff(x)
+    bad = np.flatnonzero(dx < 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise BeamInputError(
+            f"x[{i}] = {x[i]} m: must not decrease (x[{i - 1}] = {x[i - 1]} m)"
+        )
+    same = np.flatnonzero(dx == 0.0)
+    for j in same:
+        i = int(j) + 1
+        if j + 1 in same:
+            raise BeamInputError(
+                f"x[{i - 1}] = x[{i}] = x[{i + 1}] = {x[i]} m: at most two vertices may share a "
+                "station (a width step)"
+            )
+        if x[i] == 0.0:
+            raise BeamInputError(
+                f"x[{i}] = {x[i]} m: a width step at the root is meaningless (the clamp holds "
+                f"the first section); give one vertex at x = 0"
+            )
+        if i == x.size - 1:
+            raise BeamInputError(
+                f"x[{i}] = {x[i]} m: a width step at the tip is meaningless (the beam ends "
+                f"there); give one vertex at x = L"
+            )
+        if w[i] == w[i - 1]:
+            raise BeamInputError(
+                f"x[{i}] = x[{i - 1}] = {x[i]} m with half_width {w[i]} m on both: a repeated "
+                "vertex, not a width step (remove one, or give the two half-widths)"
+            )
+
+
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
@@ -137,7 +174,9 @@ class Beam:
     Attributes
     ----------
     x_m : ndarray, shape (k,)
-        Planform vertex stations in m; x_m[0] = 0 (the clamp), strictly increasing, x_m[-1] = L.
+        Planform vertex stations in m; x_m[0] = 0 (the clamp), non-decreasing, x_m[-1] = L. Two
+        equal stations x_k = x_(k+1) inside (0, L) are a width step: the half-width jumps from
+        w_k to w_(k+1) there.
     half_width_m : ndarray, shape (k,)
         Half-width w(x_k) in m (> 0); the width is 2 w, linear between vertices.
     thickness_m : float
@@ -167,13 +206,7 @@ class Beam:
             )
         if x[0] != 0.0:
             raise BeamInputError(f"x[0] = {x[0]} m: must be 0 (the clamped root)")
-        dx = np.diff(x)
-        bad = np.flatnonzero(dx <= 0.0)
-        if bad.size:
-            i = int(bad[0]) + 1
-            raise BeamInputError(
-                f"x[{i}] = {x[i]} m: must be strictly increasing (x[{i - 1}] = {x[i - 1]} m)"
-            )
+        _check_stations(x, w)
         bad = np.flatnonzero(w <= 0.0)
         if bad.size:
             i = int(bad[0])
@@ -196,17 +229,47 @@ class Beam:
         """Beam length L in m."""
         return float(self.x_m[-1])
 
-    def half_width_at(self, x_m: np.ndarray | float) -> np.ndarray:
-        """Half-width w(x) in m at stations ``x_m`` (m), linear between vertices."""
-        return np.interp(x_m, self.x_m, self.half_width_m)
+    @property
+    def step_index(self) -> np.ndarray:
+        """Indices k of the width steps, x_m[k] == x_m[k + 1] (int, possibly empty)."""
+        return np.flatnonzero(np.diff(self.x_m) == 0.0)
 
-    def area_moment_at(self, x_m: np.ndarray | float) -> np.ndarray:
-        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4."""
-        return 2.0 * self.half_width_at(x_m) * self.thickness_m**3 / 12.0
+    @property
+    def intervals_m(self) -> tuple[np.ndarray, np.ndarray]:
+        """Starts and ends (m) of the vertex intervals of positive length, where w is linear
+        (the zero-length "intervals" of width steps left out)."""
+        keep = np.diff(self.x_m) > 0.0
+        return self.x_m[:-1][keep], self.x_m[1:][keep]
+
+    def half_width_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
+        """Half-width w(x) in m at stations ``x_m`` (m), linear between vertices.
+
+        At a width step w is right-continuous (``side="right"``, the tip-side value); ``"left"``
+        gives the root-side limit there. Elsewhere both are the same.
+        """
+        if side not in ("left", "right"):
+            raise ValueError(f"side = {side!r}: must be 'left' or 'right'")
+        w = np.interp(x_m, self.x_m, self.half_width_m)
+        k = self.step_index
+        if not k.size:
+            return w
+        # np.interp leaves a repeated abscissa to its implementation: set it explicitly
+        x = np.asarray(x_m, dtype=float)
+        w = np.array(w, dtype=float)
+        for xs, ws in zip(self.x_m[k], self.half_width_m[k + 1 if side == "right" else k],
+                          strict=True):
+            w[x == xs] = ws
+        return w[()] if w.ndim == 0 else w
+
+    def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
+        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4 (``side`` as in
+        :meth:`half_width_at`)."""
+        return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
 
     @property
     def planform_area_m2(self) -> float:
-        """Planform area in m^2 (exact for the piecewise-linear outline)."""
+        """Planform area in m^2 (exact for the piecewise-linear outline; a step's zero-length
+        interval adds nothing)."""
         return float(2.0 * np.trapezoid(self.half_width_m, self.x_m))
 
     @property
