@@ -310,7 +310,8 @@ _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
 
 
 def beam_from_dict(d: Any) -> Beam:
-    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field."""
+    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field
+    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load)."""
     if not isinstance(d, dict):
         raise BeamInputError(f"beam = {type(d).__name__}: must be a JSON object")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
@@ -373,7 +374,13 @@ def beam_to_dict(beam: Beam) -> dict[str, Any]:
 
 
 def load_beam(path: str | os.PathLike) -> Beam:
-    """Read a beam JSON file; any defect raises :class:`BeamInputError` naming the field."""
+    """Read a beam JSON file; any defect raises :class:`BeamInputError` naming the field.
+
+    Required keys: ``x``, ``half_width`` (m), ``thickness`` (m). Optional: ``length`` (m, checked
+    against the last x), ``material`` (default steel AISI 4340), ``name``, ``description`` and
+    ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
+    enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
+    """
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
