@@ -99,6 +99,8 @@ class FitSettings:
         ``"plate"``, ``"solid"`` or ``"beam"`` (1D Euler-Bernoulli, milliseconds).
     cache_dir : str or None
         Truth cache folder (does not change results, so it is not part of the manifest).
+    min_fraction : float
+        Eq. 15's lower bound on every link, a fraction of L (0.02); 0 < f < 1/(joints+1).
     """
 
     joints: int
@@ -108,9 +110,14 @@ class FitSettings:
     starts: int = 64
     truth_model: str = "plate"
     cache_dir: str | None = None
+    min_fraction: float = 0.02
 
     def __post_init__(self) -> None:
+        from .layout import check_min_fraction
+
         _check_int("joints", self.joints, 1)
+        object.__setattr__(self, "min_fraction", check_min_fraction(self.min_fraction,
+                                                                    self.joints))
         if self.frequencies is not None:
             _check_int("frequencies", self.frequencies, 1)
         _check_int("starts", self.starts, 1)
@@ -317,7 +324,8 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
         t2 = time.perf_counter()
         result = fit(beam, target_from_truth(truth, beam.tip_force_N, request), s.joints,
                      frequencies=s.frequencies, objective=s.objective, stiffness=s.stiffness,
-                     starts=s.starts, seed=rec["fit_seed"], workers=1, progress=False)
+                     starts=s.starts, seed=rec["fit_seed"], workers=1, progress=False,
+                     min_fraction=s.min_fraction)
         rec["fit_s"] = time.perf_counter() - t2
         rec.update(_fit_fields(result, beam.length_m))
         rec["status"] = "ok"
@@ -405,6 +413,8 @@ def _manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]:
 
     settings = asdict(spec.settings)
     settings.pop("cache_dir")
+    if settings["min_fraction"] == 0.02:
+        del settings["min_fraction"]  # the default: folders written before it existed resume
     m: dict[str, Any] = {
         "seed": spec.seed,
         "settings": settings,

@@ -540,6 +540,9 @@ def _check_fit_args(objective, starts, workers, target):
         raise BeamInputError(
             f"objective = {objective!r}: the target has no truth tip position/displacement"
         )
+    if objective != "eigen" and not np.any(target.tip_force_N):
+        raise BeamInputError(f"tip_force = [0, 0, 0] N: a {objective} fit needs a tip load "
+                             "(the beam's tip_force)")
 
 
 def _draw_starts(problem: FitProblem, starts: int, seed: int) -> list:
@@ -572,6 +575,7 @@ def fit(
     deflection_norm: str = "position",
     polish: int = 4,
     max_nfev: int = 400,
+    min_fraction: float = 0.02,
 ) -> FitResult:
     """Fit an nR PRBDM to a target by a multistart of a local solver.
 
@@ -608,6 +612,8 @@ def fit(
         whose lengths are within 1e-3 L of a better one's is not polished again).
     max_nfev : int
         Evaluation cap of each least-squares start.
+    min_fraction : float
+        Eq. 15's lower bound on every link, a fraction of L (0.02); needs 0 < f < 1/(n+1).
 
     Returns
     -------
@@ -618,7 +624,7 @@ def fit(
         raise BeamInputError(
             f"deflection_norm = {deflection_norm!r}: must be 'position' or 'displacement'")
     problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared,
-                           joint_sweep)
+                           joint_sweep, min_fraction)
     _check_fit_args(objective, starts, workers, target)
     spec = _Spec(problem, objective, deflection_norm, int(max_nfev))
     tasks = _draw_starts(problem, int(starts), int(seed))
@@ -729,6 +735,7 @@ def fit_pareto(
     seed_with_fits: bool = True,
     seed_starts: int = 4,
     polish_knee: bool = True,
+    min_fraction: float = 0.02,
 ) -> ParetoResult:
     """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
 
@@ -749,7 +756,8 @@ def fit_pareto(
     then taken on that front, and ``message`` records the raw NSGA-II knee beside it. Each
     generation is evaluated as one batch (``problem.pareto_objectives_batch``: every design's and
     pose's static solve in one vectorised Newton), so a ``paper`` front with a static solve per
-    pose costs seconds, not minutes.
+    pose costs seconds, not minutes. ``min_fraction`` is Eq. 15's lower bound on every link (a
+    fraction of L, 0.02).
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
@@ -762,9 +770,13 @@ def fit_pareto(
     for name, v in (("pop", pop), ("generations", generations)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
             raise BeamInputError(f"{name} = {v!r}: must be an integer >= 1")
-    problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared)
+    problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared,
+                           min_fraction=min_fraction)
     if not target.has_static:
         raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
+    if not np.any(target.tip_force_N):
+        raise BeamInputError("tip_force = [0, 0, 0] N: a Pareto fit needs a tip load "
+                             "(the beam's tip_force)")
     n1 = problem.n_joints + 1
     if log10_bounds is None:
         if stiffness == "joint":
@@ -869,7 +881,7 @@ def _initial_population(beam, target, problem: FitProblem, pop: int, seed: int, 
             r = fit(beam, target, problem.n_joints, problem.n_freq, objective=objective,
                     stiffness=problem.stiffness, starts=seed_starts, seed=seed, xi=problem.xi,
                     eps=problem.eps, squared=problem.squared, workers=workers, progress=False,
-                    deflection_norm=deflection_norm)
+                    deflection_norm=deflection_norm, min_fraction=problem.min_fraction)
             nfev += r.nfev
             rows.append(_design_row(problem, r.lengths_m, r.factors, log10_bounds))
         # designs on the segments eigen -> combined -> deflection anchor (the bounded length

@@ -3,6 +3,8 @@
 Conventions: the beam axis is x with the clamped root at x = 0 and the tip at x = L; the
 planform is symmetric about the x axis with a piecewise-linear half-width w(x) through the
 vertices (x_k, w_k); the thickness t is uniform and bending is out of plane (deflection along z).
+Two vertices may share a station x_k (never more, and never at the root or the tip): a width step,
+where the half-width jumps; w(x) is right-continuous there (the tip-side value).
 """
 
 from __future__ import annotations
@@ -87,6 +89,41 @@ def _check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Mater
             )
 
 
+def _check_stations(x: np.ndarray, w: np.ndarray) -> None:
+    """x non-decreasing from 0 to L, at most two vertices per station, steps inside (0, L) with
+    different half-widths (a repeated vertex is not a step and would only hide a typo)."""
+    dx = np.diff(x)
+    bad = np.flatnonzero(dx < 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise BeamInputError(
+            f"x[{i}] = {x[i]} m: must not decrease (x[{i - 1}] = {x[i - 1]} m)"
+        )
+    same = np.flatnonzero(dx == 0.0)
+    for j in same:
+        i = int(j) + 1
+        if j + 1 in same:
+            raise BeamInputError(
+                f"x[{i - 1}] = x[{i}] = x[{i + 1}] = {x[i]} m: at most two vertices may share a "
+                "station (a width step)"
+            )
+        if x[i] == 0.0:
+            raise BeamInputError(
+                f"x[{i}] = {x[i]} m: a width step at the root is meaningless (the clamp holds "
+                f"the first section); give one vertex at x = 0"
+            )
+        if i == x.size - 1:
+            raise BeamInputError(
+                f"x[{i}] = {x[i]} m: a width step at the tip is meaningless (the beam ends "
+                f"there); give one vertex at x = L"
+            )
+        if w[i] == w[i - 1]:
+            raise BeamInputError(
+                f"x[{i}] = x[{i - 1}] = {x[i]} m with half_width {w[i]} m on both: a repeated "
+                "vertex, not a width step (remove one, or give the two half-widths)"
+            )
+
+
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
@@ -137,7 +174,9 @@ class Beam:
     Attributes
     ----------
     x_m : ndarray, shape (k,)
-        Planform vertex stations in m; x_m[0] = 0 (the clamp), strictly increasing, x_m[-1] = L.
+        Planform vertex stations in m; x_m[0] = 0 (the clamp), non-decreasing, x_m[-1] = L. Two
+        equal stations x_k = x_(k+1) inside (0, L) are a width step: the half-width jumps from
+        w_k to w_(k+1) there.
     half_width_m : ndarray, shape (k,)
         Half-width w(x_k) in m (> 0); the width is 2 w, linear between vertices.
     thickness_m : float
@@ -167,13 +206,7 @@ class Beam:
             )
         if x[0] != 0.0:
             raise BeamInputError(f"x[0] = {x[0]} m: must be 0 (the clamped root)")
-        dx = np.diff(x)
-        bad = np.flatnonzero(dx <= 0.0)
-        if bad.size:
-            i = int(bad[0]) + 1
-            raise BeamInputError(
-                f"x[{i}] = {x[i]} m: must be strictly increasing (x[{i - 1}] = {x[i - 1]} m)"
-            )
+        _check_stations(x, w)
         bad = np.flatnonzero(w <= 0.0)
         if bad.size:
             i = int(bad[0])
@@ -196,17 +229,47 @@ class Beam:
         """Beam length L in m."""
         return float(self.x_m[-1])
 
-    def half_width_at(self, x_m: np.ndarray | float) -> np.ndarray:
-        """Half-width w(x) in m at stations ``x_m`` (m), linear between vertices."""
-        return np.interp(x_m, self.x_m, self.half_width_m)
+    @property
+    def step_index(self) -> np.ndarray:
+        """Indices k of the width steps, x_m[k] == x_m[k + 1] (int, possibly empty)."""
+        return np.flatnonzero(np.diff(self.x_m) == 0.0)
 
-    def area_moment_at(self, x_m: np.ndarray | float) -> np.ndarray:
-        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4."""
-        return 2.0 * self.half_width_at(x_m) * self.thickness_m**3 / 12.0
+    @property
+    def intervals_m(self) -> tuple[np.ndarray, np.ndarray]:
+        """Starts and ends (m) of the vertex intervals of positive length, where w is linear
+        (the zero-length "intervals" of width steps left out)."""
+        keep = np.diff(self.x_m) > 0.0
+        return self.x_m[:-1][keep], self.x_m[1:][keep]
+
+    def half_width_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
+        """Half-width w(x) in m at stations ``x_m`` (m), linear between vertices.
+
+        At a width step w is right-continuous (``side="right"``, the tip-side value); ``"left"``
+        gives the root-side limit there. Elsewhere both are the same.
+        """
+        if side not in ("left", "right"):
+            raise ValueError(f"side = {side!r}: must be 'left' or 'right'")
+        w = np.interp(x_m, self.x_m, self.half_width_m)
+        k = self.step_index
+        if not k.size:
+            return w
+        # np.interp leaves a repeated abscissa to its implementation: set it explicitly
+        x = np.asarray(x_m, dtype=float)
+        w = np.array(w, dtype=float)
+        for xs, ws in zip(self.x_m[k], self.half_width_m[k + 1 if side == "right" else k],
+                          strict=True):
+            w[x == xs] = ws
+        return w[()] if w.ndim == 0 else w
+
+    def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
+        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4 (``side`` as in
+        :meth:`half_width_at`)."""
+        return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
 
     @property
     def planform_area_m2(self) -> float:
-        """Planform area in m^2 (exact for the piecewise-linear outline)."""
+        """Planform area in m^2 (exact for the piecewise-linear outline; a step's zero-length
+        interval adds nothing)."""
         return float(2.0 * np.trapezoid(self.half_width_m, self.x_m))
 
     @property
@@ -223,6 +286,50 @@ class Beam:
         """Load index P L^2 / (E I_root) of a tip force magnitude (default: this beam's load)."""
         P = float(np.linalg.norm(self.tip_force_N)) if force_N is None else float(force_N)
         return P * self.length_m**2 / self.root_EI_Nm2
+
+    def kirchhoff_warnings(self, modes: int = 5, tol_pct: float = 1.0) -> tuple[str, ...]:
+        """Where a Kirchhoff plate (the ``plate`` truths) misrepresents this beam, as warnings.
+
+        Kirchhoff theory neglects transverse shear and rotary inertia. By Timoshenko (and
+        Mindlin) theory they lower bending mode m of wavenumber k_m = beta_m / L by about
+        (k_m r)^2 (1 + E / (kappa G)) / 2 (r^2 = t^2 / 12, kappa = 5/6): 0.60 (t/L)^2 for
+        mode 1 and a factor beta_m^2 / beta_1^2 more for mode m (about 0.6 % at t = L/10 on
+        mode 1, 1 % at t = L/45 on mode 4). A warning when that exceeds ``tol_pct`` (%) for the
+        highest of ``modes`` modes. Across the width a Kirchhoff plate needs the width to exceed
+        the thickness: a section thicker than wide is a bar whose softer, lateral bending in the
+        plane of the planform a plate cannot have (at t/width = 0.2, the shipped narrow
+        strips, the plate stays within a few tenths of a percent of Euler-Bernoulli theory).
+
+        Parameters
+        ----------
+        modes : int
+            Bending modes the truth selects.
+        tol_pct : float
+            Estimated shear and rotary-inertia error that triggers a warning, %.
+        """
+        m = max(int(modes), 1)
+        roots = (1.8751040687, 4.6940911330, 7.8547574382, 10.9955407349)
+        beta = roots[m - 1] if m <= 4 else (m - 0.5) * np.pi
+        t, L = self.thickness_m, self.length_m
+        shear = 1.0 + self.material.E_Pa / (5.0 / 6.0 * self.material.G_Pa)
+        est = 100.0 * 0.5 * (beta * t / L) ** 2 / 12.0 * shear
+        out = []
+        advice = "use the 3D solid (prbdm truth --model solid, prbdm fit --truth-model solid)"
+        if est > tol_pct:
+            out.append(
+                f"thickness = {t:g} m is {t / L:.3g} L: past Kirchhoff plate theory for "
+                f"{m} mode{'s' if m > 1 else ''} (transverse shear and rotary inertia, which "
+                f"it neglects, lower mode {m} by "
+                f"{f'about {est:.2g} %' if est < 10 else 'far more than 10 %'}); {advice}"
+            )
+        b = 2.0 * float(self.half_width_m.min())
+        if t > b:
+            out.append(
+                f"thickness = {t:g} m exceeds the narrowest width {b:g} m: that section is a bar, "
+                f"not a plate (Kirchhoff theory needs t << width; its lateral, in-plane bending "
+                f"is softer than the plate's and absent from it); {advice}"
+            )
+        return tuple(out)
 
     def with_tip_force(self, tip_force_N: np.ndarray) -> Beam:
         """A copy with another tip force (N)."""
@@ -247,7 +354,8 @@ _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
 
 
 def beam_from_dict(d: Any) -> Beam:
-    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field."""
+    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field
+    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load)."""
     if not isinstance(d, dict):
         raise BeamInputError(f"beam = {type(d).__name__}: must be a JSON object")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
@@ -310,7 +418,13 @@ def beam_to_dict(beam: Beam) -> dict[str, Any]:
 
 
 def load_beam(path: str | os.PathLike) -> Beam:
-    """Read a beam JSON file; any defect raises :class:`BeamInputError` naming the field."""
+    """Read a beam JSON file; any defect raises :class:`BeamInputError` naming the field.
+
+    Required keys: ``x``, ``half_width`` (m), ``thickness`` (m). Optional: ``length`` (m, checked
+    against the last x), ``material`` (default steel AISI 4340), ``name``, ``description`` and
+    ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
+    enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
+    """
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")

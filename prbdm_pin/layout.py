@@ -14,6 +14,8 @@ import numpy as np
 from .errors import BeamInputError
 
 __all__ = [
+    "DEFAULT_MIN_FRACTION",
+    "check_min_fraction",
     "validate_lengths",
     "joint_positions",
     "length_bounds",
@@ -22,6 +24,38 @@ __all__ = [
 ]
 
 _SUM_RTOL = 1e-9
+# Eq. 15: every link at least 2 % of the beam
+DEFAULT_MIN_FRACTION = 0.02
+
+
+def check_min_fraction(min_fraction: Any, joints: int, name: str = "min_fraction") -> float:
+    """The lower bound f on link lengths (a fraction of L) for an nR fit, validated.
+
+    A fit draws and bounds lengths in [f L, (1 - f) L] on a simplex that is not empty only if
+    0 < f < 1 / (n + 1). ``name`` is what the error calls the value (the CLI's ``--min-link``).
+
+    Raises
+    ------
+    BeamInputError
+        Naming ``name`` and the value, and the largest value that fits n + 1 links.
+    """
+    if isinstance(min_fraction, bool) or not isinstance(min_fraction,
+                                                        (int, float, np.integer, np.floating)):
+        raise BeamInputError(f"{name} = {min_fraction!r}: must be a number in (0, 1/(n+1))")
+    if isinstance(joints, bool) or not isinstance(joints, (int, np.integer)) or joints < 1:
+        raise BeamInputError(f"joints = {joints!r}: must be an integer >= 1")
+    f = float(min_fraction)
+    n = int(joints)
+    cap = 1.0 / (n + 1)
+    if math.isfinite(f) and f >= cap:
+        raise BeamInputError(
+            f"{name} = {f:g}: {n + 1} links (n = {n} joints) of at least {f:g} L do not fit in "
+            f"L; must be in (0, 1/(n+1)) = (0, {cap:.4g})"
+        )
+    if not (math.isfinite(f) and f > 0.0):
+        raise BeamInputError(f"{name} = {f:g}: must be in (0, 1/(n+1)) = (0, {cap:.4g}) "
+                             f"(n = {n} joints)")
+    return f
 
 
 def _check_fraction(min_fraction: float, n_links: int) -> None:

@@ -85,8 +85,9 @@ def _inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     u, v = cuts[:, :-1], cuts[:, 1:]  # empty sub-intervals add exact zeros
     mid = (0.5 * (u + v))[:, :, None]
     inside = (mid > a2[:, None, :]) & (mid < b2[:, None, :])  # (B, s, k)
-    wu = np.interp(u, x, beam.half_width_m)
-    wv = np.interp(v, x, beam.half_width_m)
+    # w on [u, v] from its ends' one-sided limits (they differ at a width step)
+    wu = beam.half_width_at(u, "right")
+    wv = beam.half_width_at(v, "left")
     d = (wv - wu) / wu
     # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
     small = np.abs(d) < 1e-8

@@ -45,8 +45,9 @@ _DELETE = object()
 
 CASES = [
     (("x", 0), 0.1, r"x\[0\] = 0\.1"),
-    (("x", 1), 1.0, r"x\[2\] = 1\.0 m: must be strictly increasing"),
-    (("x", 1), 0.0, r"x\[1\] = 0\.0 m: must be strictly increasing"),
+    (("x", 1), 1.0, r"x\[2\] = 1\.0 m: a width step at the tip"),
+    (("x", 1), 0.0, r"x\[1\] = 0\.0 m: a width step at the root"),
+    (("x", 1), 1.2, r"x\[2\] = 1\.0 m: must not decrease \(x\[1\] = 1\.2 m\)"),
     (("length",), 1.2, r"length = 1\.2"),
     (("half_width", 1), 0.0, r"half_width\[1\] = 0\.0"),
     (("half_width", 2), -0.01, r"half_width\[2\] = -0\.01"),

@@ -43,6 +43,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--stiffness", choices=STIFFNESS_KINDS, default="paper")
     p.add_argument("--starts", type=int, default=64, help="multistart points per fit (64)")
     p.add_argument("--truth-model", choices=TRUTH_MODELS, default="plate")
+    p.add_argument("--min-link", type=float, default=0.02, metavar="FRACTION",
+                   help="shortest link as a fraction of the beam length (Eq. 15; default 0.02); "
+                        "needs 0 < FRACTION < 1/(joints+1)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     p.add_argument("--cache-dir", metavar="DIR", default=None,
                    help="truth cache (default OUT/truth-cache)")
@@ -64,12 +67,15 @@ def run(args: argparse.Namespace) -> int:
     """Run the batch; exit code 0 once every beam has a record (failed beams are data)."""
     from ..batch import BatchSpec, DaskCluster, FitSettings, LocalPool, parse_shard, run_batch
     from ..errors import BeamInputError
+    from ..layout import check_min_fraction
 
+    check_min_fraction(args.min_link, args.joints, "--min-link")
     cache = args.cache_dir or os.path.join(args.out, "truth-cache")
     settings = FitSettings(
         joints=args.joints, frequencies=args.frequencies, objective=args.objective,
         stiffness=args.stiffness, starts=args.starts, truth_model=args.truth_model,
         cache_dir=os.path.abspath(cache) if args.scheduler is None else cache,
+        min_fraction=args.min_link,
     )
     spec = BatchSpec(
         seed=args.seed, settings=settings, n_beams=args.beams,

@@ -17,7 +17,10 @@ EXAMPLE = """examples:
       --starts 64 --seed 0 --out out/fit4r
   prbdm fit examples/beams/uniform-narrow.json --joints 3 --objective combined --stiffness joint \\
       --truth-model beam --out out/fit3r
-writes DIR/fit.json, DIR/model.urdf, DIR/planform.png (and DIR/scf.png for --stiffness paper)"""
+writes DIR/fit.json, DIR/model.urdf, DIR/planform.png (and DIR/scf.png for --stiffness paper)
+
+A beam file without "tip_force" has no load (0 N): enough for --objective eigen; a deflection
+or combined fit (and prbdm pareto) refuses it (exit 2)."""
 
 
 def add_truth_options(p: argparse.ArgumentParser) -> None:
@@ -44,6 +47,9 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
                         "large-deflection truth tips the deflection objective also matches")
     p.add_argument("--xi", type=float, default=0.05, help="pose sweep offset, rad (Eq. 11)")
     p.add_argument("--squared", action="store_true", help="compare omega^2 instead of omega")
+    p.add_argument("--min-link", type=float, default=0.02, metavar="FRACTION",
+                   help="shortest link as a fraction of the beam length (Eq. 15; default 0.02); "
+                        "needs 0 < FRACTION < 1/(joints+1)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", required=True, help="output directory")
 
@@ -151,6 +157,21 @@ def _base_target(args, beam):
     return target_from_truth(truth, beam.tip_force_N, request)
 
 
+def check_inputs(args, beam, objective: str) -> float:
+    """Refuse, before any truth is computed, what cannot be fitted: a ``--min-link`` that leaves
+    no room for n + 1 links, and a deflection term without a tip load. Returns the min_fraction.
+    """
+    from ..errors import BeamInputError
+    from ..layout import check_min_fraction
+
+    f = check_min_fraction(args.min_link, args.joints, "--min-link")
+    if objective != "eigen" and not any(beam.tip_force_N):
+        raise BeamInputError(
+            f"tip_force = [0, 0, 0] N: a {objective} fit matches the tip under the beam's tip "
+            "load and there is none; give tip_force in the beam file (or fit --objective eigen)")
+    return f
+
+
 def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:
     """fit.json, model.urdf and the plots of a FitResult, each written atomically.
 
@@ -187,11 +208,12 @@ def run(args) -> int:
     from ..geometry import load_beam
 
     beam = load_beam(args.beam)
+    min_fraction = check_inputs(args, beam, args.objective)
     target = load_target(args, beam)
     result = fit(beam, target, args.joints, args.frequencies, objective=args.objective,
                  stiffness=args.stiffness, starts=args.starts, seed=args.seed, xi=args.xi,
                  eps=args.eps, squared=args.squared, workers=args.workers,
-                 progress=not args.quiet, loss_tol=args.loss_tol)
+                 progress=not args.quiet, loss_tol=args.loss_tol, min_fraction=min_fraction)
     out = Path(args.out)
     write_fit_outputs(result, beam, out)
     if not args.quiet:

@@ -8,13 +8,15 @@ import sys
 from pathlib import Path
 
 from . import add_common
-from .fit import add_truth_options, load_target, write_fit_outputs
+from .fit import add_truth_options, check_inputs, load_target, write_fit_outputs
 
 EXAMPLE = """example:
   prbdm pareto examples/beams/reference-random.json --joints 4 --pop 100 --generations 200 \\
       --seed 0 --out out/pareto4r
 writes DIR/pareto.csv (the whole front), DIR/pareto.json, DIR/pareto.png and the knee's
-DIR/fit.json, DIR/model.urdf, DIR/planform.png"""
+DIR/fit.json, DIR/model.urdf, DIR/planform.png
+
+The beam file must give "tip_force" (the deflection objective's load)."""
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -52,11 +54,12 @@ def run(args) -> int:
     from ..geometry import load_beam
 
     beam = load_beam(args.beam)
+    min_fraction = check_inputs(args, beam, "Pareto")
     target = load_target(args, beam)
     res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
                      pop=args.pop, generations=args.generations, seed=args.seed, xi=args.xi,
                      eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
-                     progress=not args.quiet, workers=args.workers)
+                     progress=not args.quiet, workers=args.workers, min_fraction=min_fraction)
     out = Path(args.out)
     write_pareto_outputs(res, beam, out)
     if not args.quiet:

@@ -252,6 +252,8 @@ def compute_truth(
             )
     linear = nonlinear = None
     notes = list(selection_warnings(modal, index, labels))
+    if model in ("plate", "plate-morley"):
+        notes += beam.kirchhoff_warnings(modes)
     if static:
         lvl = None if model in ("beam",) else mesh_level
         linear, nonlinear = _static(beam, model, lvl, large_deflection)

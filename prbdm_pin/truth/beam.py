@@ -1,7 +1,8 @@
 """1D Euler-Bernoulli truth: cubic Hermite elements with the planform's varying EI(x) and rho A(x).
 
-Element edges sit on every planform vertex, so EI(x) = E 2 w(x) t^3 / 12 and rho A(x) = rho 2 w(x) t
-are linear inside each element; the quadrature order below integrates both matrices exactly.
+Element edges sit on every planform vertex (a width step is an element edge, where EI and rho A
+jump), so EI(x) = E 2 w(x) t^3 / 12 and rho A(x) = rho 2 w(x) t are linear inside each element;
+the quadrature order below integrates both matrices exactly.
 """
 
 from __future__ import annotations
@@ -33,11 +34,10 @@ def beam_stations(beam: Beam, n_elements: int = 200) -> np.ndarray:
     """Element edges (m): every planform vertex, plus about ``n_elements`` elements shared out
     in proportion to the vertex intervals' lengths (at least one per interval)."""
     n_elements = _check_count("n_elements", n_elements)
-    xv = beam.x_m
-    lengths = np.diff(xv)
-    counts = np.maximum(1, np.round(n_elements * lengths / beam.length_m).astype(int))
-    parts = [np.linspace(a, b, n + 1)[:-1] for a, b, n in zip(xv[:-1], xv[1:], counts, strict=True)]
-    return np.concatenate(parts + [xv[-1:]])
+    starts, ends = beam.intervals_m  # a width step is one edge, not a zero-length element
+    counts = np.maximum(1, np.round(n_elements * (ends - starts) / beam.length_m).astype(int))
+    parts = [np.linspace(a, b, n + 1)[:-1] for a, b, n in zip(starts, ends, counts, strict=True)]
+    return np.concatenate(parts + [beam.x_m[-1:]])
 
 
 @BilinearForm

@@ -72,26 +72,50 @@ def elastica_static(
     # Scale: moments by P L (or EI_root / L when unloaded), lengths by L.
     m_scale = max(P * L, beam.root_EI_Nm2 / L)
 
-    def EI(s: np.ndarray) -> np.ndarray:
-        return E * 2.0 * np.interp(s, xv, wv) * t**3 / 12.0
+    # A width step makes phi' = M / EI jump, which the collocation's C1 spline cannot follow:
+    # the beam is cut there into segments, each solved on its own copy of tau in [0, L] (states
+    # stacked, continuity of phi, M, x, z as boundary conditions). Between steps EI(s) is only
+    # kinked, and nodes sit at those vertices.
+    cuts = np.concatenate([[0.0], xv[beam.step_index], [L]])
+    a, ell = cuts[:-1], np.diff(cuts) / L  # s = a_i + ell_i tau on segment i
+    nseg = ell.size
+    seg_x, seg_w = [], []
+    for i in range(nseg):
+        lo = 0 if i == 0 else int(beam.step_index[i - 1]) + 1
+        hi = xv.size if i == nseg - 1 else int(beam.step_index[i]) + 1
+        seg_x.append(xv[lo:hi])
+        seg_w.append(wv[lo:hi])
+    EI_factor = E * 2.0 * t**3 / 12.0
 
     def make(fx: float, fz: float):
-        def rhs(s, y):
-            phi, m = y[0], y[1] * m_scale
-            return np.vstack([
-                m / EI(s),
-                (fx * np.sin(phi) - fz * np.cos(phi)) / m_scale,
-                np.cos(phi),
-                np.sin(phi),
-            ])
+        def rhs(tau, y):
+            out = np.empty_like(y)
+            for i in range(nseg):
+                phi, m = y[4 * i], y[4 * i + 1] * m_scale
+                sg = a[i] + ell[i] * tau
+                EI = EI_factor * np.interp(sg, seg_x[i], seg_w[i])
+                out[4 * i] = ell[i] * m / EI
+                out[4 * i + 1] = ell[i] * (fx * np.sin(phi) - fz * np.cos(phi)) / m_scale
+                out[4 * i + 2] = ell[i] * np.cos(phi)
+                out[4 * i + 3] = ell[i] * np.sin(phi)
+            return out
 
         def bc(ya, yb):
-            return np.array([ya[0], yb[1], ya[2], ya[3]])
+            joins = [ya[4 * (i + 1): 4 * (i + 2)] - yb[4 * i: 4 * (i + 1)]
+                     for i in range(nseg - 1)]
+            return np.concatenate([[ya[0], yb[4 * nseg - 3], ya[2], ya[3]], *joins])
 
         return rhs, bc
 
-    s = _mesh(beam, 64)
-    y = np.vstack([np.zeros_like(s), np.zeros_like(s), s, np.zeros_like(s)])
+    if nseg == 1:
+        s = _mesh(beam, 64)
+    else:
+        # every segment's vertices are nodes of the shared tau mesh
+        s = np.unique(np.concatenate(
+            [np.linspace(0.0, L, 65)] + [(seg_x[i] - a[i]) / ell[i] for i in range(nseg)]))
+    y = np.zeros((4 * nseg, s.size))
+    for i in range(nseg):
+        y[4 * i + 2] = a[i] + ell[i] * s
     sol = None
     for k in range(1, load_steps + 1):
         lam = k / load_steps
@@ -104,14 +128,14 @@ def elastica_static(
             )
         s, y = sol.x, sol.y
     t1 = time.perf_counter()
-    tip = np.array([y[2, -1], 0.0, y[3, -1]])
+    tip = np.array([y[4 * nseg - 2, -1], 0.0, y[4 * nseg - 1, -1]])
     return StaticSolution(
         model="elastica",
         nonlinear=True,
         tip_force_N=F.copy(),
         tip_position_m=tip,
         tip_displacement_m=tip - np.array([L, 0.0, 0.0]),
-        dofs=int(s.size),
+        dofs=int(s.size * nseg),
         mesh_level=0,
         load_steps=load_steps,
         timings=Timings(solve_s=t1 - t0),

@@ -25,6 +25,7 @@ from .mesh import (
     _segment_distance,
     delaunay_with_outline,
     element_size,
+    inner_half_width,
     mirrored_mesh,
     reentrant_vertices,
 )
@@ -164,7 +165,7 @@ def _interior_points(beam: Beam, size, h: float, poly: np.ndarray) -> np.ndarray
             boxes = np.vstack([q[0, need] - r, q[0, need] + r, q[1, need] - r, q[1, need] + r])
         c = _lattice(hj, boxes)
         c = c[:, (c[0] > 0.0) & (c[0] < L)]
-        c = c[:, c[1] < beam.half_width_at(c[0])]
+        c = c[:, c[1] < inner_half_width(beam, c[0])]
         if not c.size:
             continue
         s = size(c)
@@ -206,7 +207,9 @@ def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
 
 def _outline_polyline(beam: Beam, boundary: np.ndarray) -> np.ndarray:
     """The boundary points on the upper outline y = w(x), ordered from root to tip."""
-    on = np.abs(boundary[1] - beam.half_width_at(boundary[0])) < 1e-9 * beam.length_m
+    # distance to the outline's pieces, not |y - w(x)|: a width step's vertical piece is outline
+    xy = np.vstack([beam.x_m, beam.half_width_m])
+    on = _segment_distance(boundary, xy[:, :-1], xy[:, 1:]) < 1e-9 * beam.length_m
     on &= boundary[1] > 0.0
     pts = boundary[:, on]
     # ordered along the outline: the boundary points come counter-clockwise (tip to root)
@@ -215,7 +218,7 @@ def _outline_polyline(beam: Beam, boundary: np.ndarray) -> np.ndarray:
 
 def _mirror_half(beam: Beam, p_up: np.ndarray, t_up: np.ndarray) -> MeshTri:
     c = p_up[:, t_up].mean(axis=1)
-    t_up = t_up[:, np.abs(c[1]) < beam.half_width_at(c[0])]
+    t_up = t_up[:, np.abs(c[1]) < inner_half_width(beam, c[0])]
     v = p_up[:, t_up]
     area = 0.5 * np.abs((v[0, 1] - v[0, 0]) * (v[1, 2] - v[1, 0])
                         - (v[0, 2] - v[0, 0]) * (v[1, 1] - v[1, 0]))

@@ -28,6 +28,7 @@ __all__ = [
     "element_size",
     "x_stations",
     "planform_tri_mesh",
+    "inner_half_width",
     "mirrored_mesh",
     "mirror_nodes",
 ]
@@ -57,7 +58,8 @@ def x_stations(
         return _local_size(beam, h_m, growth, x, narrow)
 
     out = [xv[:1]]
-    for a, b in zip(xv[:-1], xv[1:], strict=True):
+    starts, ends = beam.intervals_m  # a width step is one station
+    for a, b in zip(starts, ends, strict=True):
         xs = np.linspace(a, b, 201)
         inv = 1.0 / size(xs)
         cum = np.concatenate([[0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(xs))])
@@ -77,9 +79,15 @@ def _local_size(
     lengths = np.diff(xv)
     x = np.asarray(x, dtype=float)
     s = np.full_like(x, h_m)
-    for k in np.flatnonzero(lengths < h_m):
+    for k in np.flatnonzero((lengths < h_m) & (lengths > 0.0)):
         d = np.maximum(0.0, np.maximum(xv[k] - x, x - xv[k + 1]))
         s = np.minimum(s, lengths[k] + growth * d)
+    # a width step is an outline piece across the span, of length |w_(k+1) - w_k|: as short
+    # as a vertex interval of that length
+    for k in beam.step_index:
+        jump = abs(float(beam.half_width_m[k + 1] - beam.half_width_m[k]))
+        if jump < h_m:
+            s = np.minimum(s, jump + growth * np.abs(x - xv[k]))
     if narrow:
         wv = beam.half_width_m
         for k in np.flatnonzero(NARROW_ELEMENTS * wv < h_m):
@@ -89,17 +97,26 @@ def _local_size(
 
 def _upper_outline(beam: Beam, xs: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     """Points (2, b) on the upper outline y = w(x), a column's top at every station plus
-    extra points on steep pieces so that boundary spacing follows the local size."""
-    w = beam.half_width_at(xs)
+    extra points on steep pieces so that boundary spacing follows the local size. A width step
+    is a vertical piece at its station, from the root-side to the tip-side half-width."""
+    wl = beam.half_width_at(xs, "left")
+    wr = beam.half_width_at(xs, "right")
+    # the outline's corners: two at a step's station, one elsewhere
+    px, py, ps = [], [], []
+    for x, a, b, s in zip(xs, wl, wr, sizes, strict=True):
+        for y in ((a, b) if a != b else (b,)):
+            px.append(x)
+            py.append(y)
+            ps.append(s)
     out = []
-    for i in range(xs.size - 1):
-        a = np.array([xs[i], w[i]])
-        b = np.array([xs[i + 1], w[i + 1]])
-        s = min(sizes[i], sizes[i + 1])
+    for i in range(len(px) - 1):
+        a = np.array([px[i], py[i]])
+        b = np.array([px[i + 1], py[i + 1]])
+        s = min(ps[i], ps[i + 1])
         n = max(1, int(round(np.linalg.norm(b - a) / s)))
         tt = np.linspace(0.0, 1.0, n + 1)[:-1]
         out.append(a[:, None] + (b - a)[:, None] * tt)
-    out.append(np.array([[xs[-1]], [w[-1]]]))
+    out.append(np.array([[px[-1]], [py[-1]]]))
     return np.hstack(out)
 
 
@@ -145,6 +162,12 @@ def delaunay_with_outline(
         mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
         outline = np.insert(outline, missing + 1, mid, axis=1)
     return p, t
+
+
+def inner_half_width(beam: Beam, x_m: np.ndarray) -> np.ndarray:
+    """min of the two one-sided half-widths at ``x_m`` (m): a point (x, y) with |y| below it is
+    inside the planform; at a step's station the points between the two are on its outline."""
+    return np.minimum(beam.half_width_at(x_m, "left"), beam.half_width_at(x_m, "right"))
 
 
 def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.ndarray:
@@ -221,7 +244,8 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     gaps = np.diff(xs)
     near = np.minimum(np.concatenate([gaps, gaps[-1:]]), np.concatenate([gaps[:1], gaps]))
     sizes = np.minimum(sizes, np.maximum(near, 0.5 * sizes))
-    w = beam.half_width_at(xs)
+    # at a step's station the column stops at the narrower side (the rest is outline)
+    w = np.minimum(beam.half_width_at(xs, "left"), beam.half_width_at(xs, "right"))
     outline = _upper_outline(beam, xs, sizes)
     col_pts = []
     for x, wi, s in zip(xs, w, sizes, strict=True):
@@ -236,7 +260,7 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     interior = cp[:, keep]
     p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m)
     c = p_up[:, t_up].mean(axis=1)
-    t_up = t_up[:, np.abs(c[1]) < beam.half_width_at(c[0])]
+    t_up = t_up[:, np.abs(c[1]) < inner_half_width(beam, c[0])]
     area = 0.5 * np.abs(
         (p_up[0, t_up[1]] - p_up[0, t_up[0]]) * (p_up[1, t_up[2]] - p_up[1, t_up[0]])
         - (p_up[0, t_up[2]] - p_up[0, t_up[0]]) * (p_up[1, t_up[1]] - p_up[1, t_up[0]])

@@ -1,0 +1,121 @@
+"""Input checks at the CLI: --min-link on fit, pareto and batch (exit 2 naming the option), a
+beam without tip_force (no load: eigen fits only). The truth is an independent file (Euler-
+Bernoulli frequencies and the elastica tip of uniform-narrow.json) or the 1D beam truth."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from prbdm_pin.batch import BeamTask, FitSettings, evaluate_beam
+from prbdm_pin.cli import main
+from prbdm_pin.errors import BeamInputError
+from prbdm_pin.fitting import fit
+from prbdm_pin.geometry import load_beam
+from prbdm_pin.problem import FitTarget
+
+BEAM = "examples/beams/uniform-narrow.json"
+BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376])
+
+
+@pytest.fixture(scope="module")
+def truth_file(tmp_path_factory):
+    b, t, L = 0.05, 0.01, 1.0
+    EI = 205e9 * b * t**3 / 12
+    omega = BETA_L**2 * math.sqrt(EI / (7850.0 * b * t * L**4))
+    tip = [L * (1 - 0.056433), 0.0, -0.301721 * L]
+    disp = [-0.056433 * L, 0.0, -0.301721 * L]
+    path = tmp_path_factory.mktemp("truth") / "truth.json"
+    path.write_text(json.dumps({"omega_rad_s": omega.tolist(), "tip_position_m": tip,
+                                "tip_displacement_m": disp, "mac": [1.0, 1.0, 1.0]}))
+    return path
+
+
+def _one_line_exit_2(capsys, argv, *needles):
+    rc = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert rc == 2, err
+    assert len(err.splitlines()) == 1, err
+    for n in needles:
+        assert n in err, err
+    return err
+
+
+@pytest.mark.parametrize("extra, needles", [
+    (["--joints", "60"], ["--min-link = 0.02", "61 links", "(0, 0.01639)"]),
+    (["--joints", "2", "--min-link", "0"], ["--min-link = 0", "(0, 0.3333)"]),
+    (["--joints", "2", "--min-link", "0.34"], ["--min-link = 0.34", "do not fit"]),
+    (["--joints", "2", "--min-link", "nan"], ["--min-link = nan"]),
+])
+def test_fit_and_pareto_refuse_a_bad_min_link(capsys, tmp_path, truth_file, extra, needles):
+    for cmd in ("fit", "pareto"):
+        _one_line_exit_2(capsys, [cmd, BEAM, *extra, "--truth", str(truth_file),
+                                  "--out", str(tmp_path / cmd), "-q"], *needles)
+        assert not (tmp_path / cmd / "fit.json").exists()
+
+
+def test_batch_refuses_a_bad_min_link(capsys, tmp_path):
+    _one_line_exit_2(capsys, ["batch", "--beams", "1", "--joints", "60", "--truth-model", "beam",
+                              "--out", str(tmp_path / "b"), "-q"], "--min-link = 0.02",
+                     "(0, 0.01639)")
+    with pytest.raises(BeamInputError, match=r"min_fraction = 0\.5"):
+        FitSettings(joints=1, min_fraction=0.5)
+
+
+def test_min_link_reaches_the_fit(tmp_path, truth_file):
+    # the free 2R optimum has a link below 0.3 L; --min-link 0.3 confines all to [0.3, 0.4] L
+    lengths = {}
+    for f in (None, 0.3):
+        out = tmp_path / f"f{f}"
+        argv = ["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "4",
+                "--truth", str(truth_file), "--out", str(out), "-q"]
+        assert main(argv + ([] if f is None else ["--min-link", str(f)])) == 0
+        lengths[f] = np.array(json.loads((out / "fit.json").read_text())["lengths_m"])
+    assert lengths[None].min() < 0.29
+    assert lengths[0.3].min() >= 0.3 - 1e-12 and lengths[0.3].max() <= 0.4 + 1e-12
+
+
+def test_min_link_reaches_the_batch_fit(tmp_path):
+    beam = load_beam(BEAM)
+    gammas = {}
+    for f in (0.02, 0.3):
+        s = FitSettings(joints=2, stiffness="joint", starts=3, truth_model="beam",
+                        cache_dir=str(tmp_path), min_fraction=f)
+        rec = evaluate_beam(BeamTask(0, 0, s, "narrow", beam))
+        assert rec["status"] == "ok", rec.get("error")
+        gammas[f] = np.array(rec["gamma"])
+    assert gammas[0.02].min() < 0.29
+    assert gammas[0.3].min() >= 0.3 - 1e-12
+
+
+def test_beam_without_tip_force_is_unloaded_and_refused_by_deflection_fits(
+        capsys, tmp_path, truth_file):
+    d = json.loads(open(BEAM).read())
+    del d["tip_force"]
+    path = tmp_path / "unloaded.json"
+    path.write_text(json.dumps(d))
+    beam = load_beam(path)
+    np.testing.assert_array_equal(beam.tip_force_N, [0.0, 0.0, 0.0])
+    for cmd, objective in (("fit", ["--objective", "deflection"]),
+                           ("fit", ["--objective", "combined"]), ("pareto", [])):
+        _one_line_exit_2(capsys, [cmd, str(path), "--joints", "2", *objective, "--truth",
+                                  str(truth_file), "--out", str(tmp_path / "o"), "-q"],
+                         "tip_force = [0, 0, 0] N")
+    # the library refuses too (a fit to nothing: the unloaded model tip equals the truth's)
+    target = FitTarget(np.array([1.0, 6.0]), beam.tip_force_N, [1.0, 0, 0], [0.0, 0, 0])
+    with pytest.raises(BeamInputError, match=r"tip_force = \[0, 0, 0\] N"):
+        fit(beam, target, 2, objective="deflection", starts=1, progress=False)
+    # an eigen fit needs no load
+    assert main(["fit", str(path), "--joints", "2", "--stiffness", "joint", "--starts", "2",
+                 "--truth", str(truth_file), "--out", str(tmp_path / "e"), "-q"]) == 0
+
+
+def test_help_states_the_tip_force_default(capsys):
+    with pytest.raises(SystemExit):
+        main(["fit", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert 'without "tip_force" has no load (0 N)' in out
+    assert "--min-link FRACTION" in out
