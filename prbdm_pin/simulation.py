@@ -83,8 +83,9 @@ computed once, at ``damping_pose`` (default: ``q0``), from M there and K there (
 springs at that pose, if any), and frozen for the run: it then gives the modes of the system
 linearised at that pose exactly their ratios, costs nothing per step and keeps the damping force
 linear in v. Pass the static equilibrium as ``damping_pose`` to damp the oscillation about a
-deflected pose with exactly the requested ratios. A MuJoCo run of the MJCF export matches a run
-from the straight pose with ``damping="stiffness"`` (both have C = beta K with beta from q = 0).
+deflected pose with exactly the requested ratios. A MuJoCo run of the MJCF export matches
+``damping="stiffness"`` with beta from the straight pose (the default for ``q0 = 0``; from a bent
+start pass ``damping_pose=np.zeros(n)``, as ``prbdm simulate --damping-form stiffness`` does).
 
 Only what the scene needs is computed: no tip Jacobian without a tip force, no damping matrix
 when every ratio is zero.
