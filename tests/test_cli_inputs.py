@@ -119,3 +119,27 @@ def test_help_states_the_tip_force_default(capsys):
     out = " ".join(capsys.readouterr().out.split())
     assert 'without "tip_force" has no load (0 N)' in out
     assert "--min-link FRACTION" in out
+
+
+def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_file):
+    # a --min-link 0.005 fit may return a link below 0.02 L: fit.json, the URDF and the
+    # planform plot are written for it, and the URDF carries that link's exact mass
+    import dataclasses
+
+    from prbdm_pin.commands.fit import write_fit_outputs
+    from prbdm_pin.model import load_urdf
+
+    out = tmp_path / "fit"
+    assert main(["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "2",
+                 "--min-link", "0.005", "--truth", str(truth_file), "--out", str(out),
+                 "-q"]) == 0
+    from prbdm_pin.results import load_fit
+
+    beam = load_beam(BEAM)
+    res = dataclasses.replace(load_fit(out / "fit.json"),
+                              lengths_m=np.array([0.01, 0.5, 0.49]))
+    write_fit_outputs(res, beam, tmp_path / "short")
+    model = load_urdf(tmp_path / "short" / "model.urdf")
+    m0 = 7850.0 * 0.01 * 0.05 * 0.01  # rho L_0 b t
+    assert model.sections.mass_kg[0] == pytest.approx(m0, rel=1e-12)
+    assert (tmp_path / "short" / "planform.png").stat().st_size > 1000

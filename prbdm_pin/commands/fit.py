@@ -177,7 +177,10 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
     from ..model import build_model
 
     out.mkdir(parents=True, exist_ok=True)
-    model = build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    lengths = result.lengths_m
+    # the fit's own bound may be below Eq. 15's default (--min-link)
+    model = build_model(beam, lengths, result.stiffness_Nm_per_rad,
+                        min_fraction=min(0.02, 0.5 * float(lengths.min()) / beam.length_m))
     written = [model.write_urdf(out / "model.urdf")]
     if plots:
         from ..plots import plot_planform, plot_scf
