@@ -78,6 +78,21 @@ def test_min_link_reaches_the_fit(tmp_path, truth_file):
     assert lengths[0.3].min() >= 0.3 - 1e-12 and lengths[0.3].max() <= 0.4 + 1e-12
 
 
+def test_min_link_reaches_the_pareto_front(tmp_path, truth_file):
+    import csv
+
+    out = tmp_path / "pareto"
+    assert main(["pareto", BEAM, "--joints", "2", "--stiffness", "joint", "--pop", "8",
+                 "--generations", "2", "--min-link", "0.3", "--truth", str(truth_file),
+                 "--out", str(out), "-q"]) == 0
+    rows = list(csv.DictReader((out / "pareto.csv").open()))
+    cols = [k for k in rows[0] if k.startswith("L") and k.endswith("_m")]  # L0_m, L1_m, ...
+    g = np.array([[float(r[k]) for k in cols] for r in rows])
+    assert cols and g.min() >= 0.3 - 1e-9, (cols, g.min())
+    knee = np.array(json.loads((out / "fit.json").read_text())["lengths_m"])
+    assert knee.min() >= 0.3 - 1e-12
+
+
 def test_min_link_reaches_the_batch_fit(tmp_path):
     beam = load_beam(BEAM)
     gammas = {}

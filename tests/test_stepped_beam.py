@@ -97,11 +97,11 @@ def test_sections_of_links_that_straddle_or_end_on_the_step(lengths):
 
 def test_finite_segment_spring_across_the_step():
     beam = stepped()
-    lengths = np.array([0.2, 0.4, 0.4])  # joint 1's span [0.1... ] contains the step
+    lengths = np.array([0.2, 0.4, 0.4])  # both springs' spans end on the step
     K = finite_segment_stiffness(beam, lengths)
     centres = [0.0, 0.4, 1.0]  # the clamp, link 1's mid-span, the tip (end links count to ends)
     I1, I2 = 2 * W1 * T**3 / 12, 2 * W2 * T**3 / 12
-    # joint 0: [0, 0.4] all I1; joint 1: [0.4, 1.0] all I2
+    # joint 0: [0, 0.4] all I1; joint 1: [0.4, 1.0] all I2 (a one-sided limit at each end)
     np.testing.assert_allclose(K, [E * I1 / (centres[1] - centres[0]),
                                    E * I2 / (centres[2] - centres[1])], rtol=1e-13)
     lengths = np.array([0.3, 0.3, 0.4])  # joint 0 spans [0, 0.45]: 0.4 of I1 and 0.05 of I2
