@@ -158,3 +158,35 @@ def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_fil
     m0 = 7850.0 * 0.01 * 0.05 * 0.01  # rho L_0 b t
     assert model.sections.mass_kg[0] == pytest.approx(m0, rel=1e-12)
     assert (tmp_path / "short" / "planform.png").stat().st_size > 1000
+
+
+def test_a_design_below_the_default_bound_is_evaluated():
+    # a fit with min_fraction 0.005 evaluates designs with a link of 0.01 L: the finite-segment
+    # springs and the model of that design, not a refusal at Eq. 15's default 0.02 L
+    from prbdm_pin.problem import evaluate, make_problem
+
+    beam = load_beam(BEAM)
+    target = FitTarget(np.array([10.0, 60.0]), beam.tip_force_N)
+    problem = make_problem(beam, target, 2, stiffness="joint", min_fraction=0.005)
+    lengths = np.array([0.01, 0.5, 0.49])
+    ev = evaluate(problem, lengths, np.ones(2), deflection=False)
+    EI = 205e9 * 0.05 * 0.01**3 / 12
+    # joint 0 spans [0, 0.26] (clamp to link 1's mid-span), joint 1 [0.26, 1]: K = EI / span
+    np.testing.assert_allclose(ev.stiffness_Nm_per_rad[0], [EI / 0.26, EI / 0.74], rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_a_long_chain_fits_with_a_smaller_min_link(tmp_path, truth_file):
+    # 50 links of at least 0.02 L do not fit; with --min-link 0.015 the 49R fit runs end to end
+    # and its URDF has the Euler-Bernoulli frequencies of the truth file
+    from prbdm_pin.model import load_urdf
+
+    out = tmp_path / "long"
+    assert main(["fit", BEAM, "--joints", "49", "--min-link", "0.015", "--frequencies", "3",
+                 "--stiffness", "joint", "--starts", "1", "--truth", str(truth_file),
+                 "--out", str(out), "-q"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    lengths = np.array(d["lengths_m"])
+    assert lengths.size == 50 and lengths.min() >= 0.015 - 1e-12
+    omega = load_urdf(out / "model.urdf").natural_frequencies()[:3]
+    np.testing.assert_allclose(omega, d["omega_truth_rad_s"], rtol=1e-2)
