@@ -222,6 +222,9 @@ class Beam:
         object.__setattr__(self, "half_width_m", _readonly(w))
         object.__setattr__(self, "thickness_m", t)
         object.__setattr__(self, "tip_force_N", _readonly(f))
+        steps = np.flatnonzero(np.diff(x) == 0.0)
+        steps.setflags(write=False)
+        object.__setattr__(self, "_steps", steps)  # read in the fit's inner loop
 
     # Derived geometry -------------------------------------------------------------------------
     @property
@@ -232,7 +235,7 @@ class Beam:
     @property
     def step_index(self) -> np.ndarray:
         """Indices k of the width steps, x_m[k] == x_m[k + 1] (int, possibly empty)."""
-        return np.flatnonzero(np.diff(self.x_m) == 0.0)
+        return self._steps
 
     @property
     def intervals_m(self) -> tuple[np.ndarray, np.ndarray]:

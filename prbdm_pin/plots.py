@@ -52,9 +52,12 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
 
     plt = _pyplot()
     lengths = np.asarray(lengths_m, dtype=float)
-    sec = link_sections(beam, lengths)
+    # any fitted layout, also one with links below Eq. 15's default 0.02 L (--min-link)
+    sec = link_sections(beam, lengths,
+                        min_fraction=min(0.02, 0.5 * float(lengths.min()) / beam.length_m))
     fig, ax = plt.subplots(figsize=(7, 4))
     x, w = beam.x_m, beam.half_width_m
+    # a width step is two vertices at one x: fill_between and the outline draw it as a jump
     ax.fill_between(x, -w, w, color="0.85", label="planform")
     ax.plot(np.r_[x, x[::-1], x[:1]], np.r_[w, -w[::-1], w[:1]], color="0.3", lw=1)
     joints = np.cumsum(lengths)[:-1]

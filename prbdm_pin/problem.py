@@ -446,7 +446,8 @@ def base_stiffness(problem: FitProblem, model_or_lengths) -> np.ndarray:
     if problem.stiffness == "paper":
         return np.asarray(paper_stiffness(model_or_lengths.sections,
                                           problem.beam.material.E_Pa, 1.0), dtype=float)
-    return np.asarray(finite_segment_stiffness(problem.beam, model_or_lengths), dtype=float)
+    return np.asarray(finite_segment_stiffness(problem.beam, model_or_lengths,
+                                               problem.min_fraction), dtype=float)
 
 
 def build(problem: FitProblem, lengths_m: np.ndarray):
@@ -454,12 +455,13 @@ def build(problem: FitProblem, lengths_m: np.ndarray):
     from .model import build_model
 
     lengths = np.asarray(lengths_m, dtype=float)
+    f = problem.min_fraction  # the fit's own bound (below 0.02 for long chains)
     if problem.stiffness == "paper":
-        model = build_model(problem.beam, lengths, np.ones(problem.n_joints))
+        model = build_model(problem.beam, lengths, np.ones(problem.n_joints), min_fraction=f)
         K0 = base_stiffness(problem, model)
         return model.with_stiffness(K0), K0
     K0 = base_stiffness(problem, lengths)
-    return build_model(problem.beam, lengths, K0), K0
+    return build_model(problem.beam, lengths, K0, min_fraction=f), K0
 
 
 def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):

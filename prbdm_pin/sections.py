@@ -4,7 +4,8 @@ The planform half-width w(x) is piecewise linear, so over any span every integra
 (the area 2 w, its first and second moments in x, and the y^2 moment 2 w^3 / 3) is a polynomial of
 degree <= 3 on each vertex interval. Two-point Gauss-Legendre quadrature is exact for cubics, so
 splitting the link spans at the planform vertices and summing gives the exact integrals (to
-rounding) without sampling or polygon clipping.
+rounding) without sampling or polygon clipping. A width step (two vertices at one station) splits
+the axis there too, so a link that straddles or ends on a step integrates each side exactly.
 """
 
 from __future__ import annotations

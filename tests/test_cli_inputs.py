@@ -78,6 +78,21 @@ def test_min_link_reaches_the_fit(tmp_path, truth_file):
     assert lengths[0.3].min() >= 0.3 - 1e-12 and lengths[0.3].max() <= 0.4 + 1e-12
 
 
+def test_min_link_reaches_the_pareto_front(tmp_path, truth_file):
+    import csv
+
+    out = tmp_path / "pareto"
+    assert main(["pareto", BEAM, "--joints", "2", "--stiffness", "joint", "--pop", "8",
+                 "--generations", "2", "--min-link", "0.3", "--truth", str(truth_file),
+                 "--out", str(out), "-q"]) == 0
+    rows = list(csv.DictReader((out / "pareto.csv").open()))
+    cols = [k for k in rows[0] if k.startswith("L") and k.endswith("_m")]  # L0_m, L1_m, ...
+    g = np.array([[float(r[k]) for k in cols] for r in rows])
+    assert cols and g.min() >= 0.3 - 1e-9, (cols, g.min())
+    knee = np.array(json.loads((out / "fit.json").read_text())["lengths_m"])
+    assert knee.min() >= 0.3 - 1e-12
+
+
 def test_min_link_reaches_the_batch_fit(tmp_path):
     beam = load_beam(BEAM)
     gammas = {}
@@ -119,3 +134,59 @@ def test_help_states_the_tip_force_default(capsys):
     out = " ".join(capsys.readouterr().out.split())
     assert 'without "tip_force" has no load (0 N)' in out
     assert "--min-link FRACTION" in out
+
+
+def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_file):
+    # a --min-link 0.005 fit may return a link below 0.02 L: fit.json, the URDF and the
+    # planform plot are written for it, and the URDF carries that link's exact mass
+    import dataclasses
+
+    from prbdm_pin.commands.fit import write_fit_outputs
+    from prbdm_pin.model import load_urdf
+
+    out = tmp_path / "fit"
+    assert main(["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "2",
+                 "--min-link", "0.005", "--truth", str(truth_file), "--out", str(out),
+                 "-q"]) == 0
+    from prbdm_pin.results import load_fit
+
+    beam = load_beam(BEAM)
+    res = dataclasses.replace(load_fit(out / "fit.json"),
+                              lengths_m=np.array([0.01, 0.5, 0.49]))
+    write_fit_outputs(res, beam, tmp_path / "short")
+    model = load_urdf(tmp_path / "short" / "model.urdf")
+    m0 = 7850.0 * 0.01 * 0.05 * 0.01  # rho L_0 b t
+    assert model.sections.mass_kg[0] == pytest.approx(m0, rel=1e-12)
+    assert (tmp_path / "short" / "planform.png").stat().st_size > 1000
+
+
+def test_a_design_below_the_default_bound_is_evaluated():
+    # a fit with min_fraction 0.005 evaluates designs with a link of 0.01 L: the finite-segment
+    # springs and the model of that design, not a refusal at Eq. 15's default 0.02 L
+    from prbdm_pin.problem import evaluate, make_problem
+
+    beam = load_beam(BEAM)
+    target = FitTarget(np.array([10.0, 60.0]), beam.tip_force_N)
+    problem = make_problem(beam, target, 2, stiffness="joint", min_fraction=0.005)
+    lengths = np.array([0.01, 0.5, 0.49])
+    ev = evaluate(problem, lengths, np.ones(2), deflection=False)
+    EI = 205e9 * 0.05 * 0.01**3 / 12
+    # joint 0 spans [0, 0.26] (clamp to link 1's mid-span), joint 1 [0.26, 1]: K = EI / span
+    np.testing.assert_allclose(ev.stiffness_Nm_per_rad[0], [EI / 0.26, EI / 0.74], rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_a_long_chain_fits_with_a_smaller_min_link(tmp_path, truth_file):
+    # 50 links of at least 0.02 L do not fit; with --min-link 0.015 the 49R fit runs end to end
+    # and its URDF has the Euler-Bernoulli frequencies of the truth file
+    from prbdm_pin.model import load_urdf
+
+    out = tmp_path / "long"
+    assert main(["fit", BEAM, "--joints", "49", "--min-link", "0.015", "--frequencies", "3",
+                 "--stiffness", "joint", "--starts", "1", "--truth", str(truth_file),
+                 "--out", str(out), "-q"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    lengths = np.array(d["lengths_m"])
+    assert lengths.size == 50 and lengths.min() >= 0.015 - 1e-12
+    omega = load_urdf(out / "model.urdf").natural_frequencies()[:3]
+    np.testing.assert_allclose(omega, d["omega_truth_rad_s"], rtol=1e-2)

@@ -184,8 +184,9 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
 
     out.mkdir(parents=True, exist_ok=True)
     lengths = result.lengths_m
+    # the fit's own bound may be below Eq. 15's default (--min-link)
     model = build_model(beam, lengths, result.stiffness_Nm_per_rad,
-                        min_fraction=min(0.02, 0.5 * float(min(lengths) / sum(lengths))))
+                        min_fraction=min(0.02, 0.5 * float(min(lengths)) / beam.length_m))
     written = [write_urdf(model, out / "model.urdf",
                           omega_truth_rad_s=result.omega_truth_rad_s)]
     if plots:
