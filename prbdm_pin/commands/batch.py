@@ -22,7 +22,13 @@ Beam i is random_beam(default_rng(SeedSequence(SEED, spawn_key=(i,)))).
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``batch`` subparser."""
-    from ..batch import OBJECTIVES, STIFFNESS_KINDS, TRUTH_MODELS
+    from ..batch import (
+        DEFAULT_EIGEN_NORM,
+        EIGEN_NORMS,
+        OBJECTIVES,
+        STIFFNESS_KINDS,
+        TRUTH_MODELS,
+    )
 
     p = subparsers.add_parser(
         "batch",
@@ -43,6 +49,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--stiffness", choices=STIFFNESS_KINDS, default="paper")
     p.add_argument("--starts", type=int, default=64, help="multistart points per fit (64)")
     p.add_argument("--truth-model", choices=TRUTH_MODELS, default="plate")
+    p.add_argument("--eigen-norm", choices=EIGEN_NORMS, default=DEFAULT_EIGEN_NORM,
+                   help="eigen error per pose: Eq. 16's l2 norm (paper) or the rms of the "
+                        f"per-mode relative errors (relative); default {DEFAULT_EIGEN_NORM}")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     p.add_argument("--cache-dir", metavar="DIR", default=None,
                    help="truth cache (default OUT/truth-cache)")
@@ -69,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
     settings = FitSettings(
         joints=args.joints, frequencies=args.frequencies, objective=args.objective,
         stiffness=args.stiffness, starts=args.starts, truth_model=args.truth_model,
+        eigen_norm=args.eigen_norm,
         cache_dir=os.path.abspath(cache) if args.scheduler is None else cache,
     )
     spec = BatchSpec(
