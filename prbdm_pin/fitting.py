@@ -748,9 +748,11 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         k = int(np.argmax(np.abs(export_errors)))
         notes.append(f"the exported model ({described}) misses "
                      f"truth mode {k + 1} by {export_errors[k]:+.3g} % at the straight pose "
-                     f"(every mode: {_pct_list(export_errors)}); a {objective} "
-                     f"{problem.eigen_norm}-norm loss of {ev.eigen_loss_pct:.3g} % does not "
-                     "show it")
+                     f"(every mode: {_pct_list(export_errors)}); the {problem.eigen_norm}-norm "
+                     f"eigen loss of {ev.eigen_loss_pct:.3g} % does not show it"
+                     + ("; Eq. 14's springs, one SCF times sqrt(E I_j / m_j), cannot follow "
+                        "every planform: joint springs (stiffness='joint') fit each joint"
+                        if problem.stiffness == "paper" else ""))
     notes.extend(_bound_notes(ev.lengths_m, problem.length_m, problem.min_fraction))
     return FitResult(
         beam_name=problem.beam.name, beam_fingerprint=problem.beam.fingerprint(),
