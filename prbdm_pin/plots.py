@@ -79,12 +79,20 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
 
 
 def plot_scf(result, path) -> Path:
-    """SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis."""
+    """SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis; the
+    exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted."""
     plt = _pyplot()
     ang = np.degrees(np.asarray(result.poses_rad)[:, 0])
     k = np.asarray(result.factors)
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(ang, k, "o-", color="tab:blue")
+    ax.axhline(result.scf_mean, color="0.5", ls=":", lw=1, label="SCF_mean (not exported)")
+    pose = result.export_pose_rad
+    if pose is not None:
+        i = int(np.argmin(np.abs(np.asarray(result.poses_rad)[:, 0] - pose[0])))
+        ax.plot(ang[i], k[i], "o", ms=12, mfc="none", color="tab:red",
+                label=f"exported: pose {i}, k = {k[i]:.4g}")
+    ax.legend(loc="best", fontsize=7)
     ax.set_xlabel("joint angle (deg)")
     ax.set_ylabel("stiffness correction factor k_i")
     ax2 = ax.twinx()

@@ -35,6 +35,7 @@ from .dynamics import (
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .objectives import (
+    check_eigen_norm,
     eigen_errors,
     tip_displacement_errors,
     tip_position_errors,
@@ -302,6 +303,9 @@ class FitProblem:
         Lower bound of a link length as a fraction of L (Eq. 15c).
     xi, eps : float
         The pose sweep's offset and step (Eqs. 10-11), rad (recorded for provenance).
+    eigen_norm : str
+        The per-pose eigen error: ``"paper"`` (Eq. 16) or ``"relative"`` (rms of the per-mode
+        relative errors; ``objectives.eigen_weights``).
     """
 
     beam: Beam
@@ -313,6 +317,7 @@ class FitProblem:
     min_fraction: float = 0.02
     xi: float = 0.05
     eps: float = 0.1
+    eigen_norm: str = "paper"
 
     @property
     def n_freq(self) -> int:
@@ -343,12 +348,14 @@ def make_problem(
     squared: bool = False,
     joint_sweep: bool = False,
     min_fraction: float = 0.02,
+    eigen_norm: str = "paper",
 ) -> FitProblem:
     """Validate the fit settings and build a :class:`FitProblem`.
 
     ``frequencies`` defaults to ``min(joints, available truth frequencies)``; the ``paper``
     parametrisation compares frequencies over ``pose_sweep(joints, xi, eps)``, ``joint`` at the
-    straight pose (over the sweep when ``joint_sweep``).
+    straight pose (over the sweep when ``joint_sweep``). ``eigen_norm`` is ``"paper"`` (Eq. 16)
+    or ``"relative"``.
     """
     from .stiffness import pose_sweep
 
@@ -356,6 +363,7 @@ def make_problem(
         raise BeamInputError(f"joints = {joints!r}: must be an integer >= 1")
     if stiffness not in STIFFNESS_KINDS:
         raise BeamInputError(f"stiffness = {stiffness!r}: must be one of {STIFFNESS_KINDS}")
+    check_eigen_norm(eigen_norm)
     if not (0.0 < min_fraction and (joints + 1) * min_fraction < 1.0):
         raise BeamInputError(
             f"min_fraction = {min_fraction}: needs 0 < min_fraction < 1/(joints+1)"
@@ -383,7 +391,7 @@ def make_problem(
     else:
         poses = np.zeros((1, int(joints)))
     return FitProblem(beam, target, int(joints), stiffness, _ro(poses), bool(squared),
-                      float(min_fraction), float(xi), float(eps))
+                      float(min_fraction), float(xi), float(eps), eigen_norm)
 
 
 # --- evaluation --------------------------------------------------------------------------
@@ -400,7 +408,7 @@ class Evaluation:
         The springs of every pose (rows identical for ``joint``), N m/rad.
     omega_model_rad_s : ndarray, shape (m, N)
     eigen_errors : ndarray, shape (m,)
-        Per-pose relative eigen error (fraction).
+        Per-pose relative eigen error in the problem's norm (fraction).
     tip_position_m : ndarray, shape (m', 3), or None
         Model tip under the load for each distinct stiffness (m' = m for paper, 1 for joint).
     position_errors, displacement_errors : ndarray, shape (m',), or None
@@ -589,7 +597,8 @@ def evaluate(
         model, K0 = build(problem, lengths) if unit is None else unit[:2]
         omega = np.asarray(model.natural_frequencies_batch(
             problem.poses_rad, stiffness=factors * K0))[:, : problem.n_freq]
-    err = eigen_errors(omega, problem.target.omega_truth_rad_s, problem.squared)
+    err = eigen_errors(omega, problem.target.omega_truth_rad_s, problem.squared,
+                       problem.eigen_norm)
     K = pose_stiffness(problem, K0, factors)
     tips = pos = disp = extra = None
     if deflection and problem.target.has_static:
@@ -613,7 +622,7 @@ class BatchLosses:
     Attributes
     ----------
     eigen_errors : ndarray, shape (B, m)
-        Relative eigen error of each pose (Eq. 16).
+        Relative eigen error of each pose (Eq. 16, or the relative norm: the problem's).
     position_errors, displacement_errors : ndarray, shape (B, m'), or None
         Tip error under the load case for each distinct stiffness (m' = m for ``paper``, 1 for
         ``joint``), normalised by the truth tip position (Eq. 19) and by the truth tip
@@ -684,7 +693,7 @@ def batch_losses(problem: FitProblem, lengths_m: np.ndarray, factors: np.ndarray
         return BatchLosses(cat("eigen_errors"), cat("position_errors"),
                            cat("displacement_errors"))
     eig = eigen_errors(omega[:, : problem.n_freq], problem.target.omega_truth_rad_s,
-                       problem.squared).reshape(B, m)
+                       problem.squared, problem.eigen_norm).reshape(B, m)
     if not static:
         return BatchLosses(eig)
     rows = K.reshape(B * m, n) if problem.stiffness == "paper" else K[:, 0]

@@ -28,8 +28,12 @@ _ARRAY_FIELDS = {
     "eigen_errors_pct", "tip_position_model_m", "tip_position_truth_m",
     "tip_displacement_truth_m", "tip_force_N", "mac", "start_losses_pct",
     "F_pct", "X", "front_lengths_m", "front_factors", "extra_tip_force_N",
-    "extra_tip_position_truth_m", "extra_tip_position_model_m",
+    "extra_tip_position_truth_m", "extra_tip_position_model_m", "omega_errors_pct",
+    "export_pose_rad", "omega_export_rad_s", "omega_export_errors_pct",
 }
+# what an old paper fit.json (one without ``stiffness_pose``) exported
+_OLD_PAPER_EXPORT = ("paper: SCF_mean times Eq. 14 (a fit.json written before fits recorded "
+                     "their export pose; no pose was fitted with these springs)")
 
 
 def package_versions() -> tuple[tuple[str, str], ...]:
@@ -130,20 +134,22 @@ class FitResult(_Serialisable):
         ``"paper"`` (one SCF per pose, Eq. 14) or ``"joint"`` (one factor per joint).
     lengths_m : ndarray, shape (n+1,)
     stiffness_Nm_per_rad : ndarray, shape (n,)
-        One spring per joint: the fitted springs (joint) or the SCF_mean springs (paper).
+        The exported springs (model.urdf and every export): the fitted springs (joint), or the
+        springs fitted at one pose of the sweep, ``export_pose_rad`` (paper: pose 0, the one
+        nearest straight). Never SCF_mean springs, which no pose was fitted with.
     stiffness_per_pose_Nm_per_rad : ndarray, shape (m, n)
-        The springs of every pose of the sweep.
+        The springs of every pose of the sweep (:meth:`stiffness_schedule`).
     factors : ndarray
         SCFs k_i, shape (m,) (paper), or joint factors s_j, shape (n,) (joint).
     scf_mean : float
-        Eq. 25 (paper); mean joint factor (joint).
+        Eq. 25 (paper; a diagnostic, not an exported spring set); mean joint factor (joint).
     scf_deviation_pct : ndarray, shape (m,)
         P_i of Eq. 26 (paper; zeros for joint).
     poses_rad : ndarray, shape (m, n)
     omega_truth_rad_s : ndarray, shape (N,)
     omega_model_rad_s : ndarray, shape (m, N)
     eigen_errors_pct : ndarray, shape (m,)
-        Per-pose eigen error (Eq. 16), %.
+        Per-pose eigen error in the fit's ``eigen_norm`` (Eq. 16 for ``"paper"``), %.
     eigen_loss_pct, deflection_loss_pct, displacement_loss_pct, combined_loss_pct : float
         Eq. 17, Eq. 19 (normalised by the truth tip position), the same normalised by the truth
         tip displacement, Eq. 27 (eigen and position); NaN when no static truth. With extra
@@ -171,6 +177,23 @@ class FitResult(_Serialisable):
     warnings : tuple of str
         What makes the model less than it looks: truth modes that are not beam-like, or n
         frequencies a ``joint`` fit should match and did not.
+    eigen_norm : str
+        ``"paper"`` (Eq. 16's l2 norm) or ``"relative"`` (rms of the per-mode relative errors):
+        the norm of ``eigen_errors_pct`` and ``eigen_loss_pct``.
+    omega_errors_pct : ndarray, shape (m, N)
+        Signed per-mode errors 100 (omega_model / omega_truth - 1) at every fitted pose, %.
+    worst_mode_error_pct : float
+        max |omega_errors_pct| over the fitted poses and modes, %.
+    export_pose_rad : ndarray, shape (n,), or None
+        The pose whose springs are exported (paper: sweep pose 0; joint: the straight pose;
+        None in a fit.json written before it was recorded).
+    stiffness_pose : str
+        What the exported springs are, in words.
+    omega_export_rad_s, omega_export_errors_pct : ndarray, shape (N,), or None
+        The exported model's own frequencies at the straight pose q = 0 (rad/s) and their signed
+        errors against the truth (%).
+    worst_export_error_pct : float
+        max |omega_export_errors_pct|, %.
     versions : tuple of (name, version)
     """
 
@@ -216,11 +239,44 @@ class FitResult(_Serialisable):
     extra_tip_position_model_m: np.ndarray | None = None
     warnings: tuple = ()
     truth_request: TruthRequest | None = None
+    eigen_norm: str = "paper"
+    omega_errors_pct: np.ndarray | None = None
+    worst_mode_error_pct: float = math.nan
+    export_pose_rad: np.ndarray | None = None
+    stiffness_pose: str = ""
+    omega_export_rad_s: np.ndarray | None = None
+    omega_export_errors_pct: np.ndarray | None = None
+    worst_export_error_pct: float = math.nan
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:
         for name in _ARRAY_FIELDS & {f.name for f in fields(self)}:
             object.__setattr__(self, name, _ro(getattr(self, name)))
+        # a fit.json written before the per-mode errors were recorded: derive them
+        if self.omega_errors_pct is None and self.omega_model_rad_s is not None:
+            from .objectives import mode_errors_pct
+
+            object.__setattr__(self, "omega_errors_pct", _ro(mode_errors_pct(
+                self.omega_model_rad_s, self.omega_truth_rad_s)))
+        if not math.isfinite(self.worst_mode_error_pct) and self.omega_errors_pct is not None:
+            object.__setattr__(self, "worst_mode_error_pct",
+                               float(np.max(np.abs(self.omega_errors_pct))))
+        if not self.stiffness_pose:
+            object.__setattr__(self, "stiffness_pose", _OLD_PAPER_EXPORT
+                               if self.stiffness == "paper" else "joint: pose-independent springs")
+
+    def stiffness_schedule(self):
+        """The per-pose springs as a ``simulation.StiffnessSchedule`` for ``simulate``.
+
+        Row i of ``stiffness_per_pose_Nm_per_rad`` belongs to the sweep angle
+        ``poses_rad[i, 0]`` (every joint at the same angle); a pose q is mapped to the mean
+        |q_j| and the springs are interpolated linearly between the sweep poses, held at the
+        first (last) pose's below (above) the sweep. At the straight pose it gives pose 0's
+        springs, the exported ones.
+        """
+        from .simulation import StiffnessSchedule
+
+        return StiffnessSchedule(self.poses_rad[:, 0], self.stiffness_per_pose_Nm_per_rad)
 
     @property
     def loss_pct(self) -> float:
@@ -263,6 +319,8 @@ class ParetoResult(_Serialisable):
         The knee evaluated in full (not serialised here; written as its own fit.json).
     deflection_norm : str
         ``"position"`` (Eq. 19) or ``"displacement"``.
+    eigen_norm : str
+        ``"paper"`` (Eq. 16) or ``"relative"``: the norm of the front's eigen losses.
     pop, generations, n_evals, seed : int
     """
 
@@ -286,6 +344,7 @@ class ParetoResult(_Serialisable):
     success: bool
     message: str
     knee: FitResult | None = None
+    eigen_norm: str = "paper"
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

@@ -83,7 +83,7 @@ def narrow_study(out: Path, joints: list[int], starts: int, workers: int) -> lis
              "|---|" + "---|" * len(ELASTICA)]
     for n in joints:
         r = fit(beam, target, n, n, objective="combined", stiffness="joint", starts=starts,
-                seed=0, workers=workers, progress=False)
+                seed=0, workers=workers, progress=False, eigen_norm="paper")
         write_fit_outputs(r, beam, out / "uniform-narrow" / f"{n}R-joint-combined")
         md.append(f"| {n}R | {r.eigen_loss_pct:.4g} | {r.deflection_loss_pct:.4g} | "
                   f"{r.displacement_loss_pct:.4g} | {r.combined_loss_pct:.4g} | "
@@ -153,7 +153,7 @@ def pareto_study(beam, target, out: Path, joints: list[int], pop: int, generatio
     fronts = []
     for n in joints:
         p = fit_pareto(beam, target, n, n, stiffness="paper", pop=pop, generations=generations,
-                       seed=0, workers=workers, progress=False)
+                       seed=0, workers=workers, progress=False, eigen_norm="paper")
         fronts.append(p)
         write_pareto_outputs(p, beam, out / f"{n}R-paper-pareto")
         k = p.knee
@@ -231,7 +231,8 @@ def main() -> None:
                 for N in sorted({3, n}, reverse=True):
                     sq = stiffness == "paper" and not args.paper_omega
                     r = fit(beam, target, n, N, stiffness=stiffness, starts=args.starts, seed=0,
-                            squared=sq, workers=args.workers, progress=False)
+                            squared=sq, workers=args.workers, progress=False,
+                            eigen_norm="paper")
                     write_fit_outputs(r, beam, out / source / f"{n}R-{stiffness}-{N}")
                     # the prototype's losses were measured against the prototype truth only
                     proto = PROTOTYPE.get((n, N)) if (stiffness == "paper"
@@ -252,7 +253,7 @@ def main() -> None:
             for n in args.joints:
                 r = fit(beam, target, n, n, objective="combined", stiffness="joint",
                         starts=args.combined_starts, seed=0, workers=args.workers,
-                        progress=False)
+                        progress=False, eigen_norm="paper")
                 fitted.append(r)
                 write_fit_outputs(r, beam, out / source / f"{n}R-joint-combined")
                 md.append(f"| {n}R | {n} | {_lengths(r)} | {r.eigen_loss_pct:.4g} | "

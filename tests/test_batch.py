@@ -129,6 +129,10 @@ def test_twenty_beams_on_two_workers(fitted, two_workers):
         # a joint-stiffness fit matches n frequencies exactly (issue 4), so the fitted model
         # carries the truth through the driver
         assert rec["eigen_loss_pct"] < 1e-6
+        # and every mode of the fitted and of the exported model with it
+        assert rec["worst_mode_error_pct"] < 1e-6 and rec["worst_export_error_pct"] < 1e-6
+        assert len(rec["omega_export_errors_pct"]) == 2
+        assert rec["eigen_norm"] == SETTINGS.eigen_norm
         assert sum(rec["lengths_m"]) == pytest.approx(beam.length_m, rel=1e-12)
     assert len({r["mass_kg"] for r in two_workers.values()}) == N_BEAMS  # 20 different beams
 
@@ -168,7 +172,12 @@ def test_csv_sorted_by_index_one_row_per_beam(fitted, two_workers_dir):
 
     with open(two_workers_dir / batch.RESULTS_CSV) as fh:
         rows = list(csv.DictReader(fh))
+        fh.seek(0)
+        head = fh.readline().strip().split(",")
     assert [int(r["beam_index"]) for r in rows] == list(range(N_BEAMS))
+    # the worst per-mode errors sit beside the eigen loss
+    i = head.index("eigen_loss_pct")
+    assert head[i + 1:i + 3] == ["worst_mode_error_pct", "worst_export_error_pct"]
     for r in rows:
         ref = fitted[int(r["beam_index"])]
         assert float(r["mass_kg"]) == ref["mass_kg"]
@@ -381,6 +390,11 @@ def test_batch_report_of_a_study(two_workers_dir, fitted, tmp_path):
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert float(cells[2]) == pytest.approx(np.mean(gamma_1), rel=1e-3)
     assert float(cells[6]) == pytest.approx(np.median(gamma_1), rel=1e-3)
+    # the worst mode beside the loss
+    worst = [r["worst_mode_error_pct"] for r in fitted.values()]
+    row = next(line for line in text.splitlines()
+               if line.startswith("| worst_mode_error_pct | 20 |"))
+    assert float(row.strip("|").split("|")[-1]) == pytest.approx(max(worst), rel=1e-3)
     for png in ("losses.png", "gammas.png", "gamma_1.png", "scf_mean_vs_geometry.png"):
         assert (tmp_path / png).stat().st_size > 1000
 

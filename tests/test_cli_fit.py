@@ -68,12 +68,20 @@ def test_fit_paper_writes_scf_plot(truth_file, tmp_path):
     assert (out / "scf.png").is_file()
 
 
-def test_pareto_writes_front_and_knee(truth_file, tmp_path):
-    path, _, _ = truth_file
+def test_pareto_writes_front_and_knee(truth_file, tmp_path, capsys):
+    path, omega, _ = truth_file
     out = tmp_path / "pareto"
     rc = main(["pareto", BEAM, "--joints", "2", "--stiffness", "joint", "--pop", "12",
-               "--generations", "3", "--truth", str(path), "--out", str(out), "-q"])
+               "--generations", "3", "--truth", str(path), "--out", str(out),
+               "--eigen-norm", "relative"])
     assert rc == 0
+    text = capsys.readouterr().out
+    # the worst mode beside the loss: the knee's URDF frequencies against the truth file
+    w = load_urdf(out / "model.urdf").natural_frequencies()
+    e = 100 * (w / omega[:2] - 1)
+    k = int(np.argmax(np.abs(e)))
+    assert f"worst mode {e[k]:+.3g} % (mode {k + 1})" in text
+    assert "(relative norm)" in text
     rows = list(csv.DictReader((out / "pareto.csv").open()))
     comb = [math.hypot(float(r["eigen_loss_pct"]), float(r["deflection_loss_pct"]))
             for r in rows]
@@ -81,6 +89,8 @@ def test_pareto_writes_front_and_knee(truth_file, tmp_path):
     assert len(knee) == 1 and float(knee[0]["combined_loss_pct"]) == pytest.approx(min(comb))
     d = json.loads((out / "fit.json").read_text())
     assert d["combined_loss_pct"] == pytest.approx(min(comb), rel=1e-6)
+    assert d["eigen_norm"] == "relative"
+    assert json.loads((out / "pareto.json").read_text())["eigen_norm"] == "relative"
     assert (out / "model.urdf").is_file() and (out / "pareto.png").is_file()
 
 

@@ -146,7 +146,7 @@ def test_joint_matches_n_reference_frequencies(reference, n):
 def test_paper_scfs_are_each_poses_optimum(reference):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     r = fit(reference, target, 2, 2, stiffness="paper", starts=2, seed=0, progress=False,
-            polish=1)
+            eigen_norm="paper", polish=1)
     prob = make_problem(reference, target, 2, 2, "paper")
     base = evaluate(prob, r.lengths_m, r.factors, deflection=False).eigen_errors
     assert 100 * np.mean(base) == pytest.approx(r.eigen_loss_pct, rel=1e-12)
@@ -206,7 +206,7 @@ def test_paper_reference_random_prototype_truth(reference, n, N, limit):
     # the prototype compared omega^2 (the paper's published code)
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     r = fit(reference, target, n, N, stiffness="paper", squared=True, starts=64, seed=0,
-            workers=2, progress=False)
+            eigen_norm="paper", workers=2, progress=False)
     assert r.eigen_loss_pct <= limit
 
 
@@ -287,7 +287,7 @@ def test_paper_2r_fit_reaches_the_grid_optimum(reference, squared):
         key=lambda r: r.fun,
     )
     r = fit(reference, target, 2, 2, stiffness="paper", squared=squared, starts=8, seed=0,
-            progress=False)
+            eigen_norm="paper", progress=False)
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
     assert r.eigen_loss_pct == pytest.approx(_projected_loss_pct(prob, r.lengths_m), rel=1e-12)
 
@@ -298,7 +298,7 @@ def test_paper_omega_fit_beats_the_omega_squared_design_in_omega(reference):
     # by 39.65^2 against 2800^2, so the omega^2 optimum leaves that mode far off, and the omega
     # norm (weight 39.65 against 2800) sees it
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    kw = dict(stiffness="paper", starts=16, seed=0, progress=False)
+    kw = dict(stiffness="paper", eigen_norm="paper", starts=16, seed=0, progress=False)
     r_w = fit(reference, target, 3, 3, squared=False, **kw)
     r_w2 = fit(reference, target, 3, 3, squared=True, **kw)
     prob_w = make_problem(reference, target, 3, 3, "paper", squared=False)
@@ -342,7 +342,7 @@ def test_paper_pareto_knee_beats_the_papers(reference, reference_truth_target, n
     from prbdm_pin.fitting import fit_pareto
 
     p = fit_pareto(reference, reference_truth_target, n, n, stiffness="paper", pop=100,
-                   generations=200, seed=0, progress=False)
+                   eigen_norm="paper", generations=200, seed=0, progress=False)
     k = p.knee
     assert p.eps == 0.01 and k.poses_rad.shape[0] == len(np.arange(0.05, np.pi / 2 / n, 0.01))
     assert k.combined_loss_pct < paper_knee
@@ -363,7 +363,7 @@ def test_pareto_same_seed_same_front_any_workers(narrow):
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
                        tip - np.array([L, 0.0, 0.0]))
     kw = dict(stiffness="paper", pop=12, generations=4, seed=5, progress=False, seed_starts=1,
-              polish_knee=False)
+              eigen_norm="paper", polish_knee=False)
     a = fit_pareto(narrow, target, 2, 2, **kw)
     b = fit_pareto(narrow, target, 2, 2, **kw, workers=2)
     assert np.array_equal(a.F_pct, b.F_pct) and np.array_equal(a.X, b.X)
@@ -394,7 +394,7 @@ def test_paper_3r_fit_reaches_the_grid_optimum(reference):
                          options={"xatol": 1e-9, "fatol": 1e-12, "maxfev": 3000})
                 for i in np.argsort(vals)[:4]), key=lambda r: r.fun)
     r = fit(reference, target, 3, 3, stiffness="paper", squared=True, starts=64, seed=0,
-            progress=False)
+            eigen_norm="paper", progress=False)
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
     assert 0.11 < r.eigen_loss_pct < 0.12
 
@@ -406,7 +406,8 @@ def test_five_seeds_reach_the_same_paper_optimum(reference, n, N):
     # (measured spread 2.6e-4 for 4R/3, 2e-8 for 5R/5)
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     losses = np.array([fit(reference, target, n, N, stiffness="paper", squared=True, starts=64,
-                           seed=s, progress=False).eigen_loss_pct for s in range(5)])
+                           seed=s, progress=False, eigen_norm="paper").eigen_loss_pct
+                       for s in range(5)])
     assert np.ptp(losses) <= 1e-3 * losses.min(), losses
 
 

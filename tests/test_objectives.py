@@ -42,6 +42,52 @@ def test_best_scale_is_the_exact_one_dimensional_least_squares():
     assert k2[0] == pytest.approx(f2 @ w2 / (w2 @ w2), rel=1e-14)
 
 
+def test_relative_norm_hand_values():
+    truth = np.array([1.0, 2.0, 4.0])
+    model = np.array([[1.1, 2.0, 3.6, 50.0], [1.0, 2.0, 4.0, 9.0]])
+    # sqrt(mean_k ((w_k - t_k) / t_k)^2): the 10 % errors of modes 1 and 3 count equally
+    assert ob.eigen_errors(model, truth, norm="relative") == pytest.approx(
+        [math.sqrt((0.01 + 0.0 + 0.01) / 3.0), 0.0], rel=1e-14)
+    assert ob.eigen_loss_pct(model, truth, norm="relative") == pytest.approx(
+        100 * math.sqrt(0.02 / 3.0) / 2, rel=1e-14)
+    # Eq. 16 weighs mode 3's 0.4 rad/s above mode 1's 0.1 rad/s
+    assert ob.eigen_errors(model, truth)[0] == pytest.approx(
+        math.sqrt(0.1**2 + 0.4**2) / math.sqrt(21.0), rel=1e-14)
+    # omega^2: ((1.21 - 1) / 1, 0, (12.96 - 16) / 16)
+    e2 = ob.eigen_errors(model[:1], truth, squared=True, norm="relative")[0]
+    assert e2 == pytest.approx(math.sqrt((0.21**2 + 0.19**2) / 3.0), rel=1e-14)
+    # signed per-mode errors in omega, whatever the norm
+    pm = ob.mode_errors_pct(model, truth)
+    assert pm == pytest.approx(np.array([[10.0, 0.0, -10.0], [0.0, 0.0, 0.0]]), abs=1e-12)
+    assert ob.worst_mode_error_pct(pm) == pytest.approx(10.0, rel=1e-12)
+    with pytest.raises(ValueError, match="eigen_norm"):
+        ob.eigen_errors(model, truth, norm="l1")
+
+
+@pytest.mark.parametrize("squared", [False, True])
+def test_relative_best_scale_is_its_own_closed_form(squared):
+    from scipy.optimize import minimize_scalar
+
+    truth = np.array([3.0, 7.0, 11.0])
+    w = np.array([[1.0, 2.0, 4.0], [1.5, 3.5, 5.5]])
+    k = ob.best_scale(w, truth, squared=squared, norm="relative")
+    # the second pose is the truth scaled by 1/2 in omega: k = 4 exactly
+    assert k[1] == pytest.approx(4.0, rel=1e-13)
+    # the first against a bounded scalar minimisation of the hand-written relative rms
+    p = 2 if squared else 1
+
+    def rms(kk):
+        return math.sqrt(np.mean((((math.sqrt(kk) * w[0]) ** p - truth**p) / truth**p) ** 2))
+
+    ref = minimize_scalar(rms, bounds=(0.1, 100.0), method="bounded",
+                          options={"xatol": 1e-12}).x
+    assert k[0] == pytest.approx(ref, rel=1e-6)
+    # ... and it differs from the Eq. 16 optimum
+    assert abs(k[0] / ob.best_scale(w, truth, squared=squared)[0] - 1) > 1e-3
+    e = ob.projected_eigen_errors(w, truth, squared=squared, norm="relative")
+    assert e[0] == pytest.approx(rms(k[0]), rel=1e-12) and e[1] == pytest.approx(0, abs=1e-14)
+
+
 def test_tip_errors_hand_values():
     truth = np.array([0.9, 0.0, -0.4])
     disp = truth - np.array([1.0, 0.0, 0.0])

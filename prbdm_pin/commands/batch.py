@@ -22,7 +22,13 @@ Beam i is random_beam(default_rng(SeedSequence(SEED, spawn_key=(i,)))).
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``batch`` subparser."""
-    from ..batch import OBJECTIVES, STIFFNESS_KINDS, TRUTH_MODELS
+    from ..batch import (
+        DEFAULT_EIGEN_NORM,
+        EIGEN_NORMS,
+        OBJECTIVES,
+        STIFFNESS_KINDS,
+        TRUTH_MODELS,
+    )
 
     p = subparsers.add_parser(
         "batch",
@@ -46,6 +52,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--min-link", type=float, default=0.02, metavar="FRACTION",
                    help="shortest link as a fraction of the beam length (Eq. 15; default 0.02); "
                         "needs 0 < FRACTION < 1/(joints+1)")
+    p.add_argument("--eigen-norm", choices=EIGEN_NORMS, default=DEFAULT_EIGEN_NORM,
+                   help="eigen error per pose: Eq. 16's l2 norm (paper) or the rms of the "
+                        f"per-mode relative errors (relative); default {DEFAULT_EIGEN_NORM}")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     p.add_argument("--cache-dir", metavar="DIR", default=None,
                    help="truth cache (default OUT/truth-cache)")
@@ -74,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
     settings = FitSettings(
         joints=args.joints, frequencies=args.frequencies, objective=args.objective,
         stiffness=args.stiffness, starts=args.starts, truth_model=args.truth_model,
+        eigen_norm=args.eigen_norm,
         cache_dir=os.path.abspath(cache) if args.scheduler is None else cache,
         min_fraction=args.min_link,
     )

@@ -62,6 +62,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_truth_options(p)
     p.add_argument("--objective", default="eigen", choices=["eigen", "deflection", "combined"])
+    add_eigen_norm_option(p)
     p.add_argument("--starts", type=int, default=64, help="multistart start points")
     p.add_argument("--eps", type=float, default=0.1, help="pose sweep step, rad (Eq. 11)")
     p.add_argument("--workers", type=int, default=1, help="processes for the starts")
@@ -69,6 +70,42 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_common(p)
     p.set_defaults(func=run)
     return p
+
+
+def add_eigen_norm_option(p: argparse.ArgumentParser) -> None:
+    """``--eigen-norm`` (shared with ``prbdm pareto``)."""
+    from ..fitting import DEFAULT_EIGEN_NORM
+    from ..objectives import EIGEN_NORMS
+
+    p.add_argument("--eigen-norm", default=DEFAULT_EIGEN_NORM, choices=list(EIGEN_NORMS),
+                   help="eigen error per pose: Eq. 16's l2 norm, dominated by the highest mode "
+                        "(paper), or the rms of the per-mode relative errors, each mode weighed "
+                        f"equally (relative); default {DEFAULT_EIGEN_NORM}")
+
+
+def worst_mode_text(result) -> str:
+    """'worst mode -15.6 % (mode 1, pose 0)': the largest per-mode error over the fitted poses."""
+    import numpy as np
+
+    e = np.asarray(result.omega_errors_pct)
+    i, k = np.unravel_index(int(np.argmax(np.abs(e))), e.shape)
+    where = f"mode {k + 1}" + (f", pose {i}" if e.shape[0] > 1 else "")
+    return f"worst mode {e[i, k]:+.3g} % ({where})"
+
+
+def export_text(result) -> str:
+    """The exported model: which springs, and its own frequencies and errors at q = 0."""
+    w = " ".join(f"{v:.6g}" for v in result.omega_export_rad_s)
+    e = " ".join(f"{v:+.3g}" for v in result.omega_export_errors_pct)
+    return (f"exported model: {result.stiffness_pose}\n"
+            f"  at the straight pose: omega {w} rad/s; errors {e} % "
+            f"(worst {result.worst_export_error_pct:.3g} %)")
+
+
+def print_warnings(result) -> None:
+    """Every note of a FitResult as one 'fit warning:' line on stderr."""
+    for note in result.warnings:
+        print(f"fit warning: {note}", file=sys.stderr)
 
 
 def _cache_dir(args) -> str:
@@ -214,17 +251,19 @@ def run(args) -> int:
     result = fit(beam, target, args.joints, args.frequencies, objective=args.objective,
                  stiffness=args.stiffness, starts=args.starts, seed=args.seed, xi=args.xi,
                  eps=args.eps, squared=args.squared, workers=args.workers,
-                 progress=not args.quiet, loss_tol=args.loss_tol, min_fraction=min_fraction)
+                 progress=not args.quiet, loss_tol=args.loss_tol, min_fraction=min_fraction,
+                 eigen_norm=args.eigen_norm)
     out = Path(args.out)
     write_fit_outputs(result, beam, out)
     if not args.quiet:
-        for note in result.warnings:
-            print(f"fit warning: {note}", file=sys.stderr)
+        print_warnings(result)
         print(f"{result.joints}R {result.stiffness} {result.objective}: "
-              f"eigen {result.eigen_loss_pct:.4g} %, "
+              f"eigen ({result.eigen_norm} norm) {result.eigen_loss_pct:.4g} %, "
+              f"{worst_mode_text(result)}, "
               f"tip position {result.deflection_loss_pct:.4g} %, "
               f"tip displacement {result.displacement_loss_pct:.4g} %, "
               f"combined {result.combined_loss_pct:.4g} % ({result.wall_time_s:.1f} s)")
         print("lengths_m:", " ".join(f"{v:.4f}" for v in result.lengths_m))
+        print(export_text(result))
         print(f"wrote {out / 'fit.json'}")
     return 0

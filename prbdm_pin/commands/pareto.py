@@ -4,11 +4,19 @@ knee's fit.json and model.urdf, and plots."""
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from . import add_common
-from .fit import add_truth_options, check_inputs, load_target, write_fit_outputs
+from .fit import (
+    add_eigen_norm_option,
+    add_truth_options,
+    check_inputs,
+    export_text,
+    load_target,
+    print_warnings,
+    worst_mode_text,
+    write_fit_outputs,
+)
 
 EXAMPLE = """example:
   prbdm pareto examples/beams/reference-random.json --joints 4 --pop 100 --generations 200 \\
@@ -30,6 +38,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--eps", type=float, default=0.01, help="pose sweep step, rad (Eq. 11)")
     p.add_argument("--deflection-norm", default="position", choices=["position", "displacement"],
                    help="normalise the tip error by the tip position (Eq. 19) or displacement")
+    add_eigen_norm_option(p)
     p.add_argument("--workers", type=int, default=1, help="processes for the evaluations")
     add_common(p)
     p.set_defaults(func=run)
@@ -59,15 +68,17 @@ def run(args) -> int:
     res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
                      pop=args.pop, generations=args.generations, seed=args.seed, xi=args.xi,
                      eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
-                     progress=not args.quiet, workers=args.workers, min_fraction=min_fraction)
+                     progress=not args.quiet, workers=args.workers, min_fraction=min_fraction,
+                     eigen_norm=args.eigen_norm)
     out = Path(args.out)
     write_pareto_outputs(res, beam, out)
     if not args.quiet:
-        for note in res.knee.warnings:
-            print(f"fit warning: {note}", file=sys.stderr)
+        print_warnings(res.knee)
         k = res.knee
         print(f"{res.joints}R front of {res.F_pct.shape[0]} designs; knee: eigen "
-              f"{k.eigen_loss_pct:.4g} %, deflection {k.deflection_loss_pct:.4g} %, "
+              f"({k.eigen_norm} norm) {k.eigen_loss_pct:.4g} %, {worst_mode_text(k)}, "
+              f"deflection {k.deflection_loss_pct:.4g} %, "
               f"combined {k.combined_loss_pct:.4g} % ({res.wall_time_s:.1f} s)")
+        print(export_text(k))
         print(f"wrote {out / 'pareto.csv'} and {out / 'fit.json'}")
     return 0
