@@ -263,7 +263,8 @@ def main() -> None:
                 fitted.append(r)
                 write_fit_outputs(r, beam, out / source / f"{n}R-joint-combined")
                 md.append(f"| {n}R | {n} | {_lengths(r)} | {r.eigen_loss_pct:.4g} | "
-                          f"{r.worst_mode_error_pct:.3g} | {r.deflection_loss_pct:.4g} | {r.displacement_loss_pct:.4g} | "
+                          f"{r.worst_mode_error_pct:.3g} | {r.deflection_loss_pct:.4g} | "
+                          f"{r.displacement_loss_pct:.4g} | "
                           f"{r.combined_loss_pct:.4g} | {PAPER_KNEE[n]} | {r.wall_time_s:.1f} |")
                 print(md[-1], flush=True)
             md += load_sweep(beam, fitted)
