@@ -33,8 +33,15 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mode-selection", default="paper", choices=["paper", "shape"],
                    help="truth modes: largest z participation (paper) or beam-like (shape)")
     p.add_argument("--mesh-level", type=int, default=None, help="truth mesh level")
-    p.add_argument("--large-deflection", default="elastica", choices=["elastica", "solid"],
-                   help="large-deflection truth: 1D elastica (default, fast) or 3D nonlinear solid")
+    p.add_argument("--large-deflection", default="calibrated-elastica",
+                   choices=["calibrated-elastica", "elastica", "solid"],
+                   help="large-deflection truth tip. Default calibrated-elastica: the elastica "
+                        "with EI(x) scaled so its small-load tip is the truth model's own linear "
+                        "tip, the physics the frequencies come from (milliseconds; 0.4-0.6 %% "
+                        "from the nonlinear solid's tip displacement on the shipped panels). "
+                        "elastica: plain 1D theory (1-10 %% softer or stiffer than the plate on "
+                        "tapered and jagged panels); solid: nonlinear 3D solid (reference, "
+                        "about a minute)")
     p.add_argument("--truth", default=None, metavar="TRUTH.json",
                    help="use a truth.json written by `prbdm truth` instead of computing it")
     p.add_argument("--cache-dir", default=None,
@@ -88,9 +95,13 @@ def _load_factors(text: str | None) -> list[float]:
     return factors
 
 
-def extra_load_cases(beam, factors: list[float], large_deflection: str) -> tuple:
+def extra_load_cases(beam, factors: list[float], large_deflection: str,
+                     static_theory_gap_pct: float | None = None) -> tuple:
     """Load cases at multiples of the beam's tip force, with the large-deflection truth's tip
-    (the 1D elastica, milliseconds each, or the 3D nonlinear solid, about a minute each)."""
+    (the elastica, milliseconds each, or the 3D nonlinear solid, about a minute each).
+
+    ``calibrated-elastica`` scales EI(x) by 1 + gap / 100 with the primary truth's
+    ``static_theory_gap_pct`` (the linear ratio does not depend on the load)."""
     from ..problem import LoadCase
 
     cases = []
@@ -103,7 +114,8 @@ def extra_load_cases(beam, factors: list[float], large_deflection: str) -> tuple
         else:
             from ..truth.elastica import elastica_static
 
-            st = elastica_static(b)
+            gap = static_theory_gap_pct if large_deflection == "calibrated-elastica" else None
+            st = elastica_static(b, ei_scale=1.0 if gap is None else 1.0 + gap / 100.0)
         cases.append(LoadCase(b.tip_force_N, st.tip_position_m, st.tip_displacement_m))
     return tuple(cases)
 
@@ -121,7 +133,8 @@ def load_target(args, beam):
 
     if args.truth:
         raise BeamInputError("extra-loads: needs a computed truth, not --truth TRUTH.json")
-    cases = extra_load_cases(beam, factors, args.large_deflection)
+    cases = extra_load_cases(beam, factors, args.large_deflection,
+                             target.static_theory_gap_pct)
     return dataclasses.replace(target, extra_loads=cases,
                                source=f"{target.source}; extra loads x{args.extra_loads} "
                                       f"({args.large_deflection})")
@@ -134,10 +147,24 @@ def _base_target(args, beam):
     if args.truth:
         try:
             d = json.loads(Path(args.truth).read_text(encoding="utf-8"))
+            fingerprint = d.get("beam_fingerprint") if isinstance(d, dict) else None
+        except (OSError, ValueError) as exc:
+            raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
+        # a truth of another beam would be fitted without a word: refuse it; a hand-made file
+        # without a fingerprint cannot be checked and is taken on trust
+        if fingerprint is not None and fingerprint != beam.fingerprint():
+            raise BeamInputError(
+                f"truth = {args.truth!r}: computed for beam fingerprint {fingerprint}, but "
+                f"{args.beam!r} has fingerprint {beam.fingerprint()}: compute its own truth")
+        if fingerprint is None and not getattr(args, "quiet", False):
+            print(f"truth warning: {args.truth} carries no beam_fingerprint: cannot check "
+                  "that it belongs to this beam", file=sys.stderr)
+        try:
             return FitTarget(d["omega_rad_s"], beam.tip_force_N, d.get("tip_position_m"),
                              d.get("tip_displacement_m"), d.get("mac"),
-                             source=f"truth file {Path(args.truth).name}")
-        except (OSError, ValueError, KeyError, TypeError) as exc:
+                             source=f"truth file {Path(args.truth).name}",
+                             static_theory_gap_pct=d.get("static_theory_gap_pct"))
+        except (ValueError, KeyError, TypeError) as exc:
             raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
     from ..truth import TruthRequest
 

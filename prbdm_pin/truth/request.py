@@ -27,14 +27,14 @@ class TruthRequest:
     selection : str
         ``"paper"`` or ``"shape"``.
     large_deflection : str
-        ``"elastica"``, ``"solid"`` or ``"none"``.
+        ``"calibrated-elastica"`` (default), ``"elastica"``, ``"solid"`` or ``"none"``.
     """
 
     model: str = "plate"
     modes: int = 5
     mesh_level: int | None = None
     selection: str = "paper"
-    large_deflection: str = "elastica"
+    large_deflection: str = "calibrated-elastica"
 
     def compute(self, beam, cache_dir=None, static: bool = True):
         """The ``TruthResult`` of this request for ``beam`` (cached in ``cache_dir``)."""

@@ -148,6 +148,10 @@ class TruthResult:
         Package version that computed it.
     warnings : tuple of str
         E.g. a selected mode that is not beam-like.
+    static_theory_gap_pct : float or None
+        100 (u_1D / u_model - 1): how far the 1D beam's linear tip deflection is from the truth
+        model's under the same load, in % (None without a static solve). Positive: the 1D beam
+        is softer. The ``calibrated-elastica`` large-deflection tip removes this gap.
     """
 
     beam_fingerprint: str
@@ -164,6 +168,7 @@ class TruthResult:
     static_nonlinear: StaticSolution | None
     version: str
     warnings: tuple[str, ...] = ()
+    static_theory_gap_pct: float | None = None
 
     @property
     def tip_position_m(self) -> np.ndarray | None:
