@@ -42,6 +42,9 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
                         "elastica: plain 1D theory (1-10 %% softer or stiffer than the plate on "
                         "tapered and jagged panels); solid: nonlinear 3D solid (reference, "
                         "about a minute)")
+    p.add_argument("--accept-coarse", action="store_true",
+                   help="accept a computed truth whose error estimate (change to the next mesh "
+                        "level) exceeds 0.5 %% for a selected mode (default: refuse, exit 2)")
     p.add_argument("--truth", default=None, metavar="TRUTH.json",
                    help="use a truth.json written by `prbdm truth` instead of computing it")
     p.add_argument("--cache-dir", default=None,
@@ -166,12 +169,16 @@ def _base_target(args, beam):
                              static_theory_gap_pct=d.get("static_theory_gap_pct"))
         except (ValueError, KeyError, TypeError) as exc:
             raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
-    from ..truth import TruthRequest
+    from ..truth import CoarseTruthError, TruthRequest
 
     request = TruthRequest(model=args.truth_model, modes=max(args.joints, args.frequencies or 0),
                            mesh_level=args.mesh_level, selection=args.mode_selection,
-                           large_deflection=args.large_deflection)
-    truth = request.compute(beam, cache_dir=_cache_dir(args))
+                           large_deflection=args.large_deflection,
+                           error_tol_pct=None if getattr(args, "accept_coarse", False) else 0.5)
+    try:
+        truth = request.compute(beam, cache_dir=_cache_dir(args))
+    except CoarseTruthError as exc:
+        raise BeamInputError(f"{exc}") from None
     if not getattr(args, "quiet", False):
         for note in truth.warnings:
             print(f"truth warning: {note}", file=sys.stderr)

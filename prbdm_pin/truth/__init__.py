@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import BeamInputError, TruthError
 from ..geometry import Beam
+from .estimate import ERROR_TOL_PCT, CoarseTruthError
 from .request import TruthRequest
 from .result import ModalSolution, StaticSolution, Timings, TruthResult
 
@@ -26,6 +27,8 @@ __all__ = [
     "Timings",
     "compute_truth",
     "compute_modal",
+    "CoarseTruthError",
+    "ERROR_TOL_PCT",
 ]
 
 MODELS = ("plate", "plate-morley", "solid", "beam")
@@ -177,6 +180,7 @@ def compute_truth(
     n_computed: int = DEFAULT_COMPUTED_MODES,
     large_deflection: str = DEFAULT_LARGE_DEFLECTION,
     check_convergence: bool = False,
+    error_tol_pct: float | None = ERROR_TOL_PCT,
 ) -> TruthResult:
     """The finite-element truth of a beam: selected bending frequencies and tip-load response.
 
@@ -211,6 +215,10 @@ def compute_truth(
     check_convergence : bool
         Also solve one mesh level finer and raise TruthError if a selected frequency moves by
         more than 0.1 % or increases (Argyris converges from above).
+    error_tol_pct : float or None
+        Refuse (TruthError) a truth whose error estimate for a selected mode exceeds this, in %
+        (default 0.5); None accepts any. The estimate (``error_estimate_pct``: the change to the
+        next mesh level, see ``truth.estimate``) is computed and cached either way.
 
     Returns
     -------
@@ -221,7 +229,8 @@ def compute_truth(
     BeamInputError
         Bad arguments.
     TruthError
-        Negative/complex eigenvalues, too few bending modes, or a failed convergence check.
+        Negative/complex eigenvalues, too few bending modes or a failed convergence check;
+        ``CoarseTruthError`` (a TruthError) for an error estimate above ``error_tol_pct``.
     """
     from .. import __version__
     from .modes import SELECTIONS, label_modes, select_modes, selection_warnings
@@ -243,6 +252,11 @@ def compute_truth(
     n_computed = max(int(n_computed), 2 * int(modes))
     if mesh_level is not None:
         _check_level(mesh_level)
+    if error_tol_pct is not None and not (
+            isinstance(error_tol_pct, (int, float, np.floating))
+            and not isinstance(error_tol_pct, bool) and error_tol_pct > 0.0):
+        raise BeamInputError(f"error_tol_pct = {error_tol_pct!r}: must be a number > 0 (%) "
+                             "or None")
 
     key = None
     if cache_dir is not None:
@@ -253,7 +267,7 @@ def compute_truth(
                         large_deflection=large_deflection, version=__version__)
         hit = load_cached(cache_dir, key)
         if hit is not None:
-            return hit
+            return _judged(hit, beam, error_tol_pct)
 
     modal = compute_modal(beam, model, mesh_level, n_computed)
     labels = label_modes(modal)
@@ -261,8 +275,15 @@ def compute_truth(
         index = select_modes(modal, modes, selection)
     except ValueError as exc:
         raise TruthError(f"{beam.name!r}: {exc}") from exc
+    from .estimate import beam_theory_gap, error_estimate_pct, next_level_modal
+
     if check_convergence:
         finer = compute_modal(beam, model, modal.mesh_level + 1, n_computed)
+    else:
+        finer = next_level_modal(beam, model, modal, index)
+    estimate = error_estimate_pct(modal, finer, index)
+    gap_1d, gap_cause = beam_theory_gap(beam, modal, index, labels)
+    if check_convergence:
         try:
             index_f = select_modes(finer, modes, selection)
         except ValueError as exc:
@@ -279,6 +300,9 @@ def compute_truth(
             )
     linear = nonlinear = gap = None
     notes = list(selection_warnings(modal, index, labels))
+    if estimate is None:
+        notes.append(f"no discretisation error estimate for the {model} model (its next mesh "
+                     "level costs minutes): check_convergence=True compares with it")
     if static:
         lvl = None if model in ("beam",) else mesh_level
         linear, nonlinear, gap = _static(beam, model, lvl, large_deflection)
@@ -299,12 +323,30 @@ def compute_truth(
         version=__version__,
         warnings=tuple(notes),
         static_theory_gap_pct=gap,
+        error_estimate_pct=None if estimate is None else _ro(estimate),
+        error_estimate_level=None if finer is None else int(finer.mesh_level),
+        beam_gap_pct=_ro(gap_1d),
+        beam_gap_cause=gap_cause,
     )
     if key is not None:
         from .cache import store_cached
 
         store_cached(cache_dir, key, result)
-    return result
+    return _judged(result, beam, error_tol_pct)
+
+
+def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> TruthResult:
+    """``result``, or TruthError when a selected mode's error estimate exceeds the tolerance."""
+    est = result.error_estimate_pct
+    if error_tol_pct is None or est is None or np.all(est <= error_tol_pct):
+        return result
+    k = int(np.argmax(est))
+    raise CoarseTruthError(
+        f"{beam.name!r}: selected mode {k + 1} ({result.omega_rad_s[k]:.6g} rad/s) of the "
+        f"{result.model} truth at mesh level {result.mesh_level} has an estimated error of "
+        f"{est[k]:.3g} % (change to level {result.error_estimate_level}), above "
+        f"{error_tol_pct:g} %: raise the mesh level (mesh_level={result.mesh_level + 1}, "
+        f"--mesh {result.mesh_level + 1}) or accept it (error_tol_pct=None, --accept-coarse)")
 
 
 def _ro(a: np.ndarray) -> np.ndarray:
