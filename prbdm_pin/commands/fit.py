@@ -36,15 +36,18 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--large-deflection", default="calibrated-elastica",
                    choices=["calibrated-elastica", "elastica", "solid"],
                    help="large-deflection truth tip. Default calibrated-elastica: the elastica "
-                        "with EI(x) scaled so its small-load tip is the truth model's own linear "
-                        "tip, the physics the frequencies come from (milliseconds; 0.4-0.6 %% "
-                        "from the nonlinear solid's tip displacement on the shipped panels). "
-                        "elastica: plain 1D theory (1-10 %% softer or stiffer than the plate on "
-                        "tapered and jagged panels); solid: nonlinear 3D solid (reference, "
-                        "about a minute)")
+                        "with EI(x) scaled by the ratio of the 1D beam's and the truth model's "
+                        "linear tip deflections, so that at small load it is the model the "
+                        "frequencies come from (milliseconds; 0.44 %% and 0.58 %% from the "
+                        "nonlinear 3D solid's tip displacement on the tapered and the reference "
+                        "panel). elastica: plain 1D theory (1.3 %% and 0.24 %%; 1.05 %% softer "
+                        "than the plate at small load on the tapered panel, 5.4 %% on the "
+                        "square plate). solid: the nonlinear 3D solid (the reference; about a "
+                        "minute)")
     p.add_argument("--accept-coarse", action="store_true",
-                   help="accept a computed truth whose error estimate (change to the next mesh "
-                        "level) exceeds 0.5 %% for a selected mode (default: refuse, exit 2)")
+                   help="accept a computed truth whose error estimate (twice the change to the "
+                        "next mesh level) exceeds 0.5 %% for a selected mode (default: refuse, "
+                        "exit 2)")
     p.add_argument("--truth", default=None, metavar="TRUTH.json",
                    help="use a truth.json written by `prbdm truth` instead of computing it")
     p.add_argument("--cache-dir", default=None,

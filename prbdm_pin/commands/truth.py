@@ -33,8 +33,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "theory; solid: the nonlinear 3D solid (reference; minutes on wide "
                         "panels)")
     p.add_argument("--error-tol", type=float, default=0.5, metavar="PCT",
-                   help="refuse (exit 2) a truth whose error estimate (change to the next mesh "
-                        "level) exceeds PCT %% for a selected mode (default 0.5)")
+                   help="refuse (exit 2) a truth whose error estimate (twice the change to the "
+                        "next mesh level) exceeds PCT %% for a selected mode (default 0.5)")
     p.add_argument("--accept-coarse", action="store_true",
                    help="accept any error estimate (still reported)")
     p.add_argument("--out", required=True, help="output directory")
@@ -110,6 +110,6 @@ def _summary(r) -> str:
         lines.append(f"{k + 1:>4} {r.omega_rad_s[k]:>12.6g} {r.labels[int(i)]:>9} {est:>12} "
                      f"{gap:>9}  {cause}")
     if r.error_estimate_level is not None:
-        lines.append(f"error estimate: change to mesh level {r.error_estimate_level}; "
+        lines.append(f"error estimate: twice the change to mesh level {r.error_estimate_level}; "
                      "1D gap: 100 (omega_1D / omega - 1)")
     return "\n".join(lines)

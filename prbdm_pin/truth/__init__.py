@@ -217,8 +217,8 @@ def compute_truth(
         more than 0.1 % or increases (Argyris converges from above).
     error_tol_pct : float or None
         Refuse (TruthError) a truth whose error estimate for a selected mode exceeds this, in %
-        (default 0.5); None accepts any. The estimate (``error_estimate_pct``: the change to the
-        next mesh level, see ``truth.estimate``) is computed and cached either way.
+        (default 0.5); None accepts any. The estimate (``error_estimate_pct``: twice the change to
+        the next mesh level, see ``truth.estimate``) is computed and cached either way.
 
     Returns
     -------
@@ -344,7 +344,7 @@ def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> Tru
     raise CoarseTruthError(
         f"{beam.name!r}: selected mode {k + 1} ({result.omega_rad_s[k]:.6g} rad/s) of the "
         f"{result.model} truth at mesh level {result.mesh_level} has an estimated error of "
-        f"{est[k]:.3g} % (change to level {result.error_estimate_level}), above "
+        f"{est[k]:.3g} % (from its change to level {result.error_estimate_level}), above "
         f"{error_tol_pct:g} %: raise the mesh level (mesh_level={result.mesh_level + 1}, "
         f"--mesh {result.mesh_level + 1}) or accept it (error_tol_pct=None, --accept-coarse)")
 
