@@ -57,7 +57,7 @@ def test_square_plate_estimate_bounds_the_error_against_level_2():
 
 @pytest.mark.slow
 def test_reference_beam_estimate_bounds_the_error_against_level_2():
-    """Level 2 of the reference panel: 180k DOFs, about a minute."""
+    """Level 2 of the reference panel: 180k DOFs, about a minute of CPU time."""
     beam = load_beam(BEAMS / "reference-random.json")
     r = compute_truth(beam, modes=5, static=False)
     true = _true_error_pct(beam, r, 2)

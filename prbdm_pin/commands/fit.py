@@ -38,9 +38,9 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
                    help="large-deflection truth tip. Default calibrated-elastica: the elastica "
                         "with EI(x) scaled by the ratio of the 1D beam's and the truth model's "
                         "linear tip deflections, so that at small load it is the model the "
-                        "frequencies come from (milliseconds; 0.44 %% and 0.58 %% from the "
+                        "frequencies come from (milliseconds; 0.44 %% and 0.57 %% from the "
                         "nonlinear 3D solid's tip displacement on the tapered and the reference "
-                        "panel). elastica: plain 1D theory (1.3 %% and 0.24 %%; 1.05 %% softer "
+                        "panel). elastica: plain 1D theory (1.30 %% and 0.23 %%; 1.05 %% softer "
                         "than the plate at small load on the tapered panel, 5.4 %% on the "
                         "square plate). solid: the nonlinear 3D solid (the reference; about a "
                         "minute)")

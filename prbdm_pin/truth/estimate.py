@@ -76,6 +76,12 @@ def _match(modal: ModalSolution, finer: ModalSolution, index: np.ndarray) -> np.
     from .modes import mac_matrix
 
     n0 = modal.node_uz.shape[1]
+    nested = (finer.nodes_m is not None and finer.nodes_m.shape[0] >= n0
+              and np.array_equal(finer.nodes_m[:n0], modal.nodes_m))
+    if not nested:
+        # meshes that are not refinements of each other: the nearest frequency
+        w = finer.omega_rad_s
+        return np.array([int(np.argmin(np.abs(w / wi - 1.0))) for wi in modal.omega_rad_s[index]])
     mac = mac_matrix(modal.node_uz[index], finer.node_uz[:, :n0])
     return mac.argmax(axis=1)
 
