@@ -166,3 +166,16 @@ def test_truth_of_the_same_beam_is_used(narrow_truth, tmp_path):
     d = json.loads((tmp_path / "x" / "fit.json").read_text())
     truth = json.loads(narrow_truth.read_text())
     assert d["omega_truth_rad_s"] == pytest.approx(truth["omega_rad_s"][:2])
+
+
+def test_truth_request_carries_the_tolerance():
+    from prbdm_pin.errors import BeamInputError
+    from prbdm_pin.truth import TruthRequest
+
+    req = TruthRequest(error_tol_pct=None)
+    assert TruthRequest.from_dict(req.to_dict()) == req
+    assert TruthRequest.from_dict({"model": "plate"}).error_tol_pct == 0.5
+    with pytest.raises(BeamInputError, match="error_tol_pct"):
+        TruthRequest.from_dict({"error_tol_pct": "0.5"})
+    with pytest.raises(BeamInputError, match="error_tol_pct"):
+        compute_truth(load_beam(BEAMS / "uniform-narrow.json"), error_tol_pct=0.0)
