@@ -10,7 +10,7 @@ plate and the tapered panel (scripts/truth_error_estimate.py): the Argyris/Morle
 same mesh is a guaranteed bound and costs a tenth of a second, but it is the Morley error,
 0.3-16 % at level 0 where Argyris is within 0.008 % of level 2, so it would refuse every default
 truth; the next-level change is sharp, and costs one more solve (the reference panel's default
-truth: 3.5 s of CPU time without the estimate, 10 s with it; it is cached with the truth).
+truth: 3.8 s of CPU time without the estimate, 10.4 s with it; it is cached with the truth).
 Nested conforming meshes make Argyris frequencies decrease with the level in exact arithmetic; in
 floating point the graded meshes reproduce them to about 2.5e-5 only (the reference panel's mode 1
 rises by 3e-6 from level 0 to level 1, then falls by 2.5e-5 to level 2), hence the floor.
