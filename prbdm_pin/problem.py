@@ -132,6 +132,9 @@ class FitTarget:
         2n lengths and springs of a ``joint`` model for n >= 2; more load cases can.
     truth_request : TruthRequest or None
         The ``compute_truth`` call the numbers came from, when they came from one.
+    static_theory_gap_pct : float or None
+        100 (u_1D / u_truth - 1): the 1D beam's linear tip deflection against the truth model's
+        under the same small load, in % (the gap between the two theories; None when unknown).
     """
 
     omega_truth_rad_s: np.ndarray
@@ -143,6 +146,7 @@ class FitTarget:
     extra_loads: tuple[LoadCase, ...] = ()
     labels: tuple[str, ...] | None = None
     truth_request: TruthRequest | None = None
+    static_theory_gap_pct: float | None = None
 
     def __post_init__(self) -> None:
         w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
@@ -229,6 +233,7 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
         source=src,
         labels=labels,
         truth_request=request,
+        static_theory_gap_pct=getattr(truth, "static_theory_gap_pct", None),
     )
 
 

@@ -200,7 +200,11 @@ def test_truth_request_round_trips_and_old_fits_read_without_one(level1, tmp_pat
 
     d = json.loads((level1 / "fit" / "fit.json").read_text())
     assert d["truth_request"] == {"model": "plate", "modes": 2, "mesh_level": 1,
-                                  "selection": "paper", "large_deflection": "elastica"}
+                                  "selection": "paper",
+                                  # the default large-deflection truth and error tolerance
+                                  # since issue 12
+                                  "large_deflection": "calibrated-elastica",
+                                  "error_tol_pct": 0.5}
     assert FitResult.from_dict(d).to_dict()["truth_request"] == d["truth_request"]
     old = {k: v for k, v in d.items() if k != "truth_request"}
     assert FitResult.from_dict(old).truth_request is None

@@ -5,10 +5,27 @@ The centreline angle phi(s) (from +x towards +z) minimises
 which gives (EI phi')' = F_x sin phi - F_z cos phi with phi(0) = 0 and EI phi'(L) = 0. The
 boundary-value problem is solved with scipy's collocation solver, continuing in the load from the
 straight beam so the stable (continuously loaded) branch is followed.
+
+Two optional corrections bring it towards a plate (``compute_truth`` uses the second; the first
+was measured against the nonlinear solid and over-stiffens jagged panels, see
+scripts/target_consistency.py):
+
+* ``anticlastic=True``: a plate strip of half-width a cannot curl freely across its width once it
+  is curved (Ashwell 1950): the anticlastic deflection f(y) of the section stretches the fibres
+  (strain kappa f), which the energy per unit length
+  ``1/2 int D (kappa^2 + f_yy^2 + 2 nu kappa f_yy) + E t kappa^2 f^2 dy`` resists. Minimising over
+  f gives a beam on an elastic foundation across the width, D f_yyyy + E t kappa^2 f = 0 with free
+  edges, and the moment ``M = EI kappa r(eta)``, eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t):
+  r = 1 for a narrow or slightly bent strip (the beam) and 1 / (1 - nu^2) for a wide or strongly
+  bent one (the plate's cylindrical bending). This is geometric nonlinearity of the section that
+  a 1D elastica lacks and a linear plate solve cannot see.
+* ``ei_scale``: a factor on EI(x), set from the ratio of the 1D and the plate linear tip
+  deflections (clamped-root Poisson restraint, 2D load paths of a jagged planform).
 """
 
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -18,7 +35,56 @@ from ..errors import BeamInputError, SolveError
 from ..geometry import Beam
 from .result import StaticSolution, Timings
 
-__all__ = ["elastica_static"]
+__all__ = ["elastica_static", "anticlastic_factor"]
+
+_ETA_MAX = 40.0
+
+
+@functools.lru_cache(maxsize=8)
+def _anticlastic_table(nu: float) -> tuple[np.ndarray, np.ndarray]:
+    """r(eta) on a grid of eta in [0, _ETA_MAX] (see the module docstring)."""
+    from scipy.integrate import quad
+
+    eta = np.concatenate([[0.0], np.geomspace(0.02, _ETA_MAX, 400)])
+    r = np.ones_like(eta)
+    for i, e in enumerate(eta[1:], start=1):
+        # f = nu kappa a^2 g(xi), xi = y / a: g_4 + 4 eta^4 g = 0, g_2(1) = -1, g_3(1) = 0; the
+        # even solutions are the real and imaginary parts of cosh(k xi), k = (1 + i) eta
+        k = (1.0 + 1.0j) * e
+        c2, s3 = k**2 * np.cosh(k), k**3 * np.sinh(k)
+        A, B = np.linalg.solve([[c2.real, c2.imag], [s3.real, s3.imag]], [-1.0, 0.0])
+        g1 = k * np.sinh(k)
+
+        def g(x, A=A, B=B, k=k):
+            h = np.cosh(k * x)
+            return A * h.real + B * h.imag
+
+        g2 = 2.0 * quad(lambda x, g=g: g(x) ** 2, 0.0, 1.0, limit=200, epsabs=0.0,
+                        epsrel=1e-12)[0]
+        r[i] = (1.0 + nu**2 * (A * g1.real + B * g1.imag + 2.0 * e**4 * g2)) / (1.0 - nu**2)
+    return eta, r
+
+
+def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
+    """Moment ratio r = M / (EI kappa) of a bent free-edged plate strip (Ashwell's anticlastic
+    restraint): 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
+
+    Parameters
+    ----------
+    eta : array_like
+        a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) with a the half-width (m), kappa the curvature
+        (1/m), t the thickness (m); dimensionless.
+    nu : float
+        Poisson's ratio.
+    """
+    grid, r = _anticlastic_table(float(nu))
+    e = np.abs(np.asarray(eta, dtype=float))
+    out = np.interp(e, grid, r)
+    # beyond the grid the free-edge layers are thinner than a / _ETA_MAX: the remaining relief
+    # decays like 1 / eta
+    r_inf = 1.0 / (1.0 - nu**2)
+    return np.where(e > _ETA_MAX, r_inf - (r_inf - r[-1]) * _ETA_MAX / np.maximum(e, _ETA_MAX),
+                    out)
 
 
 def _mesh(beam: Beam, n_per_span: int) -> np.ndarray:
@@ -34,6 +100,9 @@ def elastica_static(
     tip_force_N: np.ndarray | None = None,
     load_steps: int | None = None,
     tol: float = 1e-9,
+    *,
+    ei_scale: float = 1.0,
+    anticlastic: bool = False,
 ) -> StaticSolution:
     """Tip position of the inextensible elastica under a dead tip force in the x-z plane.
 
@@ -46,6 +115,10 @@ def elastica_static(
         Load increments of the continuation (default: grows with the load index P L^2 / EI_root).
     tol : float
         Collocation residual tolerance of ``solve_bvp`` (relative to the moment scale).
+    ei_scale : float
+        Factor on EI(x) (> 0; 1 is the plain Euler-Bernoulli section).
+    anticlastic : bool
+        Stiffen each section by the anticlastic restraint r(eta) of its curvature.
 
     Returns
     -------
@@ -59,8 +132,12 @@ def elastica_static(
     P = float(np.hypot(F[0], F[2]))
     if abs(F[1]) > 1e-12 * max(P, 1.0):
         raise BeamInputError(f"tip_force_N[1] = {F[1]} N: bends in x-z only, must be 0")
+    if not (isinstance(ei_scale, (int, float, np.floating)) and np.isfinite(ei_scale)
+            and ei_scale > 0.0):
+        raise BeamInputError(f"ei_scale = {ei_scale!r}: must be a finite number > 0")
     L = beam.length_m
-    E = beam.material.E_Pa
+    E = beam.material.E_Pa * float(ei_scale)
+    nu = beam.material.nu
     alpha = P * L**2 / beam.root_EI_Nm2
     if load_steps is None:
         load_steps = int(np.clip(np.ceil(4 * alpha), 1, 200))
@@ -87,14 +164,31 @@ def elastica_static(
         seg_w.append(wv[lo:hi])
     EI_factor = E * 2.0 * t**3 / 12.0
 
+    eta_per_root_kappa = (3.0 * (1.0 - nu**2)) ** 0.25 / np.sqrt(t)
+
+    def curvature(half_width: np.ndarray, m: np.ndarray) -> np.ndarray:
+        ei = EI_factor * half_width
+        kappa = m / ei
+        if not anticlastic:
+            return kappa
+        # M = EI kappa r(eta(kappa)); r varies by < 9 % over all kappa, so the fixed point
+        # kappa = m / (EI r) contracts fast
+        for _ in range(40):
+            eta = half_width * eta_per_root_kappa * np.sqrt(np.abs(kappa))
+            new = m / (ei * anticlastic_factor(eta, nu))
+            done = np.max(np.abs(new - kappa)) <= 1e-13 * max(np.max(np.abs(new)), 1e-300)
+            kappa = new
+            if done:
+                break
+        return kappa
+
     def make(fx: float, fz: float):
         def rhs(tau, y):
             out = np.empty_like(y)
             for i in range(nseg):
                 phi, m = y[4 * i], y[4 * i + 1] * m_scale
                 sg = a[i] + ell[i] * tau
-                EI = EI_factor * np.interp(sg, seg_x[i], seg_w[i])
-                out[4 * i] = ell[i] * m / EI
+                out[4 * i] = ell[i] * curvature(np.interp(sg, seg_x[i], seg_w[i]), m)
                 out[4 * i + 1] = ell[i] * (fx * np.sin(phi) - fz * np.cos(phi)) / m_scale
                 out[4 * i + 2] = ell[i] * np.cos(phi)
                 out[4 * i + 3] = ell[i] * np.sin(phi)

@@ -27,14 +27,17 @@ class TruthRequest:
     selection : str
         ``"paper"`` or ``"shape"``.
     large_deflection : str
-        ``"elastica"``, ``"solid"`` or ``"none"``.
+        ``"calibrated-elastica"`` (default), ``"elastica"``, ``"solid"`` or ``"none"``.
+    error_tol_pct : float or None
+        Largest accepted error estimate of a selected frequency, % (None: any).
     """
 
     model: str = "plate"
     modes: int = 5
     mesh_level: int | None = None
     selection: str = "paper"
-    large_deflection: str = "elastica"
+    large_deflection: str = "calibrated-elastica"
+    error_tol_pct: float | None = 0.5
 
     def compute(self, beam, cache_dir=None, static: bool = True):
         """The ``TruthResult`` of this request for ``beam`` (cached in ``cache_dir``)."""
@@ -43,7 +46,8 @@ class TruthRequest:
         return compute_truth(beam, model=self.model, modes=self.modes,
                              mesh_level=self.mesh_level, selection=self.selection,
                              static=static, cache_dir=cache_dir,
-                             large_deflection=self.large_deflection)
+                             large_deflection=self.large_deflection,
+                             error_tol_pct=self.error_tol_pct)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form (a flat mapping of the attributes)."""
@@ -63,4 +67,7 @@ class TruthRequest:
             v = d.get(key, 0)
             if v is not None and (isinstance(v, bool) or not isinstance(v, int)):
                 raise BeamInputError(f"truth_request.{key} = {v!r}: must be an integer")
+        v = d.get("error_tol_pct")
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))):
+            raise BeamInputError(f"truth_request.error_tol_pct = {v!r}: must be a number or null")
         return cls(**d)

@@ -148,6 +148,21 @@ class TruthResult:
         Package version that computed it.
     warnings : tuple of str
         E.g. a selected mode that is not beam-like.
+    static_theory_gap_pct : float or None
+        100 (u_1D / u_model - 1): how far the 1D beam's linear tip deflection is from the truth
+        model's under the same load, in % (None without a static solve). Positive: the 1D beam
+        is softer. The ``calibrated-elastica`` large-deflection tip removes this gap.
+    error_estimate_pct : ndarray, shape (N,), or None
+        Estimated discretisation error of each selected frequency, in % (the change to mesh level
+        ``error_estimate_level``; see ``truth.estimate``); None where not estimated.
+    error_estimate_level : int or None
+        The mesh level the estimate compares with.
+    beam_gap_pct : ndarray, shape (N,), or None
+        100 (omega_1D / omega - 1) of each selected mode against its best-MAC 1D Euler-Bernoulli
+        beam mode, in %.
+    beam_gap_cause : tuple of str
+        The cause of each gap (clamped Poisson effect, plate action, a mode without a 1D
+        counterpart).
     """
 
     beam_fingerprint: str
@@ -164,6 +179,11 @@ class TruthResult:
     static_nonlinear: StaticSolution | None
     version: str
     warnings: tuple[str, ...] = ()
+    static_theory_gap_pct: float | None = None
+    error_estimate_pct: np.ndarray | None = None
+    error_estimate_level: int | None = None
+    beam_gap_pct: np.ndarray | None = None
+    beam_gap_cause: tuple[str, ...] = ()
 
     @property
     def tip_position_m(self) -> np.ndarray | None:
