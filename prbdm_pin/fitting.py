@@ -771,7 +771,10 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         else float(math.hypot(ev.eigen_loss_pct, ev.displacement_loss_pct)),
         tip_position_model_m=ev.tip_position_m, tip_position_truth_m=t.tip_position_m,
         tip_displacement_truth_m=t.tip_displacement_m, tip_force_N=t.tip_force_N, mac=t.mac,
-        truth_source=t.source, truth_request=t.truth_request, squared=problem.squared,
+        truth_source=t.source, truth_request=t.truth_request,
+        static_theory_gap_pct=math.nan if t.static_theory_gap_pct is None
+        else float(t.static_theory_gap_pct),
+        squared=problem.squared,
         xi=problem.xi, eps=problem.eps,
         seed=seed, starts=starts, starts_run=starts_run, nfev=nfev,
         start_losses_pct=start_losses_pct, wall_time_s=wall_time_s, success=success,

@@ -162,6 +162,10 @@ class FitResult(_Serialisable):
     truth_request : TruthRequest or None
         The ``compute_truth`` call the target came from (None for a truth file or a hand-made
         target): ``prbdm simulate --compare-truth`` asks for the same truth.
+    static_theory_gap_pct : float
+        The gap between the truth model and 1D beam theory at small load, 100 (u_1D / u_truth
+        - 1), % (the frequencies and the default large-deflection tip are both the truth
+        model's; NaN when unknown).
     squared : bool
     xi, eps : float
     seed, starts, starts_run, nfev : int
@@ -247,6 +251,7 @@ class FitResult(_Serialisable):
     omega_export_rad_s: np.ndarray | None = None
     omega_export_errors_pct: np.ndarray | None = None
     worst_export_error_pct: float = math.nan
+    static_theory_gap_pct: float = math.nan
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

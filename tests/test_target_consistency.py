@@ -87,3 +87,23 @@ def test_calibrated_elastica_against_the_nonlinear_solid_on_the_tapered_panel():
     assert np.linalg.norm(cal - solid) / np.linalg.norm(pos) < 3e-3
     assert disp_err(cal) < 5e-3
     assert disp_err(plain) > 1e-2
+
+
+def test_fit_json_records_the_theory_gap(tmp_path):
+    """fit.json carries the gap between the plate and 1D theory at small load; the 1D tip is
+    recomputed here by quadrature of the Euler-Bernoulli compliance int (L - x)^2 / EI(x) dx."""
+    from scipy.integrate import quad
+
+    from prbdm_pin.fitting import fit
+    from prbdm_pin.results import load_fit, save_fit
+
+    beam = load_beam(BEAMS / "tapered-linear.json")
+    r = compute_truth(beam, modes=2)
+    L, t, E = beam.length_m, beam.thickness_m, beam.material.E_Pa
+    P = -beam.tip_force_N[2]
+    comp = quad(lambda x: (L - x) ** 2 / (E * 2 * beam.half_width_at(x) * t**3 / 12), 0, L)[0]
+    gap = 100 * (P * comp / -r.static_linear.tip_displacement_m[2] - 1)
+    res = fit(beam, target_from_truth(r, beam.tip_force_N), 2, stiffness="joint", starts=2,
+              progress=False)
+    save_fit(res, tmp_path / "fit.json", beam)
+    assert load_fit(tmp_path / "fit.json").static_theory_gap_pct == pytest.approx(gap, rel=1e-3)
