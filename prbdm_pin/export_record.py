@@ -1,0 +1,276 @@
+"""The record every export carries: the exported model's own frequencies, its per-mode errors
+against the truth it was fitted to, and the damping the file holds (with the modal ratios that
+damping gives). URDF and MJCF hold it as an XML comment (:func:`read_export_record` reads it back),
+JSON as fields."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .damping import damping_ratios, modal_ratios, stiffness_damping_coefficient
+from .errors import BeamInputError
+
+__all__ = [
+    "FORMATS",
+    "EXPORT_DAMPING_FORMS",
+    "WORST_MODE_WARN_PCT",
+    "ExportRecord",
+    "export_record",
+    "read_export_record",
+]
+
+FORMATS = ("urdf", "mjcf", "json")
+EXPORT_DAMPING_FORMS = ("stiffness", "modal")
+# a worst mode further off the truth than this, %, is worth a warning
+WORST_MODE_WARN_PCT = 1.0
+_RECORD_HEAD = " prbdm_pin export record (prbdm_pin.export.read_export_record reads it)"
+
+
+def _f(v: float) -> str:
+    return repr(float(v))
+
+
+def _vec(v: np.ndarray) -> str:
+    return " ".join(_f(x) for x in v)
+
+
+def _ro(a: np.ndarray | None) -> np.ndarray | None:
+    if a is None:
+        return None
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class ExportRecord:
+    """What an exported file holds besides the model: its frequencies, errors and damping.
+
+    Attributes
+    ----------
+    natural_frequencies_rad_s : ndarray, shape (n,)
+        The exported model's natural frequencies at the straight pose (its M and K), rad/s.
+    omega_truth_rad_s : ndarray, shape (N,) or None
+        The truth frequencies the model was fitted to, rad/s (None: unknown).
+    omega_errors_pct : ndarray, shape (min(n, N),) or None
+        Signed per-mode errors 100 (omega_model / omega_truth - 1), %.
+    worst_mode_error_pct : float or None
+        max |omega_errors_pct|, %.
+    worst_mode : int or None
+        The mode (1-based) of the worst error.
+    damping_requested : str
+        ``"stiffness"``, ``"modal"`` or ``"none"`` (ratio 0).
+    damping_form : str
+        The form the file carries: ``"stiffness"``, ``"modal"`` (JSON only) or ``"none"``.
+    damping_ratio : ndarray, shape (n,)
+        The asked ratios: mode 1's (stiffness form; every entry equal) or each mode's (modal).
+    damping_beta_s : float or None
+        beta of C = beta K (stiffness form), s.
+    joint_damping_Nms_per_rad : ndarray, shape (n,)
+        The diagonal joint damping written (zeros for modal or none), N m s/rad.
+    modal_damping_ratios : ndarray, shape (n,)
+        The ratio each mode of the straight pose gets from that damping (ascending frequency).
+    warnings : tuple of str
+        A form asked for and not written; a worst mode off by more than ``WORST_MODE_WARN_PCT``.
+    """
+
+    natural_frequencies_rad_s: np.ndarray
+    omega_truth_rad_s: np.ndarray | None
+    omega_errors_pct: np.ndarray | None
+    worst_mode_error_pct: float | None
+    worst_mode: int | None
+    damping_requested: str
+    damping_form: str
+    damping_ratio: np.ndarray
+    damping_beta_s: float | None
+    joint_damping_Nms_per_rad: np.ndarray
+    modal_damping_ratios: np.ndarray
+    warnings: tuple = ()
+
+    def __post_init__(self) -> None:
+        for name in ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
+                     "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios"):
+            object.__setattr__(self, name, _ro(getattr(self, name)))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready fields (SI units, %)."""
+        def lst(a):
+            return None if a is None else [float(v) for v in a]
+
+        return {
+            "natural_frequencies_rad_s": lst(self.natural_frequencies_rad_s),
+            "frequencies_pose": "straight (q = 0)",
+            "omega_truth_rad_s": lst(self.omega_truth_rad_s),
+            "omega_errors_pct": lst(self.omega_errors_pct),
+            "worst_mode_error_pct": self.worst_mode_error_pct,
+            "worst_mode": self.worst_mode,
+            "damping": {
+                "requested": self.damping_requested,
+                "form": self.damping_form,
+                "ratio": lst(self.damping_ratio),
+                "beta_s": self.damping_beta_s,
+                "joint_damping_Nms_per_rad": lst(self.joint_damping_Nms_per_rad),
+                "modal_ratios": lst(self.modal_damping_ratios),
+            },
+            "warnings": list(self.warnings),
+        }
+
+    def comment_text(self) -> str:
+        """The record as the text of an XML comment (one ``key: values`` line each)."""
+        def vals(a):
+            return "unknown" if a is None else _vec(a)
+
+        def num(v):
+            return "unknown" if v is None else _f(v)
+
+        lines = [
+            _RECORD_HEAD,
+            "     The exported model at the straight pose (q = 0): its own natural frequencies",
+            "     (rad/s), the truth frequencies it was fitted to (rad/s), the signed errors",
+            "     100 (omega_model / omega_truth - 1) and the worst absolute error (%); the joint",
+            "     damping written (C = beta K for the stiffness form, N m s/rad) and the damping",
+            "     ratio it gives each mode, ascending frequency.",
+            f"     natural_frequencies_rad_s: {vals(self.natural_frequencies_rad_s)}",
+            f"     omega_truth_rad_s: {vals(self.omega_truth_rad_s)}",
+            f"     omega_errors_pct: {vals(self.omega_errors_pct)}",
+            f"     worst_mode_error_pct: {num(self.worst_mode_error_pct)}",
+            f"     worst_mode: {'unknown' if self.worst_mode is None else self.worst_mode}",
+            f"     damping_requested: {self.damping_requested}",
+            f"     damping_form: {self.damping_form}",
+            f"     damping_ratio: {vals(self.damping_ratio)}",
+            f"     damping_beta_s: {num(self.damping_beta_s)}",
+            f"     joint_damping_Nms_per_rad: {vals(self.joint_damping_Nms_per_rad)}",
+            f"     modal_damping_ratios: {vals(self.modal_damping_ratios)}",
+        ]
+        lines += [f"     warning: {w}" for w in self.warnings]
+        return "\n".join(lines) + "\n"
+
+    def summary_lines(self) -> list[str]:
+        """Human-readable lines for a command's output."""
+        out = ["frequencies (straight pose) rad/s: "
+               + " ".join(f"{w:.6g}" for w in self.natural_frequencies_rad_s)]
+        if self.omega_errors_pct is not None:
+            out.append("errors vs truth %: " + " ".join(f"{e:+.3f}" for e in self.omega_errors_pct)
+                       + f" (worst {self.worst_mode_error_pct:.3f} %, mode {self.worst_mode})")
+        else:
+            out.append("errors vs truth: unknown (no truth frequencies with this model)")
+        if self.damping_form == "none":
+            out.append("damping: none")
+        else:
+            beta = "" if self.damping_beta_s is None else f", beta {self.damping_beta_s:.6g} s"
+            out.append(f"damping: {self.damping_form}{beta}; modal ratios "
+                       + " ".join(f"{x:.4g}" for x in self.modal_damping_ratios))
+        return out
+
+
+def _errors(omega: np.ndarray, omega_truth) -> tuple:
+    if omega_truth is None:
+        return None, None, None, None
+    wt = np.asarray(omega_truth, dtype=float).reshape(-1)
+    if wt.size == 0 or not np.all(np.isfinite(wt) & (wt > 0.0)):
+        raise BeamInputError(f"omega_truth = {wt.tolist()} rad/s: must be finite and > 0")
+    k = min(omega.size, wt.size)
+    err = 100.0 * (omega[:k] / wt[:k] - 1.0)
+    i = int(np.argmax(np.abs(err)))
+    return wt, err, float(abs(err[i])), i + 1
+
+
+def export_record(
+    model,
+    fmt: str,
+    damping_ratio: float | np.ndarray = 0.02,
+    damping_form: str | None = None,
+    omega_truth_rad_s: np.ndarray | None = None,
+) -> ExportRecord:
+    """The :class:`ExportRecord` of ``model`` exported as ``fmt``.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+    fmt : {"urdf", "mjcf", "json"}
+    damping_ratio : float or ndarray (n,)
+        Mode 1's ratio (stiffness form) or each mode's (modal form); 0 writes no damping.
+    damping_form : {"stiffness", "modal"}, optional
+        Default: ``"stiffness"`` for URDF and MJCF, ``"modal"`` for JSON. URDF and MJCF asked
+        for ``"modal"`` get the stiffness form with mode 1's ratio, and a warning says so.
+    omega_truth_rad_s : ndarray, optional
+        Truth frequencies the model was fitted to (fit.json's ``omega_truth_rad_s``), rad/s.
+    """
+    if fmt not in FORMATS:
+        raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
+    requested = damping_form or ("modal" if fmt == "json" else "stiffness")
+    if requested not in EXPORT_DAMPING_FORMS:
+        raise BeamInputError(f"damping_form = {requested!r}: must be one of "
+                             f"{', '.join(EXPORT_DAMPING_FORMS)}")
+    n = model.n_joints
+    xi = damping_ratios(damping_ratio, n)
+    M, K = model.mass_matrix(), model.stiffness_matrix()
+    omega = np.asarray(model.natural_frequencies(), dtype=float)
+    wt, err, worst, worst_mode = _errors(omega, omega_truth_rad_s)
+    notes = []
+    beta = None
+    c = np.zeros(n)
+    if not np.any(xi > 0.0):
+        form = requested = "none"
+        ratios = np.zeros(n)
+    elif requested == "modal" and fmt == "json":
+        form, ratios = "modal", xi
+    else:
+        form = "stiffness"
+        if requested == "modal":
+            xi = np.full(n, xi[0])
+        beta = stiffness_damping_coefficient(M, K, xi)
+        c = beta * np.asarray(model.stiffness_Nm_per_rad, dtype=float)
+        ratios = modal_ratios(M, K, np.diag(c))
+        if requested == "modal":
+            notes.append(
+                f"modal damping (every mode {xi[0]:g}) cannot be carried by a diagonal joint "
+                f"damping: wrote the stiffness form C = beta K (beta = {beta:.6g} s), whose "
+                "modal ratios are " + " ".join(f"{x:.4g}" for x in ratios))
+    if worst is not None and worst > WORST_MODE_WARN_PCT:
+        notes.append(f"mode {worst_mode} of the exported model is {err[worst_mode - 1]:+.3f} % "
+                     f"off the truth (straight pose); more than {WORST_MODE_WARN_PCT:g} %")
+    return ExportRecord(omega, wt, err, worst, worst_mode, requested, form, xi, beta, c,
+                        ratios, tuple(notes))
+
+
+_FLOATS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
+           "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios")
+
+
+def read_export_record(text: str) -> ExportRecord | None:
+    """The :class:`ExportRecord` in the comment of an exported URDF or MJCF text (None if none).
+
+    Raises BeamInputError when the record is there but malformed.
+    """
+    start = text.find("<!--" + _RECORD_HEAD)
+    if start < 0:
+        return None
+    end = text.find("-->", start)
+    if end < 0:
+        raise BeamInputError("export record: comment is not closed")
+    fields: dict[str, Any] = {}
+    warnings = []
+    for line in text[start:end].splitlines()[1:]:
+        m = re.match(r"\s*([A-Za-z0-9_]+): (.*)$", line)
+        if m is None:
+            continue
+        key, value = m.group(1), m.group(2).strip()
+        if key == "warning":
+            warnings.append(value)
+        elif key in _FLOATS:
+            fields[key] = None if value == "unknown" else np.array(value.split(), dtype=float)
+        elif key in ("worst_mode_error_pct", "damping_beta_s"):
+            fields[key] = None if value == "unknown" else float(value)
+        elif key == "worst_mode":
+            fields[key] = None if value == "unknown" else int(value)
+        elif key in ("damping_requested", "damping_form"):
+            fields[key] = value
+    try:
+        return ExportRecord(warnings=tuple(warnings), **fields)
+    except (TypeError, ValueError) as exc:
+        raise BeamInputError(f"export record: malformed ({exc})") from None
