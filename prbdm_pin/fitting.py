@@ -29,12 +29,11 @@ SCF and the scalar and batch losses take the weights of the chosen norm.
 
 What is exported: ``paper`` fits export the springs fitted at the sweep's first pose (every
 joint at xi, the pose nearest straight), recorded with their pose in the FitResult; the whole
-per-pose table stays in it (``FitResult.stiffness_schedule`` for ``simulate``). Measured with
-``scripts/export_pose_study.py`` against re-scaling those springs by the single SCF that best
-matches the truth at q = 0: straight-pose worst modes within 0.8 points of each other, pose 0
-better on every tapered-beam fit; pose 0 is a spring set the fit chose (with the deflection
-term, when there is one). Every result carries the exported model's own frequencies at q = 0
-and its per-mode errors, and warns when one is off by more than ``EXPORT_WARN_PCT``.
+per-pose table stays in it (``FitResult.stiffness_schedule`` for ``simulate``). Pose 0 is a
+spring set the fit chose (with the deflection term, when there is one), unlike springs re-scaled
+at q = 0 (``scripts/export_pose_study.py`` compares the two). Every result carries the exported
+model's own frequencies at q = 0 and its per-mode errors, and warns when one is off by more than
+``EXPORT_WARN_PCT``.
 
 Inner loop: trial designs are evaluated without building a ``pinocchio.Model``, through
 :func:`problem.chain_mass_matrices` (exact link sections and the closed-form mass matrix of the
@@ -103,10 +102,8 @@ from .results import FitResult, ParetoResult
 __all__ = ["fit", "fit_pareto", "StartResult", "solve_start", "result_from_design"]
 
 OBJECTIVES = ("eigen", "deflection", "combined")
-# the eigen norm of fit and fit_pareto: the relative norm gives the better model for dynamics
-# (scripts/dynamic_accuracy.py: the tip step response against the plate truth of joint combined
-# fits, 3R-5R on reference-random, 1.5/0.43/0.54 % against Eq. 16's 3.2/4.8/6.0 %) and
-# keeps every mode in view (Eq. 16 let a 5R paper fit leave omega_1 off by 21 %)
+# the eigen norm of fit and fit_pareto: the relative norm keeps every mode in view and gives
+# the better model for dynamics (scripts/dynamic_accuracy.py compares the two; README)
 DEFAULT_EIGEN_NORM = "relative"
 _BAD = 1e3  # loss (fraction) reported for designs whose model cannot be solved
 # eigen loss (%) above which a joint fit of n frequencies at the straight pose has not matched
@@ -784,7 +781,8 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         if extra else None,
         extra_tip_position_model_m=ev.extra_tip_position_m if extra else None,
         warnings=tuple(notes),
-        eigen_norm=problem.eigen_norm, omega_errors_pct=omega_errors,
+        eigen_norm=problem.eigen_norm, min_fraction=problem.min_fraction,
+        omega_errors_pct=omega_errors,
         worst_mode_error_pct=worst_mode_error_pct(omega_errors), export_pose_rad=pose,
         stiffness_pose=described, omega_export_rad_s=w_export,
         omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,

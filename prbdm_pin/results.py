@@ -162,6 +162,8 @@ class FitResult(_Serialisable):
     truth_request : TruthRequest or None
         The ``compute_truth`` call the target came from (None for a truth file or a hand-made
         target): ``prbdm simulate --compare-truth`` asks for the same truth.
+    min_fraction : float
+        The fit's lower bound on every link, a fraction of L (Eq. 15; ``--min-link``).
     static_theory_gap_pct : float
         The gap between the truth model and 1D beam theory at small load, 100 (u_1D / u_truth
         - 1), % (the frequencies and the default large-deflection tip are both the truth
@@ -252,6 +254,7 @@ class FitResult(_Serialisable):
     omega_export_errors_pct: np.ndarray | None = None
     worst_export_error_pct: float = math.nan
     static_theory_gap_pct: float = math.nan
+    min_fraction: float = 0.02
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

@@ -73,7 +73,9 @@ def test_min_link_reaches_the_fit(tmp_path, truth_file):
         argv = ["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "4",
                 "--truth", str(truth_file), "--out", str(out), "-q"]
         assert main(argv + ([] if f is None else ["--min-link", str(f)])) == 0
-        lengths[f] = np.array(json.loads((out / "fit.json").read_text())["lengths_m"])
+        record = json.loads((out / "fit.json").read_text())
+        lengths[f] = np.array(record["lengths_m"])
+        assert record["min_fraction"] == (0.02 if f is None else f)  # fit.json says which bound
     assert lengths[None].min() < 0.29
     assert lengths[0.3].min() >= 0.3 - 1e-12 and lengths[0.3].max() <= 0.4 + 1e-12
 
