@@ -299,7 +299,7 @@ def test_beam_files_folder(tmp_path):
     run_batch(BatchSpec(seed=1, settings=SETTINGS, beams_dir=str(src)), out, work=WORK,
               backend=LocalPool(1), progress=False)
     got = results(out)
-    names = sorted(p.stem for p in src.glob("*.json"))
+    names = [p.stem for p in sorted(src.glob("*.json"))]  # the batch's order: by file name
     assert [got[i]["beam_name"] for i in sorted(got)] == names
     manifest = json.loads((out / batch.MANIFEST).read_text())
     assert [b[0] for b in manifest["beams"]] == names
