@@ -362,7 +362,7 @@ def _mujoco_row(beam: Beam, model, omega_truth, duration_s: float) -> ModelRow |
 
     m = mujoco.MjModel.from_xml_string(mjcf_text(model, DAMPING_RATIO))
     # the peer's cost is measured with MuJoCo's default (semi-implicit Euler) step, as a MuJoCo
-    # user would run a hinge chain; the exported file asks for RK4, about 3x the cost per step
+    # user would run a hinge chain; the exported file asks for RK4 (four evaluations a step)
     m.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
