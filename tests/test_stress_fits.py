@@ -29,7 +29,10 @@ def test_4r_eigen_fit_on_20_random_beams():
     missed = []
     for seed in SEEDS:
         beam = random_beam(np.random.default_rng(seed))
-        truth = compute_truth(beam, modes=4, static=False)
+        # the fits are under test, not the truth: take the default-level truth as it is, even
+        # where its error estimate would refuse it (one of these panels' first mode moves by
+        # 0.4 % to the next level; tests/test_truth_judge.py checks the refusal)
+        truth = compute_truth(beam, modes=4, static=False, error_tol_pct=None)
         r = fit(beam, target_from_truth(truth, beam.tip_force_N), 4, frequencies=4,
                 objective="eigen", stiffness="joint", eigen_norm="paper", starts=32, seed=0,
                 progress=False,
