@@ -275,7 +275,13 @@ def compute_truth(
         index = select_modes(modal, modes, selection)
     except ValueError as exc:
         raise TruthError(f"{beam.name!r}: {exc}") from exc
-    from .estimate import beam_theory_gap, error_estimate_pct, next_level_modal
+    from .estimate import (
+        ESTIMATE_MAX_DOFS,
+        beam_theory_gap,
+        error_estimate_pct,
+        estimate_skipped,
+        next_level_modal,
+    )
 
     if check_convergence:
         finer = compute_modal(beam, model, modal.mesh_level + 1, n_computed)
@@ -302,7 +308,11 @@ def compute_truth(
     notes = list(selection_warnings(modal, index, labels))
     if model in ("plate", "plate-morley"):
         notes += beam.kirchhoff_warnings(modes)
-    if estimate is None:
+    if estimate is None and estimate_skipped(model, modal):
+        notes.append(f"no discretisation error estimate: the next mesh level of this {model} "
+                     f"truth would have about {4 * int(modal.dofs):,} DOFs (above "
+                     f"{ESTIMATE_MAX_DOFS:,}, many GB); check_convergence=True compares with it")
+    elif estimate is None:
         notes.append(f"no discretisation error estimate for the {model} model (its next mesh "
                      "level costs minutes): check_convergence=True compares with it")
     if static:

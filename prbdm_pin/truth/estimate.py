@@ -56,10 +56,24 @@ ESTIMATED_MODELS = ("plate", "plate-morley", "beam")
 _BEAM_ELEMENTS = 200
 
 
+# A plate mesh refined once has about four times the DOFs, and its sparse factorisation grows
+# faster than that: on jagged random panels the next level took minutes and more than 12 GB per
+# process (batch workers ran out of memory). Above this many DOFs at the next level the estimate
+# is skipped, and the truth says so.
+ESTIMATE_MAX_DOFS = 120_000
+_REFINED_DOF_RATIO = 4
+
+
+def estimate_skipped(model: str, modal: ModalSolution) -> bool:
+    """Whether the next mesh level of a plate truth is too large to be solved for the estimate."""
+    return model in ("plate", "plate-morley") and \
+        _REFINED_DOF_RATIO * int(modal.dofs) > ESTIMATE_MAX_DOFS
+
+
 def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.ndarray):
     """The modal solution one mesh level finer (beam: twice the elements), or None for a model
-    whose next level is not estimated (the solid: minutes)."""
-    if model not in ESTIMATED_MODELS:
+    whose next level is not estimated (the solid: minutes) or too large (``ESTIMATE_MAX_DOFS``)."""
+    if model not in ESTIMATED_MODELS or estimate_skipped(model, modal):
         return None
     # a few modes beyond the highest selected one: the order shifts by 1e-4 between levels at most
     k = min(int(np.max(index)) + 3, int(modal.omega_rad_s.size))
