@@ -18,6 +18,7 @@ from scipy.linalg.lapack import dpotrs as _potrs
 from scipy.linalg.lapack import dsyevd as _syevd
 
 from .errors import BeamInputError, SolveError
+from .statics_guard import check_load, load_ok_rows, require_finite
 
 __all__ = [
     "mass_matrix",
@@ -435,6 +436,7 @@ def _newton(pot: _Potential, q: np.ndarray, lam: float, rtol: float, max_iter: i
     for _ in range(max_iter):
         g, H, scale = pot.derivatives(q, lam)
         gn = math.sqrt(g @ g)
+        require_finite((pot.fx, 0.0, pot.fz), gn, scale)
         C, info = _potrf(H, lower=1)  # LAPACK Cholesky: thin wrapper, cheap for small n
         pd = info == 0
         if gn <= rtol * scale:
@@ -503,6 +505,7 @@ def static_deflection_planar(
         raise BeamInputError(f"q0 = {q.tolist()}: must be {n} finite joint angles (rad)")
     if F[0] == 0.0 and F[2] == 0.0:
         return np.zeros(n)  # no in-plane load: V = 1/2 q^T K q has its only minimum at 0
+    check_load(lengths_m, k, F, rtol)
     pot = _Potential(np.asarray(lengths_m, dtype=float), k, F)
     q1, ok = _newton(pot, q, 1.0, rtol, max_iter, max_step_rad)
     if ok:
@@ -663,7 +666,8 @@ def static_deflection_planar_batch(
     if F[0] == 0.0 and F[2] == 0.0:
         return q, ~ok  # no in-plane load: the straight pose is the only minimum
     pot = _BatchPotential(L, k, F)
-    active = np.arange(B)
+    resolvable = load_ok_rows(L, k, F, rtol)
+    active = np.flatnonzero(resolvable)
     for it in range(max_iter + 1):
         if active.size == 0:
             break
@@ -671,10 +675,12 @@ def static_deflection_planar_batch(
         g, H, scale = pot.derivatives(qa, active)
         gn = np.linalg.norm(g, axis=1)
         d, pd = _cholesky_solve_batch(H, g)
-        done = pd & (gn <= rtol * scale)
+        fin = np.isfinite(gn) & np.isfinite(scale)
+        done = pd & fin & (gn <= rtol * scale)
         ok[active[done]] = True
-        # not positive definite, or out of iterations: the scalar solver takes the row over
-        keep = pd & ~done
+        # not positive definite, not finite, or out of iterations: the scalar solver takes the
+        # row over
+        keep = pd & fin & ~done
         active, qa, g, gn, d = active[keep], qa[keep], g[keep], gn[keep], -d[keep]
         if it == max_iter or active.size == 0:
             break
@@ -699,7 +705,8 @@ def static_deflection_planar_batch(
             alpha[todo[~good]] *= 0.5
         q[active[accepted]] = qa[accepted] + alpha[accepted, None] * d[accepted]
         active = active[accepted]  # rows whose line search failed go to the scalar solver
-    for r in np.flatnonzero(~ok):
+    q[~resolvable] = np.nan
+    for r in np.flatnonzero(~ok & resolvable):
         try:
             q[r] = static_deflection_planar(L[r], k[r], F, rtol=rtol, max_iter=max_iter,
                                             max_step_rad=max_step_rad)
