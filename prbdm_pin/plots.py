@@ -5,10 +5,11 @@ knee (Fig. 11). Every function writes a PNG atomically and returns its path."""
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from .atomic import mkstemp
 
 __all__ = ["plot_planform", "plot_scf", "plot_pareto"]
 
@@ -25,7 +26,7 @@ def _pyplot():
 def _save(fig, path) -> Path:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
+    fd, tmp = mkstemp(p.parent, prefix=f".{p.name}.", suffix=".tmp")
     os.close(fd)
     try:
         fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")

@@ -34,6 +34,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+BENCH_FILES = ("results.md", "results.json", "error_vs_cost.png")
+
+
 def run(args) -> int:
     from dataclasses import replace
 
@@ -49,6 +52,7 @@ def run(args) -> int:
         work_units,
     )
     from ..geometry import atomic_write_text
+    from ..output_folder import output_folder
 
     config = QUICK if args.quick else FULL
     if args.no_mujoco:
@@ -75,9 +79,13 @@ def run(args) -> int:
     machine = (f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python "
                f"{platform.python_version()}, numpy {np.__version__}; BLAS threads "
                f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}. ")
-    md = atomic_write_text(out / "results.md", markdown_report(result, machine))
-    atomic_write_text(out / "results.json", json.dumps(result_dict(result), indent=1) + "\n")
-    png = plot_error_vs_cost(result, out / "error_vs_cost.png")
+    # the truth cache OUT/truth-cache is not the command's own: the new set keeps it
+    with output_folder(out, BENCH_FILES, marker="results.json") as stage:
+        atomic_write_text(stage / "results.md", markdown_report(result, machine))
+        plot_error_vs_cost(result, stage / "error_vs_cost.png")
+        atomic_write_text(stage / "results.json",
+                          json.dumps(result_dict(result), indent=1) + "\n")
+    md, png = out / "results.md", out / "error_vs_cost.png"
     if not args.quiet:
         print(f"wrote {md} and {png} ({result.wall_time_s:.1f} s)")
     return 0

@@ -246,16 +246,33 @@ def check_inputs(args, beam, objective: str) -> float:
     return f
 
 
+# the files a fit writes into its folder (the knee of a Pareto fit too)
+FIT_FILES = ("fit.json", "model.urdf", "planform.png", "scf.png")
+
+
 def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:
-    """fit.json, model.urdf and the plots of a FitResult, each written atomically.
+    """fit.json, model.urdf and the plots of a FitResult, put into ``out`` as one set
+    (``output_folder``: an earlier fit's files there are replaced all together, other files
+    are kept).
 
     model.urdf is what ``prbdm export fit.json --format urdf`` writes: fit.json's
     ``stiffness_Nm_per_rad``, 2 % stiffness-proportional joint damping, and the record comment
     (its frequencies at the straight pose, its per-mode errors against ``omega_truth_rad_s``).
     """
+    from ..output_folder import output_folder
+
+    out = Path(out)
+    with output_folder(out, FIT_FILES, marker="fit.json") as stage:
+        written = write_fit_files(result, beam, stage, plots)
+    return [out / p.name for p in written]
+
+
+def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path]:
+    """The files of :func:`write_fit_outputs` written into ``folder`` (each atomically)."""
     from ..export import write_urdf
     from ..model import build_model
 
+    out = folder
     out.mkdir(parents=True, exist_ok=True)
     lengths = result.lengths_m
     # the fit's own bound may be below Eq. 15's default (--min-link)

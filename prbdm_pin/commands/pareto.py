@@ -8,6 +8,7 @@ from pathlib import Path
 
 from . import add_common
 from .fit import (
+    FIT_FILES,
     add_eigen_norm_option,
     add_truth_options,
     check_inputs,
@@ -15,7 +16,7 @@ from .fit import (
     load_target,
     print_warnings,
     worst_mode_text,
-    write_fit_outputs,
+    write_fit_files,
 )
 
 EXAMPLE = """example:
@@ -45,17 +46,21 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+PARETO_FILES = ("pareto.csv", "pareto.json", "pareto.png")
+
+
 def write_pareto_outputs(res, beam, out: Path) -> None:
     """pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json,
-    model.urdf and plots, each written atomically; the knee's fit.json last."""
+    model.urdf and plots, put into ``out`` as one set (``output_folder``)."""
     from ..geometry import atomic_write_text
+    from ..output_folder import output_folder
     from ..plots import plot_pareto
 
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "pareto.csv", res.to_csv())
-    res.save(out / "pareto.json")
-    plot_pareto(res, out / "pareto.png")
-    write_fit_outputs(res.knee, beam, out)
+    with output_folder(out, FIT_FILES + PARETO_FILES, marker="fit.json") as stage:
+        atomic_write_text(stage / "pareto.csv", res.to_csv())
+        res.save(stage / "pareto.json")
+        plot_pareto(res, stage / "pareto.png")
+        write_fit_files(res.knee, beam, stage)
 
 
 def run(args) -> int:

@@ -163,21 +163,27 @@ def _csv(tr) -> str:
 
 def _save_png(fig, path: Path) -> None:
     import os
-    import tempfile
 
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".png")
+    from ..atomic import mkstemp
+
+    fd, tmp = mkstemp(path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
-        fig.savefig(tmp, dpi=120)
+        fig.savefig(tmp, format="png", dpi=120)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
 
 
+SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
+                  "truth_comparison.json")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     from ..geometry import atomic_write_text
+    from ..output_folder import output_folder
     from ..simulation import simulate
 
     force = parse_force(args.tip_force)
@@ -191,7 +197,6 @@ def run(args: argparse.Namespace) -> int:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     output_dt = args.output_dt or args.duration / 2000
     # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
     # other forms are exact about the initial pose
@@ -200,45 +205,47 @@ def run(args: argparse.Namespace) -> int:
                   tip_force=force if np.any(force) else None, damping_ratio=args.damping,
                   damping=args.damping_form, method=args.method, dt=args.dt,
                   output_dt=output_dt, damping_pose=damping_pose)
-    atomic_write_text(out / "trajectory.csv", _csv(tr))
+    # every file replaces an earlier simulation's as one set (output_folder)
+    with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
+        atomic_write_text(stage / "trajectory.csv", _csv(tr))
 
-    import matplotlib
+        import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
-    rest = model.tip_position()
-    ax[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
-    ax[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
-    ax[0].set_ylabel("tip displacement (mm)")
-    ax[0].legend()
-    ax[1].plot(tr.t_s, tr.q_rad)
-    ax[1].set_xlabel("t (s)")
-    ax[1].set_ylabel("joint angles (rad)")
-    fig.suptitle(f"{model.n_joints}R PRBDM, F = {force.tolist()} N, zeta = {args.damping}")
-    fig.tight_layout()
-    _save_png(fig, out / "response.png")
-    plt.close(fig)
-    if not args.quiet:
-        print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for {args.duration} s "
-              f"simulated; wrote {out / 'trajectory.csv'}", file=sys.stderr)
-
-    if args.compare_truth:
-        from .fit import _cache_dir
-
-        request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
-        cmp = compare_truth(model, request, args.damping, _cache_dir(args),
-                            quiet=args.quiet)
-        _plot_comparison(cmp, out / "truth_comparison.png", plt)
-        # the JSON last: its presence marks a complete comparison
-        atomic_write_text(out / "truth_comparison.json",
-                          json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
+        fig, ax = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+        rest = model.tip_position()
+        ax[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
+        ax[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
+        ax[0].set_ylabel("tip displacement (mm)")
+        ax[0].legend()
+        ax[1].plot(tr.t_s, tr.q_rad)
+        ax[1].set_xlabel("t (s)")
+        ax[1].set_ylabel("joint angles (rad)")
+        fig.suptitle(f"{model.n_joints}R PRBDM, F = {force.tolist()} N, zeta = {args.damping}")
+        fig.tight_layout()
+        _save_png(fig, stage / "response.png")
+        plt.close(fig)
         if not args.quiet:
-            print(f"against the {request.model} truth: step error "
-                  f"{100 * cmp.accuracy.step_error:.3g} %, FRF error "
-                  f"{100 * cmp.accuracy.frf_error:.3g} %; wrote {out / 'truth_comparison.json'}",
-                  file=sys.stderr)
+            print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
+                  f"{args.duration} s simulated; wrote {out / 'trajectory.csv'}", file=sys.stderr)
+
+        if args.compare_truth:
+            from .fit import _cache_dir
+
+            request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
+            cmp = compare_truth(model, request, args.damping, _cache_dir(args),
+                                quiet=args.quiet)
+            _plot_comparison(cmp, stage / "truth_comparison.png", plt)
+            # the JSON last: its presence marks a complete comparison
+            atomic_write_text(stage / "truth_comparison.json",
+                              json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
+            if not args.quiet:
+                print(f"against the {request.model} truth: step error "
+                      f"{100 * cmp.accuracy.step_error:.3g} %, FRF error "
+                      f"{100 * cmp.accuracy.frf_error:.3g} %; "
+                      f"wrote {out / 'truth_comparison.json'}", file=sys.stderr)
     return 0
 
 

@@ -43,9 +43,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+TRUTH_FILES = ("truth.json", "modes.vtu")
+
+
 def run(args) -> int:
     from ..errors import BeamInputError
     from ..geometry import atomic_write_text, load_beam
+    from ..output_folder import output_folder
     from ..truth import CoarseTruthError, compute_truth
     from ..truth.vtu import write_modes_vtu
 
@@ -62,7 +66,6 @@ def run(args) -> int:
         raise BeamInputError(str(exc)) from None
     wall = time.perf_counter() - t0
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
 
     def lst(a):
         return None if a is None else [float(v) for v in a]
@@ -85,9 +88,11 @@ def run(args) -> int:
         "static_theory_gap_pct": r.static_theory_gap_pct,
         "wall_time_s": wall, "version": r.version, "warnings": list(r.warnings),
     }
-    atomic_write_text(out / "truth.json", json.dumps(doc, indent=2) + "\n")
-    if r.modal.nodes_m is not None:
-        write_modes_vtu(r.modal, out / "modes.vtu")
+    # truth.json and modes.vtu replace an earlier truth's as one set
+    with output_folder(out, TRUTH_FILES, marker="truth.json") as stage:
+        if r.modal.nodes_m is not None:
+            write_modes_vtu(r.modal, stage / "modes.vtu")
+        atomic_write_text(stage / "truth.json", json.dumps(doc, indent=2) + "\n")
     if not args.quiet:
         for w in r.warnings:
             print(f"warning: {w}")

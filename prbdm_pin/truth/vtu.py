@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from ..atomic import mkstemp
 from .result import ModalSolution
 
 __all__ = ["write_modes_vtu"]
@@ -31,7 +31,7 @@ def write_modes_vtu(modal: ModalSolution, path, index=None) -> Path:
                        [(modal.cell_type, np.asarray(modal.cells))], point_data=data)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".vtu")
+    fd, tmp = mkstemp(path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
         meshio.write(tmp, mesh, file_format="vtu")
