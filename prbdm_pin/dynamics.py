@@ -18,7 +18,7 @@ from scipy.linalg.lapack import dpotrs as _potrs
 from scipy.linalg.lapack import dsyevd as _syevd
 
 from .errors import BeamInputError, SolveError
-from .statics_guard import check_load, load_ok_rows, require_finite
+from .statics_guard import check_load, load_ok_rows, off_saddle, require_finite
 
 __all__ = [
     "mass_matrix",
@@ -521,9 +521,15 @@ def static_deflection_planar(
         else:
             dlam *= 0.5
             if dlam < 1e-5:
+                # the path stalls at a bifurcation of the straight pose (a column under an
+                # axial load), where the full-load descent had only run short of iterations
+                qn, ok = _newton(pot, off_saddle(pot, q1), 1.0, rtol, 4 * max_iter,
+                                 max_step_rad)
+                if ok:
+                    return qn
                 raise SolveError(
                     f"static deflection: no equilibrium beyond {lam:.4g} of the load "
-                    f"{F.tolist()} N (load stepping stalled)"
+                    f"tip_force = {F.tolist()} N (load stepping stalled)"
                 )
     return q
 

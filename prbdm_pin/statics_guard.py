@@ -21,7 +21,8 @@ import numpy as np
 
 from .errors import SolveError
 
-__all__ = ["load_index", "max_load_index", "check_load", "load_ok_rows", "require_finite"]
+__all__ = ["load_index", "max_load_index", "check_load", "load_ok_rows", "require_finite",
+           "off_saddle"]
 
 _EPS = float(np.finfo(float).eps)
 
@@ -77,3 +78,15 @@ def require_finite(force: np.ndarray, *values: float) -> None:
                          "the residual is not finite (the load or springs overflow double "
                          "precision)")
 
+
+
+def off_saddle(pot, q: np.ndarray, step_rad: float = 1e-2) -> np.ndarray:
+    """``q`` moved ``step_rad`` along the Hessian's most negative curvature (downhill in V),
+    or ``q`` itself where V is convex there: a start for a descent that crawls near a saddle
+    (a straight column past its buckling load), with ``pot`` a ``dynamics._Potential``."""
+    _, H, _ = pot.derivatives(q, 1.0)
+    w, V = np.linalg.eigh(H)
+    if w[0] > 0.0:
+        return q
+    a, b = q + step_rad * V[:, 0], q - step_rad * V[:, 0]
+    return a if pot.value(a, 1.0) <= pot.value(b, 1.0) else b

@@ -104,3 +104,25 @@ def test_non_finite_loads_raise_naming_the_load(bad):
             dyn.static_deflection_planar(np.array([L0, L1]), np.array([K1]), F)
         with pytest.raises(BeamInputError, match="tip_force"):
             dyn.static_deflection_planar_batch(np.array([L0, L1]), np.array([[K1]]), F)
+
+
+@pytest.mark.parametrize("n, alpha", [(1, 3.0), (3, 10.0), (8, 0.1), (8, 100.0)])
+def test_axial_compression_past_buckling_finds_the_buckled_equilibrium(n, alpha):
+    # a dead load along -x, exactly axial: the straight pose is a saddle past buckling, where
+    # the load stepping used to stall ("no equilibrium") at a few percent of the load
+    rng = np.random.default_rng(int(1000 * n + 10 * math.log10(alpha) + 180))
+    lengths, k = rng.uniform(0.05, 0.4, n + 1), rng.uniform(0.5, 5.0, n)
+    F = np.array([-1.0, 0.0, 1e-16]) * alpha * k.max() / lengths[1:].sum()
+    try:
+        q = dyn.static_deflection_planar(lengths, k, F)
+    except SolveError:
+        # only a load below the chain's buckling load may keep it straight; none of these is
+        pytest.fail("no equilibrium found")
+    np.testing.assert_allclose(k * q, joint_torques(lengths, q, F), rtol=1e-7,
+                               atol=1e-9 * np.abs(k * q).max())
+    assert np.abs(q).max() > 0.05  # buckled, not the straight saddle
+    if n == 1:
+        # closed form: k q = P L1 sin q, 0 < |q| < pi
+        P = -F[0]
+        ref = brentq(lambda x: k[0] * x - P * lengths[1] * math.sin(x), 1e-6, math.pi)
+        assert abs(q[0]) == pytest.approx(ref, rel=1e-8)
