@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import ctypes
 import errno
-import fcntl
 import os
 import secrets
 import shutil
@@ -34,6 +33,11 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import BeamInputError
+
+try:
+    import fcntl
+except ImportError:  # no flock: a concurrent run's staging folder is not told apart
+    fcntl = None
 
 __all__ = ["output_folder", "OUTPUT_NAMES"]
 
@@ -69,6 +73,8 @@ def _mkdir_new(parent: Path, prefix: str) -> Path:
 def _lock(path: Path, block: bool = True) -> int | None:
     """An fd holding an exclusive flock on the folder ``path``; None if another process has it."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    if fcntl is None:
+        return fd
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | (0 if block else fcntl.LOCK_NB))
     except BlockingIOError:
