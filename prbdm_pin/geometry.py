@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 
 from .errors import BeamInputError
+from .jsonfile import field_str, read_json
+from .limits import check_cap
 
 __all__ = [
     "Material",
@@ -151,6 +153,8 @@ class Material:
     nu: float = 0.28
 
     def __post_init__(self) -> None:
+        # a control character makes the URDF/MJCF that carry the name unreadable XML
+        field_str("material.name", self.name)
         _finite_positive("material.E", self.E_Pa)
         _finite_positive("material.rho", self.rho_kg_m3)
         if isinstance(self.nu, bool) or not isinstance(self.nu, (int, float, np.floating)):
@@ -196,6 +200,8 @@ class Beam:
     description: str = ""
 
     def __post_init__(self) -> None:
+        field_str("name", self.name)
+        field_str("description", self.description)
         x = _float_array("x", self.x_m, "m")
         w = _float_array("half_width", self.half_width_m, "m")
         if x.size < 2:
@@ -368,6 +374,10 @@ def beam_from_dict(d: Any) -> Beam:
     missing = _KEYS_REQUIRED - set(d)
     if missing:
         raise BeamInputError(f"missing key(s) {sorted(missing)}")
+    # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
+    for key in ("x", "half_width"):
+        if isinstance(d[key], list):
+            check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
     mat_d = d.get("material", {})
     if not isinstance(mat_d, dict):
         raise BeamInputError(f"material = {mat_d!r}: must be an object with E, rho, nu")
@@ -375,9 +385,7 @@ def beam_from_dict(d: Any) -> Beam:
     if unknown:
         raise BeamInputError(f"unknown key(s) in material {sorted(unknown)}: allowed are "
                              f"{sorted(_MATERIAL_KEYS)}")
-    name = mat_d.get("name", STEEL_4340.name)
-    if not isinstance(name, str):
-        raise BeamInputError(f"material.name = {name!r}: must be a string")
+    name = field_str("material.name", mat_d.get("name", STEEL_4340.name))
     material = Material(
         name=name,
         E_Pa=mat_d.get("E", STEEL_4340.E_Pa),
@@ -385,8 +393,8 @@ def beam_from_dict(d: Any) -> Beam:
         nu=mat_d.get("nu", STEEL_4340.nu),
     )
     for key in ("name", "description"):
-        if key in d and not isinstance(d[key], str):
-            raise BeamInputError(f"{key} = {d[key]!r}: must be a string")
+        if key in d:
+            field_str(key, d[key])
     beam = Beam(
         x_m=d["x"],
         half_width_m=d["half_width"],
@@ -428,23 +436,7 @@ def load_beam(path: str | os.PathLike) -> Beam:
     ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
     enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
     """
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise BeamInputError(f"beam file {str(p)!r}: not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BeamInputError(f"beam file {str(p)!r}: cannot be read ({exc})") from None
-    try:
-        d = json.loads(text, parse_constant=_reject_constant)
-    except json.JSONDecodeError as exc:
-        raise BeamInputError(f"beam file {str(p)!r}: not valid JSON ({exc})") from None
-    return beam_from_dict(d)
-
-
-def _reject_constant(name: str) -> float:
-    # json accepts NaN/Infinity by default; beam data must be finite
-    raise BeamInputError(f"beam JSON contains {name}: every value must be finite")
+    return beam_from_dict(read_json(path, "beam file"))
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
