@@ -62,15 +62,13 @@ def _array(what: str, field: str, value: Any, shape: tuple, *, finite: bool = Tr
         if (want is None and got < 1) or (want is not None and got != want):
             expected = ", ".join("k" if s is None else str(s) for s in shape)
             raise BeamInputError(f"{label} has shape {arr.shape}: expected ({expected})")
-    bad = np.flatnonzero(~np.isfinite(arr).ravel()) if finite else np.array([], int)
-    if bad.size:
-        idx = np.unravel_index(int(bad[0]), arr.shape)
-        raise BeamInputError(f"{label}{list(idx)} = {arr[idx]}: must be finite")
-    if positive:
-        bad = np.flatnonzero(~(arr > 0.0).ravel())
-        if bad.size:
+    for test, rule in ((finite, np.isfinite), (positive, lambda a: a > 0.0)):
+        bad = np.flatnonzero(~rule(arr).ravel()) if test else ()
+        if len(bad):
             idx = np.unravel_index(int(bad[0]), arr.shape)
-            raise BeamInputError(f"{label}{list(idx)} = {arr[idx]!r}: must be > 0")
+            at = "".join(f"[{int(i)}]" for i in idx)
+            raise BeamInputError(f"{label}{at} = {float(arr[idx])!r}: must be "
+                                 + ("finite" if rule is np.isfinite else "> 0"))
     return arr
 
 
@@ -88,8 +86,9 @@ def _nested(label: str, value: Any, ndim: int) -> np.ndarray:
                                  f"({ndim}-D array of numbers)")
         return [walk(x, depth - 1, f"{path}[{i}]") for i, x in enumerate(v)]
 
+    rows = walk(value, ndim, "")
     try:
-        arr = np.array(walk(value, ndim, ""), dtype=float)
+        arr = np.array(rows, dtype=float)
     except ValueError:
         raise BeamInputError(f"{label}: rows of different lengths (not a {ndim}-D array)") from None
     if arr.ndim != ndim:
@@ -125,7 +124,7 @@ def check_chain(what: str, lengths_m: Any, stiffness_Nm_per_rad: Any,
         bad = np.flatnonzero(lengths < floor)
         if bad.size:
             i = int(bad[0])
-            raise BeamInputError(f"{what}: lengths_m[{i}] = {lengths[i]!r} m: shorter than "
+            raise BeamInputError(f"{what}: lengths_m[{i}] = {float(lengths[i])!r} m: shorter than "
                                  f"{LINK_FLOOR_FRACTION:g} of the beam length ({floor:.3g} m)")
     return lengths, k
 
