@@ -435,6 +435,9 @@ def load_beam(path: str | os.PathLike) -> Beam:
     against the last x), ``material`` (default steel AISI 4340), ``name``, ``description`` and
     ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
     enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
+    The file is read by :func:`prbdm_pin.jsonfile.read_json` (size, UTF-8, depth, integer
+    length, finiteness); at most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
+    names hold no control characters.
     """
     return beam_from_dict(read_json(path, "beam file"))
 
