@@ -276,7 +276,7 @@ def read_model_json(path: str | os.PathLike):
         if key not in d:
             raise BeamInputError(f"{what}: missing {key!r}")
     try:
-        beam = beam_from_dict(d["beam"])
+        beam = beam_from_dict(d["beam"], check_caps=True)
     except BeamInputError as exc:
         raise BeamInputError(f"{what}: beam: {exc}") from None
     lengths, k = check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], beam.length_m)

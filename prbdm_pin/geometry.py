@@ -362,9 +362,13 @@ _KEYS_OPTIONAL = {"length", "material", "tip_force", "name", "description"}
 _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
 
 
-def beam_from_dict(d: Any) -> Beam:
+def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field
-    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load)."""
+    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load).
+
+    ``check_caps`` (the readers of beam, fit.json and model files set it) also refuses more
+    than ``limits().max_vertices`` vertices; a mapping built in code is not capped.
+    """
     if not isinstance(d, dict):
         raise BeamInputError(f"beam = {type(d).__name__}: must be a JSON object")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
@@ -375,7 +379,7 @@ def beam_from_dict(d: Any) -> Beam:
     if missing:
         raise BeamInputError(f"missing key(s) {sorted(missing)}")
     # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
-    for key in ("x", "half_width"):
+    for key in ("x", "half_width") if check_caps else ():
         if isinstance(d[key], list):
             check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
     mat_d = d.get("material", {})
@@ -439,7 +443,7 @@ def load_beam(path: str | os.PathLike) -> Beam:
     length, finiteness); at most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
     names hold no control characters.
     """
-    return beam_from_dict(read_json(path, "beam file"))
+    return beam_from_dict(read_json(path, "beam file"), check_caps=True)
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:

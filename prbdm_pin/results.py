@@ -418,7 +418,7 @@ def fit_beam(d: dict[str, Any], what: str = "fit.json"):
     if b is None:
         return None
     try:
-        return beam_from_dict(b)
+        return beam_from_dict(b, check_caps=True)
     except BeamInputError as exc:
         raise BeamInputError(f"{what}: beam: {exc}") from None
 

@@ -264,6 +264,21 @@ def test_fit_json_embedded_beam_is_validated(fit_dict, tmp_path):
         load_fit(_write(tmp_path, d))
 
 
+def test_embedded_beams_are_capped_but_beams_built_in_code_are_not(fit_dict, model_json,
+                                                                    tmp_path, monkeypatch):
+    d = copy.deepcopy(fit_dict)
+    d["beam"]["x"] = np.linspace(0.0, 0.6, 12).tolist()
+    d["beam"]["half_width"] = [0.05] * 12
+    d["beam"].pop("length", None)
+    m = {**model_json, "beam": d["beam"]}
+    monkeypatch.setenv("PRBDM_MAX_VERTICES", "10")
+    with pytest.raises(BeamInputError, match=r"beam: x \(vertices\) = 12: exceeds the cap"):
+        load_fit(_write(tmp_path, d))
+    with pytest.raises(BeamInputError, match=r"beam: x \(vertices\) = 12: exceeds the cap"):
+        read_model_json(_write(tmp_path, m, "model.json"))
+    assert beam_from_dict(d["beam"]).x_m.size == 12
+
+
 def test_valid_fit_json_with_and_without_its_beam_round_trips(fit_dict, beam, tmp_path):
     r = load_fit(_write(tmp_path, fit_dict))
     np.testing.assert_array_equal(r.lengths_m, fit_dict["lengths_m"])
