@@ -258,20 +258,29 @@ def export_model(model, path: str | os.PathLike, fmt: str,
 
 def read_model_json(path: str | os.PathLike):
     """Rebuild the PrbdmModel from a file written by :func:`write_json` (needs its beam)."""
+    from .jsonfile import read_json
     from .model import build_model
+    from .model_files import LINK_FLOOR_FRACTION, check_chain, file_kind
 
-    p = Path(path)
-    try:
-        d = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise BeamInputError(f"model file {str(p)!r}: cannot be read ({exc})") from None
+    what = f"model file {str(path)!r}"
+    d = read_json(path, "model file")
     if not isinstance(d, dict) or d.get("format") != JSON_FORMAT:
-        raise BeamInputError(f"model file {str(p)!r}: format must be {JSON_FORMAT!r}")
+        kind = file_kind(d)
+        got = f"a {kind} file" if kind != "unknown" else (
+            f"format = {d.get('format')!r:.60}" if isinstance(d, dict)
+            else f"a JSON {type(d).__name__}")
+        raise BeamInputError(f"{what}: {got}; format must be {JSON_FORMAT!r}")
     if d.get("beam") is None:
-        raise BeamInputError(f"model file {str(p)!r}: has no beam; load the URDF export instead")
+        raise BeamInputError(f"{what}: has no beam; load the URDF export instead")
     for key in ("lengths_m", "stiffness_Nm_per_rad"):
         if key not in d:
-            raise BeamInputError(f"model file {str(p)!r}: missing {key!r}")
-    lengths = np.asarray(d["lengths_m"], dtype=float)
-    return build_model(beam_from_dict(d["beam"]), lengths, d["stiffness_Nm_per_rad"],
-                       min_fraction=min(0.02, 0.5 * float(lengths.min()) / float(lengths.sum())))
+            raise BeamInputError(f"{what}: missing {key!r}")
+    try:
+        beam = beam_from_dict(d["beam"], check_caps=True)
+    except BeamInputError as exc:
+        raise BeamInputError(f"{what}: beam: {exc}") from None
+    lengths, k = check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], beam.length_m)
+    if "n_joints" in d and d["n_joints"] != k.size:
+        raise BeamInputError(f"{what}: n_joints = {d['n_joints']!r:.60}: lengths_m and "
+                             f"stiffness_Nm_per_rad hold {k.size} joints")
+    return build_model(beam, lengths, k, min_fraction=LINK_FLOOR_FRACTION)

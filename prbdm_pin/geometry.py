@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 
 from .errors import BeamInputError
+from .jsonfile import field_str, read_json
+from .limits import check_cap
 
 __all__ = [
     "Material",
@@ -150,6 +152,8 @@ class Material:
     nu: float = 0.28
 
     def __post_init__(self) -> None:
+        # a control character makes the URDF/MJCF that carry the name unreadable XML
+        field_str("material.name", self.name)
         _finite_positive("material.E", self.E_Pa)
         _finite_positive("material.rho", self.rho_kg_m3)
         if isinstance(self.nu, bool) or not isinstance(self.nu, (int, float, np.floating)):
@@ -195,6 +199,8 @@ class Beam:
     description: str = ""
 
     def __post_init__(self) -> None:
+        field_str("name", self.name)
+        field_str("description", self.description)
         x = _float_array("x", self.x_m, "m")
         w = _float_array("half_width", self.half_width_m, "m")
         if x.size < 2:
@@ -355,9 +361,13 @@ _KEYS_OPTIONAL = {"length", "material", "tip_force", "name", "description"}
 _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
 
 
-def beam_from_dict(d: Any) -> Beam:
+def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field
-    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load)."""
+    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load).
+
+    ``check_caps`` (the readers of beam, fit.json and model files set it) also refuses more
+    than ``limits().max_vertices`` vertices; a mapping built in code is not capped.
+    """
     if not isinstance(d, dict):
         raise BeamInputError(f"beam = {type(d).__name__}: must be a JSON object")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
@@ -367,6 +377,10 @@ def beam_from_dict(d: Any) -> Beam:
     missing = _KEYS_REQUIRED - set(d)
     if missing:
         raise BeamInputError(f"missing key(s) {sorted(missing)}")
+    # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
+    for key in ("x", "half_width") if check_caps else ():
+        if isinstance(d[key], list):
+            check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
     mat_d = d.get("material", {})
     if not isinstance(mat_d, dict):
         raise BeamInputError(f"material = {mat_d!r}: must be an object with E, rho, nu")
@@ -374,9 +388,7 @@ def beam_from_dict(d: Any) -> Beam:
     if unknown:
         raise BeamInputError(f"unknown key(s) in material {sorted(unknown)}: allowed are "
                              f"{sorted(_MATERIAL_KEYS)}")
-    name = mat_d.get("name", STEEL_4340.name)
-    if not isinstance(name, str):
-        raise BeamInputError(f"material.name = {name!r}: must be a string")
+    name = field_str("material.name", mat_d.get("name", STEEL_4340.name))
     material = Material(
         name=name,
         E_Pa=mat_d.get("E", STEEL_4340.E_Pa),
@@ -384,8 +396,8 @@ def beam_from_dict(d: Any) -> Beam:
         nu=mat_d.get("nu", STEEL_4340.nu),
     )
     for key in ("name", "description"):
-        if key in d and not isinstance(d[key], str):
-            raise BeamInputError(f"{key} = {d[key]!r}: must be a string")
+        if key in d:
+            field_str(key, d[key])
     beam = Beam(
         x_m=d["x"],
         half_width_m=d["half_width"],
@@ -426,24 +438,11 @@ def load_beam(path: str | os.PathLike) -> Beam:
     against the last x), ``material`` (default steel AISI 4340), ``name``, ``description`` and
     ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
     enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
+    The file is read by :func:`prbdm_pin.jsonfile.read_json` (size, UTF-8, depth, integer
+    length, finiteness); at most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
+    names hold no control characters.
     """
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise BeamInputError(f"beam file {str(p)!r}: not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BeamInputError(f"beam file {str(p)!r}: cannot be read ({exc})") from None
-    try:
-        d = json.loads(text, parse_constant=_reject_constant)
-    except json.JSONDecodeError as exc:
-        raise BeamInputError(f"beam file {str(p)!r}: not valid JSON ({exc})") from None
-    return beam_from_dict(d)
-
-
-def _reject_constant(name: str) -> float:
-    # json accepts NaN/Infinity by default; beam data must be finite
-    raise BeamInputError(f"beam JSON contains {name}: every value must be finite")
+    return beam_from_dict(read_json(path, "beam file"), check_caps=True)
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:

@@ -278,24 +278,29 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
     ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
     """
+    from .model_files import check_sections, check_urdf, read_urdf_text
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BeamInputError(f"urdf file {str(p)!r}: cannot be read ({exc})") from None
+    what = f"urdf file {str(p)!r}"
+    text = read_urdf_text(p)
+    n = check_urdf(text, what)
     try:
         model = pin.buildModelFromXML(text)
     except (RuntimeError, ValueError) as exc:
-        raise BeamInputError(f"urdf file {str(p)!r}: Pinocchio cannot parse it ({exc})") from None
+        raise BeamInputError(f"{what}: Pinocchio cannot parse it ({exc})") from None
     model.gravity = pin.Motion.Zero()
     if not model.existFrame(TIP_FRAME):
-        raise BeamInputError(f"urdf file {str(p)!r}: has no {TIP_FRAME!r} link")
+        raise BeamInputError(f"{what}: has no {TIP_FRAME!r} link")
+    if model.nv != n:
+        raise BeamInputError(f"{what}: {n} revolute joints but a chain of {model.nv} "
+                             "(every revolute joint must be on the chain to the tip)")
     tip = model.getFrameId(TIP_FRAME)
     lengths = dyn.planar_lengths(model, tip)
     lengths.setflags(write=False)
     names = [model.names[j] for j in range(1, model.njoints)]
     k = validate_stiffness(read_springs(text, names), len(names))
     sections = _sections_from_pin(model, lengths)
+    check_sections(what, lengths, sections.mass_kg)
     out = PrbdmModel(None, lengths, k, sections, model, tip)
     out._cache["urdf"] = text
     return out

@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 import math
 import os
-from dataclasses import dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -273,6 +273,23 @@ class FitResult(_Serialisable):
             object.__setattr__(self, "stiffness_pose", _OLD_PAPER_EXPORT
                                if self.stiffness == "paper" else "joint: pose-independent springs")
 
+    @classmethod
+    def from_dict(cls, d: Any, beam=None, what: str = "fit.json") -> FitResult:
+        """Rebuild from the JSON form, validated (:func:`prbdm_pin.model_files.fit_kwargs`);
+        with ``beam`` the link lengths must sum to its length. BeamInputError names the field.
+        """
+        from .errors import BeamInputError
+        from .jsonfile import require_mapping
+        from .model_files import fit_kwargs
+
+        d = require_mapping(d, what)
+        missing = [f.name for f in fields(cls) if f.name not in d
+                   and f.default is MISSING and f.default_factory is MISSING]
+        if missing:
+            raise BeamInputError(f"{what}: missing field(s) {missing}: not a fit.json")
+        fit_kwargs(d, what, None if beam is None else beam.length_m)
+        return super().from_dict(d)
+
     def stiffness_schedule(self):
         """The per-pose springs as a ``simulation.StiffnessSchedule`` for ``simulate``.
 
@@ -392,15 +409,31 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
     return atomic_write_text(path, json.dumps(d, indent=2) + "\n")
 
 
-def fit_beam(d: dict[str, Any]):
+def fit_beam(d: dict[str, Any], what: str = "fit.json"):
     """The Beam embedded in a fit.json mapping, or None when it has none."""
+    from .errors import BeamInputError
     from .geometry import beam_from_dict
 
-    b = d.get("beam")
-    return None if b is None else beam_from_dict(b)
+    b = d.get("beam") if isinstance(d, dict) else None
+    if b is None:
+        return None
+    try:
+        return beam_from_dict(b, check_caps=True)
+    except BeamInputError as exc:
+        raise BeamInputError(f"{what}: beam: {exc}") from None
 
 
-def load_fit(path: str | os.PathLike) -> FitResult:
-    """Read a ``fit.json`` written by :meth:`FitResult.save`."""
-    with open(path, encoding="utf-8") as fh:
-        return FitResult.from_dict(json.load(fh))
+def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
+    """Read a ``fit.json`` written by :meth:`FitResult.save` or :func:`save_fit`.
+
+    Every field is validated (:func:`prbdm_pin.model_files.fit_kwargs`); the link lengths must
+    sum to the length of ``beam`` (a Beam), else of the beam embedded in the file, when there
+    is one. Raises BeamInputError naming the file, the field and the value.
+    """
+    from .jsonfile import read_json
+
+    what = f"fit.json {str(path)!r}"
+    d = read_json(path, "fit.json")
+    if beam is None:
+        beam = fit_beam(d, what)
+    return FitResult.from_dict(d, beam=beam, what=what)

@@ -115,40 +115,46 @@ def load_model(path: str, beam_path: str | None = None):
 def load_model_and_fit(path: str, beam_path: str | None = None):
     """:func:`load_model`, and the ``FitResult`` when ``path`` is a fit.json (else None)."""
     from ..geometry import load_beam
+    from ..jsonfile import read_json
     from ..model import build_model, load_urdf
+    from ..model_files import LINK_FLOOR_FRACTION, file_kind
 
     p = Path(path)
     if not p.is_file():
         raise BeamInputError(f"MODEL {path!r}: not found")
     if p.suffix.lower() == ".urdf":
         return load_urdf(p), None
-    try:
-        d = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise BeamInputError(f"MODEL {path!r}: neither a URDF nor valid JSON ({exc})") from None
-    if isinstance(d, dict) and str(d.get("format", "")).startswith("prbdm-model"):
+    d = read_json(p, "MODEL")
+    kind = file_kind(d)
+    if kind == "model":
         from ..export import read_model_json
 
         return read_model_json(p), None
+    if kind == "beam":
+        raise BeamInputError(f"MODEL {path!r}: is a beam file, not a fit.json or model: run "
+                             f"`prbdm fit {path} --joints N --out DIR` first and pass "
+                             "DIR/fit.json")
+    if kind != "fit":
+        what = f"a {kind} file" if kind != "unknown" else (
+            f"a JSON object with keys {sorted(d)[:8]}" if isinstance(d, dict)
+            else f"a JSON {type(d).__name__}")
+        raise BeamInputError(f"MODEL {path!r}: is {what}, not a fit.json, a model JSON "
+                             "(prbdm export --format json) or a URDF")
     from ..results import FitResult, fit_beam
 
-    try:
-        fit = FitResult.from_dict(d)
-    except (TypeError, KeyError, ValueError) as exc:
-        raise BeamInputError(f"MODEL {path!r}: not a fit.json ({exc})") from None
-    if beam_path is not None:
-        beam = load_beam(beam_path)
-    else:
-        beam = fit_beam(d) if isinstance(d, dict) else None
-        if beam is None:
-            raise BeamInputError(f"MODEL {path!r}: this fit.json carries no beam; give --beam "
-                                 "BEAM.json (the beam it was fitted to)")
-    if fit.beam_fingerprint and fit.beam_fingerprint != beam.fingerprint():
-        raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
-                             f"({fit.beam_name!r})")
-    lengths = np.asarray(fit.lengths_m, dtype=float)
-    model = build_model(beam, lengths, fit.stiffness_Nm_per_rad,
-                        min_fraction=min(0.02, 0.5 * float(lengths.min() / lengths.sum())))
+    what = f"MODEL {path!r}"
+    beam = load_beam(beam_path) if beam_path is not None else fit_beam(d, what)
+    if beam is None:
+        raise BeamInputError(f"{what}: this fit.json carries no beam; give --beam "
+                             "BEAM.json (the beam it was fitted to)")
+    fp = d.get("beam_fingerprint")
+    if isinstance(fp, str) and fp and fp != beam.fingerprint():
+        given = f"--beam {beam_path!r}" if beam_path is not None else f"{what}: its beam"
+        raise BeamInputError(f"{given}: is not the beam {path!r} was fitted to "
+                             f"({d.get('beam_name')!r:.60})")
+    fit = FitResult.from_dict(d, beam=beam, what=what)
+    model = build_model(beam, fit.lengths_m, fit.stiffness_Nm_per_rad,
+                        min_fraction=LINK_FLOOR_FRACTION)
     return model, fit
 
 

@@ -1,0 +1,332 @@
+"""Validation of the model and result files the package reads: fit.json, model JSON and URDF.
+
+A file on disk may be truncated, edited, of another kind or hostile. Each reader here checks
+schema, types, finiteness, physical ranges and sizes before anything is built from the file,
+and raises :class:`~prbdm_pin.errors.BeamInputError` naming the file, the field and the value.
+The link floor comes from the beam (a fixed fraction of its length), never from the file, and
+the joint count is capped by ``limits().max_joints``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import BeamInputError
+from .jsonfile import field_int, field_str, require_mapping
+from .limits import check_cap
+
+__all__ = [
+    "LINK_FLOOR_FRACTION",
+    "check_chain",
+    "fit_kwargs",
+    "read_urdf_text",
+    "check_urdf",
+    "check_sections",
+    "file_kind",
+]
+
+# Shortest link a file may hold, a fraction of the beam length: at 1e-5 L the frequencies of a
+# 2R chain still solve to 1e-6 relative; at 1e-6 L cond(K^-1/2 M K^-1/2) passes 1e10.
+LINK_FLOOR_FRACTION = 1e-5
+_SUM_RTOL = 1e-9
+
+_FIT_STR = ("beam_name", "beam_fingerprint", "truth_source", "message", "stiffness_pose")
+_FIT_CHOICES = {"objective": ("eigen", "deflection", "combined"),
+                "stiffness": ("paper", "joint"), "eigen_norm": ("paper", "relative")}
+_FIT_INT = {"seed": 0, "starts": 1, "starts_run": 0, "nfev": 0}
+_FIT_BOOL = ("squared", "success")
+# floats written as null when NaN (a loss that was not computed)
+_FIT_FLOAT = ("scf_mean", "eigen_loss_pct", "deflection_loss_pct", "displacement_loss_pct",
+              "combined_loss_pct", "xi", "eps", "wall_time_s", "worst_mode_error_pct",
+              "worst_export_error_pct", "static_theory_gap_pct")
+_FIT_REQUIRED = ("beam_name", "beam_fingerprint", "joints", "frequencies", "objective",
+                 "stiffness", "lengths_m", "stiffness_Nm_per_rad",
+                 "stiffness_per_pose_Nm_per_rad", "factors", "poses_rad", "omega_truth_rad_s",
+                 "omega_model_rad_s")
+
+
+def _array(what: str, field: str, value: Any, shape: tuple, *, finite: bool = True,
+           positive: bool = False, optional: bool = False) -> np.ndarray | None:
+    """``value`` as a float array of ``shape`` (None in a shape entry: any size >= 1)."""
+    if value is None and optional:
+        return None
+    label = f"{what}: {field}"
+    arr = _nested(label, value, len(shape))
+    for got, want in zip(arr.shape, shape, strict=True):
+        if (want is None and got < 1) or (want is not None and got != want):
+            expected = ", ".join("k" if s is None else str(s) for s in shape)
+            raise BeamInputError(f"{label} has shape {arr.shape}: expected ({expected})")
+    for test, rule in ((finite, np.isfinite), (positive, lambda a: a > 0.0)):
+        bad = np.flatnonzero(~rule(arr).ravel()) if test else ()
+        if len(bad):
+            idx = np.unravel_index(int(bad[0]), arr.shape)
+            at = "".join(f"[{int(i)}]" for i in idx)
+            raise BeamInputError(f"{label}{at} = {float(arr[idx])!r}: must be "
+                                 + ("finite" if rule is np.isfinite else "> 0"))
+    return arr
+
+
+def _nested(label: str, value: Any, ndim: int) -> np.ndarray:
+    # a rectangular list of numbers (null = NaN) of depth ndim; anything else names the field
+    def walk(v: Any, depth: int, path: str) -> Any:
+        if depth == 0:
+            if v is None:
+                return math.nan
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise BeamInputError(f"{label}{path} = {v!r:.60}: must be a number")
+            return float(v)
+        if not isinstance(v, (list, tuple)):
+            raise BeamInputError(f"{label}{path} = {v!r:.60}: must be a list "
+                                 f"({ndim}-D array of numbers)")
+        return [walk(x, depth - 1, f"{path}[{i}]") for i, x in enumerate(v)]
+
+    rows = walk(value, ndim, "")
+    try:
+        arr = np.array(rows, dtype=float)
+    except ValueError:
+        raise BeamInputError(f"{label}: rows of different lengths (not a {ndim}-D array)") from None
+    if arr.ndim != ndim:
+        raise BeamInputError(f"{label} has shape {arr.shape}: expected a {ndim}-D array")
+    return arr
+
+
+def check_chain(what: str, lengths_m: Any, stiffness_Nm_per_rad: Any,
+                length_m: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Link lengths (m, (n+1,)) and joint springs (N m/rad, (n,)) read from a file.
+
+    n is between 1 and ``limits().max_joints``; lengths are finite and > 0; with the beam
+    length ``length_m`` (m) they sum to it (relative 1e-9) and each is at least
+    ``LINK_FLOOR_FRACTION`` of it; springs are finite and > 0.
+    """
+    if not isinstance(lengths_m, (list, tuple)):
+        raise BeamInputError(f"{what}: lengths_m = {lengths_m!r:.60}: must be a list of "
+                             "link lengths (m)")
+    check_cap(f"{what}: joints (len(lengths_m) - 1)", len(lengths_m) - 1, "max_joints")
+    if len(lengths_m) < 2:
+        raise BeamInputError(f"{what}: lengths_m has {len(lengths_m)} values: needs n + 1 >= 2 "
+                             "(n >= 1 joints)")
+    lengths = _array(what, "lengths_m", lengths_m, (len(lengths_m),), positive=True)
+    n = lengths.size - 1
+    k = _array(what, "stiffness_Nm_per_rad", stiffness_Nm_per_rad, (n,), positive=True)
+    if length_m is not None:
+        with np.errstate(over="ignore"):
+            total = float(np.sum(lengths))
+        if not math.isclose(total, length_m, rel_tol=_SUM_RTOL, abs_tol=0.0):
+            raise BeamInputError(f"{what}: lengths_m sum to {total!r} m: must equal the beam "
+                                 f"length {length_m!r} m")
+        floor = LINK_FLOOR_FRACTION * length_m
+        bad = np.flatnonzero(lengths < floor)
+        if bad.size:
+            i = int(bad[0])
+            raise BeamInputError(f"{what}: lengths_m[{i}] = {float(lengths[i])!r} m: shorter than "
+                                 f"{LINK_FLOOR_FRACTION:g} of the beam length ({floor:.3g} m)")
+    return lengths, k
+
+
+def _opt_float(what: str, field: str, value: Any) -> None:
+    if value is None:
+        return
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise BeamInputError(f"{what}: {field} = {value!r:.60}: must be a number or null")
+
+
+def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) -> dict[str, Any]:
+    """Check the JSON mapping of a fit.json; return it with the chain fields validated.
+
+    ``length_m`` is the length of the beam the fit belongs to (m; the beam embedded in the
+    file or given with it), which the link lengths must sum to.
+    """
+    d = require_mapping(d, what)
+    missing = [k for k in _FIT_REQUIRED if k not in d]
+    if missing:
+        raise BeamInputError(f"{what}: missing field(s) {missing}")
+    n = field_int(f"{what}: joints", d["joints"], minimum=1)
+    check_cap(f"{what}: joints", n, "max_joints")
+    field_int(f"{what}: frequencies", d["frequencies"], minimum=1, maximum=n)
+    for key in _FIT_STR:
+        if key in d:
+            field_str(f"{what}: {key}", d[key])
+    for key, choices in _FIT_CHOICES.items():
+        if key in d and d[key] not in choices:
+            raise BeamInputError(f"{what}: {key} = {d[key]!r:.60}: must be one of {list(choices)}")
+    for key, low in _FIT_INT.items():
+        if key in d:
+            field_int(f"{what}: {key}", d[key], minimum=low)
+    for key in _FIT_BOOL:
+        if key in d and not isinstance(d[key], bool):
+            raise BeamInputError(f"{what}: {key} = {d[key]!r:.60}: must be true or false")
+    for key in _FIT_FLOAT:
+        if key in d:
+            _opt_float(what, key, d[key])
+    if "min_fraction" in d:
+        f = d["min_fraction"]
+        if isinstance(f, bool) or not isinstance(f, (int, float)) or not 0 < f < 1 / (n + 1):
+            raise BeamInputError(f"{what}: min_fraction = {f!r:.60}: must be in (0, 1/(n+1)) = "
+                                 f"(0, {1 / (n + 1):.4g}) for n = {n} joints")
+    if isinstance(d["lengths_m"], list) and len(d["lengths_m"]) != n + 1:
+        raise BeamInputError(f"{what}: lengths_m has {len(d['lengths_m'])} values: "
+                             f"joints = {n} needs {n + 1}")
+    check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], length_m)
+    poses = _array(what, "poses_rad", d["poses_rad"], (None, n))
+    m = poses.shape[0]
+    _array(what, "stiffness_per_pose_Nm_per_rad", d["stiffness_per_pose_Nm_per_rad"], (m, n),
+           positive=True)
+    nf = m if d["stiffness"] == "paper" else n
+    _array(what, "factors", d["factors"], (nf,), positive=True)
+    w = _array(what, "omega_truth_rad_s", d["omega_truth_rad_s"], (d["frequencies"],),
+               positive=True)
+    _array(what, "omega_model_rad_s", d["omega_model_rad_s"], (m, w.size), finite=False)
+    shapes = {
+        "scf_deviation_pct": (m,), "eigen_errors_pct": (m,), "omega_errors_pct": (m, w.size),
+        "tip_position_model_m": (None, 3), "tip_position_truth_m": (3,),
+        "tip_displacement_truth_m": (3,), "tip_force_N": (3,), "mac": (w.size,),
+        "start_losses_pct": (None,), "extra_tip_force_N": (None, 3),
+        "extra_tip_position_truth_m": (None, 3), "extra_tip_position_model_m": (None, None, 3),
+        "export_pose_rad": (n,), "omega_export_rad_s": (w.size,),
+        "omega_export_errors_pct": (w.size,),
+    }
+    for key, shape in shapes.items():
+        if key in d:
+            _array(what, key, d[key], shape, finite=False, optional=True)
+    if "warnings" in d:
+        ws = d["warnings"]
+        if not isinstance(ws, list):
+            raise BeamInputError(f"{what}: warnings = {ws!r:.60}: must be a list of strings")
+        for i, s in enumerate(ws):
+            field_str(f"{what}: warnings[{i}]", s, printable=False)
+    if "versions" in d:
+        v = require_mapping(d["versions"], f"{what}: versions")
+        for key, ver in v.items():
+            field_str(f"{what}: versions[{key!r}]", ver)
+    return d
+
+
+# URDF ----------------------------------------------------------------------------------------
+
+
+def read_urdf_text(path: str | os.PathLike) -> str:
+    """The text of a URDF file: size capped by ``max_file_bytes``, UTF-8, named on error."""
+    p = Path(path)
+    label = f"urdf file {str(p)!r}"
+    try:
+        if not p.is_file():
+            raise BeamInputError(f"{label}: not found or not a regular file")
+        size = p.stat().st_size
+        check_cap(f"{label}: size (bytes)", size, "max_file_bytes")
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise BeamInputError(f"{label}: cannot be read ({exc.strerror or exc})") from None
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise BeamInputError(
+            f"{label}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+
+
+def _numbers(label: str, text: str | None, count: int) -> list[float]:
+    parts = (text or "").split()
+    try:
+        vals = [float(v) for v in parts]
+    except ValueError:
+        vals = []
+    if len(vals) != count or not all(math.isfinite(v) for v in vals):
+        raise BeamInputError(f"{label} = {text!r:.60}: must be {count} finite number"
+                             + ("s" if count > 1 else ""))
+    return vals
+
+
+def check_urdf(text: str, what: str = "urdf") -> int:
+    """Check a PRBDM URDF before Pinocchio reads it; returns the number of revolute joints.
+
+    Every joint is revolute or fixed, 1 <= revolute joints <= ``max_joints``, every number is
+    finite, joint offsets (link lengths, m) are > 0, link masses (kg) and principal inertias
+    (kg m^2) are > 0 (the massless ``tip`` frame and the ``world`` root excepted).
+    """
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise BeamInputError(f"{what}: not valid XML ({exc})") from None
+    if root.tag != "robot":
+        raise BeamInputError(f"{what}: root element <{root.tag}>: must be <robot>")
+    joints = root.findall("joint")
+    revolute = 0
+    for j in joints:
+        name = j.get("name", "?")
+        kind = j.get("type")
+        if kind not in ("revolute", "fixed"):
+            raise BeamInputError(f"{what}: joint {name!r} type = {kind!r}: a PRBDM has only "
+                                 "revolute joints (and fixed ones at the clamp and the tip)")
+        revolute += kind == "revolute"
+        origin = j.find("origin")
+        xyz = _numbers(f"{what}: joint {name!r} origin xyz", None if origin is None
+                       else origin.get("xyz", "0 0 0"), 3)
+        parent = j.find("parent")
+        if parent is not None and parent.get("link") != "world" and not xyz[0] > 0.0:
+            raise BeamInputError(f"{what}: joint {name!r} origin x = {xyz[0]!r} m: the length "
+                                 f"of link {parent.get('link')!r} must be > 0")
+    check_cap(f"{what}: revolute joints", revolute, "max_joints")
+    if revolute < 1:
+        raise BeamInputError(f"{what}: has {revolute} revolute joints: a PRBDM needs n >= 1")
+    for link in root.findall("link"):
+        name = link.get("name", "?")
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        massless = name == "tip"
+        m_el = inertial.find("mass")
+        (mass,) = _numbers(f"{what}: link {name!r} mass", None if m_el is None
+                           else m_el.get("value"), 1)
+        if not (mass >= 0.0 if massless else mass > 0.0):
+            raise BeamInputError(f"{what}: link {name!r} mass = {mass!r} kg: must be > 0")
+        origin = inertial.find("origin")
+        if origin is not None:
+            _numbers(f"{what}: link {name!r} inertial origin xyz", origin.get("xyz", "0 0 0"), 3)
+        el = inertial.find("inertia")
+        if el is None:
+            raise BeamInputError(f"{what}: link {name!r}: <inertial> has no <inertia>")
+        for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
+            (v,) = _numbers(f"{what}: link {name!r} inertia {key}", el.get(key), 1)
+            if key in ("ixx", "iyy", "izz") and not (v >= 0.0 if massless else v > 0.0):
+                raise BeamInputError(f"{what}: link {name!r} inertia {key} = {v!r} kg m^2: "
+                                     "must be > 0")
+    return revolute
+
+
+def check_sections(what: str, lengths_m: np.ndarray, mass_kg: np.ndarray) -> None:
+    """After parsing: every link length (m) and mass (kg) of the chain finite and > 0."""
+    for i, v in enumerate(lengths_m):
+        if not (math.isfinite(v) and v > 0.0):
+            raise BeamInputError(f"{what}: link_{i} length = {float(v)!r} m: must be > 0")
+    for i, v in enumerate(mass_kg):
+        if not (math.isfinite(v) and v > 0.0):
+            raise BeamInputError(f"{what}: link_{i} mass = {float(v)!r} kg: must be > 0 "
+                                 "(a link without <inertial> has none)")
+
+
+# Which file is it ----------------------------------------------------------------------------
+
+
+def file_kind(d: Any) -> str:
+    """What a parsed JSON file is: ``"model"``, ``"fit"``, ``"beam"``, ``"truth"``, ``"batch"``,
+    ``"pareto"`` or ``"unknown"``."""
+    if not isinstance(d, dict):
+        return "unknown"
+    if isinstance(d.get("format"), str) and d["format"].startswith("prbdm-model"):
+        return "model"
+    if "lengths_m" in d and "joints" in d:
+        return "fit"
+    if {"x", "half_width", "thickness"} <= set(d):
+        return "beam"
+    if "omega_rad_s" in d and "dofs" in d:
+        return "truth"
+    if "settings" in d and "shard" in d:
+        return "batch"
+    if "F_pct" in d and "front_lengths_m" in d:
+        return "pareto"
+    return "unknown"
