@@ -592,15 +592,14 @@ def _column_order(name: str) -> tuple[str, int]:
 
 
 def _init_worker() -> None:
-    """Pool initializer: one BLAS/OpenMP thread per worker, Ctrl-C left to the driver.
+    """Pool initializer: one BLAS/OpenMP thread per worker (``workers.init_worker`` leaves
+    Ctrl-C to the driver and ends the worker with it).
 
     It runs before the first task is unpickled, and this module does not import numpy, so the
     variables are set before BLAS loads (OpenBLAS reads them once, when it loads).
     """
     for var in _THREAD_VARS:
         os.environ[var] = "1"
-    # The driver handles Ctrl-C (a terminal sends it to the whole process group).
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 class LocalPool:
@@ -629,28 +628,16 @@ class LocalPool:
 
     def executor(self, workers: int | None = None) -> cf.Executor:
         """A fresh pool (``workers`` processes, default ``self.workers``)."""
-        return cf.ProcessPoolExecutor(
-            max_workers=workers or self.workers,
-            mp_context=multiprocessing.get_context(self.mp_context),
-            initializer=_init_worker,
-        )
+        from .workers import process_pool
+
+        return process_pool(workers or self.workers,
+                            multiprocessing.get_context(self.mp_context), _init_worker)
 
     def abort(self, executor: cf.Executor) -> None:
         """Stop now: cancel queued beams and end the running worker processes."""
-        terminate = getattr(executor, "terminate_workers", None)  # Python >= 3.14
-        if terminate is not None:
-            terminate()
-            return
-        # Before 3.14 the pool keeps its processes in a private mapping; without it the
-        # running beams finish before the interpreter exits.
-        procs = list((getattr(executor, "_processes", None) or {}).values())
-        executor.shutdown(wait=False, cancel_futures=True)
-        for p in procs:
-            with contextlib.suppress(Exception):
-                p.terminate()
-        for p in procs:
-            with contextlib.suppress(Exception):
-                p.join(5)
+        from .workers import stop_pool
+
+        stop_pool(executor)
 
     def close(self) -> None:
         """Nothing to release (each pool is shut down by the driver)."""
