@@ -99,10 +99,10 @@ def init_worker(driver_pid: int, initializer: Callable[..., Any] | None = None,
     # the driver may have died before the line above armed the kernel's guard
     if parent_pid != driver_pid and not _alive(driver_pid):
         os._exit(1)
-    if not armed:
-        # Where the kernel cannot do it, a thread watches. With the kernel's guard a worker
-        # keeps one thread: a fork server's parent is the driver, and the fork server exits
-        # with it, so the signal reaches the workers of every start method.
+    if not armed or parent_pid != driver_pid:
+        # A thread watches where the kernel cannot, and under a fork server, which outlives
+        # the driver as long as a worker lives (workers hold its liveness pipe). A spawned
+        # or forked worker with the kernel's guard keeps a single thread.
         threading.Thread(target=_watch, args=(driver_pid, parent_pid, poll_s), daemon=True,
                          name="prbdm-parent-watch").start()
     if initializer is not None:
