@@ -160,8 +160,10 @@ def test_killed_driver_takes_its_workers_down(command, tmp_path):
                       tmp_path)
     kids = _busy_children(proc, 2)
     os.kill(proc.pid, signal.SIGKILL)
-    proc.communicate(timeout=10)
+    proc.wait(10)  # not communicate(): orphaned workers would hold its pipes open
     left = _wait_gone(kids, 5.0)
+    proc.stdout.close()
+    proc.stderr.close()
     assert not left, f"{len(left)} of {len(kids)} processes outlived the killed driver"
 
 
