@@ -298,7 +298,12 @@ def beam_features(beam: Beam) -> dict[str, float]:
 
 
 def _task_header(task: BeamTask) -> dict[str, Any]:
-    return {"beam_index": task.index, "beam_name": task.name, "seed": task.seed}
+    s = task.settings
+    # the arguments travel with the record (a resume that lost batch.json still checks them)
+    args = {"joints": s.joints, "frequencies": s.n_frequencies, "objective": s.objective,
+            "stiffness": s.stiffness, "starts": s.starts, "truth_model": s.truth_model,
+            "eigen_norm": s.eigen_norm, "min_fraction": s.min_fraction}
+    return {"beam_index": task.index, "beam_name": task.name, "seed": task.seed, **args}
 
 
 def evaluate_beam(task: BeamTask) -> dict[str, Any]:
@@ -439,16 +444,15 @@ def _manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]:
     return m
 
 
-def _check_manifest(path: Path, wanted: dict[str, Any]) -> None:
-    if not path.exists():
-        from .geometry import atomic_write_text
+def _check_manifest(path: Path, wanted: dict[str, Any], jsonl: Path) -> None:
+    from .batch_files import check_records_match, read_manifest, write_output
 
-        atomic_write_text(path, json.dumps(wanted, indent=2) + "\n")
+    if not path.exists():
+        # records without their manifest: they still show the arguments they were made with
+        check_records_match(read_records(jsonl), wanted, jsonl)
+        write_output(path, json.dumps(wanted, indent=2) + "\n")
         return
-    try:
-        stored = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
-        raise BeamInputError(f"{path}: cannot be read ({exc})") from None
+    stored = read_manifest(path)
     for key in sorted(set(stored) | set(wanted)):
         if key == "version":
             if stored.get(key) != wanted.get(key):
@@ -511,18 +515,10 @@ def read_records(path: str | os.PathLike, *, repair: bool = False) -> list[dict[
             fh.truncate(end)
             fh.flush()
             os.fsync(fh.fileno())
-    records = []
-    for n, line in enumerate(data[:end].splitlines(), 1):
-        if not line.strip():
-            continue
-        try:
-            rec = json.loads(line)
-        except json.JSONDecodeError as exc:
-            raise BeamInputError(f"{p} line {n}: not a JSON record ({exc})") from None
-        if not isinstance(rec, dict) or not isinstance(rec.get("beam_index"), int):
-            raise BeamInputError(f"{p} line {n}: not a beam record")
-        records.append(rec)
-    return records
+    from .batch_files import parse_record
+
+    return [parse_record(line, f"{p} line {n}")
+            for n, line in enumerate(data[:end].splitlines(), 1) if line.strip()]
 
 
 def latest_records(records: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -568,7 +564,7 @@ def _flat_row(rec: dict[str, Any]) -> dict[str, Any]:
 def write_csv(records: Sequence[dict[str, Any]], path: str | os.PathLike) -> Path:
     """Write the latest record of each beam, sorted by index, as CSV (lists become ``key_j``
     columns), atomically."""
-    from .geometry import atomic_write_text
+    from .batch_files import write_output
 
     rows = [_flat_row(r) for r in latest_records(records)]
     keys = {k for r in rows for k in r}
@@ -578,8 +574,9 @@ def write_csv(records: Sequence[dict[str, Any]], path: str | os.PathLike) -> Pat
     w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
     w.writeheader()
     for r in rows:
-        w.writerow({k: ("" if r.get(k) is None else r[k]) for k in cols})
-    return atomic_write_text(path, buf.getvalue())
+        # NaN is blank, as it reads back from the JSON line (null): a resume writes the same bytes
+        w.writerow({k: ("" if _clean(r.get(k)) is None else r[k]) for k in cols})
+    return write_output(path, buf.getvalue())
 
 
 def _column_order(name: str) -> tuple[str, int]:
@@ -796,11 +793,11 @@ def run_batch(
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise BeamInputError(f"out = {str(out)!r}: exists and is not a folder")
+    tasks = plan_tasks(spec)  # the beam files are checked before OUT is made
     out.mkdir(parents=True, exist_ok=True)
-    tasks = plan_tasks(spec)
     with _exclusive(out):
-        _check_manifest(out / MANIFEST, _manifest(spec, tasks))
         jsonl = out / RESULTS_JSONL
+        _check_manifest(out / MANIFEST, _manifest(spec, tasks), jsonl)
         records = read_records(jsonl, repair=True)
         wanted = {t.index for t in tasks}
         stray = sorted({r["beam_index"] for r in records} - wanted)

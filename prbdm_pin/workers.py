@@ -5,9 +5,9 @@ Every pool of the package (fit starts, Pareto rows, batch beams) is made here. A
 - ignores SIGINT: a terminal sends Ctrl-C to the whole process group, and only the driver decides
   what an interrupt means (the batch keeps every finished record, a fit writes nothing);
 - dies with its driver: on Linux the kernel sends it SIGTERM when its parent exits
-  (``prctl(PR_SET_PDEATHSIG)``); where that is not available a daemon thread exits the process
-  once the driver is gone (checked every ``PARENT_POLL_S``). Without this a killed driver left its workers
-  blocked on the task queue for minutes, and the resource tracker with them.
+  (``prctl(PR_SET_PDEATHSIG)``); elsewhere, and under a fork server, a daemon thread exits the
+  process once the driver is gone (checked every ``PARENT_POLL_S``). Without this a killed
+  driver left its workers blocked on the task queue for minutes, and the resource tracker too.
 
 :func:`stop_pool` cancels the queued tasks and terminates the running workers: a
 ``with`` block on a ``ProcessPoolExecutor`` waits for every queued task instead (34 s after

@@ -144,6 +144,10 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
             raise BeamInputError(f"MODEL {path!r}: this fit.json carries no beam; give --beam "
                                  "BEAM.json (the beam it was fitted to)")
     if fit.beam_fingerprint and fit.beam_fingerprint != beam.fingerprint():
+        if beam_path is None:  # the beam stored in the file: the file itself was edited
+            raise BeamInputError(
+                f"MODEL {path!r}: beam_fingerprint = {fit.beam_fingerprint!r} does not match "
+                f"the beam stored in it (fingerprint {beam.fingerprint()!r})")
         raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
                              f"({fit.beam_name!r})")
     lengths = np.asarray(fit.lengths_m, dtype=float)
