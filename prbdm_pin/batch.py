@@ -5,7 +5,8 @@ Only the driver writes. Every finished beam becomes one JSON line appended to
 ``DIR/results.jsonl`` (flushed and fsynced), failures included with their error; at the end the
 lines are consolidated, sorted by beam index, into ``DIR/results.csv`` (atomic). ``DIR/batch.json``
 records the arguments that determine the results, so a rerun resumes (finished beams are skipped)
-and a rerun with other arguments is refused.
+and a rerun with other arguments is refused; every record carries them too, so a folder that lost
+its batch.json still refuses them. Both files are checked on read (``batch_files``).
 
 Beam i of a random batch is ``random_beam(default_rng(SeedSequence(seed, spawn_key=(i,))))`` and
 its fit seed is the first 32-bit word of that sequence's first child, so no result depends on the
