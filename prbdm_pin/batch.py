@@ -5,7 +5,8 @@ Only the driver writes. Every finished beam becomes one JSON line appended to
 ``DIR/results.jsonl`` (flushed and fsynced), failures included with their error; at the end the
 lines are consolidated, sorted by beam index, into ``DIR/results.csv`` (atomic). ``DIR/batch.json``
 records the arguments that determine the results, so a rerun resumes (finished beams are skipped)
-and a rerun with other arguments is refused.
+and a rerun with other arguments is refused; every record carries them too, so a folder that lost
+its batch.json still refuses them. Both files are checked on read (``batch_files``).
 
 Beam i of a random batch is ``random_beam(default_rng(SeedSequence(seed, spawn_key=(i,))))`` and
 its fit seed is the first 32-bit word of that sequence's first child, so no result depends on the
@@ -298,7 +299,12 @@ def beam_features(beam: Beam) -> dict[str, float]:
 
 
 def _task_header(task: BeamTask) -> dict[str, Any]:
-    return {"beam_index": task.index, "beam_name": task.name, "seed": task.seed}
+    s = task.settings
+    # the arguments travel with the record (a resume that lost batch.json still checks them)
+    args = {"joints": s.joints, "frequencies": s.n_frequencies, "objective": s.objective,
+            "stiffness": s.stiffness, "starts": s.starts, "truth_model": s.truth_model,
+            "eigen_norm": s.eigen_norm, "min_fraction": s.min_fraction}
+    return {"beam_index": task.index, "beam_name": task.name, "seed": task.seed, **args}
 
 
 def evaluate_beam(task: BeamTask) -> dict[str, Any]:
@@ -439,16 +445,15 @@ def _manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]:
     return m
 
 
-def _check_manifest(path: Path, wanted: dict[str, Any]) -> None:
-    if not path.exists():
-        from .geometry import atomic_write_text
+def _check_manifest(path: Path, wanted: dict[str, Any], jsonl: Path) -> None:
+    from .batch_files import check_records_match, read_manifest, write_output
 
-        atomic_write_text(path, json.dumps(wanted, indent=2) + "\n")
+    if not path.exists():
+        # records without their manifest: they still show the arguments they were made with
+        check_records_match(read_records(jsonl), wanted, jsonl)
+        write_output(path, json.dumps(wanted, indent=2) + "\n")
         return
-    try:
-        stored = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
-        raise BeamInputError(f"{path}: cannot be read ({exc})") from None
+    stored = read_manifest(path)
     for key in sorted(set(stored) | set(wanted)):
         if key == "version":
             if stored.get(key) != wanted.get(key):
@@ -511,18 +516,10 @@ def read_records(path: str | os.PathLike, *, repair: bool = False) -> list[dict[
             fh.truncate(end)
             fh.flush()
             os.fsync(fh.fileno())
-    records = []
-    for n, line in enumerate(data[:end].splitlines(), 1):
-        if not line.strip():
-            continue
-        try:
-            rec = json.loads(line)
-        except json.JSONDecodeError as exc:
-            raise BeamInputError(f"{p} line {n}: not a JSON record ({exc})") from None
-        if not isinstance(rec, dict) or not isinstance(rec.get("beam_index"), int):
-            raise BeamInputError(f"{p} line {n}: not a beam record")
-        records.append(rec)
-    return records
+    from .batch_files import parse_record
+
+    return [parse_record(line, f"{p} line {n}")
+            for n, line in enumerate(data[:end].splitlines(), 1) if line.strip()]
 
 
 def latest_records(records: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -568,7 +565,7 @@ def _flat_row(rec: dict[str, Any]) -> dict[str, Any]:
 def write_csv(records: Sequence[dict[str, Any]], path: str | os.PathLike) -> Path:
     """Write the latest record of each beam, sorted by index, as CSV (lists become ``key_j``
     columns), atomically."""
-    from .geometry import atomic_write_text
+    from .batch_files import write_output
 
     rows = [_flat_row(r) for r in latest_records(records)]
     keys = {k for r in rows for k in r}
@@ -578,8 +575,9 @@ def write_csv(records: Sequence[dict[str, Any]], path: str | os.PathLike) -> Pat
     w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
     w.writeheader()
     for r in rows:
-        w.writerow({k: ("" if r.get(k) is None else r[k]) for k in cols})
-    return atomic_write_text(path, buf.getvalue())
+        # NaN is blank, as it reads back from the JSON line (null): a resume writes the same bytes
+        w.writerow({k: ("" if _clean(r.get(k)) is None else r[k]) for k in cols})
+    return write_output(path, buf.getvalue())
 
 
 def _column_order(name: str) -> tuple[str, int]:
@@ -592,15 +590,14 @@ def _column_order(name: str) -> tuple[str, int]:
 
 
 def _init_worker() -> None:
-    """Pool initializer: one BLAS/OpenMP thread per worker, Ctrl-C left to the driver.
+    """Pool initializer: one BLAS/OpenMP thread per worker (``workers.init_worker`` leaves
+    Ctrl-C to the driver and ends the worker with it).
 
     It runs before the first task is unpickled, and this module does not import numpy, so the
     variables are set before BLAS loads (OpenBLAS reads them once, when it loads).
     """
     for var in _THREAD_VARS:
         os.environ[var] = "1"
-    # The driver handles Ctrl-C (a terminal sends it to the whole process group).
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 class LocalPool:
@@ -629,28 +626,16 @@ class LocalPool:
 
     def executor(self, workers: int | None = None) -> cf.Executor:
         """A fresh pool (``workers`` processes, default ``self.workers``)."""
-        return cf.ProcessPoolExecutor(
-            max_workers=workers or self.workers,
-            mp_context=multiprocessing.get_context(self.mp_context),
-            initializer=_init_worker,
-        )
+        from .workers import process_pool
+
+        return process_pool(workers or self.workers,
+                            multiprocessing.get_context(self.mp_context), _init_worker)
 
     def abort(self, executor: cf.Executor) -> None:
         """Stop now: cancel queued beams and end the running worker processes."""
-        terminate = getattr(executor, "terminate_workers", None)  # Python >= 3.14
-        if terminate is not None:
-            terminate()
-            return
-        # Before 3.14 the pool keeps its processes in a private mapping; without it the
-        # running beams finish before the interpreter exits.
-        procs = list((getattr(executor, "_processes", None) or {}).values())
-        executor.shutdown(wait=False, cancel_futures=True)
-        for p in procs:
-            with contextlib.suppress(Exception):
-                p.terminate()
-        for p in procs:
-            with contextlib.suppress(Exception):
-                p.join(5)
+        from .workers import stop_pool
+
+        stop_pool(executor)
 
     def close(self) -> None:
         """Nothing to release (each pool is shut down by the driver)."""
@@ -809,11 +794,11 @@ def run_batch(
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise BeamInputError(f"out = {str(out)!r}: exists and is not a folder")
+    tasks = plan_tasks(spec)  # the beam files are checked before OUT is made
     out.mkdir(parents=True, exist_ok=True)
-    tasks = plan_tasks(spec)
     with _exclusive(out):
-        _check_manifest(out / MANIFEST, _manifest(spec, tasks))
         jsonl = out / RESULTS_JSONL
+        _check_manifest(out / MANIFEST, _manifest(spec, tasks), jsonl)
         records = read_records(jsonl, repair=True)
         wanted = {t.index for t in tasks}
         stray = sorted({r["beam_index"] for r in records} - wanted)

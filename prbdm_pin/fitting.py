@@ -545,10 +545,9 @@ def run_starts(spec: _Spec, tasks: list, workers: int = 1, progress: bool = True
                 if loss_tol is not None and res.loss_pct <= loss_tol:
                     break
             return out
-        from concurrent.futures import ProcessPoolExecutor
+        from .workers import pool_scope, process_pool
 
-        with ProcessPoolExecutor(workers, mp_context=_pool_context(), initializer=_init_worker,
-                                 initargs=(spec,)) as ex:
+        with pool_scope(process_pool(workers, _pool_context(), _init_worker, (spec,))) as ex:
             futures = [ex.submit(_run_one, t) for t in tasks]
             for fut in futures:
                 res = fut.result()
@@ -890,16 +889,22 @@ def fit_pareto(
         kw["callback"] = _PymooBar(int(generations))
     pool = None
     if workers > 1:
-        from concurrent.futures import ProcessPoolExecutor
+        from .workers import process_pool
 
-        pool = ProcessPoolExecutor(int(workers), mp_context=_pool_context(),
-                                   initializer=_init_pareto_worker,
-                                   initargs=(problem, deflection_norm))
+        pool = process_pool(workers, _pool_context(), _init_pareto_worker,
+                            (problem, deflection_norm))
         pp.map_rows = lambda X: np.vstack(list(pool.map(_pareto_rows,
                                                         np.array_split(X, int(workers)))))
     try:
         res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
                        verbose=False, **kw)
+    except BaseException:
+        if pool is not None:
+            from .workers import stop_pool
+
+            stop_pool(pool)
+            pool = None
+        raise
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)

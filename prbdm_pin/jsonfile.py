@@ -62,9 +62,11 @@ def _depth(text: str) -> int:
     return best
 
 
-def parse_json(text: str, what: str) -> Any:
-    """Parse JSON ``text`` read from ``what`` (a name for messages) with the checks above."""
-    if _depth(text) > MAX_DEPTH:
+def parse_json(text: str, what: str, *, scan_depth: bool = True) -> Any:
+    """Parse JSON ``text`` read from ``what`` (a name for messages) with the checks above;
+    ``scan_depth=False`` skips the (pure Python) depth scan for many short texts, where a deep
+    one still fails as a RecursionError."""
+    if scan_depth and _depth(text) > MAX_DEPTH:
         raise BeamInputError(f"{what}: nested deeper than {MAX_DEPTH} levels; not a data file")
     try:
         return json.loads(text, parse_constant=_reject_constant, parse_int=_parse_int)

@@ -8,7 +8,6 @@ of one study) are merged; their manifests must agree except for the shard.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from collections import Counter
@@ -97,31 +96,56 @@ class BatchReport:
 
 
 def load_study(dirs: list[str]) -> tuple[list[dict[str, Any]], dict[str, Any]]:
-    """Latest record of every beam over the given batch folders, and their common manifest."""
+    """Latest record of every beam over the given batch folders, and their common manifest.
+
+    The manifest gains ``missing_shards`` (indices of the shards of the study not given; empty
+    when complete) and ``n_shards``.
+    """
     from ..batch import MANIFEST, RESULTS_JSONL, latest_records, read_records
+    from ..batch_files import missing_shards, read_manifest
     from ..errors import BeamInputError
 
     records: list[dict[str, Any]] = []
     common: dict[str, Any] | None = None
+    shards: list[tuple[int, int]] = []
     for d in dirs:
         folder = Path(d)
         mpath = folder / MANIFEST
         if not mpath.exists():
             raise BeamInputError(f"dir = {d!r}: no {MANIFEST} (not a batch output folder)")
-        manifest = json.loads(mpath.read_text(encoding="utf-8"))
+        manifest = read_manifest(mpath)
         key = {k: v for k, v in manifest.items() if k not in ("shard", "version", "beams")}
         if common is None:
             common = key
         elif key != common:
             raise BeamInputError(f"dir = {d!r}: its batch.json differs from {dirs[0]!r} "
                                  f"(other seed or settings): not shards of one study")
+        shards.append(tuple(manifest.get("shard", (0, 1))))
         records.extend(read_records(folder / RESULTS_JSONL))
-    return latest_records(records), common or {}
+    n_shards, missing = missing_shards(shards)
+    return latest_records(records), {**(common or {}), "n_shards": n_shards,
+                                     "missing_shards": missing}
+
+
+def missing_warning(rep: BatchReport) -> str | None:
+    """One line on the shards of the study that the report does not cover, or None."""
+    missing = rep.settings.get("missing_shards") or []
+    if not missing:
+        return None
+    n = rep.settings.get("n_shards")
+    listed = ", ".join(f"{i}/{n}" for i in missing)
+    total = rep.settings.get("n_beams")
+    of = f" of the study's {total}" if isinstance(total, int) else ""
+    return (f"warning: shard{'s' if len(missing) > 1 else ''} {listed} of {n} not given: this "
+            f"report covers {rep.n_beams}{of} beams")
+
+
+def _num(x: Any) -> float:
+    return math.nan if x is None else float(x)
 
 
 def _values(records: list[dict[str, Any]], key: str) -> np.ndarray:
-    v = [r.get(key) for r in records]
-    return np.array([math.nan if x is None else float(x) for x in v], dtype=float)
+    return np.array([_num(r.get(key)) for r in records], dtype=float)
 
 
 def _distribution(name: str, values: np.ndarray) -> Distribution:
@@ -152,7 +176,7 @@ def summarise(records: list[dict[str, Any]], settings: dict | None = None) -> Ba
     n_links = max((len(r.get("gamma") or []) for r in ok), default=0)
     gammas = tuple(
         _distribution(f"gamma_{j + 1}", np.array(
-            [r["gamma"][j] if len(r.get("gamma") or []) > j else math.nan for r in ok]))
+            [_num(r["gamma"][j]) if len(r.get("gamma") or []) > j else math.nan for r in ok]))
         for j in range(n_links))
     scf = _values(ok, "scf_mean")
     fitted = _fitted_loss_key(settings)
@@ -195,6 +219,9 @@ def to_markdown(rep: BatchReport, plots: list[str]) -> str:
         f"Beams with a record: {rep.n_beams}; fitted: {rep.n_ok}; failed: {rep.n_failed}.",
         "",
     ]
+    warning = missing_warning(rep)
+    if warning is not None:
+        lines += [f"**{warning[0].upper()}{warning[1:]}.**", ""]
     head = "| quantity | n | mean | " + " | ".join(
         "min" if q == 0 else "max" if q == 1 else f"{q:.0%}" for q in QUANTILES) + " |"
     sep = "|" + "---|" * (3 + len(QUANTILES))
@@ -265,7 +292,8 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
         save(fig, "losses.png")
     if rep.gammas:
         fig, ax = plt.subplots(figsize=(6, 4))
-        data = [[r["gamma"][j] for r in ok if len(r.get("gamma") or []) > j]
+        data = [[r["gamma"][j] for r in ok
+                 if len(r.get("gamma") or []) > j and r["gamma"][j] is not None]
                 for j in range(len(rep.gammas))]
         ax.boxplot(data, tick_labels=[d.name for d in rep.gammas])
         ax.set_ylabel("link length / L")
@@ -289,14 +317,17 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
 
 def run(args: argparse.Namespace) -> int:
     """Write report.md (and plots) for the given batch folders."""
-    from ..geometry import atomic_write_text
+    from ..batch_files import write_output
 
     records, manifest = load_study(args.dirs)
     rep = summarise(records, manifest)
+    warning = missing_warning(rep)
+    if warning is not None:
+        print(f"prbdm batch-report: {warning}", file=sys.stderr)  # even with --quiet
     out = Path(args.out) if args.out else Path(args.dirs[0]) / "report"
     out.mkdir(parents=True, exist_ok=True)
     plots = [] if args.no_plots else write_plots(records, rep, out)
-    path = atomic_write_text(out / "report.md", to_markdown(rep, plots))
+    path = write_output(out / "report.md", to_markdown(rep, plots))
     if not args.quiet:
         print(f"{rep.n_ok} fitted, {rep.n_failed} failed -> {path}", file=sys.stderr)
         for d in rep.losses:

@@ -149,8 +149,10 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
                              "BEAM.json (the beam it was fitted to)")
     fp = d.get("beam_fingerprint")
     if isinstance(fp, str) and fp and fp != beam.fingerprint():
-        given = f"--beam {beam_path!r}" if beam_path is not None else f"{what}: its beam"
-        raise BeamInputError(f"{given}: is not the beam {path!r} was fitted to "
+        if beam_path is None:  # the beam stored in the file: the file itself was edited
+            raise BeamInputError(f"{what}: beam_fingerprint = {fp!r} does not match the beam "
+                                 f"stored in it (fingerprint {beam.fingerprint()!r})")
+        raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
                              f"({d.get('beam_name')!r:.60})")
     fit = FitResult.from_dict(d, beam=beam, what=what)
     model = build_model(beam, fit.lengths_m, fit.stiffness_Nm_per_rad,
