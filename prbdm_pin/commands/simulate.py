@@ -150,8 +150,8 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
     fp = d.get("beam_fingerprint")
     if isinstance(fp, str) and fp and fp != beam.fingerprint():
         if beam_path is None:  # the beam stored in the file: the file itself was edited
-            raise BeamInputError(f"{what}: beam_fingerprint = {fp!r} does not match the beam "
-                                 f"stored in it (fingerprint {beam.fingerprint()!r})")
+            raise BeamInputError(f"{what}: its beam does not match its beam_fingerprint = "
+                                 f"{fp!r} (the beam stored in it has {beam.fingerprint()!r})")
         raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
                              f"({d.get('beam_name')!r:.60})")
     fit = FitResult.from_dict(d, beam=beam, what=what)
