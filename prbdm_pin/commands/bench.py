@@ -34,6 +34,17 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+def check_options(args) -> None:
+    """``--out`` and the truth cache folder must be writable: refused before the first fit."""
+    from .checks import writable_dir
+
+    writable_dir(args.out, "--out")
+    if args.cache_dir is not None:
+        writable_dir(args.cache_dir, "--cache-dir")
+    else:
+        writable_dir(Path(args.out) / "truth-cache", "--out")
+
+
 def run(args) -> int:
     from dataclasses import replace
 
@@ -50,6 +61,7 @@ def run(args) -> int:
     )
     from ..geometry import atomic_write_text
 
+    check_options(args)
     config = QUICK if args.quick else FULL
     if args.no_mujoco:
         config = replace(config, mujoco=False)
