@@ -87,7 +87,8 @@ def check_options(args: argparse.Namespace) -> None:
     from .checks import in_range, writable_file
 
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
-             why="a damping ratio (0: none)")
+             why="the damping_ratio of mode 1 (stiffness form) or of every mode (modal); "
+                 "0: none")
     out = writable_file(args.out, "--out")
     if os.path.exists(args.model) and out.exists() and os.path.samefile(args.model, out):
         raise BeamInputError(f"--out = {args.out!r}: is the MODEL file itself; give another "
