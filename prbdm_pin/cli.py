@@ -13,6 +13,7 @@ import os
 import sys
 
 from . import __version__
+from .commands.checks import CliParser, one_line
 from .errors import BeamInputError, SolveError, TruthError
 
 # Order is the order of `prbdm --help`.
@@ -27,7 +28,8 @@ def _pin_threads() -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every available subcommand."""
-    parser = argparse.ArgumentParser(
+    # subparsers take the parser class of their parent: every error of every command is one line
+    parser = CliParser(
         prog="prbdm",
         description="Pseudo-rigid-body dynamic models of compliant cantilevers on Pinocchio.",
         epilog="Run `prbdm COMMAND --help` for a command's options and examples.",
@@ -49,22 +51,26 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of ``prbdm``; returns the exit code."""
     _pin_threads()
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        # reported by the command's own parser, so that the line names the command
+        prog = f"prbdm {args.command}" if getattr(args, "command", None) else "prbdm"
+        parser.exit(2, f"{prog}: error: unrecognized arguments: {one_line(' '.join(unknown))}\n")
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
     try:
         return int(args.func(args) or 0)
     except BeamInputError as exc:
-        print(f"prbdm {args.command}: error: {exc}", file=sys.stderr)
+        print(f"prbdm {args.command}: error: {one_line(exc)}", file=sys.stderr)
         return 2
     except (SolveError, TruthError) as exc:
-        print(f"prbdm {args.command}: failed: {exc}", file=sys.stderr)
+        print(f"prbdm {args.command}: failed: {one_line(exc)}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print(f"prbdm {args.command}: interrupted", file=sys.stderr)
         return 130
 
 
-if __name__ == "__main__":
+if __name__ == "__main__":  # ``python -m prbdm_pin.cli``, as ``python -m prbdm_pin``
     raise SystemExit(main())

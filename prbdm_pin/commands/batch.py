@@ -72,13 +72,56 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+# the driver holds one task per beam of its shard
+MAX_SHARD_BEAMS = 1_000_000
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Refuse bad ``prbdm batch`` options before ``--out`` is created or a beam is read."""
+    from ..batch import parse_shard
+    from ..errors import BeamInputError
+    from ..layout import check_min_fraction
+    from ..limits import check_cap
+    from .checks import MAX_SEED, MAX_WORKERS, existing_dir, in_range, writable_dir
+    from .fit import MAX_STARTS
+
+    in_range("--joints", args.joints, 1, integer=True)
+    check_cap("--joints", args.joints, "max_joints")
+    in_range("--frequencies", args.frequencies, 1, args.joints, integer=True,
+             why=f"a {args.joints}R model has {args.joints} frequencies")
+    in_range("--starts", args.starts, 1, MAX_STARTS, integer=True)
+    in_range("--seed", args.seed, 0, MAX_SEED, integer=True)
+    in_range("--workers", args.workers, 1, MAX_WORKERS, integer=True)
+    check_min_fraction(args.min_link, args.joints, "--min-link")
+    try:
+        i, n = parse_shard(args.shard)
+    except BeamInputError:
+        raise BeamInputError(f"--shard = {args.shard!r}: must be i/N with N >= 1 and "
+                             "0 <= i < N, e.g. 0/4") from None
+    if args.beams is not None:
+        in_range("--beams", args.beams, 1, integer=True)
+        if (args.beams - i + n - 1) // n > MAX_SHARD_BEAMS:
+            raise BeamInputError(f"--beams = {args.beams}: {(args.beams - i + n - 1) // n} "
+                                 f"beams in one shard (at most {MAX_SHARD_BEAMS}): split the "
+                                 "study with --shard i/N")
+    if args.beams_dir is not None:
+        existing_dir(args.beams_dir, "--beams-dir")
+    if args.scheduler is not None and not args.scheduler.strip():
+        raise BeamInputError(f"--scheduler = {args.scheduler!r}: must be an address "
+                             "(tcp://HOST:PORT)")
+    writable_dir(args.out, "--out")
+    if args.cache_dir is not None:
+        writable_dir(args.cache_dir, "--cache-dir")
+    else:
+        writable_dir(os.path.join(args.out, "truth-cache"), "--out")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the batch; exit code 0 once every beam has a record (failed beams are data)."""
     from ..batch import BatchSpec, DaskCluster, FitSettings, LocalPool, parse_shard, run_batch
     from ..errors import BeamInputError
-    from ..layout import check_min_fraction
 
-    check_min_fraction(args.min_link, args.joints, "--min-link")
+    check_options(args)
     cache = args.cache_dir or os.path.join(args.out, "truth-cache")
     settings = FitSettings(
         joints=args.joints, frequencies=args.frequencies, objective=args.objective,

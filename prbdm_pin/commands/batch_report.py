@@ -315,10 +315,20 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
     return paths
 
 
+def check_options(args: argparse.Namespace) -> None:
+    """Every DIR an existing folder and the report folder writable, before anything is read."""
+    from .checks import existing_dir, writable_dir
+
+    for d in args.dirs:
+        existing_dir(d, "DIR")
+    writable_dir(Path(args.dirs[0]) / "report" if args.out is None else args.out, "--out")
+
+
 def run(args: argparse.Namespace) -> int:
     """Write report.md (and plots) for the given batch folders."""
     from ..batch_files import write_output
 
+    check_options(args)
     records, manifest = load_study(args.dirs)
     rep = summarise(records, manifest)
     warning = missing_warning(rep)

@@ -37,6 +37,17 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 BENCH_FILES = ("results.md", "results.json", "error_vs_cost.png")
 
 
+def check_options(args) -> None:
+    """``--out`` and the truth cache folder must be writable: refused before the first fit."""
+    from .checks import writable_dir
+
+    writable_dir(args.out, "--out")
+    if args.cache_dir is not None:
+        writable_dir(args.cache_dir, "--cache-dir")
+    else:
+        writable_dir(Path(args.out) / "truth-cache", "--out")
+
+
 def run(args) -> int:
     from dataclasses import replace
 
@@ -54,6 +65,7 @@ def run(args) -> int:
     from ..geometry import atomic_write_text
     from ..output_folder import output_folder
 
+    check_options(args)
     config = QUICK if args.quick else FULL
     if args.no_mujoco:
         config = replace(config, mujoco=False)

@@ -79,11 +79,28 @@ def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
     return None if w is None else np.asarray(w, dtype=float)
 
 
+def check_options(args: argparse.Namespace) -> None:
+    """Refuse bad ``prbdm export`` options before the model is read."""
+    import os
+
+    from ..errors import BeamInputError
+    from .checks import in_range, writable_file
+
+    in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
+             why="the damping_ratio of mode 1 (stiffness form) or of every mode (modal); "
+                 "0: none")
+    out = writable_file(args.out, "--out")
+    if os.path.exists(args.model) and out.exists() and os.path.samefile(args.model, out):
+        raise BeamInputError(f"--out = {args.out!r}: is the MODEL file itself; give another "
+                             "file name")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm export``."""
     from ..export import export_model, export_record
     from .simulate import load_model_and_fit
 
+    check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)
     omega_truth = truth_frequencies(args.model, fitted)
     rec = export_record(model, args.format, args.damping, args.damping_form, omega_truth)

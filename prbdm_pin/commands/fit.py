@@ -135,11 +135,11 @@ def _load_factors(text: str | None) -> list[float]:
     try:
         factors = [float(v) for v in text.split(",")]
     except ValueError:
-        raise BeamInputError(f"extra-loads = {text!r}: must be numbers separated by commas "
+        raise BeamInputError(f"--extra-loads = {text!r}: must be numbers separated by commas "
                              "(multiples of the beam's tip force)") from None
     bad = [f for f in factors if not (math.isfinite(f) and f != 0.0)]
     if bad:
-        raise BeamInputError(f"extra-loads = {text!r}: {bad[0]} is not a finite, non-zero "
+        raise BeamInputError(f"--extra-loads = {text!r}: {bad[0]} is not a finite, non-zero "
                              "multiple of the tip force")
     return factors
 
@@ -231,6 +231,68 @@ def _base_target(args, beam):
     return target_from_truth(truth, beam.tip_force_N, request)
 
 
+# a start holds its lengths and factors from the outset; more starts is a slip, not a study
+MAX_STARTS = 100_000
+# every evaluation solves one eigenproblem per pose of the sweep
+MAX_POSES = 1000
+
+
+def check_truth_options(args) -> None:
+    """The checks of :func:`add_truth_options`' options (shared with ``prbdm pareto``): ranges,
+    the joint cap, the extra loads, a writable ``--out`` and cache folder; nothing is read or
+    computed yet."""
+    from ..errors import BeamInputError
+    from ..layout import check_min_fraction
+    from ..limits import check_cap
+    from .checks import MAX_SEED, in_range, writable_dir
+
+    in_range("--joints", args.joints, 1, integer=True)
+    check_cap("--joints", args.joints, "max_joints")
+    in_range("--frequencies", args.frequencies, 1, args.joints, integer=True,
+             why=f"a {args.joints}R model has {args.joints} frequencies")
+    in_range("--mesh-level", args.mesh_level, 0, 6, integer=True)
+    in_range("--xi", args.xi, 0.0, unit="rad")
+    in_range("--seed", args.seed, 0, MAX_SEED, integer=True)
+    check_min_fraction(args.min_link, args.joints, "--min-link")
+    if _load_factors(args.extra_loads) and args.truth:
+        raise BeamInputError(f"--extra-loads = {args.extra_loads!r}: needs a computed truth, "
+                             "not --truth TRUTH.json")
+    writable_dir(args.out, "--out")
+    if not args.truth:
+        check_cache_dir(args)
+
+
+def check_cache_dir(args) -> None:
+    """The truth cache folder must be writable: ``--cache-dir``, else ``$PRBDM_CACHE``, else
+    ``~/.cache/prbdm_pin`` (each named as what it is)."""
+    from .checks import writable_dir
+
+    if args.cache_dir is not None:
+        field = "--cache-dir"
+    elif os.environ.get("PRBDM_CACHE"):
+        field = "PRBDM_CACHE"
+    else:
+        field = "cache folder (default; set --cache-dir or PRBDM_CACHE)"
+    writable_dir(_cache_dir(args) if args.cache_dir is None else args.cache_dir, field)
+
+
+def check_sweep(args) -> None:
+    """``--eps``: > 0, and (for the paper's pose sweep) a sweep of at most ``MAX_POSES``."""
+    from .checks import in_range
+
+    in_range("--eps", args.eps, 0.0, lo_open=True, unit="rad")
+    if args.stiffness == "paper":
+        in_range("--xi", args.xi, 0.0, math.pi / 2 / args.joints, unit="rad",
+                 why="the sweep's first pose turns the tip by joints * xi <= pi/2")
+        poses = math.floor((math.pi / 2 / args.joints - args.xi) / args.eps) + 1
+        if poses > MAX_POSES:
+            from ..errors import BeamInputError
+
+            raise BeamInputError(
+                f"--eps = {args.eps!r}: the pose sweep from --xi {args.xi:g} to a tip angle of "
+                f"pi/2 would have {poses} poses (at most {MAX_POSES}): give a larger step")
+
+
 def check_inputs(args, beam, objective: str) -> float:
     """Refuse, before any truth is computed, what cannot be fitted: a ``--min-link`` that leaves
     no room for n + 1 links, and a deflection term without a tip load. Returns the min_fraction.
@@ -295,10 +357,22 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
     return written
 
 
+def check_options(args) -> None:
+    """Refuse bad ``prbdm fit`` options before any file is read or truth computed."""
+    from .checks import MAX_WORKERS, in_range
+
+    check_truth_options(args)
+    in_range("--starts", args.starts, 1, MAX_STARTS, integer=True)
+    in_range("--workers", args.workers, 1, MAX_WORKERS, integer=True)
+    in_range("--loss-tol", args.loss_tol, 0.0, unit="%")
+    check_sweep(args)
+
+
 def run(args) -> int:
     from ..fitting import fit
     from ..geometry import load_beam
 
+    check_options(args)
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, args.objective)
     target = load_target(args, beam)

@@ -12,6 +12,8 @@ from .fit import (
     add_eigen_norm_option,
     add_truth_options,
     check_inputs,
+    check_sweep,
+    check_truth_options,
     export_text,
     load_target,
     print_warnings,
@@ -63,10 +65,28 @@ def write_pareto_outputs(res, beam, out: Path) -> None:
         write_fit_files(res.knee, beam, stage)
 
 
+# NSGA-II's mating needs a few parents; a population holds its designs and objectives in memory
+MIN_POP = 4
+MAX_POP = 100_000
+MAX_GENERATIONS = 1_000_000
+
+
+def check_options(args) -> None:
+    """Refuse bad ``prbdm pareto`` options before any file is read or truth computed."""
+    from .checks import MAX_WORKERS, in_range
+
+    check_truth_options(args)
+    in_range("--pop", args.pop, MIN_POP, MAX_POP, integer=True)
+    in_range("--generations", args.generations, 1, MAX_GENERATIONS, integer=True)
+    in_range("--workers", args.workers, 1, MAX_WORKERS, integer=True)
+    check_sweep(args)
+
+
 def run(args) -> int:
     from ..fitting import fit_pareto
     from ..geometry import load_beam
 
+    check_options(args)
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, "Pareto")
     target = load_target(args, beam)

@@ -188,24 +188,58 @@ SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
                   "truth_comparison.json")
 
 
+# the CSV's default sampling: duration / DEFAULT_SAMPLES
+DEFAULT_SAMPLES = 2000
+
+
+def check_options(args: argparse.Namespace) -> np.ndarray:
+    """Refuse bad ``prbdm simulate`` options before the model is read or ``--out`` created;
+    returns the tip force (N)."""
+    import math
+
+    from ..limits import check_cap
+    from ..simulation import FIXED_STEP_METHODS, IVP_METHODS
+    from .checks import in_range, writable_dir
+
+    force = parse_force(args.tip_force)
+    in_range("--duration", args.duration, 0.0, lo_open=True, unit="s")
+    in_range("--initial-angle", args.initial_angle, -math.pi, math.pi, unit="rad")
+    # the integrators and the truth comparison take underdamped modes (over-damped runs: an
+    # equivalent viscous model is out of the PRBDM's scope)
+    in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
+             why="a damping ratio of an underdamped response" if not args.compare_truth else
+             "--compare-truth needs an underdamped step response")
+    methods = FIXED_STEP_METHODS + IVP_METHODS
+    if args.method not in methods:
+        raise BeamInputError(f"--method = {args.method!r}: must be one of {', '.join(methods)}")
+    for name, dt in (("--dt", args.dt), ("--output-dt", args.output_dt)):
+        in_range(name, dt, 0.0, args.duration, lo_open=True, unit="s",
+                 why=f"a step within --duration {args.duration:g} s")
+    if args.output_dt is not None:
+        samples = math.floor(args.duration / args.output_dt + 1e-9) + 1
+        check_cap(f"output samples (--duration {args.duration:g} / --output-dt "
+                  f"{args.output_dt:g} + 1)", samples, "max_output_samples")
+    writable_dir(args.out, "--out")
+    if args.compare_truth:
+        from .fit import check_cache_dir
+
+        check_cache_dir(args)
+    return force
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     from ..geometry import atomic_write_text
     from ..output_folder import output_folder
     from ..simulation import simulate
 
-    force = parse_force(args.tip_force)
-    if not (np.isfinite(args.duration) and args.duration > 0):
-        raise BeamInputError(f"--duration = {args.duration}: must be > 0 (s)")
-    if args.compare_truth and not (np.isfinite(args.damping) and 0.0 <= args.damping < 1.0):
-        raise BeamInputError(f"--damping = {args.damping}: --compare-truth needs 0 <= ZETA < 1 "
-                             "(an underdamped step response)")
+    force = check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
     out = Path(args.out)
-    output_dt = args.output_dt or args.duration / 2000
+    output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
     # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
     # other forms are exact about the initial pose
     damping_pose = np.zeros(model.n_joints) if args.damping_form == "stiffness" else None

@@ -46,6 +46,19 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 TRUTH_FILES = ("truth.json", "modes.vtu")
 
 
+def check_options(args) -> None:
+    """Refuse bad ``prbdm truth`` options before the beam is read."""
+    from ..limits import check_cap
+    from .checks import in_range, writable_dir
+
+    # a truth serves fits of up to max_joints joints: as many modes at most
+    in_range("--modes", args.modes, 1, integer=True)
+    check_cap("--modes", args.modes, "max_joints")
+    in_range("--mesh", args.mesh, 0, 6, integer=True)
+    in_range("--error-tol", args.error_tol, 0.0, lo_open=True, unit="%")
+    writable_dir(args.out, "--out")
+
+
 def run(args) -> int:
     from ..errors import BeamInputError
     from ..geometry import atomic_write_text, load_beam
@@ -53,6 +66,7 @@ def run(args) -> int:
     from ..truth import CoarseTruthError, compute_truth
     from ..truth.vtu import write_modes_vtu
 
+    check_options(args)
     t0 = time.perf_counter()
     beam = load_beam(args.beam)
     if not args.quiet:
