@@ -55,6 +55,12 @@ def check_min_fraction(min_fraction: Any, joints: int, name: str = "min_fraction
     if not (math.isfinite(f) and f > 0.0):
         raise BeamInputError(f"{name} = {f:g}: must be in (0, 1/(n+1)) = (0, {cap:.4g}) "
                              f"(n = {n} joints)")
+    from .model_files import LINK_FLOOR_FRACTION
+
+    # a fit must not write links that its own readers refuse
+    if f < LINK_FLOOR_FRACTION:
+        raise BeamInputError(f"{name} = {f:g}: must be at least {LINK_FLOOR_FRACTION:g} (the "
+                             "shortest link a model file may hold, as a fraction of L)")
     return f
 
 
