@@ -95,6 +95,18 @@ def _mesh(beam: Beam, n_per_span: int) -> np.ndarray:
     return np.concatenate(parts + [xv[-1:]])
 
 
+def _near_step_hint(beam: Beam) -> str:
+    """A hint naming the shortest vertex interval when it is short enough to be the cause: a
+    width change over a tiny interval is a near-step, which the C1 collocation cannot follow."""
+    dx = np.diff(beam.x_m)
+    dx = np.where(dx > 0.0, dx, np.inf)
+    i = int(np.argmin(dx)) + 1
+    if dx[i - 1] >= 1e-4 * beam.length_m:
+        return ""
+    return (f"; x[{i}] - x[{i - 1}] = {dx[i - 1]:.3g} m is a near-step the elastica cannot "
+            f"resolve: make it a width step (x[{i}] = x[{i - 1}]) or lengthen it")
+
+
 def elastica_static(
     beam: Beam,
     tip_force_N: np.ndarray | None = None,
@@ -218,7 +230,7 @@ def elastica_static(
         if sol.status != 0:
             raise SolveError(
                 f"elastica did not converge at load step {k}/{load_steps} "
-                f"(P L^2/EI = {lam * alpha:.3g}): {sol.message}"
+                f"(P L^2/EI = {lam * alpha:.3g}): {sol.message}{_near_step_hint(beam)}"
             )
         s, y = sol.x, sol.y
     t1 = time.perf_counter()
