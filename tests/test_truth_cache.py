@@ -249,6 +249,19 @@ def test_a_failed_write_leaves_the_previous_entry_and_no_temporary_file(tmp_path
     assert sorted(p.name for p in tmp_path.iterdir()) == [entry.name]
 
 
+def test_a_folder_that_cannot_take_the_entry_still_returns_the_truth(tmp_path):
+    key = _key_of(tmp_path / "a")
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / f"truth-{key}.npz").mkdir()  # a folder where the entry goes
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    for where in (tmp_path / "b", blocker, blocker / "below"):
+        with pytest.warns(TruthCacheWarning, match="not cached"):
+            got = compute_truth(load_beam(BEAMS / "tapered.json"), **ARGS, cache_dir=where)
+        _assert_equal(got, _fresh())
+    assert sorted(p.name for p in (tmp_path / "b").iterdir()) == [f"truth-{key}.npz"]
+
+
 def test_the_code_digest_covers_the_modules_the_truth_imports():
     names = {p.relative_to(ROOT).as_posix() for p in truth_modules()}
     assert {"prbdm_pin/geometry.py", "prbdm_pin/errors.py", "prbdm_pin/__init__.py",

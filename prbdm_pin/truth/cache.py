@@ -144,24 +144,39 @@ def load_cached(cache_dir, key: str, beam_fingerprint: str) -> TruthResult | Non
     return result
 
 
-def store_cached(cache_dir, key: str, result: TruthResult) -> Path:
-    """Write ``result`` under ``key`` atomically; returns the path."""
+def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
+    """Write ``result`` under ``key`` atomically; returns the path, or None (with a
+    :class:`TruthCacheWarning`) when the folder cannot take it: the truth is still returned."""
     arrays: dict[str, np.ndarray] = {}
     meta = {"format": FORMAT, "key": key, "beam_fingerprint": result.beam_fingerprint,
             "result": encode(result, arrays)}
     meta["checksum"] = _checksum(meta, arrays)
     blob = np.frombuffer(json.dumps(meta, sort_keys=True).encode("utf-8"), dtype=np.uint8)
     d = Path(cache_dir)
-    d.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=".truth-", suffix=".tmp")
+    try:
+        d.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=d, prefix=".truth-", suffix=".tmp")
+    except OSError as exc:
+        _not_stored(d, exc)
+        return None
     try:
         with os.fdopen(fd, "wb") as fh:
             np.savez(fh, **{_META: blob}, **arrays)
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, entry_path(d, key))
+    except OSError as exc:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        _not_stored(entry_path(d, key), exc)
+        return None
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
     return entry_path(d, key)
+
+
+def _not_stored(where: Path, exc: OSError) -> None:
+    warnings.warn(f"truth not cached: {str(where)!r}: {exc.strerror or exc}",
+                  TruthCacheWarning, stacklevel=3)

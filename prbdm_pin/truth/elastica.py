@@ -95,6 +95,25 @@ def _mesh(beam: Beam, n_per_span: int) -> np.ndarray:
     return np.concatenate(parts + [xv[-1:]])
 
 
+# most initial collocation nodes: a planform of thousands of vertices would otherwise start the
+# collocation on several nodes per vertex (200k vertices: minutes); it refines where it must
+_MAX_INITIAL_NODES = 2001
+
+
+def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
+    """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
+    unchanged when there are that few, else only those at least L / (that number) apart."""
+    if s.size <= _MAX_INITIAL_NODES:
+        return s
+    gap = length_m / (_MAX_INITIAL_NODES - 1)
+    keep = [float(s[0])]
+    for v in map(float, s[1:-1]):
+        if v - keep[-1] >= gap and s[-1] - v >= 0.5 * gap:
+            keep.append(v)
+    keep.append(float(s[-1]))
+    return np.array(keep)
+
+
 def _near_step_hint(beam: Beam) -> str:
     """A hint naming the shortest vertex interval when it is short enough to be the cause: a
     width change over a tiny interval is a near-step, which the C1 collocation cannot follow."""
@@ -219,6 +238,7 @@ def elastica_static(
         # every segment's vertices are nodes of the shared tau mesh
         s = np.unique(np.concatenate(
             [np.linspace(0.0, L, 65)] + [(seg_x[i] - a[i]) / ell[i] for i in range(nseg)]))
+    s = _thin(s, L)
     y = np.zeros((4 * nseg, s.size))
     for i in range(nseg):
         y[4 * i + 2] = a[i] + ell[i] * s
