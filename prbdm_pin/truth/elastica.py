@@ -115,8 +115,14 @@ def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
 
 
 def _near_step_hint(beam: Beam) -> str:
-    """A hint naming the shortest vertex interval when it is short enough to be the cause: a
-    width change over a tiny interval is a near-step, which the C1 collocation cannot follow."""
+    """A hint naming the narrowest section or the shortest vertex interval when it is the likely
+    cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
+    step, and the C1 collocation follows neither."""
+    w = beam.half_width_m
+    k = int(np.argmin(w))
+    if w[k] < 1e-4 * w.max():
+        return (f"; half_width[{k}] = {w[k]:.3g} m is a near-hinge (E I {w[k] / w.max():.1g} of "
+                "the widest section's) the elastica cannot resolve")
     dx = np.diff(beam.x_m)
     dx = np.where(dx > 0.0, dx, np.inf)
     i = int(np.argmin(dx)) + 1
