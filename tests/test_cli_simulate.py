@@ -76,7 +76,7 @@ def test_plate_truth_is_the_cached_fit_truth_and_matches_dynamic_accuracy(run):
     assert s["truth"]["model"] == "plate" and s["truth"]["solver"] == "plate-argyris"
     assert s["truth"]["modal_masses"] == "finite-element"
     # one plate entry (shared by `prbdm fit` and `prbdm simulate`) and one beam entry
-    assert len(list(cache.glob("truth-*.pkl"))) == 2
+    assert len(list(cache.glob("truth-*.npz"))) == 2
     truth = compute_truth(beam, modes=3, cache_dir=cache)
     assert s["truth"]["selected_omega_rad_s"] == pytest.approx(truth.omega_rad_s, rel=1e-15)
     acc = dynamic_accuracy(model, truth_modal_tip(truth, beam), damping_ratio=0.02)

@@ -41,11 +41,11 @@ def test_cli_bad_model_is_usage_error(tmp_path, capsys):
 def test_cache_returns_stored_result(tmp_path):
     beam = load_beam(BEAMS / "uniform-narrow.json")
     r1 = compute_truth(beam, modes=3, static=False, cache_dir=tmp_path)
-    assert len(list(tmp_path.glob("truth-*.pkl"))) == 1
+    assert len(list(tmp_path.glob("truth-*.npz"))) == 1
     r2 = compute_truth(beam, modes=3, static=False, cache_dir=tmp_path)
     np.testing.assert_array_equal(r1.omega_rad_s, r2.omega_rad_s)
     r3 = compute_truth(beam, modes=3, static=False, cache_dir=tmp_path, mesh_level=0)
-    assert len(list(tmp_path.glob("truth-*.pkl"))) == 2 and r3.mesh_level == 0
+    assert len(list(tmp_path.glob("truth-*.npz"))) == 2 and r3.mesh_level == 0
 
 
 def test_cache_key_follows_the_truth_code(tmp_path, monkeypatch):
@@ -54,8 +54,8 @@ def test_cache_key_follows_the_truth_code(tmp_path, monkeypatch):
 
     beam = load_beam(BEAMS / "uniform-narrow.json")
     compute_truth(beam, model="beam", modes=3, static=False, cache_dir=tmp_path)
-    assert len(list(tmp_path.glob("truth-*.pkl"))) == 1
+    assert len(list(tmp_path.glob("truth-*.npz"))) == 1
     assert len(cache.code_digest()) == 64
     monkeypatch.setattr(cache, "code_digest", lambda: "0" * 64)
     compute_truth(beam, model="beam", modes=3, static=False, cache_dir=tmp_path)
-    assert len(list(tmp_path.glob("truth-*.pkl"))) == 2
+    assert len(list(tmp_path.glob("truth-*.npz"))) == 2

@@ -4,7 +4,6 @@ and plots."""
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import sys
@@ -194,11 +193,10 @@ def _base_target(args, beam):
     from ..problem import FitTarget, target_from_truth
 
     if args.truth:
-        try:
-            d = json.loads(Path(args.truth).read_text(encoding="utf-8"))
-            fingerprint = d.get("beam_fingerprint") if isinstance(d, dict) else None
-        except (OSError, ValueError) as exc:
-            raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
+        from ..truth.truth_file import read_truth_file
+
+        t = read_truth_file(args.truth)
+        fingerprint = t.beam_fingerprint
         # a truth of another beam would be fitted without a word: refuse it; a hand-made file
         # without a fingerprint cannot be checked and is taken on trust
         if fingerprint is not None and fingerprint != beam.fingerprint():
@@ -209,10 +207,10 @@ def _base_target(args, beam):
             print(f"truth warning: {args.truth} carries no beam_fingerprint: cannot check "
                   "that it belongs to this beam", file=sys.stderr)
         try:
-            return FitTarget(d["omega_rad_s"], beam.tip_force_N, d.get("tip_position_m"),
-                             d.get("tip_displacement_m"), d.get("mac"),
+            return FitTarget(t.omega_rad_s, beam.tip_force_N, t.tip_position_m,
+                             t.tip_displacement_m, t.mac,
                              source=f"truth file {Path(args.truth).name}",
-                             static_theory_gap_pct=d.get("static_theory_gap_pct"))
+                             static_theory_gap_pct=t.static_theory_gap_pct)
         except (ValueError, KeyError, TypeError) as exc:
             raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
     from ..truth import CoarseTruthError, TruthRequest

@@ -265,7 +265,7 @@ def compute_truth(
         key = cache_key(beam, model=model, mesh_level=mesh_level, modes=modes,
                         selection=selection, static=static, n_computed=n_computed,
                         large_deflection=large_deflection, version=__version__)
-        hit = load_cached(cache_dir, key)
+        hit = load_cached(cache_dir, key, beam.fingerprint())
         if hit is not None:
             return _judged(hit, beam, error_tol_pct)
 

@@ -16,12 +16,21 @@ from skfem.helpers import dd
 
 from ..errors import BeamInputError, SolveError
 from ..geometry import Beam
+from ..limits import check_cap
 from .result import ModalSolution, StaticSolution, Timings
 
 __all__ = ["beam_stations", "beam_modal", "beam_bending_modes", "beam_static"]
 
 # w(x) linear, Hermite cubic: the mass integrand has degree 1 + 3 + 3 = 7, stiffness 1 + 1 + 1 = 3.
 _INTORDER = 7
+# shortest element, relative to L: below it the stiffness loses more than ~1e-5 of the frequencies
+# to rounding (an element of 1e-4 L next to ones of 5e-3 L: 6e-6)
+MIN_ELEMENT_REL = 1e-4
+# most elements along the span (uniform strip: 2e-8 at 200, 3e-6 at 1000)
+MAX_ELEMENTS = 500
+# above this many DOFs the dense eigensolver (cubic cost, 8 N^2 bytes per matrix) gives way to
+# shift-invert Lanczos on the banded matrices
+DENSE_MAX_DOFS = 2000
 
 
 def _check_count(name: str, value: int, minimum: int = 1) -> int:
@@ -32,12 +41,50 @@ def _check_count(name: str, value: int, minimum: int = 1) -> int:
 
 def beam_stations(beam: Beam, n_elements: int = 200) -> np.ndarray:
     """Element edges (m): every planform vertex, plus about ``n_elements`` elements shared out
-    in proportion to the vertex intervals' lengths (at least one per interval)."""
+    in proportion to the vertex intervals' lengths (at least one per interval).
+
+    A vertex closer than ``MIN_ELEMENT_REL`` L to the previous edge is not an edge (the element
+    across it integrates the kink of w(x) by quadrature): an element that short makes the
+    stiffness matrix singular in double precision (1e-7 m: LinAlgError; 1e-5 m: frequencies
+    1-3 % off). Likewise a planform of more than ``MAX_ELEMENTS`` intervals gets edges at least
+    L / MAX_ELEMENTS apart (rounding grows with the element count: 3e-6 at 1000 elements,
+    1e-4 at 2000 on a uniform strip). The root, the tip and width steps always stay edges.
+    """
     n_elements = _check_count("n_elements", n_elements)
     starts, ends = beam.intervals_m  # a width step is one edge, not a zero-length element
     counts = np.maximum(1, np.round(n_elements * (ends - starts) / beam.length_m).astype(int))
-    parts = [np.linspace(a, b, n + 1)[:-1] for a, b, n in zip(starts, ends, counts, strict=True)]
-    return np.concatenate(parts + [beam.x_m[-1:]])
+    check_cap("mesh DOFs (1D beam elements x 2)", 2 * int(counts.sum()), "max_mesh_dofs")
+    # np.linspace(a, b, n + 1)[:-1] of every interval, vectorised (a + k (b - a) / n)
+    idx = np.repeat(np.arange(counts.size), counts)
+    k = np.arange(idx.size) - np.repeat(np.cumsum(counts) - counts, counts)
+    xs = starts[idx] + k * ((ends - starts) / counts)[idx]
+    return _merge_short(beam, np.concatenate([xs, beam.x_m[-1:]]))
+
+
+def _merge_short(beam: Beam, xs: np.ndarray) -> np.ndarray:
+    """``xs`` without the edges closer than MIN_ELEMENT_REL L to a kept neighbour."""
+    L = beam.length_m
+    dmin = MIN_ELEMENT_REL * L
+    if xs.size > MAX_ELEMENTS + 1:
+        dmin = L / MAX_ELEMENTS
+    elif np.min(np.diff(xs)) >= dmin:
+        return xs
+    fixed = {0.0, float(L), *(float(v) for v in beam.x_m[beam.step_index])}
+    keep = [float(xs[0])]
+    for x in map(float, xs[1:]):
+        if x - keep[-1] >= dmin:
+            keep.append(x)
+        elif x in fixed and keep[-1] not in fixed:
+            keep[-1] = x
+        elif x in fixed:
+            i = int(np.searchsorted(beam.x_m, x))
+            raise BeamInputError(
+                f"x[{i}] = {x!r} m: a width step (or the tip) {x - keep[-1]:.3g} m from another "
+                f"(or from the root), below {MIN_ELEMENT_REL:g} L = {dmin:.3g} m: the 1D beam "
+                "cannot represent it in double precision (merge the two)")
+    if keep[-1] != float(L):
+        keep.append(float(L))
+    return np.array(keep)
 
 
 @BilinearForm
@@ -68,14 +115,28 @@ def _assemble(beam: Beam, n_elements: int):
 
 
 def _eigh(K, M, free, n_modes):
+    N = free.size
+    n = min(n_modes, N)
+    if N > DENSE_MAX_DOFS:
+        return _eigsh(K[free][:, free], M[free][:, free], n)
     Kf = K[free][:, free].toarray()
     Mf = M[free][:, free].toarray()
-    N = Kf.shape[0]
-    n = min(n_modes, N)
     # Solve M phi = mu K phi for the largest mu = 1 / omega^2: the low modes of K phi = lam M phi
     # lose ~eps * lam_max / lam_1 (1e-6 at 200 elements) to rounding, the inverse problem does not.
     mu, vec = scipy.linalg.eigh(Mf, Kf, subset_by_index=[N - n, N - 1])
     lam, vec = 1.0 / mu[::-1], vec[:, ::-1]
+    if np.any(lam <= 0.0) or not np.all(np.isfinite(lam)):
+        raise SolveError(f"beam eigenvalues not positive: min = {lam.min():.3e} (rad/s)^2")
+    return lam, vec
+
+
+def _eigsh(Kf, Mf, n):
+    """The n lowest modes by shift-invert Lanczos about 0 (banded K: linear cost)."""
+    from scipy.sparse.linalg import eigsh
+
+    lam, vec = eigsh(Kf.tocsc(), k=n, M=Mf.tocsc(), sigma=0.0, which="LM", tol=0.0)
+    order = np.argsort(lam)
+    lam, vec = lam[order], vec[:, order]
     if np.any(lam <= 0.0) or not np.all(np.isfinite(lam)):
         raise SolveError(f"beam eigenvalues not positive: min = {lam.min():.3e} (rad/s)^2")
     return lam, vec
@@ -210,9 +271,13 @@ def beam_static(
     f = np.zeros(basis.N)
     f[basis.nodal_dofs[0, tip]] = F[2]
     t1 = time.perf_counter()
-    Kf = K[free][:, free].toarray()
     u = np.zeros(basis.N)
-    u[free] = scipy.linalg.solve(Kf, f[free], assume_a="pos")
+    if free.size > DENSE_MAX_DOFS:
+        from scipy.sparse.linalg import spsolve
+
+        u[free] = spsolve(K[free][:, free].tocsc(), f[free])
+    else:
+        u[free] = scipy.linalg.solve(K[free][:, free].toarray(), f[free], assume_a="pos")
     t2 = time.perf_counter()
     disp = np.array([0.0, 0.0, u[basis.nodal_dofs[0, tip]]])
     return StaticSolution(

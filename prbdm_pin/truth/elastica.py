@@ -95,6 +95,43 @@ def _mesh(beam: Beam, n_per_span: int) -> np.ndarray:
     return np.concatenate(parts + [xv[-1:]])
 
 
+# most initial collocation nodes: a planform of thousands of vertices would otherwise start the
+# collocation on several nodes per vertex (200k vertices: minutes); it refines where it must
+_MAX_INITIAL_NODES = 2001
+
+
+def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
+    """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
+    unchanged when there are that few, else only those at least L / (that number) apart."""
+    if s.size <= _MAX_INITIAL_NODES:
+        return s
+    gap = length_m / (_MAX_INITIAL_NODES - 1)
+    keep = [float(s[0])]
+    for v in map(float, s[1:-1]):
+        if v - keep[-1] >= gap and s[-1] - v >= 0.5 * gap:
+            keep.append(v)
+    keep.append(float(s[-1]))
+    return np.array(keep)
+
+
+def _near_step_hint(beam: Beam) -> str:
+    """A hint naming the narrowest section or the shortest vertex interval when it is the likely
+    cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
+    step, and the C1 collocation follows neither."""
+    w = beam.half_width_m
+    k = int(np.argmin(w))
+    if w[k] < 1e-4 * w.max():
+        return (f"; half_width[{k}] = {w[k]:.3g} m is a near-hinge (E I {w[k] / w.max():.1g} of "
+                "the widest section's) the elastica cannot resolve")
+    dx = np.diff(beam.x_m)
+    dx = np.where(dx > 0.0, dx, np.inf)
+    i = int(np.argmin(dx)) + 1
+    if dx[i - 1] >= 1e-4 * beam.length_m:
+        return ""
+    return (f"; x[{i}] - x[{i - 1}] = {dx[i - 1]:.3g} m is a near-step the elastica cannot "
+            f"resolve: make it a width step (x[{i}] = x[{i - 1}]) or lengthen it")
+
+
 def elastica_static(
     beam: Beam,
     tip_force_N: np.ndarray | None = None,
@@ -207,6 +244,7 @@ def elastica_static(
         # every segment's vertices are nodes of the shared tau mesh
         s = np.unique(np.concatenate(
             [np.linspace(0.0, L, 65)] + [(seg_x[i] - a[i]) / ell[i] for i in range(nseg)]))
+    s = _thin(s, L)
     y = np.zeros((4 * nseg, s.size))
     for i in range(nseg):
         y[4 * i + 2] = a[i] + ell[i] * s
@@ -218,7 +256,7 @@ def elastica_static(
         if sol.status != 0:
             raise SolveError(
                 f"elastica did not converge at load step {k}/{load_steps} "
-                f"(P L^2/EI = {lam * alpha:.3g}): {sol.message}"
+                f"(P L^2/EI = {lam * alpha:.3g}): {sol.message}{_near_step_hint(beam)}"
             )
         s, y = sol.x, sol.y
     t1 = time.perf_counter()

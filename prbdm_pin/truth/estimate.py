@@ -66,8 +66,11 @@ _REFINED_DOF_RATIO = 4
 
 def estimate_skipped(model: str, modal: ModalSolution) -> bool:
     """Whether the next mesh level of a plate truth is too large to be solved for the estimate."""
-    return model in ("plate", "plate-morley") and \
-        _REFINED_DOF_RATIO * int(modal.dofs) > ESTIMATE_MAX_DOFS
+    from ..limits import limits
+
+    # never above the mesh cap either: the estimate is optional, the truth is not
+    cap = min(ESTIMATE_MAX_DOFS, limits().max_mesh_dofs)
+    return model in ("plate", "plate-morley") and _REFINED_DOF_RATIO * int(modal.dofs) > cap
 
 
 def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.ndarray):

@@ -27,6 +27,7 @@ __all__ = [
     "reentrant_vertices",
     "element_size",
     "x_stations",
+    "station_count",
     "planform_tri_mesh",
     "inner_half_width",
     "mirrored_mesh",
@@ -52,23 +53,29 @@ def x_stations(
     w_k < h / c (c = ``NARROW_ELEMENTS``), so a narrow neck gets two elements across its
     half-width instead of slivers.
     """
-    xv = beam.x_m
-
-    def size(x: np.ndarray) -> np.ndarray:
-        return _local_size(beam, h_m, growth, x, narrow)
-
-    out = [xv[:1]]
-    starts, ends = beam.intervals_m  # a width step is one station
-    for a, b in zip(starts, ends, strict=True):
-        xs = np.linspace(a, b, 201)
-        inv = 1.0 / size(xs)
-        cum = np.concatenate([[0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(xs))])
-        n = max(1, int(np.ceil(cum[-1] - 1e-9)))
+    out = [beam.x_m[:1]]
+    for xs, cum, n in _interval_counts(beam, h_m, growth, narrow):
         targets = np.linspace(0.0, cum[-1], n + 1)
         out.append(np.interp(targets, cum, xs)[1:])
     x = np.concatenate(out)
-    x[-1] = xv[-1]
+    x[-1] = beam.x_m[-1]
     return x
+
+
+def _interval_counts(beam: Beam, h_m: float, growth: float, narrow: bool):
+    """For every vertex interval: sample points (m), the cumulative element count along them
+    (the integral of 1 / size) and the number of elements ``x_stations`` puts there."""
+    starts, ends = beam.intervals_m  # a width step is one station
+    for a, b in zip(starts, ends, strict=True):
+        xs = np.linspace(a, b, 201)
+        inv = 1.0 / _local_size(beam, h_m, growth, xs, narrow)
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(xs))])
+        yield xs, cum, max(1, int(np.ceil(cum[-1] - 1e-9)))
+
+
+def station_count(beam: Beam, h_m: float, growth: float = 0.3, narrow: bool = False) -> int:
+    """Number of ``x_stations`` (computed without building them)."""
+    return 1 + sum(n for _, _, n in _interval_counts(beam, h_m, growth, narrow))
 
 
 def _local_size(

@@ -295,12 +295,21 @@ def plate_modes(
     from scipy.sparse.linalg import eigsh
 
     from .mesh import planform_tri_mesh
+    from .mesh_budget import (
+        PLATE_DOFS_PER_EDGE,
+        PLATE_DOFS_PER_NODE,
+        check_dofs,
+        check_plate_budget,
+    )
 
     if element not in _ELEMENTS:
         raise ValueError(f"element = {element!r}: must be one of {sorted(_ELEMENTS)}")
     t0 = time.perf_counter()
     if mesh is None:
+        check_plate_budget(beam, level, element)
         mesh = planform_tri_mesh(beam, level)
+    check_dofs(f"plate-{element}", level, PLATE_DOFS_PER_NODE[element] * mesh.p.shape[1]
+               + PLATE_DOFS_PER_EDGE * mesh.facets.shape[1], beam)
     t1 = time.perf_counter()
     elem = _ELEMENTS[element]()  # a new element object per mesh: it caches per-mesh state
     basis = Basis(mesh, elem)

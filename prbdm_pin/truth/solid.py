@@ -95,8 +95,14 @@ def _lame(beam: Beam) -> tuple[float, float]:
 
 
 def _discretise(beam: Beam, level: int | None) -> _Discretisation:
+    from .mesh_budget import check_dofs, check_solid_budget
+
     lev = _level(beam, level)
+    check_solid_budget(beam, lev)
     mesh = solid_mesh(beam, lev)
+    # 27-node hexahedra: a node at every vertex, edge, face and cell centre, 3 DOFs each
+    check_dofs("solid", lev, 3 * (mesh.p.shape[1] + mesh.edges.shape[1] + mesh.facets.shape[1]
+                                  + mesh.t.shape[1]), beam)
     basis = Basis(mesh, ElementHex2(), intorder=_INTORDER)
     root = basis.get_dofs(lambda x: np.isclose(x[0], 0.0, atol=1e-12 * beam.length_m)).all()
     fixed = (3 * root[:, None] + np.arange(3)).ravel()

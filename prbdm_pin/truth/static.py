@@ -63,6 +63,12 @@ def plate_static(
 
     from . import DEFAULT_PLATE_LEVEL
     from .mesh import planform_tri_mesh
+    from .mesh_budget import (
+        PLATE_DOFS_PER_EDGE,
+        PLATE_DOFS_PER_NODE,
+        check_dofs,
+        check_plate_budget,
+    )
     from .plate import ROOT_CLAMP_DOFS, ElementTriArgyrisLocal, _assemble_plate
 
     F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)
@@ -71,7 +77,10 @@ def plate_static(
     lev = DEFAULT_PLATE_LEVEL if level is None else _check_level(level)
     L = beam.length_m
     t0 = time.perf_counter()
+    check_plate_budget(beam, lev, "argyris")
     mesh = planform_tri_mesh(beam, lev)
+    check_dofs("plate-argyris", lev, PLATE_DOFS_PER_NODE["argyris"] * mesh.p.shape[1]
+               + PLATE_DOFS_PER_EDGE * mesh.facets.shape[1], beam)
     t1 = time.perf_counter()
     # a new element object per basis: the element caches per-mesh and per-point state
     basis = Basis(mesh, ElementTriArgyrisLocal())
