@@ -41,7 +41,9 @@ class Limits:
     max_output_samples : int
         Time samples of one simulated response (``duration / output_dt + 1``).
     max_mesh_dofs : int
-        Degrees of freedom of one finite-element truth mesh (plate, solid, 1D beam).
+        Degrees of freedom of one finite-element truth mesh (plate, solid, 1D beam); a plate
+        solve needs about 21 kB per DOF (``scripts/bench_mesh_dofs.py``), so the default
+        keeps one truth near 10 GB.
     max_file_bytes : int
         Size of any JSON or URDF file the package reads.
     """
@@ -49,7 +51,7 @@ class Limits:
     max_joints: int = 64
     max_vertices: int = 10_000
     max_output_samples: int = 2_000_000
-    max_mesh_dofs: int = 1_500_000
+    max_mesh_dofs: int = 500_000
     max_file_bytes: int = 64 * 2**20
 
     def __post_init__(self) -> None:

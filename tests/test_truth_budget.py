@@ -49,7 +49,7 @@ def _no_meshing(monkeypatch):
 ])
 def test_a_nanometre_feature_is_refused_before_meshing(monkeypatch, model, beam):
     _no_meshing(monkeypatch)
-    with pytest.raises(BeamInputError, match=r"mesh DOFs .* max_mesh_dofs = 1500000 .*"
+    with pytest.raises(BeamInputError, match=r"mesh DOFs .* max_mesh_dofs = 500000 .*"
                                              r"PRBDM_MAX_MESH_DOFS"):
         compute_truth(beam, model=model, modes=3, static=False)
 

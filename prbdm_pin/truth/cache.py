@@ -22,13 +22,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 import warnings
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
+from ..atomic import mkstemp
 from ..geometry import Beam
 from .digest import code_digest
 from .entry import EntryError, check_truth, decode, encode
@@ -155,7 +155,7 @@ def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
     d = Path(cache_dir)
     try:
         d.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=d, prefix=".truth-", suffix=".tmp")
+        fd, tmp = mkstemp(d, prefix=".truth-", suffix=".tmp")  # 0666 & ~umask
     except OSError as exc:
         _not_stored(d, exc)
         return None
