@@ -83,7 +83,7 @@ def check_options(args: argparse.Namespace) -> None:
     from ..layout import check_min_fraction
     from ..limits import check_cap
     from .checks import MAX_SEED, MAX_WORKERS, existing_dir, in_range, writable_dir
-    from .fit import MAX_STARTS
+    from .fit_checks import MAX_STARTS
 
     in_range("--joints", args.joints, 1, integer=True)
     check_cap("--joints", args.joints, "max_joints")

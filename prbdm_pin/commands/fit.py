@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from . import add_common
+from .fit_checks import MAX_STARTS, check_inputs, check_sweep, check_truth_options
 
 EXAMPLE = """examples:
   prbdm fit examples/beams/reference-random.json --joints 4 --frequencies 3 --stiffness paper \\
@@ -227,83 +228,6 @@ def _base_target(args, beam):
         for note in truth.warnings:
             print(f"truth warning: {note}", file=sys.stderr)
     return target_from_truth(truth, beam.tip_force_N, request)
-
-
-# a start holds its lengths and factors from the outset; more starts is a slip, not a study
-MAX_STARTS = 100_000
-# every evaluation solves one eigenproblem per pose of the sweep
-MAX_POSES = 1000
-
-
-def check_truth_options(args) -> None:
-    """The checks of :func:`add_truth_options`' options (shared with ``prbdm pareto``): ranges,
-    the joint cap, the extra loads, a writable ``--out`` and cache folder; nothing is read or
-    computed yet."""
-    from ..errors import BeamInputError
-    from ..layout import check_min_fraction
-    from ..limits import check_cap
-    from .checks import MAX_SEED, in_range, writable_dir
-
-    in_range("--joints", args.joints, 1, integer=True)
-    check_cap("--joints", args.joints, "max_joints")
-    in_range("--frequencies", args.frequencies, 1, args.joints, integer=True,
-             why=f"a {args.joints}R model has {args.joints} frequencies")
-    in_range("--mesh-level", args.mesh_level, 0, 6, integer=True)
-    in_range("--xi", args.xi, 0.0, unit="rad")
-    in_range("--seed", args.seed, 0, MAX_SEED, integer=True)
-    check_min_fraction(args.min_link, args.joints, "--min-link")
-    if _load_factors(args.extra_loads) and args.truth:
-        raise BeamInputError(f"--extra-loads = {args.extra_loads!r}: needs a computed truth, "
-                             "not --truth TRUTH.json")
-    writable_dir(args.out, "--out")
-    if not args.truth:
-        check_cache_dir(args)
-
-
-def check_cache_dir(args) -> None:
-    """The truth cache folder must be writable: ``--cache-dir``, else ``$PRBDM_CACHE``, else
-    ``~/.cache/prbdm_pin`` (each named as what it is)."""
-    from .checks import writable_dir
-
-    if args.cache_dir is not None:
-        field = "--cache-dir"
-    elif os.environ.get("PRBDM_CACHE"):
-        field = "PRBDM_CACHE"
-    else:
-        field = "cache folder (default; set --cache-dir or PRBDM_CACHE)"
-    writable_dir(_cache_dir(args) if args.cache_dir is None else args.cache_dir, field)
-
-
-def check_sweep(args) -> None:
-    """``--eps``: > 0, and (for the paper's pose sweep) a sweep of at most ``MAX_POSES``."""
-    from .checks import in_range
-
-    in_range("--eps", args.eps, 0.0, lo_open=True, unit="rad")
-    if args.stiffness == "paper":
-        in_range("--xi", args.xi, 0.0, math.pi / 2 / args.joints, unit="rad",
-                 why="the sweep's first pose turns the tip by joints * xi <= pi/2")
-        poses = math.floor((math.pi / 2 / args.joints - args.xi) / args.eps) + 1
-        if poses > MAX_POSES:
-            from ..errors import BeamInputError
-
-            raise BeamInputError(
-                f"--eps = {args.eps!r}: the pose sweep from --xi {args.xi:g} to a tip angle of "
-                f"pi/2 would have {poses} poses (at most {MAX_POSES}): give a larger step")
-
-
-def check_inputs(args, beam, objective: str) -> float:
-    """Refuse, before any truth is computed, what cannot be fitted: a ``--min-link`` that leaves
-    no room for n + 1 links, and a deflection term without a tip load. Returns the min_fraction.
-    """
-    from ..errors import BeamInputError
-    from ..layout import check_min_fraction
-
-    f = check_min_fraction(args.min_link, args.joints, "--min-link")
-    if objective != "eigen" and not any(beam.tip_force_N):
-        raise BeamInputError(
-            f"tip_force = [0, 0, 0] N: a {objective} fit matches the tip under the beam's tip "
-            "load and there is none; give tip_force in the beam file (or fit --objective eigen)")
-    return f
 
 
 # the files a fit writes into its folder (the knee of a Pareto fit too)

@@ -11,15 +11,13 @@ from .fit import (
     FIT_FILES,
     add_eigen_norm_option,
     add_truth_options,
-    check_inputs,
-    check_sweep,
-    check_truth_options,
     export_text,
     load_target,
     print_warnings,
     worst_mode_text,
     write_fit_files,
 )
+from .fit_checks import check_inputs, check_sweep, check_truth_options
 
 EXAMPLE = """example:
   prbdm pareto examples/beams/reference-random.json --joints 4 --pop 100 --generations 200 \\
