@@ -74,6 +74,11 @@ def _check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Mater
         area = 2.0 * float(np.sum(0.5 * (w[1:] + w[:-1]) * np.diff(x)))
         mass = np.array([material.rho_kg_m3 * t * area])
         index = np.float64(L) ** 2 / EI
+        # the section integrals form 2 w^3 and 2 w x^2 before the Gauss weights and rho t
+        # scale them, and the links' inertias are of the order of m (L^2 + w^2 + t^2)
+        wmax = np.float64(w.max())
+        integrand = np.array([2.0 * wmax**3, 2.0 * wmax * np.float64(L) ** 2]) * 64.0
+        inertia = mass * (np.float64(L) ** 2 + wmax**2 + np.float64(t) ** 2)
     fields_EI = f"thickness = {t!r} m, half_width = {w.min():g} ... {w.max():g} m, " \
         f"material.E = {material.E_Pa!r} Pa"
     checks = (
@@ -81,6 +86,11 @@ def _check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Mater
         (f"x (L = {L!r} m), half_width, thickness = {t!r} m, material.rho = "
          f"{material.rho_kg_m3!r} kg/m^3", "mass", mass, "kg"),
         (f"x (L = {L!r} m), {fields_EI}", "L^2 / (E I)", index, "1/N"),
+        (f"x (L = {L!r} m), half_width = {w.min():g} ... {w.max():g} m", "the section "
+         "integrands 2 w^3, 2 w L^2 (x 64)", integrand, "m^3"),
+        (f"x (L = {L!r} m), half_width, thickness = {t!r} m, material.rho = "
+         f"{material.rho_kg_m3!r} kg/m^3", "the links' inertia m (L^2 + w^2 + t^2)", inertia,
+         "kg m^2"),
     )
     for fields, what, q, unit in checks:
         if not np.all(np.isfinite(q) & (q >= tiny) & (q <= huge)):

@@ -27,6 +27,10 @@ import numpy as np
 from .errors import BeamInputError
 from .sections import LinkSections
 
+# an attribute's tab, newline and carriage return become spaces when an XML parser normalises
+# it; as character references they survive
+_ATTRIBUTE = {'"': "&quot;", "\t": "&#9;", "\n": "&#10;", "\r": "&#13;"}
+
 __all__ = [
     "JOINT_LIMIT_RAD",
     "JOINT_EFFORT_LIMIT_NM",
@@ -116,7 +120,7 @@ def render_urdf(
         ))
     springs = [spring_t.substitute(i=j + 1, stiffness=_f(k[j])) for j in range(n)]
     return _t("robot.urdf.tmpl").substitute(
-        robot_name=escape(robot_name, {'"': "&quot;"}), body="".join(body).rstrip("\n"),
+        robot_name=escape(robot_name, _ATTRIBUTE), body="".join(body).rstrip("\n"),
         n=n, tip_x=_f(lengths[n]), springs="".join(springs).rstrip("\n"),
         record=f"<!--{comment}-->\n" if comment else "",
     )

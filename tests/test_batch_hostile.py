@@ -272,7 +272,7 @@ _keys = st.sampled_from(["beam_index", "status", "seed", "eigen_loss_pct", "gamm
                          "taper_ratio", "error", "joints", "lengths_m", "other"])
 
 
-@settings(max_examples=60, deadline=None, derandomize=True,
+@settings(max_examples=60, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.one_of(st.dictionaries(_keys, _value, max_size=6).map(
     lambda d: json.dumps(d).encode()), st.binary(max_size=40)))

@@ -138,6 +138,18 @@ def test_xml_special_characters_in_a_name_survive_urdf_and_mjcf(beam, tmp_path):
                                model.natural_frequencies(), rtol=1e-12)
 
 
+@pytest.mark.parametrize("name", ["\t", "a\nb", "c\r\nd", " x "])
+def test_whitespace_in_a_name_survives_urdf_and_mjcf(beam, tmp_path, name):
+    # an XML parser normalises a tab or newline in an attribute to a space unless written
+    # as a character reference
+    b = beam_from_dict({**beam_to_dict(beam), "name": name})
+    model = build_model(b, [0.2, 0.2, 0.2], [1000.0, 900.0])
+    assert ET.fromstring(urdf_text(model)).get("name") == f"prbdm_{name}"
+    assert ET.fromstring(mjcf_text(model)).get("model") == f"prbdm_{name}"
+    (tmp_path / "m.urdf").write_text(urdf_text(model))
+    assert load_urdf(tmp_path / "m.urdf").pin_model.name == f"prbdm_{name}"
+
+
 # fit.json ------------------------------------------------------------------------------------
 
 

@@ -193,7 +193,7 @@ def _check(cmd: str, argv: list[str], must_not_exist: list[Path], capsys) -> Non
         assert not p.exists(), (argv, err, f"{p} was created")
 
 
-FUZZ = settings(max_examples=20, deadline=None, derandomize=True, database=None,
+FUZZ = settings(max_examples=20, deadline=None,
                 suppress_health_check=[HealthCheck.function_scoped_fixture,
                                        HealthCheck.too_slow])
 STRESS = settings(FUZZ, max_examples=600)

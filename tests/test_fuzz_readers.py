@@ -38,9 +38,9 @@ FILE_LEVEL = ("not valid JSON", "not UTF-8", "nested deeper", "digits", "must be
               "must be a JSON object", "not valid XML", "root element", "Pinocchio cannot parse",
               "is a ", "format must be", "missing", "unknown key")
 
-FAST = settings(max_examples=30, deadline=None, derandomize=True, database=None,
+FAST = settings(max_examples=30, deadline=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
-STRESS = settings(max_examples=600, deadline=None, derandomize=False, database=None,
+STRESS = settings(max_examples=600, deadline=None,
                   suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 SPECIAL = [0, -1, 1, 2, -0.0, 1e308, -1e308, 5e-324, 1e-300, 1e300, 10**29, 0.5, 64, 65, 1000]

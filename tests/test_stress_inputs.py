@@ -123,6 +123,22 @@ def test_absurd_units_are_named(t, E):
         beam_from_dict(d)
 
 
+@pytest.mark.parametrize("half_width", [3.85e102, 1e154, 1e300])
+def test_half_widths_whose_section_inertia_overflows_are_named(half_width):
+    # 2 w^3 overflows inside the section integrals although E I, the mass and L^2/(E I) are
+    # representable; Pinocchio then refused the inertia ("should be symmetric")
+    d = dict(GOOD, half_width=[half_width] + GOOD["half_width"][1:])
+    with pytest.raises(BeamInputError, match="half_width"):
+        beam_from_dict(d)
+
+
+def test_a_large_but_representable_half_width_builds_finite_sections():
+    beam = beam_from_dict(dict(GOOD, half_width=[1e80] + GOOD["half_width"][1:]))
+    L = beam.length_m
+    model = build_model(beam, [L / 3, L / 3, L / 3], [1.0, 1.0])
+    assert np.all(np.isfinite(model.sections.inertia_com_kg_m2))
+
+
 def test_empty_and_huge_arrays():
     for empty in ([], [[]], [[0.0, 1.0]]):
         with pytest.raises(BeamInputError, match="x"):
