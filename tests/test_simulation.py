@@ -1,9 +1,12 @@
 """Time response: eigenfrequency, energy conservation, damping ratio, statics, cross-integrator."""
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
-import prbdm_pin.simulation as sim
+import prbdm_pin.simulation.exponential as exponential
+import prbdm_pin.simulation.gauss as gauss
+import prbdm_pin.simulation.system as system
 from prbdm_pin.errors import BeamInputError, SolveError
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
@@ -223,8 +226,8 @@ def test_only_needed_work(model, monkeypatch, method):
     def forbidden(*args, **kwargs):
         raise AssertionError("not needed")
 
-    monkeypatch.setattr(sim.pin, "computeFrameJacobian", forbidden)
-    monkeypatch.setattr(sim, "damping_matrix", forbidden)
+    monkeypatch.setattr(pin, "computeFrameJacobian", forbidden)
+    monkeypatch.setattr(system, "damping_matrix", forbidden)
     tr = simulate(model, 0.01, q0=np.full(5, 1e-3), damping_ratio=0.0, method=method)
     assert tr.steps > 0
 
@@ -307,7 +310,7 @@ def test_gauss_halves_a_step_when_newton_fails(model, monkeypatch):
     agrees with DOP853."""
     q0 = np.array([0.05, -0.05, 0.05, -0.05, 0.05])
     kw = {"q0": q0, "damping_ratio": 0.1, "output_dt": 1e-3}
-    monkeypatch.setattr(sim, "_GAUSS_HALVINGS", 0)
+    monkeypatch.setattr(gauss, "MAX_HALVINGS", 0)
     with pytest.raises(SolveError, match="Newton did not converge"):
         simulate(model, 0.5, method="gauss", **kw)
     monkeypatch.undo()
@@ -329,8 +332,8 @@ def test_exponential_halves_a_step_instead_of_diverging(model, monkeypatch):
     nominal step; by default the step control resolves the stiff mode and the tip follows DOP853.
     Gauss-Legendre keeps the energy to a few per cent there."""
     q0 = np.array([0.0, 0.0, 0.0, 0.0, 0.1])
-    monkeypatch.setattr(sim, "_MAX_HALVINGS", 0)
-    monkeypatch.setattr(sim, "_EXP_REJECT", np.inf)
+    monkeypatch.setattr(exponential, "MAX_HALVINGS", 0)
+    monkeypatch.setattr(exponential, "REJECT_FACTOR", np.inf)
     with pytest.raises(SolveError, match="no acceptable step"):
         simulate(model, 0.2, q0=q0, damping_ratio=0.0)
     monkeypatch.undo()

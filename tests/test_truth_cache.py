@@ -268,6 +268,7 @@ def test_the_code_digest_covers_the_modules_the_truth_imports():
             "prbdm_pin/truth/mesh.py", "prbdm_pin/truth/beam.py"} <= names
     # the truth never imports the fitting or simulation code
     assert "prbdm_pin/fitting.py" not in names and "prbdm_pin/simulation.py" not in names
+    assert not any(name.startswith("prbdm_pin/simulation/") for name in names)
 
 
 def _copy_package(tmp_path) -> Path:

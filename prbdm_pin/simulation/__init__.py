@@ -1,0 +1,42 @@
+"""Time response of a PRBDM through Pinocchio: joint springs, damping and a tip force.
+
+Equations of motion (relative joint angles q, rad):
+
+    M(q) a + h(q, v) + K q + C v = J(q)^T F(t)
+
+with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness, C a damping
+matrix (``prbdm_pin.damping``) and J the world-aligned linear Jacobian of the tip point.
+
+``simulate`` (``driver``) checks the inputs, assembles the system (``system``: mass, springs,
+damping frozen at one pose, tip force; ``schedule``: pose-dependent springs) and hands it, with
+the ``StepSettings`` (``steps``), to one integrator, each ``integrate(system, q0, v0, settings)``:
+
+- ``"exponential"`` (default, ``exponential``): the exponential Rosenbrock method exprb32 with
+  step-size control; every linear mode, however stiff, keeps its exact frequency and damping.
+  Nominal step: lowest natural period at ``q0`` / 10. Not symplectic.
+- ``"gauss"`` (``gauss``): 2-stage Gauss-Legendre, fixed step (period / 40), fourth order,
+  symplectic: long undamped runs at large amplitude.
+- ``"trapezoidal"`` (``newmark``): Newmark's average-acceleration rule, fixed step
+  (period / 100), second order.
+- any ``scipy.integrate.solve_ivp`` method (``ivp``): ``"DOP853"``, ``"RK45"``, ``"Radau"``, ...
+
+Each module's docstring gives the scheme, its accuracy as measured and its limits; the
+``Trajectory`` (``trajectory``) holds the samples and the tip positions.
+"""
+
+from .driver import FIXED_STEP_METHODS, simulate
+from .gauss import gauss_frequency_ratio
+from .ivp import IVP_METHODS
+from .schedule import StiffnessSchedule
+from .system import mechanical_energy
+from .trajectory import Trajectory
+
+__all__ = [
+    "Trajectory",
+    "StiffnessSchedule",
+    "simulate",
+    "mechanical_energy",
+    "gauss_frequency_ratio",
+    "FIXED_STEP_METHODS",
+    "IVP_METHODS",
+]
