@@ -127,8 +127,9 @@ def simulate(
     ):
         raise BeamInputError(f"steps_per_period = {steps_per_period!r}: must be >= 1")
 
-    system = assemble_system(model, q0, xi, damping, stiffness_schedule, force, constant_force,
-                             damping_pose)
+    system = assemble_system(model, q0, damping_ratios=xi, damping=damping,
+                             schedule=stiffness_schedule, tip_force_N=force,
+                             constant_force=constant_force, damping_pose=damping_pose)
     if method in FIXED_STEP_METHODS and dt is None:
         w2 = sla.eigh(np.diag(system.springs(q0)), mass_matrix(system.pin_model, system.data, q0),
                       eigvals_only=True)

@@ -103,7 +103,6 @@ def _steps(system: System, force: Callable[[float], np.ndarray] | None, q0: np.n
     rnea, jac, lwa = pin.rnea, pin.computeFrameJacobian, pin.LOCAL_WORLD_ALIGNED
     Ct = None if C is None else np.ascontiguousarray(C.T)
     F6 = np.zeros((2, 6))  # stage forces as spatial forces (torque part zero) for J^T f
-
     springs = system.springs
 
     def ext_torque(q, f6):

@@ -32,6 +32,7 @@ import pinocchio as pin
 from ..damping import damping_matrix
 from ..dynamics import planar_lengths
 from ..errors import BeamInputError
+from .schedule import StiffnessSchedule
 
 
 def vector(name: str, value, n: int) -> np.ndarray:
@@ -147,26 +148,29 @@ class System:
         return J[:3].T @ self.tip_force_N(t)
 
 
-def assemble_system(model, q0: np.ndarray, xi: np.ndarray, damping: str, schedule,
-                    force: Callable[[float], np.ndarray] | None, constant_force: bool,
-                    damping_pose) -> System:
-    """The system of ``model`` with the damping matrix of ratios ``xi`` (form ``damping``)
-    frozen at ``damping_pose`` (rad, default ``q0``) and the tip force ``force`` (N of s)."""
+def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, damping: str,
+                    schedule: StiffnessSchedule | None,
+                    tip_force_N: Callable[[float], np.ndarray] | None, constant_force: bool,
+                    damping_pose: np.ndarray | None) -> System:
+    """The system of ``model`` (``PrbdmModel``) in a fresh workspace: the damping matrix of the
+    ratios ``damping_ratios`` (form ``damping``) frozen at ``damping_pose`` (rad, default the
+    start pose ``q0``), the springs of ``schedule`` (default the model's) and the tip force
+    ``tip_force_N`` (N, of time in s)."""
     pm = model.pin_model
     data = pm.createData()
     fid = int(model.tip_frame_id)
     k_const = np.asarray(model.stiffness_Nm_per_rad, dtype=float).copy()
     springs = None if schedule is None else schedule.at
     C = None
-    if np.any(xi > 0.0):
+    if np.any(damping_ratios > 0.0):
         qc = q0 if damping_pose is None else vector("damping_pose", damping_pose, q0.size)
         k_c = k_const if springs is None else springs(qc)
-        C = damping_matrix(mass_matrix(pm, data, qc), np.diag(k_c), xi, damping)
+        C = damping_matrix(mass_matrix(pm, data, qc), np.diag(k_c), damping_ratios, damping)
     try:
         lengths = planar_lengths(pm, fid)
     except BeamInputError:
         lengths = None
-    return System(pm, data, fid, lengths, k_const, springs, C, force, constant_force)
+    return System(pm, data, fid, lengths, k_const, springs, C, tip_force_N, constant_force)
 
 
 def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | None
