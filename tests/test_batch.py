@@ -400,7 +400,7 @@ def test_batch_report_of_a_study(two_workers_dir, fitted, tmp_path):
 
 
 def test_report_correlations_and_failures():
-    from prbdm_pin.commands.batch_report import summarise
+    from prbdm_pin.batch import summarise
 
     rng = np.random.default_rng(0)
     taper = rng.random(30)

@@ -284,7 +284,7 @@ def test_fuzz_results_line(tmp_path, line):
     except BeamInputError as exc:
         assert "line 1" in str(exc)
         return
-    from prbdm_pin.commands.batch_report import summarise
+    from prbdm_pin.batch import summarise
 
     for r in recs:
         assert isinstance(r["beam_index"], int) and r["beam_index"] >= 0

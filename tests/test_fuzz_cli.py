@@ -155,7 +155,6 @@ def stubs(monkeypatch, tmp_path):
     """Replace each command's work (after its checks) by a sentinel."""
     import prbdm_pin.batch
     import prbdm_pin.benchmark
-    import prbdm_pin.commands.batch_report
     import prbdm_pin.commands.fit
     import prbdm_pin.commands.pareto
     import prbdm_pin.commands.simulate
@@ -168,7 +167,7 @@ def stubs(monkeypatch, tmp_path):
                       (prbdm_pin.commands.simulate, "load_model_and_fit"),
                       (prbdm_pin.batch, "run_batch"), (prbdm_pin.batch, "LocalPool"),
                       (prbdm_pin.batch, "DaskCluster"),
-                      (prbdm_pin.commands.batch_report, "load_study"),
+                      (prbdm_pin.batch, "load_study"),
                       (prbdm_pin.benchmark, "run_benchmark")]:
         monkeypatch.setattr(mod, name, _reached)
 

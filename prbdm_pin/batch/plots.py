@@ -1,15 +1,14 @@
-"""The figures of ``prbdm batch-report``: loss and link-fraction histograms, SCF_mean against
+"""The figures of a batch report: loss and link-fraction histograms, SCF_mean against
 the geometry features."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .batch_report import BatchReport
+from .report import FEATURES, BatchReport, column_values
 
 
 def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> list[str]:
@@ -19,8 +18,6 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from .batch_report import FEATURES, _values
 
     ok = [r for r in records if r.get("status") == "ok"]
     paths: list[str] = []
@@ -47,7 +44,7 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
     if rep.losses:
         fig, ax = plt.subplots(figsize=(6, 4))
         for d in rep.losses:
-            v = _values(ok, d.name)
+            v = column_values(ok, d.name)
             v = v[np.isfinite(v) & (v > 0)]
             if v.size:
                 bins = np.logspace(np.log10(v.min()), np.log10(v.max()) + 1e-9, 30)
@@ -73,9 +70,9 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
         save(fig, "gamma_1.png")
     if rep.scf_mean is not None:
         fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
-        y = _values(ok, "scf_mean")
+        y = column_values(ok, "scf_mean")
         for ax, f in zip(axes, FEATURES, strict=True):
-            ax.scatter(_values(ok, f), y, s=8, alpha=0.6)
+            ax.scatter(column_values(ok, f), y, s=8, alpha=0.6)
             ax.set_xlabel(f)
         axes[0].set_ylabel("SCF_mean")
         save(fig, "scf_mean_vs_geometry.png")

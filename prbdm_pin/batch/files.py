@@ -4,7 +4,7 @@ the arguments a resume must share with the records already there, and one file m
 A batch folder outlives the process that wrote it: it is copied between machines, merged from
 shards, edited, truncated by a full disk. Every defect found here is a BeamInputError that names
 the file, the line and the field. This module imports no numpy (the batch driver's workers
-import the batch module before BLAS is pinned).
+import the batch package before BLAS is pinned).
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from .errors import BeamInputError
-from .jsonfile import field_int, field_str, parse_json, read_json, require_mapping
+from ..errors import BeamInputError
+from ..jsonfile import field_int, field_str, parse_json, read_json, require_mapping
 
 __all__ = [
     "read_manifest", "parse_record", "check_records_match", "missing_shards", "output_mode",
@@ -193,7 +193,7 @@ def output_mode() -> int:
 def write_output(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` to ``path`` atomically with :func:`output_mode`; a file that already
     holds exactly ``text`` is left alone (a resume with nothing to do changes nothing)."""
-    from .geometry import atomic_write_text
+    from ..geometry import atomic_write_text
 
     p = Path(path)
     data = text.encode("utf-8")

@@ -1,0 +1,79 @@
+"""``batch.json``: the arguments that determine a batch's results, written by the first run and
+checked by every resume (field by field, naming the one that differs)."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+from ..errors import BeamInputError
+from .files import check_records_match, read_manifest, write_output
+from .records import read_records
+from .spec import BatchSpec, BeamTask
+
+__all__ = ["MANIFEST", "build_manifest", "check_manifest"]
+
+MANIFEST = "batch.json"
+
+
+def build_manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]:
+    """What ``batch.json`` records for ``spec`` (its beams: ``tasks``, from :func:`plan_tasks`)."""
+    from .. import __version__
+
+    settings = asdict(spec.settings)
+    settings.pop("cache_dir")
+    if settings["min_fraction"] == 0.02:
+        del settings["min_fraction"]  # the default: folders written before it existed resume
+    m: dict[str, Any] = {
+        "seed": spec.seed,
+        "settings": settings,
+        "shard": list(spec.shard),
+        "source": "random" if spec.n_beams is not None else "files",
+    }
+    if spec.n_beams is not None:
+        m["n_beams"] = spec.n_beams
+    else:
+        # the beams' content, not the folder's path, determines the results
+        m["beams"] = [[t.name, t.beam.fingerprint()] for t in tasks]
+    m["version"] = __version__
+    return m
+
+
+def check_manifest(path: Path, wanted: dict[str, Any], jsonl: Path) -> None:
+    """Refuse a folder made with other arguments than ``wanted`` (naming the field); a folder
+    without ``batch.json`` has its records in ``jsonl`` checked, then gets one."""
+    if not path.exists():
+        # records without their manifest: they still show the arguments they were made with
+        check_records_match(read_records(jsonl), wanted, jsonl)
+        write_output(path, json.dumps(wanted, indent=2) + "\n")
+        return
+    stored = read_manifest(path)
+    for key in sorted(set(stored) | set(wanted)):
+        if key == "version":
+            if stored.get(key) != wanted.get(key):
+                # allowed (a fix may be worth resuming with), but results then mix versions
+                import warnings
+
+                warnings.warn(f"{path} was written by prbdm_pin {stored.get(key)}; resuming "
+                              f"with {wanted.get(key)} mixes versions in one study",
+                              stacklevel=3)
+            continue
+        a, b = stored.get(key), wanted.get(key)
+        if isinstance(a, dict) and isinstance(b, dict):
+            for sub in sorted(set(a) | set(b)):
+                if a.get(sub) != b.get(sub):
+                    raise _mismatch(path, f"{key}.{sub}", a.get(sub), b.get(sub))
+        elif a != b:
+            shown = ("(different beam files)", "(different beam files)") if key == "beams" \
+                else (a, b)
+            raise _mismatch(path, key, *shown)
+
+
+def _mismatch(path: Path, key: str, stored: Any, wanted: Any) -> BeamInputError:
+    return BeamInputError(
+        f"{key} = {wanted!r}: {path} was written for {key} = {stored!r}; resume with the same "
+        f"arguments or use another output folder"
+    )

@@ -1,0 +1,193 @@
+"""What a batch computes and over which beams: the fit settings, the spec that determines the
+results, one task per beam of a shard.
+
+No numpy at import (see the package docstring): the settings are checked with plain Python.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ..errors import BeamInputError
+
+if TYPE_CHECKING:
+    from ..geometry import Beam
+
+__all__ = ["FitSettings", "BeamTask", "BatchSpec", "parse_shard", "plan_tasks", "check_int",
+           "check_choice", "OBJECTIVES", "STIFFNESS_KINDS", "TRUTH_MODELS", "EIGEN_NORMS",
+           "DEFAULT_EIGEN_NORM"]
+
+OBJECTIVES = ("eigen", "deflection", "combined")
+STIFFNESS_KINDS = ("paper", "joint")
+TRUTH_MODELS = ("plate", "plate-morley", "solid", "beam")
+EIGEN_NORMS = ("paper", "relative")  # objectives.EIGEN_NORMS (numpy-free here)
+DEFAULT_EIGEN_NORM = "relative"  # fitting.fit's default
+
+
+@dataclass(frozen=True)
+class FitSettings:
+    """What every beam of a batch computes: one truth and one fit.
+
+    Attributes
+    ----------
+    joints : int
+        Number of PRBDM joints n (n + 1 links).
+    frequencies : int or None
+        Number of truth frequencies matched (default: ``joints``).
+    objective : str
+        ``"eigen"``, ``"deflection"`` or ``"combined"``.
+    stiffness : str
+        ``"paper"`` (Eq. 14, one SCF per pose) or ``"joint"`` (one factor per joint).
+    starts : int
+        Multistart start points per fit.
+    truth_model : str
+        ``"plate"``, ``"solid"`` or ``"beam"`` (1D Euler-Bernoulli, milliseconds).
+    eigen_norm : str
+        ``"paper"`` (Eq. 16) or ``"relative"`` (rms of the per-mode relative errors).
+    cache_dir : str or None
+        Truth cache folder (does not change results, so it is not part of the manifest).
+    min_fraction : float
+        Eq. 15's lower bound on every link, a fraction of L (0.02); 0 < f < 1/(joints+1).
+    """
+
+    joints: int
+    frequencies: int | None = None
+    objective: str = "eigen"
+    stiffness: str = "paper"
+    starts: int = 64
+    truth_model: str = "plate"
+    eigen_norm: str = DEFAULT_EIGEN_NORM
+    cache_dir: str | None = None
+    min_fraction: float = 0.02
+
+    def __post_init__(self) -> None:
+        from ..layout import check_min_fraction
+
+        check_int("joints", self.joints, 1)
+        object.__setattr__(self, "min_fraction", check_min_fraction(self.min_fraction,
+                                                                    self.joints))
+        if self.frequencies is not None:
+            check_int("frequencies", self.frequencies, 1)
+        check_int("starts", self.starts, 1)
+        check_choice("objective", self.objective, OBJECTIVES)
+        check_choice("stiffness", self.stiffness, STIFFNESS_KINDS)
+        check_choice("truth_model", self.truth_model, TRUTH_MODELS)
+        check_choice("eigen_norm", self.eigen_norm, EIGEN_NORMS)
+
+    @property
+    def n_frequencies(self) -> int:
+        """Frequencies matched (``frequencies`` or ``joints``)."""
+        return self.joints if self.frequencies is None else self.frequencies
+
+
+@dataclass(frozen=True)
+class BeamTask:
+    """One work item: the beam of index ``index`` and what to compute for it.
+
+    ``beam`` is None for a random batch: the worker regenerates beam ``index`` from ``seed``
+    (cheaper to ship than the beam, and reproducible anywhere).
+    """
+
+    index: int
+    seed: int
+    settings: FitSettings
+    name: str
+    beam: Beam | None = None
+
+
+@dataclass(frozen=True)
+class BatchSpec:
+    """The arguments that determine a batch's results (they go into ``DIR/batch.json``).
+
+    Attributes
+    ----------
+    seed : int
+        Root seed of the per-beam ``SeedSequence``.
+    settings : FitSettings
+    n_beams : int or None
+        Number of random beams; None when the beams come from ``beams_dir``.
+    beams_dir : str or None
+        Folder of beam JSON files (sorted by file name; index = position).
+    shard : tuple of int
+        ``(i, N)``: this run takes the beams with index % N == i.
+    """
+
+    seed: int
+    settings: FitSettings
+    n_beams: int | None = None
+    beams_dir: str | None = None
+    shard: tuple[int, int] = (0, 1)
+
+    def __post_init__(self) -> None:
+        check_int("seed", self.seed, 0)
+        if (self.n_beams is None) == (self.beams_dir is None):
+            raise BeamInputError(
+                f"beams = {self.n_beams!r}, beams_dir = {self.beams_dir!r}: give exactly one"
+            )
+        if self.n_beams is not None:
+            check_int("beams", self.n_beams, 1)
+        i, n = self.shard
+        check_int("shard count", n, 1)
+        if not (isinstance(i, int) and 0 <= i < n):
+            raise BeamInputError(f"shard = {i}/{n}: the index must be in 0 .. {n - 1}")
+
+
+def check_int(name: str, value: Any, minimum: int) -> int:
+    """``value`` if it is an integer (not a bool) >= ``minimum``; else a BeamInputError naming
+    ``name``."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise BeamInputError(f"{name} = {value!r}: must be an integer >= {minimum}")
+    return value
+
+
+def check_choice(name: str, value: Any, choices: Sequence[str]) -> str:
+    """``value`` if it is one of ``choices``; else a BeamInputError naming ``name``."""
+    if value not in choices:
+        raise BeamInputError(f"{name} = {value!r}: must be one of {', '.join(choices)}")
+    return value
+
+
+def parse_shard(text: str) -> tuple[int, int]:
+    """Parse ``"i/N"`` into ``(i, N)`` with 0 <= i < N."""
+    try:
+        i_s, n_s = text.split("/")
+        i, n = int(i_s), int(n_s)
+    except ValueError:
+        raise BeamInputError(f"shard = {text!r}: must be i/N, e.g. 0/4") from None
+    if n < 1 or not 0 <= i < n:
+        raise BeamInputError(f"shard = {text!r}: needs N >= 1 and 0 <= i < N")
+    return i, n
+
+
+def plan_tasks(spec: BatchSpec) -> list[BeamTask]:
+    """Every beam of this run's shard, by ascending index.
+
+    Beam files are read and validated here, before any work starts, and shipped to the workers
+    (a cluster needs no shared file system).
+    """
+    i_shard, n_shard = spec.shard
+    if spec.n_beams is not None:
+        return [BeamTask(i, spec.seed, spec.settings, f"beam-{i}")
+                for i in range(i_shard, spec.n_beams, n_shard)]
+    from ..geometry import load_beam
+
+    folder = Path(spec.beams_dir)
+    if not folder.is_dir():
+        raise BeamInputError(f"beams_dir = {str(folder)!r}: not a folder")
+    files = sorted(folder.glob("*.json"))
+    if not files:
+        raise BeamInputError(f"beams_dir = {str(folder)!r}: holds no *.json beam files")
+    tasks = []
+    for i, path in enumerate(files):
+        if i % n_shard != i_shard:
+            continue
+        try:
+            beam = load_beam(path)
+        except BeamInputError as exc:
+            raise BeamInputError(f"beam file {path.name}: {exc}") from None
+        tasks.append(BeamTask(i, spec.seed, spec.settings, path.stem, beam))
+    return tasks
+
