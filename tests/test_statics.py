@@ -8,10 +8,11 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipk
 
-from prbdm_pin import dynamics as dyn
+from prbdm_pin import statics
 from prbdm_pin.errors import SolveError
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
+from prbdm_pin.planar import ChainPotential
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 BEAM = load_beam(BEAMS / "uniform-narrow.json")
@@ -82,7 +83,7 @@ def test_hessian_is_exact():
     lengths = np.array([0.1, 0.25, 0.2, 0.3, 0.15])
     k = np.array([900.0, 700.0, 400.0, 150.0])
     F = np.array([-800.0, 0.0, -1500.0])
-    pot = dyn._Potential(lengths, k, F)
+    pot = ChainPotential(lengths, k, F)
     m = build_model(load_beam(BEAMS / "reference-random.json"), lengths, k)
     for _ in range(3):
         q = rng.uniform(-1.5, 1.5, 4)
@@ -124,13 +125,13 @@ def test_postbuckling_tip_angle():
 def test_non_convergence_raises_solve_error(chain32):
     F = np.array([0.0, 0.0, -10 * EI / L**2])
     with pytest.raises(SolveError, match="no equilibrium"):
-        dyn.static_deflection_planar(chain32.lengths_m, chain32.stiffness_Nm_per_rad, F,
+        statics.static_deflection_planar(chain32.lengths_m, chain32.stiffness_Nm_per_rad, F,
                                      rtol=0.0, max_iter=3)
 
 
 def test_free_function_matches_method(chain32):
     F = np.array([0.0, 0.0, -1.5 * EI / L**2])
-    q, p = dyn.static_deflection(chain32.pin_model, chain32.new_data(),
+    q, p = statics.static_deflection(chain32.pin_model, chain32.new_data(),
                                  chain32.stiffness_Nm_per_rad, chain32.tip_frame_id, F)
     q2, p2 = chain32.static_deflection(F)
     np.testing.assert_array_equal(q, q2)
