@@ -45,10 +45,23 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray | float:
                      b.reshape(-1, b.shape[-1])).reshape(a.shape[:-1])
 
 
-def _lever_arms(links_m: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _angles(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cosines and sines of the link angles phi_i = q_1 + ... + q_i, shape of ``Q``."""
+    phi = Q.cumsum(axis=-1)
+    return np.cos(phi), np.sin(phi)
+
+
+def _tip_xz(L0, links: np.ndarray, c: np.ndarray, s: np.ndarray):
+    """x and z of the tip (m) from the clamped length ``L0``, the links (..., n) and the
+    cosines and sines of their angles."""
+    return L0 + _dot(links, c), -_dot(links, s)
+
+
+def _lever_arms(links: np.ndarray, c: np.ndarray, s: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
     """(c_m, s_m) = sums over i >= m of L_i cos phi_i and L_i sin phi_i, shape (..., n)."""
-    rc = np.cumsum((links_m * np.cos(phi))[..., ::-1], axis=-1)[..., ::-1]
-    rs = np.cumsum((links_m * np.sin(phi))[..., ::-1], axis=-1)[..., ::-1]
+    # both in one pass: a numpy call costs as much as the arithmetic of a short chain
+    rc, rs = (np.array([c, s]) * links)[..., ::-1].cumsum(axis=-1)[..., ::-1]
     return rc, rs
 
 
@@ -61,11 +74,29 @@ def _upper(n: int) -> np.ndarray:
     return out
 
 
-def _lengths(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
+def _force_terms(rc: np.ndarray, rs: np.ndarray, fx: float, fz: float, stiffness: bool):
+    """J^T F and (when ``stiffness``, else None) d(J^T F)/dq of the force (fx, ., fz), N."""
+    jtf = -fx * rs - fz * rc
+    if not stiffness:
+        return jtf, None
+    return jtf, (-fx * rc + fz * rs)[..., _upper(rc.shape[-1])]
+
+
+def _chain(lengths_m: np.ndarray, Q: np.ndarray):
+    """Q as floats, and the lengths split into L_0 and the links, broadcast to the poses."""
+    Q = np.asarray(Q, dtype=float)
     L = np.asarray(lengths_m, dtype=float)
     shape = Q.shape[:-1] + (Q.shape[-1] + 1,)
-    # broadcast_to costs as much as the kinematics of a short chain: only when needed
-    return L if L.shape == shape else np.broadcast_to(L, shape)
+    if L.shape != shape:  # broadcast_to costs as much as the kinematics of a short chain
+        L = np.broadcast_to(L, shape)
+    return Q, L[..., 0], L[..., 1:]
+
+
+def _jacobians(rc: np.ndarray, rs: np.ndarray) -> np.ndarray:
+    J = np.zeros(rc.shape[:-1] + (3, rc.shape[-1]))
+    J[..., 0, :] = -rs
+    J[..., 2, :] = -rc
+    return J
 
 
 def tip_positions(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
@@ -73,12 +104,9 @@ def tip_positions(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
 
     ``lengths_m`` (n+1,) or stacked like ``Q`` (..., n+1), m. No input checks.
     """
-    Q = np.asarray(Q, dtype=float)
-    L = _lengths(lengths_m, Q)
-    phi = np.cumsum(Q, axis=-1)
+    Q, L0, links = _chain(lengths_m, Q)
     out = np.zeros(Q.shape[:-1] + (3,))
-    out[..., 0] = L[..., 0] + _dot(L[..., 1:], np.cos(phi))
-    out[..., 2] = -_dot(L[..., 1:], np.sin(phi))
+    out[..., 0], out[..., 2] = _tip_xz(L0, links, *_angles(Q))
     return out
 
 
@@ -88,47 +116,40 @@ planar_tips = tip_positions
 
 def tip_jacobians(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """World-aligned linear tip Jacobians (m/rad) at ``Q`` (rad, (..., n)), shape (..., 3, n)."""
-    Q = np.asarray(Q, dtype=float)
-    rc, rs = _lever_arms(_lengths(lengths_m, Q)[..., 1:], np.cumsum(Q, axis=-1))
-    J = np.zeros(Q.shape[:-1] + (3, Q.shape[-1]))
-    J[..., 0, :] = -rs
-    J[..., 2, :] = -rc
-    return J
+    Q, _, links = _chain(lengths_m, Q)
+    return _jacobians(*_lever_arms(links, *_angles(Q)))
 
 
 def planar_tip(lengths_m: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Tip position (m, (3,)) and linear tip Jacobian (m/rad, (3, n)) of one pose ``q`` (rad)."""
-    return tip_positions(lengths_m, q), tip_jacobians(lengths_m, q)
-
-
-def _force_terms(lengths_m, Q, force_N, stiffness: bool):
-    Q = np.asarray(Q, dtype=float)
-    rc, rs = _lever_arms(_lengths(lengths_m, Q)[..., 1:], np.cumsum(Q, axis=-1))
-    fx, fz = float(force_N[0]), float(force_N[2])
-    jtf = -fx * rs - fz * rc
-    if not stiffness:
-        return jtf, None
-    return jtf, (-fx * rc + fz * rs)[..., _upper(Q.shape[-1])]
+    q, L0, links = _chain(lengths_m, q)
+    c, s = _angles(q)
+    p = np.zeros(q.shape[:-1] + (3,))
+    p[..., 0], p[..., 2] = _tip_xz(L0, links, c, s)
+    return p, _jacobians(*_lever_arms(links, c, s))
 
 
 def generalised_force(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) -> np.ndarray:
     """J(q)^T F, N m: the joint torques of a dead tip force ``force_N`` (N, world, (3,)) at
     ``q`` (rad, (n,) or (..., n)); shape of ``q``."""
-    return _force_terms(lengths_m, q, force_N, False)[0]
+    return force_and_load_stiffness(lengths_m, q, force_N, stiffness=False)[0]
 
 
 def load_stiffness(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) -> np.ndarray:
     """d(J^T F)/dq, N m/rad, shape (n, n) (or (..., n, n) for stacked ``q``), symmetric: the
     stiffness a dead tip force adds to the joint springs with the sign of a force (the
     potential's Hessian is diag(K) minus it)."""
-    return _force_terms(lengths_m, q, force_N, True)[1]
+    return force_and_load_stiffness(lengths_m, q, force_N)[1]
 
 
 def force_and_load_stiffness(
-    lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`generalised_force` and :func:`load_stiffness` from one evaluation of the angles."""
-    return _force_terms(lengths_m, q, force_N, True)
+    lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray, stiffness: bool = True
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`generalised_force` and :func:`load_stiffness` (None unless ``stiffness``) from one
+    evaluation of the angles."""
+    q, _, links = _chain(lengths_m, q)
+    rc, rs = _lever_arms(links, *_angles(q))
+    return _force_terms(rc, rs, float(force_N[0]), float(force_N[2]), stiffness)
 
 
 def planar_mass_matrices(
@@ -203,23 +224,23 @@ class ChainPotential:
 
     def __init__(self, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
                  force_N: np.ndarray) -> None:
-        self.lengths = np.asarray(lengths_m, dtype=float)
+        lengths = np.asarray(lengths_m, dtype=float)
+        self.L0, self.links = lengths[..., 0], lengths[..., 1:]
         self.k = np.asarray(stiffness_Nm_per_rad, dtype=float)
-        self.force = np.asarray(force_N, dtype=float)
-        self.fx, self.fz = float(self.force[0]), float(self.force[2])
-        self.diag = np.arange(self.k.shape[-1])
+        self.fx, self.fz = float(force_N[0]), float(force_N[2])
+        self.K = np.diag(self.k) if self.k.ndim == 1 else None
 
-    def _chain(self, rows):
+    def _rows(self, rows):
         if rows is None:
-            return self.lengths, self.k
-        return self.lengths[rows], self.k[rows]
+            return self.L0, self.links, self.k
+        return self.L0[rows], self.links[rows], self.k[rows]
 
     def value(self, q: np.ndarray, lam: float = 1.0, rows: np.ndarray | None = None):
         """V at ``q`` (rad) under the load fraction ``lam``, J: a float for one chain, (r,) for
         the chains ``rows``."""
-        L, k = self._chain(rows)
-        p = tip_positions(L, q)
-        work = self.fx * p[..., 0] + self.fz * p[..., 2]
+        L0, links, k = self._rows(rows)
+        x, z = _tip_xz(L0, links, *_angles(q))
+        work = self.fx * x + self.fz * z
         if q.ndim == 1:
             return 0.5 * float(q @ (k * q)) - lam * float(work)
         return 0.5 * _dot(k * q, q) - lam * work
@@ -228,17 +249,19 @@ class ChainPotential:
                     hessian: bool = True):
         """Gradient (N m), Hessian (N m/rad, None unless ``hessian``) and the residual scale
         max(||K q||, ||lam J^T F||) (N m) of the convergence test, at ``q`` (rad)."""
-        L, k = self._chain(rows)
-        jtf, T = _force_terms(L, q, lam * self.force, hessian)
+        _, links, k = self._rows(rows)
+        rc, rs = _lever_arms(links, *_angles(q))
+        jtf, T = _force_terms(rc, rs, lam * self.fx, lam * self.fz, hessian)
         kq = k * q
         g = kq - jtf
         if q.ndim == 1:
             scale = max(math.sqrt(kq @ kq), math.sqrt(jtf @ jtf), 1e-300)
-        else:
-            scale = np.maximum(np.maximum(np.linalg.norm(kq, axis=1),
-                                          np.linalg.norm(jtf, axis=1)), 1e-300)
-        if not hessian:
+            return g, None if T is None else self.K - T, scale
+        scale = np.maximum(np.maximum(np.linalg.norm(kq, axis=1), np.linalg.norm(jtf, axis=1)),
+                           1e-300)
+        if T is None:
             return g, None, scale
         H = -T
-        H[..., self.diag, self.diag] += k
+        # the diagonal as a view: fancy-index assignment costs more than the rest for small n
+        np.einsum("...ii->...i", H)[...] += k
         return g, H, scale
