@@ -37,8 +37,9 @@ __all__ = [
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray | float:
-    """Sum over the last axis of a * b, in the order of summation the fits were first run with
-    (numpy's pairwise sum for one pose, einsum row by row for a stack): the same numbers."""
+    """Sum over the last axis of a * b: numpy's pairwise sum for one pose, einsum row by row for
+    a stack, the orders of summation the single and stacked statics have always used (the
+    fits' numbers do not move by a rounding)."""
     if a.ndim == 1:
         return (a * b).sum()
     return np.einsum("bi,bi->b", a.reshape(-1, a.shape[-1]),
