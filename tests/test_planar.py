@@ -180,3 +180,24 @@ def test_potential_of_a_stack_equals_its_chains(n):
         # gradient and Hessian are K q - J^T F and diag(K) - d(J^T F)/dq
         np.testing.assert_array_equal(g1, K[r] * Q[r] - generalised_force(L[r], Q[r], F))
         np.testing.assert_array_equal(H1, np.diag(K[r]) - load_stiffness(L[r], Q[r], F))
+
+
+def test_hessian_is_exact():
+    rng = np.random.default_rng(5)
+    lengths = np.array([0.1, 0.25, 0.2, 0.3, 0.15])
+    k = np.array([900.0, 700.0, 400.0, 150.0])
+    F = np.array([-800.0, 0.0, -1500.0])
+    pot = ChainPotential(lengths, k, F)
+    m = build_model(load_beam(BEAMS / "reference-random.json"), lengths, k)
+    for _ in range(3):
+        q = rng.uniform(-1.5, 1.5, 4)
+        g, H, _ = pot.derivatives(q, 1.0)
+        # gradient against Pinocchio's Jacobian, Hessian against central differences
+        np.testing.assert_allclose(g, k * q - m.tip_jacobian(q).T @ F, rtol=1e-12, atol=1e-10)
+        h = 1e-6
+        Hfd = np.column_stack([
+            (pot.derivatives(q + h * e, 1.0)[0] - pot.derivatives(q - h * e, 1.0)[0]) / (2 * h)
+            for e in np.eye(4)
+        ])
+        np.testing.assert_allclose(H, Hfd, rtol=1e-7, atol=1e-6)
+        np.testing.assert_array_equal(H, H.T)

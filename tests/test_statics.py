@@ -12,7 +12,6 @@ from prbdm_pin import statics
 from prbdm_pin.errors import SolveError
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
-from prbdm_pin.planar import ChainPotential
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 BEAM = load_beam(BEAMS / "uniform-narrow.json")
@@ -76,27 +75,6 @@ def test_residual_on_a_tapered_beam():
     for F in ([0.0, 0.0, -2500.0], [300.0, 0.0, -8000.0], [-2000.0, 50.0, -20000.0]):
         q, _ = m.static_deflection(np.array(F))
         assert relative_residual(m, q, np.array(F)) <= 1e-9
-
-
-def test_hessian_is_exact():
-    rng = np.random.default_rng(5)
-    lengths = np.array([0.1, 0.25, 0.2, 0.3, 0.15])
-    k = np.array([900.0, 700.0, 400.0, 150.0])
-    F = np.array([-800.0, 0.0, -1500.0])
-    pot = ChainPotential(lengths, k, F)
-    m = build_model(load_beam(BEAMS / "reference-random.json"), lengths, k)
-    for _ in range(3):
-        q = rng.uniform(-1.5, 1.5, 4)
-        g, H, _ = pot.derivatives(q, 1.0)
-        # gradient against Pinocchio's Jacobian, Hessian against central differences
-        np.testing.assert_allclose(g, k * q - m.tip_jacobian(q).T @ F, rtol=1e-12, atol=1e-10)
-        h = 1e-6
-        Hfd = np.column_stack([
-            (pot.derivatives(q + h * e, 1.0)[0] - pot.derivatives(q - h * e, 1.0)[0]) / (2 * h)
-            for e in np.eye(4)
-        ])
-        np.testing.assert_allclose(H, Hfd, rtol=1e-7, atol=1e-6)
-        np.testing.assert_array_equal(H, H.T)
 
 
 def test_tip_rotates_past_90_degrees(chain32):
