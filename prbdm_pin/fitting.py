@@ -60,13 +60,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .dynamics import (
-    modes_from_mass,
-    planar_tip,
-    planar_tips,
-    static_deflection_planar,
-    static_deflection_planar_batch,
-)
+from .eigen import modes_from_mass
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .objectives import (
@@ -79,6 +73,7 @@ from .objectives import (
     scf_mean,
     worst_mode_error_pct,
 )
+from .planar import planar_tip, planar_tips
 from .problem import (
     FitProblem,
     FitTarget,
@@ -98,6 +93,7 @@ from .problem import (
     unit_from_lengths,
 )
 from .results import FitResult, ParetoResult
+from .statics import static_deflection_planar, static_deflection_planar_batch
 
 __all__ = ["fit", "fit_pareto", "StartResult", "solve_start", "result_from_design"]
 

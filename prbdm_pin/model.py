@@ -16,10 +16,12 @@ import numpy as np
 import pinocchio as pin
 
 from . import dynamics as dyn
+from .eigen import eig_scaled
 from .errors import BeamInputError
 from .geometry import Beam, atomic_write_text
 from .layout import validate_lengths
 from .sections import LinkSections, _sections
+from .statics import static_deflection_planar
 from .urdf import (
     JOINT_EFFORT_LIMIT_NM,
     JOINT_LIMIT_RAD,
@@ -142,7 +144,7 @@ class PrbdmModel:
         self, q: np.ndarray | None = None, squared: bool = False
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
-        return dyn.eig_scaled(self.mass_matrix(q), self._s, squared)
+        return eig_scaled(self.mass_matrix(q), self._s, squared)
 
     def natural_frequencies_batch(
         self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False
@@ -153,7 +155,7 @@ class PrbdmModel:
         """
         if stiffness is not None:
             return dyn.natural_frequencies_batch(self.pin_model, self._data, Q, stiffness, squared)
-        return dyn.eig_scaled(dyn.mass_matrices(self.pin_model, self._data, Q), self._s, squared)
+        return eig_scaled(dyn.mass_matrices(self.pin_model, self._data, Q), self._s, squared)
 
     def modes(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
@@ -178,7 +180,7 @@ class PrbdmModel:
 
         Raises SolveError when no equilibrium is found.
         """
-        q = dyn.static_deflection_planar(
+        q = static_deflection_planar(
             self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
         )
         return q, self.tip_position(q)

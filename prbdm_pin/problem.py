@@ -26,12 +26,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .dynamics import (
-    eig_scaled,
-    planar_mass_matrices,
-    planar_tips,
-    static_deflection_planar_batch,
-)
+from .eigen import eig_scaled
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .objectives import (
@@ -40,7 +35,9 @@ from .objectives import (
     tip_displacement_errors,
     tip_position_errors,
 )
+from .planar import planar_mass_matrices, planar_tips
 from .sections import _planar_sections
+from .statics import static_deflection_planar_batch
 from .stiffness import _finite_segment
 
 if TYPE_CHECKING:

@@ -79,11 +79,11 @@ def require_finite(force: np.ndarray, *values: float) -> None:
                          "precision)")
 
 
-
 def off_saddle(pot, q: np.ndarray, step_rad: float = 1e-2) -> np.ndarray:
     """``q`` moved ``step_rad`` along the Hessian's most negative curvature (downhill in V),
     or ``q`` itself where V is convex there: a start for a descent that crawls near a saddle
-    (a straight column past its buckling load), with ``pot`` a ``dynamics._Potential``."""
+    (a straight column past its buckling load), with ``pot`` a
+    :class:`prbdm_pin.planar.ChainPotential`."""
     _, H, _ = pot.derivatives(q, 1.0)
     w, V = np.linalg.eigh(H)
     if w[0] > 0.0:

@@ -1,7 +1,7 @@
 """The fit's inner-loop kernels against the product path (Pinocchio) and independent quadrature:
-the closed-form planar mass matrix against CRBA, the closed-form tip against Pinocchio's
-kinematics, vectorised integrals against scipy.integrate.quad, and stacked designs against
-one-at-a-time evaluation."""
+vectorised integrals against scipy.integrate.quad, stacked designs against one-at-a-time
+evaluation, batched statics against Pinocchio's equilibrium (the closed-form chain itself against
+Pinocchio: tests/test_planar.py)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from prbdm_pin.dynamics import mass_matrices, planar_mass_matrices, planar_tip
 from prbdm_pin.geometry import load_beam, random_beam
 from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
@@ -34,37 +33,6 @@ def _beams():
     return [load_beam(p) for p in sorted(BEAMS.glob("*.json"))] + [
         random_beam(rng) for _ in range(3)
     ]
-
-
-@pytest.mark.parametrize("n", [1, 2, 3, 5, 8])
-def test_planar_mass_matrix_equals_pinocchio_crba(n):
-    rng = np.random.default_rng(n)
-    for beam in _beams():
-        for lengths in sample_lengths(rng, beam.length_m, n + 1, 3):
-            model = build_model(beam, lengths, np.ones(n))
-            s = model.sections
-            Q = rng.uniform(-2.0, 2.0, (4, n))
-            ref = mass_matrices(model.pin_model, model.new_data(), Q)
-            M = planar_mass_matrices(lengths, s.mass_kg, s.com_m[:, 0] - s.start_m,
-                                     s.inertia_com_kg_m2[:, 1, 1], Q)
-            assert np.max(np.abs(M - ref)) <= 1e-13 * np.max(np.abs(ref))
-
-
-def test_planar_tip_equals_pinocchio_kinematics():
-    rng = np.random.default_rng(3)
-    beam = load_beam(BEAMS / "reference-random.json")
-    for n in (1, 4, 7):
-        for lengths in sample_lengths(rng, beam.length_m, n + 1, 3):
-            model = build_model(beam, lengths, np.ones(n))
-            q = rng.uniform(-1.5, 1.5, n)
-            p, J = planar_tip(lengths, q)
-            np.testing.assert_allclose(p, model.tip_position(q), rtol=0, atol=1e-14)
-            np.testing.assert_allclose(J, model.tip_jacobian(q), rtol=0, atol=1e-14)
-            # the one-pass call of the statics path gives the same placement and Jacobian
-            pk, Jk = model.tip_kinematics(q)
-            np.testing.assert_allclose(pk, p, rtol=0, atol=1e-14)
-            np.testing.assert_allclose(Jk, J, rtol=0, atol=1e-14)
-            assert Jk.shape == (3, n)
 
 
 def test_inv_width_integral_against_quadrature_and_stacks():
@@ -122,7 +90,8 @@ def _pin_residual(model, q, F) -> float:
 
 @pytest.mark.parametrize("n", [1, 2, 4, 8])
 def test_batched_statics_satisfy_pinocchio_equilibrium(n):
-    from prbdm_pin.dynamics import planar_tips, static_deflection_planar_batch
+    from prbdm_pin.planar import planar_tips
+    from prbdm_pin.statics import static_deflection_planar_batch
 
     rng = np.random.default_rng(n)
     beam = load_beam(BEAMS / "reference-random.json")
@@ -148,7 +117,8 @@ def test_batched_statics_satisfy_pinocchio_equilibrium(n):
 
 
 def test_batched_statics_match_the_elastica_table():
-    from prbdm_pin.dynamics import planar_tips, static_deflection_planar_batch
+    from prbdm_pin.planar import planar_tips
+    from prbdm_pin.statics import static_deflection_planar_batch
 
     # inextensible elastica under a dead tip load (Mattiasson 1981, Table 1): P L^2/EI,
     # retreat (L - x)/L, deflection -z/L; 32 equal segments, springs EI/h, half links at the ends

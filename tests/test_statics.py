@@ -8,7 +8,7 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipk
 
-from prbdm_pin import dynamics as dyn
+from prbdm_pin import statics
 from prbdm_pin.errors import SolveError
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
@@ -77,27 +77,6 @@ def test_residual_on_a_tapered_beam():
         assert relative_residual(m, q, np.array(F)) <= 1e-9
 
 
-def test_hessian_is_exact():
-    rng = np.random.default_rng(5)
-    lengths = np.array([0.1, 0.25, 0.2, 0.3, 0.15])
-    k = np.array([900.0, 700.0, 400.0, 150.0])
-    F = np.array([-800.0, 0.0, -1500.0])
-    pot = dyn._Potential(lengths, k, F)
-    m = build_model(load_beam(BEAMS / "reference-random.json"), lengths, k)
-    for _ in range(3):
-        q = rng.uniform(-1.5, 1.5, 4)
-        g, H, _ = pot.derivatives(q, 1.0)
-        # gradient against Pinocchio's Jacobian, Hessian against central differences
-        np.testing.assert_allclose(g, k * q - m.tip_jacobian(q).T @ F, rtol=1e-12, atol=1e-10)
-        h = 1e-6
-        Hfd = np.column_stack([
-            (pot.derivatives(q + h * e, 1.0)[0] - pot.derivatives(q - h * e, 1.0)[0]) / (2 * h)
-            for e in np.eye(4)
-        ])
-        np.testing.assert_allclose(H, Hfd, rtol=1e-7, atol=1e-6)
-        np.testing.assert_array_equal(H, H.T)
-
-
 def test_tip_rotates_past_90_degrees(chain32):
     # a load pointing back and down at 135 degrees: the tip turns towards it, past 90 degrees
     P = 20.0 * EI / L**2
@@ -124,13 +103,13 @@ def test_postbuckling_tip_angle():
 def test_non_convergence_raises_solve_error(chain32):
     F = np.array([0.0, 0.0, -10 * EI / L**2])
     with pytest.raises(SolveError, match="no equilibrium"):
-        dyn.static_deflection_planar(chain32.lengths_m, chain32.stiffness_Nm_per_rad, F,
+        statics.static_deflection_planar(chain32.lengths_m, chain32.stiffness_Nm_per_rad, F,
                                      rtol=0.0, max_iter=3)
 
 
 def test_free_function_matches_method(chain32):
     F = np.array([0.0, 0.0, -1.5 * EI / L**2])
-    q, p = dyn.static_deflection(chain32.pin_model, chain32.new_data(),
+    q, p = statics.static_deflection(chain32.pin_model, chain32.new_data(),
                                  chain32.stiffness_Nm_per_rad, chain32.tip_frame_id, F)
     q2, p2 = chain32.static_deflection(F)
     np.testing.assert_array_equal(q, q2)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbdm_pin import dynamics as dyn
+from prbdm_pin import statics
 from prbdm_pin.errors import BeamInputError, SolveError
 from prbdm_pin.statics_guard import max_load_index
 
@@ -24,9 +24,9 @@ def one_r_angle(P: float) -> float:
 @pytest.mark.parametrize("alpha", [0.5, 3.0, 50.0, 1e3, 1e5])
 def test_one_link_matches_closed_form_up_to_large_loads(alpha):
     P = alpha * K1 / L1
-    q = dyn.static_deflection_planar(np.array([L0, L1]), np.array([K1]), [0.0, 0.0, -P])
+    q = statics.static_deflection_planar(np.array([L0, L1]), np.array([K1]), [0.0, 0.0, -P])
     assert q[0] == pytest.approx(one_r_angle(P), rel=1e-8, abs=1e-12)
-    qb, ok = dyn.static_deflection_planar_batch(np.array([L0, L1]), np.array([[K1]]),
+    qb, ok = statics.static_deflection_planar_batch(np.array([L0, L1]), np.array([[K1]]),
                                                 [0.0, 0.0, -P])
     assert ok[0] and qb[0, 0] == pytest.approx(one_r_angle(P), rel=1e-8, abs=1e-12)
 
@@ -47,7 +47,7 @@ def test_four_link_equilibrium_balances_the_moments(alpha):
     lengths = np.array([0.05, 0.3, 0.25, 0.2, 0.2])
     k = np.array([4.0, 3.0, 2.0, 1.0])
     F = np.array([0.3, 0.0, -1.0]) * alpha * k.max() / lengths[1:].sum()
-    q = dyn.static_deflection_planar(lengths, k, F)
+    q = statics.static_deflection_planar(lengths, k, F)
     np.testing.assert_allclose(k * q, joint_torques(lengths, q, F), rtol=1e-7,
                                atol=1e-9 * np.abs(k * q).max())
     assert np.abs(q).max() > 1e-3  # a real deflection, not the straight pose
@@ -63,13 +63,13 @@ def test_loads_beyond_double_precision_are_refused_naming_the_load(alpha, direct
     k = np.array([3.0, 2.0, 1.0])
     F = np.array([direction[0], 0.0, direction[1]]) * alpha * k.max() / lengths[1:].sum()
     with pytest.raises(SolveError, match=r"tip_force = .*load index"):
-        dyn.static_deflection_planar(lengths, k, F)
-    q, ok = dyn.static_deflection_planar_batch(lengths, np.array([k, k * alpha]), F)
+        statics.static_deflection_planar(lengths, k, F)
+    q, ok = statics.static_deflection_planar_batch(lengths, np.array([k, k * alpha]), F)
     assert not ok[0] and np.isnan(q[0]).all()
     if alpha <= 1e100:
         # springs scaled with the load: load index 1, the equilibrium of F / alpha on k
         assert ok[1]
-        np.testing.assert_allclose(q[1], dyn.static_deflection_planar(lengths, k, F / alpha),
+        np.testing.assert_allclose(q[1], statics.static_deflection_planar(lengths, k, F / alpha),
                                    rtol=1e-8, atol=1e-12)
     else:
         assert not ok[1] and np.isnan(q[1]).all()  # k alpha pi overflows the squared norms
@@ -80,8 +80,8 @@ def test_overflowing_springs_and_loads_at_a_moderate_index_are_refused():
     lengths, k = np.array([L0, L1]), np.array([1e160])
     F = np.array([0.0, 0.0, -1e160 / L1])
     with pytest.raises(SolveError, match="tip_force"):
-        dyn.static_deflection_planar(lengths, k, F)
-    q, ok = dyn.static_deflection_planar_batch(lengths, k[None], F)
+        statics.static_deflection_planar(lengths, k, F)
+    q, ok = statics.static_deflection_planar_batch(lengths, k[None], F)
     assert not ok[0] and np.isnan(q[0, 0])
 
 
@@ -90,10 +90,10 @@ def test_the_refusal_bound_is_where_the_residual_test_stops_resolving():
     bound = max_load_index(1e-10)
     assert bound == pytest.approx(math.pi * 1e-10 / np.finfo(float).eps)
     P = 0.5 * bound * K1 / L1
-    q = dyn.static_deflection_planar(np.array([L0, L1]), np.array([K1]), [0.0, 0.0, -P])
+    q = statics.static_deflection_planar(np.array([L0, L1]), np.array([K1]), [0.0, 0.0, -P])
     assert q[0] == pytest.approx(one_r_angle(P), rel=1e-8)
     with pytest.raises(SolveError, match="load index"):
-        dyn.static_deflection_planar(np.array([L0, L1]), np.array([K1]),
+        statics.static_deflection_planar(np.array([L0, L1]), np.array([K1]),
                                      [0.0, 0.0, -2.0 * bound * K1 / L1])
 
 
@@ -101,9 +101,9 @@ def test_the_refusal_bound_is_where_the_residual_test_stops_resolving():
 def test_non_finite_loads_raise_naming_the_load(bad):
     for F in ([0.0, 0.0, bad], [bad, 0.0, 1.0]):
         with pytest.raises(BeamInputError, match="tip_force"):
-            dyn.static_deflection_planar(np.array([L0, L1]), np.array([K1]), F)
+            statics.static_deflection_planar(np.array([L0, L1]), np.array([K1]), F)
         with pytest.raises(BeamInputError, match="tip_force"):
-            dyn.static_deflection_planar_batch(np.array([L0, L1]), np.array([[K1]]), F)
+            statics.static_deflection_planar_batch(np.array([L0, L1]), np.array([[K1]]), F)
 
 
 @pytest.mark.parametrize("n, alpha", [(1, 3.0), (3, 10.0), (8, 0.1), (8, 100.0)])
@@ -114,7 +114,7 @@ def test_axial_compression_past_buckling_finds_the_buckled_equilibrium(n, alpha)
     lengths, k = rng.uniform(0.05, 0.4, n + 1), rng.uniform(0.5, 5.0, n)
     F = np.array([-1.0, 0.0, 1e-16]) * alpha * k.max() / lengths[1:].sum()
     try:
-        q = dyn.static_deflection_planar(lengths, k, F)
+        q = statics.static_deflection_planar(lengths, k, F)
     except SolveError:
         # only a load below the chain's buckling load may keep it straight; none of these is
         pytest.fail("no equilibrium found")

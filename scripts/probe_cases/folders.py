@@ -101,7 +101,7 @@ def _balanced(lengths, k, q, F) -> None:
 
 def _statics_case(n: int, exp: float, angle_deg: float):
     def fn():
-        from prbdm_pin import dynamics as dyn
+        from prbdm_pin import statics
         from prbdm_pin.errors import SolveError
 
         rng = np.random.default_rng(int(1000 * n + 10 * exp + angle_deg))
@@ -110,14 +110,14 @@ def _statics_case(n: int, exp: float, angle_deg: float):
         a = math.radians(angle_deg)
         F = 10.0**exp * k.max() / L[1:].sum() * np.array([math.cos(a), 0.0, math.sin(a)])
         try:
-            q = dyn.static_deflection_planar(L, k, F)
+            q = statics.static_deflection_planar(L, k, F)
         except SolveError as exc:
             assert "tip_force" in str(exc), f"SolveError does not name the load: {exc}"
             # a load index the residual test resolves must be answered, not refused
             assert exp > 5, f"load index 1e{exp:g} refused: {exc}"
         else:
             _balanced(L, k, q, F)
-        qb, ok = dyn.static_deflection_planar_batch(L, k[None], F)
+        qb, ok = statics.static_deflection_planar_batch(L, k[None], F)
         if ok[0]:
             _balanced(L, k, qb[0], F)
         else:
@@ -128,13 +128,13 @@ def _statics_case(n: int, exp: float, angle_deg: float):
 
 def _nonfinite_case(bad: float, where: int):
     def fn():
-        from prbdm_pin import dynamics as dyn
+        from prbdm_pin import statics
         from prbdm_pin.errors import BeamInputError
 
         F = [0.0, 0.0, -1.0]
         F[where] = bad
-        for solve in (lambda: dyn.static_deflection_planar([0.1, 0.4], [2.0], F),
-                      lambda: dyn.static_deflection_planar_batch([0.1, 0.4], [[2.0]], F)):
+        for solve in (lambda: statics.static_deflection_planar([0.1, 0.4], [2.0], F),
+                      lambda: statics.static_deflection_planar_batch([0.1, 0.4], [[2.0]], F)):
             try:
                 solve()
             except BeamInputError as exc:
