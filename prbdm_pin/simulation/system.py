@@ -25,10 +25,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import pinocchio as pin
 
+from .. import planar
 from ..damping import damping_matrix
 from ..dynamics import planar_lengths
 from ..errors import BeamInputError
@@ -180,12 +182,7 @@ def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | No
     pm, fid = model.pin_model, int(model.tip_frame_id)
     tip = np.empty((len(Q), 3))
     if lengths is not None:
-        # joint i (1-based) turns link i to the world angle q_1 + ... + q_i about +y
-        phi = np.cumsum(Q, axis=1)
-        tip[:, 0] = lengths[0] + np.cos(phi) @ lengths[1:]
-        tip[:, 1] = 0.0
-        tip[:, 2] = -(np.sin(phi) @ lengths[1:])
-        return tip
+        return planar.tip_positions(lengths, Q)
     for i, q in enumerate(Q):
         pin.framesForwardKinematics(pm, data, q)
         tip[i] = data.oMf[fid].translation
@@ -200,27 +197,9 @@ def generalised_force(pm, data, fid, lengths):
     frame Jacobian and forward differences otherwise.
     """
     if lengths is not None:
-        links = lengths[1:]
-        n = links.size
-        # tail[j, i] = 1 for i >= j: joint j carries the links beyond it
-        tail = np.triu(np.ones((n, n)))
-        upper = np.maximum.outer(np.arange(n), np.arange(n))
-
-        def tau_ext(q, f):
-            phi = np.cumsum(q)
-            return tail @ (links * (-f[0] * np.sin(phi) - f[2] * np.cos(phi)))
-
-        def load_stiffness(q, f):
-            phi = np.cumsum(q)
-            return (tail @ (links * (-f[0] * np.cos(phi) + f[2] * np.sin(phi))))[upper]
-
-        def both(q, f):
-            phi = np.cumsum(q)
-            s, c = np.sin(phi), np.cos(phi)
-            return (tail @ (links * (-f[0] * s - f[2] * c)),
-                    (tail @ (links * (-f[0] * c + f[2] * s)))[upper])
-
-        return tau_ext, load_stiffness, both
+        return (partial(planar.generalised_force, lengths),
+                partial(planar.load_stiffness, lengths),
+                partial(planar.force_and_load_stiffness, lengths))
 
     lwa = pin.LOCAL_WORLD_ALIGNED
 
