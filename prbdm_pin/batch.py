@@ -260,7 +260,7 @@ def beam_of(task: BeamTask) -> Beam:
         return task.beam
     import numpy as np
 
-    from .geometry import random_beam
+    from .random_beams import random_beam
 
     rng = np.random.default_rng(_beam_seed_sequence(task.seed, task.index))
     return random_beam(rng, name=task.name)
@@ -403,7 +403,7 @@ def plan_tasks(spec: BatchSpec) -> list[BeamTask]:
     if spec.n_beams is not None:
         return [BeamTask(i, spec.seed, spec.settings, f"beam-{i}")
                 for i in range(i_shard, spec.n_beams, n_shard)]
-    from .geometry import load_beam
+    from .beam_file import load_beam
 
     folder = Path(spec.beams_dir)
     if not folder.is_dir():

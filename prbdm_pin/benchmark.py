@@ -35,8 +35,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .beam_file import load_beam
 from .errors import BeamInputError, SolveError
-from .geometry import Beam, load_beam, random_beam
+from .geometry import Beam
+from .random_beams import random_beam
 
 __all__ = [
     "BenchConfig",

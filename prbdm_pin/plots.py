@@ -4,12 +4,11 @@ knee (Fig. 11). Every function writes a PNG atomically and returns its path."""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 
-from .atomic import mkstemp
+from .io import atomic_path
 
 __all__ = ["plot_planform", "plot_scf", "plot_pareto"]
 
@@ -25,15 +24,10 @@ def _pyplot():
 
 def _save(fig, path) -> Path:
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = mkstemp(p.parent, prefix=f".{p.name}.", suffix=".tmp")
-    os.close(fd)
     try:
-        fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")
-        os.replace(tmp, p)
+        with atomic_path(p) as tmp:
+            fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
         _pyplot().close(fig)
     return p
 

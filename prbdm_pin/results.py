@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .geometry import atomic_write_text
+from .io import atomic_write_text
 
 if TYPE_CHECKING:
     from .truth.request import TruthRequest
@@ -411,8 +411,8 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
 
 def fit_beam(d: dict[str, Any], what: str = "fit.json"):
     """The Beam embedded in a fit.json mapping, or None when it has none."""
+    from .beam_file import beam_from_dict
     from .errors import BeamInputError
-    from .geometry import beam_from_dict
 
     b = d.get("beam") if isinstance(d, dict) else None
     if b is None:

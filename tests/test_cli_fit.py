@@ -116,7 +116,7 @@ def test_missing_truth_file_is_an_input_error(tmp_path, capsys):
 def test_fit_json_alone_drives_export_and_simulate(truth_file, tmp_path):
     """fit.json carries its beam: export and simulate need no --beam, and the exported model has
     the Euler-Bernoulli frequencies the fit matched."""
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.results import fit_beam
 
     path, omega, _ = truth_file

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from prbdm_pin.batch import BeamTask, FitSettings, evaluate_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.problem import FitTarget
 
 BEAM = "examples/beams/uniform-narrow.json"

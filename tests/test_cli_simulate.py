@@ -12,8 +12,8 @@ import json
 import numpy as np
 import pytest
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.response import dynamic_accuracy, euler_bernoulli_modal_tip, truth_modal_tip
 from prbdm_pin.results import load_fit

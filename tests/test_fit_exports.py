@@ -14,8 +14,8 @@ import json
 import numpy as np
 import pytest
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model, load_urdf
 from prbdm_pin.problem import FitTarget, batch_losses, evaluate, make_problem, target_from_truth
 from prbdm_pin.results import FitResult, load_fit, save_fit

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.dynamics import mass_matrices, planar_mass_matrices, planar_tip
-from prbdm_pin.geometry import load_beam, random_beam
 from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
 from prbdm_pin.problem import (
@@ -22,6 +22,7 @@ from prbdm_pin.problem import (
     make_problem,
     unit_frequencies,
 )
+from prbdm_pin.random_beams import random_beam
 from prbdm_pin.sections import _planar_sections, _sections
 from prbdm_pin.stiffness import _inv_width_integral, finite_segment_stiffness
 

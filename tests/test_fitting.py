@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.problem import FitTarget, evaluate, make_problem, model_target
 from prbdm_pin.results import FitResult

@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.geometry import load_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.model import build_model
 
 BEAM = load_beam(Path(__file__).resolve().parent.parent / "examples" / "beams" /

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import prbdm_pin.simulation as sim
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.simulation import (
     StiffnessSchedule,

@@ -9,8 +9,8 @@ from scipy.optimize import brentq
 from scipy.special import ellipk
 
 from prbdm_pin import dynamics as dyn
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import SolveError
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"

@@ -6,8 +6,8 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"

@@ -7,8 +7,10 @@ import pytest
 from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, Material, load_beam
+from prbdm_pin.geometry import Beam
+from prbdm_pin.material import Material
 from prbdm_pin.truth.elastica import elastica_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.truth import CoarseTruthError, compute_modal, compute_truth
 from prbdm_pin.truth.modes import mac_matrix
 

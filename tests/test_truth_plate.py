@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import TruthError
-from prbdm_pin.geometry import load_beam, random_beam
+from prbdm_pin.random_beams import random_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.mesh import CORNER_PASSES, planform_tri_mesh, reentrant_vertices
 from prbdm_pin.truth.plate import plate_modes

@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, Material, load_beam
+from prbdm_pin.geometry import Beam
+from prbdm_pin.material import Material
 from prbdm_pin.truth import compute_truth, solid
 from prbdm_pin.truth.modes import label_modes
 from prbdm_pin.truth.solid import default_solid_level, solid_modal, solid_static

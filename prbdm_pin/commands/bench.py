@@ -62,7 +62,7 @@ def run(args) -> int:
         run_benchmark,
         work_units,
     )
-    from ..geometry import atomic_write_text
+    from ..io import atomic_write_text
     from ..output_folder import output_folder
 
     check_options(args)

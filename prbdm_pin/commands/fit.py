@@ -291,8 +291,8 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    from ..beam_file import load_beam
     from ..fitting import fit
-    from ..geometry import load_beam
 
     check_options(args)
     beam = load_beam(args.beam)

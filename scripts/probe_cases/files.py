@@ -86,8 +86,8 @@ def _beam_doc() -> dict:
 
 @functools.cache
 def _fit_doc() -> dict:
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.fitting import fit
-    from prbdm_pin.geometry import load_beam
     from prbdm_pin.problem import FitTarget
     from prbdm_pin.results import save_fit
 
@@ -111,7 +111,7 @@ def _fit(**changes) -> dict:
 
 @functools.cache
 def _model():
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.model import build_model
 
     return build_model(load_beam(TAPERED), [0.2, 0.25, 0.15], [1200.0, 1100.0])
@@ -418,7 +418,7 @@ def _read_model_json(d):
 
 
 def _load_beam(content):
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
 
     return lambda: load_beam(_file(content))
 
@@ -433,7 +433,7 @@ def _digits(n):
 
 
 def _long_urdf(n):
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.model import build_model
 
     beam = load_beam(TAPERED)
@@ -517,8 +517,8 @@ def _fingerprint_mismatch():
 def _special_name():
     import mujoco
 
+    from prbdm_pin.beam_file import beam_from_dict
     from prbdm_pin.export import mjcf_text, urdf_text
-    from prbdm_pin.geometry import beam_from_dict
     from prbdm_pin.model import build_model
 
     name = 'a<b>&"c\'d'
