@@ -46,8 +46,8 @@ _EXPORTS = {
     "fit_pareto": "fitting",
     "FitResult": "results",
     "ParetoResult": "results",
-    "load_fit": "results",
-    "save_fit": "results",
+    "load_fit": "fit_file",
+    "save_fit": "fit_file",
     # simulation and exports
     "simulate": "simulation",
     "Trajectory": "simulation",

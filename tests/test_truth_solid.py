@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse.linalg
+from reference import ELASTICA
 
 from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
@@ -237,12 +238,12 @@ def test_square_plate_default_level():
 
 
 # Elastica table ((L - x)/L, y/L): Mattiasson (1981) Table 1
-# (reference/elastica_vertical_tip_load.csv).
+# (tests/reference.py).
 @pytest.mark.parametrize(
     "alpha2, retreat, deflection",
     [
-        (1.0, 0.056433, 0.301721),
-        pytest.param(2.0, 0.160642, 0.493457, marks=pytest.mark.slow),
+        (1.0, *ELASTICA[1.0]),
+        pytest.param(2.0, *ELASTICA[2.0], marks=pytest.mark.slow),
     ],
 )
 def test_large_deflection_matches_elastica_table(narrow, alpha2, retreat, deflection):

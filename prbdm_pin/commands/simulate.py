@@ -130,7 +130,8 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
             else f"a JSON {type(d).__name__}")
         raise BeamInputError(f"MODEL {path!r}: is {what}, not a fit.json, a model JSON "
                              "(prbdm export --format json) or a URDF")
-    from ..results import FitResult, fit_beam
+    from ..fit_file import fit_beam
+    from ..results import FitResult
 
     what = f"MODEL {path!r}"
     beam = load_beam(beam_path) if beam_path is not None else fit_beam(d, what)

@@ -87,9 +87,9 @@ def _beam_doc() -> dict:
 @functools.cache
 def _fit_doc() -> dict:
     from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.fit_file import save_fit
     from prbdm_pin.fitting import fit
     from prbdm_pin.problem import FitTarget
-    from prbdm_pin.results import save_fit
 
     beam = load_beam(TAPERED)
     r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, 2, starts=1, seed=0,
@@ -139,7 +139,7 @@ def _urdf(root) -> Path:
 
 
 def _load_fit(d):
-    from prbdm_pin.results import load_fit
+    from prbdm_pin.fit_file import load_fit
 
     return lambda: load_fit(_file(d))
 
