@@ -98,22 +98,22 @@ class AtomicFile:
             _discard(self._tmp)
 
 
-def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (the folder is created when missing)."""
+def _write(path: str | os.PathLike, data: str | bytes, mode: str) -> Path:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
-    with AtomicFile(p, "wb") as fh:
+    with AtomicFile(p, mode) as fh:
         fh.write(data)
     return p
 
 
+def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically (the folder is created when missing)."""
+    return _write(path, data, "wb")
+
+
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` (UTF-8) to ``path`` atomically (the folder is created when missing)."""
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    with AtomicFile(p, "w") as fh:
-        fh.write(text)
-    return p
+    return _write(path, text, "w")
 
 
 def atomic_write_json(path: str | os.PathLike, obj: Any, indent: int = 2) -> Path:

@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
 from skfem import Basis
 
 from prbdm_pin.beam_file import load_beam, save_beam
@@ -19,7 +20,7 @@ from prbdm_pin.truth.plate import ElementTriArgyrisLocal
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # Euler-Bernoulli clamped-free: beta_n L
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.99554073, 14.13716839])
+BETA_L = REF_BETA_L[:5]
 
 
 def _strip_omega(beam: Beam) -> np.ndarray:

@@ -5,7 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse.linalg
-from reference import ELASTICA
+from reference import BETA_L as REF_BETA_L
+from reference import ELASTICA, SQUARE_PLATE
 
 from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
@@ -17,10 +18,10 @@ from prbdm_pin.truth.solid import default_solid_level, solid_modal, solid_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # Cantilever eigenvalues beta_n L (e.g. Blevins, Formulas for Natural Frequency and Mode Shape).
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.9955407, 14.1371684])
+BETA_L = REF_BETA_L[:5]
 # Converged Kirchhoff cantilever plate, nu = 0.3: omega a^2 sqrt(rho h / D), first five modes
-# (reference/cantilever_plate_square.md; Leissa's Ritz values sit 0.2-0.7 % above).
-PLATE = np.array([3.4710, 8.5063, 21.284, 27.199, 30.955])
+# (tests/reference.py).
+PLATE = SQUARE_PLATE
 
 
 @pytest.fixture(scope="module")
