@@ -12,13 +12,13 @@ from typing import Any
 __version__ = "0.1.0"
 
 _EXPORTS = {
-    # geometry
-    "Material": "geometry",
+    # beam input
+    "Material": "material",
     "Beam": "geometry",
-    "load_beam": "geometry",
-    "save_beam": "geometry",
-    "random_beam": "geometry",
-    "beam_from_dict": "geometry",
+    "load_beam": "beam_file",
+    "save_beam": "beam_file",
+    "random_beam": "random_beams",
+    "beam_from_dict": "beam_file",
     # errors
     "BeamInputError": "errors",
     "SolveError": "errors",
@@ -46,8 +46,8 @@ _EXPORTS = {
     "fit_pareto": "fitting",
     "FitResult": "results",
     "ParetoResult": "results",
-    "load_fit": "results",
-    "save_fit": "results",
+    "load_fit": "fit_file",
+    "save_fit": "fit_file",
     # simulation and exports
     "simulate": "simulation",
     "Trajectory": "simulation",

@@ -65,6 +65,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from . import __version__
+from .beam_file import beam_from_dict
 from .errors import BeamInputError
 from .export_record import (
     EXPORT_DAMPING_FORMS,
@@ -74,7 +75,8 @@ from .export_record import (
     export_record,
     read_export_record,
 )
-from .geometry import atomic_write_text, beam_from_dict, beam_to_dict
+from .geometry import beam_to_dict
+from .io import atomic_write_text
 
 __all__ = [
     "FORMATS",

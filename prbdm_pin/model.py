@@ -18,7 +18,8 @@ import pinocchio as pin
 from . import dynamics as dyn
 from .eigen import eig_scaled
 from .errors import BeamInputError
-from .geometry import Beam, atomic_write_text
+from .geometry import Beam
+from .io import atomic_write_text
 from .layout import validate_lengths
 from .sections import LinkSections, _sections
 from .statics import static_deflection_planar

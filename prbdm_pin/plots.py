@@ -9,12 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import mkstemp
+from .io import atomic_path
 
-__all__ = ["plot_planform", "plot_scf", "plot_pareto"]
+__all__ = ["plot_planform", "plot_scf", "plot_pareto", "pyplot", "save_figure"]
 
 
-def _pyplot():
+def pyplot():
+    """``matplotlib.pyplot`` on the Agg backend (no display needed)."""
     import matplotlib
 
     matplotlib.use("Agg", force=True)
@@ -23,18 +24,14 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path) -> Path:
+def save_figure(fig, path: str | os.PathLike) -> Path:
+    """Write ``fig`` as a PNG (120 dpi) to ``path`` atomically and close it."""
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = mkstemp(p.parent, prefix=f".{p.name}.", suffix=".tmp")
-    os.close(fd)
     try:
-        fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")
-        os.replace(tmp, p)
+        with atomic_path(p) as tmp:
+            fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        _pyplot().close(fig)
+        pyplot().close(fig)
     return p
 
 
@@ -51,7 +48,7 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
     """
     from .sections import link_sections
 
-    plt = _pyplot()
+    plt = pyplot()
     lengths = np.asarray(lengths_m, dtype=float)
     # any fitted layout, also one with links below Eq. 15's default 0.02 L (--min-link)
     sec = link_sections(beam, lengths,
@@ -76,13 +73,13 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
     ax.set_ylim(-1.5 * wmax, 1.2 * wmax)
     ax.set_title(title or f"{beam.name}: {lengths.size - 1}R PRBDM")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_scf(result, path) -> Path:
     """SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis; the
     exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted."""
-    plt = _pyplot()
+    plt = pyplot()
     ang = np.degrees(np.asarray(result.poses_rad)[:, 0])
     k = np.asarray(result.factors)
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -100,13 +97,13 @@ def plot_scf(result, path) -> Path:
     ax2.plot(ang, np.asarray(result.scf_deviation_pct), "s--", color="tab:orange", ms=3)
     ax2.set_ylabel("P_i: change from mean (%)")
     ax.set_title(f"{result.joints}R, SCF_mean = {result.scf_mean:.4g}")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_pareto(pareto, path) -> Path:
     """The front (eigen %, deflection %) with the knee of Eq. 27 starred; ``pareto`` may be a
     list of ParetoResults, drawn together (as the paper's Fig. 11)."""
-    plt = _pyplot()
+    plt = pyplot()
     fronts = list(pareto) if isinstance(pareto, (list, tuple)) else [pareto]
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for i, p in enumerate(fronts):
@@ -121,4 +118,4 @@ def plot_pareto(pareto, path) -> Path:
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.legend()
-    return _save(fig, path)
+    return save_figure(fig, path)

@@ -1,4 +1,5 @@
-"""Fit results with provenance, and their JSON form.
+"""Fit results with provenance (their JSON form: :mod:`prbdm_pin.json_record`, the file:
+:mod:`prbdm_pin.fit_file`).
 
 :class:`FitResult` and :class:`ParetoResult` are frozen dataclasses following the conventions of
 ``scipy.optimize.OptimizeResult`` (``success``, ``message``, ``x``, ``fun``, ``nfev``); use
@@ -7,22 +8,21 @@
 
 from __future__ import annotations
 
-import json
 import math
-import os
 from dataclasses import MISSING, dataclass, field, fields
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from .geometry import atomic_write_text
+from .json_record import JsonRecord, readonly_array
 
 if TYPE_CHECKING:
     from .truth.request import TruthRequest
 
-__all__ = ["FitResult", "ParetoResult", "package_versions", "load_fit"]
+__all__ = ["ARRAY_FIELDS", "FitResult", "ParetoResult", "package_versions"]
 
-_ARRAY_FIELDS = {
+# fields read back from JSON as float arrays
+ARRAY_FIELDS = frozenset({
     "lengths_m", "stiffness_Nm_per_rad", "stiffness_per_pose_Nm_per_rad", "factors",
     "scf_deviation_pct", "poses_rad", "omega_truth_rad_s", "omega_model_rad_s",
     "eigen_errors_pct", "tip_position_model_m", "tip_position_truth_m",
@@ -30,7 +30,7 @@ _ARRAY_FIELDS = {
     "F_pct", "X", "front_lengths_m", "front_factors", "extra_tip_force_N",
     "extra_tip_position_truth_m", "extra_tip_position_model_m", "omega_errors_pct",
     "export_pose_rad", "omega_export_rad_s", "omega_export_errors_pct",
-}
+})
 # what an old paper fit.json (one without ``stiffness_pose``) exported
 _OLD_PAPER_EXPORT = ("paper: SCF_mean times Eq. 14 (a fit.json written before fits recorded "
                      "their export pose; no pose was fitted with these springs)")
@@ -49,78 +49,8 @@ def package_versions() -> tuple[tuple[str, str], ...]:
     return tuple(out)
 
 
-def _ro(v):
-    if v is None:
-        return None
-    a = np.array(v, dtype=float)
-    a.setflags(write=False)
-    return a
-
-
-def _jsonable(v: Any) -> Any:
-    if isinstance(v, np.ndarray):
-        return _jsonable(v.tolist())
-    if isinstance(v, (list, tuple)):
-        return [_jsonable(x) for x in v]
-    if isinstance(v, (np.floating, float)):
-        f = float(v)
-        return f if math.isfinite(f) else None
-    if isinstance(v, np.integer):
-        return int(v)
-    return v
-
-
-def _from_json(v: Any) -> Any:
-    if isinstance(v, list):
-        return [_from_json(x) for x in v]
-    return math.nan if v is None else v
-
-
-class _Serialisable:
-    def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready mapping (NaN and inf written as null)."""
-        d = {}
-        for f in fields(self):  # type: ignore[arg-type]
-            v = getattr(self, f.name)
-            if f.name == "versions":
-                v = {k: ver for k, ver in v}
-            elif f.name == "truth_request" and v is not None:
-                v = v.to_dict()
-            d[f.name] = _jsonable(v)
-        return d
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2) + "\n"
-
-    def save(self, path: str | os.PathLike):
-        """Write the JSON form atomically."""
-        return atomic_write_text(path, self.to_json())
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]):
-        names = {f.name for f in fields(cls)}  # type: ignore[arg-type]
-        kw = {}
-        for k, v in d.items():
-            if k not in names:
-                continue
-            if k == "versions":
-                v = tuple((a, b) for a, b in v.items())
-            elif k == "truth_request":
-                from .truth.request import TruthRequest
-
-                v = None if v is None else TruthRequest.from_dict(v)
-            elif k in _ARRAY_FIELDS:
-                v = None if v is None else np.array(_from_json(v), dtype=float)
-            elif isinstance(v, list):
-                v = tuple(v)
-            elif v is None and k not in ("message",):
-                v = math.nan
-            kw[k] = v
-        return cls(**kw)
-
-
 @dataclass(frozen=True, eq=False)
-class FitResult(_Serialisable):
+class FitResult(JsonRecord):
     """The best design of a single-objective fit, evaluated against its target.
 
     Attributes
@@ -203,6 +133,8 @@ class FitResult(_Serialisable):
     versions : tuple of (name, version)
     """
 
+    array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS
+
     beam_name: str
     beam_fingerprint: str
     joints: int
@@ -258,13 +190,13 @@ class FitResult(_Serialisable):
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:
-        for name in _ARRAY_FIELDS & {f.name for f in fields(self)}:
-            object.__setattr__(self, name, _ro(getattr(self, name)))
+        for name in self.array_fields & {f.name for f in fields(self)}:
+            object.__setattr__(self, name, readonly_array(getattr(self, name)))
         # a fit.json written before the per-mode errors were recorded: derive them
         if self.omega_errors_pct is None and self.omega_model_rad_s is not None:
             from .objectives import mode_errors_pct
 
-            object.__setattr__(self, "omega_errors_pct", _ro(mode_errors_pct(
+            object.__setattr__(self, "omega_errors_pct", readonly_array(mode_errors_pct(
                 self.omega_model_rad_s, self.omega_truth_rad_s)))
         if not math.isfinite(self.worst_mode_error_pct) and self.omega_errors_pct is not None:
             object.__setattr__(self, "worst_mode_error_pct",
@@ -327,7 +259,7 @@ class FitResult(_Serialisable):
 
 
 @dataclass(frozen=True, eq=False)
-class ParetoResult(_Serialisable):
+class ParetoResult(JsonRecord):
     """The whole NSGA-II front and its knee (Eq. 27).
 
     Attributes
@@ -348,6 +280,8 @@ class ParetoResult(_Serialisable):
         ``"paper"`` (Eq. 16) or ``"relative"``: the norm of the front's eigen losses.
     pop, generations, n_evals, seed : int
     """
+
+    array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS
 
     beam_name: str
     joints: int
@@ -373,8 +307,8 @@ class ParetoResult(_Serialisable):
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:
-        for name in _ARRAY_FIELDS & {f.name for f in fields(self)}:
-            object.__setattr__(self, name, _ro(getattr(self, name)))
+        for name in self.array_fields & {f.name for f in fields(self)}:
+            object.__setattr__(self, name, readonly_array(getattr(self, name)))
 
     def to_dict(self) -> dict[str, Any]:
         d = super().to_dict()
@@ -396,44 +330,3 @@ class ParetoResult(_Serialisable):
             row += [repr(float(v)) for v in self.front_factors[r]]
             lines.append(",".join(row))
         return "\n".join(lines) + "\n"
-
-
-def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
-    """Write ``fit.json`` atomically; with ``beam`` it carries the beam it was fitted to, so the
-    file alone rebuilds the model (``prbdm simulate fit.json``, ``prbdm export fit.json``)."""
-    from .geometry import beam_to_dict
-
-    d = result.to_dict()
-    if beam is not None:
-        d["beam"] = beam_to_dict(beam)
-    return atomic_write_text(path, json.dumps(d, indent=2) + "\n")
-
-
-def fit_beam(d: dict[str, Any], what: str = "fit.json"):
-    """The Beam embedded in a fit.json mapping, or None when it has none."""
-    from .errors import BeamInputError
-    from .geometry import beam_from_dict
-
-    b = d.get("beam") if isinstance(d, dict) else None
-    if b is None:
-        return None
-    try:
-        return beam_from_dict(b, check_caps=True)
-    except BeamInputError as exc:
-        raise BeamInputError(f"{what}: beam: {exc}") from None
-
-
-def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
-    """Read a ``fit.json`` written by :meth:`FitResult.save` or :func:`save_fit`.
-
-    Every field is validated (:func:`prbdm_pin.model_files.fit_kwargs`); the link lengths must
-    sum to the length of ``beam`` (a Beam), else of the beam embedded in the file, when there
-    is one. Raises BeamInputError naming the file, the field and the value.
-    """
-    from .jsonfile import read_json
-
-    what = f"fit.json {str(path)!r}"
-    d = read_json(path, "fit.json")
-    if beam is None:
-        beam = fit_beam(d, what)
-    return FitResult.from_dict(d, beam=beam, what=what)

@@ -26,9 +26,10 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.benchmark import finite_segment_chain  # noqa: E402
+from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.bench.run import finite_segment_chain  # noqa: E402
 from prbdm_pin.errors import SolveError  # noqa: E402
-from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
 from prbdm_pin.simulation import simulate  # noqa: E402
 from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402

@@ -32,8 +32,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
+from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit, fit_pareto  # noqa: E402
-from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.problem import FitTarget  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,4 +1,4 @@
-"""Error against cost benchmark: a thin wrapper of ``prbdm bench`` (see prbdm_pin/benchmark.py).
+"""Error against cost benchmark: a thin wrapper of ``prbdm bench`` (see prbdm_pin/bench/).
 
 usage: python scripts/bench_runtime_vs_error.py [--quick] [--out results/bench]
 """

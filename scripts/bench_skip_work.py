@@ -32,9 +32,10 @@ import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
 from scipy.linalg import cho_factor, cho_solve, eigh  # noqa: E402
 
-from prbdm_pin.benchmark import finite_segment_chain  # noqa: E402
+from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.bench.run import finite_segment_chain  # noqa: E402
 from prbdm_pin.damping import modal_damping  # noqa: E402
-from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.simulation import simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -13,7 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from prbdm_pin.geometry import Beam, atomic_write_text, load_beam
+from prbdm_pin.beam_file import load_beam
+from prbdm_pin.geometry import Beam
+from prbdm_pin.io import atomic_write_text
 from prbdm_pin.model import build_model
 from prbdm_pin.stiffness import finite_segment_stiffness
 from prbdm_pin.truth import compute_truth

@@ -28,8 +28,9 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.layout import sample_lengths  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
 from prbdm_pin.problem import model_target  # noqa: E402

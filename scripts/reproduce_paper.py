@@ -35,10 +35,11 @@ from pathlib import Path  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.commands.fit import write_fit_outputs  # noqa: E402
 from prbdm_pin.commands.pareto import write_pareto_outputs  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.problem import FitTarget, target_from_truth  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

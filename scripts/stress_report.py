@@ -18,7 +18,9 @@ import numpy as np  # noqa: E402
 
 from prbdm_pin.eigen import COND_LIMIT, FREQUENCY_RTOL  # noqa: E402
 from prbdm_pin.errors import SolveError  # noqa: E402
-from prbdm_pin.geometry import Beam, Material, atomic_write_text  # noqa: E402
+from prbdm_pin.geometry import Beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.material import Material  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
 from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
 

@@ -15,7 +15,7 @@ import pytest
 from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import random_beam
+from prbdm_pin.random_beams import random_beam
 
 N_BEAMS = 20
 SEED = 2024

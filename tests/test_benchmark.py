@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbdm_pin.benchmark import frontier_mask
+from prbdm_pin.bench.report import frontier_mask
 from prbdm_pin.cli import main
 
 
@@ -151,13 +151,13 @@ def test_mujoco_peer_row_against_euler_bernoulli():
     # the MuJoCo peer (the exported MJCF chain): its frequencies from MuJoCo's own mass matrix and
     # joint stiffness; a 16-joint equal-segment chain of the strip is within 0.6 % of
     # Euler-Bernoulli on its first three modes (second-order convergence of the chain)
-    from prbdm_pin.benchmark import _mujoco_row, finite_segment_chain
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.bench.run import finite_segment_chain, mujoco_row
 
     beam = load_beam("examples/beams/uniform-narrow.json")
     model = finite_segment_chain(beam, 16)
     eb = np.array([_eb_omega(k) for k in (1, 2, 3)])
-    row = _mujoco_row(beam, model, eb, 0.01)
+    row = mujoco_row(beam, model, eb, 0.01)
     assert row.kind == "mujoco" and row.sim_cpu_s_per_s > 0
     np.testing.assert_allclose(row.omega_model_rad_s, model.natural_frequencies()[:3], rtol=1e-6)
     assert np.all(np.abs(row.omega_model_rad_s / eb - 1) < 6e-3)

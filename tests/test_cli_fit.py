@@ -9,12 +9,14 @@ import math
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
+from reference import ELASTICA
 
 from prbdm_pin.cli import main
 from prbdm_pin.model import load_urdf
 
 BEAM = "examples/beams/uniform-narrow.json"
-BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376])
+BETA_L = REF_BETA_L[:3]
 
 
 @pytest.fixture(scope="module")
@@ -22,9 +24,10 @@ def truth_file(tmp_path_factory):
     b, t, L = 0.05, 0.01, 1.0
     EI = 205e9 * b * t**3 / 12
     omega = BETA_L**2 * math.sqrt(EI / (7850.0 * b * t * L**4))
-    # elastica table, alpha^2 = 1: retreat 0.056433 L, deflection 0.301721 L (load along -z)
-    tip = [L * (1 - 0.056433), 0.0, -0.301721 * L]
-    disp = [-0.056433 * L, 0.0, -0.301721 * L]
+    # elastica table, alpha^2 = 1 (load along -z)
+    retreat, deflection = ELASTICA[1.0]
+    tip = [L * (1 - retreat), 0.0, -deflection * L]
+    disp = [-retreat * L, 0.0, -deflection * L]
     path = tmp_path_factory.mktemp("truth") / "truth.json"
     path.write_text(json.dumps({"omega_rad_s": omega.tolist(), "tip_position_m": tip,
                                 "tip_displacement_m": disp, "mac": [1.0, 1.0, 1.0]}))
@@ -116,8 +119,8 @@ def test_missing_truth_file_is_an_input_error(tmp_path, capsys):
 def test_fit_json_alone_drives_export_and_simulate(truth_file, tmp_path):
     """fit.json carries its beam: export and simulate need no --beam, and the exported model has
     the Euler-Bernoulli frequencies the fit matched."""
-    from prbdm_pin.geometry import load_beam
-    from prbdm_pin.results import fit_beam
+    from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.fit_file import fit_beam
 
     path, omega, _ = truth_file
     out = tmp_path / "fit"
@@ -138,7 +141,7 @@ def test_fit_json_alone_drives_export_and_simulate(truth_file, tmp_path):
 
 def test_fit_with_extra_loads_matches_the_elastica_table(tmp_path):
     # uniform-narrow.json carries P L^2/EI = 1; --extra-loads 2,5 adds the table's rows
-    # alpha^2 = 2 (retreat 0.160642, deflection 0.493457) and 5 (0.387628, 0.713792)
+    # alpha^2 = 2 and 5
     out = tmp_path / "fit"
     rc = main(["fit", BEAM, "--joints", "3", "--objective", "combined", "--stiffness", "joint",
                "--truth-model", "beam", "--extra-loads", "2,5", "--starts", "4", "--seed", "0",
@@ -148,7 +151,7 @@ def test_fit_with_extra_loads_matches_the_elastica_table(tmp_path):
     F = np.array(d["tip_force_N"])
     np.testing.assert_allclose(d["extra_tip_force_N"], [2 * F, 5 * F])
     truth = np.array(d["extra_tip_position_truth_m"])
-    for row, (retreat, deflection) in zip(truth, [(0.160642, 0.493457), (0.387628, 0.713792)],
+    for row, (retreat, deflection) in zip(truth, [ELASTICA[2.0], ELASTICA[5.0]],
                                           strict=True):
         assert row == pytest.approx([1 - retreat, 0.0, -deflection], abs=2e-5)
     # the deflection loss is the mean over the three load cases of the relative tip error

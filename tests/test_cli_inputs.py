@@ -9,16 +9,18 @@ import math
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
+from reference import ELASTICA
 
 from prbdm_pin.batch import BeamTask, FitSettings, evaluate_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.problem import FitTarget
 
 BEAM = "examples/beams/uniform-narrow.json"
-BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376])
+BETA_L = REF_BETA_L[:3]
 
 
 @pytest.fixture(scope="module")
@@ -26,8 +28,9 @@ def truth_file(tmp_path_factory):
     b, t, L = 0.05, 0.01, 1.0
     EI = 205e9 * b * t**3 / 12
     omega = BETA_L**2 * math.sqrt(EI / (7850.0 * b * t * L**4))
-    tip = [L * (1 - 0.056433), 0.0, -0.301721 * L]
-    disp = [-0.056433 * L, 0.0, -0.301721 * L]
+    retreat, deflection = ELASTICA[1.0]
+    tip = [L * (1 - retreat), 0.0, -deflection * L]
+    disp = [-retreat * L, 0.0, -deflection * L]
     path = tmp_path_factory.mktemp("truth") / "truth.json"
     path.write_text(json.dumps({"omega_rad_s": omega.tolist(), "tip_position_m": tip,
                                 "tip_displacement_m": disp, "mac": [1.0, 1.0, 1.0]}))
@@ -150,7 +153,7 @@ def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_fil
     assert main(["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "2",
                  "--min-link", "0.005", "--truth", str(truth_file), "--out", str(out),
                  "-q"]) == 0
-    from prbdm_pin.results import load_fit
+    from prbdm_pin.fit_file import load_fit
 
     beam = load_beam(BEAM)
     res = dataclasses.replace(load_fit(out / "fit.json"),

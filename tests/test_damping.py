@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.damping import (
     damping_matrix,
     eq5c_damping,
@@ -12,7 +13,6 @@ from prbdm_pin.damping import (
     stiffness_damping,
 )
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.stiffness import finite_segment_stiffness
 

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.export import (
     export_model,
@@ -15,7 +16,6 @@ from prbdm_pin.export import (
     read_export_record,
     read_model_json,
 )
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model, load_urdf
 from prbdm_pin.simulation import simulate
 from prbdm_pin.stiffness import finite_segment_stiffness

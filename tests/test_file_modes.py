@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import atomic_write_text, load_beam
+from prbdm_pin.io import atomic_write_text
 from prbdm_pin.output_folder import output_folder
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -13,16 +13,17 @@ import json
 
 import numpy as np
 import pytest
+from reference import REF_OMEGA
 
+from prbdm_pin.beam_file import load_beam
+from prbdm_pin.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model, load_urdf
 from prbdm_pin.problem import FitTarget, batch_losses, evaluate, make_problem, target_from_truth
-from prbdm_pin.results import FitResult, load_fit, save_fit
+from prbdm_pin.results import FitResult
 
 BEAMS = "examples/beams"
 # prototype truth for reference-random.json (rad/s)
-REF_OMEGA = np.array([39.65, 333.8, 1018.0, 1974.0, 2800.0])
 
 
 @pytest.fixture(scope="module")

@@ -7,21 +7,17 @@ import math
 
 import numpy as np
 import pytest
+from reference import BETA_L, ELASTICA, REF_OMEGA
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.problem import FitTarget, evaluate, make_problem, model_target
 from prbdm_pin.results import FitResult
 from prbdm_pin.stiffness import finite_segment_stiffness
 
 BEAMS = "examples/beams"
-# clamped-free Euler-Bernoulli roots beta_k L
-BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376, 10.995540734875,
-                   14.137168391046, 17.278759532088])
-# prototype truth for reference-random.json (rad/s)
-REF_OMEGA = np.array([39.65, 333.8, 1018.0, 1974.0, 2800.0])
 
 
 @pytest.fixture(scope="module")
@@ -241,9 +237,10 @@ def test_length_repair_projects_onto_the_bounded_simplex():
 
 @pytest.mark.slow
 def test_joint_combined_3r_against_euler_bernoulli_and_elastica(narrow):
-    # uniform-narrow.json is at P L^2/EI = 1: elastica tip retreat 0.056433 L, deflection 0.301721 L
+    # uniform-narrow.json is at P L^2/EI = 1: the elastica table's tip
     L = narrow.length_m
-    tip = np.array([L * (1 - 0.056433), 0.0, -0.301721 * L])
+    retreat, deflection = ELASTICA[1.0]
+    tip = np.array([L * (1 - retreat), 0.0, -deflection * L])
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
                        tip - np.array([L, 0.0, 0.0]))
     r = fit(narrow, target, 3, objective="combined", stiffness="joint", starts=8, seed=0,
@@ -314,7 +311,8 @@ def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
     from prbdm_pin.fitting import fit_pareto
 
     L = narrow.length_m
-    tip = np.array([L * (1 - 0.056433), 0.0, -0.301721 * L])
+    retreat, deflection = ELASTICA[1.0]
+    tip = np.array([L * (1 - retreat), 0.0, -deflection * L])
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
                        tip - np.array([L, 0.0, 0.0]))
     p = fit_pareto(narrow, target, 4, 4, stiffness="joint", pop=100, generations=200, seed=0,
@@ -359,7 +357,8 @@ def test_pareto_same_seed_same_front_any_workers(narrow):
     from prbdm_pin.fitting import fit_pareto
 
     L = narrow.length_m
-    tip = np.array([L * (1 - 0.056433), 0.0, -0.301721 * L])
+    retreat, deflection = ELASTICA[1.0]
+    tip = np.array([L * (1 - retreat), 0.0, -deflection * L])
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
                        tip - np.array([L, 0.0, 0.0]))
     kw = dict(stiffness="paper", pop=12, generations=4, seed=5, progress=False, seed_starts=1,
@@ -412,7 +411,7 @@ def test_five_seeds_reach_the_same_paper_optimum(reference, n, N):
 
 
 def test_warnings_name_modes_a_chain_cannot_represent(reference, tmp_path):
-    from prbdm_pin.results import load_fit, save_fit
+    from prbdm_pin.fit_file import load_fit, save_fit
 
     target = FitTarget(REF_OMEGA[:3], reference.tip_force_N, mac=[1.0, 0.99, 0.62],
                        labels=("bending", "bending", "chordwise"))

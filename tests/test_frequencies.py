@@ -4,14 +4,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
 
-from prbdm_pin.geometry import load_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.model import build_model
 
 BEAM = load_beam(Path(__file__).resolve().parent.parent / "examples" / "beams" /
                  "uniform-narrow.json")
 # roots of 1 + cos(bL) cosh(bL) = 0
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744])
+BETA_L = REF_BETA_L[:3]
 
 
 def euler_bernoulli():

@@ -154,7 +154,7 @@ def _names(cmd: str) -> frozenset[str]:
 def stubs(monkeypatch, tmp_path):
     """Replace each command's work (after its checks) by a sentinel."""
     import prbdm_pin.batch
-    import prbdm_pin.benchmark
+    import prbdm_pin.bench.run
     import prbdm_pin.commands.fit
     import prbdm_pin.commands.pareto
     import prbdm_pin.commands.simulate
@@ -168,7 +168,7 @@ def stubs(monkeypatch, tmp_path):
                       (prbdm_pin.batch, "run_batch"), (prbdm_pin.batch, "LocalPool"),
                       (prbdm_pin.batch, "DaskCluster"),
                       (prbdm_pin.batch, "load_study"),
-                      (prbdm_pin.benchmark, "run_benchmark")]:
+                      (prbdm_pin.bench.run, "run_benchmark")]:
         monkeypatch.setattr(mod, name, _reached)
 
 

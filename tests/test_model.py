@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 import scipy.linalg
 
-from prbdm_pin.geometry import load_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.stiffness import pose_sweep
 

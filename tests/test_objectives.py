@@ -9,7 +9,8 @@ import pytest
 from scipy.optimize import brentq
 
 from prbdm_pin import objectives as ob
-from prbdm_pin.geometry import Beam, Material
+from prbdm_pin.geometry import Beam
+from prbdm_pin.material import Material
 from prbdm_pin.problem import FitTarget, evaluate, make_problem
 
 

@@ -11,7 +11,8 @@ import pinocchio as pin
 import pytest
 
 from prbdm_pin.dynamics import mass_matrices
-from prbdm_pin.geometry import load_beam, random_beam
+from prbdm_pin.beam_file import load_beam
+from prbdm_pin.random_beams import random_beam
 from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
 from prbdm_pin.planar import (

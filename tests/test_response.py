@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from prbdm_pin.geometry import load_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.response import (
     centerline_modal_tip,
@@ -85,7 +85,7 @@ def test_plate_modal_superposition_static_limit_matches_the_static_solve():
     an independent solve, the plate's linear static tip deflection (truncation < 0.1 %)."""
     from pathlib import Path
 
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.response import centerline_modal_tip
     from prbdm_pin.truth import compute_truth
 

@@ -7,8 +7,8 @@ import pytest
 import prbdm_pin.simulation.exponential as exponential
 import prbdm_pin.simulation.gauss as gauss
 import prbdm_pin.simulation.system as system
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.simulation import (
     StiffnessSchedule,

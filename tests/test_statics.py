@@ -5,12 +5,13 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from reference import ELASTICA
 from scipy.optimize import brentq
 from scipy.special import ellipk
 
 from prbdm_pin import statics
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import SolveError
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
@@ -21,7 +22,6 @@ L = BEAM.length_m
 # Inextensible elastica, dead vertical tip load, rows alpha2 = P L^2/(E I) of
 # shared/reference/elastica_vertical_tip_load.csv (Mattiasson 1981, Table 1):
 # alpha2: (retreat (L - x_tip)/L, deflection y_tip/L)
-ELASTICA = {1.0: (0.056433, 0.301721), 2.0: (0.160642, 0.493457), 10.0: (0.554996, 0.810609)}
 
 
 def chain(n, beam=BEAM):

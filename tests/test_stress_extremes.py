@@ -17,7 +17,8 @@ from test_stress_poses import (
 from prbdm_pin import dynamics as dyn
 from prbdm_pin import eigen
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.geometry import Beam, Material
+from prbdm_pin.geometry import Beam
+from prbdm_pin.material import Material
 from prbdm_pin.model import build_model
 from prbdm_pin.stiffness import finite_segment_stiffness
 

@@ -11,9 +11,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from prbdm_pin import geometry
+from prbdm_pin import io as atomic_io
+from prbdm_pin.beam_file import beam_from_dict, load_beam, save_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, beam_from_dict, beam_to_dict, load_beam, save_beam
+from prbdm_pin.geometry import Beam, beam_to_dict
 from prbdm_pin.model import build_model
 
 FIELDS = ("x", "half_width", "thickness", "material", "tip_force", "length", "name",
@@ -213,7 +214,7 @@ def test_interrupted_save_leaves_the_original_and_no_temp_file(tmp_path, monkeyp
             self.fh.flush()
             raise exc_type("disk full")
 
-    monkeypatch.setattr(geometry.os, "fdopen",
+    monkeypatch.setattr(atomic_io.os, "fdopen",
                         lambda fd, *a, **k: Failing(real_fdopen(fd, *a, **k)))
     with pytest.raises(exc_type):
         save_beam(other, path)
@@ -229,7 +230,7 @@ def test_failed_replace_leaves_no_temp_file(tmp_path, monkeypatch):
     def boom(src, dst):
         raise OSError("replace failed")
 
-    monkeypatch.setattr(geometry.os, "replace", boom)
+    monkeypatch.setattr(atomic_io.os, "replace", boom)
     with pytest.raises(OSError):
         save_beam(_beam(), path)
     monkeypatch.undo()

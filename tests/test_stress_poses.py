@@ -11,7 +11,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from prbdm_pin.geometry import load_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.model import build_model
 from prbdm_pin.stiffness import finite_segment_stiffness
 

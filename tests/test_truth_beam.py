@@ -4,15 +4,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
 from scipy.integrate import quad
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, Material, load_beam
+from prbdm_pin.geometry import Beam
+from prbdm_pin.material import Material
 from prbdm_pin.truth.beam import beam_bending_modes, beam_modal, beam_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # Cantilever eigenvalues beta_n L (e.g. Blevins, Formulas for Natural Frequency and Mode Shape).
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.9955407, 14.1371684])
+BETA_L = REF_BETA_L[:5]
 
 
 @pytest.fixture(scope="module")

@@ -5,11 +5,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
 from skfem import Basis
 
+from prbdm_pin.beam_file import load_beam, save_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, load_beam, save_beam
+from prbdm_pin.geometry import Beam
 from prbdm_pin.truth import compute_truth, mesh, solid
 from prbdm_pin.truth.beam import beam_modal, beam_static
 from prbdm_pin.truth.feature_mesh import planform_quad_mesh
@@ -18,7 +20,7 @@ from prbdm_pin.truth.plate import ElementTriArgyrisLocal
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # Euler-Bernoulli clamped-free: beta_n L
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.99554073, 14.13716839])
+BETA_L = REF_BETA_L[:5]
 
 
 def _strip_omega(beam: Beam) -> np.ndarray:

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.geometry import load_beam
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.truth import cache, compute_truth
 from prbdm_pin.truth.cache import TruthCacheWarning
 from prbdm_pin.truth.digest import digest_of, truth_modules
@@ -293,7 +293,7 @@ def test_editing_a_dependency_changes_the_digest(tmp_path):
 _RUN = textwrap.dedent("""
     import json, sys, warnings
     warnings.simplefilter("error")
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.truth import compute_truth
     beam = load_beam(sys.argv[1])
     out = {}

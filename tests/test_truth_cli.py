@@ -5,13 +5,14 @@ from pathlib import Path
 
 import meshio
 import numpy as np
+from reference import BETA_L as REF_BETA_L
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744])
+BETA_L = REF_BETA_L[:3]
 
 
 def test_cli_writes_truth_json_and_vtu(tmp_path):

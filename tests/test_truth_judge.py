@@ -10,17 +10,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
+from reference import SQUARE_PLATE
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.truth import CoarseTruthError, compute_modal, compute_truth
 from prbdm_pin.truth.modes import mac_matrix
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # converged Kirchhoff cantilever square plate, nu = 0.3, omega a^2 sqrt(rho h / D): modes 1
 # (first bending), 3 (second bending) and 4 (chordwise), the symmetric ones (reference table)
-SQUARE_TABLE = np.array([3.4710, 21.284, 27.199])
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.9955407, 14.1371684])
+SQUARE_TABLE = SQUARE_PLATE[[0, 2, 3]]
+BETA_L = REF_BETA_L[:5]
 
 
 def _true_error_pct(beam, truth, level: int) -> np.ndarray:

@@ -4,18 +4,21 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference import BETA_L as REF_BETA_L
+from reference import SQUARE_PLATE
 from skfem import MeshTri
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import TruthError
-from prbdm_pin.geometry import load_beam, random_beam
+from prbdm_pin.random_beams import random_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.mesh import CORNER_PASSES, planform_tri_mesh, reentrant_vertices
 from prbdm_pin.truth.plate import plate_modes
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # converged cantilever-plate values omega a^2 sqrt(rho h / D), nu = 0.3 (shared reference table)
-SQUARE = np.array([3.4710, 8.5063, 21.284, 27.199, 30.955])
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.9955407, 14.1371684])
+SQUARE = SQUARE_PLATE
+BETA_L = REF_BETA_L[:5]
 
 
 def _square_scale(beam):

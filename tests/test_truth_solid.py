@@ -5,19 +5,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse.linalg
+from reference import BETA_L as REF_BETA_L
+from reference import ELASTICA, SQUARE_PLATE
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, Material, load_beam
+from prbdm_pin.geometry import Beam
+from prbdm_pin.material import Material
 from prbdm_pin.truth import compute_truth, solid
 from prbdm_pin.truth.modes import label_modes
 from prbdm_pin.truth.solid import default_solid_level, solid_modal, solid_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # Cantilever eigenvalues beta_n L (e.g. Blevins, Formulas for Natural Frequency and Mode Shape).
-BETA_L = np.array([1.87510407, 4.69409113, 7.85475744, 10.9955407, 14.1371684])
+BETA_L = REF_BETA_L[:5]
 # Converged Kirchhoff cantilever plate, nu = 0.3: omega a^2 sqrt(rho h / D), first five modes
-# (reference/cantilever_plate_square.md; Leissa's Ritz values sit 0.2-0.7 % above).
-PLATE = np.array([3.4710, 8.5063, 21.284, 27.199, 30.955])
+# (tests/reference.py).
+PLATE = SQUARE_PLATE
 
 
 @pytest.fixture(scope="module")
@@ -235,12 +239,12 @@ def test_square_plate_default_level():
 
 
 # Elastica table ((L - x)/L, y/L): Mattiasson (1981) Table 1
-# (reference/elastica_vertical_tip_load.csv).
+# (tests/reference.py).
 @pytest.mark.parametrize(
     "alpha2, retreat, deflection",
     [
-        (1.0, 0.056433, 0.301721),
-        pytest.param(2.0, 0.160642, 0.493457, marks=pytest.mark.slow),
+        (1.0, *ELASTICA[1.0]),
+        pytest.param(2.0, *ELASTICA[2.0], marks=pytest.mark.slow),
     ],
 )
 def test_large_deflection_matches_elastica_table(narrow, alpha2, retreat, deflection):

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from skfem import Basis, FacetBasis
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.truth.mesh import planform_tri_mesh
 from prbdm_pin.truth.plate import ElementTriArgyrisLocal
 from prbdm_pin.truth.static import plate_static, tip_edge_load

@@ -11,9 +11,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.export import read_export_record, urdf_text
-from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model, load_urdf
 from prbdm_pin.urdf import read_springs
 

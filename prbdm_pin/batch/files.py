@@ -193,7 +193,7 @@ def output_mode() -> int:
 def write_output(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` to ``path`` atomically with :func:`output_mode`; a file that already
     holds exactly ``text`` is left alone (a resume with nothing to do changes nothing)."""
-    from ..geometry import atomic_write_text
+    from ..io import atomic_write_text
 
     p = Path(path)
     data = text.encode("utf-8")

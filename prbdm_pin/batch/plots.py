@@ -25,19 +25,13 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
         return paths
 
     def save(fig, name: str) -> None:
-        import os
-
-        from ..atomic import mkstemp
+        from ..io import atomic_path
 
         path = out / name
-        fd, tmp = mkstemp(out, prefix=f".{name}.", suffix=".tmp")
-        os.close(fd)
         try:  # a killed report never leaves a half-written plot
-            fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
-            os.replace(tmp, path)
+            with atomic_path(path) as tmp:
+                fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
         finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
             plt.close(fig)
         paths.append(str(path))
 

@@ -172,7 +172,7 @@ def plan_tasks(spec: BatchSpec) -> list[BeamTask]:
     if spec.n_beams is not None:
         return [BeamTask(i, spec.seed, spec.settings, f"beam-{i}")
                 for i in range(i_shard, spec.n_beams, n_shard)]
-    from ..geometry import load_beam
+    from ..beam_file import load_beam
 
     folder = Path(spec.beams_dir)
     if not folder.is_dir():

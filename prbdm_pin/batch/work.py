@@ -32,7 +32,7 @@ def beam_of(task: BeamTask) -> Beam:
         return task.beam
     import numpy as np
 
-    from ..geometry import random_beam
+    from ..random_beams import random_beam
 
     rng = np.random.default_rng(_beam_seed_sequence(task.seed, task.index))
     return random_beam(rng, name=task.name)

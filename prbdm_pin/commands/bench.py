@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 from pathlib import Path
@@ -53,16 +52,11 @@ def run(args) -> int:
 
     import numpy as np
 
-    from ..benchmark import (
-        FULL,
-        QUICK,
-        markdown_report,
-        plot_error_vs_cost,
-        result_dict,
-        run_benchmark,
-        work_units,
-    )
-    from ..geometry import atomic_write_text
+    from ..bench.config import FULL, QUICK
+    from ..bench.plot import plot_error_vs_cost
+    from ..bench.report import markdown_report, result_dict
+    from ..bench.run import run_benchmark, work_units
+    from ..io import atomic_write_json, atomic_write_text
     from ..output_folder import output_folder
 
     check_options(args)
@@ -95,8 +89,7 @@ def run(args) -> int:
     with output_folder(out, BENCH_FILES, marker="results.json") as stage:
         atomic_write_text(stage / "results.md", markdown_report(result, machine))
         plot_error_vs_cost(result, stage / "error_vs_cost.png")
-        atomic_write_text(stage / "results.json",
-                          json.dumps(result_dict(result), indent=1) + "\n")
+        atomic_write_json(stage / "results.json", result_dict(result), indent=1)
     md, png = out / "results.md", out / "error_vs_cost.png"
     if not args.quiet:
         print(f"wrote {md} and {png} ({result.wall_time_s:.1f} s)")

@@ -273,7 +273,7 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
         if result.stiffness == "paper":
             written.append(plot_scf(result, out / "scf.png"))
     # fit.json last: its presence marks a complete output folder
-    from ..results import save_fit
+    from ..fit_file import save_fit
 
     written.append(save_fit(result, out / "fit.json", beam))
     return written
@@ -291,8 +291,8 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    from ..beam_file import load_beam
     from ..fitting import fit
-    from ..geometry import load_beam
 
     check_options(args)
     beam = load_beam(args.beam)

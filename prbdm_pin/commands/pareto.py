@@ -52,7 +52,7 @@ PARETO_FILES = ("pareto.csv", "pareto.json", "pareto.png")
 def write_pareto_outputs(res, beam, out: Path) -> None:
     """pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json,
     model.urdf and plots, put into ``out`` as one set (``output_folder``)."""
-    from ..geometry import atomic_write_text
+    from ..io import atomic_write_text
     from ..output_folder import output_folder
     from ..plots import plot_pareto
 
@@ -81,8 +81,8 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    from ..beam_file import load_beam
     from ..fitting import fit_pareto
-    from ..geometry import load_beam
 
     check_options(args)
     beam = load_beam(args.beam)

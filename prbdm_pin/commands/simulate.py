@@ -104,7 +104,7 @@ def load_model(path: str, beam_path: str | None = None):
 
 def load_model_and_fit(path: str, beam_path: str | None = None):
     """:func:`load_model`, and the ``FitResult`` when ``path`` is a fit.json (else None)."""
-    from ..geometry import load_beam
+    from ..beam_file import load_beam
     from ..jsonfile import read_json
     from ..model import build_model, load_urdf
     from ..model_files import LINK_FLOOR_FRACTION, file_kind
@@ -130,7 +130,8 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
             else f"a JSON {type(d).__name__}")
         raise BeamInputError(f"MODEL {path!r}: is {what}, not a fit.json, a model JSON "
                              "(prbdm export --format json) or a URDF")
-    from ..results import FitResult, fit_beam
+    from ..fit_file import fit_beam
+    from ..results import FitResult
 
     what = f"MODEL {path!r}"
     beam = load_beam(beam_path) if beam_path is not None else fit_beam(d, what)
@@ -160,18 +161,10 @@ def _csv(tr) -> str:
 
 
 def _save_png(fig, path: Path) -> None:
-    import os
+    from ..io import atomic_path
 
-    from ..atomic import mkstemp
-
-    fd, tmp = mkstemp(path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=120)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
@@ -219,7 +212,7 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
-    from ..geometry import atomic_write_text
+    from ..io import atomic_write_text
     from ..output_folder import output_folder
     from ..simulation import simulate
 

@@ -60,8 +60,9 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    from ..beam_file import load_beam
     from ..errors import BeamInputError
-    from ..geometry import atomic_write_text, load_beam
+    from ..io import atomic_write_text
     from ..output_folder import output_folder
     from ..truth import CoarseTruthError, compute_truth
     from ..truth.vtu import write_modes_vtu

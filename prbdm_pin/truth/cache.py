@@ -21,15 +21,14 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import warnings
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
-from ..atomic import mkstemp
 from ..geometry import Beam
+from ..io import AtomicFile
 from .digest import code_digest
 from .entry import EntryError, check_truth, decode, encode
 from .result import TruthResult
@@ -155,25 +154,16 @@ def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
     d = Path(cache_dir)
     try:
         d.mkdir(parents=True, exist_ok=True)
-        fd, tmp = mkstemp(d, prefix=".truth-", suffix=".tmp")  # 0666 & ~umask
+        staged = AtomicFile(entry_path(d, key), "wb", fsync=True, prefix=".truth-")
     except OSError as exc:
         _not_stored(d, exc)
         return None
     try:
-        with os.fdopen(fd, "wb") as fh:
+        with staged as fh:
             np.savez(fh, **{_META: blob}, **arrays)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, entry_path(d, key))
     except OSError as exc:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
         _not_stored(entry_path(d, key), exc)
         return None
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     return entry_path(d, key)
 
 

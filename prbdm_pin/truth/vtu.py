@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 
-from ..atomic import mkstemp
+from ..io import atomic_path
 from .result import ModalSolution
 
 __all__ = ["write_modes_vtu"]
@@ -30,13 +29,6 @@ def write_modes_vtu(modal: ModalSolution, path, index=None) -> Path:
     mesh = meshio.Mesh(np.asarray(modal.nodes_m, dtype=float),
                        [(modal.cell_type, np.asarray(modal.cells))], point_data=data)
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = mkstemp(path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         meshio.write(tmp, mesh, file_format="vtu")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return path

@@ -35,7 +35,7 @@ def _scratch() -> Path:
 
 
 def _beam(name="tapered.json"):
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
 
     return load_beam(BEAMS / name)
 
@@ -289,7 +289,7 @@ def _unwritable(kind):
 _DIGEST_RUN = textwrap.dedent("""
     import json, sys, warnings
     warnings.simplefilter("error")
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.truth import compute_truth
     beam = load_beam(sys.argv[1])
     a = compute_truth(beam, model="beam", modes=3, static=False, cache_dir=sys.argv[2])

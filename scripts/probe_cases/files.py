@@ -86,10 +86,10 @@ def _beam_doc() -> dict:
 
 @functools.cache
 def _fit_doc() -> dict:
+    from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.fit_file import save_fit
     from prbdm_pin.fitting import fit
-    from prbdm_pin.geometry import load_beam
     from prbdm_pin.problem import FitTarget
-    from prbdm_pin.results import save_fit
 
     beam = load_beam(TAPERED)
     r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, 2, starts=1, seed=0,
@@ -111,7 +111,7 @@ def _fit(**changes) -> dict:
 
 @functools.cache
 def _model():
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.model import build_model
 
     return build_model(load_beam(TAPERED), [0.2, 0.25, 0.15], [1200.0, 1100.0])
@@ -139,7 +139,7 @@ def _urdf(root) -> Path:
 
 
 def _load_fit(d):
-    from prbdm_pin.results import load_fit
+    from prbdm_pin.fit_file import load_fit
 
     return lambda: load_fit(_file(d))
 
@@ -418,7 +418,7 @@ def _read_model_json(d):
 
 
 def _load_beam(content):
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
 
     return lambda: load_beam(_file(content))
 
@@ -433,7 +433,7 @@ def _digits(n):
 
 
 def _long_urdf(n):
-    from prbdm_pin.geometry import load_beam
+    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.model import build_model
 
     beam = load_beam(TAPERED)
@@ -517,8 +517,8 @@ def _fingerprint_mismatch():
 def _special_name():
     import mujoco
 
+    from prbdm_pin.beam_file import beam_from_dict
     from prbdm_pin.export import mjcf_text, urdf_text
-    from prbdm_pin.geometry import beam_from_dict
     from prbdm_pin.model import build_model
 
     name = 'a<b>&"c\'d'

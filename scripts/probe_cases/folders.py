@@ -146,8 +146,8 @@ def _nonfinite_case(bad: float, where: int):
 
 def _model_case(force_N: float):
     def fn():
+        from prbdm_pin.beam_file import load_beam
         from prbdm_pin.errors import SolveError
-        from prbdm_pin.geometry import load_beam
         from prbdm_pin.model import build_model
 
         m = build_model(load_beam(BEAM), [0.1, 0.3, 0.3, 0.3], [50.0, 30.0, 10.0])

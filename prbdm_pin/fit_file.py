@@ -1,0 +1,53 @@
+"""``fit.json``: a :class:`~prbdm_pin.results.FitResult` written with the beam it was fitted to,
+and read back validated."""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from .io import atomic_write_json
+from .results import FitResult
+
+__all__ = ["fit_beam", "load_fit", "save_fit"]
+
+
+def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
+    """Write ``fit.json`` atomically; with ``beam`` it carries the beam it was fitted to, so the
+    file alone rebuilds the model (``prbdm simulate fit.json``, ``prbdm export fit.json``)."""
+    from .geometry import beam_to_dict
+
+    d = result.to_dict()
+    if beam is not None:
+        d["beam"] = beam_to_dict(beam)
+    return atomic_write_json(path, d)
+
+
+def fit_beam(d: dict[str, Any], what: str = "fit.json"):
+    """The Beam embedded in a fit.json mapping, or None when it has none."""
+    from .beam_file import beam_from_dict
+    from .errors import BeamInputError
+
+    b = d.get("beam") if isinstance(d, dict) else None
+    if b is None:
+        return None
+    try:
+        return beam_from_dict(b, check_caps=True)
+    except BeamInputError as exc:
+        raise BeamInputError(f"{what}: beam: {exc}") from None
+
+
+def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
+    """Read a ``fit.json`` written by :meth:`FitResult.save` or :func:`save_fit`.
+
+    Every field is validated (:func:`prbdm_pin.model_files.fit_kwargs`); the link lengths must
+    sum to the length of ``beam`` (a Beam), else of the beam embedded in the file, when there
+    is one. Raises BeamInputError naming the file, the field and the value.
+    """
+    from .jsonfile import read_json
+
+    what = f"fit.json {str(path)!r}"
+    d = read_json(path, "fit.json")
+    if beam is None:
+        beam = fit_beam(d, what)
+    return FitResult.from_dict(d, beam=beam, what=what)

@@ -1,0 +1,35 @@
+"""Published and prototype reference values the tests compare against, each written once.
+
+Imported as ``from reference import ...``: pytest puts this folder on ``sys.path`` for the test
+modules in it (rootdir-relative ``tests/`` without ``__init__.py``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["BETA_L", "ELASTICA", "REF_OMEGA", "SQUARE_PLATE"]
+
+# clamped-free Euler-Bernoulli roots beta_k L of cos(beta L) cosh(beta L) = -1
+BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376, 10.995540734875,
+                   14.137168391046, 17.278759532088])
+
+# inextensible elastica of a uniform cantilever under a tip load perpendicular to its axis:
+# P L^2 / EI -> (tip retreat (L - x)/L, tip deflection y/L), Mattiasson (1981) Table 1
+ELASTICA = {
+    1.0: (0.056433, 0.301721),
+    2.0: (0.160642, 0.493457),
+    5.0: (0.387628, 0.713792),
+    10.0: (0.554996, 0.810609),
+}
+
+# prototype truth for examples/beams/reference-random.json, first five bending modes (rad/s)
+REF_OMEGA = np.array([39.65, 333.8, 1018.0, 1974.0, 2800.0])
+
+# converged Kirchhoff cantilever square plate, nu = 0.3: omega a^2 sqrt(rho h / D) of the first
+# five modes (Leissa's Ritz values sit 0.2-0.7 % above)
+SQUARE_PLATE = np.array([3.4710, 8.5063, 21.284, 27.199, 30.955])
+
+# shared by every test module: read-only, so no test can change another's reference
+for _table in (BETA_L, REF_OMEGA, SQUARE_PLATE):
+    _table.setflags(write=False)
