@@ -34,6 +34,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from .choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS, OBJECTIVES, STIFFNESS_KINDS, TRUTH_MODELS
 from .errors import BeamInputError
 
 if TYPE_CHECKING:
@@ -71,11 +72,6 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
 RUN_DEPENDENT_FIELDS = frozenset({"wall_s", "truth_s", "fit_s", "attempts", "worker_pid",
                                   "worker_peak_rss_mb"})
 
-OBJECTIVES = ("eigen", "deflection", "combined")
-STIFFNESS_KINDS = ("paper", "joint")
-TRUTH_MODELS = ("plate", "plate-morley", "solid", "beam")
-EIGEN_NORMS = ("paper", "relative")  # objectives.EIGEN_NORMS (numpy-free here)
-DEFAULT_EIGEN_NORM = "relative"  # fitting.fit's default
 
 
 # ------------------------------------------------------------------------------------------------

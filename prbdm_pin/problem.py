@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .choices import STIFFNESS_KINDS
 from .dynamics import (
     eig_scaled,
     planar_mass_matrices,
@@ -70,7 +71,6 @@ __all__ = [
     "pareto_objectives_batch",
 ]
 
-STIFFNESS_KINDS = ("paper", "joint")
 
 
 def _ro(a, shape: tuple | None = None) -> np.ndarray:

@@ -6,8 +6,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 if TYPE_CHECKING:
     from .batch_report import BatchReport
 
@@ -16,6 +14,7 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
     """Histograms of the losses and link fractions, SCF_mean against the geometry features;
     returns the PNG paths."""
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -13,12 +13,13 @@ import sys
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from . import add_common
 from .batch_plots import write_plots
+
+if TYPE_CHECKING:
+    import numpy as np
 
 # the worst per-mode errors (over the fitted poses; of the exported model at q = 0) sit beside
 # the eigen loss: a small loss can hide a large error of one mode
@@ -146,10 +147,14 @@ def _num(x: Any) -> float:
 
 
 def _values(records: list[dict[str, Any]], key: str) -> np.ndarray:
+    import numpy as np
+
     return np.array([_num(r.get(key)) for r in records], dtype=float)
 
 
 def _distribution(name: str, values: np.ndarray) -> Distribution:
+    import numpy as np
+
     v = values[np.isfinite(values)]
     if v.size == 0:
         return Distribution(name, 0, math.nan, tuple(math.nan for _ in QUANTILES))
@@ -158,6 +163,7 @@ def _distribution(name: str, values: np.ndarray) -> Distribution:
 
 
 def _correlation(x_name: str, x: np.ndarray, y_name: str, y: np.ndarray) -> Correlation:
+    import numpy as np
     from scipy.stats import spearmanr
 
     ok = np.isfinite(x) & np.isfinite(y)
@@ -169,6 +175,8 @@ def _correlation(x_name: str, x: np.ndarray, y_name: str, y: np.ndarray) -> Corr
 
 def summarise(records: list[dict[str, Any]], settings: dict | None = None) -> BatchReport:
     """Distributions and correlations over the latest record of every beam."""
+    import numpy as np
+
     ok = [r for r in records if r.get("status") == "ok"]
     failed = [r for r in records if r.get("status") != "ok"]
     reasons = Counter(str(r.get("error", "unknown")).splitlines()[0][:120] for r in failed)

@@ -8,8 +8,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from ..errors import BeamInputError
 
 if TYPE_CHECKING:
@@ -151,6 +149,8 @@ def compare_truth(model, request: TruthRequest, damping_ratio: float, cache_dir,
 
 def _plot_comparison(cmp: TruthComparison, path: Path, plt) -> None:
     """Step response and FRF magnitude and phase of both sides, written atomically."""
+    import numpy as np
+
     acc, name = cmp.accuracy, cmp.truth_model
     mine = f"{cmp.prbdm.omega_rad_s.size}R PRBDM"
     fig, ax = plt.subplots(3, 1, figsize=(7, 8))
