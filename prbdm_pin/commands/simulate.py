@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
 from . import add_common
-from .truth_comparison import TRUTH_MODELS, _plot_comparison, compare_truth, comparison_request
+from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
 
 if TYPE_CHECKING:
     import numpy as np
@@ -277,7 +277,9 @@ def run(args: argparse.Namespace) -> int:
             request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
             cmp = compare_truth(model, request, args.damping, cache_dir(args),
                                 quiet=args.quiet)
-            _plot_comparison(cmp, stage / "truth_comparison.png", plt)
+            fig = comparison_figure(cmp, plt)
+            _save_png(fig, stage / "truth_comparison.png")
+            plt.close(fig)
             # the JSON last: its presence marks a complete comparison
             atomic_write_text(stage / "truth_comparison.json",
                               json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
