@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .choices import EXPORT_DAMPING_FORMS, FORMATS
 from .damping import damping_ratios, modal_ratios, stiffness_damping_coefficient
 from .errors import BeamInputError
 
@@ -23,8 +24,6 @@ __all__ = [
     "read_export_record",
 ]
 
-FORMATS = ("urdf", "mjcf", "json")
-EXPORT_DAMPING_FORMS = ("stiffness", "modal")
 # a worst mode further off the truth than this, %, is worth a warning
 WORST_MODE_WARN_PCT = 1.0
 _RECORD_HEAD = " prbdm_pin export record (prbdm_pin.export.read_export_record reads it)"

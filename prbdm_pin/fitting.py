@@ -60,6 +60,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .choices import DEFAULT_EIGEN_NORM, OBJECTIVES
 from .eigen import modes_from_mass
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
@@ -97,10 +98,6 @@ from .statics import static_deflection_planar, static_deflection_planar_batch
 
 __all__ = ["fit", "fit_pareto", "StartResult", "solve_start", "result_from_design"]
 
-OBJECTIVES = ("eigen", "deflection", "combined")
-# the eigen norm of fit and fit_pareto: the relative norm keeps every mode in view and gives
-# the better model for dynamics (scripts/dynamic_accuracy.py compares the two; README)
-DEFAULT_EIGEN_NORM = "relative"
 _BAD = 1e3  # loss (fraction) reported for designs whose model cannot be solved
 # eigen loss (%) above which a joint fit of n frequencies at the straight pose has not matched
 # them (reached fits end at 1e-11 % or below)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .choices import EIGEN_NORMS
 from .errors import BeamInputError
 
 __all__ = [
@@ -47,8 +48,6 @@ __all__ = [
     "knee_index",
 ]
 
-
-EIGEN_NORMS = ("paper", "relative")
 
 
 def check_eigen_norm(norm: str) -> str:

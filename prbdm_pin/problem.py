@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .choices import STIFFNESS_KINDS
 from .eigen import eig_scaled
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
@@ -67,7 +68,6 @@ __all__ = [
     "pareto_objectives_batch",
 ]
 
-STIFFNESS_KINDS = ("paper", "joint")
 
 
 def _ro(a, shape: tuple | None = None) -> np.ndarray:

@@ -31,8 +31,8 @@ def main() -> None:
     from prbdm_pin.truth import solid
     from prbdm_pin.truth.feature_mesh import planform_quad_mesh
     from prbdm_pin.truth.mesh import element_size, planform_tri_mesh
-    from prbdm_pin.truth.mesh_budget import _SOLID_DOFS_PER_AREA, estimate_plate_dofs
-    from prbdm_pin.truth.plate import ElementTriArgyrisLocal
+    from prbdm_pin.truth.mesh_budget import SOLID_DOFS_PER_AREA, estimate_plate_dofs
+    from prbdm_pin.truth.plate_elements import ElementTriArgyrisLocal
 
     beams = [load_beam(p) for p in sorted((ROOT / "examples" / "beams").glob("*.json"))]
     beams += [random_beam(np.random.default_rng(s), name=f"random seed {s}")
@@ -47,7 +47,7 @@ def main() -> None:
         lev = solid.default_solid_level(b)
         q = planform_quad_mesh(b, lev, root_size_m=solid.ROOT_THICKNESSES * b.thickness_m)
         exact = 9 * (q.p.shape[1] + q.facets.shape[1] + q.t.shape[1])
-        lower = _SOLID_DOFS_PER_AREA * b.planform_area_m2 / (2 * element_size(b, lev)) ** 2
+        lower = SOLID_DOFS_PER_AREA * b.planform_area_m2 / (2 * element_size(b, lev)) ** 2
         print(f"| {b.name} | {cells[0]} | {cells[1]} | {lev} | {exact:,} ({lower:,.0f}) |",
               flush=True)
     if a.solve:

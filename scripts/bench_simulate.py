@@ -147,14 +147,14 @@ def plate_system(beam, level: int) -> PlateSystem:
     from skfem import Basis
 
     from prbdm_pin.truth.mesh import planform_tri_mesh
-    from prbdm_pin.truth.plate import ROOT_CLAMP_DOFS, ElementTriArgyrisLocal, _assemble_plate
+    from prbdm_pin.truth.plate import ROOT_CLAMP_DOFS, assemble_plate, plate_rigidity_Nm
+    from prbdm_pin.truth.plate_elements import ElementTriArgyrisLocal
 
     t0 = time.perf_counter()
     mesh = planform_tri_mesh(beam, level)
     basis = Basis(mesh, ElementTriArgyrisLocal())
     mat, t = beam.material, beam.thickness_m
-    D = mat.E_Pa * t**3 / (12.0 * (1.0 - mat.nu**2))
-    K, M = _assemble_plate(basis, D, mat.nu, mat.rho_kg_m3 * t)
+    K, M = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * t)
     L = beam.length_m
     tol = 1e-9 * L
     clamped = basis.get_dofs(lambda x: np.abs(x[0]) < tol).all(ROOT_CLAMP_DOFS["argyris"])

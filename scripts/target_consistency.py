@@ -37,8 +37,8 @@ from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.truth.beam import beam_static  # noqa: E402
 from prbdm_pin.truth.elastica import elastica_static  # noqa: E402
+from prbdm_pin.truth.plate_static import plate_static  # noqa: E402
 from prbdm_pin.truth.solid import default_solid_level, solid_static  # noqa: E402
-from prbdm_pin.truth.static import plate_static  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 BEAMS = [ROOT / "examples" / "beams" / "tapered-linear.json",

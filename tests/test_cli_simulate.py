@@ -92,7 +92,7 @@ def test_plate_frf_static_limit_is_the_static_solve_less_the_higher_modes(run):
     """H(0) of the superposition against an independent linear solve of the plate: on this
     strip the modes above the third carry the Euler-Bernoulli share of the compliance."""
     _, _, beam, _, out = run
-    from prbdm_pin.truth.static import plate_static
+    from prbdm_pin.truth.plate_static import plate_static
 
     solve = plate_static(beam)
     compliance = float(solve.tip_displacement_m[2] / beam.tip_force_N[2])

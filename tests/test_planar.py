@@ -10,9 +10,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from prbdm_pin.dynamics import mass_matrices
 from prbdm_pin.beam_file import load_beam
-from prbdm_pin.random_beams import random_beam
+from prbdm_pin.dynamics import mass_matrices
 from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
 from prbdm_pin.planar import (
@@ -26,6 +25,7 @@ from prbdm_pin.planar import (
     tip_jacobians,
     tip_positions,
 )
+from prbdm_pin.random_beams import random_beam
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 

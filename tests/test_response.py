@@ -103,7 +103,7 @@ def test_truth_modal_tip_superposes_every_mode_below_the_last_selected(beam):
     an independent linear solve of the plate less the Euler-Bernoulli share of modes 6, 7, ..."""
     from prbdm_pin.response import truth_modal_tip
     from prbdm_pin.truth import compute_truth
-    from prbdm_pin.truth.static import plate_static
+    from prbdm_pin.truth.plate_static import plate_static
 
     truth = compute_truth(beam, modes=5)
     tip = truth_modal_tip(truth, beam)

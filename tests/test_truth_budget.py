@@ -12,11 +12,11 @@ from prbdm_pin.beam_file import load_beam, save_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.geometry import Beam
-from prbdm_pin.truth import compute_truth, mesh, solid
+from prbdm_pin.truth import compute_truth, mesh, solid, solid_fe
 from prbdm_pin.truth.beam import beam_modal, beam_static
 from prbdm_pin.truth.feature_mesh import planform_quad_mesh
 from prbdm_pin.truth.mesh_budget import estimate_plate_dofs
-from prbdm_pin.truth.plate import ElementTriArgyrisLocal
+from prbdm_pin.truth.plate_elements import ElementTriArgyrisLocal
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # Euler-Bernoulli clamped-free: beta_n L
@@ -39,7 +39,7 @@ def _no_meshing(monkeypatch):
         raise AssertionError("a mesh was built")
 
     monkeypatch.setattr(mesh, "planform_tri_mesh", refuse)
-    monkeypatch.setattr(solid, "solid_mesh", refuse)
+    monkeypatch.setattr(solid_fe, "solid_mesh", refuse)
 
 
 @pytest.mark.parametrize("model, beam", [
@@ -57,7 +57,7 @@ def test_a_nanometre_feature_is_refused_before_meshing(monkeypatch, model, beam)
 
 
 def test_the_plate_static_solve_is_refused_before_meshing(monkeypatch):
-    from prbdm_pin.truth.static import plate_static
+    from prbdm_pin.truth.plate_static import plate_static
 
     _no_meshing(monkeypatch)
     with pytest.raises(BeamInputError, match="mesh DOFs"):
@@ -89,13 +89,13 @@ def test_the_estimates_never_exceed_the_mesh_they_estimate(name):
     beam = load_beam(BEAMS / name)
     n = Basis(mesh.planform_tri_mesh(beam, 0), ElementTriArgyrisLocal()).N
     assert 0.25 * n < estimate_plate_dofs(beam, 0) <= n
-    from prbdm_pin.truth.mesh_budget import _SOLID_DOFS_PER_AREA
+    from prbdm_pin.truth.mesh_budget import SOLID_DOFS_PER_AREA
 
     level = solid.default_solid_level(beam)
     q = planform_quad_mesh(beam, level, root_size_m=solid.ROOT_THICKNESSES * beam.thickness_m)
     exact = 9 * (q.p.shape[1] + q.facets.shape[1] + q.t.shape[1])
     h = 2 * mesh.element_size(beam, level)
-    assert _SOLID_DOFS_PER_AREA * beam.planform_area_m2 / h**2 <= exact
+    assert SOLID_DOFS_PER_AREA * beam.planform_area_m2 / h**2 <= exact
 
 
 @pytest.mark.parametrize("d", [1e-7, 1e-9, 1e-12])

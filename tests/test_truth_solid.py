@@ -12,7 +12,7 @@ from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.geometry import Beam
 from prbdm_pin.material import Material
-from prbdm_pin.truth import compute_truth, solid
+from prbdm_pin.truth import compute_truth, solid_fe, solid_nonlinear
 from prbdm_pin.truth.modes import label_modes
 from prbdm_pin.truth.solid import default_solid_level, solid_modal, solid_static
 
@@ -128,10 +128,10 @@ def test_tip_deflection_converged_across_levels(narrow):
 
 
 def test_tangent_matches_linear_stiffness_and_finite_differences(narrow):
-    d = solid._discretise(narrow, 0)
-    kin = solid._Kinematics(d)
+    d = solid_fe.discretise(narrow, 0)
+    kin = solid_nonlinear.Kinematics(d)
     f0, K0 = kin.evaluate(np.zeros(d.n_vec))
-    KL = solid._assemble(narrow, d)[0]  # batched element matrices into a scalar pattern
+    KL = solid_fe.assemble(narrow, d)[0]  # batched element matrices into a scalar pattern
     assert abs(K0 - KL).max() < 1e-12 * abs(KL).max()
     assert np.abs(f0).max() == 0.0
     rng = np.random.default_rng(1)
@@ -145,8 +145,8 @@ def test_tangent_matches_linear_stiffness_and_finite_differences(narrow):
 
 
 def test_free_dof_pattern_and_preconditioned_corrections(narrow):
-    d = solid._discretise(narrow, 0)
-    kin = solid._Kinematics(d)
+    d = solid_fe.discretise(narrow, 0)
+    kin = solid_nonlinear.Kinematics(d)
     rng = np.random.default_rng(2)
     u = 1e-2 * rng.standard_normal(d.n_vec)
     _, Kfull = kin.evaluate(u)
@@ -154,7 +154,7 @@ def test_free_dof_pattern_and_preconditioned_corrections(narrow):
     ref = Kfull[d.free][:, d.free]  # scipy's slicing of the full COO-free assembly
     assert abs(Kfree - ref).max() <= 1e-14 * abs(ref).max()
     # CG preconditioned by the factor of a nearby tangent reaches the direct solution
-    solver = solid._TangentSolver(rtol=1e-10, max_cg=50)
+    solver = solid_nonlinear.TangentSolver(rtol=1e-10, max_cg=50)
     r = rng.standard_normal(d.free.size)
     _, K0 = kin.evaluate(0.99 * u, which="free")
     solver.solve(K0, r)
@@ -167,8 +167,8 @@ def test_free_dof_pattern_and_preconditioned_corrections(narrow):
 def test_assembly_matches_scikit_fem_forms(narrow):
     from skfem import BilinearForm, asm
 
-    d = solid._discretise(narrow, 0)
-    K, M = solid._assemble(narrow, d)
+    d = solid_fe.discretise(narrow, 0)
+    K, M = solid_fe.assemble(narrow, d)
 
     def gradient(k, m):
         return BilinearForm(lambda u, v, w: v.grad[k] * u.grad[m])
@@ -184,11 +184,11 @@ def test_assembly_matches_scikit_fem_forms(narrow):
 
 
 def _orders(beam: Beam, level):
-    d = solid._discretise(beam, level)
+    d = solid_fe.discretise(beam, level)
     assert np.array_equal(np.sort(d.order), np.arange(d.free.size))
-    K = solid._assemble(beam, d)[0][d.free][:, d.free]
-    col, mmd = solid._Factor(K, d.order), solid._Factor(K)
-    f = solid._tip_load(beam, d, beam.tip_force_N)[d.free]
+    K = solid_fe.assemble(beam, d)[0][d.free][:, d.free]
+    col, mmd = solid_fe.SpdFactor(K, d.order), solid_fe.SpdFactor(K)
+    f = solid_fe.tip_load(beam, d, beam.tip_force_N)[d.free]
     a, b = col.solve(f), mmd.solve(f)
     # normwise backward error (Rigal-Gaches): both are backward stable
     norm_k = scipy.sparse.linalg.norm(K, np.inf)

@@ -9,8 +9,8 @@ from skfem import Basis, FacetBasis
 from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.truth.mesh import planform_tri_mesh
-from prbdm_pin.truth.plate import ElementTriArgyrisLocal
-from prbdm_pin.truth.static import plate_static, tip_edge_load
+from prbdm_pin.truth.plate_elements import ElementTriArgyrisLocal
+from prbdm_pin.truth.plate_static import plate_static, tip_edge_load
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 

@@ -11,20 +11,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS, OBJECTIVES, STIFFNESS_KINDS, TRUTH_MODELS
 from ..errors import BeamInputError
 
 if TYPE_CHECKING:
     from ..geometry import Beam
 
 __all__ = ["FitSettings", "BeamTask", "BatchSpec", "parse_shard", "plan_tasks", "check_int",
-           "check_choice", "OBJECTIVES", "STIFFNESS_KINDS", "TRUTH_MODELS", "EIGEN_NORMS",
-           "DEFAULT_EIGEN_NORM"]
-
-OBJECTIVES = ("eigen", "deflection", "combined")
-STIFFNESS_KINDS = ("paper", "joint")
-TRUTH_MODELS = ("plate", "plate-morley", "solid", "beam")
-EIGEN_NORMS = ("paper", "relative")  # objectives.EIGEN_NORMS (numpy-free here)
-DEFAULT_EIGEN_NORM = "relative"  # fitting.fit's default
+           "check_choice"]
 
 
 @dataclass(frozen=True)

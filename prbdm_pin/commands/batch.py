@@ -22,7 +22,7 @@ Beam i is random_beam(default_rng(SeedSequence(SEED, spawn_key=(i,)))).
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``batch`` subparser."""
-    from ..batch.spec import (
+    from ..choices import (
         DEFAULT_EIGEN_NORM,
         EIGEN_NORMS,
         OBJECTIVES,

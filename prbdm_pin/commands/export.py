@@ -6,10 +6,12 @@ import argparse
 import json
 import sys
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from . import add_common
+
+if TYPE_CHECKING:
+    import numpy as np
 
 EXAMPLES = """\
 examples:
@@ -38,7 +40,7 @@ mujoco.MjModel.from_xml_path (MJCF) or prbdm_pin.export.read_model_json (JSON).
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``export`` subparser."""
-    from ..export import EXPORT_DAMPING_FORMS, FORMATS
+    from ..choices import EXPORT_DAMPING_FORMS, FORMATS
 
     p = subparsers.add_parser(
         "export",
@@ -66,6 +68,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
     """The truth frequencies (rad/s) a model file knows: a fit.json's ``omega_truth_rad_s``, or
     the record of an earlier export (model JSON fields, URDF comment); None if none."""
+    import numpy as np
+
     from ..export import read_export_record
 
     if fitted is not None:

@@ -4,13 +4,18 @@ and plots."""
 from __future__ import annotations
 
 import argparse
-import math
-import os
 import sys
 from pathlib import Path
 
 from . import add_common
-from .fit_checks import MAX_STARTS, check_inputs, check_sweep, check_truth_options
+from .fit_checks import (
+    MAX_STARTS,
+    cache_dir,
+    check_inputs,
+    check_sweep,
+    check_truth_options,
+    load_factors,
+)
 
 EXAMPLE = """examples:
   prbdm fit examples/beams/reference-random.json --joints 4 --frequencies 3 --stiffness paper \\
@@ -87,8 +92,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def add_eigen_norm_option(p: argparse.ArgumentParser) -> None:
     """``--eigen-norm`` (shared with ``prbdm pareto``)."""
-    from ..fitting import DEFAULT_EIGEN_NORM
-    from ..objectives import EIGEN_NORMS
+    from ..choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS
 
     p.add_argument("--eigen-norm", default=DEFAULT_EIGEN_NORM, choices=list(EIGEN_NORMS),
                    help="eigen error per pose: Eq. 16's l2 norm, dominated by the highest mode "
@@ -119,29 +123,6 @@ def print_warnings(result) -> None:
     """Every note of a FitResult as one 'fit warning:' line on stderr."""
     for note in result.warnings:
         print(f"fit warning: {note}", file=sys.stderr)
-
-
-def _cache_dir(args) -> str:
-    if args.cache_dir:
-        return args.cache_dir
-    return os.environ.get("PRBDM_CACHE") or str(Path.home() / ".cache" / "prbdm_pin")
-
-
-def _load_factors(text: str | None) -> list[float]:
-    from ..errors import BeamInputError
-
-    if not text:
-        return []
-    try:
-        factors = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise BeamInputError(f"--extra-loads = {text!r}: must be numbers separated by commas "
-                             "(multiples of the beam's tip force)") from None
-    bad = [f for f in factors if not (math.isfinite(f) and f != 0.0)]
-    if bad:
-        raise BeamInputError(f"--extra-loads = {text!r}: {bad[0]} is not a finite, non-zero "
-                             "multiple of the tip force")
-    return factors
 
 
 def extra_load_cases(beam, factors: list[float], large_deflection: str,
@@ -175,7 +156,7 @@ def load_target(args, beam):
     import dataclasses
 
     target = _base_target(args, beam)
-    factors = _load_factors(getattr(args, "extra_loads", None))
+    factors = load_factors(getattr(args, "extra_loads", None))
     if not factors:
         return target
     from ..errors import BeamInputError
@@ -221,7 +202,7 @@ def _base_target(args, beam):
                            large_deflection=args.large_deflection,
                            error_tol_pct=None if getattr(args, "accept_coarse", False) else 0.5)
     try:
-        truth = request.compute(beam, cache_dir=_cache_dir(args))
+        truth = request.compute(beam, cache_dir=cache_dir(args))
     except CoarseTruthError as exc:
         raise BeamInputError(f"{exc}") from None
     if not getattr(args, "quiet", False):

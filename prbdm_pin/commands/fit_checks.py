@@ -5,11 +5,39 @@ from __future__ import annotations
 
 import math
 import os
+from pathlib import Path
 
 # a start holds its lengths and factors from the outset; more starts is a slip, not a study
 MAX_STARTS = 100_000
 # every evaluation solves one eigenproblem per pose of the sweep
 MAX_POSES = 1000
+
+
+def cache_dir(args) -> str:
+    """The truth cache folder: ``--cache-dir``, else ``$PRBDM_CACHE``, else
+    ``~/.cache/prbdm_pin``."""
+    if args.cache_dir:
+        return args.cache_dir
+    return os.environ.get("PRBDM_CACHE") or str(Path.home() / ".cache" / "prbdm_pin")
+
+
+def load_factors(text: str | None) -> list[float]:
+    """``--extra-loads`` as multiples of the tip force ([] when not given); BeamInputError for a
+    non-finite or zero factor."""
+    from ..errors import BeamInputError
+
+    if not text:
+        return []
+    try:
+        factors = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise BeamInputError(f"--extra-loads = {text!r}: must be numbers separated by commas "
+                             "(multiples of the beam's tip force)") from None
+    bad = [f for f in factors if not (math.isfinite(f) and f != 0.0)]
+    if bad:
+        raise BeamInputError(f"--extra-loads = {text!r}: {bad[0]} is not a finite, non-zero "
+                             "multiple of the tip force")
+    return factors
 
 
 def check_truth_options(args) -> None:
@@ -29,9 +57,7 @@ def check_truth_options(args) -> None:
     in_range("--xi", args.xi, 0.0, unit="rad")
     in_range("--seed", args.seed, 0, MAX_SEED, integer=True)
     check_min_fraction(args.min_link, args.joints, "--min-link")
-    from .fit import _load_factors
-
-    if _load_factors(args.extra_loads) and args.truth:
+    if load_factors(args.extra_loads) and args.truth:
         raise BeamInputError(f"--extra-loads = {args.extra_loads!r}: needs a computed truth, "
                              "not --truth TRUTH.json")
     writable_dir(args.out, "--out")
@@ -43,7 +69,6 @@ def check_cache_dir(args) -> None:
     """The truth cache folder must be writable: ``--cache-dir``, else ``$PRBDM_CACHE``, else
     ``~/.cache/prbdm_pin`` (each named as what it is)."""
     from .checks import writable_dir
-    from .fit import _cache_dir
 
     if args.cache_dir is not None:
         field = "--cache-dir"
@@ -51,7 +76,7 @@ def check_cache_dir(args) -> None:
         field = "PRBDM_CACHE"
     else:
         field = "cache folder (default; set --cache-dir or PRBDM_CACHE)"
-    writable_dir(_cache_dir(args) if args.cache_dir is None else args.cache_dir, field)
+    writable_dir(cache_dir(args) if args.cache_dir is None else args.cache_dir, field)
 
 
 def check_sweep(args) -> None:

@@ -6,12 +6,14 @@ import argparse
 import json
 import sys
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
 from . import add_common
-from .truth_comparison import TRUTH_MODELS, _plot_comparison, compare_truth, comparison_request
+from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
+
+if TYPE_CHECKING:
+    import numpy as np
 
 EXAMPLES = """\
 examples:
@@ -87,6 +89,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def parse_force(text: str) -> np.ndarray:
     """``"FX,FY,FZ"`` -> array (3,) in N; BeamInputError otherwise."""
+    import numpy as np
+
     parts = text.split(",")
     try:
         f = np.array([float(v) for v in parts])
@@ -152,6 +156,8 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
 
 
 def _csv(tr) -> str:
+    import numpy as np
+
     n = tr.q_rad.shape[1]
     head = (["t_s"] + [f"q{j + 1}_rad" for j in range(n)] + [f"v{j + 1}_rad_s" for j in range(n)]
             + ["tip_x_m", "tip_y_m", "tip_z_m"])
@@ -212,6 +218,8 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
+    import numpy as np
+
     from ..io import atomic_write_text
     from ..output_folder import output_folder
     from ..simulation import simulate
@@ -257,12 +265,14 @@ def run(args: argparse.Namespace) -> int:
                   f"{args.duration} s simulated; wrote {out / 'trajectory.csv'}", file=sys.stderr)
 
         if args.compare_truth:
-            from .fit import _cache_dir
+            from .fit_checks import cache_dir
 
             request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
-            cmp = compare_truth(model, request, args.damping, _cache_dir(args),
+            cmp = compare_truth(model, request, args.damping, cache_dir(args),
                                 quiet=args.quiet)
-            _plot_comparison(cmp, stage / "truth_comparison.png", plt)
+            fig = comparison_figure(cmp, plt)
+            _save_png(fig, stage / "truth_comparison.png")
+            plt.close(fig)
             # the JSON last: its presence marks a complete comparison
             atomic_write_text(stage / "truth_comparison.json",
                               json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")

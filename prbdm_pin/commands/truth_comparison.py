@@ -5,10 +5,7 @@ from __future__ import annotations
 
 import sys
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING
-
-import numpy as np
 
 from ..errors import BeamInputError
 
@@ -149,8 +146,11 @@ def compare_truth(model, request: TruthRequest, damping_ratio: float, cache_dir,
                            float(damping_ratio))
 
 
-def _plot_comparison(cmp: TruthComparison, path: Path, plt) -> None:
-    """Step response and FRF magnitude and phase of both sides, written atomically."""
+def comparison_figure(cmp: TruthComparison, plt):
+    """The figure of the step response and the FRF magnitude and phase of both sides (pyplot
+    ``plt``); the command writes and closes it."""
+    import numpy as np
+
     acc, name = cmp.accuracy, cmp.truth_model
     mine = f"{cmp.prbdm.omega_rad_s.size}R PRBDM"
     fig, ax = plt.subplots(3, 1, figsize=(7, 8))
@@ -169,8 +169,5 @@ def _plot_comparison(cmp: TruthComparison, path: Path, plt) -> None:
     ax[2].set_ylabel("phase (deg)")
     fig.suptitle(f"{name} truth, zeta = {cmp.damping_ratio}: step error "
                  f"{acc.step_error:.1%}, FRF error {acc.frf_error:.1%}")
-    from .simulate import _save_png  # the command's PNG writer (atomic, umask mode)
-
     fig.tight_layout()
-    _save_png(fig, path)
-    plt.close(fig)
+    return fig

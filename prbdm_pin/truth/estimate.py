@@ -30,6 +30,9 @@ import numpy as np
 
 from ..errors import TruthError
 from ..geometry import Beam
+from ..limits import limits
+from .modal import compute_modal
+from .modes import mac_matrix
 from .result import ModalSolution
 
 __all__ = [
@@ -66,8 +69,6 @@ _REFINED_DOF_RATIO = 4
 
 def estimate_skipped(model: str, modal: ModalSolution) -> bool:
     """Whether the next mesh level of a plate truth is too large to be solved for the estimate."""
-    from ..limits import limits
-
     # never above the mesh cap either: the estimate is optional, the truth is not
     cap = min(ESTIMATE_MAX_DOFS, limits().max_mesh_dofs)
     return model in ("plate", "plate-morley") and _REFINED_DOF_RATIO * int(modal.dofs) > cap
@@ -84,8 +85,6 @@ def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.nda
         from .beam import beam_modal
 
         return beam_modal(beam, n_modes=k, n_elements=2 * _BEAM_ELEMENTS)
-    from . import compute_modal
-
     return compute_modal(beam, model, modal.mesh_level + 1, k)
 
 
@@ -93,8 +92,6 @@ def _match(modal: ModalSolution, finer: ModalSolution, index: np.ndarray) -> np.
     """Index into ``finer`` of each selected mode of ``modal``: best MAC at the coarse nodes."""
     if modal.model == "beam":
         return np.asarray(index)
-    from .modes import mac_matrix
-
     n0 = modal.node_uz.shape[1]
     nested = (finer.nodes_m is not None and finer.nodes_m.shape[0] >= n0
               and np.array_equal(finer.nodes_m[:n0], modal.nodes_m))

@@ -68,7 +68,7 @@ def _interval_counts(beam: Beam, h_m: float, growth: float, narrow: bool):
     starts, ends = beam.intervals_m  # a width step is one station
     for a, b in zip(starts, ends, strict=True):
         xs = np.linspace(a, b, 201)
-        inv = 1.0 / _local_size(beam, h_m, growth, xs, narrow)
+        inv = 1.0 / local_size(beam, h_m, growth, xs, narrow)
         cum = np.concatenate([[0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(xs))])
         yield xs, cum, max(1, int(np.ceil(cum[-1] - 1e-9)))
 
@@ -78,7 +78,7 @@ def station_count(beam: Beam, h_m: float, growth: float = 0.3, narrow: bool = Fa
     return 1 + sum(n for _, _, n in _interval_counts(beam, h_m, growth, narrow))
 
 
-def _local_size(
+def local_size(
     beam: Beam, h_m: float, growth: float, x: np.ndarray, narrow: bool = False
 ) -> np.ndarray:
     """The size field of ``x_stations`` evaluated at ``x`` (m)."""
@@ -237,7 +237,7 @@ def planform_tri_mesh(
     # relative to the local size: a corner at a narrow neck is refined further than a wide one
     # (floored at h / 2**(corner_passes + 2): tinier elements buy little accuracy and cost
     # eigensolver precision, which degrades like the inverse fourth power of the smallest size)
-    target = 1.01 * np.maximum(_local_size(beam, h, growth, corners[0], narrow=True),
+    target = 1.01 * np.maximum(local_size(beam, h, growth, corners[0], narrow=True),
                                CORNER_FLOOR * h) * 0.5**corner_passes
     mesh = _refine_corners(_base_tri_mesh(beam, h, growth), corners, target)
     # uniform refinement of the base mesh: nested meshes, so the conforming Argyris frequencies
@@ -247,7 +247,7 @@ def planform_tri_mesh(
 
 def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     xs = x_stations(beam, h, growth, narrow=True)
-    sizes = _local_size(beam, h, growth, xs, narrow=True)
+    sizes = local_size(beam, h, growth, xs, narrow=True)
     gaps = np.diff(xs)
     near = np.minimum(np.concatenate([gaps, gaps[-1:]]), np.concatenate([gaps[:1], gaps]))
     sizes = np.minimum(sizes, np.maximum(near, 0.5 * sizes))

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..geometry import Beam
 from ..limits import check_cap, limits
+from .mesh import element_size, local_size, station_count, x_stations
 
 __all__ = ["PLATE_DOFS_PER_EDGE", "PLATE_DOFS_PER_NODE", "check_dofs", "check_plate_budget",
            "check_solid_budget", "estimate_plate_dofs", "smallest_feature"]
@@ -27,7 +28,7 @@ _EDGES_PER_NODE = 3.0
 # the solid's 27-node hexahedra, one through the thickness: 9 (vertices + edges + faces) of the
 # quadrilateral mesh; each triangle of the feature mesh makes 3 quadrilaterals, and an
 # equilateral triangle of side h covers sqrt(3) / 4 h^2
-_SOLID_DOFS_PER_AREA = 9.0 * 3.0 * 3.0 / (np.sqrt(3.0) / 4.0)
+SOLID_DOFS_PER_AREA = 9.0 * 3.0 * 3.0 / (np.sqrt(3.0) / 4.0)
 
 
 def smallest_feature(beam: Beam) -> str:
@@ -55,8 +56,6 @@ def estimate_plate_dofs(beam: Beam, level: int, element: str = "argyris") -> int
     built mesh's exact count is checked too. Costs O(vertices^2) and allocates nothing per
     station when the station count alone exceeds the cap.
     """
-    from .mesh import _local_size, element_size, station_count, x_stations
-
     h = element_size(beam, 0)
     per_node = PLATE_DOFS_PER_NODE[element] + PLATE_DOFS_PER_EDGE * _EDGES_PER_NODE
     n_st = station_count(beam, h, 0.3, narrow=True)
@@ -65,7 +64,7 @@ def estimate_plate_dofs(beam: Beam, level: int, element: str = "argyris") -> int
     if lower > limits().max_mesh_dofs:
         return int(min(lower, 1e18))
     xs = x_stations(beam, h, 0.3, narrow=True)
-    sizes = _local_size(beam, h, 0.3, xs, narrow=True)
+    sizes = local_size(beam, h, 0.3, xs, narrow=True)
     w = np.minimum(beam.half_width_at(xs, "left"), beam.half_width_at(xs, "right"))
     columns = np.maximum(1.0, np.ceil(w / sizes - 0.25)).sum()
     nodes_up = columns + xs.size  # column points + about one outline point per station
@@ -83,10 +82,8 @@ def check_plate_budget(beam: Beam, level: int, element: str = "argyris") -> None
 def check_solid_budget(beam: Beam, level: int) -> None:
     """BeamInputError when the solid mesh at ``level`` must exceed ``max_mesh_dofs``: its
     in-plane size is at most 2 L / (10 2^level) everywhere, which bounds its DOFs from below."""
-    from .mesh import element_size
-
     h = 2.0 * element_size(beam, level)
-    dofs = _SOLID_DOFS_PER_AREA * beam.planform_area_m2 / h**2
+    dofs = SOLID_DOFS_PER_AREA * beam.planform_area_m2 / h**2
     if dofs > limits().max_mesh_dofs:
         _refuse(f"mesh DOFs (solid, level {level}, at least, estimated before meshing)", dofs,
                 beam)

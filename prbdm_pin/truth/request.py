@@ -10,6 +10,7 @@ from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from ..errors import BeamInputError
+from .compute import compute_truth
 
 
 @dataclass(frozen=True)
@@ -41,8 +42,6 @@ class TruthRequest:
 
     def compute(self, beam, cache_dir=None, static: bool = True):
         """The ``TruthResult`` of this request for ``beam`` (cached in ``cache_dir``)."""
-        from . import compute_truth
-
         return compute_truth(beam, model=self.model, modes=self.modes,
                              mesh_level=self.mesh_level, selection=self.selection,
                              static=static, cache_dir=cache_dir,

@@ -1,7 +1,7 @@
 """Linear static truth of the Kirchhoff plate under the tip force spread over the free edge.
 
 The same element (Argyris in scaled element-local coordinates), mesh and root clamp as the plate
-modal truth (``plate.py``). The tip force F_z becomes the uniform line load q = F_z / (2 w(L))
+modal truth (``plate``). The tip force F_z becomes the uniform line load q = F_z / (2 w(L))
 along the free edge x = L, integrated against the Argyris basis on the tip facets (a consistent
 load vector, not a nodal lump). Kirchhoff bending carries only F_z: in-plane components are
 reported in ``tip_force_N`` but produce no displacement here (as in the 1D beam model).
@@ -12,11 +12,17 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from scipy.sparse import diags
+from scipy.sparse.linalg import splu
 from skfem import Basis, FacetBasis, LinearForm, asm
 
 from ..errors import BeamInputError, TruthError
 from ..geometry import Beam
+from .mesh_budget import PLATE_DOFS_PER_EDGE, PLATE_DOFS_PER_NODE, check_dofs, check_plate_budget
+from .plate import ROOT_CLAMP_DOFS, assemble_plate, plate_rigidity_Nm
+from .plate_elements import ElementTriArgyrisLocal
 from .result import StaticSolution, Timings
+from .settings import DEFAULT_PLATE_LEVEL, check_level
 
 __all__ = ["plate_static", "tip_edge_load"]
 
@@ -30,12 +36,6 @@ def tip_edge_load(beam: Beam, facet_basis: FacetBasis, force_z_N: float) -> np.n
     """Consistent load vector (N) of the line load F_z / (2 w(L)) on the tip-edge facets."""
     q_N_m = force_z_N / (2.0 * beam.half_width_at(beam.length_m))
     return q_N_m * asm(_unit_line_load, facet_basis)
-
-
-def _check_level(level: object) -> int:
-    if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or level < 0:
-        raise BeamInputError(f"level = {level!r}: must be an integer >= 0")
-    return int(level)
 
 
 def plate_static(
@@ -58,23 +58,14 @@ def plate_static(
         Deflection of the mid-surface point (L, 0): tip position (L, 0, w) and displacement
         (0, 0, w) in m; ``dofs`` counts the free plate DOFs.
     """
-    from scipy.sparse import diags
-    from scipy.sparse.linalg import splu
-
-    from . import DEFAULT_PLATE_LEVEL
+    # looked up per call, as the modal truth does (a test replaces it to prove the budget comes
+    # first)
     from .mesh import planform_tri_mesh
-    from .mesh_budget import (
-        PLATE_DOFS_PER_EDGE,
-        PLATE_DOFS_PER_NODE,
-        check_dofs,
-        check_plate_budget,
-    )
-    from .plate import ROOT_CLAMP_DOFS, ElementTriArgyrisLocal, _assemble_plate
 
     F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)
     if F.shape != (3,) or not np.all(np.isfinite(F)):
         raise BeamInputError(f"tip_force_N = {F.tolist()}: must be 3 finite numbers in N")
-    lev = DEFAULT_PLATE_LEVEL if level is None else _check_level(level)
+    lev = DEFAULT_PLATE_LEVEL if level is None else check_level(level)
     L = beam.length_m
     t0 = time.perf_counter()
     check_plate_budget(beam, lev, "argyris")
@@ -89,8 +80,7 @@ def plate_static(
     fbasis = FacetBasis(mesh, ElementTriArgyrisLocal(), facets=tip_facets)
     t2 = time.perf_counter()
     mat = beam.material
-    D = mat.E_Pa * beam.thickness_m**3 / (12.0 * (1.0 - mat.nu**2))
-    K, _ = _assemble_plate(basis, D, mat.nu, mat.rho_kg_m3 * beam.thickness_m)
+    K, _ = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * beam.thickness_m)
     f = tip_edge_load(beam, fbasis, F[2])
     clamped = basis.get_dofs(lambda x: np.abs(x[0]) < tol).all(ROOT_CLAMP_DOFS["argyris"])
     free = np.setdiff1d(np.arange(basis.N), clamped)
