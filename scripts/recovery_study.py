@@ -32,8 +32,8 @@ from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.geometry import atomic_write_text, load_beam  # noqa: E402
 from prbdm_pin.layout import sample_lengths  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.problem import model_target  # noqa: E402
 from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.target import model_target  # noqa: E402
 
 
 def _floats(text: str) -> list[float]:

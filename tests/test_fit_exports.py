@@ -14,11 +14,13 @@ import json
 import numpy as np
 import pytest
 
+from prbdm_pin.evaluate import batch_losses, evaluate
 from prbdm_pin.fitting import fit
 from prbdm_pin.geometry import load_beam
 from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.problem import FitTarget, batch_losses, evaluate, make_problem, target_from_truth
+from prbdm_pin.problem import make_problem
 from prbdm_pin.results import FitResult, load_fit, save_fit
+from prbdm_pin.target import FitTarget, target_from_truth
 
 BEAMS = "examples/beams"
 # prototype truth for reference-random.json (rad/s)
@@ -170,7 +172,7 @@ def _loss(prob, lengths, factors, objective):
     """The fitted objective (%) of a design through the Pinocchio model; paper eigen designs
     get each pose's optimal SCF again (the variable projection), from the numpy formula."""
     if prob.stiffness == "paper" and objective == "eigen":
-        from prbdm_pin.problem import unit_frequencies
+        from prbdm_pin.evaluate import unit_frequencies
 
         _, _, W = unit_frequencies(prob, lengths)
         t = prob.target.omega_truth_rad_s
@@ -224,7 +226,8 @@ def test_paper_relative_2r_fit_reaches_the_grid_optimum(reference):
     # Nelder-Mead
     from scipy.optimize import minimize
 
-    from prbdm_pin.problem import lengths_from_unit, unit_frequencies
+    from prbdm_pin.evaluate import unit_frequencies
+    from prbdm_pin.problem import lengths_from_unit
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     prob = make_problem(reference, target, 2, 2, "paper", eigen_norm="relative")

@@ -16,7 +16,7 @@ import pytest
 
 from prbdm_pin.fitting import fit
 from prbdm_pin.geometry import random_beam
-from prbdm_pin.problem import target_from_truth
+from prbdm_pin.target import target_from_truth
 from prbdm_pin.truth import compute_truth
 
 pytestmark = [pytest.mark.slow, pytest.mark.stress]

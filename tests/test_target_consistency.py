@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from prbdm_pin.geometry import load_beam
-from prbdm_pin.problem import target_from_truth
+from prbdm_pin.target import target_from_truth
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.elastica import anticlastic_factor, elastica_static
 

@@ -87,8 +87,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def add_eigen_norm_option(p: argparse.ArgumentParser) -> None:
     """``--eigen-norm`` (shared with ``prbdm pareto``)."""
-    from ..fitting import DEFAULT_EIGEN_NORM
-    from ..objectives import EIGEN_NORMS
+    from ..objectives import DEFAULT_EIGEN_NORM, EIGEN_NORMS
 
     p.add_argument("--eigen-norm", default=DEFAULT_EIGEN_NORM, choices=list(EIGEN_NORMS),
                    help="eigen error per pose: Eq. 16's l2 norm, dominated by the highest mode "
@@ -151,7 +150,7 @@ def extra_load_cases(beam, factors: list[float], large_deflection: str,
 
     ``calibrated-elastica`` scales EI(x) by 1 + gap / 100 with the primary truth's
     ``static_theory_gap_pct`` (the linear ratio does not depend on the load)."""
-    from ..problem import LoadCase
+    from ..target import LoadCase
 
     cases = []
     for f in factors:
@@ -191,7 +190,7 @@ def load_target(args, beam):
 
 def _base_target(args, beam):
     from ..errors import BeamInputError
-    from ..problem import FitTarget, target_from_truth
+    from ..target import FitTarget, target_from_truth
 
     if args.truth:
         from ..truth.truth_file import read_truth_file

@@ -88,8 +88,8 @@ def _beam_doc() -> dict:
 def _fit_doc() -> dict:
     from prbdm_pin.fitting import fit
     from prbdm_pin.geometry import load_beam
-    from prbdm_pin.problem import FitTarget
     from prbdm_pin.results import save_fit
+    from prbdm_pin.target import FitTarget
 
     beam = load_beam(TAPERED)
     r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, 2, starts=1, seed=0,
