@@ -81,10 +81,11 @@ def fit_pareto(
     ``polish_knee`` (default on) runs the single-objective local solver on Eq. 27 from the
     NSGA-II knee and adds the result to the front if no front design dominates it; the knee is
     then taken on that front, and ``message`` records the raw NSGA-II knee beside it. Each
-    generation is evaluated as one batch (``pareto_problem.pareto_objectives_batch``: every design's and
-    pose's static solve in one vectorised Newton), so a ``paper`` front with a static solve per
-    pose costs seconds, not minutes. ``eigen_norm`` (``"paper"``, Eq. 16, or ``"relative"``)
-    is the norm of the front's eigen objective; ``min_fraction`` bounds the link lengths.
+    generation is evaluated as one batch (``pareto_problem.pareto_objectives_batch``: every
+    design's and pose's static solve in one vectorised Newton), so a ``paper`` front with a
+    static solve per pose costs seconds, not minutes. ``eigen_norm`` (``"paper"``, Eq. 16, or
+    ``"relative"``) is the norm of the front's eigen objective; ``min_fraction`` bounds the
+    link lengths.
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
