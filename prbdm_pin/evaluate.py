@@ -17,13 +17,12 @@ from .dynamics import (
 )
 from .errors import BeamInputError, SolveError
 from .objectives import eigen_errors, tip_displacement_errors, tip_position_errors
-from .problem import FitProblem, build, pose_stiffness
+from .problem import FitProblem, build, pose_stiffness, unit_frequencies
 from .sections import _planar_sections
 from .stiffness import finite_segment_stiffness_unchecked, paper_unit_stiffness
 
 __all__ = [
     "Evaluation",
-    "unit_frequencies",
     "chain_mass_matrices",
     "chain_frequencies",
     "fast_unit_frequencies",
@@ -85,24 +84,6 @@ class Evaluation:
     def combined_loss_pct(self) -> float:
         return float(math.hypot(self.eigen_loss_pct, self.deflection_loss_pct))
 
-
-
-def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
-    """The model at unit stiffness factor and its frequencies over the problem's poses.
-
-    Returns
-    -------
-    model : PrbdmModel
-        Built with the unit-factor springs.
-    K0 : ndarray, shape (n,)
-        Unit-factor springs, N m/rad.
-    omega : ndarray, shape (m, N)
-        Frequencies at each pose with ``K0`` (rad/s); with factor k on every spring each one
-        scales by sqrt(k) (the variable projection of the ``paper`` fit uses this).
-    """
-    model, K0 = build(problem, lengths_m)
-    omega = model.natural_frequencies_batch(problem.poses_rad, stiffness=K0)
-    return model, K0, np.asarray(omega)[:, : problem.n_freq]
 
 
 def chain_mass_matrices(problem: FitProblem, lengths_m: np.ndarray):

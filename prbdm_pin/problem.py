@@ -39,6 +39,7 @@ __all__ = [
     "unit_from_lengths",
     "base_stiffness",
     "build",
+    "unit_frequencies",
     "pose_stiffness",
 ]
 
@@ -210,6 +211,24 @@ def build(problem: FitProblem, lengths_m: np.ndarray):
         return model.with_stiffness(K0), K0
     K0 = base_stiffness(problem, lengths)
     return build_model(problem.beam, lengths, K0, min_fraction=f), K0
+
+
+def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
+    """The model at unit stiffness factor and its frequencies over the problem's poses.
+
+    Returns
+    -------
+    model : PrbdmModel
+        Built with the unit-factor springs.
+    K0 : ndarray, shape (n,)
+        Unit-factor springs, N m/rad.
+    omega : ndarray, shape (m, N)
+        Frequencies at each pose with ``K0`` (rad/s); with factor k on every spring each one
+        scales by sqrt(k) (the variable projection of the ``paper`` fit uses this).
+    """
+    model, K0 = build(problem, lengths_m)
+    omega = model.natural_frequencies_batch(problem.poses_rad, stiffness=K0)
+    return model, K0, np.asarray(omega)[:, : problem.n_freq]
 
 
 def pose_stiffness(problem: FitProblem, K0: np.ndarray, factors: np.ndarray) -> np.ndarray:

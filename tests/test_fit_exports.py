@@ -172,7 +172,7 @@ def _loss(prob, lengths, factors, objective):
     """The fitted objective (%) of a design through the Pinocchio model; paper eigen designs
     get each pose's optimal SCF again (the variable projection), from the numpy formula."""
     if prob.stiffness == "paper" and objective == "eigen":
-        from prbdm_pin.evaluate import unit_frequencies
+        from prbdm_pin.problem import unit_frequencies
 
         _, _, W = unit_frequencies(prob, lengths)
         t = prob.target.omega_truth_rad_s
@@ -226,8 +226,7 @@ def test_paper_relative_2r_fit_reaches_the_grid_optimum(reference):
     # Nelder-Mead
     from scipy.optimize import minimize
 
-    from prbdm_pin.evaluate import unit_frequencies
-    from prbdm_pin.problem import lengths_from_unit
+    from prbdm_pin.problem import lengths_from_unit, unit_frequencies
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     prob = make_problem(reference, target, 2, 2, "paper", eigen_norm="relative")

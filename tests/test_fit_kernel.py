@@ -12,11 +12,11 @@ import pytest
 from scipy.integrate import quad
 
 from prbdm_pin.dynamics import mass_matrices, planar_mass_matrices, planar_tip
-from prbdm_pin.evaluate import chain_mass_matrices, fast_unit_frequencies, unit_frequencies
+from prbdm_pin.evaluate import chain_mass_matrices, fast_unit_frequencies
 from prbdm_pin.geometry import load_beam, random_beam
 from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
-from prbdm_pin.problem import make_problem
+from prbdm_pin.problem import make_problem, unit_frequencies
 from prbdm_pin.sections import _planar_sections, _sections
 from prbdm_pin.stiffness import _inv_width_integral, finite_segment_stiffness
 from prbdm_pin.target import FitTarget

@@ -257,8 +257,8 @@ def test_joint_combined_3r_against_euler_bernoulli_and_elastica(narrow):
 
 def _projected_loss_pct(prob, lengths):
     """The paper's eigen loss at each pose's optimal SCF, through the Pinocchio model."""
-    from prbdm_pin.evaluate import unit_frequencies
     from prbdm_pin.objectives import projected_eigen_errors
+    from prbdm_pin.problem import unit_frequencies
 
     _, _, W = unit_frequencies(prob, lengths)
     return 100.0 * float(np.mean(projected_eigen_errors(W, prob.target.omega_truth_rad_s,

@@ -10,7 +10,6 @@ import time
 import numpy as np
 
 from ..errors import BeamInputError
-from ..evaluate import unit_frequencies
 from ..geometry import Beam
 from ..layout import sample_lengths
 from ..objectives import (
@@ -20,7 +19,7 @@ from ..objectives import (
     check_eigen_norm,
     knee_index,
 )
-from ..problem import FitProblem, make_problem
+from ..problem import FitProblem, make_problem, unit_frequencies
 from ..results import ParetoResult
 from ..target import FitTarget
 from ..workers import stop_pool
