@@ -46,9 +46,10 @@ planar chain, checked against Pinocchio's CRBA in the tests) and the vectorised 
 ``dynamics.static_deflection_planar_batch``; each finite-difference stencil, and each NSGA-II
 generation, is evaluated as one stacked batch (scipy's ``workers`` map, the analytic-in-ln s
 Jacobian of the ``joint`` fit, ``pareto_problem.pareto_objectives_batch``). The chosen design
-is evaluated again through the Pinocchio model (``result.result_from_design``), so every
-number of a FitResult comes from the product path (a Pareto front's F_pct come from the
-batch).
+is evaluated again through the exported ``PrbdmModel`` (``result.result_from_design``): its
+frequencies from Pinocchio's mass matrix, its static equilibrium from the model's own planar
+Newton solve and its tip from Pinocchio's kinematics, so every number of a FitResult is the
+product's (a Pareto front's ``F_pct`` are the batch's).
 
 Start points are uniform on the bounded simplex (``layout.sample_lengths``, Eq. 23) plus random
 factors, all drawn up front from ``numpy.random.default_rng(seed)``; starts are solved in order
