@@ -16,8 +16,13 @@ from .dynamics import (
     static_deflection_planar_batch,
 )
 from .errors import BeamInputError, SolveError
-from .objectives import eigen_errors, tip_displacement_errors, tip_position_errors
-from .problem import FitProblem, build, pose_stiffness, unit_frequencies
+from .objectives import (
+    check_deflection_norm,
+    eigen_errors,
+    tip_displacement_errors,
+    tip_position_errors,
+)
+from .problem import FitProblem, build, pose_stiffness, static_tips, unit_frequencies
 from .sections import _planar_sections
 from .stiffness import finite_segment_stiffness_unchecked, paper_unit_stiffness
 
@@ -26,7 +31,6 @@ __all__ = [
     "chain_mass_matrices",
     "chain_frequencies",
     "fast_unit_frequencies",
-    "static_tips",
     "evaluate",
     "BatchLosses",
     "batch_losses",
@@ -84,6 +88,12 @@ class Evaluation:
     def combined_loss_pct(self) -> float:
         return float(math.hypot(self.eigen_loss_pct, self.deflection_loss_pct))
 
+    def tip_loss_pct(self, norm: str = "position") -> float:
+        """The tip loss in the normalisation ``norm`` (``objectives.DEFLECTION_NORMS``), %."""
+        if check_deflection_norm(norm) == "position":
+            return self.deflection_loss_pct
+        return self.displacement_loss_pct
+
 
 
 def chain_mass_matrices(problem: FitProblem, lengths_m: np.ndarray):
@@ -132,19 +142,6 @@ def fast_unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
     shapes (n,), (m, N) for one design, (B, n), (B, m, N) for a stack."""
     M, K0 = chain_mass_matrices(problem, lengths_m)
     return K0, chain_frequencies(M, K0)[..., : problem.n_freq]
-
-
-def static_tips(model, tip_force_N: np.ndarray, stiffness_rows: np.ndarray) -> np.ndarray:
-    """Tip positions (m) under the load for each row of springs, stiffest first with warm starts."""
-    rows = np.atleast_2d(stiffness_rows)
-    order = np.argsort(-rows.sum(axis=1), kind="stable")
-    tips = np.empty((rows.shape[0], 3))
-    q0 = None
-    for r in order:
-        q, tip = model.with_stiffness(rows[r]).static_deflection(tip_force_N, q0=q0)
-        tips[r] = tip
-        q0 = q
-    return tips
 
 
 def evaluate(
@@ -236,6 +233,11 @@ class BatchLosses:
         """Tip-displacement loss of each design, %."""
         return 100.0 * self.displacement_errors.mean(axis=1)
 
+    def tip_errors(self, norm: str = "position") -> np.ndarray | None:
+        """The tip errors in the normalisation ``norm`` (``objectives.DEFLECTION_NORMS``)."""
+        if check_deflection_norm(norm) == "position":
+            return self.position_errors
+        return self.displacement_errors
 
 def batch_losses(problem: FitProblem, lengths_m: np.ndarray, factors: np.ndarray,
                  deflection: bool = True) -> BatchLosses:

@@ -41,6 +41,7 @@ __all__ = [
     "build",
     "unit_frequencies",
     "pose_stiffness",
+    "static_tips",
 ]
 
 STIFFNESS_KINDS = ("paper", "joint")
@@ -238,3 +239,15 @@ def pose_stiffness(problem: FitProblem, K0: np.ndarray, factors: np.ndarray) -> 
         return f[:, None] * K0[None, :]
     return np.broadcast_to(f * K0, (problem.n_poses, problem.n_joints)).copy()
 
+
+def static_tips(model, tip_force_N: np.ndarray, stiffness_rows: np.ndarray) -> np.ndarray:
+    """Tip positions (m) under the load for each row of springs, stiffest first with warm starts."""
+    rows = np.atleast_2d(stiffness_rows)
+    order = np.argsort(-rows.sum(axis=1), kind="stable")
+    tips = np.empty((rows.shape[0], 3))
+    q0 = None
+    for r in order:
+        q, tip = model.with_stiffness(rows[r]).static_deflection(tip_force_N, q0=q0)
+        tips[r] = tip
+        q0 = q
+    return tips

@@ -105,9 +105,7 @@ class PaperScalarLoss:
         p, n = self.p, self.p.n_joints
         lengths = np.array([lengths_from_unit(x[:n], p.length_m, p.min_fraction) for x in X])
         r = batch_losses(p, lengths, np.exp(X[:, n:]))
-        d = r.position_errors if self.spec.deflection_norm == "position" \
-            else r.displacement_errors
-        return r.eigen_errors, d
+        return r.eigen_errors, r.tip_errors(self.spec.deflection_norm)
 
     def _loss(self, e: np.ndarray, d: np.ndarray) -> np.ndarray:
         loss = d.mean(axis=-1) if self.spec.objective == "deflection" \

@@ -82,7 +82,7 @@ def pareto_objectives(problem: FitProblem, lengths_m, factors, penalty: float = 
         ev = evaluate(problem, lengths_m, factors, deflection=True)
     except (SolveError, BeamInputError):
         return np.array([penalty, penalty])
-    d = ev.deflection_loss_pct if deflection_norm == "position" else ev.displacement_loss_pct
+    d = ev.tip_loss_pct(deflection_norm)
     if not (math.isfinite(ev.eigen_loss_pct) and math.isfinite(d)):
         return np.array([penalty, penalty])
     return np.array([ev.eigen_loss_pct, d])
@@ -96,7 +96,7 @@ def pareto_objectives_batch(problem: FitProblem, X: np.ndarray, penalty: float =
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n1 = problem.n_joints + 1
     r = batch_losses(problem, X[:, :n1] * problem.length_m, 10.0 ** X[:, n1:])
-    d = r.position_pct if deflection_norm == "position" else r.displacement_pct
+    d = 100.0 * r.tip_errors(deflection_norm).mean(axis=1)
     F = np.column_stack([r.eigen_pct, d])
     F[~np.all(np.isfinite(F), axis=1)] = penalty
     return F

@@ -87,8 +87,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         eigen_errors_pct=100.0 * ev.eigen_errors, eigen_loss_pct=ev.eigen_loss_pct,
         deflection_loss_pct=ev.deflection_loss_pct,
         displacement_loss_pct=ev.displacement_loss_pct,
-        combined_loss_pct=ev.combined_loss_pct if deflection_norm == "position"
-        else float(math.hypot(ev.eigen_loss_pct, ev.displacement_loss_pct)),
+        combined_loss_pct=float(math.hypot(ev.eigen_loss_pct, ev.tip_loss_pct(deflection_norm))),
         tip_position_model_m=ev.tip_position_m, tip_position_truth_m=t.tip_position_m,
         tip_displacement_truth_m=t.tip_displacement_m, tip_force_N=t.tip_force_N, mac=t.mac,
         truth_source=t.source, truth_request=t.truth_request,
