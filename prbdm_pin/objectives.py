@@ -36,6 +36,7 @@ __all__ = [
     "check_eigen_norm",
     "check_deflection_norm",
     "eigen_weights",
+    "eigen_residuals",
     "eigen_errors",
     "mode_errors_pct",
     "worst_mode_error_pct",
@@ -125,6 +126,18 @@ def worst_mode_error_pct(errors_pct: np.ndarray) -> float:
     return float(np.max(np.abs(e))) if e.size else float("nan")
 
 
+def eigen_residuals(
+    omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
+    norm: str = "paper",
+) -> np.ndarray:
+    """Weighted per-mode residuals ``d (w - f)`` of every pose, dimensionless, shape (..., m, N)
+    for model frequencies (rad/s) of shape (..., m, >= N); their norm over the modes is
+    :func:`eigen_errors`."""
+    f = _truth(omega_truth_rad_s, squared)
+    w = _model(omega_model_rad_s, f.size, squared)
+    return (w - f) * eigen_weights(omega_truth_rad_s, squared, norm)
+
+
 def eigen_errors(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
     norm: str = "paper",
@@ -146,9 +159,8 @@ def eigen_errors(
     -------
     ndarray, shape (m,)
     """
-    f = _truth(omega_truth_rad_s, squared)
-    w = _model(omega_model_rad_s, f.size, squared)
-    return np.linalg.norm((w - f) * eigen_weights(omega_truth_rad_s, squared, norm), axis=1)
+    return np.linalg.norm(eigen_residuals(omega_model_rad_s, omega_truth_rad_s, squared, norm),
+                          axis=-1)
 
 
 def eigen_loss_pct(

@@ -20,7 +20,7 @@ from ..dynamics import (
 )
 from ..errors import BeamInputError, SolveError
 from ..evaluate import chain_frequencies, chain_mass_matrices
-from ..objectives import eigen_weights
+from ..objectives import eigen_residuals, eigen_weights
 from ..problem import lengths_from_unit
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
@@ -57,8 +57,9 @@ class JointResiduals:
             M, K0 = chain_mass_matrices(p, lengths)
             K = s * K0
             if spec.objective != "deflection":
-                w = chain_frequencies(M, K)[:, : p.n_freq] ** (2 if p.squared else 1)
-                parts.append(((w - self.f) * self.d).ravel() / math.sqrt(p.n_poses))
+                w = chain_frequencies(M, K)[:, : p.n_freq]
+                parts.append(eigen_residuals(w, p.target.omega_truth_rad_s, p.squared,
+                                             p.eigen_norm).ravel() / math.sqrt(p.n_poses))
             # the squared residuals of k load cases sum to the mean squared tip error
             wc = 1.0 / math.sqrt(max(len(self.cases), 1))
             for c, case in enumerate(self.cases):
@@ -89,6 +90,8 @@ class JointResiduals:
             # d(omega_k^2)/d ln s_j = phi_jk^2 K_j for mass-normalised phi (M is independent of K)
             dw2 = (Phi**2 * K[:, None]).T
             dlns.append(dw2 if p.squared else dw2 / (2.0 * wi[:, None]))
+        # objectives.eigen_residuals with the weights and 1/sqrt(m) in one factor, which the
+        # analytic ln s derivative shares
         c = np.tile(self.d, p.n_poses) / math.sqrt(p.n_poses)
         res = (w ** (2 if p.squared else 1)).ravel()
         return (res - np.tile(self.f, p.n_poses)) * c, np.vstack(dlns) * c[:, None]
@@ -102,7 +105,7 @@ class JointResiduals:
             chain = (lengths, *chain_mass_matrices(p, lengths))
         _, M, K0 = chain
         w = chain_frequencies(M, np.exp(X[:, n:]) * K0)[..., : p.n_freq]
-        r = ((w ** (2 if p.squared else 1)) - self.f) * self.d
+        r = eigen_residuals(w, p.target.omega_truth_rad_s, p.squared, p.eigen_norm)
         return r.reshape(X.shape[0], -1) / math.sqrt(p.n_poses)
 
     def _batch_residuals(self, X):
