@@ -40,8 +40,8 @@ _EXPORTS = {
     "TruthResult": "truth",
     "compute_truth": "truth",
     # fitting
-    "FitTarget": "problem",
-    "target_from_truth": "problem",
+    "FitTarget": "target",
+    "target_from_truth": "target",
     "fit": "fitting",
     "fit_pareto": "fitting",
     "FitResult": "results",

@@ -27,19 +27,27 @@ from __future__ import annotations
 
 import numpy as np
 
-from .choices import EIGEN_NORMS
+from .choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS
 from .errors import BeamInputError
 
 __all__ = [
     "EIGEN_NORMS",
+    "DEFAULT_EIGEN_NORM",
+    "DEFLECTION_NORMS",
     "check_eigen_norm",
+    "check_deflection_norm",
     "eigen_weights",
+    "eigen_residuals",
     "eigen_errors",
     "mode_errors_pct",
     "worst_mode_error_pct",
     "eigen_loss_pct",
     "best_scale",
+    "best_amplitude",
+    "projected_eigen_residuals",
     "projected_eigen_errors",
+    "tip_scale_m",
+    "tip_errors",
     "tip_position_errors",
     "tip_displacement_errors",
     "combined_loss_pct",
@@ -49,11 +57,22 @@ __all__ = [
 ]
 
 
+# what a tip error is normalised by: the truth tip position (Eq. 19) or its displacement
+DEFLECTION_NORMS = ("position", "displacement")
+
 
 def check_eigen_norm(norm: str) -> str:
     """``norm`` if it is one of :data:`EIGEN_NORMS`, else a BeamInputError naming it."""
     if norm not in EIGEN_NORMS:
         raise BeamInputError(f"eigen_norm = {norm!r}: must be one of {EIGEN_NORMS}")
+    return norm
+
+
+def check_deflection_norm(norm: str) -> str:
+    """``norm`` if it is one of :data:`DEFLECTION_NORMS`, else a BeamInputError naming it."""
+    if norm not in DEFLECTION_NORMS:
+        raise BeamInputError(
+            f"deflection_norm = {norm!r}: must be 'position' or 'displacement'")
     return norm
 
 
@@ -64,9 +83,9 @@ def _truth(omega_truth: np.ndarray, squared: bool) -> np.ndarray:
 
 def _model(omega_model: np.ndarray, n_freq: int, squared: bool) -> np.ndarray:
     w = np.atleast_2d(np.asarray(omega_model, dtype=float))
-    if w.shape[1] < n_freq:
-        raise ValueError(f"model has {w.shape[1]} frequencies per pose: {n_freq} needed")
-    w = w[:, :n_freq]
+    if w.shape[-1] < n_freq:
+        raise ValueError(f"model has {w.shape[-1]} frequencies per pose: {n_freq} needed")
+    w = w[..., :n_freq]
     return w**2 if squared else w
 
 
@@ -104,6 +123,18 @@ def worst_mode_error_pct(errors_pct: np.ndarray) -> float:
     return float(np.max(np.abs(e))) if e.size else float("nan")
 
 
+def eigen_residuals(
+    omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
+    norm: str = "paper",
+) -> np.ndarray:
+    """Weighted per-mode residuals ``d (w - f)`` of every pose, dimensionless, shape (..., m, N)
+    for model frequencies (rad/s) of shape (..., m, >= N); their norm over the modes is
+    :func:`eigen_errors`."""
+    f = _truth(omega_truth_rad_s, squared)
+    w = _model(omega_model_rad_s, f.size, squared)
+    return (w - f) * eigen_weights(omega_truth_rad_s, squared, norm)
+
+
 def eigen_errors(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
     norm: str = "paper",
@@ -125,9 +156,8 @@ def eigen_errors(
     -------
     ndarray, shape (m,)
     """
-    f = _truth(omega_truth_rad_s, squared)
-    w = _model(omega_model_rad_s, f.size, squared)
-    return np.linalg.norm((w - f) * eigen_weights(omega_truth_rad_s, squared, norm), axis=1)
+    return np.linalg.norm(eigen_residuals(omega_model_rad_s, omega_truth_rad_s, squared, norm),
+                          axis=-1)
 
 
 def eigen_loss_pct(
@@ -166,16 +196,33 @@ def best_scale(
     ndarray, shape (m,)
         The optimal k_i (dimensionless, > 0).
     """
-    c = _best_amplitude(omega_unit_rad_s, omega_truth_rad_s, squared, norm)
+    c = best_amplitude(omega_unit_rad_s, omega_truth_rad_s, squared, norm)
     return c if squared else c**2
 
 
-def _best_amplitude(omega_unit_rad_s, omega_truth_rad_s, squared: bool, norm: str):
-    """The optimal multiplier of each pose's (squared) frequencies: sqrt(k_i), or k_i."""
+def best_amplitude(omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray,
+                   squared: bool = False, norm: str = "paper") -> np.ndarray:
+    """The optimal multiplier of each pose's (squared) frequencies, sqrt(k_i) (k_i when
+    ``squared``), dimensionless, shape (..., m) for ``omega_unit_rad_s`` of shape (..., m, >= N)
+    (a stack of designs has a leading axis)."""
     f = _truth(omega_truth_rad_s, squared)
     w = _model(omega_unit_rad_s, f.size, squared)
     d2 = eigen_weights(omega_truth_rad_s, squared, norm) ** 2
-    return ((w * d2) @ f) / np.einsum("ij,ij->i", w * d2, w)
+    return ((w * d2) @ f) / np.einsum("...ij,...ij->...i", w * d2, w)
+
+
+def projected_eigen_residuals(
+    omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
+    norm: str = "paper",
+) -> np.ndarray:
+    """Weighted per-mode residuals ``d (c_i w_i - f)`` at each pose's optimal factor
+    (:func:`best_amplitude`), dimensionless, shape (..., m, N): the variable projection's
+    residual vector, whose norm over the modes is :func:`projected_eigen_errors`."""
+    f = _truth(omega_truth_rad_s, squared)
+    w = _model(omega_unit_rad_s, f.size, squared)
+    c = best_amplitude(omega_unit_rad_s, omega_truth_rad_s, squared, norm)
+    d = eigen_weights(omega_truth_rad_s, squared, norm)
+    return (w * c[..., None] - f) * d
 
 
 def projected_eigen_errors(
@@ -187,11 +234,24 @@ def projected_eigen_errors(
     Equals the sine of the angle between the weighted truth vector and the pose's weighted
     model vector.
     """
-    f = _truth(omega_truth_rad_s, squared)
-    w = _model(omega_unit_rad_s, f.size, squared)
-    c = _best_amplitude(omega_unit_rad_s, omega_truth_rad_s, squared, norm)
-    d = eigen_weights(omega_truth_rad_s, squared, norm)
-    return np.linalg.norm((w * c[:, None] - f) * d, axis=1)
+    return np.linalg.norm(projected_eigen_residuals(omega_unit_rad_s, omega_truth_rad_s,
+                                                    squared, norm), axis=-1)
+
+
+def tip_scale_m(tip_truth_m: np.ndarray, tip_displacement_truth_m: np.ndarray,
+                norm: str = "position") -> float:
+    """What a tip error is divided by, m: the truth tip position's length (``"position"``,
+    Eq. 19) or the truth tip displacement's (``"displacement"``)."""
+    v = tip_truth_m if check_deflection_norm(norm) == "position" else tip_displacement_truth_m
+    return float(np.linalg.norm(np.asarray(v, dtype=float).reshape(3)))
+
+
+def tip_errors(tip_model_m: np.ndarray, tip_truth_m: np.ndarray, scale_m: float) -> np.ndarray:
+    """``||p_model - p_truth|| / scale_m`` of each model tip (m' rows, or one (3,)), as a
+    fraction; ``scale_m`` from :func:`tip_scale_m`."""
+    p = np.atleast_2d(np.asarray(tip_model_m, dtype=float))
+    t = np.asarray(tip_truth_m, dtype=float).reshape(3)
+    return np.linalg.norm(p - t, axis=1) / scale_m
 
 
 def tip_position_errors(tip_model_m: np.ndarray, tip_truth_m: np.ndarray) -> np.ndarray:
@@ -204,9 +264,7 @@ def tip_position_errors(tip_model_m: np.ndarray, tip_truth_m: np.ndarray) -> np.
     tip_truth_m : ndarray, shape (3,)
         Truth tip position, m.
     """
-    p = np.atleast_2d(np.asarray(tip_model_m, dtype=float))
-    t = np.asarray(tip_truth_m, dtype=float).reshape(3)
-    return np.linalg.norm(p - t, axis=1) / np.linalg.norm(t)
+    return tip_errors(tip_model_m, tip_truth_m, tip_scale_m(tip_truth_m, tip_truth_m))
 
 
 def tip_displacement_errors(
@@ -217,10 +275,8 @@ def tip_displacement_errors(
     The undeformed tip is ``tip_truth_m - tip_displacement_truth_m``; the error is
     ``||p_model - p_truth|| / ||d_truth||``: unlike Eq. 19 it is not diluted by the beam length.
     """
-    p = np.atleast_2d(np.asarray(tip_model_m, dtype=float))
-    t = np.asarray(tip_truth_m, dtype=float).reshape(3)
-    d = np.asarray(tip_displacement_truth_m, dtype=float).reshape(3)
-    return np.linalg.norm(p - t, axis=1) / np.linalg.norm(d)
+    return tip_errors(tip_model_m, tip_truth_m,
+                      tip_scale_m(tip_truth_m, tip_displacement_truth_m, "displacement"))
 
 
 def combined_loss_pct(eigen_pct: float | np.ndarray, deflection_pct: float | np.ndarray):

@@ -11,7 +11,13 @@ from .geometry import Beam
 from .layout import validate_lengths
 from .sections import LinkSections
 
-__all__ = ["pose_sweep", "paper_stiffness", "finite_segment_stiffness"]
+__all__ = [
+    "pose_sweep",
+    "paper_stiffness",
+    "paper_unit_stiffness",
+    "finite_segment_stiffness",
+    "finite_segment_stiffness_unchecked",
+]
 
 
 def pose_sweep(
@@ -57,7 +63,7 @@ def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) 
     -------
     ndarray, shape (n,) for a scalar k, (m, n) for an array of k.
     """
-    base = np.sqrt(float(E_Pa) * sections.area_moment_m4[1:] / sections.mass_kg[1:])
+    base = paper_unit_stiffness(float(E_Pa), sections.area_moment_m4, sections.mass_kg)
     k_arr = np.asarray(k, dtype=float)
     if k_arr.ndim > 1:
         raise BeamInputError(f"k has shape {k_arr.shape}: must be a scalar or 1-D (one per pose)")
@@ -66,6 +72,16 @@ def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) 
         i = int(bad[0])
         raise BeamInputError(f"k[{i}] = {k_arr.reshape(-1)[i]}: must be finite and > 0")
     return k_arr[..., None] * base if k_arr.ndim else float(k_arr) * base
+
+
+def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
+                         mass_kg: np.ndarray) -> np.ndarray:
+    """Eq. 14 at unit SCF, ``sqrt(E I_(j+1) / m_(j+1))``, N m/rad, shape (..., n).
+
+    ``area_moment_m4`` (m^4) and ``mass_kg`` (kg) are the links' mean bending area moments and
+    masses, shape (..., n+1): one design, or a stack of designs (the fit's inner loop).
+    """
+    return np.sqrt(E_Pa * area_moment_m4[..., 1:] / mass_kg[..., 1:])
 
 
 def _inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -112,11 +128,12 @@ def finite_segment_stiffness(
     joint.) The integral is exact for the piecewise-linear planform (logarithms on each vertex
     interval).
     """
-    return _finite_segment(beam, validate_lengths(beam, lengths_m, min_fraction))
+    return finite_segment_stiffness_unchecked(beam, validate_lengths(beam, lengths_m, min_fraction))
 
 
-def _finite_segment(beam: Beam, lengths: np.ndarray) -> np.ndarray:
-    """:func:`finite_segment_stiffness` for lengths already validated (the fit's inner loop)."""
+def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.ndarray:
+    """:func:`finite_segment_stiffness` for lengths already validated, shape (n,) or, for a
+    stack of designs (B, n+1), (B, n); N m/rad (the fit's inner loop)."""
     ends = lengths.cumsum(axis=-1)
     centres = ends - 0.5 * lengths
     centres[..., 0] = 0.0

@@ -35,7 +35,7 @@ import numpy as np  # noqa: E402
 from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit, fit_pareto  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.problem import FitTarget  # noqa: E402
+from prbdm_pin.target import FitTarget  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 REF_OMEGA = [39.65, 333.8, 1018.0, 1974.0, 2800.0]

@@ -42,7 +42,6 @@ from prbdm_pin.bench.run import finite_segment_chain  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.problem import target_from_truth  # noqa: E402
 from prbdm_pin.response import (  # noqa: E402
     centerline_modal_tip,
     modal_step_response,
@@ -50,6 +49,7 @@ from prbdm_pin.response import (  # noqa: E402
 )
 from prbdm_pin.simulation import simulate  # noqa: E402
 from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.target import target_from_truth  # noqa: E402
 from prbdm_pin.truth import compute_truth  # noqa: E402
 from prbdm_pin.truth.beam import beam_modal  # noqa: E402
 

@@ -7,7 +7,7 @@ load over the first second and the tip FRF over [0, 1.2 omega_5] with the truth'
 superposition (every plate mode up to the fifth selected bending mode, 2 % modal damping on
 both sides). The exported model is what model.urdf carries: the fitted joint springs, or for
 paper fits the springs of sweep pose 0. Writes results/dynamic_accuracy.md, with a last table
-of the mean errors per norm (the choice of ``fitting.DEFAULT_EIGEN_NORM``).
+of the mean errors per norm (the choice of ``objectives.DEFAULT_EIGEN_NORM``).
 
 usage: python scripts/dynamic_accuracy.py [--beams examples/beams/reference-random.json,...]
        [--joints 3,4,5] [--stiffness joint,paper] [--starts 16] [--out results/dynamic_accuracy.md]
@@ -33,12 +33,12 @@ from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.problem import target_from_truth  # noqa: E402
 from prbdm_pin.response import (  # noqa: E402
     centerline_modal_tip,
     dynamic_accuracy,
     truth_modal_tip,
 )
+from prbdm_pin.target import target_from_truth  # noqa: E402
 from prbdm_pin.truth import compute_truth  # noqa: E402
 
 BEAMS = ("examples/beams/reference-random.json", "examples/beams/tapered.json")

@@ -39,7 +39,7 @@ from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
 from prbdm_pin.objectives import best_scale, mode_errors_pct  # noqa: E402
-from prbdm_pin.problem import target_from_truth  # noqa: E402
+from prbdm_pin.target import target_from_truth  # noqa: E402
 from prbdm_pin.truth import TruthRequest  # noqa: E402
 
 BEAMS = ("examples/beams/reference-random.json", "examples/beams/tapered.json")

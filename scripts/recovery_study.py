@@ -33,8 +33,8 @@ from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.layout import sample_lengths  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.problem import model_target  # noqa: E402
 from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.target import model_target  # noqa: E402
 
 
 def _floats(text: str) -> list[float]:

@@ -40,7 +40,7 @@ from prbdm_pin.commands.fit import write_fit_outputs  # noqa: E402
 from prbdm_pin.commands.pareto import write_pareto_outputs  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.problem import FitTarget, target_from_truth  # noqa: E402
+from prbdm_pin.target import FitTarget, target_from_truth  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PROTOTYPE_OMEGA = [39.65, 333.8, 1018.0, 1974.0, 2800.0]

@@ -17,7 +17,7 @@ from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
-from prbdm_pin.problem import FitTarget
+from prbdm_pin.target import FitTarget
 
 BEAM = "examples/beams/uniform-narrow.json"
 BETA_L = REF_BETA_L[:3]
@@ -168,7 +168,8 @@ def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_fil
 def test_a_design_below_the_default_bound_is_evaluated():
     # a fit with min_fraction 0.005 evaluates designs with a link of 0.01 L: the finite-segment
     # springs and the model of that design, not a refusal at Eq. 15's default 0.02 L
-    from prbdm_pin.problem import evaluate, make_problem
+    from prbdm_pin.evaluate import evaluate
+    from prbdm_pin.problem import make_problem
 
     beam = load_beam(BEAM)
     target = FitTarget(np.array([10.0, 60.0]), beam.tip_force_N)

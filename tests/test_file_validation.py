@@ -24,7 +24,7 @@ from prbdm_pin.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
 from prbdm_pin.geometry import Beam, beam_to_dict
 from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.problem import FitTarget
+from prbdm_pin.target import FitTarget
 
 BEAMS = "examples/beams"
 TAPERED_OMEGA = np.array([87.0, 520.0])  # rad/s, a hand target near the 1D beam's

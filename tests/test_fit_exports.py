@@ -16,11 +16,13 @@ import pytest
 from reference import REF_OMEGA
 
 from prbdm_pin.beam_file import load_beam
+from prbdm_pin.evaluate import batch_losses, evaluate
 from prbdm_pin.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
 from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.problem import FitTarget, batch_losses, evaluate, make_problem, target_from_truth
+from prbdm_pin.problem import make_problem
 from prbdm_pin.results import FitResult
+from prbdm_pin.target import FitTarget, target_from_truth
 
 BEAMS = "examples/beams"
 # prototype truth for reference-random.json (rad/s)

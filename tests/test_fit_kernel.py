@@ -13,18 +13,14 @@ from reference import ELASTICA, REF_OMEGA
 from scipy.integrate import quad
 
 from prbdm_pin.beam_file import load_beam
+from prbdm_pin.evaluate import chain_mass_matrices, fast_unit_frequencies
 from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
-from prbdm_pin.problem import (
-    FitTarget,
-    chain_mass_matrices,
-    fast_unit_frequencies,
-    make_problem,
-    unit_frequencies,
-)
+from prbdm_pin.problem import make_problem, unit_frequencies
 from prbdm_pin.random_beams import random_beam
 from prbdm_pin.sections import _planar_sections, _sections
 from prbdm_pin.stiffness import _inv_width_integral, finite_segment_stiffness
+from prbdm_pin.target import FitTarget
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 
@@ -139,8 +135,8 @@ def test_batched_statics_match_the_elastica_table():
 
 @pytest.mark.parametrize("stiffness", ["paper", "joint"])
 def test_batch_losses_equal_the_pinocchio_path(stiffness):
+    from prbdm_pin.evaluate import batch_losses, evaluate
     from prbdm_pin.objectives import best_scale
-    from prbdm_pin.problem import batch_losses, evaluate
 
     rng = np.random.default_rng(11)
     beam = load_beam(BEAMS / "reference-random.json")

@@ -11,11 +11,13 @@ from reference import BETA_L, ELASTICA, REF_OMEGA
 
 from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.evaluate import evaluate
 from prbdm_pin.fitting import fit
 from prbdm_pin.model import build_model
-from prbdm_pin.problem import FitTarget, evaluate, make_problem, model_target
+from prbdm_pin.problem import make_problem
 from prbdm_pin.results import FitResult
 from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.target import FitTarget, model_target
 
 BEAMS = "examples/beams"
 
@@ -221,7 +223,7 @@ def test_stick_breaking_map_round_trip_and_bounds():
 
 
 def test_length_repair_projects_onto_the_bounded_simplex():
-    from prbdm_pin.problem import LengthRepair
+    from prbdm_pin.fitting import LengthRepair
 
     X = np.array([[0.5, 0.5, 0.5, 0.01, 3.0], [0.2, 0.3, 0.1, 0.4, -1.0]])
     Y = LengthRepair(4)._do(None, X)
@@ -326,7 +328,7 @@ def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
 
 @pytest.fixture(scope="module")
 def reference_truth_target(reference):
-    from prbdm_pin.problem import target_from_truth
+    from prbdm_pin.target import target_from_truth
     from prbdm_pin.truth import compute_truth
 
     return target_from_truth(compute_truth(reference), reference.tip_force_N)
@@ -375,15 +377,15 @@ def test_paper_3r_fit_reaches_the_grid_optimum(reference):
     # and Nelder-Mead from its best points through the Pinocchio model find nothing lower
     from scipy.optimize import minimize
 
-    from prbdm_pin.fitting import _PaperEigen, _Spec
+    from prbdm_pin.fitting import FitSpec, PaperEigenResiduals
     from prbdm_pin.problem import lengths_from_unit
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     prob = make_problem(reference, target, 3, 3, "paper", squared=True)
-    kernel = _PaperEigen(_Spec(prob, "eigen", "position", 400))
+    kernel = PaperEigenResiduals(FitSpec(prob, "eigen", "position", 400))
     g = (np.arange(60) + 0.5) / 60
     U = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
-    vals = np.concatenate([100 * np.linalg.norm(kernel._batch(U[i:i + 6000]), axis=2).mean(1)
+    vals = np.concatenate([100 * np.linalg.norm(kernel.batch(U[i:i + 6000]), axis=2).mean(1)
                            for i in range(0, U.shape[0], 6000)])
 
     def loss(u):

@@ -31,7 +31,7 @@ from prbdm_pin.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
 from prbdm_pin.geometry import beam_to_dict
 from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.problem import FitTarget
+from prbdm_pin.target import FitTarget
 
 BEAMS = Path("examples/beams")
 # what a message may name when the file as a whole is wrong, not one field

@@ -9,9 +9,11 @@ import pytest
 from scipy.optimize import brentq
 
 from prbdm_pin import objectives as ob
+from prbdm_pin.evaluate import evaluate
 from prbdm_pin.geometry import Beam
 from prbdm_pin.material import Material
-from prbdm_pin.problem import FitTarget, evaluate, make_problem
+from prbdm_pin.problem import make_problem
+from prbdm_pin.target import FitTarget
 
 
 def test_eigen_errors_hand_values():

@@ -11,7 +11,7 @@ import pytest
 from reference import ELASTICA
 
 from prbdm_pin.beam_file import load_beam
-from prbdm_pin.problem import target_from_truth
+from prbdm_pin.target import target_from_truth
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.elastica import anticlastic_factor, elastica_static
 

@@ -87,7 +87,7 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
     ``error`` and ``stage``); only interrupts and process deaths escape.
     """
     from ..fitting import fit
-    from ..problem import target_from_truth
+    from ..target import target_from_truth
     from ..truth import TruthRequest
 
     t0 = time.perf_counter()

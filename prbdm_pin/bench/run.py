@@ -216,8 +216,8 @@ def run_benchmark(
     BenchResult
     """
     from ..fitting import fit
-    from ..problem import target_from_truth
     from ..response import centerline_modal_tip
+    from ..target import target_from_truth
     from ..truth import compute_truth
     from ..truth.elastica import elastica_static
 

@@ -132,7 +132,7 @@ def extra_load_cases(beam, factors: list[float], large_deflection: str,
 
     ``calibrated-elastica`` scales EI(x) by 1 + gap / 100 with the primary truth's
     ``static_theory_gap_pct`` (the linear ratio does not depend on the load)."""
-    from ..problem import LoadCase
+    from ..target import LoadCase
 
     cases = []
     for f in factors:
@@ -172,7 +172,7 @@ def load_target(args, beam):
 
 def _base_target(args, beam):
     from ..errors import BeamInputError
-    from ..problem import FitTarget, target_from_truth
+    from ..target import FitTarget, target_from_truth
 
     if args.truth:
         from ..truth.truth_file import read_truth_file

@@ -89,7 +89,7 @@ def _fit_doc() -> dict:
     from prbdm_pin.beam_file import load_beam
     from prbdm_pin.fit_file import save_fit
     from prbdm_pin.fitting import fit
-    from prbdm_pin.problem import FitTarget
+    from prbdm_pin.target import FitTarget
 
     beam = load_beam(TAPERED)
     r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, 2, starts=1, seed=0,

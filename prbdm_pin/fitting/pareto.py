@@ -1,0 +1,258 @@
+"""The NSGA-II Pareto fit over (eigen loss, deflection loss): the initial population seeded
+with single-objective fits, the generations evaluated in one batch (or over a process pool),
+and the knee of Eq. 27 polished by the single-objective local solver."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..geometry import Beam
+from ..layout import sample_lengths
+from ..objectives import (
+    DEFAULT_EIGEN_NORM,
+    best_scale,
+    check_deflection_norm,
+    check_eigen_norm,
+    knee_index,
+)
+from ..problem import FitProblem, make_problem, unit_frequencies
+from ..results import ParetoResult
+from ..target import FitTarget
+from ..workers import stop_pool
+from .local import solve_start
+from .multistart import fit
+from .pareto_problem import (
+    LengthRepair,
+    ParetoProblem,
+    pareto_objectives,
+    pareto_objectives_batch,
+)
+from .pool import fit_pool
+from .progress import PymooBar
+from .result import result_from_design
+from .spec import FitSpec
+
+__all__ = ["fit_pareto", "PoolRows"]
+
+INTERPOLATED_SEEDS = 5  # per segment between two anchors of the initial population
+
+
+def fit_pareto(
+    beam: Beam,
+    target: FitTarget,
+    joints: int,
+    frequencies: int | None = None,
+    stiffness: str = "paper",
+    pop: int = 100,
+    generations: int = 200,
+    seed: int = 0,
+    xi: float = 0.05,
+    eps: float = 0.01,
+    squared: bool = False,
+    deflection_norm: str = "position",
+    log10_bounds: tuple[float, float] | None = None,
+    progress: bool = True,
+    workers: int = 1,
+    seed_with_fits: bool = True,
+    seed_starts: int = 4,
+    polish_knee: bool = True,
+    eigen_norm: str = DEFAULT_EIGEN_NORM,
+    min_fraction: float = 0.02,
+) -> ParetoResult:
+    """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
+
+    Design vector [gamma (n+1), log10 factors]; a Repair projects gamma onto the bounded
+    simplex; termination after ``generations`` generations. ``log10_bounds`` bounds the log10
+    factors (default: joint factors in [-1, 1]; SCFs within 1.5 decades of the projected eigen
+    optimum at equal link lengths). ``eps`` defaults to the paper's Pareto step 0.01 rad.
+    ``workers > 1`` evaluates each generation's designs in that many processes (results do not
+    depend on it).
+
+    ``seed_with_fits`` puts the single-objective optima (eigen-only, deflection-only and the
+    Eq. 27 combined optimum, each the best of a ``seed_starts`` multistart :func:`fit` with the
+    same seed) and designs on the segments between them into the initial population, the rest
+    drawn uniformly (lengths on the bounded simplex, log10 factors in their bounds), so the front
+    spans its anchors and the knee region.
+    ``polish_knee`` (default on) runs the single-objective local solver on Eq. 27 from the
+    NSGA-II knee and adds the result to the front if no front design dominates it; the knee is
+    then taken on that front, and ``message`` records the raw NSGA-II knee beside it. Each
+    generation is evaluated as one batch (``pareto_problem.pareto_objectives_batch``: every
+    design's and pose's static solve in one vectorised Newton), so a ``paper`` front with a
+    static solve per pose costs seconds, not minutes. ``eigen_norm`` (``"paper"``, Eq. 16, or
+    ``"relative"``) is the norm of the front's eigen objective; ``min_fraction`` bounds the
+    link lengths.
+    """
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.optimize import minimize
+    from pymoo.termination import get_termination
+
+    t0 = time.perf_counter()
+    check_deflection_norm(deflection_norm)
+    for name, v in (("pop", pop), ("generations", generations)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+            raise BeamInputError(f"{name} = {v!r}: must be an integer >= 1")
+    problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared,
+                           min_fraction=min_fraction, eigen_norm=check_eigen_norm(eigen_norm))
+    if not target.has_static:
+        raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
+    if not np.any(target.tip_force_N):
+        raise BeamInputError("tip_force = [0, 0, 0] N: a Pareto fit needs a tip load "
+                             "(the beam's tip_force)")
+    n1 = problem.n_joints + 1
+    if log10_bounds is None:
+        if stiffness == "joint":
+            log10_bounds = (-1.0, 1.0)
+        else:
+            eq = np.full(n1, problem.length_m / n1)
+            _, _, W = unit_frequencies(problem, eq)
+            k_ref = float(np.mean(best_scale(W, problem.target.omega_truth_rad_s, squared,
+                                             problem.eigen_norm)))
+            log10_bounds = (math.log10(k_ref) - 1.5, math.log10(k_ref) + 1.5)
+    if isinstance(seed_starts, bool) or not isinstance(seed_starts, (int, np.integer)) \
+            or seed_starts < 1:
+        raise BeamInputError(f"seed_starts = {seed_starts!r}: must be an integer >= 1")
+    X0, n_seed_evals = _initial_population(
+        beam, target, problem, int(pop), int(seed), log10_bounds, deflection_norm,
+        seed_with_fits, int(seed_starts), workers)
+    algo = NSGA2(pop_size=int(pop), sampling=X0, repair=LengthRepair(n1, problem.min_fraction),
+                 eliminate_duplicates=True)
+    kw = {}
+    if progress:
+        kw["callback"] = PymooBar(int(generations))
+    pool = None
+    if workers > 1:
+        pool = fit_pool(workers, _init_pareto_worker, (problem, deflection_norm))
+    pp = ParetoProblem(problem, log10_bounds, deflection_norm=deflection_norm,
+                       runner=None if pool is None else PoolRows(pool, int(workers)))
+    try:
+        res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
+                       verbose=False, **kw)
+    except BaseException:
+        if pool is not None:
+            stop_pool(pool)
+            pool = None
+        raise
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        if progress:
+            kw["callback"].close()
+    F = np.atleast_2d(res.F)
+    X = np.atleast_2d(res.X)
+    n_evals = int(res.algorithm.evaluator.n_eval) + n_seed_evals
+    ki = knee_index(F)
+    raw = F[ki].copy()
+    note = (f"raw NSGA-II knee: eigen {raw[0]:.6g} %, deflection {raw[1]:.6g} %, "
+            f"combined {math.hypot(raw[0], raw[1]):.6g} %")
+    if polish_knee:
+        x_p, f_p, nfev_p = _polish_knee(problem, X[ki], deflection_norm, log10_bounds)
+        n_evals += nfev_p
+        dominated = np.any(np.all(F <= f_p, axis=1) & np.any(F < f_p, axis=1))
+        if np.all(np.isfinite(f_p)) and not dominated:
+            keep = ~(np.all(f_p <= F, axis=1) & np.any(f_p < F, axis=1))
+            F, X = np.vstack([F[keep], f_p]), np.vstack([X[keep], x_p])
+            note += (f"; polished knee (Eq. 27 local solver): combined "
+                     f"{math.hypot(f_p[0], f_p[1]):.6g} %")
+        else:
+            note += "; the knee polish did not improve on the front"
+    order = np.lexsort((F[:, 1], F[:, 0]))
+    F, X = F[order], X[order]
+    ki = knee_index(F)
+    lengths = X[:, :n1] * problem.length_m
+    factors = 10.0 ** X[:, n1:]
+    wall = time.perf_counter() - t0
+    knee = result_from_design(
+        problem, lengths[ki], factors[ki], objective="combined", seed=int(seed), starts=int(pop),
+        starts_run=int(pop), nfev=n_evals,
+        start_losses_pct=np.hypot(F[:, 0], F[:, 1]), wall_time_s=wall, success=True,
+        message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs; {note}",
+        deflection_norm=deflection_norm)
+    return ParetoResult(
+        beam_name=beam.name, joints=problem.n_joints, frequencies=problem.n_freq,
+        stiffness=stiffness, deflection_norm=deflection_norm, F_pct=F, X=X,
+        front_lengths_m=lengths, front_factors=factors, knee_index=ki, pop=int(pop),
+        generations=int(generations), n_evals=n_evals,
+        seed=int(seed), xi=problem.xi, eps=problem.eps, wall_time_s=wall, success=True,
+        eigen_norm=problem.eigen_norm,
+        message=f"NSGA-II, {generations} generations of {pop}"
+                f"{', seeded with single-objective fits' if seed_with_fits else ''}; {note}",
+        knee=knee)
+
+
+def _design_row(problem: FitProblem, lengths_m, factors, log10_bounds) -> np.ndarray:
+    """[gamma, log10 factors] of a design, the factors clipped to the Pareto bounds."""
+    lf = np.clip(np.log10(np.asarray(factors, dtype=float)), *log10_bounds)
+    return np.r_[np.asarray(lengths_m, dtype=float) / problem.length_m, lf]
+
+
+def _initial_population(beam, target, problem: FitProblem, pop: int, seed: int, log10_bounds,
+                        deflection_norm: str, seed_with_fits: bool, seed_starts: int,
+                        workers: int) -> tuple[np.ndarray, int]:
+    """NSGA-II's initial population: single-objective optima (optional) then uniform draws."""
+    rng = np.random.default_rng(seed)
+    n1 = problem.n_joints + 1
+    X = np.empty((pop, n1 + problem.n_factors))
+    X[:, :n1] = sample_lengths(rng, problem.length_m, n1, pop,
+                               min_fraction=problem.min_fraction) / problem.length_m
+    X[:, n1:] = rng.uniform(log10_bounds[0], log10_bounds[1], (pop, problem.n_factors))
+    nfev = 0
+    if seed_with_fits:
+        rows = []
+        for objective in ("combined", "eigen", "deflection")[:pop]:
+            r = fit(beam, target, problem.n_joints, problem.n_freq, objective=objective,
+                    stiffness=problem.stiffness, starts=seed_starts, seed=seed, xi=problem.xi,
+                    eps=problem.eps, squared=problem.squared, workers=workers, progress=False,
+                    deflection_norm=deflection_norm, eigen_norm=problem.eigen_norm,
+                    min_fraction=problem.min_fraction)
+            nfev += r.nfev
+            rows.append(_design_row(problem, r.lengths_m, r.factors, log10_bounds))
+        # designs on the segments eigen -> combined -> deflection anchor (the bounded length
+        # simplex is convex): a start for the middle of the front, which NSGA-II alone fills
+        # slowly when the SCFs add tens of variables
+        combined, eigen, deflection = rows[0], rows[1 % len(rows)], rows[-1]
+        for a, b in ((eigen, combined), (combined, deflection)):
+            for t in np.linspace(0.0, 1.0, INTERPOLATED_SEEDS + 2)[1:-1]:
+                rows.append((1.0 - t) * a + t * b)
+        rows = rows[:pop]
+        X[:len(rows)] = rows
+    return X, nfev
+
+
+def _polish_knee(problem: FitProblem, x: np.ndarray, deflection_norm: str, log10_bounds):
+    """The Eq. 27 local solver from a front design: (design row, (eigen %, deflection %), nfev)."""
+    n1 = problem.n_joints + 1
+    spec = FitSpec(problem, "combined", deflection_norm, 400)
+    r = solve_start(spec, 0, x[:n1] * problem.length_m, 10.0 ** x[n1:])
+    x_p = _design_row(problem, r.lengths_m, r.factors, log10_bounds)
+    f_p = pareto_objectives(problem, x_p[:n1] * problem.length_m, 10.0 ** x_p[n1:],
+                            deflection_norm=deflection_norm)
+    return x_p, f_p, int(r.nfev) + 1
+
+
+_WORKER_PARETO: tuple | None = None
+
+
+def _init_pareto_worker(problem: FitProblem, deflection_norm: str) -> None:
+    global _WORKER_PARETO
+    _WORKER_PARETO = (problem, deflection_norm)
+
+
+def _pareto_rows(X: np.ndarray) -> np.ndarray:
+    problem, norm = _WORKER_PARETO
+    return pareto_objectives_batch(problem, X, deflection_norm=norm)
+
+
+class PoolRows:
+    """A ``ParetoProblem`` runner: a generation's rows split into ``workers`` chunks, evaluated
+    over ``pool`` (whose workers ran ``_init_pareto_worker``), stacked back in order."""
+
+    def __init__(self, pool, workers: int) -> None:
+        self.pool = pool
+        self.workers = int(workers)
+
+    def __call__(self, X: np.ndarray) -> np.ndarray:
+        return np.vstack(list(self.pool.map(_pareto_rows, np.array_split(X, self.workers))))

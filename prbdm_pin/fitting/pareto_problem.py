@@ -1,0 +1,102 @@
+"""The Pareto fit's pymoo pieces: the problem over [gamma (n+1), log10 factors], the repair that
+keeps the link lengths on the bounded simplex, and the two objectives of a design.
+
+Both pymoo classes are module-level, so a problem pickles (to a worker, a checkpoint); how a
+generation's rows are evaluated is injected as ``runner`` (in-process by default, a process pool
+in ``fit_pareto``), as pymoo's own ``elementwise_runner`` is.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+from pymoo.core.problem import Problem
+from pymoo.core.repair import Repair
+
+from ..errors import BeamInputError, SolveError
+from ..evaluate import batch_losses, evaluate
+from ..layout import repair_lengths
+from ..problem import FitProblem
+
+__all__ = ["LengthRepair", "ParetoProblem", "pareto_objectives", "pareto_objectives_batch"]
+
+# (eigen %, deflection %) given to a design whose model cannot be solved
+PENALTY_PCT = 1e3
+
+
+class LengthRepair(Repair):
+    """A pymoo Repair projecting the first ``n_links`` variables (length fractions gamma) onto
+    the bounded simplex (Euclidean projection, ``layout.repair_lengths``)."""
+
+    def __init__(self, n_links: int, min_fraction: float = 0.02) -> None:
+        super().__init__()
+        self.n_links = int(n_links)
+        self.min_fraction = float(min_fraction)
+
+    def _do(self, problem, X, **kwargs):
+        X = np.array(X, dtype=float, copy=True)
+        X[:, :self.n_links] = repair_lengths(X[:, :self.n_links], 1.0,
+                                             min_fraction=self.min_fraction)
+        return X
+
+
+class ParetoProblem(Problem):
+    """A pymoo Problem over x = [gamma (n+1), log10 factors]: F = (eigen %, deflection %).
+
+    ``deflection_norm`` selects Eq. 19 (``"position"``) or the displacement normalisation.
+    Designs whose static solve fails get ``penalty`` (%) in both objectives. ``runner``, when
+    given, maps the rows X (B, n_var) of a generation to F (B, 2) (e.g. over a process pool);
+    it is not pickled with the problem, whose copy evaluates in its own process.
+    """
+
+    def __init__(self, problem: FitProblem, log10_bounds: tuple[float, float],
+                 penalty: float = PENALTY_PCT, deflection_norm: str = "position",
+                 runner: Callable[[np.ndarray], np.ndarray] | None = None) -> None:
+        if not problem.target.has_static:
+            raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
+        n1 = problem.n_joints + 1
+        nf = problem.n_factors
+        lo = np.r_[np.full(n1, problem.min_fraction), np.full(nf, log10_bounds[0])]
+        hi = np.r_[np.full(n1, 1.0 - problem.min_fraction), np.full(nf, log10_bounds[1])]
+        super().__init__(n_var=n1 + nf, n_obj=2, xl=lo, xu=hi,
+                         exclude_from_serialization=["runner"])
+        self.fit_problem = problem
+        self.penalty = float(penalty)
+        self.deflection_norm = deflection_norm
+        self.runner = runner
+
+    def _evaluate(self, X, out, *args, **kwargs):
+        if self.runner is not None:
+            out["F"] = np.asarray(self.runner(X), dtype=float).reshape(-1, 2)
+            return
+        out["F"] = pareto_objectives_batch(self.fit_problem, X, self.penalty,
+                                           self.deflection_norm)
+
+
+def pareto_objectives(problem: FitProblem, lengths_m, factors, penalty: float = PENALTY_PCT,
+                      deflection_norm: str = "position") -> np.ndarray:
+    """(eigen loss %, deflection loss %) of a design; ``penalty`` for both if a solve fails."""
+    try:
+        ev = evaluate(problem, lengths_m, factors, deflection=True)
+    except (SolveError, BeamInputError):
+        return np.array([penalty, penalty])
+    d = ev.tip_loss_pct(deflection_norm)
+    if not (math.isfinite(ev.eigen_loss_pct) and math.isfinite(d)):
+        return np.array([penalty, penalty])
+    return np.array([ev.eigen_loss_pct, d])
+
+
+def pareto_objectives_batch(problem: FitProblem, X: np.ndarray, penalty: float = PENALTY_PCT,
+                            deflection_norm: str = "position") -> np.ndarray:
+    """(eigen loss %, deflection loss %) of the rows x = [gamma (n+1), log10 factors] of X, in
+    one batch (``evaluate.batch_losses``); ``penalty`` for both where a design cannot be
+    solved."""
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    n1 = problem.n_joints + 1
+    r = batch_losses(problem, X[:, :n1] * problem.length_m, 10.0 ** X[:, n1:])
+    d = 100.0 * r.tip_errors(deflection_norm).mean(axis=1)
+    F = np.column_stack([r.eigen_pct, d])
+    F[~np.all(np.isfinite(F), axis=1)] = penalty
+    return F

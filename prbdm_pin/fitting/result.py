@@ -1,0 +1,126 @@
+"""A chosen design evaluated in full through the Pinocchio model and packaged as a FitResult,
+with the notes a user needs (modes a chain cannot follow, an exported model that misses, links
+on their length bound)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import SolveError
+from ..evaluate import evaluate
+from ..objectives import mode_errors_pct, scf_deviation_pct, scf_mean, worst_mode_error_pct
+from ..problem import FitProblem, build
+from ..results import FitResult
+
+__all__ = ["EXACT_MATCH_PCT", "EXPORT_WARN_PCT", "BOUND_TOL", "result_from_design"]
+
+# eigen loss (%) above which a joint fit of n frequencies at the straight pose has not matched
+# them (reached fits end at 1e-11 % or below)
+EXACT_MATCH_PCT = 1e-4
+# worst per-mode error (%) of the exported model at the straight pose above which a fit warns
+EXPORT_WARN_PCT = 1.0
+# a link within this fraction of L of its lower bound is reported as sitting on it
+BOUND_TOL = 1e-6
+
+
+def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: str, seed: int,
+                       starts: int, starts_run: int, nfev: int, start_losses_pct,
+                       wall_time_s: float, success: bool, message: str,
+                       deflection_norm: str = "position") -> FitResult:
+    """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult."""
+    t = problem.target
+    try:
+        ev = evaluate(problem, lengths_m, factors, deflection=t.has_static)
+    except SolveError as exc:
+        ev = evaluate(problem, lengths_m, factors, deflection=False)
+        message = f"{message}; static deflection failed: {exc}"
+    model, K0 = build(problem, lengths_m)
+    extra = bool(t.extra_loads) and ev.extra_tip_position_m is not None
+    notes = t.shape_notes()
+    if (problem.stiffness == "joint" and objective == "eigen" and problem.n_poses == 1
+            and problem.n_freq == problem.n_joints and ev.eigen_loss_pct > EXACT_MATCH_PCT):
+        notes.insert(0, f"the {problem.n_freq} truth frequencies were not matched (eigen loss "
+                        f"{ev.eigen_loss_pct:.3g} % after {starts_run} starts): a joint model "
+                        "matches n frequencies exactly when they are within a chain's reach")
+    n = problem.n_joints
+    if problem.stiffness == "paper":
+        k_mean = scf_mean(ev.factors)  # a diagnostic (Eq. 25): no pose was fitted with it
+        dev = scf_deviation_pct(ev.factors)
+        # the springs of one fitted pose: the sweep's first, the one nearest straight (the
+        # frequencies move by O(q^2) from there to q = 0; the straight pose is where users
+        # linearise and simulate)
+        K = ev.stiffness_Nm_per_rad[0]
+        pose = problem.poses_rad[0]
+        described = (f"paper: the springs fitted at sweep pose 0 (every joint at "
+                     f"{pose[0]:.6g} rad, the pose nearest straight; SCF {ev.factors[0]:.6g})")
+    else:
+        k_mean = float(np.mean(ev.factors))
+        K = ev.factors * K0
+        dev = np.zeros(problem.n_poses)
+        pose = np.zeros(n)
+        described = ("joint: pose-independent springs, fitted "
+                     + ("over the pose sweep" if problem.n_poses > 1 else "at the straight pose"))
+    omega_errors = mode_errors_pct(ev.omega_model_rad_s, t.omega_truth_rad_s)
+    # the exported model on its own: its frequencies at the straight pose
+    w_export = model.with_stiffness(K).natural_frequencies(np.zeros(n))[: problem.n_freq]
+    export_errors = mode_errors_pct(w_export, t.omega_truth_rad_s)[0]
+    worst_export = worst_mode_error_pct(export_errors)
+    if worst_export > EXPORT_WARN_PCT:
+        k = int(np.argmax(np.abs(export_errors)))
+        notes.append(f"the exported model ({described}) misses "
+                     f"truth mode {k + 1} by {export_errors[k]:+.3g} % at the straight pose "
+                     f"(every mode: {_pct_list(export_errors)}); the {problem.eigen_norm}-norm "
+                     f"eigen loss of {ev.eigen_loss_pct:.3g} % does not show it"
+                     + ("; Eq. 14's springs, one SCF times sqrt(E I_j / m_j), cannot follow "
+                        "every planform: joint springs (stiffness='joint') fit each joint"
+                        if problem.stiffness == "paper" else ""))
+    notes.extend(_bound_notes(ev.lengths_m, problem.length_m, problem.min_fraction))
+    return FitResult(
+        beam_name=problem.beam.name, beam_fingerprint=problem.beam.fingerprint(),
+        joints=problem.n_joints, frequencies=problem.n_freq, objective=objective,
+        stiffness=problem.stiffness, lengths_m=ev.lengths_m, stiffness_Nm_per_rad=K,
+        stiffness_per_pose_Nm_per_rad=ev.stiffness_Nm_per_rad, factors=ev.factors,
+        scf_mean=k_mean, scf_deviation_pct=dev, poses_rad=problem.poses_rad,
+        omega_truth_rad_s=t.omega_truth_rad_s, omega_model_rad_s=ev.omega_model_rad_s,
+        eigen_errors_pct=100.0 * ev.eigen_errors, eigen_loss_pct=ev.eigen_loss_pct,
+        deflection_loss_pct=ev.deflection_loss_pct,
+        displacement_loss_pct=ev.displacement_loss_pct,
+        combined_loss_pct=float(math.hypot(ev.eigen_loss_pct, ev.tip_loss_pct(deflection_norm))),
+        tip_position_model_m=ev.tip_position_m, tip_position_truth_m=t.tip_position_m,
+        tip_displacement_truth_m=t.tip_displacement_m, tip_force_N=t.tip_force_N, mac=t.mac,
+        truth_source=t.source, truth_request=t.truth_request,
+        static_theory_gap_pct=math.nan if t.static_theory_gap_pct is None
+        else float(t.static_theory_gap_pct),
+        squared=problem.squared,
+        xi=problem.xi, eps=problem.eps,
+        seed=seed, starts=starts, starts_run=starts_run, nfev=nfev,
+        start_losses_pct=start_losses_pct, wall_time_s=wall_time_s, success=success,
+        message=message,
+        extra_tip_force_N=np.array([c.tip_force_N for c in t.extra_loads]) if extra else None,
+        extra_tip_position_truth_m=np.array([c.tip_position_m for c in t.extra_loads])
+        if extra else None,
+        extra_tip_position_model_m=ev.extra_tip_position_m if extra else None,
+        warnings=tuple(notes),
+        eigen_norm=problem.eigen_norm, min_fraction=problem.min_fraction,
+        omega_errors_pct=omega_errors,
+        worst_mode_error_pct=worst_mode_error_pct(omega_errors), export_pose_rad=pose,
+        stiffness_pose=described, omega_export_rad_s=w_export,
+        omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,
+    )
+
+
+def _pct_list(errors_pct) -> str:
+    return ", ".join(f"{v:+.3g}" for v in np.ravel(errors_pct)) + " %"
+
+
+def _bound_notes(lengths_m: np.ndarray, length_m: float, min_fraction: float) -> list[str]:
+    """One note per link at its lower bound: ``L_j <= min_fraction L + 1e-6 L``."""
+    a = min_fraction * length_m
+    return [f"link {j} ({v:.6g} m) sits on its length bound min_fraction L = {a:.6g} m "
+            f"(min_fraction {min_fraction:g}): the fit wanted it shorter, so the optimum is "
+            "constrained; fewer joints or a lower min_fraction (--min-link) may fit better"
+            for j, v in enumerate(np.asarray(lengths_m, dtype=float))
+            if v <= a + BOUND_TOL * length_m]
+
