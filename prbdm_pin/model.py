@@ -21,7 +21,7 @@ from .errors import BeamInputError
 from .geometry import Beam
 from .io import atomic_write_text
 from .layout import validate_lengths
-from .sections import LinkSections, _sections
+from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
 from .urdf import (
     JOINT_EFFORT_LIMIT_NM,
@@ -260,7 +260,7 @@ def build_model(
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     lengths.setflags(write=False)
     k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
-    sections = _sections(beam, lengths)
+    sections = link_sections_unchecked(beam, lengths)
     model, tip = _pin_model(sections, lengths, f"prbdm_{beam.name}")
     return PrbdmModel(beam, lengths, k, sections, model, tip)
 
