@@ -84,8 +84,11 @@ class PrbdmModel:
     tip_frame_id : int
         The frame at the free end of link n.
 
-    Methods use one cached ``pinocchio.Data``; for threads or processes, create one per worker
-    with :meth:`new_data` and pass it to :mod:`prbdm_pin.dynamics`.
+    As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
+    method that computes takes ``data``. Without one it uses a built-in workspace made on first
+    use, which is for one thread only; a thread or process of its own makes its workspace with
+    :meth:`new_data` and passes it in (the fit and batch workers are processes that build their
+    own models, so they share none).
     """
 
     beam: Beam | None
@@ -120,11 +123,15 @@ class PrbdmModel:
         return self.pin_model.createData()
 
     @property
-    def _data(self) -> pin.Data:
+    def default_data(self) -> pin.Data:
+        """The built-in workspace the methods use when given no ``data`` (one thread only)."""
         d = self._cache.get("data")
         if d is None:
             d = self._cache["data"] = self.pin_model.createData()
         return d
+
+    def _workspace(self, data: pin.Data | None) -> pin.Data:
+        return self.default_data if data is None else data
 
     def stiffness_matrix(self) -> np.ndarray:
         """K = diag(stiffness), N m/rad, shape (n, n)."""
@@ -132,7 +139,7 @@ class PrbdmModel:
 
     def mass_matrix(self, q: np.ndarray | None = None, data: pin.Data | None = None) -> np.ndarray:
         """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
-        return dyn.mass_matrix(self.pin_model, self._data if data is None else data, q)
+        return dyn.mass_matrix(self.pin_model, self._workspace(data), q)
 
     @property
     def _s(self) -> np.ndarray:
@@ -142,40 +149,48 @@ class PrbdmModel:
         return s
 
     def natural_frequencies(
-        self, q: np.ndarray | None = None, squared: bool = False
+        self, q: np.ndarray | None = None, squared: bool = False, data: pin.Data | None = None
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
-        return eig_scaled(self.mass_matrix(q), self._s, squared)
+        return eig_scaled(self.mass_matrix(q, data), self._s, squared)
 
     def natural_frequencies_batch(
-        self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False
+        self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False,
+        data: pin.Data | None = None,
     ) -> np.ndarray:
         """Frequencies at the poses in the rows of ``Q`` (rad), rad/s, shape (m, n).
 
         ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
         """
+        d = self._workspace(data)
         if stiffness is not None:
-            return dyn.natural_frequencies_batch(self.pin_model, self._data, Q, stiffness, squared)
-        return eig_scaled(dyn.mass_matrices(self.pin_model, self._data, Q), self._s, squared)
+            return dyn.natural_frequencies_batch(self.pin_model, d, Q, stiffness, squared)
+        return eig_scaled(dyn.mass_matrices(self.pin_model, d, Q), self._s, squared)
 
-    def modes(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def modes(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
-        return dyn.modes(self.pin_model, self._data, self.stiffness_Nm_per_rad, q)
+        return dyn.modes(self.pin_model, self._workspace(data), self.stiffness_Nm_per_rad, q)
 
-    def tip_position(self, q: np.ndarray | None = None) -> np.ndarray:
+    def tip_position(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
         """World position of the tip, m, shape (3,)."""
-        return dyn.tip_position(self.pin_model, self._data, q, self.tip_frame_id)
+        return dyn.tip_position(self.pin_model, self._workspace(data), q, self.tip_frame_id)
 
-    def tip_jacobian(self, q: np.ndarray | None = None) -> np.ndarray:
+    def tip_jacobian(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
         """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
-        return dyn.tip_jacobian(self.pin_model, self._data, q, self.tip_frame_id)
+        return dyn.tip_jacobian(self.pin_model, self._workspace(data), q, self.tip_frame_id)
 
-    def tip_kinematics(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def tip_kinematics(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Tip position (m, (3,)) and its linear Jacobian (m/rad, (3, n)), one kinematics pass."""
-        return dyn.tip_kinematics(self.pin_model, self._data, q, self.tip_frame_id)
+        return dyn.tip_kinematics(self.pin_model, self._workspace(data), q, self.tip_frame_id)
 
     def static_deflection(
-        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None
+        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None, data: pin.Data | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """Equilibrium under a dead tip force (N, world): joint angles (rad), tip position (m).
 
@@ -184,7 +199,7 @@ class PrbdmModel:
         q = static_deflection_planar(
             self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
         )
-        return q, self.tip_position(q)
+        return q, self.tip_position(q, data)
 
     def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
         """The same chain with other springs (shares ``pin_model``)."""
