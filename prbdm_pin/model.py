@@ -1,8 +1,9 @@
 """PrbdmModel: a Pinocchio model of the link chain plus the joint springs it cannot hold.
 
 ``build_model`` is called inside optimisation loops, so it builds the ``pinocchio.Model`` by hand
-through the Pinocchio API (no URDF rendering or parsing); the hand-built model equals the one
-Pinocchio's URDF parser makes from ``model.urdf``, which is rendered lazily on first access.
+through the Pinocchio API (:mod:`prbdm_pin.pin_chain`, no URDF rendering or parsing); the
+hand-built model equals the one Pinocchio's URDF parser makes from ``model.urdf``, which is
+rendered lazily on first access.
 """
 
 from __future__ import annotations
@@ -21,19 +22,12 @@ from .errors import BeamInputError
 from .geometry import Beam
 from .io import atomic_write_text
 from .layout import validate_lengths
+from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
 from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
-from .urdf import (
-    JOINT_EFFORT_LIMIT_NM,
-    JOINT_LIMIT_RAD,
-    JOINT_VELOCITY_LIMIT_RAD_S,
-    read_springs,
-    render_urdf,
-)
+from .urdf import read_springs, render_urdf
 
 __all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
-
-TIP_FRAME = "tip"
 
 
 def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:
@@ -209,41 +203,6 @@ class PrbdmModel:
         )
 
 
-def _pin_model(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
-    """The chain built through the Pinocchio API, frame for frame as its URDF parser builds it."""
-    n = lengths.size - 1
-    model = pin.Model()
-    model.name = name
-    eye = np.eye(3)
-
-    def inertia(i: int) -> pin.Inertia:
-        c = sections.com_m[i] - np.array([sections.start_m[i], 0.0, 0.0])
-        return pin.Inertia(float(sections.mass_kg[i]), c, sections.inertia_com_kg_m2[i])
-
-    ident = pin.SE3.Identity()
-    world = model.addBodyFrame("world", 0, ident, 0)
-    # a fixed-joint frame carrying an inertia adds it to its joint (here the universe)
-    clamp = model.addFrame(pin.Frame("clamp", 0, world, ident, pin.FrameType.FIXED_JOINT,
-                                     inertia(0)))
-    prev = model.addBodyFrame("link_0", 0, ident, clamp)
-    big = np.array([JOINT_EFFORT_LIMIT_NM])
-    vel = np.array([JOINT_VELOCITY_LIMIT_RAD_S])
-    lim = np.array([JOINT_LIMIT_RAD])
-    zero = np.zeros(1)
-    for j in range(1, n + 1):
-        placement = pin.SE3(eye, np.array([float(lengths[j - 1]), 0.0, 0.0]))
-        jid = model.addJoint(j - 1, pin.JointModelRY(), placement, f"joint_{j}",
-                             -big, big, -vel, vel, -lim, lim, zero, zero, zero)
-        jf = model.addJointFrame(jid, prev)
-        model.appendBodyToJoint(jid, inertia(j), ident)
-        prev = model.addBodyFrame(f"link_{j}", jid, ident, jf)
-    tip_place = pin.SE3(eye, np.array([float(lengths[n]), 0.0, 0.0]))
-    tf = model.addFrame(pin.Frame("tip_joint", n, prev, tip_place, pin.FrameType.FIXED_JOINT))
-    tip = model.addBodyFrame(TIP_FRAME, n, tip_place, tf)
-    model.gravity = pin.Motion.Zero()
-    return model, tip
-
-
 def build_model(
     beam: Beam,
     lengths_m: np.ndarray,
@@ -276,7 +235,7 @@ def build_model(
     lengths.setflags(write=False)
     k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
     sections = link_sections_unchecked(beam, lengths)
-    model, tip = _pin_model(sections, lengths, f"prbdm_{beam.name}")
+    model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
     return PrbdmModel(beam, lengths, k, sections, model, tip)
 
 
@@ -296,7 +255,7 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
     ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
     """
-    from .model_files import check_sections, check_urdf, read_urdf_text
+    from .urdf_checks import check_sections, check_urdf, read_urdf_text
 
     p = Path(path)
     what = f"urdf file {str(p)!r}"
@@ -317,21 +276,8 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     lengths.setflags(write=False)
     names = [model.names[j] for j in range(1, model.njoints)]
     k = validate_stiffness(read_springs(text, names), len(names))
-    sections = _sections_from_pin(model, lengths)
+    sections = sections_from_pin(model, lengths)
     check_sections(what, lengths, sections.mass_kg)
     out = PrbdmModel(None, lengths, k, sections, model, tip)
     out._cache["urdf"] = text
     return out
-
-
-def _sections_from_pin(model: pin.Model, lengths: np.ndarray) -> LinkSections:
-    n1 = lengths.size
-    ends = np.cumsum(lengths)
-    starts = ends - lengths
-    mass = np.array([model.inertias[i].mass for i in range(n1)])
-    com = np.array([model.inertias[i].lever for i in range(n1)]) + starts[:, None] * [1, 0, 0]
-    inertia = np.array([model.inertias[i].inertia for i in range(n1)])
-    arrs = [starts, ends, mass, com, inertia, np.full(n1, np.nan)]
-    for a in arrs:
-        a.setflags(write=False)
-    return LinkSections(*arrs)
