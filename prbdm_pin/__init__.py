@@ -45,7 +45,7 @@ _EXPORTS = {
     "fit": "fitting",
     "fit_pareto": "fitting",
     "FitResult": "results",
-    "ParetoResult": "results",
+    "ParetoResult": "pareto_result",
     "load_fit": "fit_file",
     "save_fit": "fit_file",
     # simulation and exports

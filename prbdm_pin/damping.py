@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
+from .eigen import generalized_eigh, symmetric_eigh
 from .errors import BeamInputError, SolveError
 
 __all__ = [
@@ -96,11 +97,7 @@ def modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarra
     """
     M, K = _check_pair(M, K)
     xi = damping_ratios(damping_ratio, M.shape[0])
-    try:
-        # eigh normalises the eigenvectors so that Phi^T M Phi = I
-        w2, phi = sla.eigh(K, M)
-    except (np.linalg.LinAlgError, ValueError) as exc:
-        raise SolveError(f"modal damping: generalized eigenproblem failed ({exc})") from None
+    w2, phi = generalized_eigh(K, M, "modal damping")  # Phi^T M Phi = I
     omega = np.sqrt(np.clip(w2, 0.0, None))
     MPhi = M @ phi
     C = (MPhi * (2.0 * xi * omega)) @ MPhi.T
@@ -122,7 +119,7 @@ def eq5c_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray
     xi = damping_ratios(damping_ratio, M.shape[0])
     try:
         L = np.linalg.cholesky(M)
-        s, U = np.linalg.eigh(L.T @ K @ L)
+        s, U = symmetric_eigh(L.T @ K @ L)
     except np.linalg.LinAlgError as exc:
         raise SolveError(f"Eq. 5c damping: mass matrix not positive definite ({exc})") from None
     sqrt_s = (U * np.sqrt(np.clip(s, 0.0, None))) @ U.T
@@ -155,10 +152,7 @@ def stiffness_damping_coefficient(
     """
     M, K = _check_pair(M, K)
     xi1 = _first_mode_ratio(damping_ratio, M.shape[0])
-    try:
-        w2 = sla.eigh(K, M, eigvals_only=True, subset_by_index=[0, 0])
-    except (np.linalg.LinAlgError, ValueError) as exc:
-        raise SolveError(f"stiffness damping: generalized eigenproblem failed ({exc})") from None
+    w2 = generalized_eigh(K, M, "stiffness damping", vectors=False, lowest_only=True)
     if not w2[0] > 0.0:
         raise SolveError(f"stiffness damping: omega_1^2 = {w2[0]}: must be > 0")
     return 2.0 * xi1 / float(np.sqrt(w2[0]))
@@ -203,10 +197,7 @@ def modal_ratios(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> np.ndarray:
     C = np.asarray(C, dtype=float)
     if C.shape != M.shape:
         raise BeamInputError(f"C {C.shape}: must have the shape of M {M.shape}")
-    try:
-        w2, phi = sla.eigh(K, M)
-    except (np.linalg.LinAlgError, ValueError) as exc:
-        raise SolveError(f"modal ratios: generalized eigenproblem failed ({exc})") from None
+    w2, phi = generalized_eigh(K, M, "modal ratios")
     omega = np.sqrt(np.clip(w2, 0.0, None))
     return np.einsum("ik,ij,jk->k", phi, C, phi) / (2.0 * omega)
 

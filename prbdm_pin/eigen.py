@@ -5,16 +5,20 @@ exactly through the scaling S = K^(-1/2): the eigenvalues mu of S M S are 1 / om
 of M), and the lowest frequencies come out of the largest eigenvalues, where the solver is most
 accurate. The guard raises instead of answering when the spectrum is not positive, not finite,
 or too ill-conditioned for the highest frequency to be accurate to ``FREQUENCY_RTOL``.
+A full (not diagonal) K, as the damping forms and a MuJoCo model's mass matrix bring, goes
+through :func:`generalized_eigh`, and a plain symmetric matrix through :func:`symmetric_eigh`.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg as sla
 from scipy.linalg.lapack import dsyevd as _syevd
 
 from .errors import SolveError
 
-__all__ = ["FREQUENCY_RTOL", "COND_LIMIT", "check_spectrum", "eig_scaled", "modes_from_mass"]
+__all__ = ["FREQUENCY_RTOL", "COND_LIMIT", "check_spectrum", "eig_scaled", "modes_from_mass",
+           "generalized_eigh", "symmetric_eigh"]
 
 # Largest cond(K^-1/2 M K^-1/2) accepted. The highest omega^2 comes from the smallest eigenvalue
 # mu_min of the scaled matrix, whose relative error is about eps * mu_max / mu_min (measured
@@ -100,3 +104,28 @@ def modes_from_mass(
     # K^(1/2) phi = V/sqrt(mu) makes phi^T M phi = v^T (S M S) v / mu = 1
     Phi = s[:, :, None] * V / np.sqrt(mu)[:, None, :]
     return np.sqrt(1.0 / mu), Phi
+
+
+def generalized_eigh(
+    K: np.ndarray, M: np.ndarray, what: str, vectors: bool = True, lowest_only: bool = False
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """omega^2 (rad^2/s^2, ascending) of K phi = omega^2 M phi for full symmetric K (N m/rad)
+    and M (kg m^2), shape (n, n); with ``vectors`` also the modes Phi, Phi^T M Phi = I.
+
+    ``lowest_only`` returns omega_1^2 alone, shape (1,) (no vectors). A failed solve (M not
+    positive definite, non-finite entries) raises SolveError naming ``what``; the callers
+    decide what a non-positive omega^2 means.
+    """
+    try:
+        if vectors:
+            return sla.eigh(K, M)
+        return sla.eigh(K, M, eigvals_only=True,
+                        subset_by_index=[0, 0] if lowest_only else None)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolveError(f"{what}: generalized eigenproblem failed ({exc})") from None
+
+
+def symmetric_eigh(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues (ascending) and orthonormal eigenvectors of a symmetric matrix A (n, n), in
+    A's units; the standard problem a Cholesky factor of M turns the generalised one into."""
+    return np.linalg.eigh(A)

@@ -19,7 +19,7 @@ from .objectives import (
 )
 from .planar import planar_mass_matrices, planar_tips
 from .problem import FitProblem, build, pose_stiffness, static_tips, unit_frequencies
-from .sections import _planar_sections
+from .sections import planar_sections
 from .statics import static_deflection_planar_batch
 from .stiffness import finite_segment_stiffness_unchecked, paper_unit_stiffness
 
@@ -116,7 +116,7 @@ def chain_mass_matrices(problem: FitProblem, lengths_m: np.ndarray):
         Unit-factor springs, N m/rad (as ``problem.base_stiffness``).
     """
     lengths = np.asarray(lengths_m, dtype=float)
-    mass, offset, Iyy, area_moment = _planar_sections(problem.beam, lengths)
+    mass, offset, Iyy, area_moment = planar_sections(problem.beam, lengths)
     if problem.stiffness == "paper":
         K0 = paper_unit_stiffness(problem.beam.material.E_Pa, area_moment, mass)
     else:

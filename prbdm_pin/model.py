@@ -1,8 +1,9 @@
 """PrbdmModel: a Pinocchio model of the link chain plus the joint springs it cannot hold.
 
 ``build_model`` is called inside optimisation loops, so it builds the ``pinocchio.Model`` by hand
-through the Pinocchio API (no URDF rendering or parsing); the hand-built model equals the one
-Pinocchio's URDF parser makes from ``model.urdf``, which is rendered lazily on first access.
+through the Pinocchio API (:mod:`prbdm_pin.pin_chain`, no URDF rendering or parsing); the
+hand-built model equals the one Pinocchio's URDF parser makes from ``model.urdf``, which is
+rendered lazily on first access.
 """
 
 from __future__ import annotations
@@ -21,19 +22,12 @@ from .errors import BeamInputError
 from .geometry import Beam
 from .io import atomic_write_text
 from .layout import validate_lengths
-from .sections import LinkSections, _sections
+from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
+from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
-from .urdf import (
-    JOINT_EFFORT_LIMIT_NM,
-    JOINT_LIMIT_RAD,
-    JOINT_VELOCITY_LIMIT_RAD_S,
-    read_springs,
-    render_urdf,
-)
+from .urdf import read_springs, render_urdf
 
 __all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
-
-TIP_FRAME = "tip"
 
 
 def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:
@@ -84,8 +78,11 @@ class PrbdmModel:
     tip_frame_id : int
         The frame at the free end of link n.
 
-    Methods use one cached ``pinocchio.Data``; for threads or processes, create one per worker
-    with :meth:`new_data` and pass it to :mod:`prbdm_pin.dynamics`.
+    As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
+    method that computes takes ``data``. Without one it uses a built-in workspace made on first
+    use, which is for one thread only; a thread or process of its own makes its workspace with
+    :meth:`new_data` and passes it in (the fit and batch workers are processes that build their
+    own models, so they share none).
     """
 
     beam: Beam | None
@@ -120,11 +117,15 @@ class PrbdmModel:
         return self.pin_model.createData()
 
     @property
-    def _data(self) -> pin.Data:
+    def default_data(self) -> pin.Data:
+        """The built-in workspace the methods use when given no ``data`` (one thread only)."""
         d = self._cache.get("data")
         if d is None:
             d = self._cache["data"] = self.pin_model.createData()
         return d
+
+    def _workspace(self, data: pin.Data | None) -> pin.Data:
+        return self.default_data if data is None else data
 
     def stiffness_matrix(self) -> np.ndarray:
         """K = diag(stiffness), N m/rad, shape (n, n)."""
@@ -132,7 +133,7 @@ class PrbdmModel:
 
     def mass_matrix(self, q: np.ndarray | None = None, data: pin.Data | None = None) -> np.ndarray:
         """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
-        return dyn.mass_matrix(self.pin_model, self._data if data is None else data, q)
+        return dyn.mass_matrix(self.pin_model, self._workspace(data), q)
 
     @property
     def _s(self) -> np.ndarray:
@@ -142,40 +143,48 @@ class PrbdmModel:
         return s
 
     def natural_frequencies(
-        self, q: np.ndarray | None = None, squared: bool = False
+        self, q: np.ndarray | None = None, squared: bool = False, data: pin.Data | None = None
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
-        return eig_scaled(self.mass_matrix(q), self._s, squared)
+        return eig_scaled(self.mass_matrix(q, data), self._s, squared)
 
     def natural_frequencies_batch(
-        self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False
+        self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False,
+        data: pin.Data | None = None,
     ) -> np.ndarray:
         """Frequencies at the poses in the rows of ``Q`` (rad), rad/s, shape (m, n).
 
         ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
         """
+        d = self._workspace(data)
         if stiffness is not None:
-            return dyn.natural_frequencies_batch(self.pin_model, self._data, Q, stiffness, squared)
-        return eig_scaled(dyn.mass_matrices(self.pin_model, self._data, Q), self._s, squared)
+            return dyn.natural_frequencies_batch(self.pin_model, d, Q, stiffness, squared)
+        return eig_scaled(dyn.mass_matrices(self.pin_model, d, Q), self._s, squared)
 
-    def modes(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def modes(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
-        return dyn.modes(self.pin_model, self._data, self.stiffness_Nm_per_rad, q)
+        return dyn.modes(self.pin_model, self._workspace(data), self.stiffness_Nm_per_rad, q)
 
-    def tip_position(self, q: np.ndarray | None = None) -> np.ndarray:
+    def tip_position(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
         """World position of the tip, m, shape (3,)."""
-        return dyn.tip_position(self.pin_model, self._data, q, self.tip_frame_id)
+        return dyn.tip_position(self.pin_model, self._workspace(data), q, self.tip_frame_id)
 
-    def tip_jacobian(self, q: np.ndarray | None = None) -> np.ndarray:
+    def tip_jacobian(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
         """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
-        return dyn.tip_jacobian(self.pin_model, self._data, q, self.tip_frame_id)
+        return dyn.tip_jacobian(self.pin_model, self._workspace(data), q, self.tip_frame_id)
 
-    def tip_kinematics(self, q: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def tip_kinematics(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Tip position (m, (3,)) and its linear Jacobian (m/rad, (3, n)), one kinematics pass."""
-        return dyn.tip_kinematics(self.pin_model, self._data, q, self.tip_frame_id)
+        return dyn.tip_kinematics(self.pin_model, self._workspace(data), q, self.tip_frame_id)
 
     def static_deflection(
-        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None
+        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None, data: pin.Data | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """Equilibrium under a dead tip force (N, world): joint angles (rad), tip position (m).
 
@@ -184,7 +193,7 @@ class PrbdmModel:
         q = static_deflection_planar(
             self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
         )
-        return q, self.tip_position(q)
+        return q, self.tip_position(q, data)
 
     def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
         """The same chain with other springs (shares ``pin_model``)."""
@@ -192,41 +201,6 @@ class PrbdmModel:
         return PrbdmModel(
             self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id
         )
-
-
-def _pin_model(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
-    """The chain built through the Pinocchio API, frame for frame as its URDF parser builds it."""
-    n = lengths.size - 1
-    model = pin.Model()
-    model.name = name
-    eye = np.eye(3)
-
-    def inertia(i: int) -> pin.Inertia:
-        c = sections.com_m[i] - np.array([sections.start_m[i], 0.0, 0.0])
-        return pin.Inertia(float(sections.mass_kg[i]), c, sections.inertia_com_kg_m2[i])
-
-    ident = pin.SE3.Identity()
-    world = model.addBodyFrame("world", 0, ident, 0)
-    # a fixed-joint frame carrying an inertia adds it to its joint (here the universe)
-    clamp = model.addFrame(pin.Frame("clamp", 0, world, ident, pin.FrameType.FIXED_JOINT,
-                                     inertia(0)))
-    prev = model.addBodyFrame("link_0", 0, ident, clamp)
-    big = np.array([JOINT_EFFORT_LIMIT_NM])
-    vel = np.array([JOINT_VELOCITY_LIMIT_RAD_S])
-    lim = np.array([JOINT_LIMIT_RAD])
-    zero = np.zeros(1)
-    for j in range(1, n + 1):
-        placement = pin.SE3(eye, np.array([float(lengths[j - 1]), 0.0, 0.0]))
-        jid = model.addJoint(j - 1, pin.JointModelRY(), placement, f"joint_{j}",
-                             -big, big, -vel, vel, -lim, lim, zero, zero, zero)
-        jf = model.addJointFrame(jid, prev)
-        model.appendBodyToJoint(jid, inertia(j), ident)
-        prev = model.addBodyFrame(f"link_{j}", jid, ident, jf)
-    tip_place = pin.SE3(eye, np.array([float(lengths[n]), 0.0, 0.0]))
-    tf = model.addFrame(pin.Frame("tip_joint", n, prev, tip_place, pin.FrameType.FIXED_JOINT))
-    tip = model.addBodyFrame(TIP_FRAME, n, tip_place, tf)
-    model.gravity = pin.Motion.Zero()
-    return model, tip
 
 
 def build_model(
@@ -260,8 +234,8 @@ def build_model(
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     lengths.setflags(write=False)
     k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
-    sections = _sections(beam, lengths)
-    model, tip = _pin_model(sections, lengths, f"prbdm_{beam.name}")
+    sections = link_sections_unchecked(beam, lengths)
+    model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
     return PrbdmModel(beam, lengths, k, sections, model, tip)
 
 
@@ -281,7 +255,7 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
     ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
     """
-    from .model_files import check_sections, check_urdf, read_urdf_text
+    from .urdf_checks import check_sections, check_urdf, read_urdf_text
 
     p = Path(path)
     what = f"urdf file {str(p)!r}"
@@ -302,21 +276,8 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     lengths.setflags(write=False)
     names = [model.names[j] for j in range(1, model.njoints)]
     k = validate_stiffness(read_springs(text, names), len(names))
-    sections = _sections_from_pin(model, lengths)
+    sections = sections_from_pin(model, lengths)
     check_sections(what, lengths, sections.mass_kg)
     out = PrbdmModel(None, lengths, k, sections, model, tip)
     out._cache["urdf"] = text
     return out
-
-
-def _sections_from_pin(model: pin.Model, lengths: np.ndarray) -> LinkSections:
-    n1 = lengths.size
-    ends = np.cumsum(lengths)
-    starts = ends - lengths
-    mass = np.array([model.inertias[i].mass for i in range(n1)])
-    com = np.array([model.inertias[i].lever for i in range(n1)]) + starts[:, None] * [1, 0, 0]
-    inertia = np.array([model.inertias[i].inertia for i in range(n1)])
-    arrs = [starts, ends, mass, com, inertia, np.full(n1, np.nan)]
-    for a in arrs:
-        a.setflags(write=False)
-    return LinkSections(*arrs)

@@ -1,18 +1,16 @@
-"""Validation of the model and result files the package reads: fit.json, model JSON and URDF.
+"""Validation of the model and result files the package reads: fit.json and model JSON.
 
 A file on disk may be truncated, edited, of another kind or hostile. Each reader here checks
 schema, types, finiteness, physical ranges and sizes before anything is built from the file,
 and raises :class:`~prbdm_pin.errors.BeamInputError` naming the file, the field and the value.
 The link floor comes from the beam (a fixed fraction of its length), never from the file, and
-the joint count is capped by ``limits().max_joints``.
+the joint count is capped by ``limits().max_joints``. URDF files are checked in
+:mod:`prbdm_pin.urdf_checks`.
 """
 
 from __future__ import annotations
 
 import math
-import os
-import xml.etree.ElementTree as ET
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -25,9 +23,6 @@ __all__ = [
     "LINK_FLOOR_FRACTION",
     "check_chain",
     "fit_kwargs",
-    "read_urdf_text",
-    "check_urdf",
-    "check_sections",
     "file_kind",
 ]
 
@@ -205,108 +200,6 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
         for key, ver in v.items():
             field_str(f"{what}: versions[{key!r}]", ver)
     return d
-
-
-# URDF ----------------------------------------------------------------------------------------
-
-
-def read_urdf_text(path: str | os.PathLike) -> str:
-    """The text of a URDF file: size capped by ``max_file_bytes``, UTF-8, named on error."""
-    p = Path(path)
-    label = f"urdf file {str(p)!r}"
-    try:
-        if not p.is_file():
-            raise BeamInputError(f"{label}: not found or not a regular file")
-        size = p.stat().st_size
-        check_cap(f"{label}: size (bytes)", size, "max_file_bytes")
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise BeamInputError(f"{label}: cannot be read ({exc.strerror or exc})") from None
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise BeamInputError(
-            f"{label}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-
-
-def _numbers(label: str, text: str | None, count: int) -> list[float]:
-    parts = (text or "").split()
-    try:
-        vals = [float(v) for v in parts]
-    except ValueError:
-        vals = []
-    if len(vals) != count or not all(math.isfinite(v) for v in vals):
-        raise BeamInputError(f"{label} = {text!r:.60}: must be {count} finite number"
-                             + ("s" if count > 1 else ""))
-    return vals
-
-
-def check_urdf(text: str, what: str = "urdf") -> int:
-    """Check a PRBDM URDF before Pinocchio reads it; returns the number of revolute joints.
-
-    Every joint is revolute or fixed, 1 <= revolute joints <= ``max_joints``, every number is
-    finite, joint offsets (link lengths, m) are > 0, link masses (kg) and principal inertias
-    (kg m^2) are > 0 (the massless ``tip`` frame and the ``world`` root excepted).
-    """
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise BeamInputError(f"{what}: not valid XML ({exc})") from None
-    if root.tag != "robot":
-        raise BeamInputError(f"{what}: root element <{root.tag}>: must be <robot>")
-    joints = root.findall("joint")
-    revolute = 0
-    for j in joints:
-        name = j.get("name", "?")
-        kind = j.get("type")
-        if kind not in ("revolute", "fixed"):
-            raise BeamInputError(f"{what}: joint {name!r} type = {kind!r}: a PRBDM has only "
-                                 "revolute joints (and fixed ones at the clamp and the tip)")
-        revolute += kind == "revolute"
-        origin = j.find("origin")
-        xyz = _numbers(f"{what}: joint {name!r} origin xyz", None if origin is None
-                       else origin.get("xyz", "0 0 0"), 3)
-        parent = j.find("parent")
-        if parent is not None and parent.get("link") != "world" and not xyz[0] > 0.0:
-            raise BeamInputError(f"{what}: joint {name!r} origin x = {xyz[0]!r} m: the length "
-                                 f"of link {parent.get('link')!r} must be > 0")
-    check_cap(f"{what}: revolute joints", revolute, "max_joints")
-    if revolute < 1:
-        raise BeamInputError(f"{what}: has {revolute} revolute joints: a PRBDM needs n >= 1")
-    for link in root.findall("link"):
-        name = link.get("name", "?")
-        inertial = link.find("inertial")
-        if inertial is None:
-            continue
-        massless = name == "tip"
-        m_el = inertial.find("mass")
-        (mass,) = _numbers(f"{what}: link {name!r} mass", None if m_el is None
-                           else m_el.get("value"), 1)
-        if not (mass >= 0.0 if massless else mass > 0.0):
-            raise BeamInputError(f"{what}: link {name!r} mass = {mass!r} kg: must be > 0")
-        origin = inertial.find("origin")
-        if origin is not None:
-            _numbers(f"{what}: link {name!r} inertial origin xyz", origin.get("xyz", "0 0 0"), 3)
-        el = inertial.find("inertia")
-        if el is None:
-            raise BeamInputError(f"{what}: link {name!r}: <inertial> has no <inertia>")
-        for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
-            (v,) = _numbers(f"{what}: link {name!r} inertia {key}", el.get(key), 1)
-            if key in ("ixx", "iyy", "izz") and not (v >= 0.0 if massless else v > 0.0):
-                raise BeamInputError(f"{what}: link {name!r} inertia {key} = {v!r} kg m^2: "
-                                     "must be > 0")
-    return revolute
-
-
-def check_sections(what: str, lengths_m: np.ndarray, mass_kg: np.ndarray) -> None:
-    """After parsing: every link length (m) and mass (kg) of the chain finite and > 0."""
-    for i, v in enumerate(lengths_m):
-        if not (math.isfinite(v) and v > 0.0):
-            raise BeamInputError(f"{what}: link_{i} length = {float(v)!r} m: must be > 0")
-    for i, v in enumerate(mass_kg):
-        if not (math.isfinite(v) and v > 0.0):
-            raise BeamInputError(f"{what}: link_{i} mass = {float(v)!r} kg: must be > 0 "
-                                 "(a link without <inertial> has none)")
 
 
 # Which file is it ----------------------------------------------------------------------------

@@ -11,7 +11,7 @@ import numpy as np
 
 from .io import atomic_path
 
-__all__ = ["plot_planform", "plot_scf", "plot_pareto", "pyplot", "save_figure"]
+__all__ = ["plot_planform", "plot_scf", "plot_pareto", "pyplot", "save_figure", "save_png"]
 
 
 def pyplot():
@@ -24,15 +24,23 @@ def pyplot():
     return plt
 
 
-def save_figure(fig, path: str | os.PathLike) -> Path:
-    """Write ``fig`` as a PNG (120 dpi) to ``path`` atomically and close it."""
+def save_png(fig, path: str | os.PathLike, bbox_inches: str | None = None) -> Path:
+    """Write ``fig`` as a PNG (120 dpi) to ``path`` atomically; the figure stays open.
+
+    ``bbox_inches="tight"`` trims the margins; the default keeps the figure's own size.
+    """
     p = Path(path)
+    with atomic_path(p) as tmp:
+        fig.savefig(tmp, format="png", dpi=120, bbox_inches=bbox_inches)
+    return p
+
+
+def save_figure(fig, path: str | os.PathLike) -> Path:
+    """Write ``fig`` as a trimmed PNG (120 dpi) to ``path`` atomically and close it."""
     try:
-        with atomic_path(p) as tmp:
-            fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight")
+        return save_png(fig, path, bbox_inches="tight")
     finally:
         pyplot().close(fig)
-    return p
 
 
 def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:

@@ -1,7 +1,7 @@
-"""Fit results with provenance (their JSON form: :mod:`prbdm_pin.json_record`, the file:
-:mod:`prbdm_pin.fit_file`).
+"""A single-objective fit's result with provenance (its JSON form: :mod:`prbdm_pin.json_record`,
+the file: :mod:`prbdm_pin.fit_file`; a Pareto front's: :mod:`prbdm_pin.pareto_result`).
 
-:class:`FitResult` and :class:`ParetoResult` are frozen dataclasses following the conventions of
+:class:`FitResult` is a frozen dataclass following the conventions of
 ``scipy.optimize.OptimizeResult`` (``success``, ``message``, ``x``, ``fun``, ``nfev``); use
 :meth:`FitResult.to_optimize_result` for a real ``OptimizeResult``. Losses are in %.
 """
@@ -19,7 +19,7 @@ from .json_record import JsonRecord, readonly_array
 if TYPE_CHECKING:
     from .truth.request import TruthRequest
 
-__all__ = ["ARRAY_FIELDS", "FitResult", "ParetoResult", "package_versions"]
+__all__ = ["ARRAY_FIELDS", "FitResult", "package_versions"]
 
 # fields read back from JSON as float arrays
 ARRAY_FIELDS = frozenset({
@@ -256,77 +256,3 @@ class FitResult(JsonRecord):
 
         return OptimizeResult(x=self.x, fun=self.fun, success=self.success,
                               message=self.message, nfev=self.nfev, result=self)
-
-
-@dataclass(frozen=True, eq=False)
-class ParetoResult(JsonRecord):
-    """The whole NSGA-II front and its knee (Eq. 27).
-
-    Attributes
-    ----------
-    F_pct : ndarray, shape (p, 2)
-        (eigen loss %, deflection loss %) of each non-dominated design, sorted by eigen loss.
-    X : ndarray, shape (p, n+1+f)
-        Their design vectors [gamma, log10 factors].
-    front_lengths_m : ndarray, shape (p, n+1)
-    front_factors : ndarray, shape (p, f)
-    knee_index : int
-        Row of the knee in ``F_pct``.
-    knee : FitResult or None
-        The knee evaluated in full (not serialised here; written as its own fit.json).
-    deflection_norm : str
-        ``"position"`` (Eq. 19) or ``"displacement"``.
-    eigen_norm : str
-        ``"paper"`` (Eq. 16) or ``"relative"``: the norm of the front's eigen losses.
-    pop, generations, n_evals, seed : int
-    """
-
-    array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS
-
-    beam_name: str
-    joints: int
-    frequencies: int
-    stiffness: str
-    deflection_norm: str
-    F_pct: np.ndarray
-    X: np.ndarray
-    front_lengths_m: np.ndarray
-    front_factors: np.ndarray
-    knee_index: int
-    pop: int
-    generations: int
-    n_evals: int
-    seed: int
-    xi: float
-    eps: float
-    wall_time_s: float
-    success: bool
-    message: str
-    knee: FitResult | None = None
-    eigen_norm: str = "paper"
-    versions: tuple = field(default_factory=package_versions)
-
-    def __post_init__(self) -> None:
-        for name in self.array_fields & {f.name for f in fields(self)}:
-            object.__setattr__(self, name, readonly_array(getattr(self, name)))
-
-    def to_dict(self) -> dict[str, Any]:
-        d = super().to_dict()
-        d.pop("knee", None)
-        return d
-
-    def to_csv(self) -> str:
-        """The front as CSV: eigen %, deflection %, combined %, lengths, factors."""
-        n1 = self.front_lengths_m.shape[1]
-        nf = self.front_factors.shape[1]
-        head = (["eigen_loss_pct", "deflection_loss_pct", "combined_loss_pct", "knee"]
-                + [f"L{j}_m" for j in range(n1)] + [f"factor{j}" for j in range(nf)])
-        lines = [",".join(head)]
-        for r in range(self.F_pct.shape[0]):
-            e, d = self.F_pct[r]
-            row = [repr(float(e)), repr(float(d)), repr(float(math.hypot(e, d))),
-                   str(int(r == self.knee_index))]
-            row += [repr(float(v)) for v in self.front_lengths_m[r]]
-            row += [repr(float(v)) for v in self.front_factors[r]]
-            lines.append(",".join(row))
-        return "\n".join(lines) + "\n"

@@ -17,7 +17,7 @@ import numpy as np
 from .geometry import Beam
 from .layout import validate_lengths
 
-__all__ = ["LinkSections", "link_sections"]
+__all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_sections"]
 
 # two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
 _GAUSS_T = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
@@ -90,7 +90,7 @@ def link_sections(beam: Beam, lengths_m: np.ndarray, min_fraction: float = 0.02)
     Izz = rho t ∫∫ ((x - xc)^2 + y^2) dA; products of inertia vanish by symmetry.
     """
     lengths = validate_lengths(beam, lengths_m, min_fraction)
-    return _sections(beam, lengths)
+    return link_sections_unchecked(beam, lengths)
 
 
 def _integrals(beam: Beam, lengths: np.ndarray):
@@ -133,7 +133,8 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
 
 
-def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
+def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
+    """:func:`link_sections` for lengths (m, shape (n+1,)) already validated."""
     starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
     nl = lengths.size
     t = beam.thickness_m
@@ -155,8 +156,10 @@ def _sections(beam: Beam, lengths: np.ndarray) -> LinkSections:
     )
 
 
-def _planar_sections(beam: Beam, lengths: np.ndarray):
-    """What the planar bending dynamics needs, as :func:`_sections` computes it (same
+def planar_sections(
+    beam: Beam, lengths: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """What the planar bending dynamics needs, as :func:`link_sections_unchecked` computes it (same
     arithmetic): mass (kg), centre-of-mass distance from the link's start (m), inertia about
     the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,)."""
     starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)

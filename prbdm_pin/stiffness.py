@@ -17,6 +17,7 @@ __all__ = [
     "paper_unit_stiffness",
     "finite_segment_stiffness",
     "finite_segment_stiffness_unchecked",
+    "inv_width_integral",
 ]
 
 
@@ -84,7 +85,7 @@ def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
     return np.sqrt(E_Pa * area_moment_m4[..., 1:] / mass_kg[..., 1:])
 
 
-def _inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m.
 
     ``a``, ``b`` are (k,) or stacks (B, k) of interval ends. All intervals at once: their ends
@@ -138,6 +139,6 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
     centres = ends - 0.5 * lengths
     centres[..., 0] = 0.0
     centres[..., -1] = ends[..., -1]
-    integral = _inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
+    integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     t = beam.thickness_m
     return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral

@@ -40,8 +40,7 @@ def write_every_kind(folder: Path) -> list[Path]:
     matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
 
-    from prbdm_pin.commands.simulate import _save_png
-    from prbdm_pin.plots import plot_planform
+    from prbdm_pin.plots import plot_planform, save_png
     from prbdm_pin.truth import compute_truth
     from prbdm_pin.truth.vtu import write_modes_vtu
 
@@ -51,7 +50,7 @@ def write_every_kind(folder: Path) -> list[Path]:
              write_modes_vtu(compute_truth(beam, model="beam", modes=2, static=False).modal,
                              folder / "modes.vtu")]
     fig = plt.figure()
-    _save_png(fig, folder / "response.png")
+    save_png(fig, folder / "response.png")
     plt.close(fig)
     return paths + [folder / "response.png"]
 

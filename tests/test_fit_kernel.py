@@ -18,8 +18,8 @@ from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
 from prbdm_pin.problem import make_problem, unit_frequencies
 from prbdm_pin.random_beams import random_beam
-from prbdm_pin.sections import _planar_sections, _sections
-from prbdm_pin.stiffness import _inv_width_integral, finite_segment_stiffness
+from prbdm_pin.sections import link_sections_unchecked, planar_sections
+from prbdm_pin.stiffness import finite_segment_stiffness, inv_width_integral
 from prbdm_pin.target import FitTarget
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
@@ -39,9 +39,9 @@ def test_inv_width_integral_against_quadrature_and_stacks():
         a[0, 1] = beam.x_m[1]  # an interval end on a planform vertex
         a = np.sort(a, axis=1)
         lo, hi = a[:, :-1], a[:, 1:]
-        got = _inv_width_integral(beam, lo, hi)
+        got = inv_width_integral(beam, lo, hi)
         for r in range(a.shape[0]):
-            row = _inv_width_integral(beam, lo[r], hi[r])
+            row = inv_width_integral(beam, lo[r], hi[r])
             assert np.array_equal(got[r], row)
             for j in range(lo.shape[1]):
                 pts = [x for x in beam.x_m if lo[r, j] < x < hi[r, j]]
@@ -64,8 +64,8 @@ def test_stacked_designs_equal_single_designs_and_the_pinocchio_path(stiffness):
             Mi, K0i = chain_mass_matrices(prob, lengths)
             assert np.array_equal(M[i], Mi) and np.array_equal(K0[i], K0i)
             assert np.array_equal(W[i], fast_unit_frequencies(prob, lengths)[1])
-            s = _sections(beam, lengths)
-            mass, off, iyy, am = _planar_sections(beam, lengths)
+            s = link_sections_unchecked(beam, lengths)
+            mass, off, iyy, am = planar_sections(beam, lengths)
             assert np.array_equal(mass, s.mass_kg) and np.array_equal(am, s.area_moment_m4)
             assert np.array_equal(off, s.com_m[:, 0] - s.start_m)
             assert np.array_equal(iyy, s.inertia_com_kg_m2[:, 1, 1])

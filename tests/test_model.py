@@ -159,3 +159,41 @@ def test_modal_damping_gives_each_mode_its_ratio(model6):
     np.testing.assert_allclose(C, C.T, rtol=0, atol=1e-14 * np.abs(C).max())
     # Phi^T C Phi = diag(2 xi omega): each mode decouples with damping ratio xi
     np.testing.assert_allclose(Phi.T @ C @ Phi, np.diag(2 * xi * w), atol=1e-9 * (2 * xi * w).max())
+
+
+def _arrays(result):
+    return result if isinstance(result, tuple) else (result,)
+
+
+def test_a_given_workspace_gives_the_same_numbers_and_leaves_the_built_in_one_alone():
+    model = build_model(RANDOM, LENGTHS6, np.linspace(300.0, 50.0, 6))
+    q0, q1 = np.zeros(6), np.linspace(-0.4, 0.5, 6)
+    Q = np.stack([q0, q1])
+    calls = [
+        lambda d: model.mass_matrix(q1, data=d),
+        lambda d: model.natural_frequencies(q1, data=d),
+        lambda d: model.natural_frequencies(q1, squared=True, data=d),
+        lambda d: model.natural_frequencies_batch(Q, data=d),
+        lambda d: model.natural_frequencies_batch(Q, 2.0 * model.stiffness_Nm_per_rad, data=d),
+        lambda d: model.modes(q1, data=d),
+        lambda d: model.tip_position(q1, data=d),
+        lambda d: model.tip_jacobian(q1, data=d),
+        lambda d: model.tip_kinematics(q1, data=d),
+        lambda d: model.static_deflection(np.array([0.0, 0.0, -0.5]), data=d),
+    ]
+    refs = [_arrays(call(None)) for call in calls]  # through the built-in workspace
+    # leave the built-in workspace at the straight pose and remember what it holds
+    built_in = model.default_data
+    model.mass_matrix(q0)
+    model.tip_kinematics(q0)
+    M0 = built_in.M.copy()
+    tip0 = built_in.oMf[model.tip_frame_id].translation.copy()
+    a, b = model.new_data(), model.new_data()
+    assert a is not b and built_in not in (a, b)
+    for call, ref in zip(calls, refs, strict=True):
+        for data in (a, b):
+            for got, want in zip(_arrays(call(data)), ref, strict=True):
+                assert np.array_equal(got, want)
+            assert np.array_equal(built_in.M, M0)
+            assert np.array_equal(built_in.oMf[model.tip_frame_id].translation, tip0)
+    assert model.default_data is built_in

@@ -135,8 +135,7 @@ def mujoco_row(beam: Beam, model, omega_truth, duration_s: float) -> ModelRow | 
         import mujoco
     except ImportError:
         return None
-    from scipy.linalg import eigh
-
+    from ..eigen import generalized_eigh
     from ..export import mjcf_text
 
     m = mujoco.MjModel.from_xml_string(mjcf_text(model, DAMPING_RATIO))
@@ -148,7 +147,8 @@ def mujoco_row(beam: Beam, model, omega_truth, duration_s: float) -> ModelRow | 
     M = np.zeros((m.nv, m.nv))
     mujoco.mj_fullM(m, d, M)
     k = min(model.n_joints, omega_truth.size)
-    w2 = eigh(np.diag(np.asarray(m.jnt_stiffness, dtype=float)), M, eigvals_only=True)
+    w2 = generalized_eigh(np.diag(np.asarray(m.jnt_stiffness, dtype=float)), M, "MuJoCo modes",
+                          vectors=False)
     omega = np.sqrt(w2)[:k]
     steps = max(1, int(round(duration_s / m.opt.timestep)))
     t0, c0 = time.perf_counter(), time.process_time()

@@ -166,13 +166,6 @@ def _csv(tr) -> str:
                                              for r in rows) + "\n"
 
 
-def _save_png(fig, path: Path) -> None:
-    from ..io import atomic_path
-
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=120)
-
-
 SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
                   "truth_comparison.json")
 
@@ -222,6 +215,7 @@ def run(args: argparse.Namespace) -> int:
 
     from ..io import atomic_write_text
     from ..output_folder import output_folder
+    from ..plots import save_png
     from ..simulation import simulate
 
     force = check_options(args)
@@ -258,7 +252,7 @@ def run(args: argparse.Namespace) -> int:
         ax[1].set_ylabel("joint angles (rad)")
         fig.suptitle(f"{model.n_joints}R PRBDM, F = {force.tolist()} N, zeta = {args.damping}")
         fig.tight_layout()
-        _save_png(fig, stage / "response.png")
+        save_png(fig, stage / "response.png")
         plt.close(fig)
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
@@ -271,7 +265,7 @@ def run(args: argparse.Namespace) -> int:
             cmp = compare_truth(model, request, args.damping, cache_dir(args),
                                 quiet=args.quiet)
             fig = comparison_figure(cmp, plt)
-            _save_png(fig, stage / "truth_comparison.png")
+            save_png(fig, stage / "truth_comparison.png")
             plt.close(fig)
             # the JSON last: its presence marks a complete comparison
             atomic_write_text(stage / "truth_comparison.json",

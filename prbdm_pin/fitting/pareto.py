@@ -19,8 +19,8 @@ from ..objectives import (
     check_eigen_norm,
     knee_index,
 )
+from ..pareto_result import ParetoResult
 from ..problem import FitProblem, make_problem, unit_frequencies
-from ..results import ParetoResult
 from ..target import FitTarget
 from ..workers import stop_pool
 from .local import solve_start

@@ -8,9 +8,9 @@ import time
 from collections.abc import Callable
 
 import numpy as np
-import scipy.linalg as sla
 
 from ..damping import DAMPING_FORMS, damping_ratios
+from ..eigen import generalized_eigh
 from ..errors import BeamInputError
 from . import exponential, gauss, ivp, newmark
 from .ivp import IVP_METHODS
@@ -131,8 +131,9 @@ def simulate(
                              schedule=stiffness_schedule, tip_force_N=force,
                              constant_force=constant_force, damping_pose=damping_pose)
     if method in FIXED_STEP_METHODS and dt is None:
-        w2 = sla.eigh(np.diag(system.springs(q0)), mass_matrix(system.pin_model, system.data, q0),
-                      eigvals_only=True)
+        w2 = generalized_eigh(np.diag(system.springs(q0)),
+                              mass_matrix(system.pin_model, system.data, q0), "step size",
+                              vectors=False)
         spp = steps_per_period or _DEFAULT_SPP[method]
         dt = min(2.0 * math.pi / math.sqrt(max(w2[0], 1e-300)) / spp, duration_s)
     settings = StepSettings(duration_s, dt, output_dt, max_steps, refresh_rad, method, rtol, atol)
