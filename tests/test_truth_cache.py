@@ -169,7 +169,7 @@ def test_a_forged_entry_with_a_valid_checksum_but_wrong_types_is_refused(tmp_pat
     def fix_checksum(m):
         with np.load(entry, allow_pickle=False) as npz:
             arrays = {k: npz[k] for k in npz.files if k != "__meta__"}
-        m["checksum"] = cache._checksum(m, forge(arrays))
+        m["checksum"] = cache.entry_checksum(m, forge(arrays))
         return m
 
     _rewrite(entry, arrays=forge, meta=fix_checksum)
@@ -200,7 +200,8 @@ def test_an_entry_of_another_beam_with_this_key_written_in_is_recomputed(tmp_pat
     def rekey(m):
         m["key"] = key
         with np.load(entry, allow_pickle=False) as npz:
-            m["checksum"] = cache._checksum(m, {k: npz[k] for k in npz.files if k != "__meta__"})
+            arrays = {k: npz[k] for k in npz.files if k != "__meta__"}
+            m["checksum"] = cache.entry_checksum(m, arrays)
         return m
 
     _rewrite(entry, meta=rekey)

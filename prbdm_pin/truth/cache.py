@@ -34,7 +34,7 @@ from .entry import EntryError, check_truth, decode, encode
 from .result import TruthResult
 
 __all__ = ["FORMAT", "TruthCacheWarning", "cache_key", "code_digest", "entry_path",
-           "load_cached", "store_cached"]
+           "entry_checksum", "load_cached", "store_cached"]
 
 FORMAT = "prbdm_pin truth cache 1"
 _META = "__meta__"
@@ -57,7 +57,7 @@ def entry_path(cache_dir, key: str) -> Path:
     return Path(cache_dir) / f"truth-{key}.npz"
 
 
-def _checksum(meta: dict, arrays: dict[str, np.ndarray]) -> str:
+def entry_checksum(meta: dict, arrays: dict[str, np.ndarray]) -> str:
     """SHA-256 of the metadata (without its checksum) and of every array's name, dtype, shape
     and bytes."""
     h = hashlib.sha256()
@@ -128,7 +128,7 @@ def load_cached(cache_dir, key: str, beam_fingerprint: str) -> TruthResult | Non
             raise EntryError(f"written for beam fingerprint "
                              f"{str(meta.get('beam_fingerprint'))[:16]}..., not this beam's "
                              f"{beam_fingerprint[:16]}...")
-        if meta.get("checksum") != _checksum(meta, arrays):
+        if meta.get("checksum") != entry_checksum(meta, arrays):
             raise EntryError("checksum mismatch: the entry was changed after it was written")
         result = decode("TruthResult", meta.get("result"), arrays)
         if result.beam_fingerprint != beam_fingerprint:
@@ -149,7 +149,7 @@ def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
     arrays: dict[str, np.ndarray] = {}
     meta = {"format": FORMAT, "key": key, "beam_fingerprint": result.beam_fingerprint,
             "result": encode(result, arrays)}
-    meta["checksum"] = _checksum(meta, arrays)
+    meta["checksum"] = entry_checksum(meta, arrays)
     blob = np.frombuffer(json.dumps(meta, sort_keys=True).encode("utf-8"), dtype=np.uint8)
     d = Path(cache_dir)
     try:

@@ -21,13 +21,13 @@ from skfem import MeshQuad, MeshTri
 from ..geometry import Beam
 from .mesh import (
     CORNER_FLOOR,
-    _refine_corners,
-    _segment_distance,
     delaunay_with_outline,
     element_size,
     inner_half_width,
     mirrored_mesh,
     reentrant_vertices,
+    refine_corners,
+    segment_distance,
 )
 
 __all__ = ["feature_size_tri_mesh", "half_boundary", "size_field", "tri_to_quads",
@@ -172,7 +172,7 @@ def _interior_points(beam: Beam, size, h: float, poly: np.ndarray) -> np.ndarray
         # the lattice of level j serves where the size field is in [h_j, 2 h_j)
         sel = (s >= hj * (1 - 1e-9)) & ((s < 2.0 * hj) | (j == 0))
         c, s = c[:, sel], s[sel]
-        d = _segment_distance(c, poly, np.roll(poly, -1, axis=1))
+        d = segment_distance(c, poly, np.roll(poly, -1, axis=1))
         c = c[:, d > 0.55 * s]
         kept.append(c)
         levels.append(np.full(c.shape[1], j))
@@ -209,7 +209,7 @@ def _outline_polyline(beam: Beam, boundary: np.ndarray) -> np.ndarray:
     """The boundary points on the upper outline y = w(x), ordered from root to tip."""
     # distance to the outline's pieces, not |y - w(x)|: a width step's vertical piece is outline
     xy = np.vstack([beam.x_m, beam.half_width_m])
-    on = _segment_distance(boundary, xy[:, :-1], xy[:, 1:]) < 1e-9 * beam.length_m
+    on = segment_distance(boundary, xy[:, :-1], xy[:, 1:]) < 1e-9 * beam.length_m
     on &= boundary[1] > 0.0
     pts = boundary[:, on]
     # ordered along the outline: the boundary points come counter-clockwise (tip to root)
@@ -273,7 +273,7 @@ def planform_quad_mesh(beam: Beam, level: int = 2, corner_passes: int = 2,
     corners = np.hstack([reentrant_vertices(beam), [[0.0, 0.0], [w0, -w0]]])
     local = size(np.vstack([corners[0], np.abs(corners[1])]))  # the field is of the upper half
     target = 1.01 * np.maximum(local, CORNER_FLOOR * h) * 0.5**corner_passes
-    tri = _refine_corners(tri, corners, target)
+    tri = refine_corners(tri, corners, target)
     for _ in range(0 if root_size_m is None else 20):
         v = tri.p[:, tri.t]
         on_root = np.isclose(v[0], 0.0, atol=1e-12 * beam.length_m).sum(axis=0) >= 2

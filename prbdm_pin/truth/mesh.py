@@ -24,6 +24,8 @@ CORNER_FLOOR = 0.25
 
 __all__ = [
     "CORNER_PASSES",
+    "refine_corners",
+    "segment_distance",
     "reentrant_vertices",
     "element_size",
     "x_stations",
@@ -127,7 +129,7 @@ def _upper_outline(beam: Beam, xs: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     return np.hstack(out)
 
 
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance (m) from points p (2, n) to the polyline through a -> b pieces (2, m) each."""
     d = b - a
     ap = p[:, :, None] - a[:, None, :]
@@ -188,7 +190,7 @@ def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.
     return np.hstack([np.vstack([x[k], w[k]]), np.vstack([x[k], -w[k]])])
 
 
-def _refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: np.ndarray) -> MeshTri:
+def refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: np.ndarray) -> MeshTri:
     """Refine (red-green-blue, conforming) the elements touching a corner until they are no
     longer than that corner's ``target_m``: a geometric grading towards each corner (sizes double
     outwards)."""
@@ -239,7 +241,7 @@ def planform_tri_mesh(
     # eigensolver precision, which degrades like the inverse fourth power of the smallest size)
     target = 1.01 * np.maximum(local_size(beam, h, growth, corners[0], narrow=True),
                                CORNER_FLOOR * h) * 0.5**corner_passes
-    mesh = _refine_corners(_base_tri_mesh(beam, h, growth), corners, target)
+    mesh = refine_corners(_base_tri_mesh(beam, h, growth), corners, target)
     # uniform refinement of the base mesh: nested meshes, so the conforming Argyris frequencies
     # decrease monotonically with the level
     return mesh.refined(level) if level > 0 else mesh
@@ -263,7 +265,7 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     # the clamp edge x = 0, the tip edge x = L and the axis y = 0 lie on the convex hull
     edge_col = (cp[0] == xs[0]) | (cp[0] == xs[-1]) | (cp[1] == 0.0)
     s_at = np.interp(cp[0], xs, sizes)
-    keep = edge_col | (_segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
+    keep = edge_col | (segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
     interior = cp[:, keep]
     p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m)
     c = p_up[:, t_up].mean(axis=1)

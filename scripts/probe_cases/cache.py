@@ -95,7 +95,7 @@ def _rewrite(entry: Path, arrays=None, meta=None, fix_checksum=False):
     new = arrays(old) if arrays else old
     m = meta(m) if meta else m
     if fix_checksum:
-        m["checksum"] = cache._checksum(m, new)
+        m["checksum"] = cache.entry_checksum(m, new)
     blob = np.frombuffer(json.dumps(m).encode(), dtype=np.uint8)
     with open(entry, "wb") as fh:
         np.savez(fh, __meta__=blob, **new)
