@@ -7,18 +7,15 @@ canvas, so no backend is chosen and no figure manager holds it."""
 
 from __future__ import annotations
 
-import contextlib
 import os
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
 from .io import atomic_path
 
-__all__ = ["plot_planform", "plot_scf", "plot_pareto", "fit_figures", "figure_worker",
-           "new_figure", "pyplot", "save_figure"]
+__all__ = ["plot_planform", "plot_scf", "plot_pareto", "new_figure", "pyplot", "save_figure"]
 
 DPI = 120
 
@@ -151,39 +148,3 @@ def plot_pareto(pareto, path) -> Path:
     ax.set_yscale("log")
     ax.legend()
     return save_figure(fig, path)
-
-
-def fit_figures(beam, result, folder) -> list[Path]:
-    """planform.png and, for ``paper`` stiffness, scf.png of a FitResult, written into
-    ``folder``; returns their paths."""
-    folder = Path(folder)
-    written = [plot_planform(beam, result.lengths_m, folder / "planform.png",
-                             title=f"{beam.name}: {result.joints}R, {result.stiffness}, "
-                                   f"{result.objective}")]
-    if result.stiffness == "paper":
-        written.append(plot_scf(result, folder / "scf.png"))
-    return written
-
-
-def _import_matplotlib() -> None:
-    import matplotlib.backends.backend_agg  # noqa: F401
-    import matplotlib.figure  # noqa: F401
-
-
-@contextlib.contextmanager
-def figure_worker() -> Iterator:
-    """A one-process pool (``concurrent.futures``) that starts importing matplotlib at once.
-
-    Importing matplotlib costs about as much as a small fit: a command that will draw starts
-    this first and submits its figures (e.g. :func:`fit_figures`) once it has them, so the
-    import runs on another core while the command loads its truth and fits. Leaving the block
-    waits for the worker; an exception (Ctrl-C too) stops it."""
-    import multiprocessing
-
-    from .workers import blas_pinned, pool_scope, process_pool
-
-    pool = process_pool(1, multiprocessing.get_context("spawn"),
-                        *blas_pinned(_import_matplotlib))
-    pool.submit(int)  # starts the worker now, not at the first figure
-    with pool_scope(pool):
-        yield pool

@@ -215,7 +215,7 @@ def _base_target(args, beam):
 FIT_FILES = ("fit.json", "model.urdf", "planform.png", "scf.png")
 
 
-def write_fit_outputs(result, beam, out: Path, plots: bool = True, figures=None) -> list[Path]:
+def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:
     """fit.json, model.urdf and the plots of a FitResult, put into ``out`` as one set
     (``output_folder``: an earlier fit's files there are replaced all together, other files
     are kept).
@@ -223,27 +223,22 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True, figures=None)
     model.urdf is what ``prbdm export fit.json --format urdf`` writes: fit.json's
     ``stiffness_Nm_per_rad``, 2 % stiffness-proportional joint damping, and the record comment
     (its frequencies at the straight pose, its per-mode errors against ``omega_truth_rad_s``).
-    ``figures``, a :func:`~prbdm_pin.plots.figure_worker`, draws the plots (default: this
-    process).
     """
     from ..output_folder import output_folder
 
     out = Path(out)
     with output_folder(out, FIT_FILES, marker="fit.json") as stage:
-        written = write_fit_files(result, beam, stage, plots, figures)
+        written = write_fit_files(result, beam, stage, plots)
     return [out / p.name for p in written]
 
 
-def write_fit_files(result, beam, folder: Path, plots: bool = True,
-                    figures=None) -> list[Path]:
+def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path]:
     """The files of :func:`write_fit_outputs` written into ``folder`` (each atomically)."""
     from ..export import write_urdf
     from ..model import build_model
-    from ..plots import fit_figures
 
     out = folder
     out.mkdir(parents=True, exist_ok=True)
-    drawn = figures.submit(fit_figures, beam, result, out) if plots and figures else None
     lengths = result.lengths_m
     # the fit's own bound may be below Eq. 15's default (--min-link)
     model = build_model(beam, lengths, result.stiffness_Nm_per_rad,
@@ -251,7 +246,13 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True,
     written = [write_urdf(model, out / "model.urdf",
                           omega_truth_rad_s=result.omega_truth_rad_s)]
     if plots:
-        written += drawn.result() if drawn is not None else fit_figures(beam, result, out)
+        from ..plots import plot_planform, plot_scf
+
+        written.append(plot_planform(beam, result.lengths_m, out / "planform.png",
+                                     title=f"{beam.name}: {result.joints}R, {result.stiffness}, "
+                                           f"{result.objective}"))
+        if result.stiffness == "paper":
+            written.append(plot_scf(result, out / "scf.png"))
     # fit.json last: its presence marks a complete output folder
     from ..fit_file import save_fit
 
@@ -273,20 +274,18 @@ def check_options(args) -> None:
 def run(args) -> int:
     from ..beam_file import load_beam
     from ..fitting import fit
-    from ..plots import figure_worker
 
     check_options(args)
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, args.objective)
+    target = load_target(args, beam)
+    result = fit(beam, target, args.joints, args.frequencies, objective=args.objective,
+                 stiffness=args.stiffness, starts=args.starts, seed=args.seed, xi=args.xi,
+                 eps=args.eps, squared=args.squared, workers=args.workers,
+                 progress=not args.quiet, loss_tol=args.loss_tol, min_fraction=min_fraction,
+                 eigen_norm=args.eigen_norm)
     out = Path(args.out)
-    with figure_worker() as figures:
-        target = load_target(args, beam)
-        result = fit(beam, target, args.joints, args.frequencies, objective=args.objective,
-                     stiffness=args.stiffness, starts=args.starts, seed=args.seed, xi=args.xi,
-                     eps=args.eps, squared=args.squared, workers=args.workers,
-                     progress=not args.quiet, loss_tol=args.loss_tol,
-                     min_fraction=min_fraction, eigen_norm=args.eigen_norm)
-        write_fit_outputs(result, beam, out, figures=figures)
+    write_fit_outputs(result, beam, out)
     if not args.quiet:
         print_warnings(result)
         print(f"{result.joints}R {result.stiffness} {result.objective}: "

@@ -49,10 +49,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 PARETO_FILES = ("pareto.csv", "pareto.json", "pareto.png")
 
 
-def write_pareto_outputs(res, beam, out: Path, figures=None) -> None:
+def write_pareto_outputs(res, beam, out: Path) -> None:
     """pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json,
-    model.urdf and plots, put into ``out`` as one set (``output_folder``); ``figures``, a
-    :func:`~prbdm_pin.plots.figure_worker`, draws the plots (default: this process)."""
+    model.urdf and plots, put into ``out`` as one set (``output_folder``)."""
     from ..io import atomic_write_text
     from ..output_folder import output_folder
     from ..plots import plot_pareto
@@ -60,12 +59,8 @@ def write_pareto_outputs(res, beam, out: Path, figures=None) -> None:
     with output_folder(out, FIT_FILES + PARETO_FILES, marker="fit.json") as stage:
         atomic_write_text(stage / "pareto.csv", res.to_csv())
         res.save(stage / "pareto.json")
-        front = figures.submit(plot_pareto, res, stage / "pareto.png") if figures else None
-        write_fit_files(res.knee, beam, stage, figures=figures)
-        if front is None:
-            plot_pareto(res, stage / "pareto.png")
-        else:
-            front.result()
+        plot_pareto(res, stage / "pareto.png")
+        write_fit_files(res.knee, beam, stage)
 
 
 # NSGA-II's mating needs a few parents; a population holds its designs and objectives in memory
@@ -88,21 +83,18 @@ def check_options(args) -> None:
 def run(args) -> int:
     from ..beam_file import load_beam
     from ..fitting import fit_pareto
-    from ..plots import figure_worker
 
     check_options(args)
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, "Pareto")
+    target = load_target(args, beam)
+    res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
+                     pop=args.pop, generations=args.generations, seed=args.seed, xi=args.xi,
+                     eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
+                     progress=not args.quiet, workers=args.workers, min_fraction=min_fraction,
+                     eigen_norm=args.eigen_norm)
     out = Path(args.out)
-    with figure_worker() as figures:
-        target = load_target(args, beam)
-        res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
-                         pop=args.pop, generations=args.generations, seed=args.seed,
-                         xi=args.xi, eps=args.eps, squared=args.squared,
-                         deflection_norm=args.deflection_norm, progress=not args.quiet,
-                         workers=args.workers, min_fraction=min_fraction,
-                         eigen_norm=args.eigen_norm)
-        write_pareto_outputs(res, beam, out, figures)
+    write_pareto_outputs(res, beam, out)
     if not args.quiet:
         print_warnings(res.knee)
         k = res.knee
