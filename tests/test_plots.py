@@ -1,44 +1,37 @@
-"""The fit's figures: drawn without pyplot, and the same bytes in a figure worker as here."""
+"""The figures: drawn without pyplot, and cropped as ``bbox_inches="tight"`` crops them."""
 
 from __future__ import annotations
 
 import subprocess
 import sys
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.plots import figure_worker, fit_figures
+from prbdm_pin.plots import DPI, new_figure, save_figure
 
 ROOT = Path(__file__).resolve().parents[1]
 BEAM = ROOT / "examples" / "beams" / "tapered.json"
 
 
-def _result() -> SimpleNamespace:
-    # the fields the figures read, of a 3R paper fit over five poses
-    poses = np.radians([[3.0, 1.0, 0.5], [8.0, 3.0, 1.0], [14.0, 5.0, 2.0], [20.0, 7.0, 3.0],
-                        [26.0, 9.0, 4.0]])
-    factors = np.array([9.5, 9.7, 10.0, 10.5, 10.9])
-    mean = float(factors.mean())
-    return SimpleNamespace(
-        lengths_m=np.array([0.24, 0.15, 0.12, 0.09]), joints=3, stiffness="paper",
-        objective="eigen", poses_rad=poses, factors=factors, scf_mean=mean,
-        export_pose_rad=poses[0], scf_deviation_pct=100.0 * (factors / mean - 1.0))
+def _figure():
+    # a legend outside the axes, as the planform's: the crop must take it in
+    fig = new_figure((6, 4))
+    ax = fig.subplots()
+    x = np.linspace(0.0, 1.0, 50)
+    ax.plot(x, np.sin(3 * x), "o-", label="a long legend entry")
+    ax.annotate("J1", (0.5, 1.0), ha="center")
+    ax.set_xlabel("x (m)")
+    ax.set_title("title")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.twinx().set_ylabel("right axis (%)")
+    return fig
 
 
-def test_figures_drawn_in_the_worker_are_the_bytes_drawn_here(tmp_path):
-    beam, result = load_beam(BEAM), _result()
-    (tmp_path / "here").mkdir()
-    (tmp_path / "worker").mkdir()
-    here = fit_figures(beam, result, tmp_path / "here")
-    with figure_worker() as figures:
-        there = figures.submit(fit_figures, beam, result, tmp_path / "worker").result()
-    assert [p.name for p in here] == [p.name for p in there] == ["planform.png", "scf.png"]
-    for a, b in zip(here, there, strict=True):
-        assert a.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-        assert a.read_bytes() == b.read_bytes(), a.name
+def test_save_figure_crops_as_savefig_tight_does(tmp_path):
+    save_figure(_figure(), tmp_path / "once.png")
+    _figure().savefig(tmp_path / "tight.png", format="png", dpi=DPI, bbox_inches="tight")
+    assert (tmp_path / "once.png").read_bytes() == (tmp_path / "tight.png").read_bytes()
 
 
 def test_the_figures_load_no_pyplot(tmp_path):
