@@ -50,8 +50,8 @@ def save_figure(fig, path: str | os.PathLike) -> Path:
 
     p = Path(path)
     try:
-        # "tight" would lay the figure out in a dry-run draw before the real one: the tight box
-        # from the canvas's renderer without that draw is the same box, at half the cost
+        # "tight" lays the figure out in a dry-run draw before the real one; the tight box
+        # measured with the canvas's renderer, without that draw, is the same box
         fig.set_dpi(DPI)
         bbox = fig.get_tightbbox(fig.canvas.get_renderer())
         bbox = bbox.padded(matplotlib.rcParams["savefig.pad_inches"])
