@@ -1,17 +1,24 @@
-"""Figures of a fit (matplotlib, imported lazily, Agg backend): the planform with its links and
-joints (paper Figs. 5, 7, 9, 12), SCF against joint angle (Figs. 8, 10), the Pareto front with its
-knee (Fig. 11). Every function writes a PNG atomically and returns its path."""
+"""Figures of a fit: the planform with its links and joints (paper Figs. 5, 7, 9, 12), SCF against
+joint angle (Figs. 8, 10), the Pareto front with its knee (Fig. 11). Every function writes a PNG
+atomically and returns its path.
+
+matplotlib is imported lazily and without pyplot: each figure is a ``Figure`` on its own Agg
+canvas, so no backend is chosen and no figure manager holds it."""
 
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
 
 from .io import atomic_path
 
-__all__ = ["plot_planform", "plot_scf", "plot_pareto", "pyplot", "save_figure", "save_png"]
+__all__ = ["plot_planform", "plot_scf", "plot_pareto", "new_figure", "pyplot", "save_figure",
+           "save_png"]
+
+DPI = 120
 
 
 def pyplot():
@@ -24,23 +31,49 @@ def pyplot():
     return plt
 
 
+def new_figure(figsize_in: tuple[float, float]):
+    """A matplotlib Figure of ``figsize_in`` (width, height; inches) on its own Agg canvas.
+
+    Neither pyplot nor a backend is loaded: the figure is not managed by any window manager,
+    so nothing needs closing and no display is looked for."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize_in, dpi=DPI)
+    FigureCanvasAgg(fig)
+    return fig
+
+
 def save_png(fig, path: str | os.PathLike, bbox_inches: str | None = None) -> Path:
-    """Write ``fig`` as a PNG (120 dpi) to ``path`` atomically; the figure stays open.
+    """Write ``fig`` as a PNG (``DPI``) to ``path`` atomically; the figure stays open.
 
     ``bbox_inches="tight"`` trims the margins; the default keeps the figure's own size.
     """
     p = Path(path)
     with atomic_path(p) as tmp:
-        fig.savefig(tmp, format="png", dpi=120, bbox_inches=bbox_inches)
+        fig.savefig(tmp, format="png", dpi=DPI, bbox_inches=bbox_inches)
     return p
 
 
 def save_figure(fig, path: str | os.PathLike) -> Path:
-    """Write ``fig`` as a trimmed PNG (120 dpi) to ``path`` atomically and close it."""
+    """Write ``fig`` as a PNG (``DPI``) cropped to its artists (as ``bbox_inches="tight"``) to
+    ``path`` atomically; a pyplot figure is closed."""
+    import matplotlib
+
+    p = Path(path)
     try:
-        return save_png(fig, path, bbox_inches="tight")
+        # "tight" lays the figure out in a dry-run draw before the real one; the tight box
+        # measured with the canvas's renderer, without that draw, is the same box
+        fig.set_dpi(DPI)
+        bbox = fig.get_tightbbox(fig.canvas.get_renderer())
+        bbox = bbox.padded(matplotlib.rcParams["savefig.pad_inches"])
+        with atomic_path(p) as tmp:
+            fig.savefig(tmp, format="png", dpi=DPI, bbox_inches=bbox)
     finally:
-        pyplot().close(fig)
+        plt = sys.modules.get("matplotlib.pyplot")
+        if plt is not None:
+            plt.close(fig)
+    return p
 
 
 def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
@@ -56,12 +89,12 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
     """
     from .sections import link_sections
 
-    plt = pyplot()
     lengths = np.asarray(lengths_m, dtype=float)
     # any fitted layout, also one with links below Eq. 15's default 0.02 L (--min-link)
     sec = link_sections(beam, lengths,
                         min_fraction=min(0.02, 0.5 * float(lengths.min()) / beam.length_m))
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig = new_figure((7, 4))
+    ax = fig.subplots()
     x, w = beam.x_m, beam.half_width_m
     # a width step is two vertices at one x: fill_between and the outline draw it as a jump
     ax.fill_between(x, -w, w, color="0.85", label="planform")
@@ -87,10 +120,10 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
 def plot_scf(result, path) -> Path:
     """SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis; the
     exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted."""
-    plt = pyplot()
     ang = np.degrees(np.asarray(result.poses_rad)[:, 0])
     k = np.asarray(result.factors)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = new_figure((6, 4))
+    ax = fig.subplots()
     ax.plot(ang, k, "o-", color="tab:blue")
     ax.axhline(result.scf_mean, color="0.5", ls=":", lw=1, label="SCF_mean (not exported)")
     pose = result.export_pose_rad
@@ -111,9 +144,9 @@ def plot_scf(result, path) -> Path:
 def plot_pareto(pareto, path) -> Path:
     """The front (eigen %, deflection %) with the knee of Eq. 27 starred; ``pareto`` may be a
     list of ParetoResults, drawn together (as the paper's Fig. 11)."""
-    plt = pyplot()
     fronts = list(pareto) if isinstance(pareto, (list, tuple)) else [pareto]
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig = new_figure((6, 4.5))
+    ax = fig.subplots()
     for i, p in enumerate(fronts):
         F = np.asarray(p.F_pct)
         color = f"C{i}"

@@ -87,6 +87,9 @@ def main() -> None:
     ap.add_argument("--skip-fit", action="store_true", help="only the --help timings")
     a = ap.parse_args()
 
+    # other processes inflate every wall time (and hide the fit's figure worker, which needs a
+    # free core): the load is part of the result
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     rows = [("`prbdm --help`", *_median(["--help"], a.runs))]
     for cmd in COMMANDS:
         rows.append((f"`prbdm {cmd} --help`", *_median([cmd, "--help"], a.runs)))
@@ -101,7 +104,8 @@ def main() -> None:
         "# CLI start-up (scripts/bench_cli.py)",
         "",
         f"Python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} cores; "
-        f"median of {a.runs} processes, BLAS on one thread.",
+        f"median of {a.runs} processes, BLAS on one thread; load average {load:.2f} at the "
+        "start.",
         "",
         "| command | wall (s) | CPU (s) | budget (s) |",
         "|---|---:|---:|---:|",

@@ -13,6 +13,7 @@ from __future__ import annotations
 import ast
 import functools
 import hashlib
+import re
 from importlib import metadata
 from pathlib import Path
 
@@ -46,13 +47,39 @@ def _module_name(root: Path, path: Path) -> tuple[str, bool]:
     return ".".join(parts), is_pkg
 
 
+# an import statement at the start of a line, with a parenthesised name list or backslash
+# continuations; ``_IMPORT_WORD`` counts every ``import`` keyword the file may hold
+_IMPORT_STMT = re.compile(
+    rb"^[ \t]*(?:import[ \t]|from[ \t]+[.\w]+[ \t]+import\b)"
+    rb"(?:[^\n(#]*\([^)]*\)[^\n]*|[^\n]*(?:\\\n[^\n]*)*)", re.M)
+_IMPORT_WORD = re.compile(rb"\bimport\b")
+
+
+def _import_nodes(path: Path) -> list[ast.stmt]:
+    """The import statements of ``path`` (all of them, also those inside functions).
+
+    Parsing a whole module is most of the digest's cost, so only the import statements are
+    parsed when every ``import`` word of the file is in one of them; otherwise (an ``import``
+    after ``;`` or ``:``, or in a comment or a string) the whole module is. A string line that
+    looks like an import can only add a module to the closure, never drop one."""
+    source = path.read_bytes()
+    found = [m.group() for m in _IMPORT_STMT.finditer(source)]
+    if sum(len(_IMPORT_WORD.findall(s)) for s in found) == len(_IMPORT_WORD.findall(source)):
+        try:
+            tree = ast.parse(b"\n".join(s.strip() for s in found), filename=str(path))
+            return list(tree.body)
+        except SyntaxError:
+            pass
+    tree = ast.parse(source, filename=str(path))
+    return [n for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom))]
+
+
 def _imported_names(root: Path, path: Path) -> set[str]:
     """Dotted names of every module (and possible submodule) that ``path`` imports."""
     name, is_pkg = _module_name(root, path)
     package = name.split(".") if is_pkg else name.split(".")[:-1]
-    tree = ast.parse(path.read_bytes(), filename=str(path))
     out: set[str] = set()
-    for node in ast.walk(tree):
+    for node in _import_nodes(path):
         if isinstance(node, ast.Import):
             out.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
