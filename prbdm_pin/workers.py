@@ -22,7 +22,6 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import os
-import pickle
 import signal
 import sys
 import threading
@@ -31,10 +30,10 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 __all__ = ["PARENT_POLL_S", "BLAS_THREAD_VARS", "init_worker", "process_pool", "stop_pool",
-           "pool_scope", "blas_pinned"]
+           "pool_scope", "pin_blas"]
 
 PARENT_POLL_S = 0.5
-# the thread-count variables a worker sets to 1 before it loads BLAS (see blas_pinned)
+# the thread-count variables a worker sets to 1 before it loads BLAS (see pin_blas)
 BLAS_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 _PR_SET_PDEATHSIG = 1  # linux/prctl.h
 
@@ -171,22 +170,13 @@ def pool_scope(executor: cf.Executor) -> Iterator[cf.Executor]:
     executor.shutdown(wait=True)
 
 
-def blas_pinned(initializer: Callable[..., Any] | None = None,
-                initargs: tuple = ()) -> tuple[Callable[..., Any], tuple]:
-    """``(initializer, initargs)`` for :func:`process_pool` whose worker first sets
-    :data:`BLAS_THREAD_VARS` to 1, then runs ``initializer(*initargs)``.
+def pin_blas() -> None:
+    """Pool initializer: :data:`BLAS_THREAD_VARS` set to 1 in the worker, before anything it
+    receives loads numpy (BLAS reads them once, when it loads).
 
-    A worker unpickles its initializer's arguments before it runs it, and arguments holding
-    arrays import numpy, hence BLAS, whose thread count is read once, at load: so they travel
-    pickled to bytes and are loaded after the variables are set. The caller's own environment
-    is left as it is.
+    It takes no arguments on purpose: a spawned worker unpickles an initializer's arguments
+    before running it, and arguments holding arrays would load numpy first. Work that needs
+    data receives it with each task. The caller's own environment is left as it is.
     """
-    return _pin_blas_then, (pickle.dumps((initializer, tuple(initargs))),)
-
-
-def _pin_blas_then(payload: bytes) -> None:
     for var in BLAS_THREAD_VARS:
         os.environ[var] = "1"
-    initializer, initargs = pickle.loads(payload)
-    if initializer is not None:
-        initializer(*initargs)

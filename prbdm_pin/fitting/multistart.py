@@ -28,17 +28,6 @@ from .spec import OBJECTIVES, FitSpec, StartResult
 __all__ = ["fit", "run_starts", "draw_starts"]
 
 
-_WORKER_SPEC: FitSpec | None = None
-
-
-def _init_worker(spec: FitSpec) -> None:
-    global _WORKER_SPEC
-    _WORKER_SPEC = spec
-
-
-def _run_one(args) -> StartResult:
-    i, lengths0, factors0 = args
-    return solve_start(_WORKER_SPEC, i, lengths0, factors0)
 
 
 def run_starts(spec: FitSpec, tasks: list, workers: int = 1, progress: bool = True,
@@ -56,8 +45,10 @@ def run_starts(spec: FitSpec, tasks: list, workers: int = 1, progress: bool = Tr
                 if loss_tol is not None and res.loss_pct <= loss_tol:
                     break
             return out
-        with pool_scope(fit_pool(workers, _init_worker, (spec,))) as ex:
-            futures = [ex.submit(_run_one, t) for t in tasks]
+        with pool_scope(fit_pool(workers)) as ex:
+            # the spec travels with each start: a worker must not unpickle arrays before it
+            # has pinned BLAS (workers.pin_blas), and a spec is small beside a start's solve
+            futures = [ex.submit(solve_start, spec, *t) for t in tasks]
             for fut in futures:
                 res = fut.result()
                 out.append(res)

@@ -125,9 +125,10 @@ def fit_pareto(
         kw["callback"] = PymooBar(int(generations))
     pool = None
     if workers > 1:
-        pool = fit_pool(workers, _init_pareto_worker, (problem, deflection_norm))
+        pool = fit_pool(workers)
     pp = ParetoProblem(problem, log10_bounds, deflection_norm=deflection_norm,
-                       runner=None if pool is None else PoolRows(pool, int(workers)))
+                       runner=None if pool is None else PoolRows(pool, int(workers), problem,
+                                                                 deflection_norm))
     try:
         res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
                        verbose=False, **kw)
@@ -233,26 +234,23 @@ def _polish_knee(problem: FitProblem, x: np.ndarray, deflection_norm: str, log10
     return x_p, f_p, int(r.nfev) + 1
 
 
-_WORKER_PARETO: tuple | None = None
-
-
-def _init_pareto_worker(problem: FitProblem, deflection_norm: str) -> None:
-    global _WORKER_PARETO
-    _WORKER_PARETO = (problem, deflection_norm)
-
-
-def _pareto_rows(X: np.ndarray) -> np.ndarray:
-    problem, norm = _WORKER_PARETO
-    return pareto_objectives_batch(problem, X, deflection_norm=norm)
+def _pareto_rows(X: np.ndarray, problem: FitProblem, deflection_norm: str) -> np.ndarray:
+    return pareto_objectives_batch(problem, X, deflection_norm=deflection_norm)
 
 
 class PoolRows:
-    """A ``ParetoProblem`` runner: a generation's rows split into ``workers`` chunks, evaluated
-    over ``pool`` (whose workers ran ``_init_pareto_worker``), stacked back in order."""
+    """A ``ParetoProblem`` runner: a generation's rows split into ``workers`` chunks, each sent
+    with the problem to ``pool`` (a worker must not unpickle arrays before it has pinned BLAS,
+    so nothing travels in its initializer), stacked back in order."""
 
-    def __init__(self, pool, workers: int) -> None:
+    def __init__(self, pool, workers: int, problem: FitProblem, deflection_norm: str) -> None:
         self.pool = pool
         self.workers = int(workers)
+        self.problem = problem
+        self.deflection_norm = deflection_norm
 
     def __call__(self, X: np.ndarray) -> np.ndarray:
-        return np.vstack(list(self.pool.map(_pareto_rows, np.array_split(X, self.workers))))
+        chunks = np.array_split(X, self.workers)
+        n = len(chunks)
+        return np.vstack(list(self.pool.map(_pareto_rows, chunks, [self.problem] * n,
+                                            [self.deflection_norm] * n)))

@@ -5,21 +5,18 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import os
-from collections.abc import Callable
-from typing import Any
 
-from ..workers import blas_pinned, process_pool
+from ..workers import pin_blas, process_pool
 
 __all__ = ["fit_pool"]
 
 
-def fit_pool(workers: int, initializer: Callable[..., Any] | None = None,
-             initargs: tuple = ()) -> cf.ProcessPoolExecutor:
-    """A pool of ``workers`` processes running ``initializer(*initargs)`` with one BLAS thread.
+def fit_pool(workers: int) -> cf.ProcessPoolExecutor:
+    """A pool of ``workers`` processes with one BLAS thread each; tasks carry their data.
 
     Forked from a caller whose BLAS is already pinned (the CLI's, a pinned script's), else
     spawned: a worker then sets the thread variables before it loads numpy
-    (``workers.blas_pinned``), since BLAS reads them once, when it loads.
+    (``workers.pin_blas``), since BLAS reads them once, when it loads.
     """
     import multiprocessing as mp
 
@@ -28,4 +25,4 @@ def fit_pool(workers: int, initializer: Callable[..., Any] | None = None,
         context = mp.get_context("fork")
     else:
         context = mp.get_context("spawn")
-    return process_pool(workers, context, *blas_pinned(initializer, initargs))
+    return process_pool(workers, context, pin_blas)
