@@ -42,6 +42,12 @@ _EXPORTS = {
     # fitting
     "FitTarget": "target",
     "target_from_truth": "target",
+    "FitOptions": "options",
+    "ParetoOptions": "options",
+    "Objective": "choices",
+    "StiffnessKind": "choices",
+    "EigenNorm": "choices",
+    "DeflectionNorm": "choices",
     "fit": "fitting",
     "fit_pareto": "fitting",
     "FitResult": "results",

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
+from .choices import DAMPING_FORMS
 from .eigen import generalized_eigh, symmetric_eigh
 from .errors import BeamInputError, SolveError
 
@@ -42,7 +43,6 @@ __all__ = [
     "damping_matrix",
 ]
 
-DAMPING_FORMS = ("modal", "eq5c", "stiffness")
 
 
 def damping_ratios(

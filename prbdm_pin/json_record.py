@@ -60,7 +60,7 @@ class JsonRecord:
             v = getattr(self, f.name)
             if f.name == "versions":
                 v = {k: ver for k, ver in v}
-            elif f.name == "truth_request" and v is not None:
+            elif f.name in ("truth_request", "options") and v is not None:
                 v = v.to_dict()
             d[f.name] = jsonable(v)
         return d
@@ -85,6 +85,10 @@ class JsonRecord:
                 from .truth.request import TruthRequest
 
                 v = None if v is None else TruthRequest.from_dict(v)
+            elif k == "options":
+                from .options import options_from_dict
+
+                v = None if v is None else options_from_dict(v, "options")
             elif k in cls.array_fields:
                 v = None if v is None else np.array(from_json(v), dtype=float)
             elif isinstance(v, list):

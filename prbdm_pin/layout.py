@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .choices import MIN_FRACTION
 from .errors import BeamInputError
 
 __all__ = [
@@ -25,7 +26,7 @@ __all__ = [
 
 _SUM_RTOL = 1e-9
 # Eq. 15: every link at least 2 % of the beam
-DEFAULT_MIN_FRACTION = 0.02
+DEFAULT_MIN_FRACTION = MIN_FRACTION
 
 
 def check_min_fraction(min_fraction: Any, joints: int, name: str = "min_fraction") -> float:
@@ -79,7 +80,7 @@ def _check_n_links(n_links: Any) -> int:
     return int(n_links)
 
 
-def validate_lengths(beam: Any, lengths_m: Any, min_fraction: float = 0.02) -> np.ndarray:
+def validate_lengths(beam: Any, lengths_m: Any, min_fraction: float = MIN_FRACTION) -> np.ndarray:
     """Check link lengths against a beam and return them as a float array.
 
     Parameters
@@ -140,7 +141,7 @@ def joint_positions(lengths_m: np.ndarray) -> np.ndarray:
 
 
 def length_bounds(
-    length_m: float, n_links: int, min_fraction: float = 0.02
+    length_m: float, n_links: int, min_fraction: float = MIN_FRACTION
 ) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds on each link length, m, each of shape (n_links,)."""
     n_links = _check_n_links(n_links)
@@ -154,7 +155,7 @@ def sample_lengths(
     length_m: float,
     n_links: int,
     size: int,
-    min_fraction: float = 0.02,
+    min_fraction: float = MIN_FRACTION,
 ) -> np.ndarray:
     """Link lengths drawn uniformly on the bounded simplex, shape (size, n_links), m.
 
@@ -176,7 +177,8 @@ def sample_lengths(
     return out
 
 
-def repair_lengths(lengths: np.ndarray, length_m: float, min_fraction: float = 0.02) -> np.ndarray:
+def repair_lengths(lengths: np.ndarray, length_m: float,
+                   min_fraction: float = MIN_FRACTION) -> np.ndarray:
     """Euclidean projection of link lengths onto the bounded simplex (row-wise for 2-D input).
 
     Solves min ||l - x|| subject to sum(l) = L, lo <= l <= hi: l = clip(x - tau, lo, hi) with the

@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import dynamics as dyn
+from .choices import MIN_FRACTION
 from .eigen import eig_scaled
 from .errors import BeamInputError
 from .geometry import Beam
@@ -208,7 +209,7 @@ def build_model(
     lengths_m: np.ndarray,
     stiffness_Nm_per_rad: np.ndarray,
     *,
-    min_fraction: float = 0.02,
+    min_fraction: float = MIN_FRACTION,
 ) -> PrbdmModel:
     """A PRBDM of ``beam`` with the given link lengths and joint springs.
 

@@ -195,6 +195,10 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
             raise BeamInputError(f"{what}: warnings = {ws!r:.60}: must be a list of strings")
         for i, s in enumerate(ws):
             field_str(f"{what}: warnings[{i}]", s, printable=False)
+    if d.get("options") is not None:
+        from .options import options_from_dict
+
+        options_from_dict(d["options"], f"{what}: options")
     if "versions" in d:
         v = require_mapping(d["versions"], f"{what}: versions")
         for key, ver in v.items():

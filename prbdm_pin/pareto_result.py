@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from .json_record import JsonRecord, readonly_array
 from .results import ARRAY_FIELDS, FitResult, package_versions
+
+if TYPE_CHECKING:
+    from .options import ParetoOptions
 
 __all__ = ["ParetoResult"]
 
@@ -39,6 +42,9 @@ class ParetoResult(JsonRecord):
     eigen_norm : str
         ``"paper"`` (Eq. 16) or ``"relative"``: the norm of the front's eigen losses.
     pop, generations, n_evals, seed : int
+    options : ParetoOptions or None
+        Every option the front was computed with (None in a file written before they were
+        recorded).
     """
 
     array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS
@@ -64,6 +70,7 @@ class ParetoResult(JsonRecord):
     message: str
     knee: FitResult | None = None
     eigen_norm: str = "paper"
+    options: ParetoOptions | None = None
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .choices import MIN_FRACTION
 from .io import atomic_path
 
 __all__ = ["plot_planform", "plot_scf", "plot_pareto", "new_figure", "pyplot", "save_figure",
@@ -92,7 +93,7 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
     lengths = np.asarray(lengths_m, dtype=float)
     # any fitted layout, also one with links below Eq. 15's default 0.02 L (--min-link)
     sec = link_sections(beam, lengths,
-                        min_fraction=min(0.02, 0.5 * float(lengths.min()) / beam.length_m))
+                        min_fraction=min(MIN_FRACTION, 0.5 * float(lengths.min()) / beam.length_m))
     fig = new_figure((7, 4))
     ax = fig.subplots()
     x, w = beam.x_m, beam.half_width_m

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .choices import STIFFNESS_KINDS
+from .choices import EPS_RAD, MIN_FRACTION, STIFFNESS_KINDS, XI_RAD
 from .errors import BeamInputError
 from .geometry import Beam
 from .objectives import check_eigen_norm
@@ -48,7 +48,8 @@ __all__ = [
 
 
 # --- the length parametrisation -------------------------------------------------------------
-def lengths_from_unit(u: np.ndarray, length_m: float, min_fraction: float = 0.02) -> np.ndarray:
+def lengths_from_unit(u: np.ndarray, length_m: float,
+                      min_fraction: float = MIN_FRACTION) -> np.ndarray:
     """Stick-breaking map from the box [0, 1]^n onto the bounded length simplex (m).
 
     ``L_j = a + e_j`` with ``a = min_fraction * L``; link j takes the fraction ``u_j`` of the
@@ -68,7 +69,7 @@ def lengths_from_unit(u: np.ndarray, length_m: float, min_fraction: float = 0.02
     return a + np.array(e)
 
 
-def unit_from_lengths(lengths_m: np.ndarray, length_m: float, min_fraction: float = 0.02):
+def unit_from_lengths(lengths_m: np.ndarray, length_m: float, min_fraction: float = MIN_FRACTION):
     """Inverse of :func:`lengths_from_unit` (u_j = 0.5 where the remaining excess is zero)."""
     lengths = np.asarray(lengths_m, dtype=float)
     a = min_fraction * length_m
@@ -113,9 +114,9 @@ class FitProblem:
     stiffness: str
     poses_rad: np.ndarray
     squared: bool = False
-    min_fraction: float = 0.02
-    xi: float = 0.05
-    eps: float = 0.1
+    min_fraction: float = MIN_FRACTION
+    xi: float = XI_RAD
+    eps: float = EPS_RAD
     eigen_norm: str = "paper"
 
     @property
@@ -142,11 +143,11 @@ def make_problem(
     joints: int,
     frequencies: int | None = None,
     stiffness: str = "paper",
-    xi: float = 0.05,
-    eps: float = 0.1,
+    xi: float = XI_RAD,
+    eps: float = EPS_RAD,
     squared: bool = False,
     joint_sweep: bool = False,
-    min_fraction: float = 0.02,
+    min_fraction: float = MIN_FRACTION,
     eigen_norm: str = "paper",
 ) -> FitProblem:
     """Validate the fit settings and build a :class:`FitProblem`.

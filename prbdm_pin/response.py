@@ -241,7 +241,7 @@ def dynamic_accuracy(
         force = 1e-6 * model.n_joints * float(np.min(model.stiffness_Nm_per_rad)) / \
             float(np.sum(model.lengths_m))
         tr = simulate(model, duration_s, tip_force=[0.0, 0.0, force], damping_ratio=damping_ratio,
-                      output_dt=duration_s / (samples - 1))
+                      output_dt_s=duration_s / (samples - 1))
         u_model = tr.tip_displacement_m[:, 2] / force
         u_model = np.interp(t, tr.t_s, u_model)
     else:

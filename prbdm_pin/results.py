@@ -14,9 +14,11 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from .choices import MIN_FRACTION
 from .json_record import JsonRecord, readonly_array
 
 if TYPE_CHECKING:
+    from .options import FitOptions, ParetoOptions
     from .truth.request import TruthRequest
 
 __all__ = ["ARRAY_FIELDS", "FitResult", "package_versions"]
@@ -130,6 +132,9 @@ class FitResult(JsonRecord):
         errors against the truth (%).
     worst_export_error_pct : float
         max |omega_export_errors_pct|, %.
+    options : FitOptions or ParetoOptions or None
+        Every option the fit was run with (a Pareto knee: the Pareto fit's); None in a
+        fit.json written before options were recorded.
     versions : tuple of (name, version)
     """
 
@@ -186,7 +191,8 @@ class FitResult(JsonRecord):
     omega_export_errors_pct: np.ndarray | None = None
     worst_export_error_pct: float = math.nan
     static_theory_gap_pct: float = math.nan
-    min_fraction: float = 0.02
+    min_fraction: float = MIN_FRACTION
+    options: FitOptions | ParetoOptions | None = None
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .choices import MIN_FRACTION
 from .geometry import Beam
 from .layout import validate_lengths
 
@@ -65,7 +66,8 @@ def _ro(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def link_sections(beam: Beam, lengths_m: np.ndarray, min_fraction: float = 0.02) -> LinkSections:
+def link_sections(beam: Beam, lengths_m: np.ndarray,
+                  min_fraction: float = MIN_FRACTION) -> LinkSections:
     """Exact sections of the links of ``beam`` cut at ``lengths_m``.
 
     Parameters

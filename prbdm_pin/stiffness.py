@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from .choices import EPS_RAD, MIN_FRACTION, XI_RAD
 from .errors import BeamInputError
 from .geometry import Beam
 from .layout import validate_lengths
@@ -22,7 +23,7 @@ __all__ = [
 
 
 def pose_sweep(
-    n_joints: int, xi: float = 0.05, eps: float = 0.1, max_tip_angle_rad: float = math.pi / 2
+    n_joints: int, xi: float = XI_RAD, eps: float = EPS_RAD, max_tip_angle_rad: float = math.pi / 2
 ) -> np.ndarray:
     """The poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
 
@@ -114,7 +115,7 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def finite_segment_stiffness(
-    beam: Beam, lengths_m: np.ndarray, min_fraction: float = 0.02
+    beam: Beam, lengths_m: np.ndarray, min_fraction: float = MIN_FRACTION
 ) -> np.ndarray:
     """Physical joint stiffness of the finite-segment law, N m/rad, shape (n,).
 

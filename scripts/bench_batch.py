@@ -34,6 +34,7 @@ from prbdm_pin.batch import (  # noqa: E402
     run_batch,
 )
 from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.options import FitOptions  # noqa: E402
 
 PAPER_BEAMS = 50_000
 PAPER_CORES = 100
@@ -84,7 +85,7 @@ def main() -> None:
     for config in a.configs.split(","):
         truth_model, kind, *n = config.split(":")
         beams = int(n[0]) if n else a.beams
-        settings = FitSettings(joints=a.joints, stiffness=kind, starts=a.starts,
+        settings = FitSettings(joints=a.joints, options=FitOptions(stiffness=kind, starts=a.starts),
                                truth_model=truth_model)
         out = Path(a.runs) / f"{truth_model}-{kind}-{a.joints}R-{beams}"
         r = bench(replace(settings, cache_dir=str(out / "truth-cache")), beams, a.workers,

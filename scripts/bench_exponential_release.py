@@ -51,9 +51,9 @@ def best_cpu(fn, repeats: int):
 def row(name: str, model, duration_s: float, repeats: int, **scene) -> str:
     """One table line: the default exponential run and DOP853 (rtol 1e-10) on one scene."""
     ref_cpu, ref = best_cpu(lambda: simulate(model, duration_s, method="DOP853", rtol=1e-10,
-                                             output_dt=OUTPUT_DT_S, **scene), 1)
+                                             output_dt_s=OUTPUT_DT_S, **scene), 1)
     try:
-        cpu, tr = best_cpu(lambda: simulate(model, duration_s, output_dt=OUTPUT_DT_S, **scene),
+        cpu, tr = best_cpu(lambda: simulate(model, duration_s, output_dt_s=OUTPUT_DT_S, **scene),
                            repeats)
     except SolveError as exc:
         line = f"| {name} | SolveError: {exc} | | | | | {1e3 * ref_cpu / duration_s:.0f} |"

@@ -109,7 +109,7 @@ def main() -> None:
     for stiffness, n, N, sq in cases:
         load = os.getloadavg()[0]
         t0, c0 = time.perf_counter(), cpu_s()
-        r = fit(ref, ref_target, n, N, stiffness=stiffness, starts=args.starts, seed=0,
+        r = fit(ref, ref_target, n, frequencies=N, stiffness=stiffness, starts=args.starts, seed=0,
                 squared=sq, workers=args.workers, progress=False, eigen_norm=args.eigen_norm)
         wall, cpu = time.perf_counter() - t0, cpu_s() - c0
         best = float(np.min(r.start_losses_pct))
@@ -124,7 +124,8 @@ def main() -> None:
               "relative to min |", "|---|---|---|---|---|---|"]
     for stiffness, n, N, sq in [("paper", 4, 3, True), ("paper", 4, 4, True),
                                 ("paper", 5, 5, True), ("paper", 5, 5, False)]:
-        losses = np.array([fit(ref, ref_target, n, N, stiffness=stiffness, starts=args.starts,
+        losses = np.array([fit(ref, ref_target, n, frequencies=N, stiffness=stiffness,
+                               starts=args.starts,
                                seed=s, squared=sq, workers=args.workers, progress=False,
                                eigen_norm=args.eigen_norm).eigen_loss_pct for s in range(5)])
         lines.append(f"| {stiffness} | {n}R | {N} | {'omega^2' if sq else 'omega'} | "
@@ -148,7 +149,8 @@ def main() -> None:
         t0, c0 = time.perf_counter(), cpu_s()
         gens = args.generations if stiffness == "joint" or args.paper_generations is None \
             else args.paper_generations
-        p = fit_pareto(narrow, narrow_target(narrow), 4, 4, stiffness=stiffness, pop=args.pop,
+        p = fit_pareto(narrow, narrow_target(narrow), 4, frequencies=4, stiffness=stiffness,
+                       pop=args.pop,
                        generations=gens, seed=0, workers=args.workers, progress=False,
                        eigen_norm=args.eigen_norm)
         wall, cpu = time.perf_counter() - t0, cpu_s() - c0

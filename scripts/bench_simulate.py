@@ -108,10 +108,10 @@ def prbdm_rows(name: str, model, force, omega_truth, duration_s: float, repeats:
     """
     if reference == "DOP853":
         ref = simulate(model, duration_s, tip_force=force, damping_ratio=DAMPING,
-                       method="DOP853", rtol=1e-10, output_dt=OUTPUT_DT_S)
+                       method="DOP853", rtol=1e-10, output_dt_s=OUTPUT_DT_S)
     else:
         ref = simulate(model, duration_s, tip_force=force, damping_ratio=DAMPING,
-                       steps_per_period=160, refresh_rad=0.0, output_dt=OUTPUT_DT_S)
+                       steps_per_period=160, refresh_rad=0.0, output_dt_s=OUTPUT_DT_S)
     peak = float(np.abs(ref.tip_displacement_m).max())
     fe = freq_error(model, omega_truth)
     omega_max = float(model.natural_frequencies()[-1])
@@ -119,7 +119,7 @@ def prbdm_rows(name: str, model, force, omega_truth, duration_s: float, repeats:
     for method, kw in runs:
         def run(method=method, kw=kw):
             return simulate(model, duration_s, tip_force=force, damping_ratio=DAMPING,
-                            method=method, output_dt=OUTPUT_DT_S, **kw)
+                            method=method, output_dt_s=OUTPUT_DT_S, **kw)
 
         wall, cpu, tr = best_of(run, repeats)
         tip_err = float(np.abs(tr.tip_position_m - ref.tip_position_m).max()) / peak
@@ -382,9 +382,9 @@ def main() -> None:
     # the fine exponential reference against DOP853 where both are affordable
     chk = finite_segment_chain(beam, 8)
     a = simulate(chk, dur, tip_force=force, damping_ratio=DAMPING, steps_per_period=160,
-                 refresh_rad=0.0, output_dt=OUTPUT_DT_S)
+                 refresh_rad=0.0, output_dt_s=OUTPUT_DT_S)
     b = simulate(chk, dur, tip_force=force, damping_ratio=DAMPING, method="DOP853", rtol=1e-10,
-                 output_dt=OUTPUT_DT_S)
+                 output_dt_s=OUTPUT_DT_S)
     gap = float(np.abs(a.tip_position_m - b.tip_position_m).max()
                 / np.abs(b.tip_displacement_m).max())
     notes.append(f"Reference of the chains above 8 joints (DOP853 at rtol 1e-10 takes minutes "

@@ -212,7 +212,7 @@ def main() -> int:
             "|---|---|---|---|---|",
         ]
         sims = {form: simulate(model, 2.0, tip_force=force, damping_ratio=xi, damping=form,
-                               output_dt=OUTPUT_DT_S) for form in ("stiffness", "modal")}
+                               output_dt_s=OUTPUT_DT_S) for form in ("stiffness", "modal")}
         t = sims["stiffness"].t_s
         h_exp = OUTPUT_DT_S / np.ceil(OUTPUT_DT_S / m_new.opt.timestep)
         for label, m_mj, form, integrator, h in (
@@ -234,7 +234,7 @@ def main() -> int:
             print(f"{n}R {label} vs simulate {form}: " + ", ".join(f"{v:.3g} %" for v in d),
                   flush=True)
         fine = simulate(model, 2.0, tip_force=force, damping_ratio=xi, damping="stiffness",
-                        output_dt=OUTPUT_DT_S, method="DOP853", rtol=1e-10)
+                        output_dt_s=OUTPUT_DT_S, method="DOP853", rtol=1e-10)
         floor = diffs(t, fine.tip_position_m, sims["stiffness"].tip_position_m, rest_z, windows)
         lines += ["", "simulate's default settings against DOP853 at rtol 1e-10 (the floor of the "
                   "rows above): " + ", ".join(f"{v:.3g} %" for v in floor), ""]

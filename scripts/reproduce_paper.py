@@ -83,7 +83,8 @@ def narrow_study(out: Path, joints: list[int], starts: int, workers: int) -> lis
              "| model | " + " | ".join(f"P L^2/EI = {a:g}" for a, _, _ in ELASTICA) + " |",
              "|---|" + "---|" * len(ELASTICA)]
     for n in joints:
-        r = fit(beam, target, n, n, objective="combined", stiffness="joint", starts=starts,
+        r = fit(beam, target, n, frequencies=n, objective="combined", stiffness="joint",
+                starts=starts,
                 seed=0, workers=workers, progress=False, eigen_norm="paper")
         write_fit_outputs(r, beam, out / "uniform-narrow" / f"{n}R-joint-combined")
         md.append(f"| {n}R | {r.eigen_loss_pct:.4g} | {r.worst_mode_error_pct:.3g} | "
@@ -160,7 +161,8 @@ def pareto_study(beam, target, out: Path, joints: list[int], pop: int, generatio
           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     fronts = []
     for n in joints:
-        p = fit_pareto(beam, target, n, n, stiffness="paper", pop=pop, generations=generations,
+        p = fit_pareto(beam, target, n, frequencies=n, stiffness="paper", pop=pop,
+                       generations=generations,
                        seed=0, workers=workers, progress=False, eigen_norm="paper")
         fronts.append(p)
         write_pareto_outputs(p, beam, out / f"{n}R-paper-pareto")
@@ -240,7 +242,8 @@ def main() -> None:
             for stiffness in ("paper", "joint"):
                 for N in sorted({3, n}, reverse=True):
                     sq = stiffness == "paper" and not args.paper_omega
-                    r = fit(beam, target, n, N, stiffness=stiffness, starts=args.starts, seed=0,
+                    r = fit(beam, target, n, frequencies=N, stiffness=stiffness,
+                            starts=args.starts, seed=0,
                             squared=sq, workers=args.workers, progress=False,
                             eigen_norm="paper")
                     write_fit_outputs(r, beam, out / source / f"{n}R-{stiffness}-{N}")
@@ -263,7 +266,7 @@ def main() -> None:
                    "|---|---|---|---|---|---|---|---|---|---|"]
             fitted = []
             for n in args.joints:
-                r = fit(beam, target, n, n, objective="combined", stiffness="joint",
+                r = fit(beam, target, n, frequencies=n, objective="combined", stiffness="joint",
                         starts=args.combined_starts, seed=0, workers=args.workers,
                         progress=False, eigen_norm="paper")
                 fitted.append(r)

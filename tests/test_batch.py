@@ -15,12 +15,14 @@ import pytest
 from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.options import FitOptions
 from prbdm_pin.random_beams import random_beam
 
 N_BEAMS = 20
 SEED = 2024
 # The cheapest real pipeline: 1D Euler-Bernoulli truth and a small joint-stiffness fit.
-SETTINGS = FitSettings(joints=2, frequencies=2, objective="eigen", stiffness="joint", starts=2,
+SETTINGS = FitSettings(joints=2, options=FitOptions(frequencies=2, objective="eigen",
+                                                    stiffness="joint", starts=2),
                        truth_model="beam")
 
 
@@ -132,7 +134,7 @@ def test_twenty_beams_on_two_workers(fitted, two_workers):
         # and every mode of the fitted and of the exported model with it
         assert rec["worst_mode_error_pct"] < 1e-6 and rec["worst_export_error_pct"] < 1e-6
         assert len(rec["omega_export_errors_pct"]) == 2
-        assert rec["eigen_norm"] == SETTINGS.eigen_norm
+        assert rec["eigen_norm"] == SETTINGS.options.eigen_norm
         assert sum(rec["lengths_m"]) == pytest.approx(beam.length_m, rel=1e-12)
     assert len({r["mass_kg"] for r in two_workers.values()}) == N_BEAMS  # 20 different beams
 
@@ -210,7 +212,8 @@ def test_torn_last_line_is_dropped_and_recomputed(reference, tmp_path):
 
 def test_other_arguments_refused(tmp_path):
     run_batch(spec(n_beams=2), tmp_path, work=WORK, backend=LocalPool(1), progress=False)
-    other = FitSettings(joints=3, frequencies=2, stiffness="joint", starts=4, truth_model="beam")
+    other = FitSettings(joints=3, options=FitOptions(frequencies=2, stiffness="joint", starts=4),
+                        truth_model="beam")
     with pytest.raises(BeamInputError, match="settings.joints = 3"):
         run_batch(spec(n_beams=2, settings=other), tmp_path, work=WORK, progress=False)
     with pytest.raises(BeamInputError, match="seed"):
@@ -285,7 +288,7 @@ def test_bad_arguments_name_the_field(tmp_path):
     with pytest.raises(BeamInputError, match="joints"):
         FitSettings(joints=0)
     with pytest.raises(BeamInputError, match="stiffness"):
-        FitSettings(joints=2, stiffness="stiff")
+        FitSettings(joints=2, options=FitOptions(stiffness="stiff"))
     with pytest.raises(BeamInputError, match="shard"):
         batch.parse_shard("3/3")
     with pytest.raises(BeamInputError, match="beams_dir"):

@@ -22,9 +22,11 @@ from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.options import FitOptions
 
 ROOT = Path(__file__).resolve().parents[1]
-REAL = FitSettings(joints=2, frequencies=2, objective="eigen", stiffness="joint", starts=2,
+REAL = FitSettings(joints=2, options=FitOptions(frequencies=2, objective="eigen",
+                                                stiffness="joint", starts=2),
                    truth_model="beam")
 
 
@@ -157,7 +159,7 @@ def test_resume_without_manifest_checks_the_records(real_dir, tmp_path, change, 
     d = _copy(real_dir, tmp_path)
     (d / "batch.json").unlink()
     before = (d / "results.jsonl").read_bytes()
-    other = FitSettings(**{**REAL.__dict__, **change})
+    other = REAL.replace(**change)
     with pytest.raises(BeamInputError, match=option):
         run_batch(_spec(3, other), d, progress=False, backend=LocalPool(1))
     assert (d / "results.jsonl").read_bytes() == before
@@ -189,7 +191,7 @@ def test_resume_without_manifest_checks_records_of_older_versions(real_dir, tmp_
         for k in ("joints", "objective", "stiffness", "starts", "truth_model", "min_fraction"):
             r.pop(k)
     path.write_text("".join(json.dumps(r) + "\n" for r in recs))
-    other = FitSettings(**{**REAL.__dict__, "joints": 3, "frequencies": 2})
+    other = REAL.replace(joints=3, frequencies=2)
     with pytest.raises(BeamInputError, match="--joints = 3.*--joints = 2"):
         run_batch(_spec(3, other), d, progress=False, backend=LocalPool(1))
 

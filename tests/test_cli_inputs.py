@@ -17,6 +17,7 @@ from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting import fit
+from prbdm_pin.options import FitOptions
 from prbdm_pin.target import FitTarget
 
 BEAM = "examples/beams/uniform-narrow.json"
@@ -65,7 +66,7 @@ def test_batch_refuses_a_bad_min_link(capsys, tmp_path):
                               "--out", str(tmp_path / "b"), "-q"], "--min-link = 0.02",
                      "(0, 0.01639)")
     with pytest.raises(BeamInputError, match=r"min_fraction = 0\.5"):
-        FitSettings(joints=1, min_fraction=0.5)
+        FitSettings(joints=1, options=FitOptions(min_fraction=0.5))
 
 
 def test_min_link_reaches_the_fit(tmp_path, truth_file):
@@ -102,8 +103,8 @@ def test_min_link_reaches_the_batch_fit(tmp_path):
     beam = load_beam(BEAM)
     gammas = {}
     for f in (0.02, 0.3):
-        s = FitSettings(joints=2, stiffness="joint", starts=3, truth_model="beam",
-                        cache_dir=str(tmp_path), min_fraction=f)
+        s = FitSettings(joints=2, options=FitOptions(stiffness="joint", starts=3, min_fraction=f),
+                        truth_model="beam", cache_dir=str(tmp_path))
         rec = evaluate_beam(BeamTask(0, 0, s, "narrow", beam))
         assert rec["status"] == "ok", rec.get("error")
         gammas[f] = np.array(rec["gamma"])

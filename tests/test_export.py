@@ -129,7 +129,7 @@ def test_mujoco_step_matches_simulate_with_the_same_damping(chain):
     m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
     tip_mj = _mj_step_response(m, d, force, 1.0, every=10)
     ours = simulate(chain, 1.0, tip_force=force, damping_ratio=0.02, damping="stiffness",
-                    output_dt=1e-3)
+                    output_dt_s=1e-3)
     assert ours.tip_position_m.shape == tip_mj.shape
     rest = chain.tip_position()
     peak = np.abs(ours.tip_position_m[:, 2] - rest[2]).max()
@@ -196,7 +196,7 @@ def test_mujoco_step_load_matches_pinocchio(model):
             tip_mj.append(d.site_xpos[0].copy())
     tip_mj = np.array(tip_mj)
     ours = simulate(model, steps * h, tip_force=force, damping_ratio=0.0,
-                    output_dt=every * h, dt=every * h / 10)
+                    output_dt_s=every * h, dt_s=every * h / 10)
     assert ours.tip_position_m.shape == tip_mj.shape
     rest = model.tip_position()
     peak = np.abs(ours.tip_position_m[:, 2] - rest[2]).max()

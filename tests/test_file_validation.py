@@ -38,7 +38,7 @@ def beam():
 @pytest.fixture(scope="module")
 def fit_dict(beam, tmp_path_factory):
     """A real 2R fit.json (with its beam), as a mapping."""
-    r = fit(beam, FitTarget(TAPERED_OMEGA, beam.tip_force_N), 2, 2, starts=1, seed=0,
+    r = fit(beam, FitTarget(TAPERED_OMEGA, beam.tip_force_N), 2, frequencies=2, starts=1, seed=0,
             progress=False)
     path = tmp_path_factory.mktemp("fit") / "fit.json"
     save_fit(r, path, beam)

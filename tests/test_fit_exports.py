@@ -111,8 +111,9 @@ def test_relative_norm_halves_the_exported_first_mode_error(tapered, tapered_tar
 @pytest.mark.parametrize("stiffness", ["paper", "joint"])
 def test_per_mode_errors_are_the_models_own_frequencies(reference, stiffness, tmp_path):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    r = fit(reference, target, 3, 3, stiffness=stiffness, starts=2, seed=0, progress=False,
-            joint_sweep=stiffness == "joint", eps=0.2)
+    r = fit(reference, target, 3, frequencies=3, stiffness=stiffness, starts=2, seed=0,
+            progress=False,
+            joint_sweep=stiffness == "joint", eps_rad=0.2)
     t = REF_OMEGA[:3]
     assert r.omega_errors_pct.shape == (r.poses_rad.shape[0], 3)
     for i, (q, k) in enumerate(zip(r.poses_rad, r.stiffness_per_pose_Nm_per_rad, strict=True)):
@@ -137,7 +138,8 @@ def test_per_mode_errors_are_the_models_own_frequencies(reference, stiffness, tm
 
 def test_old_fit_json_without_the_new_fields_loads(reference, tmp_path):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    r = fit(reference, target, 2, 2, stiffness="paper", starts=1, seed=0, progress=False)
+    r = fit(reference, target, 2, frequencies=2, stiffness="paper", starts=1, seed=0,
+            progress=False)
     d = r.to_dict()
     for key in ("eigen_norm", "omega_errors_pct", "worst_mode_error_pct", "export_pose_rad",
                 "stiffness_pose", "omega_export_rad_s", "omega_export_errors_pct",
@@ -156,7 +158,8 @@ def test_old_fit_json_without_the_new_fields_loads(reference, tmp_path):
 
 def test_stiffness_schedule_interpolates_the_per_pose_table(reference):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    r = fit(reference, target, 2, 2, stiffness="paper", starts=1, seed=0, progress=False)
+    r = fit(reference, target, 2, frequencies=2, stiffness="paper", starts=1, seed=0,
+            progress=False)
     s = r.stiffness_schedule()
     th, K = r.poses_rad[:, 0], r.stiffness_per_pose_Nm_per_rad
     assert th.size >= 3
@@ -208,10 +211,10 @@ def test_each_solver_path_minimises_the_relative_norm(reference, stiffness, obje
     target = FitTarget(REF_OMEGA, reference.tip_force_N, np.array([0.9, 0.0, -0.12]),
                        np.array([-0.1, 0.0, -0.12]))
     kw = dict(objective=objective, stiffness=stiffness, starts=2, seed=0, progress=False,
-              eps=0.25)
+              eps_rad=0.25)
     t = REF_OMEGA[:3]
-    a = fit(reference, target, 3, 3, eigen_norm="paper", **kw)
-    b = fit(reference, target, 3, 3, eigen_norm="relative", **kw)
+    a = fit(reference, target, 3, frequencies=3, eigen_norm="paper", **kw)
+    b = fit(reference, target, 3, frequencies=3, eigen_norm="relative", **kw)
     hand = 100 * np.mean(np.sqrt(np.mean((b.omega_model_rad_s / t - 1) ** 2, axis=1)))
     assert b.eigen_loss_pct == pytest.approx(hand, rel=1e-10)
     l2 = np.linalg.norm(a.omega_model_rad_s - t, axis=1) / np.linalg.norm(t)
@@ -245,7 +248,8 @@ def test_paper_relative_2r_fit_reaches_the_grid_optimum(reference):
     best = min((minimize(loss, grid[i], method="Nelder-Mead",
                          options={"xatol": 1e-9, "fatol": 1e-12, "maxfev": 2000})
                 for i in np.argsort(vals)[:3]), key=lambda r: r.fun)
-    r = fit(reference, target, 2, 2, stiffness="paper", starts=8, seed=0, progress=False,
+    r = fit(reference, target, 2, frequencies=2, stiffness="paper", starts=8, seed=0,
+            progress=False,
             eigen_norm="relative")
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
     # (with two modes both norms rank a pose by the same ratio mismatch, so their optima nearly
@@ -279,7 +283,7 @@ def test_pareto_with_the_relative_norm_records_it(reference):
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N, np.array([0.9, 0.0, -0.12]),
                        np.array([-0.1, 0.0, -0.12]))
-    res = fit_pareto(reference, target, 2, 2, stiffness="joint", pop=8, generations=2,
+    res = fit_pareto(reference, target, 2, frequencies=2, stiffness="joint", pop=8, generations=2,
                      progress=False, seed_starts=1, eigen_norm="relative", polish_knee=False)
     assert res.eigen_norm == "relative" and res.knee.eigen_norm == "relative"
     t = REF_OMEGA[:2]

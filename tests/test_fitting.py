@@ -68,7 +68,7 @@ def test_recovery_2r_frequencies_and_tip(narrow):
     lengths, s = np.array([0.25, 0.45, 0.3]), np.array([1.2, 0.8])
     target = _self_truth(narrow, lengths, s)
     r = fit(narrow, target, 2, objective="combined", stiffness="joint", starts=4, seed=1,
-            progress=False, loss_tol=1e-7)
+            progress=False, loss_tol_pct=1e-7)
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
     assert r.tip_position_model_m[0] == pytest.approx(target.tip_position_m, abs=1e-7)
     assert r.combined_loss_pct < 1e-6
@@ -115,7 +115,7 @@ def test_recovery_3r_lengths_with_three_load_cases(narrow, seed):
     model = build_model(narrow, lengths, s * finite_segment_stiffness(narrow, lengths))
     target = model_target(model, _load_indices(narrow, (1.0, 3.0, 5.0)))
     r = fit(narrow, target, 3, objective="combined", stiffness="joint", starts=32, seed=1,
-            progress=False, loss_tol=1e-8)
+            progress=False, loss_tol_pct=1e-8)
     assert r.lengths_m == pytest.approx(lengths, abs=1e-4)
     assert r.factors == pytest.approx(s, rel=1e-4)
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s, rel=1e-6)
@@ -125,7 +125,7 @@ def test_recovery_3r_lengths_with_three_load_cases(narrow, seed):
 def test_joint_matches_n_euler_bernoulli_frequencies(narrow, n):
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N)
     r = fit(narrow, target, n, stiffness="joint", starts=4, seed=0, progress=False,
-            loss_tol=1e-7)
+            loss_tol_pct=1e-7)
     assert r.eigen_loss_pct <= 1e-6
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s[:n], rel=1e-8)
     assert np.sum(r.lengths_m) == pytest.approx(narrow.length_m, rel=1e-12)
@@ -136,14 +136,15 @@ def test_joint_matches_n_euler_bernoulli_frequencies(narrow, n):
 def test_joint_matches_n_reference_frequencies(reference, n):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     r = fit(reference, target, n, stiffness="joint", starts=16, seed=0, progress=False,
-            loss_tol=1e-7)
+            loss_tol_pct=1e-7)
     assert r.eigen_loss_pct <= 1e-6
     assert r.omega_model_rad_s[0] == pytest.approx(REF_OMEGA[:n], rel=1e-8)
 
 
 def test_paper_scfs_are_each_poses_optimum(reference):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    r = fit(reference, target, 2, 2, stiffness="paper", starts=2, seed=0, progress=False,
+    r = fit(reference, target, 2, frequencies=2, stiffness="paper", starts=2, seed=0,
+            progress=False,
             eigen_norm="paper", polish=1)
     prob = make_problem(reference, target, 2, 2, "paper")
     base = evaluate(prob, r.lengths_m, r.factors, deflection=False).eigen_errors
@@ -173,7 +174,7 @@ def test_same_seed_same_result_any_workers(narrow):
 def test_loss_tol_stops_early(narrow):
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N)
     r = fit(narrow, target, 2, stiffness="joint", starts=20, seed=0, progress=False,
-            loss_tol=1e-6)
+            loss_tol_pct=1e-6)
     assert r.starts_run < 20 and r.eigen_loss_pct <= 1e-6
 
 
@@ -203,7 +204,7 @@ def test_bad_input_names_the_field(narrow, kw, field):
 def test_paper_reference_random_prototype_truth(reference, n, N, limit):
     # the prototype compared omega^2 (the paper's published code)
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    r = fit(reference, target, n, N, stiffness="paper", squared=True, starts=64, seed=0,
+    r = fit(reference, target, n, frequencies=N, stiffness="paper", squared=True, starts=64, seed=0,
             eigen_norm="paper", workers=2, progress=False)
     assert r.eigen_loss_pct <= limit
 
@@ -285,7 +286,8 @@ def test_paper_2r_fit_reaches_the_grid_optimum(reference, squared):
          for i in np.argsort(vals)[:3]),
         key=lambda r: r.fun,
     )
-    r = fit(reference, target, 2, 2, stiffness="paper", squared=squared, starts=8, seed=0,
+    r = fit(reference, target, 2, frequencies=2, stiffness="paper", squared=squared, starts=8,
+            seed=0,
             eigen_norm="paper", progress=False)
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
     assert r.eigen_loss_pct == pytest.approx(_projected_loss_pct(prob, r.lengths_m), rel=1e-12)
@@ -298,8 +300,8 @@ def test_paper_omega_fit_beats_the_omega_squared_design_in_omega(reference):
     # norm (weight 39.65 against 2800) sees it
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     kw = dict(stiffness="paper", eigen_norm="paper", starts=16, seed=0, progress=False)
-    r_w = fit(reference, target, 3, 3, squared=False, **kw)
-    r_w2 = fit(reference, target, 3, 3, squared=True, **kw)
+    r_w = fit(reference, target, 3, frequencies=3, squared=False, **kw)
+    r_w2 = fit(reference, target, 3, frequencies=3, squared=True, **kw)
     prob_w = make_problem(reference, target, 3, 3, "paper", squared=False)
     at_w2 = _projected_loss_pct(prob_w, r_w2.lengths_m)
     assert r_w.eigen_loss_pct <= at_w2
@@ -317,7 +319,8 @@ def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
     tip = np.array([L * (1 - retreat), 0.0, -deflection * L])
     target = FitTarget(_euler_bernoulli(narrow), narrow.tip_force_N, tip,
                        tip - np.array([L, 0.0, 0.0]))
-    p = fit_pareto(narrow, target, 4, 4, stiffness="joint", pop=100, generations=200, seed=0,
+    p = fit_pareto(narrow, target, 4, frequencies=4, stiffness="joint", pop=100, generations=200,
+                   seed=0,
                    workers=2, progress=False)
     k = p.knee
     assert k.combined_loss_pct <= 0.1
@@ -341,7 +344,7 @@ def test_paper_pareto_knee_beats_the_papers(reference, reference_truth_target, n
     # reference beam with the plate and elastica truth, NSGA-II at the paper's eps
     from prbdm_pin.fitting import fit_pareto
 
-    p = fit_pareto(reference, reference_truth_target, n, n, stiffness="paper", pop=100,
+    p = fit_pareto(reference, reference_truth_target, n, frequencies=n, stiffness="paper", pop=100,
                    eigen_norm="paper", generations=200, seed=0, progress=False)
     k = p.knee
     assert p.eps == 0.01 and k.poses_rad.shape[0] == len(np.arange(0.05, np.pi / 2 / n, 0.01))
@@ -365,8 +368,8 @@ def test_pareto_same_seed_same_front_any_workers(narrow):
                        tip - np.array([L, 0.0, 0.0]))
     kw = dict(stiffness="paper", pop=12, generations=4, seed=5, progress=False, seed_starts=1,
               eigen_norm="paper", polish_knee=False)
-    a = fit_pareto(narrow, target, 2, 2, **kw)
-    b = fit_pareto(narrow, target, 2, 2, **kw, workers=2)
+    a = fit_pareto(narrow, target, 2, frequencies=2, **kw)
+    b = fit_pareto(narrow, target, 2, frequencies=2, **kw, workers=2)
     assert np.array_equal(a.F_pct, b.F_pct) and np.array_equal(a.X, b.X)
 
 
@@ -394,7 +397,7 @@ def test_paper_3r_fit_reaches_the_grid_optimum(reference):
     best = min((minimize(loss, U[i], method="Nelder-Mead",
                          options={"xatol": 1e-9, "fatol": 1e-12, "maxfev": 3000})
                 for i in np.argsort(vals)[:4]), key=lambda r: r.fun)
-    r = fit(reference, target, 3, 3, stiffness="paper", squared=True, starts=64, seed=0,
+    r = fit(reference, target, 3, frequencies=3, stiffness="paper", squared=True, starts=64, seed=0,
             eigen_norm="paper", progress=False)
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
     assert 0.11 < r.eigen_loss_pct < 0.12
@@ -406,7 +409,8 @@ def test_five_seeds_reach_the_same_paper_optimum(reference, n, N):
     # five independent multistarts (64 starts each): one optimum, within 1e-3 relative
     # (measured spread 2.6e-4 for 4R/3, 2e-8 for 5R/5)
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    losses = np.array([fit(reference, target, n, N, stiffness="paper", squared=True, starts=64,
+    losses = np.array([fit(reference, target, n, frequencies=N, stiffness="paper", squared=True,
+                           starts=64,
                            seed=s, progress=False, eigen_norm="paper").eigen_loss_pct
                        for s in range(5)])
     assert np.ptp(losses) <= 1e-3 * losses.min(), losses

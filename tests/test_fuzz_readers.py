@@ -152,7 +152,7 @@ def beam_doc():
 @pytest.fixture(scope="module")
 def fit_doc(tmp_path_factory):
     beam = load_beam(BEAMS / "tapered.json")
-    r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, 2, starts=1,
+    r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, frequencies=2, starts=1,
             seed=0, progress=False)
     p = tmp_path_factory.mktemp("fit") / "fit.json"
     save_fit(r, p, beam)

@@ -40,7 +40,7 @@ def test_free_vibration_at_eigenfrequency_and_energy_conserved(model):
     omega, q0 = _mode1_start(model)
     period = 2 * np.pi / omega[0]
     # dense output (quintic Hermite between the steps) resolves the zero crossings
-    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt=period / 200,
+    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt_s=period / 200,
                   method="gauss")
     assert tr.method == "gauss" and abs(tr.steps - 4000) <= 1
     z = tr.tip_position_m[:, 2]
@@ -51,7 +51,7 @@ def test_free_vibration_at_eigenfrequency_and_energy_conserved(model):
     for spp in (20, 40):
         stated = 1 / gauss_frequency_ratio(2 * np.pi / spp) - 1
         assert stated == pytest.approx((2 * np.pi / spp) ** 4 / 720, rel=0.01)
-    coarse = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt=period / 200,
+    coarse = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt_s=period / 200,
                       steps_per_period=20, method="gauss")
     tc = _zero_crossings(coarse.t_s, coarse.tip_position_m[:, 2])
     measured20 = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
@@ -67,7 +67,7 @@ def test_exponential_free_vibration_frequency_and_energy(model):
     """The default exponential scheme propagates linear modes exactly: period and energy."""
     omega, q0 = _mode1_start(model)
     period = 2 * np.pi / omega[0]
-    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt=period / 200)
+    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt_s=period / 200)
     assert tr.method == "exponential" and abs(tr.steps - 1000) <= 1
     tc = _zero_crossings(tr.t_s, tr.tip_position_m[:, 2])
     measured = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
@@ -116,9 +116,9 @@ def test_dense_output_matches_dop853(model, method):
     omega = model.natural_frequencies()
     duration = 2 * np.pi / omega[0]
     ref = simulate(model, duration, tip_force=force, method="DOP853", rtol=1e-11,
-                   output_dt=duration / 97)
-    tr = simulate(model, duration, tip_force=force, output_dt=duration / 97,
-                  dt=0.25 / omega[-1], method=method)
+                   output_dt_s=duration / 97)
+    tr = simulate(model, duration, tip_force=force, output_dt_s=duration / 97,
+                  dt_s=0.25 / omega[-1], method=method)
     assert tr.steps < 97 * 20
     scale = np.abs(ref.q_rad).max()
     np.testing.assert_allclose(tr.q_rad, ref.q_rad, atol=1e-5 * scale)
@@ -127,7 +127,7 @@ def test_dense_output_matches_dop853(model, method):
 
 def test_tip_positions_closed_form_equal_pinocchio(model):
     q = np.array([0.3, -0.2, 0.5, 0.1, -0.4])
-    tr = simulate(model, 0.01, q0=q, damping_ratio=0.0, dt=1e-4)
+    tr = simulate(model, 0.01, q0=q, damping_ratio=0.0, dt_s=1e-4)
     np.testing.assert_allclose(tr.tip_position_m[0], model.tip_position(q), atol=1e-14)
     np.testing.assert_allclose(tr.tip_position_m[-1], model.tip_position(tr.q_rad[-1]),
                                atol=1e-14)
@@ -137,7 +137,7 @@ def test_dop853_free_vibration_frequency(model):
     omega, q0 = _mode1_start(model)
     period = 2 * np.pi / omega[0]
     tr = simulate(model, 10 * period, q0=q0, damping_ratio=0.0, method="DOP853", rtol=1e-10,
-                  output_dt=period / 200)
+                  output_dt_s=period / 200)
     tc = _zero_crossings(tr.t_s, tr.tip_position_m[:, 2])
     measured = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
     assert abs(measured / period - 1) < 1e-6
@@ -149,7 +149,7 @@ def test_logarithmic_decrement_matches_modal_ratio(model):
     omega, q0 = _mode1_start(model)
     xi = 0.01
     period = 2 * np.pi / omega[0]
-    tr = simulate(model, 20 * period, q0=q0, damping_ratio=xi, dt=period / 200)
+    tr = simulate(model, 20 * period, q0=q0, damping_ratio=xi, dt_s=period / 200)
     z = tr.tip_position_m[:, 2] - model.tip_position()[2]
     # successive maxima of |z| one period apart (parabolic refinement of the sampled peaks)
     i = np.flatnonzero((z[1:-1] > z[:-2]) & (z[1:-1] >= z[2:])) + 1
@@ -181,16 +181,16 @@ def test_trapezoidal_agrees_with_dop853_under_a_large_step_load(model):
     omega = model.natural_frequencies()
     duration = 3 * 2 * np.pi / omega[0]
     ref = simulate(model, duration, tip_force=force, method="DOP853", rtol=1e-10,
-                   output_dt=duration / 300)
+                   output_dt_s=duration / 300)
     peak = np.abs(ref.tip_displacement_m).max()
     # resolve the highest mode too: the comparison covers the whole response
     for method in ("exponential", "gauss", "trapezoidal"):
-        tr = simulate(model, duration, tip_force=force, output_dt=duration / 300,
-                      dt=0.2 / omega[-1], method=method)
+        tr = simulate(model, duration, tip_force=force, output_dt_s=duration / 300,
+                      dt_s=0.2 / omega[-1], method=method)
         assert np.abs(tr.tip_position_m - ref.tip_position_m).max() < 2e-3 * peak
     # the default steps keep the tip within 1 % of the peak
     for method in ("exponential", "gauss", "trapezoidal"):
-        coarse = simulate(model, duration, tip_force=force, output_dt=duration / 300,
+        coarse = simulate(model, duration, tip_force=force, output_dt_s=duration / 300,
                           method=method)
         err = np.abs(coarse.tip_position_m - ref.tip_position_m).max() / peak
         print(f"{method}: default step, max tip error {err:.2e} of the peak")
@@ -203,9 +203,9 @@ def test_radau_with_analytic_jacobian(model):
     omega = model.natural_frequencies()
     duration = 2 * np.pi / omega[0]
     ref = simulate(model, duration, tip_force=force, method="DOP853", rtol=1e-10,
-                   output_dt=duration / 50)
+                   output_dt_s=duration / 50)
     tr = simulate(model, duration, tip_force=force, method="Radau", rtol=1e-8,
-                  output_dt=duration / 50)
+                  output_dt_s=duration / 50)
     peak = np.abs(ref.tip_displacement_m).max()
     assert np.abs(tr.tip_position_m - ref.tip_position_m).max() < 1e-4 * peak
     assert tr.steps > 0
@@ -215,7 +215,7 @@ def test_callable_force_and_sampling(model):
     omega = model.natural_frequencies()
     w = 0.5 * omega[0]
     tr = simulate(model, 0.2, tip_force=lambda t: np.array([0.0, 0.0, -10.0 * np.sin(w * t)]),
-                  output_dt=0.01)
+                  output_dt_s=0.01)
     np.testing.assert_allclose(tr.t_s, np.arange(21) * 0.01, atol=1e-12)
     assert tr.q_rad.shape == (21, 5) and tr.tip_position_m.shape == (21, 3)
     assert not tr.t_s.flags.writeable
@@ -244,8 +244,8 @@ def test_schedule_constant_in_pose_matches_scaled_model(model):
     k2 = 2.0 * model.stiffness_Nm_per_rad
     sched = StiffnessSchedule(np.array([0.0, 1.0]), np.vstack([k2, k2]))
     q0 = np.full(5, 1e-3)
-    a = simulate(model, 0.05, q0=q0, stiffness_schedule=sched, dt=1e-4)
-    b = simulate(model.with_stiffness(k2), 0.05, q0=q0, dt=1e-4)
+    a = simulate(model, 0.05, q0=q0, stiffness_schedule=sched, dt_s=1e-4)
+    b = simulate(model.with_stiffness(k2), 0.05, q0=q0, dt_s=1e-4)
     np.testing.assert_allclose(a.q_rad, b.q_rad, atol=1e-12)
 
 
@@ -257,7 +257,7 @@ def test_schedule_constant_in_pose_matches_scaled_model(model):
         ({"duration_s": 1.0, "q0": [0.0]}, "q0"),
         ({"duration_s": 1.0, "damping": "rayleigh"}, "damping"),
         ({"duration_s": 1.0, "method": "euler"}, "method"),
-        ({"duration_s": 1.0, "dt": 0.0}, "dt"),
+        ({"duration_s": 1.0, "dt_s": 0.0}, "dt"),
         ({"duration_s": 1.0, "steps_per_period": 0.5}, "steps_per_period"),
         ({"duration_s": 1.0, "damping_ratio": -0.1}, "damping_ratio"),
         ({"duration_s": 1.0, "refresh_rad": -0.01}, "refresh_rad"),
@@ -279,8 +279,8 @@ def chain5():
 def test_default_step_response_within_1_percent_of_dop853(chain5):
     """The speed target's scene: 2500 N step at the tip, modal damping 0.02, 1 s."""
     force = np.array([0.0, 0.0, -2500.0])
-    ref = simulate(chain5, 1.0, tip_force=force, method="DOP853", rtol=1e-10, output_dt=1e-3)
-    tr = simulate(chain5, 1.0, tip_force=force, output_dt=1e-3)
+    ref = simulate(chain5, 1.0, tip_force=force, method="DOP853", rtol=1e-10, output_dt_s=1e-3)
+    tr = simulate(chain5, 1.0, tip_force=force, output_dt_s=1e-3)
     assert tr.method == "exponential"
     peak = np.abs(ref.tip_displacement_m).max()
     err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / peak
@@ -295,10 +295,10 @@ def test_exponential_harmonic_load_against_dop853(chain5):
     def force(t):
         return np.array([0.0, 0.0, -1000.0 * np.sin(w * t)])
 
-    ref = simulate(chain5, 1.0, tip_force=force, method="DOP853", rtol=1e-10, output_dt=1e-3)
+    ref = simulate(chain5, 1.0, tip_force=force, method="DOP853", rtol=1e-10, output_dt_s=1e-3)
     peak = np.abs(ref.tip_displacement_m).max()
     for spp, bound in ((10, 1e-2), (20, 2e-3)):
-        tr = simulate(chain5, 1.0, tip_force=force, output_dt=1e-3, steps_per_period=spp)
+        tr = simulate(chain5, 1.0, tip_force=force, output_dt_s=1e-3, steps_per_period=spp)
         err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / peak
         print(f"harmonic 1.2 omega_1, {spp} steps/T1: tip error {err:.2e} of the peak")
         assert err < bound
@@ -309,7 +309,7 @@ def test_gauss_halves_a_step_when_newton_fails(model, monkeypatch):
     that step lets the run through, and once the kinks' fast modes have decayed the response
     agrees with DOP853."""
     q0 = np.array([0.05, -0.05, 0.05, -0.05, 0.05])
-    kw = {"q0": q0, "damping_ratio": 0.1, "output_dt": 1e-3}
+    kw = {"q0": q0, "damping_ratio": 0.1, "output_dt_s": 1e-3}
     monkeypatch.setattr(gauss, "MAX_HALVINGS", 0)
     with pytest.raises(SolveError, match="Newton did not converge"):
         simulate(model, 0.5, method="gauss", **kw)
@@ -337,9 +337,9 @@ def test_exponential_halves_a_step_instead_of_diverging(model, monkeypatch):
     with pytest.raises(SolveError, match="no acceptable step"):
         simulate(model, 0.2, q0=q0, damping_ratio=0.0)
     monkeypatch.undo()
-    tr = simulate(model, 0.2, q0=q0, damping_ratio=0.0, output_dt=1e-3)
+    tr = simulate(model, 0.2, q0=q0, damping_ratio=0.0, output_dt_s=1e-3)
     ref = simulate(model, 0.2, q0=q0, damping_ratio=0.0, method="DOP853", rtol=1e-10,
-                   output_dt=1e-3)
+                   output_dt_s=1e-3)
     err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / np.abs(
         ref.tip_displacement_m).max()
     drift = np.abs(mechanical_energy(model, tr.q_rad, tr.v_rad_s) /
@@ -374,8 +374,8 @@ def _release_error(model, duration, xi):
     against DOP853 (rtol 1e-10) over the peak, and the run."""
     q0 = np.full(model.n_joints, 0.1)
     ref = simulate(model, duration, q0=q0, damping_ratio=xi, method="DOP853", rtol=1e-10,
-                   output_dt=1e-3)
-    tr = simulate(model, duration, q0=q0, damping_ratio=xi, output_dt=1e-3)
+                   output_dt_s=1e-3)
+    tr = simulate(model, duration, q0=q0, damping_ratio=xi, output_dt_s=1e-3)
     assert tr.method == "exponential"
     peak = np.abs(ref.tip_displacement_m).max()
     return float(np.abs(tr.tip_position_m - ref.tip_position_m).max() / peak), tr
@@ -408,9 +408,9 @@ def test_exponential_keeps_nominal_step_for_a_smooth_release(model):
     omega, phi = model.modes()
     period = 2 * np.pi / omega[0]
     q0 = 0.1 * phi[:, 0] / np.abs(phi[:, 0]).max()
-    tr = simulate(model, 5 * period, q0=q0, damping_ratio=0.0, output_dt=1e-3)
+    tr = simulate(model, 5 * period, q0=q0, damping_ratio=0.0, output_dt_s=1e-3)
     ref = simulate(model, 5 * period, q0=q0, damping_ratio=0.0, method="DOP853", rtol=1e-10,
-                   output_dt=1e-3)
+                   output_dt_s=1e-3)
     err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / np.abs(
         ref.tip_displacement_m).max()
     print(f"mode-1 release: {tr.steps} steps, tip error {err:.1e}")

@@ -36,7 +36,7 @@ def test_4r_eigen_fit_on_20_random_beams():
         r = fit(beam, target_from_truth(truth, beam.tip_force_N), 4, frequencies=4,
                 objective="eigen", stiffness="joint", eigen_norm="paper", starts=32, seed=0,
                 progress=False,
-                loss_tol=1e-4)
+                loss_tol_pct=1e-4)
         # independent of the fit's own loss: recompute the frequency errors from the result
         w = r.omega_model_rad_s[0]
         loss = 100.0 * np.linalg.norm(w - truth.omega_rad_s[:4]) \

@@ -14,6 +14,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from ..choices import MIN_FRACTION
 from ..errors import BeamInputError
 from ..jsonfile import field_int, field_str, parse_json, read_json, require_mapping
 
@@ -148,7 +149,7 @@ def check_records_match(records: Iterable[Mapping[str, Any]], manifest: Mapping[
         The results file, for the message.
     """
     s = manifest["settings"]
-    wanted = {**s, "min_fraction": s.get("min_fraction", 0.02), "seed": manifest["seed"],
+    wanted = {**s, "min_fraction": s.get("min_fraction", MIN_FRACTION), "seed": manifest["seed"],
               "frequencies": s["joints"] if s.get("frequencies") is None else s["frequencies"]}
     for rec in records:
         for key, value in _recorded(rec).items():

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
-from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 from ..errors import BeamInputError
+from ..options import FitOptions
 from .files import check_records_match, read_manifest, write_output
 from .records import read_records
 from .spec import BatchSpec, BeamTask
@@ -23,10 +23,18 @@ def build_manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]
     """What ``batch.json`` records for ``spec`` (its beams: ``tasks``, from :func:`plan_tasks`)."""
     from .. import __version__
 
-    settings = asdict(spec.settings)
-    settings.pop("cache_dir")
-    if settings["min_fraction"] == 0.02:
-        del settings["min_fraction"]  # the default: folders written before it existed resume
+    s = spec.settings
+    o = s.options
+    settings: dict[str, Any] = {
+        "joints": s.joints, "frequencies": o.frequencies, "objective": o.objective.value,
+        "stiffness": o.stiffness.value, "starts": o.starts, "truth_model": s.truth_model,
+        "eigen_norm": o.eigen_norm.value}
+    # every other option only where it is not the default, so that folders written before it
+    # could be set resume (the fit seed is each beam's own, not an option of the batch)
+    default = FitOptions().to_dict()
+    for key, value in o.to_dict().items():
+        if key not in settings and key not in ("kind", "seed") and value != default[key]:
+            settings[key] = value
     m: dict[str, Any] = {
         "seed": spec.seed,
         "settings": settings,

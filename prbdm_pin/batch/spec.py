@@ -1,18 +1,20 @@
-"""What a batch computes and over which beams: the fit settings, the spec that determines the
-results, one task per beam of a shard.
+"""What a batch computes and over which beams: the fit settings (the joints, the fit's options
+and the truth model), the spec that determines the results, one task per beam of a shard.
 
 No numpy at import (see the package docstring): the settings are checked with plain Python.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS, OBJECTIVES, STIFFNESS_KINDS, TRUTH_MODELS
+from ..choices import TRUTH_MODELS
 from ..errors import BeamInputError
+from ..options import FitOptions
 
 if TYPE_CHECKING:
     from ..geometry import Beam
@@ -29,52 +31,44 @@ class FitSettings:
     ----------
     joints : int
         Number of PRBDM joints n (n + 1 links).
-    frequencies : int or None
-        Number of truth frequencies matched (default: ``joints``).
-    objective : str
-        ``"eigen"``, ``"deflection"`` or ``"combined"``.
-    stiffness : str
-        ``"paper"`` (Eq. 14, one SCF per pose) or ``"joint"`` (one factor per joint).
-    starts : int
-        Multistart start points per fit.
+    options : FitOptions
+        The fit's options, as for :func:`prbdm_pin.fit` (its ``seed`` is replaced by each
+        beam's own fit seed, drawn from the batch's root seed).
     truth_model : str
-        ``"plate"``, ``"solid"`` or ``"beam"`` (1D Euler-Bernoulli, milliseconds).
-    eigen_norm : str
-        ``"paper"`` (Eq. 16) or ``"relative"`` (rms of the per-mode relative errors).
+        ``"plate"``, ``"plate-morley"``, ``"solid"`` or ``"beam"`` (1D Euler-Bernoulli,
+        milliseconds).
     cache_dir : str or None
         Truth cache folder (does not change results, so it is not part of the manifest).
-    min_fraction : float
-        Eq. 15's lower bound on every link, a fraction of L (0.02); 0 < f < 1/(joints+1).
     """
 
     joints: int
-    frequencies: int | None = None
-    objective: str = "eigen"
-    stiffness: str = "paper"
-    starts: int = 64
+    options: FitOptions = field(default_factory=FitOptions)
     truth_model: str = "plate"
-    eigen_norm: str = DEFAULT_EIGEN_NORM
     cache_dir: str | None = None
-    min_fraction: float = 0.02
 
     def __post_init__(self) -> None:
         from ..layout import check_min_fraction
 
         check_int("joints", self.joints, 1)
-        object.__setattr__(self, "min_fraction", check_min_fraction(self.min_fraction,
-                                                                    self.joints))
-        if self.frequencies is not None:
-            check_int("frequencies", self.frequencies, 1)
-        check_int("starts", self.starts, 1)
-        check_choice("objective", self.objective, OBJECTIVES)
-        check_choice("stiffness", self.stiffness, STIFFNESS_KINDS)
+        if not isinstance(self.options, FitOptions):
+            raise BeamInputError(f"options = {self.options!r:.80}: must be a FitOptions")
+        check_min_fraction(self.options.min_fraction, self.joints)
         check_choice("truth_model", self.truth_model, TRUTH_MODELS)
-        check_choice("eigen_norm", self.eigen_norm, EIGEN_NORMS)
+
+    def replace(self, **changes: Any) -> FitSettings:
+        """A copy with ``changes`` applied: ``joints``, ``truth_model``, ``cache_dir`` or any
+        option of :class:`FitOptions` by name."""
+        own = {k: changes.pop(k) for k in ("joints", "truth_model", "cache_dir")
+               if k in changes}
+        if changes:
+            own["options"] = self.options.replace(**changes)
+        return dataclasses.replace(self, **own)
 
     @property
     def n_frequencies(self) -> int:
-        """Frequencies matched (``frequencies`` or ``joints``)."""
-        return self.joints if self.frequencies is None else self.frequencies
+        """Frequencies matched (``options.frequencies`` or ``joints``)."""
+        f = self.options.frequencies
+        return self.joints if f is None else f
 
 
 @dataclass(frozen=True)

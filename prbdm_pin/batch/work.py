@@ -73,10 +73,11 @@ def beam_features(beam: Beam) -> dict[str, float]:
 def record_header(task: BeamTask) -> dict[str, Any]:
     """The fields every record of ``task`` starts with: the beam and the batch's arguments."""
     s = task.settings
+    o = s.options
     # the arguments travel with the record (a resume that lost batch.json still checks them)
-    args = {"joints": s.joints, "frequencies": s.n_frequencies, "objective": s.objective,
-            "stiffness": s.stiffness, "starts": s.starts, "truth_model": s.truth_model,
-            "eigen_norm": s.eigen_norm, "min_fraction": s.min_fraction}
+    args = {"joints": s.joints, "frequencies": s.n_frequencies, "objective": o.objective.value,
+            "stiffness": o.stiffness.value, "starts": o.starts, "truth_model": s.truth_model,
+            "eigen_norm": o.eigen_norm.value, "min_fraction": o.min_fraction}
     return {"beam_index": task.index, "beam_name": task.name, "seed": task.seed, **args}
 
 
@@ -103,15 +104,13 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
         t1 = time.perf_counter()
         # the eigen objective needs no static solve
         request = TruthRequest(model=s.truth_model, modes=s.n_frequencies)
-        truth = request.compute(beam, cache_dir=s.cache_dir, static=s.objective != "eigen")
+        truth = request.compute(beam, cache_dir=s.cache_dir,
+                                static=s.options.objective != "eigen")
         rec["truth_s"] = time.perf_counter() - t1
         stage = "fit"
         t2 = time.perf_counter()
         result = fit(beam, target_from_truth(truth, beam.tip_force_N, request), s.joints,
-                     frequencies=s.frequencies, objective=s.objective, stiffness=s.stiffness,
-                     starts=s.starts, seed=rec["fit_seed"], workers=1, progress=False,
-                     min_fraction=s.min_fraction,
-                     eigen_norm=s.eigen_norm)
+                     s.options.replace(seed=rec["fit_seed"]), workers=1, progress=False)
         rec["fit_s"] = time.perf_counter() - t2
         rec.update(_fit_fields(result, beam.length_m))
         rec["status"] = "ok"

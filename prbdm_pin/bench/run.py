@@ -248,7 +248,7 @@ def run_benchmark(
                 continue
             r = fit(beam, target, n, frequencies=n, objective="eigen", stiffness="joint",
                     starts=config.fit_starts, seed=0, progress=False,
-                    loss_tol=config.fit_loss_tol_pct,
+                    loss_tol_pct=config.fit_loss_tol_pct,
                     # Eq. 16: the norm the published error-vs-cost figures were measured in
                     eigen_norm="paper")
             from ..model import build_model

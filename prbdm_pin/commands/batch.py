@@ -116,6 +116,16 @@ def check_options(args: argparse.Namespace) -> None:
         writable_dir(os.path.join(args.out, "truth-cache"), "--out")
 
 
+def batch_fit_options(args: argparse.Namespace):
+    """The FitOptions of a ``prbdm batch`` command line (each beam's fit seed replaces
+    ``seed``)."""
+    from ..options import FitOptions
+
+    return FitOptions(frequencies=args.frequencies, objective=args.objective,
+                      stiffness=args.stiffness, starts=args.starts, eigen_norm=args.eigen_norm,
+                      min_fraction=args.min_link)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the batch; exit code 0 once every beam has a record (failed beams are data)."""
     from ..batch import BatchSpec, DaskCluster, FitSettings, LocalPool, parse_shard, run_batch
@@ -124,11 +134,8 @@ def run(args: argparse.Namespace) -> int:
     check_options(args)
     cache = args.cache_dir or os.path.join(args.out, "truth-cache")
     settings = FitSettings(
-        joints=args.joints, frequencies=args.frequencies, objective=args.objective,
-        stiffness=args.stiffness, starts=args.starts, truth_model=args.truth_model,
-        eigen_norm=args.eigen_norm,
+        joints=args.joints, options=batch_fit_options(args), truth_model=args.truth_model,
         cache_dir=os.path.abspath(cache) if args.scheduler is None else cache,
-        min_fraction=args.min_link,
     )
     spec = BatchSpec(
         seed=args.seed, settings=settings, n_beams=args.beams,

@@ -16,6 +16,7 @@ from .fit_checks import (
     check_truth_options,
     load_factors,
 )
+from .options import add_fit_options, add_problem_options, fit_options
 
 EXAMPLE = """examples:
   prbdm fit examples/beams/reference-random.json --joints 4 --frequencies 3 --stiffness paper \\
@@ -32,10 +33,7 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
     """Options selecting the truth a fit is measured against (shared with ``prbdm pareto``)."""
     p.add_argument("beam", help="beam JSON file")
     p.add_argument("--joints", type=int, required=True, help="number of revolute joints n")
-    p.add_argument("--frequencies", type=int, default=None,
-                   help="truth frequencies to match, <= n (default n)")
-    p.add_argument("--stiffness", default="paper", choices=["paper", "joint"],
-                   help="paper: one SCF per pose (Eq. 14); joint: one factor per joint")
+    add_problem_options(p)
     p.add_argument("--truth-model", default="plate", choices=["plate", "beam", "solid"],
                    help="finite-element truth model (default plate)")
     p.add_argument("--mode-selection", default="paper", choices=["paper", "shape"],
@@ -63,12 +61,6 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--extra-loads", default=None, metavar="F1,F2,...",
                    help="further load cases, as multiples of the beam's tip force, whose "
                         "large-deflection truth tips the deflection objective also matches")
-    p.add_argument("--xi", type=float, default=0.05, help="pose sweep offset, rad (Eq. 11)")
-    p.add_argument("--squared", action="store_true", help="compare omega^2 instead of omega")
-    p.add_argument("--min-link", type=float, default=0.02, metavar="FRACTION",
-                   help="shortest link as a fraction of the beam length (Eq. 15; default 0.02); "
-                        "needs 0 < FRACTION < 1/(joints+1)")
-    p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", required=True, help="output directory")
 
 
@@ -79,25 +71,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                     "combined (Eq. 27) objective.",
         epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_truth_options(p)
-    p.add_argument("--objective", default="eigen", choices=["eigen", "deflection", "combined"])
-    add_eigen_norm_option(p)
-    p.add_argument("--starts", type=int, default=64, help="multistart start points")
-    p.add_argument("--eps", type=float, default=0.1, help="pose sweep step, rad (Eq. 11)")
+    add_fit_options(p)
     p.add_argument("--workers", type=int, default=1, help="processes for the starts")
-    p.add_argument("--loss-tol", type=float, default=None, help="stop once a start reaches it (%%)")
     add_common(p)
     p.set_defaults(func=run)
     return p
-
-
-def add_eigen_norm_option(p: argparse.ArgumentParser) -> None:
-    """``--eigen-norm`` (shared with ``prbdm pareto``)."""
-    from ..choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS
-
-    p.add_argument("--eigen-norm", default=DEFAULT_EIGEN_NORM, choices=list(EIGEN_NORMS),
-                   help="eigen error per pose: Eq. 16's l2 norm, dominated by the highest mode "
-                        "(paper), or the rms of the per-mode relative errors, each mode weighed "
-                        f"equally (relative); default {DEFAULT_EIGEN_NORM}")
 
 
 def worst_mode_text(result) -> str:
@@ -211,6 +189,9 @@ def _base_target(args, beam):
     return target_from_truth(truth, beam.tip_force_N, request)
 
 
+# a least-squares start's evaluation cap: each evaluation is a model build and eigensolve
+MAX_NFEV = 100_000
+
 # the files a fit writes into its folder (the knee of a Pareto fit too)
 FIT_FILES = ("fit.json", "model.urdf", "planform.png", "scf.png")
 
@@ -234,6 +215,7 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
 
 def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path]:
     """The files of :func:`write_fit_outputs` written into ``folder`` (each atomically)."""
+    from ..choices import MIN_FRACTION
     from ..export import write_urdf
     from ..model import build_model
 
@@ -242,7 +224,7 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
     lengths = result.lengths_m
     # the fit's own bound may be below Eq. 15's default (--min-link)
     model = build_model(beam, lengths, result.stiffness_Nm_per_rad,
-                        min_fraction=min(0.02, 0.5 * float(min(lengths)) / beam.length_m))
+                        min_fraction=min(MIN_FRACTION, 0.5 * float(min(lengths)) / beam.length_m))
     written = [write_urdf(model, out / "model.urdf",
                           omega_truth_rad_s=result.omega_truth_rad_s)]
     if plots:
@@ -268,6 +250,8 @@ def check_options(args) -> None:
     in_range("--starts", args.starts, 1, MAX_STARTS, integer=True)
     in_range("--workers", args.workers, 1, MAX_WORKERS, integer=True)
     in_range("--loss-tol", args.loss_tol, 0.0, unit="%")
+    in_range("--polish", args.polish, 0, MAX_STARTS, integer=True)
+    in_range("--max-nfev", args.max_nfev, 1, MAX_NFEV, integer=True)
     check_sweep(args)
 
 
@@ -279,11 +263,8 @@ def run(args) -> int:
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, args.objective)
     target = load_target(args, beam)
-    result = fit(beam, target, args.joints, args.frequencies, objective=args.objective,
-                 stiffness=args.stiffness, starts=args.starts, seed=args.seed, xi=args.xi,
-                 eps=args.eps, squared=args.squared, workers=args.workers,
-                 progress=not args.quiet, loss_tol=args.loss_tol, min_fraction=min_fraction,
-                 eigen_norm=args.eigen_norm)
+    result = fit(beam, target, args.joints, fit_options(args, min_fraction),
+                 workers=args.workers, progress=not args.quiet)
     out = Path(args.out)
     write_fit_outputs(result, beam, out)
     if not args.quiet:

@@ -9,7 +9,6 @@ from pathlib import Path
 from . import add_common
 from .fit import (
     FIT_FILES,
-    add_eigen_norm_option,
     add_truth_options,
     export_text,
     load_target,
@@ -17,7 +16,8 @@ from .fit import (
     worst_mode_text,
     write_fit_files,
 )
-from .fit_checks import check_inputs, check_sweep, check_truth_options
+from .fit_checks import MAX_STARTS, check_inputs, check_sweep, check_truth_options
+from .options import add_pareto_options, pareto_options, parse_bounds
 
 EXAMPLE = """example:
   prbdm pareto examples/beams/reference-random.json --joints 4 --pop 100 --generations 200 \\
@@ -34,12 +34,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         description="NSGA-II over (eigen loss, tip deflection loss); knee by Eq. 27.",
         epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_truth_options(p)
-    p.add_argument("--pop", type=int, default=100, help="population size")
-    p.add_argument("--generations", type=int, default=200, help="generations (termination)")
-    p.add_argument("--eps", type=float, default=0.01, help="pose sweep step, rad (Eq. 11)")
-    p.add_argument("--deflection-norm", default="position", choices=["position", "displacement"],
-                   help="normalise the tip error by the tip position (Eq. 19) or displacement")
-    add_eigen_norm_option(p)
+    add_pareto_options(p)
     p.add_argument("--workers", type=int, default=1, help="processes for the evaluations")
     add_common(p)
     p.set_defaults(func=run)
@@ -77,6 +72,8 @@ def check_options(args) -> None:
     in_range("--pop", args.pop, MIN_POP, MAX_POP, integer=True)
     in_range("--generations", args.generations, 1, MAX_GENERATIONS, integer=True)
     in_range("--workers", args.workers, 1, MAX_WORKERS, integer=True)
+    in_range("--seed-starts", args.seed_starts, 1, MAX_STARTS, integer=True)
+    parse_bounds(args.log10_bounds)
     check_sweep(args)
 
 
@@ -88,11 +85,8 @@ def run(args) -> int:
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, "Pareto")
     target = load_target(args, beam)
-    res = fit_pareto(beam, target, args.joints, args.frequencies, stiffness=args.stiffness,
-                     pop=args.pop, generations=args.generations, seed=args.seed, xi=args.xi,
-                     eps=args.eps, squared=args.squared, deflection_norm=args.deflection_norm,
-                     progress=not args.quiet, workers=args.workers, min_fraction=min_fraction,
-                     eigen_norm=args.eigen_norm)
+    res = fit_pareto(beam, target, args.joints, pareto_options(args, min_fraction),
+                     workers=args.workers, progress=not args.quiet)
     out = Path(args.out)
     write_pareto_outputs(res, beam, out)
     if not args.quiet:

@@ -209,6 +209,15 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     return force
 
 
+def simulation_options(args, output_dt_s: float):
+    """The SimulationOptions of a ``prbdm simulate`` command line (``output_dt_s``: the
+    sample interval, s, ``--output-dt`` or its default)."""
+    from ..options import SimulationOptions
+
+    return SimulationOptions(method=args.method, dt_s=args.dt, output_dt_s=output_dt_s,
+                             damping_ratio=args.damping, damping=args.damping_form)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
@@ -229,9 +238,8 @@ def run(args: argparse.Namespace) -> int:
     # other forms are exact about the initial pose
     damping_pose = np.zeros(model.n_joints) if args.damping_form == "stiffness" else None
     tr = simulate(model, args.duration, q0=np.full(model.n_joints, args.initial_angle),
-                  tip_force=force if np.any(force) else None, damping_ratio=args.damping,
-                  damping=args.damping_form, method=args.method, dt=args.dt,
-                  output_dt=output_dt, damping_pose=damping_pose)
+                  tip_force=force if np.any(force) else None,
+                  options=simulation_options(args, output_dt), damping_pose=damping_pose)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
         atomic_write_text(stage / "trajectory.csv", _csv(tr))

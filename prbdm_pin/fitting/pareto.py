@@ -6,25 +6,21 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Any
 
 import numpy as np
 
 from ..errors import BeamInputError
 from ..geometry import Beam
 from ..layout import sample_lengths
-from ..objectives import (
-    DEFAULT_EIGEN_NORM,
-    best_scale,
-    check_deflection_norm,
-    check_eigen_norm,
-    knee_index,
-)
+from ..objectives import best_scale, knee_index
+from ..options import FitOptions, ParetoOptions
 from ..pareto_result import ParetoResult
 from ..problem import FitProblem, make_problem, unit_frequencies
 from ..target import FitTarget
 from ..workers import stop_pool
 from .local import solve_start
-from .multistart import fit
+from .multistart import fit, resolve_options
 from .pareto_problem import (
     LengthRepair,
     ParetoProblem,
@@ -45,79 +41,62 @@ def fit_pareto(
     beam: Beam,
     target: FitTarget,
     joints: int,
-    frequencies: int | None = None,
-    stiffness: str = "paper",
-    pop: int = 100,
-    generations: int = 200,
-    seed: int = 0,
-    xi: float = 0.05,
-    eps: float = 0.01,
-    squared: bool = False,
-    deflection_norm: str = "position",
-    log10_bounds: tuple[float, float] | None = None,
-    progress: bool = True,
+    options: ParetoOptions | None = None,
+    *,
     workers: int = 1,
-    seed_with_fits: bool = True,
-    seed_starts: int = 4,
-    polish_knee: bool = True,
-    eigen_norm: str = DEFAULT_EIGEN_NORM,
-    min_fraction: float = 0.02,
+    progress: bool = True,
+    **changes: Any,
 ) -> ParetoResult:
     """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
 
     Design vector [gamma (n+1), log10 factors]; a Repair projects gamma onto the bounded
-    simplex; termination after ``generations`` generations. ``log10_bounds`` bounds the log10
-    factors (default: joint factors in [-1, 1]; SCFs within 1.5 decades of the projected eigen
-    optimum at equal link lengths). ``eps`` defaults to the paper's Pareto step 0.01 rad.
-    ``workers > 1`` evaluates each generation's designs in that many processes (results do not
-    depend on it).
+    simplex; termination after ``options.generations`` generations. ``workers > 1`` evaluates
+    each generation's designs in that many processes (results do not depend on it); ``changes``
+    are options by name applied to ``options`` (a :class:`~prbdm_pin.options.ParetoOptions`,
+    whose docstring says what each does; the result records it whole).
 
-    ``seed_with_fits`` puts the single-objective optima (eigen-only, deflection-only and the
-    Eq. 27 combined optimum, each the best of a ``seed_starts`` multistart :func:`fit` with the
-    same seed) and designs on the segments between them into the initial population, the rest
-    drawn uniformly (lengths on the bounded simplex, log10 factors in their bounds), so the front
-    spans its anchors and the knee region.
-    ``polish_knee`` (default on) runs the single-objective local solver on Eq. 27 from the
-    NSGA-II knee and adds the result to the front if no front design dominates it; the knee is
-    then taken on that front, and ``message`` records the raw NSGA-II knee beside it. Each
-    generation is evaluated as one batch (``pareto_problem.pareto_objectives_batch``: every
-    design's and pose's static solve in one vectorised Newton), so a ``paper`` front with a
-    static solve per pose costs seconds, not minutes. ``eigen_norm`` (``"paper"``, Eq. 16, or
-    ``"relative"``) is the norm of the front's eigen objective; ``min_fraction`` bounds the
-    link lengths.
+    With ``seed_with_fits`` the initial population holds the single-objective optima
+    (eigen-only, deflection-only and the Eq. 27 combined optimum, each the best of a
+    ``seed_starts`` multistart :func:`fit` with the same seed) and designs on the segments
+    between them, the rest drawn uniformly (lengths on the bounded simplex, log10 factors in
+    their bounds), so the front spans its anchors and the knee region. ``polish_knee`` runs the
+    single-objective local solver on Eq. 27 from the NSGA-II knee and adds the result to the
+    front if no front design dominates it; the knee is then taken on that front, and
+    ``message`` records the raw NSGA-II knee beside it. Each generation is evaluated as one
+    batch (``pareto_problem.pareto_objectives_batch``: every design's and pose's static solve
+    in one vectorised Newton), so a ``paper`` front with a static solve per pose costs
+    seconds, not minutes.
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
     from pymoo.termination import get_termination
 
     t0 = time.perf_counter()
-    check_deflection_norm(deflection_norm)
-    for name, v in (("pop", pop), ("generations", generations)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-            raise BeamInputError(f"{name} = {v!r}: must be an integer >= 1")
-    problem = make_problem(beam, target, joints, frequencies, stiffness, xi, eps, squared,
-                           min_fraction=min_fraction, eigen_norm=check_eigen_norm(eigen_norm))
+    o = resolve_options(options, ParetoOptions, changes)
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
+    stiffness, deflection_norm = o.stiffness.value, o.deflection_norm.value
+    pop, generations, seed = o.pop, o.generations, o.seed
+    problem = make_problem(beam, target, joints, o.frequencies, stiffness, o.xi_rad, o.eps_rad,
+                           o.squared, min_fraction=o.min_fraction,
+                           eigen_norm=o.eigen_norm.value)
     if not target.has_static:
         raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
     if not np.any(target.tip_force_N):
         raise BeamInputError("tip_force = [0, 0, 0] N: a Pareto fit needs a tip load "
                              "(the beam's tip_force)")
     n1 = problem.n_joints + 1
+    log10_bounds = o.log10_bounds
     if log10_bounds is None:
         if stiffness == "joint":
             log10_bounds = (-1.0, 1.0)
         else:
             eq = np.full(n1, problem.length_m / n1)
             _, _, W = unit_frequencies(problem, eq)
-            k_ref = float(np.mean(best_scale(W, problem.target.omega_truth_rad_s, squared,
+            k_ref = float(np.mean(best_scale(W, problem.target.omega_truth_rad_s, o.squared,
                                              problem.eigen_norm)))
             log10_bounds = (math.log10(k_ref) - 1.5, math.log10(k_ref) + 1.5)
-    if isinstance(seed_starts, bool) or not isinstance(seed_starts, (int, np.integer)) \
-            or seed_starts < 1:
-        raise BeamInputError(f"seed_starts = {seed_starts!r}: must be an integer >= 1")
-    X0, n_seed_evals = _initial_population(
-        beam, target, problem, int(pop), int(seed), log10_bounds, deflection_norm,
-        seed_with_fits, int(seed_starts), workers)
+    X0, n_seed_evals = _initial_population(beam, target, problem, o, log10_bounds, workers)
     algo = NSGA2(pop_size=int(pop), sampling=X0, repair=LengthRepair(n1, problem.min_fraction),
                  eliminate_duplicates=True)
     kw = {}
@@ -149,7 +128,7 @@ def fit_pareto(
     raw = F[ki].copy()
     note = (f"raw NSGA-II knee: eigen {raw[0]:.6g} %, deflection {raw[1]:.6g} %, "
             f"combined {math.hypot(raw[0], raw[1]):.6g} %")
-    if polish_knee:
+    if o.polish_knee:
         x_p, f_p, nfev_p = _polish_knee(problem, X[ki], deflection_norm, log10_bounds)
         n_evals += nfev_p
         dominated = np.any(np.all(F <= f_p, axis=1) & np.any(F < f_p, axis=1))
@@ -171,7 +150,7 @@ def fit_pareto(
         starts_run=int(pop), nfev=n_evals,
         start_losses_pct=np.hypot(F[:, 0], F[:, 1]), wall_time_s=wall, success=True,
         message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs; {note}",
-        deflection_norm=deflection_norm)
+        deflection_norm=deflection_norm, options=o)
     return ParetoResult(
         beam_name=beam.name, joints=problem.n_joints, frequencies=problem.n_freq,
         stiffness=stiffness, deflection_norm=deflection_norm, F_pct=F, X=X,
@@ -180,8 +159,8 @@ def fit_pareto(
         seed=int(seed), xi=problem.xi, eps=problem.eps, wall_time_s=wall, success=True,
         eigen_norm=problem.eigen_norm,
         message=f"NSGA-II, {generations} generations of {pop}"
-                f"{', seeded with single-objective fits' if seed_with_fits else ''}; {note}",
-        knee=knee)
+                f"{', seeded with single-objective fits' if o.seed_with_fits else ''}; {note}",
+        knee=knee, options=o)
 
 
 def _design_row(problem: FitProblem, lengths_m, factors, log10_bounds) -> np.ndarray:
@@ -190,25 +169,27 @@ def _design_row(problem: FitProblem, lengths_m, factors, log10_bounds) -> np.nda
     return np.r_[np.asarray(lengths_m, dtype=float) / problem.length_m, lf]
 
 
-def _initial_population(beam, target, problem: FitProblem, pop: int, seed: int, log10_bounds,
-                        deflection_norm: str, seed_with_fits: bool, seed_starts: int,
+def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log10_bounds,
                         workers: int) -> tuple[np.ndarray, int]:
     """NSGA-II's initial population: single-objective optima (optional) then uniform draws."""
-    rng = np.random.default_rng(seed)
+    pop = o.pop
+    rng = np.random.default_rng(o.seed)
     n1 = problem.n_joints + 1
     X = np.empty((pop, n1 + problem.n_factors))
     X[:, :n1] = sample_lengths(rng, problem.length_m, n1, pop,
                                min_fraction=problem.min_fraction) / problem.length_m
     X[:, n1:] = rng.uniform(log10_bounds[0], log10_bounds[1], (pop, problem.n_factors))
     nfev = 0
-    if seed_with_fits:
+    if o.seed_with_fits:
         rows = []
+        seeding = FitOptions(
+            frequencies=problem.n_freq, stiffness=problem.stiffness, starts=o.seed_starts,
+            seed=o.seed, xi_rad=problem.xi, eps_rad=problem.eps, squared=problem.squared,
+            deflection_norm=o.deflection_norm, eigen_norm=problem.eigen_norm,
+            min_fraction=problem.min_fraction)
         for objective in ("combined", "eigen", "deflection")[:pop]:
-            r = fit(beam, target, problem.n_joints, problem.n_freq, objective=objective,
-                    stiffness=problem.stiffness, starts=seed_starts, seed=seed, xi=problem.xi,
-                    eps=problem.eps, squared=problem.squared, workers=workers, progress=False,
-                    deflection_norm=deflection_norm, eigen_norm=problem.eigen_norm,
-                    min_fraction=problem.min_fraction)
+            r = fit(beam, target, problem.n_joints, seeding.replace(objective=objective),
+                    workers=workers, progress=False)
             nfev += r.nfev
             rows.append(_design_row(problem, r.lengths_m, r.factors, log10_bounds))
         # designs on the segments eigen -> combined -> deflection anchor (the bounded length

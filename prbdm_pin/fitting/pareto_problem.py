@@ -15,6 +15,7 @@ import numpy as np
 from pymoo.core.problem import Problem
 from pymoo.core.repair import Repair
 
+from ..choices import MIN_FRACTION
 from ..errors import BeamInputError, SolveError
 from ..evaluate import batch_losses, evaluate
 from ..layout import repair_lengths
@@ -30,7 +31,7 @@ class LengthRepair(Repair):
     """A pymoo Repair projecting the first ``n_links`` variables (length fractions gamma) onto
     the bounded simplex (Euclidean projection, ``layout.repair_lengths``)."""
 
-    def __init__(self, n_links: int, min_fraction: float = 0.02) -> None:
+    def __init__(self, n_links: int, min_fraction: float = MIN_FRACTION) -> None:
         super().__init__()
         self.n_links = int(n_links)
         self.min_fraction = float(min_fraction)

@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import SolveError
 from ..evaluate import evaluate
 from ..objectives import mode_errors_pct, scf_deviation_pct, scf_mean, worst_mode_error_pct
+from ..options import FitOptions, ParetoOptions
 from ..problem import FitProblem, build
 from ..results import FitResult
 
@@ -28,8 +29,10 @@ BOUND_TOL = 1e-6
 def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: str, seed: int,
                        starts: int, starts_run: int, nfev: int, start_losses_pct,
                        wall_time_s: float, success: bool, message: str,
-                       deflection_norm: str = "position") -> FitResult:
-    """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult."""
+                       deflection_norm: str = "position",
+                       options: FitOptions | ParetoOptions | None = None) -> FitResult:
+    """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult
+    that records the ``options`` it came from."""
     t = problem.target
     try:
         ev = evaluate(problem, lengths_m, factors, deflection=t.has_static)
@@ -108,6 +111,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         worst_mode_error_pct=worst_mode_error_pct(omega_errors), export_pose_rad=pose,
         stiffness_pose=described, omega_export_rad_s=w_export,
         omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,
+        options=options,
     )
 
 

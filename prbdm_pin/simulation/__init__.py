@@ -24,9 +24,9 @@ Each module's docstring gives the scheme, its accuracy as measured and its limit
 ``Trajectory`` (``trajectory``) holds the samples and the tip positions.
 """
 
-from .driver import FIXED_STEP_METHODS, simulate
+from ..choices import FIXED_STEP_METHODS, IVP_METHODS
+from .driver import simulate
 from .gauss import gauss_frequency_ratio
-from .ivp import IVP_METHODS
 from .schedule import StiffnessSchedule
 from .system import mechanical_energy
 from .trajectory import Trajectory

@@ -15,7 +15,6 @@ from ..errors import SolveError
 from .steps import Samples, StepSettings, output_times
 from .system import System, symmetrised
 
-IVP_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 
 

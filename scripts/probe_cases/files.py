@@ -92,7 +92,8 @@ def _fit_doc() -> dict:
     from prbdm_pin.target import FitTarget
 
     beam = load_beam(TAPERED)
-    r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, 2, starts=1, seed=0,
+    r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, frequencies=2, starts=1,
+            seed=0,
             progress=False)
     p = _tmp() / "valid-fit.json"
     save_fit(r, p, beam)
