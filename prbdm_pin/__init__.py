@@ -44,6 +44,7 @@ _EXPORTS = {
     "target_from_truth": "target",
     "FitOptions": "options",
     "ParetoOptions": "options",
+    "SimulationOptions": "options",
     "Objective": "choices",
     "StiffnessKind": "choices",
     "EigenNorm": "choices",

@@ -9,8 +9,6 @@ line builds them before it loads the numerics. Every error names the field and t
 from __future__ import annotations
 
 import dataclasses
-import math
-import numbers
 from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
@@ -29,45 +27,12 @@ from .choices import (
     StiffnessKind,
 )
 from .errors import BeamInputError
+from .option_checks import check_bool as _bool
+from .option_checks import check_choice as _choice
+from .option_checks import check_float as _float
+from .option_checks import check_int as _int
 
 __all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict"]
-
-
-def _int(name: str, v: Any, low: int, *, optional: bool = False) -> int | None:
-    if v is None and optional:
-        return None
-    if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < low:
-        raise BeamInputError(f"{name} = {v!r}: must be an integer >= {low}"
-                             + (" or None" if optional else ""))
-    return int(v)
-
-
-def _float(name: str, v: Any, *, low: float | None = None, low_open: bool = False,
-           optional: bool = False, unit: str = "") -> float | None:
-    if v is None and optional:
-        return None
-    ok = not isinstance(v, bool) and isinstance(v, numbers.Real) and math.isfinite(float(v))
-    if ok and low is not None:
-        ok = float(v) > low if low_open else float(v) >= low
-    if not ok:
-        bound = "" if low is None else f" {'>' if low_open else '>='} {low:g}"
-        raise BeamInputError(f"{name} = {v!r}: must be a finite number{bound}"
-                             + (f" ({unit})" if unit else ""))
-    return float(v)
-
-
-def _bool(name: str, v: Any) -> bool:
-    if not isinstance(v, bool):
-        raise BeamInputError(f"{name} = {v!r}: must be true or false")
-    return v
-
-
-def _choice(name: str, v: Any, kind: type[Choice]) -> Choice:
-    try:
-        return kind(v)
-    except ValueError:
-        raise BeamInputError(f"{name} = {v!r}: must be one of {', '.join(kind.values())}") \
-            from None
 
 
 @dataclass(frozen=True)
@@ -312,7 +277,7 @@ class SimulationOptions:
         if isinstance(r, (list, tuple)):
             s(self, "damping_ratio", tuple(_float(f"damping_ratio[{i}]", v, low=0.0)
                                            for i, v in enumerate(r)))
-        elif not (isinstance(r, numbers.Real) or hasattr(r, "__len__")):
+        elif not (isinstance(r, (int, float)) or hasattr(r, "__len__")):
             raise BeamInputError(f"damping_ratio = {r!r}: must be a number >= 0 or one per "
                                  "mode (joint)")
 

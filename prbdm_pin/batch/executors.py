@@ -13,7 +13,7 @@ import os
 from typing import Any
 
 from ..errors import BeamInputError
-from .spec import check_choice, check_int
+from ..option_checks import check_choice, check_int
 
 __all__ = ["LocalPool", "DaskCluster"]
 

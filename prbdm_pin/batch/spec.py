@@ -7,13 +7,13 @@ No numpy at import (see the package docstring): the settings are checked with pl
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..choices import TRUTH_MODELS
 from ..errors import BeamInputError
+from ..option_checks import check_choice, check_int
 from ..options import FitOptions
 
 if TYPE_CHECKING:
@@ -121,21 +121,6 @@ class BatchSpec:
         check_int("shard count", n, 1)
         if not (isinstance(i, int) and 0 <= i < n):
             raise BeamInputError(f"shard = {i}/{n}: the index must be in 0 .. {n - 1}")
-
-
-def check_int(name: str, value: Any, minimum: int) -> int:
-    """``value`` if it is an integer (not a bool) >= ``minimum``; else a BeamInputError naming
-    ``name``."""
-    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        raise BeamInputError(f"{name} = {value!r}: must be an integer >= {minimum}")
-    return value
-
-
-def check_choice(name: str, value: Any, choices: Sequence[str]) -> str:
-    """``value`` if it is one of ``choices``; else a BeamInputError naming ``name``."""
-    if value not in choices:
-        raise BeamInputError(f"{name} = {value!r}: must be one of {', '.join(choices)}")
-    return value
 
 
 def parse_shard(text: str) -> tuple[int, int]:
