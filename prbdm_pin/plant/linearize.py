@@ -11,8 +11,8 @@ import scipy.linalg as sla
 from ..errors import BeamInputError, SolveError
 from .damping import plant_damping
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
-from .inputs import StrainActuator, input_map, input_unit
-from .outputs import output_maps, output_unit, output_values
+from .inputs import StrainActuator, input_map, input_unit, parse_inputs
+from .outputs import output_maps, output_unit, output_values, parse_outputs
 from .state_space import LinearModel
 
 __all__ = ["linearize"]
@@ -92,12 +92,14 @@ def linearize(
     if not isinstance(model, PrbdmModel):
         raise BeamInputError(f"model = {model!r}: must be a PrbdmModel")
     acts = _actuators(actuators)
+    hub = model.hub is not None
+    # names first: refused before any work, and a bare string is not taken letter by letter
+    in_names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_joints, len(acts), hub))
+    out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_joints, hub))
     F = check_vector("load_N", load_N, "N")
     F = np.zeros(3) if F is None else F
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
     pm_g = gravity_model(model, g)
-    in_names, out_names = tuple(inputs), tuple(outputs)
-    hub = model.hub is not None
     if q_eq is None:
         q, trim = equilibrium(model, F, pm_g)
     else:
