@@ -103,6 +103,10 @@ def test_hub_model_methods():
         model.urdf  # noqa: B018
     with pytest.raises(BeamInputError, match="hub"):
         model.static_deflection(np.array([0.0, 0.0, -1.0]))
+    from prbdm_pin import export_model
+
+    with pytest.raises(BeamInputError, match="hub"):
+        export_model(model, "never.json", "json")
     # without a hub nothing changed: n joints, the clamped chain
     plain = build_model(BEAM, LENGTHS, SPRINGS)
     assert plain.hub is None and plain.pin_model.nv == 3
