@@ -36,6 +36,12 @@ _EXPORTS = {
     "PrbdmModel": "model",
     "build_model": "model",
     "load_urdf": "model",
+    # the linear plant
+    "Hub": "plant.hub",
+    "StrainActuator": "plant.inputs",
+    "linearize": "plant.linearize",
+    "LinearModel": "plant.state_space",
+    "ModalData": "plant.state_space",
     # truth
     "TruthResult": "truth",
     "compute_truth": "truth",

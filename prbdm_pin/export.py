@@ -254,6 +254,10 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     writers = {"urdf": write_urdf, "mjcf": write_mjcf, "json": write_json}
     if fmt not in writers:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
+    if getattr(model, "hub", None) is not None:
+        # the file formats carry the clamped chain only: a hub would be dropped silently
+        raise BeamInputError(f"hub = {model.hub!r}: a model with a hub cannot be exported; "
+                             "export the model without the hub")
     return writers[fmt](model, path, damping_ratio, damping_form=damping_form,
                         omega_truth_rad_s=omega_truth_rad_s)
 

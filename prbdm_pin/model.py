@@ -11,7 +11,6 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -24,38 +23,13 @@ from .geometry import Beam
 from .io import atomic_write_text
 from .layout import validate_lengths
 from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
+from .plant.hub import Hub, hub_chain, hub_frequencies, hub_modes
 from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
+from .stiffness import validate_stiffness
 from .urdf import read_springs, render_urdf
 
 __all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
-
-
-def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:
-    """Joint stiffness as a read-only (n,) array, N m/rad; BeamInputError names a bad value."""
-    if isinstance(stiffness_Nm_per_rad, (str, bytes, dict)):
-        raise BeamInputError(f"stiffness = {stiffness_Nm_per_rad!r}: must be numbers (N m/rad)")
-    try:
-        k = np.array(stiffness_Nm_per_rad, dtype=float)
-    except (TypeError, ValueError):
-        raise BeamInputError(
-            f"stiffness = {stiffness_Nm_per_rad!r}: must be numbers (N m/rad)"
-        ) from None
-    if k.ndim == 0:
-        k = k.reshape(1)
-    if k.shape != (n_joints,):
-        raise BeamInputError(
-            f"stiffness has shape {k.shape}: needs {n_joints} values, one per joint (N m/rad)"
-        )
-    # subnormal springs (< 2.2e-308) carry too few digits to compute with
-    bad = np.flatnonzero(~(np.isfinite(k) & (k >= np.finfo(float).tiny)))
-    if bad.size:
-        i = int(bad[0])
-        raise BeamInputError(
-            f"stiffness[{i}] = {k[i]}: must be finite and > 0, a normal double (N m/rad)"
-        )
-    k.setflags(write=False)
-    return k
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,6 +52,13 @@ class PrbdmModel:
         a user sets ``pin_model.gravity``).
     tip_frame_id : int
         The frame at the free end of link n.
+    hub : Hub or None
+        A rotating rigid hub at the root (:class:`prbdm_pin.plant.hub.Hub`), or None for the
+        clamped beam. With a hub, Pinocchio's velocity index 0 is the hub joint (no spring) and
+        beam joint j is index j + 1: ``pin_model.nv == n_joints + 1``; :meth:`mass_matrix`,
+        :meth:`stiffness_matrix`, the tip kinematics and the frequencies and modes cover all
+        ``nv`` coordinates (frequencies: the hub's rigid mode, exactly 0, first). A hub model
+        has no URDF and no static equilibrium under a tip force (the hub would turn).
 
     As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
     method that computes takes ``data``. Without one it uses a built-in workspace made on first
@@ -92,18 +73,20 @@ class PrbdmModel:
     sections: LinkSections
     pin_model: pin.Model
     tip_frame_id: int
+    hub: Hub | None = None
     _cache: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
     def n_joints(self) -> int:
-        """Number of joints n."""
-        return int(self.pin_model.nv)
+        """Number of spring joints n (``pin_model.nv`` less the hub joint, if any)."""
+        return int(self.pin_model.nv) - (self.hub is not None)
 
     @property
     def urdf(self) -> str:
         """The URDF string (rendered from ``urdf_templates/`` on first access, then cached)."""
         text = self._cache.get("urdf")
         if text is None:
+            self._no_hub("the URDF")
             name = "prbdm" if self.beam is None else f"prbdm_{self.beam.name}"
             text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name)
             self._cache["urdf"] = text
@@ -128,9 +111,17 @@ class PrbdmModel:
     def _workspace(self, data: pin.Data | None) -> pin.Data:
         return self.default_data if data is None else data
 
+    def _no_hub(self, what: str) -> None:
+        if self.hub is not None:
+            raise BeamInputError(f"hub = {self.hub!r}: {what} is not defined for a model with "
+                                 "a hub; build it without the hub")
+
     def stiffness_matrix(self) -> np.ndarray:
-        """K = diag(stiffness), N m/rad, shape (n, n)."""
-        return np.diag(self.stiffness_Nm_per_rad)
+        """K = diag(stiffness), N m/rad, shape (nv, nv) (with a hub: a zero first row and
+        column, the hub joint has no spring)."""
+        if self.hub is None:
+            return np.diag(self.stiffness_Nm_per_rad)
+        return np.diag(np.concatenate([[0.0], self.stiffness_Nm_per_rad]))
 
     def mass_matrix(self, q: np.ndarray | None = None, data: pin.Data | None = None) -> np.ndarray:
         """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
@@ -147,6 +138,8 @@ class PrbdmModel:
         self, q: np.ndarray | None = None, squared: bool = False, data: pin.Data | None = None
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
+        if self.hub is not None:
+            return hub_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
         return eig_scaled(self.mass_matrix(q, data), self._s, squared)
 
     def natural_frequencies_batch(
@@ -158,6 +151,10 @@ class PrbdmModel:
         ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
         """
         d = self._workspace(data)
+        if self.hub is not None:
+            k = self.stiffness_Nm_per_rad if stiffness is None else \
+                dyn.checked_stiffness(stiffness, self.n_joints, np.shape(Q)[0])
+            return hub_frequencies(dyn.mass_matrices(self.pin_model, d, Q), k, squared)
         if stiffness is not None:
             return dyn.natural_frequencies_batch(self.pin_model, d, Q, stiffness, squared)
         return eig_scaled(dyn.mass_matrices(self.pin_model, d, Q), self._s, squared)
@@ -166,6 +163,8 @@ class PrbdmModel:
         self, q: np.ndarray | None = None, data: pin.Data | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
+        if self.hub is not None:
+            return hub_modes(self.mass_matrix(q, data), self.stiffness_Nm_per_rad)
         return dyn.modes(self.pin_model, self._workspace(data), self.stiffness_Nm_per_rad, q)
 
     def tip_position(self, q: np.ndarray | None = None, data: pin.Data | None = None
@@ -189,8 +188,10 @@ class PrbdmModel:
     ) -> tuple[np.ndarray, np.ndarray]:
         """Equilibrium under a dead tip force (N, world): joint angles (rad), tip position (m).
 
-        Raises SolveError when no equilibrium is found.
+        Raises SolveError when no equilibrium is found, BeamInputError for a hub model (the hub
+        would turn; :func:`prbdm_pin.linearize` holds it with a trim torque).
         """
+        self._no_hub("a static equilibrium under a tip force alone")
         q = static_deflection_planar(
             self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
         )
@@ -200,7 +201,8 @@ class PrbdmModel:
         """The same chain with other springs (shares ``pin_model``)."""
         k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
         return PrbdmModel(
-            self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id
+            self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
+            self.hub,
         )
 
 
@@ -210,6 +212,7 @@ def build_model(
     stiffness_Nm_per_rad: np.ndarray,
     *,
     min_fraction: float = MIN_FRACTION,
+    hub: Hub | None = None,
 ) -> PrbdmModel:
     """A PRBDM of ``beam`` with the given link lengths and joint springs.
 
@@ -224,6 +227,9 @@ def build_model(
     min_fraction : float
         Lower bound on each link as a fraction of L (Eq. 15's 0.02). Fine reference chains
         (e.g. 32 equal segments with half segments at the ends) need a smaller value.
+    hub : Hub, optional
+        A rotating rigid hub the root is clamped to (see :class:`PrbdmModel`); default None,
+        the beam clamped to the world.
 
     Raises
     ------
@@ -236,8 +242,13 @@ def build_model(
     lengths.setflags(write=False)
     k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
     sections = link_sections_unchecked(beam, lengths)
-    model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
-    return PrbdmModel(beam, lengths, k, sections, model, tip)
+    if hub is None:
+        model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
+        return PrbdmModel(beam, lengths, k, sections, model, tip)
+    if not isinstance(hub, Hub):
+        raise BeamInputError(f"hub = {hub!r}: must be a prbdm_pin.Hub or None")
+    model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
+    return PrbdmModel(beam, lengths, k, sections, model, tip, hub)
 
 
 def load_urdf(path: str | os.PathLike) -> PrbdmModel:

@@ -1,8 +1,10 @@
-"""Pose sweep (the paper's Eqs. 10-11) and joint stiffness laws (Eq. 14, finite segments)."""
+"""Pose sweep (the paper's Eqs. 10-11), joint stiffness laws (Eq. 14, finite segments), and the
+check of a model's joint springs."""
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -19,6 +21,7 @@ __all__ = [
     "finite_segment_stiffness",
     "finite_segment_stiffness_unchecked",
     "inv_width_integral",
+    "validate_stiffness",
 ]
 
 
@@ -143,3 +146,30 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
     integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     t = beam.thickness_m
     return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
+
+
+def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:
+    """Joint stiffness as a read-only (n,) array, N m/rad; BeamInputError names a bad value."""
+    if isinstance(stiffness_Nm_per_rad, (str, bytes, dict)):
+        raise BeamInputError(f"stiffness = {stiffness_Nm_per_rad!r}: must be numbers (N m/rad)")
+    try:
+        k = np.array(stiffness_Nm_per_rad, dtype=float)
+    except (TypeError, ValueError):
+        raise BeamInputError(
+            f"stiffness = {stiffness_Nm_per_rad!r}: must be numbers (N m/rad)"
+        ) from None
+    if k.ndim == 0:
+        k = k.reshape(1)
+    if k.shape != (n_joints,):
+        raise BeamInputError(
+            f"stiffness has shape {k.shape}: needs {n_joints} values, one per joint (N m/rad)"
+        )
+    # subnormal springs (< 2.2e-308) carry too few digits to compute with
+    bad = np.flatnonzero(~(np.isfinite(k) & (k >= np.finfo(float).tiny)))
+    if bad.size:
+        i = int(bad[0])
+        raise BeamInputError(
+            f"stiffness[{i}] = {k[i]}: must be finite and > 0, a normal double (N m/rad)"
+        )
+    k.setflags(write=False)
+    return k

@@ -1,0 +1,216 @@
+"""``prbdm linearize``: a fitted PRBDM as a linear state-space plant (matrices, names, modes,
+Bode plot)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from ..errors import BeamInputError
+from . import add_common
+
+EXAMPLES = """\
+examples:
+  prbdm linearize runs/ref/fit.json --inputs tip_force_z --outputs tip_z --out runs/ref/plant
+  prbdm linearize runs/ref/fit.json --inputs tip_force_z,strain[0] --outputs tip_z,q[0] \\
+      --actuator 0.05:0.4 --load 0,0,-10 --out runs/ref/plant
+  prbdm linearize runs/ref/fit.json --inputs hub_torque --outputs hub_angle,tip_z \\
+      --hub 0.5:0.05 --damping-ratio 0.01 --out runs/ref/hub
+
+Inputs: tip_force_z, tip_force_x (N), joint_torque[j] (N m, beam joint j from the root, 0-based),
+strain[i] (N m, the moment of the i-th --actuator), hub_torque (N m, with --hub).
+Outputs: tip_z, tip_x (m), tip_z_rate (m/s), q[j] (rad), q_rate[j] (rad/s), spring_torque[j]
+(N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are deviations from the equilibrium
+under --load and --gravity; a hub is held there by a trim torque.
+
+Writes OUT/linear_model.npz (A, B, C, D; x = [q; v]), OUT/linear_model.json (names, units,
+equilibrium, modal table) and OUT/bode.png.
+"""
+
+LINEARIZE_FILES = ("linear_model.npz", "linear_model.json", "bode.png")
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``linearize`` subparser."""
+    p = subparsers.add_parser(
+        "linearize",
+        help="linearise a PRBDM into a state-space plant (inputs, outputs, hub, actuators)",
+        description="Linearise a fitted PRBDM about its equilibrium into A, B, C, D with named "
+        "inputs and outputs, for control design.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("model", metavar="FIT_JSON", help="fit.json (or a model JSON or URDF)")
+    p.add_argument("--beam", metavar="BEAM.json",
+                   help="the beam a fit.json was fitted to (default: the one it carries)")
+    p.add_argument("--inputs", default="tip_force_z", metavar="NAMES",
+                   help="comma-separated input names (default tip_force_z)")
+    p.add_argument("--outputs", default="tip_z", metavar="NAMES",
+                   help="comma-separated output names (default tip_z)")
+    p.add_argument("--actuator", action="append", default=[], metavar="XA:XB",
+                   help="a strain actuator from XA to XB m along the beam (repeat for more; "
+                        "strain[i] is the i-th)")
+    p.add_argument("--hub", default=None, metavar="INERTIA:RADIUS",
+                   help="a rotating hub at the root: inertia kg m^2, radius m")
+    p.add_argument("--load", default="0,0,0", metavar="FX,FY,FZ",
+                   help="dead tip load of the equilibrium, N, world (default 0,0,0)")
+    p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
+                   help="gravity, m/s^2, world (default none)")
+    p.add_argument("--damping-ratio", type=float, default=0.02, metavar="ZETA",
+                   help="damping ratio of every flexible mode (modal) or the lowest "
+                        "(stiffness) (default 0.02)")
+    p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c"), default="modal",
+                   help="damping form (default modal; a hub's rigid mode is never damped)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_common(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def _names(text: str, option: str) -> tuple[str, ...]:
+    from ..plant.names import split_name
+
+    names = tuple(s.strip() for s in text.split(","))
+    for i, name in enumerate(names):
+        split_name(name, f"{option}[{i}]" if len(names) > 1 else option)
+    return names
+
+
+def _pair(text: str, option: str, what: str) -> tuple[float, float]:
+    import math
+
+    parts = text.split(":")
+    try:
+        a, b = (float(v) for v in parts)
+    except ValueError:
+        a = b = math.nan
+    if len(parts) != 2 or not (math.isfinite(a) and math.isfinite(b)):
+        raise BeamInputError(f"{option} = {text!r}: must be two numbers {what}")
+    return a, b
+
+
+def _vector(text: str, option: str, unit: str) -> list[float]:
+    import math
+
+    parts = text.split(",")
+    try:
+        v = [float(s) for s in parts]
+    except ValueError:
+        v = []
+    if len(v) != 3 or not all(math.isfinite(x) for x in v):
+        raise BeamInputError(f"{option} = {text!r}: must be three numbers X,Y,Z ({unit})")
+    return v
+
+
+def check_options(args: argparse.Namespace) -> dict:
+    """Refuse bad ``prbdm linearize`` options before the model is read; returns the parsed
+    values (names, actuators, hub, load, gravity)."""
+    from ..plant.hub import Hub
+    from ..plant.inputs import StrainActuator
+    from .checks import in_range, writable_dir
+
+    out = {"inputs": _names(args.inputs, "--inputs"), "outputs": _names(args.outputs, "--outputs")}
+    acts = []
+    for text in args.actuator:
+        a, b = _pair(text, "--actuator", "XA:XB (m)")
+        try:
+            acts.append(StrainActuator(a, b))
+        except BeamInputError as exc:
+            raise BeamInputError(f"--actuator = {text!r}: {exc}") from None
+    out["actuators"] = acts
+    out["hub"] = None
+    if args.hub is not None:
+        J, r = _pair(args.hub, "--hub", "INERTIA:RADIUS (kg m^2, m)")
+        try:
+            out["hub"] = Hub(J, r)
+        except BeamInputError as exc:
+            raise BeamInputError(f"--hub = {args.hub!r}: {exc}") from None
+    out["load"] = _vector(args.load, "--load", "N")
+    out["gravity"] = _vector(args.gravity, "--gravity", "m/s^2")
+    in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
+             why="a damping ratio of underdamped modes")
+    writable_dir(args.out, "--out")
+    return out
+
+
+def _bode(lin, path: Path) -> None:
+    import numpy as np
+
+    from ..plots import new_figure, save_png
+
+    md = lin.modal()
+    flex = md.omega_rad_s[md.omega_rad_s > 0.0]
+    lo = 0.1 * float(flex.min()) if flex.size else 0.1
+    hi = 3.0 * float(flex.max()) if flex.size else 100.0
+    w = np.logspace(np.log10(lo), np.log10(hi), 800)
+    H = lin.frequency_response(w)
+    fig = new_figure((7.5, 6.0))
+    mag, ph = fig.add_subplot(2, 1, 1), fig.add_subplot(2, 1, 2)
+    for i, yn in enumerate(lin.output_names):
+        for j, un in enumerate(lin.input_names):
+            h = H[:, i, j]
+            if not np.any(h):
+                continue
+            mag.loglog(w, np.abs(h), label=f"{yn} / {un}")
+            ph.semilogx(w, np.degrees(np.unwrap(np.angle(h))))
+    mag.set_ylabel("|H| (output unit / input unit)")
+    mag.legend(fontsize=7)
+    ph.set_ylabel("phase (deg)")
+    ph.set_xlabel("omega (rad/s)")
+    fig.suptitle(f"linearised PRBDM: {len(lin.q_eq)} coordinates")
+    save_png(fig, path)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``prbdm linearize``."""
+    import io
+
+    import numpy as np
+
+    from ..io import atomic_write_bytes, atomic_write_text
+    from ..model import build_model
+    from ..output_folder import output_folder
+    from ..plant.linearize import linearize
+    from .simulate import load_model_and_fit
+
+    opts = check_options(args)
+    model, _ = load_model_and_fit(args.model, args.beam)
+    if opts["hub"] is not None:
+        if model.beam is None:
+            raise BeamInputError("--hub: needs the beam (give a fit.json or a model JSON; a "
+                                 "URDF does not carry it)")
+        from ..model_files import LINK_FLOOR_FRACTION
+
+        model = build_model(model.beam, model.lengths_m, model.stiffness_Nm_per_rad,
+                            min_fraction=LINK_FLOOR_FRACTION, hub=opts["hub"])
+    gravity = opts["gravity"] if any(opts["gravity"]) else None
+    lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
+                    load_N=opts["load"], damping_ratio=args.damping_ratio,
+                    damping=args.damping_form, actuators=opts["actuators"],
+                    gravity_m_s2=gravity)
+    record = {
+        **lin.to_dict(),
+        "model": Path(args.model).name,
+        "n_joints": model.n_joints,
+        "hub": None if opts["hub"] is None else {
+            "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m},
+        "actuators_m": [[a.x_start_m, a.x_end_m] for a in opts["actuators"]],
+        "load_N": opts["load"], "gravity_m_s2": opts["gravity"],
+        "damping_ratio": args.damping_ratio, "damping_form": args.damping_form,
+        "state_units": ["rad"] * len(lin.q_eq) + ["rad/s"] * len(lin.q_eq),
+    }
+    buf = io.BytesIO()
+    np.savez(buf, A=lin.A, B=lin.B, C=lin.C, D=lin.D)
+    out = Path(args.out)
+    with output_folder(out, LINEARIZE_FILES, marker="linear_model.json") as stage:
+        atomic_write_bytes(stage / "linear_model.npz", buf.getvalue())
+        _bode(lin, stage / "bode.png")
+        atomic_write_text(stage / "linear_model.json", json.dumps(record, indent=2) + "\n")
+    if not args.quiet:
+        w = ", ".join(f"{x:.4g}" for x in lin.modal().omega_rad_s)
+        print(f"{lin.A.shape[0]} states, {len(lin.input_names)} inputs, "
+              f"{len(lin.output_names)} outputs; omega = [{w}] rad/s; wrote "
+              f"{out / 'linear_model.json'}", file=sys.stderr)
+    return 0

@@ -1,0 +1,9 @@
+"""The fitted PRBDM as a control co-design plant: inputs, outputs and a linear state-space model.
+
+``hub`` (a rotating rigid hub at the root), ``inputs`` (tip forces, joint torques, strain
+actuators, hub torque), ``outputs`` (tip motion, joint angles and rates, spring torques, hub
+angle), ``equilibrium`` (the pose under a dead tip load and gravity, and its stiffness),
+``damping`` (damping that leaves the hub's rigid mode undamped), ``linearize`` (the entry
+point) and ``state_space`` (``LinearModel`` and its modal view). Nothing is imported here, so
+that :mod:`prbdm_pin.model` can use :mod:`.hub` without loading the rest.
+"""

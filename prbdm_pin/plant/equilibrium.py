@@ -1,0 +1,131 @@
+"""The plant's equilibrium under a dead tip load and gravity, and the stiffness about it.
+
+Static balance: K q + g(q) - J(q)^T F = tau_u, with g the generalized gravity (Pinocchio's
+``computeGeneralizedGravity`` of the model with the given gravity) and F the dead tip force.
+Linearised: the effective stiffness is K + dg/dq - d(J^T F)/dq. The dead-load term comes from
+the closed-form planar chain (:func:`prbdm_pin.planar.load_stiffness`); a hub model is the planar
+chain whose first joint is the hub at the origin, reaching the first beam joint over
+radius + L_0, so the same formula covers it.
+
+A hub model has no equilibrium of its own under a load that turns the hub: the hub is held at
+angle 0 by a trim hub torque (returned), and the beam joints are balanced.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import BeamInputError, SolveError
+from ..planar import force_and_load_stiffness
+from ..statics import static_deflection_planar
+
+__all__ = ["check_vector", "planar_lengths_with_hub", "gravity_model", "static_terms",
+           "equilibrium"]
+
+
+def check_vector(field: str, value, unit: str) -> np.ndarray | None:
+    """A world vector (3,) as floats, None for None; BeamInputError naming ``field``."""
+    if value is None:
+        return None
+    try:
+        v = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        v = np.array([np.nan])
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise BeamInputError(f"{field} = {value!r}: must be 3 finite numbers ({unit}, world)")
+    return v
+
+
+def planar_lengths_with_hub(model) -> np.ndarray:
+    """Lengths (m) of the planar chain over every coordinate of ``model``: its link lengths, or
+    (0, radius + L_0, L_1, ..., L_n) on a hub model."""
+    L = np.asarray(model.lengths_m, dtype=float)
+    if model.hub is None:
+        return L
+    return np.concatenate([[0.0, model.hub.radius_m + L[0]], L[1:]])
+
+
+def gravity_model(model, gravity_m_s2: np.ndarray | None) -> pin.Model | None:
+    """A copy of the Pinocchio model with the gravity (m/s^2, world), None without gravity."""
+    if gravity_m_s2 is None or not np.any(gravity_m_s2):
+        return None
+    pm = pin.Model(model.pin_model)
+    pm.gravity = pin.Motion(np.concatenate([gravity_m_s2, np.zeros(3)]))
+    return pm
+
+
+def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | None,
+                 data_g: pin.Data | None) -> tuple[np.ndarray, np.ndarray]:
+    """Static residual K q + g(q) - J^T F (N m, (nv,)) and its Jacobian, the effective
+    stiffness (N m/rad, (nv, nv)), at pose ``q`` (rad)."""
+    K = model.stiffness_matrix()
+    jtf, T = force_and_load_stiffness(planar_lengths_with_hub(model), q, load_N)
+    r = K @ q - jtf
+    H = K - T
+    if pm_g is not None:
+        r = r + pin.computeGeneralizedGravity(pm_g, data_g, q)
+        H = H + pin.computeGeneralizedGravityDerivatives(pm_g, data_g, q)
+    return r, H
+
+
+def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float = 1e-10,
+                max_iter: int = 60) -> tuple[np.ndarray, float]:
+    """Equilibrium pose (rad, (nv,)) under the dead tip load (N) and the gravity of ``pm_g``,
+    and the trim hub torque holding the hub at 0 (N m; 0.0 without a hub).
+
+    Without gravity and hub this is :meth:`PrbdmModel.static_deflection`; otherwise damped
+    Newton steps on the beam joints from the planar statics' pose.
+
+    Raises
+    ------
+    SolveError
+        If no equilibrium is found.
+    """
+    hub = model.hub is not None
+    if pm_g is None and not hub:
+        return model.static_deflection(load_N)[0], 0.0
+    off = int(hub)
+    q = np.zeros(model.pin_model.nv)
+    q[off:] = static_deflection_planar(model.lengths_m, model.stiffness_Nm_per_rad, load_N)
+    data_g = None if pm_g is None else pm_g.createData()
+    free = slice(off, None)
+
+    k = model.stiffness_Nm_per_rad
+
+    def norm(q: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        r, H = static_terms(model, q, load_N, pm_g, data_g)
+        return math.sqrt(float(r[free] @ r[free])), r, H
+
+    def converged(q: np.ndarray, r: np.ndarray, rn: float, rel: float) -> bool:
+        # relative to the larger of the spring and the load torques, as the planar statics
+        kq = k * q[free]
+        return rn <= rel * max(float(np.linalg.norm(kq)), float(np.linalg.norm(r[free] - kq)),
+                               1e-300)
+
+    rn, r, H = norm(q)
+    for _ in range(max_iter):
+        if converged(q, r, rn, rtol):
+            return q, float(r[0]) if hub else 0.0
+        try:
+            d = -np.linalg.solve(H[free, free], r[free])
+        except np.linalg.LinAlgError:
+            break
+        alpha = 1.0
+        while alpha > 1e-6:
+            qn = q.copy()
+            qn[free] += alpha * d
+            rn_new, r_new, H_new = norm(qn)
+            if rn_new < rn:
+                break
+            alpha *= 0.5
+        else:
+            break
+        q, rn, r, H = qn, rn_new, r_new, H_new
+    # rounding can stall the last digits short of rtol: accept a residual near it
+    if converged(q, r, rn, 100.0 * rtol):
+        return q, float(r[0]) if hub else 0.0
+    raise SolveError(f"plant equilibrium: no equilibrium under the load {load_N.tolist()} N "
+                     f"and the gravity (residual {rn:.3g} N m)")

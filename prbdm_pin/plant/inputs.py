@@ -1,0 +1,126 @@
+"""Plant inputs and the generalized forces they make: tip forces, joint torques, strain
+actuators and the hub torque.
+
+Strain actuator (a full-width piezo patch between stations x_a < x_b of the beam, m from the
+root along the undeformed beam): it bends the beam by a moment M (N m) applied as a pair, +M
+about y at x_b and -M at x_a. Its virtual work is M (theta(x_b) - theta(x_a)) with theta(x) the
+section rotation in the sense of the joint angles; on the chain theta(x) is the sum of the
+angles of the joints at stations < x, so each joint strictly inside (x_a, x_b) gets the
+generalized torque +M, and the others none. A positive M therefore turns the joints inside the
+patch positive (the tip goes to -z).
+
+A patch end exactly on a joint (within ``ON_JOINT_RTOL`` of the beam length) gives that joint
+half the moment: the generalized torque jumps from 0 to M as the end moves across the joint,
+and the joint's lumped compliance stands for the beam on both sides of it, so the midpoint of
+the jump is the consistent value (a patch from one joint to the next gives each 1/2, and two
+such patches end to end add up to the one patch that covers both).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import BeamInputError
+from .names import parse_names
+
+__all__ = ["StrainActuator", "INPUT_UNITS", "ON_JOINT_RTOL", "joint_stations", "strain_map",
+           "parse_inputs", "input_map"]
+
+# a patch end within this fraction of the beam length of a joint is on it (the stations come
+# from sums of link lengths, so exact equality would depend on rounding)
+ON_JOINT_RTOL = 1e-9
+
+INPUT_UNITS = {"tip_force_z": "N", "tip_force_x": "N", "joint_torque": "N m",
+               "strain": "N m", "hub_torque": "N m"}
+
+
+@dataclass(frozen=True)
+class StrainActuator:
+    """A bending-moment actuator over the beam span [x_start_m, x_end_m], m from the root.
+
+    Its input is the moment M (N m) the patch applies (see the module notes for the sign).
+    """
+
+    x_start_m: float
+    x_end_m: float
+
+    def __post_init__(self) -> None:
+        for name in ("x_start_m", "x_end_m"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.number)) \
+                    or not math.isfinite(float(v)):
+                raise BeamInputError(f"StrainActuator {name} = {v!r}: must be a finite number "
+                                     "(m)")
+            object.__setattr__(self, name, float(v))
+        if not self.x_start_m < self.x_end_m:
+            raise BeamInputError(f"StrainActuator x_start_m = {self.x_start_m!r}: must be < "
+                                 f"x_end_m = {self.x_end_m!r} (m)")
+
+
+def joint_stations(lengths_m: np.ndarray) -> np.ndarray:
+    """Stations of the n joints along the undeformed beam, m from the root, shape (n,)."""
+    return np.cumsum(np.asarray(lengths_m, dtype=float))[:-1]
+
+
+def strain_map(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "actuators[0]"
+               ) -> np.ndarray:
+    """Generalized torque per unit patch moment on each joint, shape (n,): 1 inside the patch,
+    1/2 for a joint an end sits on, 0 outside (dimensionless, N m per N m).
+
+    Raises BeamInputError naming ``field`` when the patch leaves [0, L].
+    """
+    lengths = np.asarray(lengths_m, dtype=float)
+    L = float(lengths.sum())
+    tol = ON_JOINT_RTOL * L
+    for name in ("x_start_m", "x_end_m"):
+        v = getattr(actuator, name)
+        if v < -tol or v > L + tol:
+            raise BeamInputError(f"{field} {name} = {v!r}: must lie on the beam, in [0, {L:g}] "
+                                 "(m)")
+    x = joint_stations(lengths)
+    a, b = actuator.x_start_m, actuator.x_end_m
+    inside = ((x > a + tol) & (x < b - tol)).astype(float)
+    on_end = (np.abs(x - a) <= tol) | (np.abs(x - b) <= tol)
+    inside[on_end] = 0.5
+    return inside
+
+
+def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool):
+    """Check input names against a model; returns (name, base, index) per input."""
+    plain = ("tip_force_z", "tip_force_x") + (("hub_torque",) if hub else ())
+    return parse_names(names, "inputs", {"joint_torque": n_joints, "strain": n_actuators}, plain)
+
+
+def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...] = ()
+              ) -> np.ndarray:
+    """Generalized force per unit input at pose ``q`` (rad), shape (nv, m): tip forces through
+    the tip Jacobian's transpose (m/rad), torques and patch moments directly.
+
+    ``q`` has ``pin_model.nq`` entries (the hub angle first on a hub model).
+    """
+    hub = model.hub is not None
+    parsed = parse_inputs(names, model.n_joints, len(actuators), hub)
+    off = int(hub)
+    J = model.tip_jacobian(q)
+    maps = [strain_map(model.lengths_m, a, f"actuators[{i}]") for i, a in enumerate(actuators)]
+    B = np.zeros((model.pin_model.nv, len(parsed)))
+    for c, (_, base, idx) in enumerate(parsed):
+        if base == "tip_force_z":
+            B[:, c] = J[2]
+        elif base == "tip_force_x":
+            B[:, c] = J[0]
+        elif base == "hub_torque":
+            B[0, c] = 1.0
+        elif base == "joint_torque":
+            B[off + idx, c] = 1.0
+        else:
+            B[off:, c] = maps[idx]
+    return B
+
+
+def input_unit(name: str) -> str:
+    """Unit of the input ``name``."""
+    return INPUT_UNITS[name.split("[")[0]]

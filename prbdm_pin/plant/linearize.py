@@ -1,0 +1,144 @@
+"""``linearize``: a PRBDM as a linear plant about its equilibrium (the entry point of
+:mod:`prbdm_pin.plant`)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..errors import BeamInputError, SolveError
+from .damping import plant_damping
+from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
+from .inputs import StrainActuator, input_map, input_unit, parse_inputs
+from .outputs import output_maps, output_unit, output_values, parse_outputs
+from .state_space import LinearModel
+
+__all__ = ["linearize"]
+
+
+def _pose(model, q_eq) -> np.ndarray:
+    nv = model.pin_model.nv
+    try:
+        q = np.array(q_eq, dtype=float)
+    except (TypeError, ValueError):
+        q = np.array([np.nan])
+    if q.shape != (nv,) or not np.all(np.isfinite(q)):
+        raise BeamInputError(f"q_eq = {q_eq!r}: must be {nv} finite joint angles (rad"
+                             f"{', the hub angle first' if model.hub is not None else ''})")
+    return q
+
+
+def _actuators(actuators) -> tuple[StrainActuator, ...]:
+    if isinstance(actuators, StrainActuator) or not isinstance(actuators, Sequence):
+        raise BeamInputError(f"actuators = {actuators!r}: must be a sequence of StrainActuator")
+    for i, a in enumerate(actuators):
+        if not isinstance(a, StrainActuator):
+            raise BeamInputError(f"actuators[{i}] = {a!r}: must be a StrainActuator")
+    return tuple(actuators)
+
+
+def linearize(
+    model,
+    inputs: Sequence[str] = ("tip_force_z",),
+    outputs: Sequence[str] = ("tip_z",),
+    q_eq: np.ndarray | None = None,
+    load_N: np.ndarray | None = None,
+    damping_ratio: float | np.ndarray = 0.02,
+    damping: str = "modal",
+    actuators: Sequence[StrainActuator] = (),
+    gravity_m_s2: np.ndarray | None = None,
+) -> LinearModel:
+    """Linearise ``model`` (a :class:`prbdm_pin.PrbdmModel`, with or without hub) about an
+    equilibrium.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+    inputs : sequence of str
+        ``tip_force_z``, ``tip_force_x`` (N, world), ``joint_torque[j]`` (N m, beam joint j from
+        the root, 0-based), ``strain[i]`` (N m, the moment of ``actuators[i]``), ``hub_torque``
+        (N m, hub models).
+    outputs : sequence of str
+        ``tip_z``, ``tip_z_rate``, ``tip_x``, ``q[j]``, ``q_rate[j]``, ``spring_torque[j]``,
+        ``hub_angle``, ``hub_rate`` (see :mod:`prbdm_pin.plant.outputs`).
+    q_eq : array_like (nv,), optional
+        Pose to linearise about, rad, taken as given; default: the equilibrium under
+        ``load_N`` and gravity (a hub held at angle 0 by a trim torque).
+    load_N : array_like (3,), optional
+        Dead tip force, N, world (default none). Its load stiffness enters K_e.
+    damping_ratio : float or array (n,)
+        Damping ratio of each flexible mode (``"modal"``), of the lowest (``"stiffness"``), or
+        per joint (``"eq5c"``, no hub); dimensionless.
+    damping : str
+        Damping form, see :mod:`prbdm_pin.plant.damping`.
+    actuators : sequence of StrainActuator
+        The strain actuators ``strain[i]`` refers to.
+    gravity_m_s2 : array_like (3,), optional
+        Gravity, m/s^2, world; default none.
+
+    Returns
+    -------
+    LinearModel
+
+    Raises
+    ------
+    BeamInputError
+        Naming a bad argument. SolveError when no equilibrium is found or M is singular.
+    """
+    from ..model import PrbdmModel
+
+    if not isinstance(model, PrbdmModel):
+        raise BeamInputError(f"model = {model!r}: must be a PrbdmModel")
+    acts = _actuators(actuators)
+    hub = model.hub is not None
+    # names first: refused before any work, and a bare string is not taken letter by letter
+    in_names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_joints, len(acts), hub))
+    out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_joints, hub))
+    F = check_vector("load_N", load_N, "N")
+    F = np.zeros(3) if F is None else F
+    g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
+    pm_g = gravity_model(model, g)
+    if q_eq is None:
+        q, trim = equilibrium(model, F, pm_g)
+    else:
+        q = _pose(model, q_eq)
+        r = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[0]
+        trim = float(r[0]) if hub else 0.0
+    Bq = input_map(model, q, in_names, acts)
+    Cq, Cv = output_maps(model, q, out_names)
+    M = model.mass_matrix(q)
+    K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
+    K = 0.5 * (K + K.T)
+    Cd = plant_damping(model, M, damping_ratio, damping)
+    try:
+        cho = sla.cho_factor(M)
+    except np.linalg.LinAlgError as exc:
+        raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
+    nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
+    A = np.zeros((2 * nv, 2 * nv))
+    A[:nv, nv:] = np.eye(nv)
+    A[nv:, :nv] = -sla.cho_solve(cho, K)
+    A[nv:, nv:] = -sla.cho_solve(cho, Cd)
+    B = np.zeros((2 * nv, m))
+    B[nv:] = sla.cho_solve(cho, Bq)
+    coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_joints)]
+    states = tuple(coords + [f"{c}_rate" if c == "hub" else c.replace("q[", "q_rate[")
+                             for c in coords])
+    nominal = {"tip_force_z": F[2], "tip_force_x": F[0], "hub_torque": trim}
+    u_eq = np.array([nominal.get(name, 0.0) for name in in_names])
+    for a in (A, B, Cq, Cv, M, K, Cd, Bq, q, u_eq):
+        a.setflags(write=False)
+    Cfull = np.hstack([Cq, Cv])
+    D = np.zeros((p, m))
+    y_eq = output_values(model, q, out_names)
+    for a in (Cfull, D, y_eq):
+        a.setflags(write=False)
+    return LinearModel(
+        A=A, B=B, C=Cfull, D=D, state_names=states, input_names=in_names,
+        output_names=out_names, input_units=tuple(input_unit(s) for s in in_names),
+        output_units=tuple(output_unit(s) for s in out_names), q_eq=q, u_eq=u_eq, y_eq=y_eq,
+        mass_kg_m2=M, stiffness_Nm_per_rad=K, damping_Nms_per_rad=Cd, input_map=Bq,
+        output_map_position=Cq, output_map_rate=Cv, hub=hub,
+    )

@@ -1,0 +1,85 @@
+"""Plant outputs chosen by name, as rows of the linear map y = C_q dq + C_v dv.
+
+Every output is a deviation from its value at the equilibrium (:func:`output_values` gives
+those values). Beam joints are numbered 0..n-1 from the root (Pinocchio's ``joint_{j+1}``);
+on a hub model the hub angle is a coordinate of its own.
+
+- ``tip_z``, ``tip_x``: world tip displacement, m; ``tip_z_rate``: its z velocity, m/s
+- ``q[j]``: joint angle, rad; ``q_rate[j]``: its rate, rad/s
+- ``spring_torque[j]``: k_j q_j, N m (the spring's moment; for a 1R PRBDM the root moment)
+- ``hub_angle``, rad; ``hub_rate``, rad/s (hub models only)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .names import parse_names
+
+__all__ = ["OUTPUT_UNITS", "parse_outputs", "output_maps", "output_values", "output_unit"]
+
+OUTPUT_UNITS = {"tip_z": "m", "tip_x": "m", "tip_z_rate": "m/s", "q": "rad", "q_rate": "rad/s",
+                "spring_torque": "N m", "hub_angle": "rad", "hub_rate": "rad/s"}
+
+
+def parse_outputs(names, n_joints: int, hub: bool):
+    """Check output names against a model; returns (name, base, index) per output."""
+    plain = ("tip_z", "tip_z_rate", "tip_x") + (("hub_angle", "hub_rate") if hub else ())
+    indexed = {"q": n_joints, "q_rate": n_joints, "spring_torque": n_joints}
+    return parse_names(names, "outputs", indexed, plain)
+
+
+def output_maps(model, q: np.ndarray, names) -> tuple[np.ndarray, np.ndarray]:
+    """(C_q, C_v), each shape (p, nv): the outputs' derivatives with respect to the joint
+    angles (per rad) and rates (per rad/s) at pose ``q`` (rad)."""
+    hub = model.hub is not None
+    parsed = parse_outputs(names, model.n_joints, hub)
+    nv, off = model.pin_model.nv, int(hub)
+    J = model.tip_jacobian(q)
+    Cq = np.zeros((len(parsed), nv))
+    Cv = np.zeros((len(parsed), nv))
+    for r, (_, base, idx) in enumerate(parsed):
+        if base == "tip_z":
+            Cq[r] = J[2]
+        elif base == "tip_x":
+            Cq[r] = J[0]
+        elif base == "tip_z_rate":
+            Cv[r] = J[2]
+        elif base == "q":
+            Cq[r, off + idx] = 1.0
+        elif base == "q_rate":
+            Cv[r, off + idx] = 1.0
+        elif base == "spring_torque":
+            Cq[r, off + idx] = model.stiffness_Nm_per_rad[idx]
+        elif base == "hub_angle":
+            Cq[r, 0] = 1.0
+        else:  # hub_rate
+            Cv[r, 0] = 1.0
+    return Cq, Cv
+
+
+def output_values(model, q: np.ndarray, names) -> np.ndarray:
+    """The outputs' values at rest at pose ``q`` (rad): tip coordinates (m), angles (rad),
+    spring torques (N m), rates 0; shape (p,)."""
+    hub = model.hub is not None
+    parsed = parse_outputs(names, model.n_joints, hub)
+    off = int(hub)
+    p = model.tip_position(q)
+    out = np.zeros(len(parsed))
+    for r, (_, base, idx) in enumerate(parsed):
+        if base == "tip_z":
+            out[r] = p[2]
+        elif base == "tip_x":
+            out[r] = p[0]
+        elif base == "q":
+            out[r] = q[off + idx]
+        elif base == "spring_torque":
+            out[r] = model.stiffness_Nm_per_rad[idx] * q[off + idx]
+        elif base == "hub_angle":
+            out[r] = q[0]
+    return out
+
+
+def output_unit(name: str) -> str:
+    """Unit of the output ``name``."""
+    return OUTPUT_UNITS[name.split("[")[0]]

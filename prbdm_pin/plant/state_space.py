@@ -1,0 +1,164 @@
+"""The linearised plant: ``LinearModel`` (state space and its second-order form) and its modal
+view ``ModalData``.
+
+x = [dq; dv] (deviations of the joint angles, rad, and rates, rad/s, from the equilibrium),
+u = input deviations from their nominal values, y = output deviations:
+
+    M dv' + C_d dv + K_e dq = B_q u,   y = C_q dq + C_v dv
+    A = [[0, I], [-M^-1 K_e, -M^-1 C_d]],  B = [[0], [M^-1 B_q]],  C = [C_q, C_v],  D = 0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..eigen import generalized_eigh
+from .hub import schur_mass
+
+__all__ = ["LinearModel", "ModalData"]
+
+
+@dataclass(frozen=True, eq=False)
+class ModalData:
+    """Undamped modes of the linearised plant, ascending frequency.
+
+    Attributes
+    ----------
+    omega_rad_s : ndarray (k,)
+        Natural frequencies, rad/s (0 for a rigid mode; an unstable mode, omega^2 < 0 under a
+        compressive load, is reported as 0 with its ``omega_squared``).
+    omega_squared : ndarray (k,)
+        omega^2, rad^2/s^2.
+    damping_ratio : ndarray (k,)
+        diag(Phi^T C_d Phi) / (2 omega), dimensionless (0 where omega is 0).
+    shapes : ndarray (nv, k)
+        Mass-normalised mode shapes (Phi^T M Phi = I), per sqrt(kg m^2).
+    input_gains : ndarray (k, m)
+        Phi^T B_q: modal force per unit input.
+    output_gains_position, output_gains_rate : ndarray (p, k)
+        C_q Phi and C_v Phi: output per unit modal coordinate and per unit modal rate.
+    """
+
+    omega_rad_s: np.ndarray
+    omega_squared: np.ndarray
+    damping_ratio: np.ndarray
+    shapes: np.ndarray
+    input_gains: np.ndarray
+    output_gains_position: np.ndarray
+    output_gains_rate: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class LinearModel:
+    """A PRBDM linearised about an equilibrium (see the module notes for the form).
+
+    Attributes
+    ----------
+    A, B, C, D : ndarray
+        State space, shapes (2 nv, 2 nv), (2 nv, m), (p, 2 nv), (p, m), SI units per the names.
+    state_names, input_names, output_names : tuple of str
+    input_units, output_units : tuple of str
+    q_eq : ndarray (nv,)
+        Equilibrium pose, rad (the hub angle first on a hub model).
+    u_eq : ndarray (m,)
+        Nominal input values at the equilibrium (the load's tip force components, the trim hub
+        torque; 0 otherwise).
+    y_eq : ndarray (p,)
+        Output values at the equilibrium.
+    mass_kg_m2, stiffness_Nm_per_rad, damping_Nms_per_rad : ndarray (nv, nv)
+        M, the effective stiffness K_e (springs, load and gravity) and C_d.
+    input_map : ndarray (nv, m)
+        B_q, generalized force per unit input.
+    output_map_position, output_map_rate : ndarray (p, nv)
+        C_q and C_v.
+    hub : bool
+        Whether coordinate 0 is a hub joint.
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    input_units: tuple[str, ...]
+    output_units: tuple[str, ...]
+    q_eq: np.ndarray
+    u_eq: np.ndarray
+    y_eq: np.ndarray
+    mass_kg_m2: np.ndarray
+    stiffness_Nm_per_rad: np.ndarray
+    damping_Nms_per_rad: np.ndarray
+    input_map: np.ndarray
+    output_map_position: np.ndarray
+    output_map_rate: np.ndarray
+    hub: bool = False
+
+    def to_control(self):
+        """The plant as a ``control.StateSpace`` (python-control), with the signal names."""
+        import control
+
+        return control.ss(self.A, self.B, self.C, self.D, states=list(self.state_names),
+                          inputs=list(self.input_names), outputs=list(self.output_names))
+
+    def frequency_response(self, omega_rad_s: np.ndarray) -> np.ndarray:
+        """C (j omega I - A)^-1 B + D at each frequency (rad/s), complex, shape (f, p, m)."""
+        w = np.atleast_1d(np.asarray(omega_rad_s, dtype=float))
+        eye = np.eye(self.A.shape[0])
+        out = np.empty((w.size, self.C.shape[0], self.B.shape[1]), dtype=complex)
+        for i, wi in enumerate(w):
+            out[i] = self.C @ np.linalg.solve(1j * wi * eye - self.A, self.B) + self.D
+        return out
+
+    def modal(self) -> ModalData:
+        """Undamped modes of (K_e, M) with their damping ratios and modal gains.
+
+        A hub model whose effective stiffness leaves the hub free (no load or gravity turning
+        it) has its rigid mode taken out exactly (frequency 0, shape e_hub / sqrt(m_hh)); the
+        rest solve the symmetric generalized eigenproblem, no inverse of M.
+        """
+        M, K = self.mass_kg_m2, self.stiffness_Nm_per_rad
+        if self.hub and not np.any(K[0]) and not np.any(K[:, 0]):
+            w2f, Pf = generalized_eigh(K[1:, 1:], schur_mass(M), "plant modes")
+            nv = M.shape[0]
+            Phi = np.zeros((nv, nv))
+            Phi[0, 0] = 1.0 / np.sqrt(M[0, 0])
+            Phi[1:, 1:] = Pf
+            Phi[0, 1:] = -(M[0, 1:] @ Pf) / M[0, 0]
+            w2 = np.concatenate([[0.0], w2f])
+        else:
+            w2, Phi = generalized_eigh(K, M, "plant modes")
+        omega = np.sqrt(np.clip(w2, 0.0, None))
+        c = np.einsum("ik,ij,jk->k", Phi, self.damping_Nms_per_rad, Phi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            zeta = np.where(omega > 0.0, c / (2.0 * np.where(omega > 0.0, omega, 1.0)), 0.0)
+        return ModalData(omega, w2, zeta, Phi, Phi.T @ self.input_map,
+                         self.output_map_position @ Phi, self.output_map_rate @ Phi)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Names, units, the equilibrium and the modal table, JSON-ready (SI units)."""
+        md = self.modal()
+        return {
+            "state_names": list(self.state_names),
+            "input_names": list(self.input_names),
+            "input_units": list(self.input_units),
+            "output_names": list(self.output_names),
+            "output_units": list(self.output_units),
+            "hub": self.hub,
+            "q_eq_rad": self.q_eq.tolist(),
+            "u_eq": self.u_eq.tolist(),
+            "y_eq": self.y_eq.tolist(),
+            "modes": [
+                {"omega_rad_s": float(md.omega_rad_s[k]),
+                 "frequency_hz": float(md.omega_rad_s[k] / (2.0 * np.pi)),
+                 "damping_ratio": float(md.damping_ratio[k]),
+                 "input_gains": md.input_gains[k].tolist(),
+                 "output_gains_position": md.output_gains_position[:, k].tolist(),
+                 "output_gains_rate": md.output_gains_rate[:, k].tolist()}
+                for k in range(md.omega_rad_s.size)
+            ],
+        }
