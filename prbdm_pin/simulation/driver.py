@@ -69,6 +69,10 @@ def simulate(
     wall0, cpu0 = time.perf_counter(), time.process_time()
     o = _options(options, changes)
     method, dt, output_dt = o.method, o.dt_s, o.output_dt_s
+    if getattr(model, "hub", None) is not None:
+        # the integrators assume one spring per coordinate; a hub adds a free one
+        raise BeamInputError("model has a hub: simulate integrates the clamped chain only; "
+                             "use prbdm_pin.linearize for the hub model's linear plant")
     n = int(model.n_joints)
     if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float, np.number)) \
             or not math.isfinite(duration_s) or duration_s <= 0.0:
