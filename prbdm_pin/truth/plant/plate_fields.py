@@ -35,7 +35,7 @@ def probe_matrix(basis: Basis, x_m: np.ndarray, y_m: np.ndarray, d_dx: bool = Fa
     data = []
     for k in range(basis.Nbfun):
         f = basis.elem.gbasis(basis.mapping, X, k, tind=cells)[0]
-        data.append((f.grad[0] if d_dx else f.value)[:, 0])
+        data.append((f.grad[0] if d_dx else np.asarray(f))[:, 0])
     rows = np.tile(np.arange(x.size), basis.Nbfun)
     cols = basis.element_dofs[:, cells].ravel()
     return coo_matrix((np.ravel(data), (rows, cols)), shape=(x.size, basis.N)).tocsr()
