@@ -3,7 +3,7 @@
 ``truth.beam`` keeps its assembly to itself and hands out sampled shapes only; the plant needs
 deflections and slopes of exactly the modes the truth computed. They are assembled here from the
 same stations (``beam_stations``), element (cubic Hermite), quadrature and sections, and
-``truth_modal_gains`` refuses them unless their frequencies are the truth's to 1e-9.
+``truth_modal_gains`` refuses them unless their frequencies and shapes are the truth's.
 (The truth's own modules stay untouched, so the truth's code digest and cache keys do not move.)
 """
 
