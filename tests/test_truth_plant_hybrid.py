@@ -157,3 +157,13 @@ def test_bad_hub_inputs_are_refused_by_name(narrow, six_modes, kwargs, match):
 def test_the_plant_modules_stay_out_of_the_truth_digest():
     # they only read a truth: adding or editing them must not move any truth's cache key
     assert not any("plant" in p.parts for p in truth_modules())
+
+
+@pytest.mark.parametrize("r", [0.0, 0.1, 0.3])
+def test_beam_inertia_about_the_hub_axis_is_the_closed_form(narrow, six_modes, r):
+    rhoA = narrow.material.rho_kg_m3 * 2 * narrow.half_width_m[0] * narrow.thickness_m
+    L = narrow.length_m
+    ref = rhoA * ((r + L) ** 3 - r**3) / 3.0  # int_0^L rho A (r + x)^2 dx
+    h = hybrid_model(six_modes, narrow, 1e9, r)
+    assert h.beam_inertia_kg_m2 == pytest.approx(ref, rel=1e-12)
+    assert h.mass[0, 0] == pytest.approx(1e9 + ref, rel=1e-15)

@@ -81,8 +81,10 @@ class ModalGains:
     def static_tip_z_m(self, tip_force_N: float = 0.0,
                        moments_Nm: Sequence[float] | np.ndarray = ()) -> float:
         """Clamped static tip z (m) of the modal model under a tip force (N) and actuator
-        moments (N m): sum_k c_k f_k / omega_k^2 (truncated to the selected modes)."""
+        moments (N m; none given: all zero): sum_k c_k f_k / omega_k^2 over the selected modes."""
         m = np.asarray(moments_Nm, dtype=float).reshape(-1)
+        if m.size == 0:
+            m = np.zeros(self.actuators_m.shape[0])
         if m.size != self.actuators_m.shape[0]:
             raise BeamInputError(f"moments_Nm has {m.size} entries: must match the "
                                  f"{self.actuators_m.shape[0]} actuators")

@@ -26,7 +26,8 @@ from ...geometry import Beam
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 
-__all__ = ["OUTPUT_NAMES", "HybridModel", "hybrid_matrices", "hub_frequencies_rad_s",
+__all__ = ["OUTPUT_NAMES", "HybridModel", "beam_inertia_kg_m2", "hybrid_matrices",
+           "hub_frequencies_rad_s",
            "hybrid_from_gains", "hybrid_model", "input_names"]
 
 OUTPUT_NAMES = ("tip_z", "tip_z_rate", "hub_angle", "hub_rate")
@@ -96,6 +97,13 @@ def _check_number(name: str, value: object, unit: str, upper: float = np.inf) ->
     return v
 
 
+def beam_inertia_kg_m2(gains: ModalGains, hub_radius_m: float) -> float:
+    """J_beam = int rho t (r + x)^2 dA: the undeformed beam's inertia about the hub axis, kg m^2
+    (r = ``hub_radius_m``, m)."""
+    r = hub_radius_m
+    return gains.mass_kg * r**2 + 2.0 * r * gains.first_moment_kg_m + gains.second_moment_kg_m2
+
+
 def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: float
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Mass, stiffness, input and output matrices of the hub and clamped-mode model.
@@ -120,9 +128,8 @@ def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: f
     r = _check_number("hub_radius_m", hub_radius_m, "m")
     n = gains.omega_rad_s.size
     d = r * gains.translation_sqrt_kg + gains.moment_sqrt_kg_m
-    J_beam = gains.mass_kg * r**2 + 2.0 * r * gains.first_moment_kg_m + gains.second_moment_kg_m2
     M = np.eye(n + 1)
-    M[0, 0] = J_h + J_beam
+    M[0, 0] = J_h + beam_inertia_kg_m2(gains, r)
     M[0, 1:] = M[1:, 0] = -d  # z = -(r + x) theta for a rotation about +y
     K = np.diag(np.concatenate([[0.0], gains.omega_rad_s**2]))
     arm = r + gains.length_m
@@ -162,7 +169,7 @@ def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m:
         hub_inertia_kg_m2=float(hub_inertia_kg_m2),
         hub_radius_m=float(hub_radius_m),
         damping_ratio=zeta,
-        beam_inertia_kg_m2=float(M[0, 0] - hub_inertia_kg_m2),
+        beam_inertia_kg_m2=beam_inertia_kg_m2(gains, float(hub_radius_m)),
         participation_sqrt_kg_m=_ro(-M[0, 1:]),
         mass=_ro(M), stiffness=_ro(K), damping=_ro(D), input_matrix=_ro(Bq),
         output_matrix=_ro(Cq), A=_ro(A), B=_ro(B), C=_ro(C),
