@@ -1,0 +1,35 @@
+"""The finite-element truth as a control plant: modal gains and a hub in hybrid coordinates.
+
+``truth_modal_gains`` (``gains``): per selected clamped mode of a plate or 1D beam truth, the
+generalised force of a tip force and of full-width strain actuators (moment pairs) and the tip z
+output. ``hybrid_model`` (``hybrid``): the truth on a rotating rigid hub (Likins' hybrid
+coordinates) as M, K and a state space with the PRBDM plant's input and output names.
+
+A subpackage on purpose: the truth's code digest (``truth.digest``) covers ``truth/*.py`` and
+what it imports, and these modules only read a truth, so adding them leaves every truth's cache
+key as it was.
+"""
+
+from .gains import ModalGains, check_actuators, truth_modal_gains
+from .hybrid import (
+    OUTPUT_NAMES,
+    HybridModel,
+    hub_frequencies_rad_s,
+    hybrid_from_gains,
+    hybrid_matrices,
+    hybrid_model,
+    input_names,
+)
+
+__all__ = [
+    "ModalGains",
+    "truth_modal_gains",
+    "check_actuators",
+    "HybridModel",
+    "hybrid_model",
+    "hybrid_from_gains",
+    "hybrid_matrices",
+    "hub_frequencies_rad_s",
+    "input_names",
+    "OUTPUT_NAMES",
+]
