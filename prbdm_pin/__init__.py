@@ -65,6 +65,8 @@ _EXPORTS = {
     "simulate": "simulation",
     "Trajectory": "simulation",
     "StiffnessSchedule": "simulation",
+    "Controller": "simulation",
+    "StateFeedback": "simulation",
     "dynamic_accuracy": "response",
     "export_model": "export",
     "read_model_json": "export",

@@ -122,14 +122,3 @@ def test_loaded_hub_is_held_by_a_trim_torque():
     # the motor balances the moment of the load about the hub axis
     tip = model.tip_position(lin.q_eq)
     assert lin.u_eq[0] == pytest.approx(-(tip[2] * F[0] - tip[0] * F[2]), rel=1e-12)
-
-
-def test_simulate_refuses_a_hub_model_by_name():
-    import prbdm_pin as pp
-
-    beam = pp.load_beam("examples/beams/uniform-narrow.json")
-    lengths = np.array([0.5, 0.5])
-    model = pp.build_model(beam, lengths, pp.finite_segment_stiffness(beam, lengths),
-                           hub=pp.Hub(inertia_kg_m2=1.0, radius_m=0.1))
-    with pytest.raises(pp.BeamInputError, match="model has a hub"):
-        pp.simulate(model, 0.1)

@@ -16,7 +16,8 @@ import numpy as np
 
 from .names import parse_names
 
-__all__ = ["OUTPUT_UNITS", "parse_outputs", "output_maps", "output_values", "output_unit"]
+__all__ = ["OUTPUT_UNITS", "parse_outputs", "output_maps", "output_values", "output_unit",
+           "output_samples"]
 
 OUTPUT_UNITS = {"tip_z": "m", "tip_x": "m", "tip_z_rate": "m/s", "q": "rad", "q_rate": "rad/s",
                 "spring_torque": "N m", "hub_angle": "rad", "hub_rate": "rad/s"}
@@ -83,3 +84,36 @@ def output_values(model, q: np.ndarray, names) -> np.ndarray:
 def output_unit(name: str) -> str:
     """Unit of the output ``name``."""
     return OUTPUT_UNITS[name.split("[")[0]]
+
+
+def output_samples(model, Q: np.ndarray, V: np.ndarray, tip_m: np.ndarray, names
+                   ) -> np.ndarray:
+    """The outputs' values along a trajectory (not deviations), shape (s, p): joint angles
+    ``Q`` (rad) and rates ``V`` (rad/s), (s, nv), with the tip positions ``tip_m`` (s, 3), m."""
+    hub = model.hub is not None
+    parsed = parse_outputs(names, model.n_joints, hub)
+    off = int(hub)
+    out = np.zeros((len(Q), len(parsed)))
+    tip_rate = None
+    for r, (_, base, idx) in enumerate(parsed):
+        if base == "tip_z":
+            out[:, r] = tip_m[:, 2]
+        elif base == "tip_x":
+            out[:, r] = tip_m[:, 0]
+        elif base == "tip_z_rate":
+            if tip_rate is None:
+                data = model.new_data()
+                tip_rate = np.array([model.tip_jacobian(q, data)[2] @ v
+                                     for q, v in zip(Q, V, strict=True)])
+            out[:, r] = tip_rate
+        elif base == "q":
+            out[:, r] = Q[:, off + idx]
+        elif base == "q_rate":
+            out[:, r] = V[:, off + idx]
+        elif base == "spring_torque":
+            out[:, r] = model.stiffness_Nm_per_rad[idx] * Q[:, off + idx]
+        elif base == "hub_angle":
+            out[:, r] = Q[:, 0]
+        else:  # hub_rate
+            out[:, r] = V[:, 0]
+    return out

@@ -1,11 +1,15 @@
-"""Time response of a PRBDM through Pinocchio: joint springs, damping and a tip force.
+"""Time response of a PRBDM through Pinocchio: joint springs, damping, a tip force and the
+plant's inputs (open loop or in closed loop).
 
-Equations of motion (relative joint angles q, rad):
+Equations of motion (relative joint angles q, rad; the hub angle first on a hub model):
 
-    M(q) a + h(q, v) + K q + C v = J(q)^T F(t)
+    M(q) a + h(q, v) + K q + C v = J(q)^T F(t) + B(q) u(t, q, v)
 
-with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness, C a damping
-matrix (``prbdm_pin.damping``) and J the world-aligned linear Jacobian of the tip point.
+with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness (zero for the
+hub), C a damping matrix (``prbdm_pin.damping``; ``prbdm_pin.plant.damping`` with a hub), J the
+world-aligned linear Jacobian of the tip point and B the inputs' map (``inputs``: torques, strain
+actuators, hub torque, tip forces, driven by a constant, a function of time, a controller or a
+state-feedback gain).
 
 ``simulate`` (``driver``) checks the inputs, assembles the system (``system``: mass, springs,
 damping frozen at one pose, tip force; ``schedule``: pose-dependent springs) and hands it, with
@@ -27,6 +31,7 @@ Each module's docstring gives the scheme, its accuracy as measured and its limit
 from ..choices import FIXED_STEP_METHODS, IVP_METHODS
 from .driver import simulate
 from .gauss import gauss_frequency_ratio
+from .inputs import Controller, StateFeedback
 from .schedule import StiffnessSchedule
 from .system import mechanical_energy
 from .trajectory import Trajectory
@@ -34,6 +39,8 @@ from .trajectory import Trajectory
 __all__ = [
     "Trajectory",
     "StiffnessSchedule",
+    "Controller",
+    "StateFeedback",
     "simulate",
     "mechanical_energy",
     "gauss_frequency_ratio",

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -15,7 +15,11 @@ from ..damping import damping_ratios
 from ..eigen import generalized_eigh
 from ..errors import BeamInputError
 from ..options import SimulationOptions
+from ..plant.hub import hub_frequencies
+from ..plant.inputs import StrainActuator, parse_inputs, strain_map
+from ..plant.outputs import output_samples, output_unit, parse_outputs
 from . import exponential, gauss, ivp, newmark
+from .inputs import input_force
 from .schedule import StiffnessSchedule
 from .steps import StepSettings
 from .system import assemble_system, force_function, mass_matrix, tip_positions, vector
@@ -37,6 +41,10 @@ def simulate(
     *,
     stiffness_schedule: StiffnessSchedule | None = None,
     damping_pose: np.ndarray | None = None,
+    inputs: Sequence[str] = (),
+    u: Any = None,
+    actuators: Sequence[StrainActuator] = (),
+    outputs: Sequence[str] = (),
     **changes: Any,
 ) -> Trajectory:
     """Integrate the PRBDM's equations of motion from (q0, v0) over ``duration_s``.
@@ -44,11 +52,13 @@ def simulate(
     Parameters
     ----------
     model : PrbdmModel
-        Provides ``pin_model``, ``tip_frame_id``, ``n_joints`` and ``stiffness_Nm_per_rad``.
+        Provides ``pin_model``, ``tip_frame_id``, ``n_joints`` and ``stiffness_Nm_per_rad``;
+        with or without a hub.
     duration_s : float
         Simulated time, s.
-    q0, v0 : ndarray, shape (n,), optional
-        Initial joint angles (rad) and velocities (rad/s); default zero (straight, at rest).
+    q0, v0 : ndarray, shape (nv,), optional
+        Initial joint angles (rad) and velocities (rad/s), the hub's first on a hub model;
+        default zero (straight, at rest).
     tip_force : ndarray (3,) or callable t -> (3,), optional
         World-frame force at the tip point, N (a constant array is a step load applied at t = 0).
     options : SimulationOptions, optional
@@ -57,8 +67,18 @@ def simulate(
         use which integrator.
     stiffness_schedule : StiffnessSchedule, optional
         Pose-dependent stiffness (paper parametrisation); default: the model's constant stiffness.
-    damping_pose : ndarray (n,), optional
+    damping_pose : ndarray (nv,), optional
         Pose at which the damping matrix is computed and frozen (default: ``q0``).
+    inputs : sequence of str
+        Plant inputs by name, as :func:`prbdm_pin.linearize` takes them (``hub_torque``,
+        ``joint_torque[j]``, ``strain[i]``, ``tip_force_z``, ``tip_force_x``).
+    u : array (m,), callable t -> (m,), Controller or StateFeedback, optional
+        What drives the inputs (see :mod:`prbdm_pin.simulation.inputs`); default zero.
+    actuators : sequence of StrainActuator
+        The strain actuators ``strain[i]`` refers to.
+    outputs : sequence of str
+        Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
+        ...: see :mod:`prbdm_pin.plant.outputs`); the trajectory records them and the inputs.
     **changes
         Options by name, applied to ``options`` (``simulate(model, 1.0, method="gauss")``).
 
@@ -69,11 +89,8 @@ def simulate(
     wall0, cpu0 = time.perf_counter(), time.process_time()
     o = _options(options, changes)
     method, dt, output_dt = o.method, o.dt_s, o.output_dt_s
-    if getattr(model, "hub", None) is not None:
-        # the integrators assume one spring per coordinate; a hub adds a free one
-        raise BeamInputError("model has a hub: simulate integrates the clamped chain only; "
-                             "use prbdm_pin.linearize for the hub model's linear plant")
-    n = int(model.n_joints)
+    hub = getattr(model, "hub", None) is not None
+    n = int(model.pin_model.nv)
     if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float, np.number)) \
             or not math.isfinite(duration_s) or duration_s <= 0.0:
         raise BeamInputError(f"duration = {duration_s!r} s: must be a finite number > 0")
@@ -82,9 +99,13 @@ def simulate(
     v0 = vector("v0", v0, n)
     force, constant_force = force_function(tip_force)
     xi = damping_ratios(np.asarray(o.damping_ratio, dtype=float) if isinstance(
-        o.damping_ratio, tuple) else o.damping_ratio, n)
+        o.damping_ratio, tuple) else o.damping_ratio, int(model.n_joints))
     if stiffness_schedule is not None and not isinstance(stiffness_schedule, StiffnessSchedule):
         raise BeamInputError("stiffness_schedule: must be a StiffnessSchedule")
+    if stiffness_schedule is not None and hub:
+        raise BeamInputError("stiffness_schedule: not with a hub (the schedule holds the beam "
+                             "joints' springs of a clamped chain)")
+    plant = _plant(model, inputs, u, actuators, outputs, method)
     if stiffness_schedule is not None and stiffness_schedule.stiffness_Nm_per_rad.shape[1] != n:
         raise BeamInputError(f"stiffness_schedule: needs {n} joint stiffnesses per pose")
     for name, val in (("dt", dt), ("output_dt", output_dt)):
@@ -92,23 +113,68 @@ def simulate(
             raise BeamInputError(f"{name} = {val!r} s: must be in (0, duration]")
     system = assemble_system(model, q0, damping_ratios=xi, damping=o.damping,
                              schedule=stiffness_schedule, tip_force_N=force,
-                             constant_force=constant_force, damping_pose=damping_pose)
+                             constant_force=constant_force, damping_pose=damping_pose,
+                             inputs=plant[0])
     if method in FIXED_STEP_METHODS and dt is None:
-        w2 = generalized_eigh(np.diag(system.springs(q0)),
-                              mass_matrix(system.pin_model, system.data, q0), "step size",
-                              vectors=False)
         spp = o.steps_per_period or _DEFAULT_SPP[method]
-        dt = min(2.0 * math.pi / math.sqrt(max(w2[0], 1e-300)) / spp, duration_s)
+        dt = min(2.0 * math.pi / _lowest_frequency(system, q0, hub) / spp, duration_s)
     settings = StepSettings(duration_s, dt, output_dt, o.max_steps, o.refresh_rad, method,
                             o.rtol, o.atol)
     samples = _FIXED_STEP.get(method, ivp.integrate)(system, q0, v0, settings)
     tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
     t, Q, V = samples.t_s, samples.q_rad, samples.v_rad_s
-    for arr in (t, Q, V, tip):
+    recorded = _recorded(model, system, plant[1], t, Q, V, tip)
+    for arr in (t, Q, V, tip, recorded[2], recorded[5]):
         arr.setflags(write=False)
     return Trajectory(t, Q, V, tip, int(samples.steps), method, time.perf_counter() - wall0,
                       int(samples.rhs_evaluations), int(samples.jacobian_updates),
-                      time.process_time() - cpu0)
+                      time.process_time() - cpu0, *recorded)
+
+
+def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
+    """The lowest natural frequency at ``q0``, rad/s (the lowest flexible one with a hub)."""
+    M = mass_matrix(system.pin_model, system.data, q0)
+    if hub:
+        return float(hub_frequencies(M, system.springs(q0)[1:])[1])
+    w2 = generalized_eigh(np.diag(system.springs(q0)), M, "step size", vectors=False)
+    return math.sqrt(max(w2[0], 1e-300))
+
+
+def _plant(model, inputs, u, actuators, outputs, method: str):
+    """(a maker of the system's InputForce or None, the output names): checked before any
+    work."""
+    acts = tuple(actuators) if isinstance(actuators, (list, tuple)) else actuators
+    if not isinstance(acts, tuple) or not all(isinstance(a, StrainActuator) for a in acts):
+        raise BeamInputError(f"actuators = {actuators!r:.80}: must be a sequence of "
+                             "StrainActuator")
+    hub = model.hub is not None
+    out_names = ()
+    if not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
+        out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_joints, hub))
+    if isinstance(inputs, (list, tuple)) and len(inputs) == 0:
+        if u is not None:
+            raise BeamInputError("u: given without inputs; name the inputs it drives")
+        return None, out_names
+    names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_joints, len(acts), hub))
+    if method == "gauss":
+        raise BeamInputError("inputs: method 'gauss' takes a tip force only; use "
+                             "'exponential' (default), 'trapezoidal' or a solve_ivp method")
+    for i, a in enumerate(acts):
+        strain_map(model.lengths_m, a, f"actuators[{i}]")
+    return (lambda tip_terms: input_force(model, names, u, acts, tip_terms)), out_names
+
+
+def _recorded(model, system, out_names, t, Q, V, tip) -> tuple:
+    """(input names, units, values, output names, units, values) of the samples."""
+    f = system.inputs
+    if f is None:
+        U, in_names, in_units = np.zeros((len(t), 0)), (), ()
+    else:
+        U = np.array([f.values(ti, q, v) for ti, q, v in zip(t, Q, V, strict=True)])
+        U = U.reshape(len(t), len(f.names))
+        in_names, in_units = f.names, f.units
+    Y = output_samples(model, Q, V, tip, out_names) if out_names else np.zeros((len(t), 0))
+    return (in_names, in_units, U, out_names, tuple(output_unit(s) for s in out_names), Y)
 
 
 def _options(options: SimulationOptions | None, changes: dict[str, Any]) -> SimulationOptions:

@@ -49,11 +49,12 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import scipy.linalg
 
 from ..errors import BeamInputError, SolveError
 from .phi import phi123
 from .steps import Samples, StepSettings, equal_steps, output_times
-from .system import System, generalised_force, symmetrised
+from .system import System, generalised_force, static_angle_rad, symmetrised
 
 
 def _eig_with_inverse(J: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -75,6 +76,9 @@ MAX_HALVINGS = 6
 # nominal step). 3e-4 keeps releases within 0.1 % of the peak over 1 s; rejecting only above 3x
 # (the next step shrinks anyway) saves the rejected steps' evaluations on step loads.
 _STEP_RTOL = 3e-4
+# a coordinate without a spring gets one in the Jacobian at this fraction of the lowest
+# flexible frequency (see _soft_springs)
+_SOFT_RATIO = 1e-3
 _MIN_STEP = 1e-3
 REJECT_FACTOR = 3.0
 
@@ -110,6 +114,7 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
     pm, data = system.pin_model, system.data
     k_const, stiffness = system.stiffness_Nm_per_rad, system.schedule
     C, force = system.damping_Nms_per_rad, system.tip_force_N
+    inputs = system.inputs
     duration, output_dt = settings.duration_s, settings.output_dt_s
     max_steps, refresh_rad = settings.max_steps, settings.refresh_rad
     n = q0.size
@@ -120,6 +125,10 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
     Jm = np.zeros((n2, n2))
     Jm[:n, n:] = np.eye(n)
     const_spring = -np.diag(k_const) if stiffness is None else None
+    # the Jacobian's stiffness carries a weak spring on a coordinate that has none (the hub)
+    soft = _soft_springs(pm, data, q0, k_const)
+    if soft is not None and const_spring is not None:
+        const_spring = const_spring - np.diag(soft)
     minus_C = None if C is None else -C
     aba, aba_derivatives = pin.aba, pin.computeABADerivatives
     varying = force is not None and not system.constant_force
@@ -130,17 +139,24 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
     counts = {"fev": 0, "decomp": 0, "steps": 0}
     # the motion's scale: largest joint angle so far, at least the static deflection angle of the
     # initial force and the first step's travel
-    scale = [max(float(np.abs(q0).max()), float(np.abs(v0).max()) * h0, 1e-300)]
+    # (over the sprung coordinates: a hub's rigid rotation is large, propagated exactly, and
+    # would loosen the tolerance of the panel's bending)
+    flex = k_const > 0.0
+    scale = [max(float(np.abs(q0[flex]).max()), float(np.abs(v0[flex]).max()) * h0, 1e-300)]
+    springs0 = k_const if stiffness is None else stiffness(q0)
     if force is not None:
-        scale[0] = max(scale[0], float(np.abs(tau_ext(q0, force(0.0)) / (
-            k_const if stiffness is None else stiffness(q0))).max()))
+        scale[0] = max(scale[0], static_angle_rad(tau_ext(q0, force(0.0)), springs0))
+    if inputs is not None:
+        scale[0] = max(scale[0], static_angle_rad(inputs.torque(0.0, q0, v0), springs0))
 
-    def torque(q, v, f):
+    def torque(t, q, v, f):
         tau = -(k_const if stiffness is None else stiffness(q)) * q
         if C is not None:
             tau -= C @ v
         if f is not None:
             tau += tau_ext(q, f)
+        if inputs is not None:
+            tau += inputs.torque(t, q, v)
         return tau
 
     # the decomposition of the last Jacobian and the phi functions of its step
@@ -160,6 +176,14 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
             tau_f, k_f = tau_and_load_stiffness(q, f)
             tau += tau_f
             Kt = Kt + k_f
+        Dt = minus_C
+        if inputs is not None:
+            tau += inputs.torque(t, q, v)
+            k_u, c_u = inputs.jacobians(t, q, v)
+            if k_u is not None:
+                Kt = Kt + k_u
+            if c_u is not None:
+                Dt = c_u if Dt is None else Dt + c_u
         dadq, dadv, Minv = aba_derivatives(pm, data, q, v, tau)
         counts["fev"] += 1
         if half_minv is None:
@@ -169,7 +193,7 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
             Minv = symmetrised(Minv)
         Fn = np.concatenate((v, data.ddq))
         Jm[n:, :n] = dadq + Minv @ Kt
-        Jm[n:, n:] = dadv if C is None else dadv + Minv @ minus_C
+        Jm[n:, n:] = dadv if Dt is None else dadv + Minv @ Dt
         if cache["q"] is None or np.abs(q - cache["q"]).max() > refresh_rad:
             cache["lam"], cache["V"], cache["Vinv"] = _eig_with_inverse(Jm, t)
             cache["J"] = Jm.copy()
@@ -193,11 +217,14 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
             # the force's rate by a short forward difference (no evaluation before t = 0)
             delta = 1e-6 * h
             b[n:] += Minv @ tau_ext(q, (force(t + delta) - f) / delta)
+        rate = None if inputs is None else inputs.time_rate(t, q, v)
+        if rate is not None:
+            b[n:] += Minv @ rate
         c1 = Vinv @ Fn
         cb = Vinv @ b
         U = y + (Vc @ (hp1 * c1 + hhp2 * cb)).real
         qU, vU = U[:n], U[n:]
-        aU = aba(pm, data, qU, vU, torque(qU, vU, force(t + h) if varying else f))
+        aU = aba(pm, data, qU, vU, torque(t + h, qU, vU, force(t + h) if varying else f))
         counts["fev"] += 1
         D = np.concatenate((vU - Fn[:n], aU - Fn[n:])) - J @ (U - y) - h * b
         cd = Vinv @ D
@@ -211,7 +238,7 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
         return U + corr, size, ref, amp, (t, h, lam, Vc, c1, cd, cb)
 
     def accept(y1, record):
-        scale[0] = max(scale[0], float(np.abs(y1[:n]).max()))
+        scale[0] = max(scale[0], float(np.abs(y1[:n][flex]).max()))
         counts["steps"] += 1
         if counts["steps"] > max_steps:
             raise BeamInputError(f"the exponential integrator took more than max_steps = "
@@ -266,6 +293,35 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
         t_nodes, Y = _continuous_extension(t_nodes, Y, records, duration, output_dt)
     return Samples(t_nodes, Y[:, :n].copy(), Y[:, n:].copy(), counts["steps"], counts["fev"],
                    counts["decomp"])
+
+
+def _soft_springs(pm, data, q0: np.ndarray, k_const: np.ndarray) -> np.ndarray | None:
+    """Springs (N m/rad) that put each coordinate without a spring (a hub) at
+    ``_SOFT_RATIO`` times the lowest flexible frequency, for the Jacobian only; None when every
+    coordinate has a spring.
+
+    A free coordinate with no damping makes the Jacobian defective (a Jordan block at 0: the
+    rigid rotation's angle grows with its rate), and an eigen-decomposition of it is
+    meaningless. With the soft spring the rigid mode becomes a slow oscillation with distinct
+    eigenvalues; the dynamics themselves keep no spring: the difference, -k_soft q, is part
+    of the remainder the method evaluates at every step, and its effect shrinks with
+    (omega_soft h)^2.
+    """
+    free = k_const == 0.0
+    if not np.any(free):
+        return None
+    M = symmetrised(pin.crba(pm, data, q0))
+    sprung = ~free
+    w2 = scipy.linalg.eigh(np.diag(k_const[sprung]), _schur(M, free), eigvals_only=True)
+    soft = np.zeros_like(k_const)
+    soft[free] = (_SOFT_RATIO ** 2 * float(w2[0])) * np.diag(M)[free]
+    return soft
+
+
+def _schur(M: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """The sprung coordinates' mass with the free ones left to move, kg m^2."""
+    a, b = M[np.ix_(~free, ~free)], M[np.ix_(~free, free)]
+    return a - b @ np.linalg.solve(M[np.ix_(free, free)], b.T)
 
 
 def _continuous_extension(t_nodes: np.ndarray, Y: np.ndarray, records: list, duration: float,

@@ -34,7 +34,7 @@ import pinocchio as pin
 
 from ..errors import SolveError
 from .steps import Samples, StepSettings, equal_steps
-from .system import System, symmetrised
+from .system import System, static_angle_rad, symmetrised
 from .trajectory import hermite_output
 
 # 2-stage Gauss-Legendre tableau (c, A, b = (1/2, 1/2)); for q'' = a the stage positions use
@@ -169,7 +169,7 @@ def _steps(system: System, force: Callable[[float], np.ndarray] | None, q0: np.n
     if force is not None:
         f6 = np.zeros(6)
         f6[:3] = force(0.0)
-        scale = max(scale, float(np.abs(ext_torque(q0, f6) / springs(q0)).max()))
+        scale = max(scale, static_angle_rad(ext_torque(q0, f6), springs(q0)))
     tol2 = (_NEWTON_RTOL * scale) ** 2
     rho = 1.0  # contraction rate of the last iterations, carried across steps
     constant_force = constant_force and force is not None

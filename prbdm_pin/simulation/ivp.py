@@ -37,7 +37,7 @@ def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSett
         tau = -stiffness(q) * q
         if C is not None:
             tau -= C @ v
-        te = tau_external(q, t)
+        te = tau_external(q, t, v)
         return tau if te is None else tau + te
 
     def rhs(t, y):

@@ -22,7 +22,7 @@ from scipy.linalg import lapack
 
 from ..errors import BeamInputError, SolveError
 from .steps import Samples, StepSettings
-from .system import System, mass_matrix
+from .system import System, mass_matrix, static_angle_rad
 
 
 def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
@@ -55,7 +55,7 @@ def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSett
         r = pin.rnea(pm, data, q, v, a) + stiffness(q) * q
         if C is not None:
             r += C @ v
-        te = tau_external(q, t)
+        te = tau_external(q, t, v)
         return r if te is None else r - te
 
     # initial acceleration from the equations of motion
@@ -67,9 +67,8 @@ def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSett
     nfev = 1
     # Newton stops when the update moves q1 by less than this (scaled by the motion's size)
     scale = max(float(np.max(np.abs(q0))), float(np.max(np.abs(v0))) * h, 1e-300)
-    if tau_external(q0, 0.0) is not None:
-        # a force sets the scale of the motion: its static deflection angle
-        scale = max(scale, float(np.max(np.abs(tau_external(q0, 0.0) / stiffness(q0)))))
+    # a force sets the scale of the motion: its static deflection angle
+    scale = max(scale, static_angle_rad(tau_external(q0, 0.0, v0), stiffness(q0)))
     tol = 1e-10 * scale
     rho = 1.0
     for step in range(1, nsteps + 1):

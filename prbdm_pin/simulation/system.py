@@ -34,6 +34,8 @@ from .. import planar
 from ..damping import damping_matrix
 from ..dynamics import planar_lengths
 from ..errors import BeamInputError
+from ..plant.damping import plant_damping
+from .inputs import InputForce
 from .schedule import StiffnessSchedule
 
 
@@ -68,6 +70,16 @@ def force_function(tip_force) -> tuple[Callable[[float], np.ndarray] | None, boo
     if not np.any(f):
         return None, True
     return (lambda t: f), True
+
+
+def static_angle_rad(tau_Nm: np.ndarray | None, springs_Nm_per_rad: np.ndarray) -> float:
+    """The largest joint angle the springs would yield to ``tau_Nm`` statically, rad (0 without
+    a torque); a coordinate without a spring (the hub) is left out."""
+    if tau_Nm is None:
+        return 0.0
+    k = np.asarray(springs_Nm_per_rad, dtype=float)
+    sprung = k > 0.0
+    return float(np.max(np.abs(tau_Nm[sprung] / k[sprung]), initial=0.0))
 
 
 def symmetrised(upper: np.ndarray) -> np.ndarray:
@@ -124,6 +136,9 @@ class System:
         World-frame tip force, N, of time, s; None when there is none.
     constant_force : bool
         Whether ``tip_force_N`` is constant in time.
+    inputs : InputForce or None
+        The plant inputs (torques, strain actuators, hub torque, tip forces) and what drives
+        them; None without inputs.
     """
 
     pin_model: pin.Model
@@ -135,44 +150,60 @@ class System:
     damping_Nms_per_rad: np.ndarray | None
     tip_force_N: Callable[[float], np.ndarray] | None
     constant_force: bool
+    inputs: InputForce | None = None
 
     def springs(self, q: np.ndarray) -> np.ndarray:
         """Joint stiffness (n,) at pose ``q`` (rad), N m/rad."""
         return self.stiffness_Nm_per_rad if self.schedule is None else self.schedule(q)
 
-    def tau_external(self, q: np.ndarray, t: float) -> np.ndarray | None:
-        """Generalised tip-force torque J(q)^T F(t) (n,), N m, by Pinocchio's frame Jacobian;
-        None without a tip force."""
-        if self.tip_force_N is None:
-            return None
-        J = pin.computeFrameJacobian(self.pin_model, self.data, q, self.tip_frame_id,
-                                     pin.LOCAL_WORLD_ALIGNED)
-        return J[:3].T @ self.tip_force_N(t)
+    def tau_external(self, q: np.ndarray, t: float, v: np.ndarray | None = None
+                     ) -> np.ndarray | None:
+        """Generalised force of the tip force, J(q)^T F(t), and of the inputs at state
+        (q rad, v rad/s) (nv,), N m, by Pinocchio's frame Jacobian; None when there is none."""
+        out = None
+        if self.tip_force_N is not None:
+            J = pin.computeFrameJacobian(self.pin_model, self.data, q, self.tip_frame_id,
+                                         pin.LOCAL_WORLD_ALIGNED)
+            out = J[:3].T @ self.tip_force_N(t)
+        if self.inputs is not None:
+            tau = self.inputs.torque(t, q, np.zeros_like(q) if v is None else v)
+            out = tau if out is None else out + tau
+        return out
 
 
 def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, damping: str,
                     schedule: StiffnessSchedule | None,
                     tip_force_N: Callable[[float], np.ndarray] | None, constant_force: bool,
-                    damping_pose: np.ndarray | None) -> System:
+                    damping_pose: np.ndarray | None,
+                    inputs: Callable[[Callable], InputForce] | None = None) -> System:
     """The system of ``model`` (``PrbdmModel``) in a fresh workspace: the damping matrix of the
     ratios ``damping_ratios`` (form ``damping``) frozen at ``damping_pose`` (rad, default the
     start pose ``q0``), the springs of ``schedule`` (default the model's) and the tip force
-    ``tip_force_N`` (N, of time in s)."""
+    ``tip_force_N`` (N, of time in s); ``inputs`` makes the plant inputs' force from the tip
+    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain."""
     pm = model.pin_model
     data = pm.createData()
     fid = int(model.tip_frame_id)
-    k_const = np.asarray(model.stiffness_Nm_per_rad, dtype=float).copy()
+    # one spring per coordinate; a hub's is zero
+    k_const = np.diag(model.stiffness_matrix()).copy()
     springs = None if schedule is None else schedule.at
     C = None
     if np.any(damping_ratios > 0.0):
         qc = q0 if damping_pose is None else vector("damping_pose", damping_pose, q0.size)
-        k_c = k_const if springs is None else springs(qc)
-        C = damping_matrix(mass_matrix(pm, data, qc), np.diag(k_c), damping_ratios, damping)
+        if model.hub is not None:
+            C = plant_damping(model, mass_matrix(pm, data, qc), damping_ratios, damping)
+        else:
+            k_c = k_const if springs is None else springs(qc)
+            C = damping_matrix(mass_matrix(pm, data, qc), np.diag(k_c), damping_ratios, damping)
     try:
         lengths = planar_lengths(pm, fid)
     except BeamInputError:
         lengths = None
-    return System(pm, data, fid, lengths, k_const, springs, C, tip_force_N, constant_force)
+    forces = None
+    if inputs is not None:
+        forces = inputs(generalised_force(pm, data, fid, lengths)[2])
+    return System(pm, data, fid, lengths, k_const, springs, C, tip_force_N, constant_force,
+                  forces)
 
 
 def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | None

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -38,6 +38,14 @@ class Trajectory:
         (``"exponential"``); 0 otherwise.
     cpu_time_s : float
         Process CPU time of the whole call, s.
+    input_names, output_names : tuple of str
+        The plant inputs and outputs recorded (``simulate``'s ``inputs`` and ``outputs``).
+    input_units, output_units : tuple of str
+    input_values : ndarray, shape (s, m)
+        The inputs at each sample, in their units (a controller's evaluated at the sample's
+        state).
+    output_values : ndarray, shape (s, p)
+        The outputs at each sample (values, not deviations), in their units.
     """
 
     t_s: np.ndarray
@@ -50,11 +58,31 @@ class Trajectory:
     rhs_evaluations: int = 0
     jacobian_updates: int = 0
     cpu_time_s: float = float("nan")
+    input_names: tuple[str, ...] = ()
+    input_units: tuple[str, ...] = ()
+    input_values: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    output_names: tuple[str, ...] = ()
+    output_units: tuple[str, ...] = ()
+    output_values: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+
+    def input(self, name: str) -> np.ndarray:
+        """The samples (s,) of the input ``name``."""
+        return self.input_values[:, _index(self.input_names, name, "input")]
+
+    def output(self, name: str) -> np.ndarray:
+        """The samples (s,) of the output ``name``."""
+        return self.output_values[:, _index(self.output_names, name, "output")]
 
     @property
     def tip_displacement_m(self) -> np.ndarray:
         """Tip position minus its position at the first sample, m, shape (s, 3)."""
         return self.tip_position_m - self.tip_position_m[0]
+
+
+def _index(names: tuple[str, ...], name: str, kind: str) -> int:
+    if name not in names:
+        raise KeyError(f"{kind} {name!r} was not recorded; recorded: {', '.join(names) or 'none'}")
+    return names.index(name)
 
 
 def hermite_output(t_nodes: np.ndarray, Q: np.ndarray, V: np.ndarray, Acc: np.ndarray,

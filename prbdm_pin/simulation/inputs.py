@@ -1,0 +1,220 @@
+"""Plant inputs in a time response: what drives them (a constant, a function of time, a
+controller of the state, a state-feedback gain) and the generalized force they make.
+
+The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
+``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch moments and the hub torque
+act through a constant map B_0 (:func:`prbdm_pin.plant.inputs.input_map`); tip forces act through
+the tip Jacobian, J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does.
+
+The signal ``u`` is one of
+
+- an array (m,): constant inputs, applied from t = 0;
+- a callable ``u(t)`` -> (m,): open-loop inputs of time (s);
+- :class:`Controller` ``(function)``: u = function(t, q, v), any feedback law of the state;
+- :class:`StateFeedback` ``(gain, ...)``: u = u_ref(t) - K (x - x_ref), x = (q, v).
+
+A state-feedback gain is linear in the state: the exponential integrator takes its Jacobian
+into its linearisation exactly, so the closed loop's linear modes, however fast, are propagated
+exactly. A general controller's gain enters the linearisation by forward differences (2 nv more
+controller calls per step), which does the same for its linear part.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..plant.inputs import StrainActuator, input_map, input_unit, parse_inputs
+
+__all__ = ["Controller", "StateFeedback", "InputForce", "input_force"]
+
+_TIP = {"tip_force_x": 0, "tip_force_z": 2}
+
+
+@dataclass(frozen=True)
+class Controller:
+    """A feedback law u = function(t, q, v): time (s), joint angles (rad, the hub angle first on
+    a hub model) and rates (rad/s) to the inputs (m,) in their units."""
+
+    function: Callable[[float, np.ndarray, np.ndarray], np.ndarray]
+
+    def __post_init__(self) -> None:
+        if not callable(self.function):
+            raise BeamInputError(f"Controller function = {self.function!r}: must be callable "
+                                 "u(t, q, v)")
+
+
+@dataclass(frozen=True, eq=False)
+class StateFeedback:
+    """u = u_ref(t) - K (x - x_ref) with x = (q, v) the state (rad, rad/s).
+
+    Attributes
+    ----------
+    gain : ndarray (m, 2 nv)
+        K, input units per rad and per rad/s (the order of ``LinearModel.state_names``; the
+        gain from ``control.lqr`` on ``linearize(...).to_control()`` fits as it is).
+    x_ref : ndarray (2 nv,), optional
+        Reference state (default zero, e.g. the hub angle to slew to).
+    u_ref : ndarray (m,) or callable t -> (m,), optional
+        Feed-forward inputs (default zero).
+    """
+
+    gain: np.ndarray
+    x_ref: np.ndarray | None = None
+    u_ref: np.ndarray | Callable[[float], np.ndarray] | None = field(default=None)
+
+
+def _finite(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        a = np.full(1, np.nan)
+    if a.shape != shape and a.size == int(np.prod(shape)):
+        a = a.reshape(shape)
+    if a.shape != shape or not np.all(np.isfinite(a)):
+        dims = " x ".join(str(s) for s in shape)
+        raise BeamInputError(f"{name} = {value!r:.80}: must be {dims} finite numbers")
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class InputForce:
+    """The inputs' generalized force in the equations of motion, with its derivatives.
+
+    ``values(t, q, v)`` gives u (m,); ``torque(t, q, v)`` the generalized force (nv,), N m;
+    ``jacobians(t, q, v)`` its derivatives with respect to q and v (nv, nv) where they are known
+    exactly (None otherwise); ``time_rate(t, q, v)`` its rate at a fixed state (None when the
+    signal does not depend on time).
+    """
+
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    b0: np.ndarray  # (nv, m): torques, patch moments, hub torque per unit input
+    tip_rows: tuple[tuple[int, int], ...]  # (input column, world axis) of the tip forces
+    signal: Callable[[float, np.ndarray, np.ndarray], np.ndarray]
+    gain: np.ndarray | None  # K of a state feedback
+    time_varying: bool
+    feedback: bool  # a controller of the state (its gain by differences)
+    tip_terms: Callable | None  # (q, F) -> (J^T F, d(J^T F)/dq)
+
+    def values(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Inputs u (m,) at time t (s) and state (q rad, v rad/s)."""
+        return self.signal(t, q, v)
+
+    def _force(self, u: np.ndarray) -> np.ndarray:
+        F = np.zeros(3)
+        for col, axis in self.tip_rows:
+            F[axis] = u[col]
+        return F
+
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Generalized force of the inputs (nv,), N m."""
+        u = self.values(t, q, v)
+        tau = self.b0 @ u
+        if self.tip_rows:
+            tau = tau + self.tip_terms(q, self._force(u))[0]
+        return tau
+
+    def jacobians(self, t: float, q: np.ndarray, v: np.ndarray
+                  ) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """d tau / dq and d tau / dv (nv, nv); None for what is not known in closed form."""
+        nv = q.size
+        # the load stiffness of the tip forces at their present value
+        dq = self.tip_terms(q, self._force(self.values(t, q, v)))[1] if self.tip_rows else None
+        gain = self.gain if self.gain is not None else (
+            self._difference_gain(t, q, v) if self.feedback else None)
+        if gain is None:
+            return dq, None
+        # tau = B(q) u with du/dx = -K: B(q) (-K), B(q) = b0 + J^T columns of the tip forces
+        B = self.b0.copy()
+        if self.tip_rows:
+            for col, axis in self.tip_rows:
+                e = np.zeros(3)
+                e[axis] = 1.0
+                B[:, col] += self.tip_terms(q, e)[0]
+        BK = -B @ gain
+        dq = BK[:, :nv] if dq is None else dq + BK[:, :nv]
+        return dq, BK[:, nv:]
+
+    def _difference_gain(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """-du/dx of a controller at (t, q, v) by forward differences, (m, 2 nv)."""
+        x = np.concatenate((q, v))
+        nv = q.size
+        u0 = self.values(t, q, v)
+        K = np.empty((u0.size, x.size))
+        for i in range(x.size):
+            xi = x.copy()
+            step = 1e-7 * max(1.0, abs(x[i]))
+            xi[i] += step
+            K[:, i] = (u0 - self.values(t, xi[:nv], xi[nv:])) / step
+        return K
+
+    def time_rate(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray | None:
+        """d tau / dt at a fixed state (nv,), N m/s, by a short forward difference; None when
+        the signal does not depend on time."""
+        if not self.time_varying:
+            return None
+        delta = 1e-6 * max(1e-3, abs(t)) if t else 1e-9
+        return (self.torque(t + delta, q, v) - self.torque(t, q, v)) / delta
+
+
+def _signal(u, m: int, nv: int):
+    """(signal(t, q, v), gain or None, depends on time)."""
+    if u is None:
+        zero = np.zeros(m)
+        return (lambda t, q, v: zero), None, False
+    if isinstance(u, Controller):
+        f = u.function
+
+        def controller(t, q, v):
+            val = np.asarray(f(t, q, v), dtype=float).reshape(-1)
+            if val.size != m or not np.all(np.isfinite(val)):
+                raise BeamInputError(f"controller(t = {t:.6g}) = {val!r:.80}: must return {m} "
+                                     "finite inputs")
+            return val
+        return controller, None, True
+    if isinstance(u, StateFeedback):
+        K = _finite("StateFeedback gain", u.gain, (m, 2 * nv))
+        x_ref = np.zeros(2 * nv) if u.x_ref is None else _finite("StateFeedback x_ref",
+                                                                 u.x_ref, (2 * nv,))
+        ref_fn, _, varying = _signal(u.u_ref, m, nv) if u.u_ref is not None else (
+            lambda t, q, v: np.zeros(m), None, False)
+        if isinstance(u.u_ref, (Controller, StateFeedback)):
+            raise BeamInputError("StateFeedback u_ref: must be inputs or a function of time")
+
+        def feedback(t, q, v):
+            return ref_fn(t, q, v) - K @ (np.concatenate((q, v)) - x_ref)
+        return feedback, K, varying
+    if callable(u):
+        def of_time(t, q, v):
+            val = np.asarray(u(t), dtype=float).reshape(-1)
+            if val.size != m or not np.all(np.isfinite(val)):
+                raise BeamInputError(f"u({t:.6g}) = {val!r:.80}: must return {m} finite inputs")
+            return val
+        return of_time, None, True
+    const = _finite("u", u, (m,))
+    return (lambda t, q, v: const), None, False
+
+
+def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_terms
+                ) -> InputForce:
+    """The :class:`InputForce` of the inputs ``names`` driven by ``u`` on ``model``; the tip
+    forces' generalized force and load stiffness come from ``tip_terms(q, F)``."""
+    hub = model.hub is not None
+    parsed = parse_inputs(names, model.n_joints, len(actuators), hub)
+    names = tuple(n for n, _, _ in parsed)
+    nv = model.pin_model.nv
+    m = len(names)
+    tip_rows = tuple((c, _TIP[b]) for c, (_, b, _) in enumerate(parsed) if b in _TIP)
+    const_names = [n for n, b, _ in parsed if b not in _TIP]
+    b0 = np.zeros((nv, m))
+    if const_names:
+        cols = [c for c, (_, b, _) in enumerate(parsed) if b not in _TIP]
+        b0[:, cols] = input_map(model, np.zeros(model.pin_model.nq), const_names, actuators)
+    signal, gain, varying = _signal(u, m, nv)
+    signal(0.0, np.zeros(nv), np.zeros(nv))  # a bad signal is refused before any step
+    return InputForce(names, tuple(input_unit(s) for s in names), b0, tip_rows, signal, gain,
+                      varying, isinstance(u, Controller), tip_terms)
