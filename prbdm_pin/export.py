@@ -6,6 +6,17 @@ the straight pose, and, when the truth it was fitted to is known, its signed per
 modal ratios that damping gives. URDF and MJCF hold the record as an XML comment
 (:func:`read_export_record` reads it back), JSON as fields.
 
+The plant: a model with a hub (``build_model(..., hub=Hub(J_h, r))``) is exported with its hub
+(MJCF body and hinge, URDF revolute joint, JSON fields), and strain actuators
+(``actuators=(StrainActuator(x_a, x_b), ...)``) go with it: MJCF tendons and motors, the URDF's
+record comment (URDF has no tendons), JSON fields. With a hub the record's frequencies and
+per-mode errors stay the clamped model's (the model that was fitted, to a clamped truth) and
+``hub_frequencies_rad_s`` adds the hub model's flexible frequencies (the rigid mode at 0 left
+out); the damping is the hub model's: beta = 2 xi_1 / omega_1 with omega_1 its lowest flexible
+frequency (:func:`prbdm_pin.plant.damping.plant_damping`'s stiffness form, what
+``linearize(..., damping="stiffness")`` uses), on the beam joints only: the hub joint is
+undamped.
+
 Gravity: the PRBDM has none. The MJCF sets ``<option gravity="0 0 0">``; URDF has no gravity
 element, and ``pinocchio.buildModelFromUrdf`` and MuJoCo's URDF import turn on -9.81 m/s^2 along
 z, so zero it there (``prbdm_pin.load_urdf`` does).
@@ -21,8 +32,8 @@ result. ``prbdm_pin.simulate(..., damping="stiffness")`` simulates the damping t
 Loading the files
 -----------------
 URDF (``prbdm export fit.json --format urdf --out beam.urdf``)
-    Pinocchio: ``prbdm_pin.load_urdf("beam.urdf")`` (springs included, gravity zero), or plain
-    ``model = pinocchio.buildModelFromUrdf("beam.urdf")`` followed by
+    Pinocchio: ``prbdm_pin.load_urdf("beam.urdf")`` (springs included, gravity zero, the hub
+    too), or plain ``model = pinocchio.buildModelFromUrdf("beam.urdf")`` followed by
     ``model.gravity = pinocchio.Motion.Zero()``; the springs are not part of ``pinocchio.Model``
     (read them with ``prbdm_pin.urdf.read_springs``), the joint damping is ``model.damping``.
     pybullet: ``p.loadURDF("beam.urdf", useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE)``
@@ -38,19 +49,42 @@ URDF (``prbdm export fit.json --format urdf --out beam.urdf``)
     -> fixed ``tip_joint`` -> ``tip``), so ``check_urdf beam.urdf``, ``robot_state_publisher``
     and RViz display it; Gazebo-classic reads ``<springStiffness>``/``<springReference>`` from
     the ``<gazebo reference="joint_j">`` tags (N m/rad, rad).
+    With a hub (``--hub J:R``): ``world`` -> revolute ``hub`` about y (no spring, damping 0, a
+    limit of 1e6 rad that never binds: a ``continuous`` joint would give Pinocchio a (cos, sin)
+    coordinate) -> massless link ``hub_body`` with inertia J_h about every axis -> fixed
+    ``clamp`` at x = R -> ``link_0`` ...; the hub is the first coordinate in every consumer
+    (Pinocchio, pybullet, yourdfpy, MuJoCo), and ``load_urdf`` returns a hub model. URDF cannot
+    carry tendons or actuators: the strain actuators are only recorded in the comment
+    (``strain_actuators_m``); apply ``strain[i]``'s moment as joint torques
+    ``prbdm_pin.plant.inputs.strain_map(lengths, actuator) * M`` and the hub torque on ``hub``.
 MJCF (``--format mjcf --out beam.xml``)
     MuJoCo: ``mujoco.MjModel.from_xml_path("beam.xml")``. A body chain ``link_1`` ... ``link_n``
     with hinge joints about y carrying ``stiffness`` (N m/rad), ``springref="0"`` and ``damping``
     (N m s/rad, the stiffness form above), each body's ``inertial`` (mass, centre of mass,
     ``fullinertia`` about the centre of mass), a ``tip`` site at the free end, and
     ``<option gravity="0 0 0" integrator="RK4">`` with a step of a twentieth of the shortest
-    period. Apply a tip force through ``data.xfrc_applied`` on ``link_n``
+    period. With a hub, ``link_0`` sits at x = R in body ``hub_body``, which turns on the hinge
+    ``hub`` about y (no stiffness, no damping; mass 0, ``diaginertia`` J_h as the Pinocchio hub
+    model holds it); ``qpos[0]`` is the hub angle. Inputs are ``<actuator>`` motors with unit
+    gear and ``ctrllimited="false"``, so ``data.ctrl[i]`` is the input in the package's units
+    (:mod:`prbdm_pin.export_mjcf`); the MuJoCo names replace ``[i]`` by ``_i``:
+    ``hub_torque`` -> ``hub_torque`` (N m, hinge ``hub``), ``joint_torque[j]`` ->
+    ``joint_torque_j`` (N m, hinge ``joint_{j+1}``), ``strain[i]`` -> ``strain_i`` (N m, a motor
+    on the fixed tendon ``strain_i`` whose coefficients are the patch's map: 1 on a joint inside
+    it, 1/2 on a joint an end sits on), ``tip_force_z``/``tip_force_x`` (N, a site
+    transmission at ``tip`` with ``refsite="world_ref"``, a site at the world origin: the force
+    is along world z/x, a dead load). Default inputs: ``hub_torque`` with a hub and
+    ``strain[i]`` for every actuator; the record's ``inputs`` line lists them in actuator order.
+    Without a tip force actuator apply a tip force through ``data.xfrc_applied`` on ``link_n``
     (the force at the body's centre of mass plus the moment (tip - com) x F), refreshed every
-    step as the pose changes.
+    step as the pose changes. For a time-varying input, set ``data.ctrl`` to its value at the
+    middle of each step: RK4 holds it over the step.
 JSON (``--format json --out model.json``)
-    The model parameters (beam, link lengths, springs, link inertias, natural frequencies) and the
-    record's fields: ``prbdm_pin.export.read_model_json("model.json")`` rebuilds the model with
-    ``build_model``.
+    The model parameters (beam, link lengths, springs, link inertias, natural frequencies), the
+    plant (``hub``: null or inertia_kg_m2 and radius_m; ``actuators``: x_start_m and x_end_m
+    each) and the record's fields: ``prbdm_pin.export.read_model_json("model.json")`` rebuilds
+    the model (on its hub) with ``build_model``; ``read_plant_json`` also returns the
+    actuators.
 """
 
 from __future__ import annotations
