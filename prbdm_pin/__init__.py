@@ -70,6 +70,7 @@ _EXPORTS = {
     "dynamic_accuracy": "response",
     "export_model": "export",
     "read_model_json": "export",
+    "read_plant_json": "export",
     # batch studies
     "run_batch": "batch",
     "BatchSpec": "batch",

@@ -12,8 +12,10 @@ from typing import Any
 import numpy as np
 
 from .choices import EXPORT_DAMPING_FORMS, FORMATS
-from .damping import damping_ratios, modal_ratios, stiffness_damping_coefficient
+from .damping import damping_ratios
+from .eigen import eig_scaled
 from .errors import BeamInputError
+from .export_plant import plant_inputs, stiffness_form
 
 __all__ = [
     "FORMATS",
@@ -26,6 +28,9 @@ __all__ = [
 
 # a worst mode further off the truth than this, %, is worth a warning
 WORST_MODE_WARN_PCT = 1.0
+_FLOATS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
+           "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios",
+           "hub_frequencies_rad_s", "strain_actuators_m")
 _RECORD_HEAD = " prbdm_pin export record (prbdm_pin.export.read_export_record reads it)"
 
 
@@ -75,6 +80,16 @@ class ExportRecord:
         The ratio each mode of the straight pose gets from that damping (ascending frequency).
     warnings : tuple of str
         A form asked for and not written; a worst mode off by more than ``WORST_MODE_WARN_PCT``.
+    hub_frequencies_rad_s : ndarray, shape (n,) or None
+        With a hub: the flexible natural frequencies of the model on its hub at the straight pose
+        (the rigid mode, at 0, left out), rad/s; None without a hub. ``natural_frequencies_rad_s``
+        and the errors stay the clamped model's (the fitted one; the truth is clamped), while the
+        damping and ``modal_damping_ratios`` are the hub model's (what the file simulates).
+    strain_actuators_m : ndarray, shape (k, 2)
+        The strain actuators of the plant, [x_start_m, x_end_m] each, m from the root.
+    inputs : tuple of str
+        The inputs the file drives (MJCF ``<actuator>`` entries, by the package's input names;
+        empty for URDF and JSON, which carry no actuators).
     """
 
     natural_frequencies_rad_s: np.ndarray
@@ -89,10 +104,15 @@ class ExportRecord:
     joint_damping_Nms_per_rad: np.ndarray
     modal_damping_ratios: np.ndarray
     warnings: tuple = ()
+    hub_frequencies_rad_s: np.ndarray | None = None
+    strain_actuators_m: np.ndarray | None = None
+    inputs: tuple = ()
 
     def __post_init__(self) -> None:
-        for name in ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
-                     "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios"):
+        acts = np.zeros((0, 2)) if self.strain_actuators_m is None else self.strain_actuators_m
+        object.__setattr__(self, "strain_actuators_m", np.reshape(acts, (-1, 2)))
+        object.__setattr__(self, "inputs", tuple(self.inputs))
+        for name in _FLOATS:
             object.__setattr__(self, name, _ro(getattr(self, name)))
 
     def to_dict(self) -> dict[str, Any]:
@@ -116,6 +136,7 @@ class ExportRecord:
                 "modal_ratios": lst(self.modal_damping_ratios),
             },
             "warnings": list(self.warnings),
+            "hub_frequencies_rad_s": lst(self.hub_frequencies_rad_s),
         }
 
     def comment_text(self) -> str:
@@ -145,6 +166,21 @@ class ExportRecord:
             f"     joint_damping_Nms_per_rad: {vals(self.joint_damping_Nms_per_rad)}",
             f"     modal_damping_ratios: {vals(self.modal_damping_ratios)}",
         ]
+        if self.hub_frequencies_rad_s is not None:
+            lines += [
+                "     The model turns on a hub: the frequencies and errors above are the",
+                "     clamped (fitted) model's; the hub model's flexible frequencies (rad/s,",
+                "     the rigid mode at 0 left out) follow; the damping and its modal ratios",
+                "     are the hub model's.",
+                f"     hub_frequencies_rad_s: {vals(self.hub_frequencies_rad_s)}",
+            ]
+        if self.strain_actuators_m.size:
+            lines += [
+                "     Strain actuators [x_start_m x_end_m], m from the root, ';' between them:",
+                "     strain_actuators_m: " + "; ".join(_vec(a) for a in self.strain_actuators_m),
+            ]
+        if self.inputs:
+            lines.append("     inputs: " + " ".join(self.inputs))
         lines += [f"     warning: {w}" for w in self.warnings]
         return "\n".join(lines) + "\n"
 
@@ -157,6 +193,9 @@ class ExportRecord:
                        + f" (worst {self.worst_mode_error_pct:.3f} %, mode {self.worst_mode})")
         else:
             out.append("errors vs truth: unknown (no truth frequencies with this model)")
+        if self.hub_frequencies_rad_s is not None:
+            out.append("hub model, flexible frequencies (straight pose) rad/s: "
+                       + " ".join(f"{w:.6g}" for w in self.hub_frequencies_rad_s))
         if self.damping_form == "none":
             out.append("damping: none")
         else:
@@ -184,20 +223,31 @@ def export_record(
     damping_ratio: float | np.ndarray = 0.02,
     damping_form: str | None = None,
     omega_truth_rad_s: np.ndarray | None = None,
+    *,
+    actuators=(),
+    inputs=None,
 ) -> ExportRecord:
     """The :class:`ExportRecord` of ``model`` exported as ``fmt``.
 
     Parameters
     ----------
     model : PrbdmModel
+        With or without a hub (:class:`prbdm_pin.Hub`).
     fmt : {"urdf", "mjcf", "json"}
     damping_ratio : float or ndarray (n,)
-        Mode 1's ratio (stiffness form) or each mode's (modal form); 0 writes no damping.
+        Mode 1's ratio (stiffness form) or each mode's (modal form); 0 writes no damping. With a
+        hub, mode 1 is the lowest flexible mode and the hub joint is undamped.
     damping_form : {"stiffness", "modal"}, optional
         Default: ``"stiffness"`` for URDF and MJCF, ``"modal"`` for JSON. URDF and MJCF asked
         for ``"modal"`` get the stiffness form with mode 1's ratio, and a warning says so.
     omega_truth_rad_s : ndarray, optional
         Truth frequencies the model was fitted to (fit.json's ``omega_truth_rad_s``), rad/s.
+    actuators : sequence of StrainActuator
+        Strain actuators of the plant (each must lie on the beam).
+    inputs : sequence of str, optional
+        The inputs an MJCF drives (:func:`prbdm_pin.plant.inputs.input_map` names). Default:
+        ``hub_torque`` with a hub, and ``strain[i]`` for every actuator; URDF and JSON carry
+        none and refuse any.
     """
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
@@ -205,10 +255,16 @@ def export_record(
     if requested not in EXPORT_DAMPING_FORMS:
         raise BeamInputError(f"damping_form = {requested!r}: must be one of "
                              f"{', '.join(EXPORT_DAMPING_FORMS)}")
+    spans, names = plant_inputs(model, fmt, actuators, inputs)
     n = model.n_joints
     xi = damping_ratios(damping_ratio, n)
-    M, K = model.mass_matrix(), model.stiffness_matrix()
-    omega = np.asarray(model.natural_frequencies(), dtype=float)
+    M = model.mass_matrix()
+    k = np.asarray(model.stiffness_Nm_per_rad, dtype=float)
+    hub = model.hub is not None
+    # the clamped (fitted) model is the hub model with the hub held: M without the hub's row
+    omega = eig_scaled(M[1:, 1:], 1.0 / np.sqrt(k)) if hub else \
+        np.asarray(model.natural_frequencies(), dtype=float)
+    omega_hub = np.asarray(model.natural_frequencies(), dtype=float)[1:] if hub else None
     wt, err, worst, worst_mode = _errors(omega, omega_truth_rad_s)
     notes = []
     beta = None
@@ -222,9 +278,7 @@ def export_record(
         form = "stiffness"
         if requested == "modal":
             xi = np.full(n, xi[0])
-        beta = stiffness_damping_coefficient(M, K, xi)
-        c = beta * np.asarray(model.stiffness_Nm_per_rad, dtype=float)
-        ratios = modal_ratios(M, K, np.diag(c))
+        beta, c, ratios = stiffness_form(model, M, xi, omega_hub)
         if requested == "modal":
             notes.append(
                 f"modal damping (every mode {xi[0]:g}) cannot be carried by a diagonal joint "
@@ -234,11 +288,7 @@ def export_record(
         notes.append(f"mode {worst_mode} of the exported model is {err[worst_mode - 1]:+.3f} % "
                      f"off the truth (straight pose); more than {WORST_MODE_WARN_PCT:g} %")
     return ExportRecord(omega, wt, err, worst, worst_mode, requested, form, xi, beta, c,
-                        ratios, tuple(notes))
-
-
-_FLOATS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
-           "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios")
+                        ratios, tuple(notes), omega_hub, spans, names)
 
 
 def read_export_record(text: str) -> ExportRecord | None:
@@ -261,6 +311,10 @@ def read_export_record(text: str) -> ExportRecord | None:
         key, value = m.group(1), m.group(2).strip()
         if key == "warning":
             warnings.append(value)
+        elif key == "strain_actuators_m":
+            fields[key] = np.array([p.split() for p in value.split(";")], dtype=float)
+        elif key == "inputs":
+            fields[key] = tuple(value.split())
         elif key in _FLOATS:
             fields[key] = None if value == "unknown" else np.array(value.split(), dtype=float)
         elif key in ("worst_mode_error_pct", "damping_beta_s"):

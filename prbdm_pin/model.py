@@ -23,7 +23,7 @@ from .geometry import Beam
 from .io import atomic_write_text
 from .layout import validate_lengths
 from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
-from .plant.hub import Hub, hub_chain, hub_frequencies, hub_modes
+from .plant.hub import HUB_JOINT, Hub, hub_chain, hub_frequencies, hub_modes
 from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
@@ -58,7 +58,8 @@ class PrbdmModel:
         beam joint j is index j + 1: ``pin_model.nv == n_joints + 1``; :meth:`mass_matrix`,
         :meth:`stiffness_matrix`, the tip kinematics and the frequencies and modes cover all
         ``nv`` coordinates (frequencies: the hub's rigid mode, exactly 0, first). A hub model
-        has no URDF and no static equilibrium under a tip force (the hub would turn).
+        has no static equilibrium under a tip force (the hub would turn); its URDF carries
+        the hub as the revolute joint ``hub``.
 
     As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
     method that computes takes ``data``. Without one it uses a built-in workspace made on first
@@ -86,9 +87,9 @@ class PrbdmModel:
         """The URDF string (rendered from ``urdf_templates/`` on first access, then cached)."""
         text = self._cache.get("urdf")
         if text is None:
-            self._no_hub("the URDF")
             name = "prbdm" if self.beam is None else f"prbdm_{self.beam.name}"
-            text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name)
+            text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name,
+                               hub=self.hub)
             self._cache["urdf"] = text
         return text
 
@@ -253,7 +254,8 @@ def build_model(
 
 def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     """Read a PRBDM URDF file (as written by :attr:`PrbdmModel.urdf` or the URDF export),
-    springs included.
+    springs included; a file with the revolute joint ``hub`` reads as a hub model (``hub`` set:
+    the inertia of link ``hub_body``, the radius of the ``clamp`` offset).
 
     The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
     ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'
@@ -267,7 +269,7 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
     ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
     """
-    from .urdf_checks import check_sections, check_urdf, read_urdf_text
+    from .urdf_checks import check_sections, check_urdf, hub_inertia, read_urdf_text
 
     p = Path(path)
     what = f"urdf file {str(p)!r}"
@@ -285,11 +287,19 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
                              "(every revolute joint must be on the chain to the tip)")
     tip = model.getFrameId(TIP_FRAME)
     lengths = dyn.planar_lengths(model, tip)
+    hub = None
+    if model.njoints > 2 and model.names[1] == HUB_JOINT:
+        # the first offset is the hub's (0); the second is the radius plus link 0
+        if not model.existFrame("clamp"):
+            raise BeamInputError(f"{what}: a joint 'hub' but no fixed joint 'clamp' to link_0")
+        radius = float(model.frames[model.getFrameId("clamp")].placement.translation[0])
+        hub = Hub(hub_inertia(text, what), radius)
+        lengths = np.concatenate([[lengths[1] - hub.radius_m], lengths[2:]])
     lengths.setflags(write=False)
-    names = [model.names[j] for j in range(1, model.njoints)]
+    names = [model.names[j] for j in range(1 + (hub is not None), model.njoints)]
     k = validate_stiffness(read_springs(text, names), len(names))
-    sections = sections_from_pin(model, lengths)
+    sections = sections_from_pin(model, lengths, hub is not None)
     check_sections(what, lengths, sections.mass_kg)
-    out = PrbdmModel(None, lengths, k, sections, model, tip)
+    out = PrbdmModel(None, lengths, k, sections, model, tip, hub)
     out._cache["urdf"] = text
     return out

@@ -54,15 +54,25 @@ def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[p
     return model, tip
 
 
-def sections_from_pin(model: pin.Model, lengths: np.ndarray) -> LinkSections:
+def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False
+                      ) -> LinkSections:
     """The links' mass (kg), COM (m, beam frame) and inertia (kg m^2) as a Pinocchio model holds
-    them, for lengths ``lengths`` (m); ``area_moment_m4`` is NaN (a URDF does not carry it)."""
+    them, for lengths ``lengths`` (m); ``area_moment_m4`` is NaN (a URDF does not carry it).
+
+    On a hub model (``hub``) link 0 is the inertia of the ``clamp`` frame (the parser keeps a
+    fixed joint's child there) and link j that of Pinocchio joint j + 1.
+    """
     n1 = lengths.size
     ends = np.cumsum(lengths)
     starts = ends - lengths
-    mass = np.array([model.inertias[i].mass for i in range(n1)])
-    com = np.array([model.inertias[i].lever for i in range(n1)]) + starts[:, None] * [1, 0, 0]
-    inertia = np.array([model.inertias[i].inertia for i in range(n1)])
+    if hub:
+        links = [model.frames[model.getFrameId("clamp")].inertia,
+                 *(model.inertias[i + 1] for i in range(1, n1))]
+    else:
+        links = [model.inertias[i] for i in range(n1)]
+    mass = np.array([b.mass for b in links])
+    com = np.array([b.lever for b in links]) + starts[:, None] * [1, 0, 0]
+    inertia = np.array([b.inertia for b in links])
     arrs = [starts, ends, mass, com, inertia, np.full(n1, np.nan)]
     for a in arrs:
         a.setflags(write=False)

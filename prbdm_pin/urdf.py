@@ -1,6 +1,8 @@
 """Render the URDF of a PRBDM from ``urdf_templates/`` and read its springs back.
 
-Layout of the URDF: a ``world`` link, a fixed joint ``clamp`` to ``link_0`` (the clamped link),
+Layout of the URDF: a ``world`` link, a fixed joint ``clamp`` to ``link_0`` (the clamped link;
+on a hub model ``world`` -> revolute ``hub`` about y -> massless link ``hub_body`` carrying the
+hub inertia -> ``clamp`` at the hub radius along x -> ``link_0``),
 revolute joints ``joint_1`` ... ``joint_n`` about y (each with a generous ``<limit>`` tag, which
 Pinocchio's parser requires, and ``<dynamics damping>``, N m s/rad, 0 unless given), links
 ``link_1`` ... ``link_n`` with their inertia about the centre of mass, and a fixed joint
@@ -35,6 +37,7 @@ __all__ = [
     "JOINT_LIMIT_RAD",
     "JOINT_EFFORT_LIMIT_NM",
     "JOINT_VELOCITY_LIMIT_RAD_S",
+    "HUB_LIMIT_RAD",
     "render_urdf",
     "read_springs",
     "template_text",
@@ -44,6 +47,9 @@ __all__ = [
 JOINT_LIMIT_RAD = 2.0 * math.pi
 JOINT_EFFORT_LIMIT_NM = 1.0e9
 JOINT_VELOCITY_LIMIT_RAD_S = 1.0e3
+# a hub may turn many times: its limit is far beyond any run (a continuous joint would make
+# Pinocchio's coordinate a (cos, sin) pair)
+HUB_LIMIT_RAD = 1.0e6
 
 
 @cache
@@ -75,6 +81,7 @@ def render_urdf(
     robot_name: str = "prbdm",
     damping_Nms_per_rad: np.ndarray | None = None,
     comment: str = "",
+    hub=None,
 ) -> str:
     """The URDF string of the chain.
 
@@ -91,6 +98,10 @@ def render_urdf(
         Joint damping written to ``<dynamics damping>``, N m s/rad (default 0).
     comment : str
         Text of an XML comment placed before ``<robot>`` (must not contain ``--``).
+    hub : Hub, optional
+        A rotating hub: the revolute joint ``hub`` about y from ``world`` to the massless link
+        ``hub_body`` (inertia ``inertia_kg_m2`` about every axis, as the Pinocchio hub model
+        holds it), and ``clamp`` from ``hub_body`` to ``link_0`` at ``radius_m`` along x.
     """
     lengths = np.asarray(lengths_m, dtype=float)
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
@@ -119,7 +130,14 @@ def render_urdf(
             iyy=_f(I[1, 1]), iyz=_f(I[1, 2]), izz=_f(I[2, 2]),
         ))
     springs = [spring_t.substitute(i=j + 1, stiffness=_f(k[j])) for j in range(n)]
+    hub_text, clamp_parent, clamp_x = "", "world", "0"
+    if hub is not None:
+        hub_text = _t("hub.urdf.tmpl").substitute(
+            lower=_f(-HUB_LIMIT_RAD), upper=_f(HUB_LIMIT_RAD), effort=_f(JOINT_EFFORT_LIMIT_NM),
+            velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S), inertia=_f(hub.inertia_kg_m2))
+        clamp_parent, clamp_x = "hub_body", _f(hub.radius_m)
     return _t("robot.urdf.tmpl").substitute(
+        hub=hub_text, clamp_parent=clamp_parent, clamp_x=clamp_x,
         robot_name=escape(robot_name, _ATTRIBUTE), body="".join(body).rstrip("\n"),
         n=n, tip_x=_f(lengths[n]), springs="".join(springs).rstrip("\n"),
         record=f"<!--{comment}-->\n" if comment else "",

@@ -18,7 +18,9 @@ import numpy as np
 from .errors import BeamInputError
 from .limits import check_cap
 
-__all__ = ["read_urdf_text", "check_urdf", "check_sections"]
+__all__ = ["HUB_LINK", "read_urdf_text", "check_urdf", "check_sections", "hub_inertia"]
+
+HUB_LINK = "hub_body"
 
 
 def read_urdf_text(path: str | os.PathLike) -> str:
@@ -57,7 +59,8 @@ def check_urdf(text: str, what: str = "urdf") -> int:
 
     Every joint is revolute or fixed, 1 <= revolute joints <= ``max_joints``, every number is
     finite, joint offsets (link lengths, m) are > 0, link masses (kg) and principal inertias
-    (kg m^2) are > 0 (the massless ``tip`` frame and the ``world`` root excepted).
+    (kg m^2) are > 0 (the massless ``tip`` frame and the ``world`` root excepted; the hub link
+    ``hub_body`` is massless with inertias > 0, and the hub radius, ``clamp``'s x, may be 0).
     """
     try:
         root = ET.fromstring(text)
@@ -78,9 +81,14 @@ def check_urdf(text: str, what: str = "urdf") -> int:
         xyz = _numbers(f"{what}: joint {name!r} origin xyz", None if origin is None
                        else origin.get("xyz", "0 0 0"), 3)
         parent = j.find("parent")
-        if parent is not None and parent.get("link") != "world" and not xyz[0] > 0.0:
+        parent_link = None if parent is None else parent.get("link")
+        if parent_link == HUB_LINK:
+            if not xyz[0] >= 0.0:
+                raise BeamInputError(f"{what}: joint {name!r} origin x = {xyz[0]!r} m: the hub "
+                                     "radius must be >= 0")
+        elif parent_link not in (None, "world") and not xyz[0] > 0.0:
             raise BeamInputError(f"{what}: joint {name!r} origin x = {xyz[0]!r} m: the length "
-                                 f"of link {parent.get('link')!r} must be > 0")
+                                 f"of link {parent_link!r} must be > 0")
     check_cap(f"{what}: revolute joints", revolute, "max_joints")
     if revolute < 1:
         raise BeamInputError(f"{what}: has {revolute} revolute joints: a PRBDM needs n >= 1")
@@ -93,7 +101,8 @@ def check_urdf(text: str, what: str = "urdf") -> int:
         m_el = inertial.find("mass")
         (mass,) = _numbers(f"{what}: link {name!r} mass", None if m_el is None
                            else m_el.get("value"), 1)
-        if not (mass >= 0.0 if massless else mass > 0.0):
+        # the hub is massless (its axis is fixed) but has a rotational inertia
+        if not (mass >= 0.0 if massless or name == HUB_LINK else mass > 0.0):
             raise BeamInputError(f"{what}: link {name!r} mass = {mass!r} kg: must be > 0")
         origin = inertial.find("origin")
         if origin is not None:
@@ -118,3 +127,14 @@ def check_sections(what: str, lengths_m: np.ndarray, mass_kg: np.ndarray) -> Non
         if not (math.isfinite(v) and v > 0.0):
             raise BeamInputError(f"{what}: link_{i} mass = {float(v)!r} kg: must be > 0 "
                                  "(a link without <inertial> has none)")
+
+
+def hub_inertia(text: str, what: str = "urdf") -> float:
+    """The hub's inertia about its axis (``iyy`` of link ``hub_body``), kg m^2, from a URDF text
+    that :func:`check_urdf` accepted."""
+    root = ET.fromstring(text)
+    for link in root.findall("link"):
+        el = None if link.get("name") != HUB_LINK else link.find("inertial/inertia")
+        if el is not None:
+            return float(el.get("iyy"))
+    raise BeamInputError(f"{what}: joint 'hub' without a link {HUB_LINK!r} with an <inertia>")

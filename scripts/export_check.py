@@ -12,7 +12,11 @@ finite-segment formula) this writes results/export_check.md with
   down to divide the 1 ms output interval) and with MuJoCo's default Euler at that step (what the
   export shipped before);
 - the joint-space mass matrix of the URDF export read by Pinocchio, MuJoCo and pybullet against
-  ours at three poses (largest relative difference).
+  ours at three poses (largest relative difference);
+- the same models on a hub (J_h = 2 kg m^2, r = 0.1 m) with a strain patch: MuJoCo's hub angle
+  and tip z under a hub torque step and a patch sine (scripts/bench_mjcf_plant.py) against
+  DOP853 of Pinocchio's ABA, at 0.1 ms and at the export's own step, as % of the peak; and the
+  URDF consumers' mass matrices of the hub model.
 
 usage: python scripts/export_check.py [--damping 0.02] [--out results/export_check.md]
 """
@@ -152,6 +156,36 @@ def consumers(model, poses):
     return out
 
 
+def hub_section(beam) -> list[str]:
+    """The hub plant rows: MuJoCo against the nonlinear reference, URDF consumers' M."""
+    import mujoco
+    from bench_mjcf_plant import NAMES, XI, errors_pct, hub_plant, mujoco_run, reference_run
+
+    lines = ["## On a hub (J_h = 2 kg m^2, r = 0.1 m), strain patch [0.05 L, 0.45 L]", "",
+             "Hub torque step 40 N m and patch sine 300 N m at 30 rad/s, 0.5 s; MuJoCo RK4 "
+             "(ctrl at each step's midpoint) against DOP853 (rtol 1e-10) of Pinocchio's ABA "
+             "with the input map; damping: the plant's stiffness form, 2 % on the lowest "
+             "flexible mode.", ""]
+    for n in (3, 5):
+        lines += ["| hub model | MuJoCo step | hub angle (% of peak) | tip z (% of peak) |",
+                  "|---|---|---|---|"]
+        model, acts = hub_plant(beam, n)
+        m = mujoco.MjModel.from_xml_string(mjcf_text(model, XI, actuators=acts, inputs=NAMES))
+        ref = reference_run(model, acts)
+        for label, h in (("0.1 ms", 1e-4), ("as exported", m.opt.timestep)):
+            m.opt.timestep = h
+            e = errors_pct(ref, mujoco_run(m))
+            lines.append(f"| {n}R | {label}, {1e6 * h:.0f} us | {e[0]:.3g} % | {e[1]:.3g} % |")
+            print(f"{n}R hub, MuJoCo {label}: hub {e[0]:.3g} %, tip z {e[1]:.3g} %", flush=True)
+        poses = [np.zeros(n + 1), np.linspace(0.1, 0.4, n + 1), np.linspace(-0.6, 0.5, n + 1)]
+        lines += ["", f"| URDF consumer, {n}R hub model | largest relative M difference, "
+                  "3 poses |", "|---|---|"]
+        for name, v in consumers(model, poses).items():
+            lines.append(f"| {name} | {v:.2g} |")
+        lines.append("")
+    return lines
+
+
 def main() -> int:
     import mujoco
 
@@ -243,6 +277,7 @@ def main() -> int:
         for name, v in consumers(model, poses).items():
             lines.append(f"| {name} | {v:.2g} |")
         lines.append("")
+    lines += hub_section(beam)
     lines.append(f"Wall time {time.perf_counter() - t0:.0f} s.")
     out = Path(args.out)
     atomic_write_text(out, "\n".join(lines) + "\n")

@@ -9,6 +9,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from . import add_common
+from .plant_options import (
+    actuators_on_beam,
+    actuators_option,
+    add_plant_options,
+    hub_option,
+    names_option,
+    with_hub,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -20,6 +28,16 @@ examples:
   prbdm export runs/ref/fit.json \\
       --format mjcf --damping 0.02 --out ref.xml
   prbdm export ref.urdf --format mjcf --out ref.xml
+  prbdm export runs/ref/fit.json --format mjcf --hub 0.5:0.05 \\
+      --actuator 0.05:0.4 --out ref_plant.xml
+
+Plant: --hub INERTIA:RADIUS puts the beam on a rotating hub (the MJCF hinge and the URDF
+revolute joint `hub`, no spring, no damping); --actuator XA:XB adds a strain actuator
+(repeatable; strain[i] is the i-th). The MJCF drives --inputs (default hub_torque with a hub,
+and strain[i] for every actuator) as MuJoCo actuators named hub_torque, joint_torque_J,
+strain_I, tip_force_z, tip_force_x (data.ctrl is the input, N m or N). URDF has no tendons: it
+records the actuators in its comment; JSON records hub and actuators as fields. A model JSON
+or URDF written with them carries them into the next export unless the options replace them.
 
 Damping: URDF <dynamics damping> and MJCF joint damping are diagonal, so they carry the
 stiffness-proportional form C = beta K (default): mode 1 gets ZETA, mode k ZETA omega_k/omega_1.
@@ -59,6 +77,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--damping-form", choices=EXPORT_DAMPING_FORMS, default=None,
                    help="stiffness (C = beta K; default for urdf and mjcf) or modal (default "
                         "for json; urdf/mjcf write the stiffness form instead and warn)")
+    add_plant_options(p)
+    p.add_argument("--inputs", default=None, metavar="NAMES",
+                   help="comma-separated inputs the MJCF drives as MuJoCo actuators: "
+                        "hub_torque, joint_torque[j], strain[i], tip_force_z, tip_force_x "
+                        "(default hub_torque with a hub, and every strain[i])")
     p.add_argument("--out", required=True, metavar="FILE", help="output file")
     add_common(p)
     p.set_defaults(func=run)
@@ -83,8 +106,9 @@ def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
     return None if w is None else np.asarray(w, dtype=float)
 
 
-def check_options(args: argparse.Namespace) -> None:
-    """Refuse bad ``prbdm export`` options before the model is read."""
+def check_options(args: argparse.Namespace) -> dict:
+    """Refuse bad ``prbdm export`` options before the model is read; returns the parsed plant
+    options (hub, actuators, inputs)."""
     import os
 
     from ..errors import BeamInputError
@@ -93,10 +117,34 @@ def check_options(args: argparse.Namespace) -> None:
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
              why="the damping_ratio of mode 1 (stiffness form) or of every mode (modal); "
                  "0: none")
+    opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
+            "inputs": None if args.inputs is None else names_option(args.inputs, "--inputs")}
+    if opts["inputs"] is not None and args.format != "mjcf":
+        raise BeamInputError(f"--inputs = {args.inputs!r}: only the MJCF carries actuators; "
+                             f"drop it for --format {args.format}")
     out = writable_file(args.out, "--out")
     if os.path.exists(args.model) and out.exists() and os.path.samefile(args.model, out):
         raise BeamInputError(f"--out = {args.out!r}: is the MODEL file itself; give another "
                              "file name")
+    return opts
+
+
+def file_actuators(path: str | Path) -> tuple:
+    """The strain actuators a model file records: a model JSON's ``actuators``, the record of
+    a URDF export; none for a fit.json."""
+    from ..export import read_export_record, read_plant_json
+    from ..jsonfile import read_json
+    from ..model_files import file_kind
+    from ..plant.inputs import StrainActuator
+
+    p = Path(path)
+    if p.suffix.lower() == ".urdf":
+        rec = read_export_record(p.read_text(encoding="utf-8"))
+        spans = () if rec is None else rec.strain_actuators_m
+        return tuple(StrainActuator(float(a), float(b)) for a, b in spans)
+    if file_kind(read_json(p, "MODEL")) == "model":
+        return read_plant_json(p)[1]
+    return ()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -104,16 +152,31 @@ def run(args: argparse.Namespace) -> int:
     from ..export import export_model, export_record
     from .simulate import load_model_and_fit
 
-    check_options(args)
+    opts = check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)
     omega_truth = truth_frequencies(args.model, fitted)
-    rec = export_record(model, args.format, args.damping, args.damping_form, omega_truth)
+    if opts["hub"] is not None:
+        model = with_hub(model, opts["hub"])
+    actuators = opts["actuators"]
+    if args.actuator:
+        actuators_on_beam(model, actuators, args.actuator)
+    else:
+        actuators = file_actuators(args.model)
+    plant = {"actuators": actuators}
+    if args.format == "mjcf":
+        plant["inputs"] = opts["inputs"]
+    rec = export_record(model, args.format, args.damping, args.damping_form, omega_truth,
+                        **plant)
     path = export_model(model, args.out, args.format, damping_ratio=args.damping,
-                        damping_form=args.damping_form, omega_truth_rad_s=omega_truth)
+                        damping_form=args.damping_form, omega_truth_rad_s=omega_truth, **plant)
     if not args.quiet:
         for note in rec.warnings:
             print(f"export warning: {note}", file=sys.stderr)
         for line in rec.summary_lines():
             print(line)
-        print(f"wrote {path} ({args.format}, {model.n_joints} joints)", file=sys.stderr)
+        hub = "" if model.hub is None else ", on a hub"
+        acts = f", {len(actuators)} strain actuators" if len(actuators) else ""
+        inputs = f", inputs {', '.join(rec.inputs)}" if rec.inputs else ""
+        print(f"wrote {path} ({args.format}, {model.n_joints} joints{hub}{acts}{inputs})",
+              file=sys.stderr)
     return 0

@@ -10,6 +10,13 @@ from pathlib import Path
 
 from ..errors import BeamInputError
 from . import add_common
+from .plant_options import (
+    actuators_option,
+    add_plant_options,
+    hub_option,
+    names_option,
+    with_hub,
+)
 
 EXAMPLES = """\
 examples:
@@ -49,11 +56,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="comma-separated input names (default tip_force_z)")
     p.add_argument("--outputs", default="tip_z", metavar="NAMES",
                    help="comma-separated output names (default tip_z)")
-    p.add_argument("--actuator", action="append", default=[], metavar="XA:XB",
-                   help="a strain actuator from XA to XB m along the beam (repeat for more; "
-                        "strain[i] is the i-th)")
-    p.add_argument("--hub", default=None, metavar="INERTIA:RADIUS",
-                   help="a rotating hub at the root: inertia kg m^2, radius m")
+    add_plant_options(p)
     p.add_argument("--load", default="0,0,0", metavar="FX,FY,FZ",
                    help="dead tip load of the equilibrium, N, world (default 0,0,0)")
     p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
@@ -67,28 +70,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_common(p)
     p.set_defaults(func=run)
     return p
-
-
-def _names(text: str, option: str) -> tuple[str, ...]:
-    from ..plant.names import split_name
-
-    names = tuple(s.strip() for s in text.split(","))
-    for i, name in enumerate(names):
-        split_name(name, f"{option}[{i}]" if len(names) > 1 else option)
-    return names
-
-
-def _pair(text: str, option: str, what: str) -> tuple[float, float]:
-    import math
-
-    parts = text.split(":")
-    try:
-        a, b = (float(v) for v in parts)
-    except ValueError:
-        a = b = math.nan
-    if len(parts) != 2 or not (math.isfinite(a) and math.isfinite(b)):
-        raise BeamInputError(f"{option} = {text!r}: must be two numbers {what}")
-    return a, b
 
 
 def _vector(text: str, option: str, unit: str) -> list[float]:
@@ -107,26 +88,11 @@ def _vector(text: str, option: str, unit: str) -> list[float]:
 def check_options(args: argparse.Namespace) -> dict:
     """Refuse bad ``prbdm linearize`` options before the model is read; returns the parsed
     values (names, actuators, hub, load, gravity)."""
-    from ..plant.hub import Hub
-    from ..plant.inputs import StrainActuator
     from .checks import in_range, writable_dir
 
-    out = {"inputs": _names(args.inputs, "--inputs"), "outputs": _names(args.outputs, "--outputs")}
-    acts = []
-    for text in args.actuator:
-        a, b = _pair(text, "--actuator", "XA:XB (m)")
-        try:
-            acts.append(StrainActuator(a, b))
-        except BeamInputError as exc:
-            raise BeamInputError(f"--actuator = {text!r}: {exc}") from None
-    out["actuators"] = acts
-    out["hub"] = None
-    if args.hub is not None:
-        J, r = _pair(args.hub, "--hub", "INERTIA:RADIUS (kg m^2, m)")
-        try:
-            out["hub"] = Hub(J, r)
-        except BeamInputError as exc:
-            raise BeamInputError(f"--hub = {args.hub!r}: {exc}") from None
+    out = {"inputs": names_option(args.inputs, "--inputs"),
+           "outputs": names_option(args.outputs, "--outputs"),
+           "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub)}
     out["load"] = _vector(args.load, "--load", "N")
     out["gravity"] = _vector(args.gravity, "--gravity", "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
@@ -170,7 +136,6 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..io import atomic_write_bytes, atomic_write_text
-    from ..model import build_model
     from ..output_folder import output_folder
     from ..plant.linearize import linearize
     from .simulate import load_model_and_fit
@@ -178,13 +143,7 @@ def run(args: argparse.Namespace) -> int:
     opts = check_options(args)
     model, _ = load_model_and_fit(args.model, args.beam)
     if opts["hub"] is not None:
-        if model.beam is None:
-            raise BeamInputError("--hub: needs the beam (give a fit.json or a model JSON; a "
-                                 "URDF does not carry it)")
-        from ..model_files import LINK_FLOOR_FRACTION
-
-        model = build_model(model.beam, model.lengths_m, model.stiffness_Nm_per_rad,
-                            min_fraction=LINK_FLOOR_FRACTION, hub=opts["hub"])
+        model = with_hub(model, opts["hub"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=args.damping_ratio,

@@ -1,0 +1,92 @@
+"""Plant options shared by ``prbdm linearize`` and ``prbdm export``: input names, strain
+actuators (``--actuator XA:XB``) and a hub (``--hub INERTIA:RADIUS``), each refused with a
+message naming the option and the value."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from ..errors import BeamInputError
+
+__all__ = ["add_plant_options", "names_option", "pair_option", "actuators_option",
+           "hub_option", "with_hub", "actuators_on_beam"]
+
+
+def add_plant_options(p: argparse.ArgumentParser) -> None:
+    """Add ``--actuator`` (repeatable) and ``--hub`` to a subparser."""
+    p.add_argument("--actuator", action="append", default=[], metavar="XA:XB",
+                   help="a strain actuator from XA to XB m along the beam (repeat for more; "
+                        "strain[i] is the i-th)")
+    p.add_argument("--hub", default=None, metavar="INERTIA:RADIUS",
+                   help="a rotating hub at the root: inertia kg m^2, radius m")
+
+
+def names_option(text: str, option: str) -> tuple[str, ...]:
+    """A comma-separated list of input or output names (each ``base`` or ``base[i]``)."""
+    from ..plant.names import split_name
+
+    names = tuple(s.strip() for s in text.split(","))
+    for i, name in enumerate(names):
+        split_name(name, f"{option}[{i}]" if len(names) > 1 else option)
+    return names
+
+
+def pair_option(text: str, option: str, what: str) -> tuple[float, float]:
+    """``A:B`` as two finite numbers."""
+    parts = text.split(":")
+    try:
+        a, b = (float(v) for v in parts)
+    except ValueError:
+        a = b = math.nan
+    if len(parts) != 2 or not (math.isfinite(a) and math.isfinite(b)):
+        raise BeamInputError(f"{option} = {text!r}: must be two numbers {what}")
+    return a, b
+
+
+def actuators_option(texts: list[str]) -> list:
+    """The ``--actuator XA:XB`` values as StrainActuators (XA < XB; the beam is checked later
+    by :func:`actuators_on_beam`)."""
+    from ..plant.inputs import StrainActuator
+
+    acts = []
+    for text in texts:
+        a, b = pair_option(text, "--actuator", "XA:XB (m)")
+        try:
+            acts.append(StrainActuator(a, b))
+        except BeamInputError as exc:
+            raise BeamInputError(f"--actuator = {text!r}: {exc}") from None
+    return acts
+
+
+def hub_option(text: str | None):
+    """The ``--hub INERTIA:RADIUS`` value as a Hub (None without the option)."""
+    from ..plant.hub import Hub
+
+    if text is None:
+        return None
+    J, r = pair_option(text, "--hub", "INERTIA:RADIUS (kg m^2, m)")
+    try:
+        return Hub(J, r)
+    except BeamInputError as exc:
+        raise BeamInputError(f"--hub = {text!r}: {exc}") from None
+
+
+def with_hub(model, hub):
+    """``model`` rebuilt on ``hub`` (needs the beam: a URDF does not carry it)."""
+    from ..model import build_model
+    from ..model_files import LINK_FLOOR_FRACTION
+
+    if model.beam is None:
+        raise BeamInputError("--hub: needs the beam (give a fit.json or a model JSON; a "
+                             "URDF does not carry it)")
+    return build_model(model.beam, model.lengths_m, model.stiffness_Nm_per_rad,
+                       min_fraction=LINK_FLOOR_FRACTION, hub=hub)
+
+
+def actuators_on_beam(model, actuators, texts: list[str]) -> None:
+    """Refuse an ``--actuator`` that leaves the beam of ``model``."""
+    from ..plant.inputs import strain_map
+
+    for a, text in zip(actuators, texts, strict=True):
+        strain_map(model.lengths_m, a, f"--actuator = {text!r}:")

@@ -1,0 +1,73 @@
+"""The plant side of an export: the strain actuators and inputs a file carries, and the
+stiffness-form damping of a model with or without a hub.
+
+With a hub the damping is :func:`prbdm_pin.plant.damping.plant_damping`'s stiffness form
+(beta = 2 xi_1 / omega_1 from the lowest flexible frequency of the hub model, the hub joint
+undamped), so that an MJCF, ``linearize(..., damping="stiffness")`` and a simulation of the
+plant agree.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .damping import modal_ratios, stiffness_damping_coefficient
+from .errors import BeamInputError
+
+__all__ = ["stiffness_form", "plant_inputs", "mujoco_name"]
+
+
+def mujoco_name(input_name: str) -> str:
+    """The MuJoCo actuator (and tendon) name of an input: ``strain[0]`` -> ``strain_0``,
+    ``joint_torque[2]`` -> ``joint_torque_2``; names without an index are kept."""
+    return input_name.replace("[", "_").replace("]", "")
+
+
+def stiffness_form(model, M: np.ndarray, xi: np.ndarray, omega_hub: np.ndarray | None):
+    """The stiffness form C = beta K of ``model`` (mass matrix ``M``, kg m^2, straight pose) with
+    mode 1's ratio ``xi[0]``: beta (s), the beam joints' damping beta K_jj (N m s/rad, shape
+    (n,)) and the ratio it gives each (flexible) mode; ``omega_hub``: the hub model's flexible
+    frequencies, rad/s (None without a hub)."""
+    k = np.asarray(model.stiffness_Nm_per_rad, dtype=float)
+    if omega_hub is None:
+        K = model.stiffness_matrix()
+        beta = stiffness_damping_coefficient(M, K, xi)
+        c = beta * k
+        return beta, c, modal_ratios(M, K, np.diag(c))
+    from .plant.damping import plant_damping
+    from .plant.hub import hub_modes
+
+    # the plant's own stiffness form, so that the file, linearize and simulate agree
+    C = plant_damping(model, M, xi, "stiffness")
+    omega, Phi = hub_modes(M, k)
+    flex = Phi[:, 1:]
+    ratios = np.einsum("ik,ij,jk->k", flex, C, flex) / (2.0 * omega[1:])
+    return 2.0 * float(xi[0]) / float(omega_hub[0]), np.diag(C)[1:].copy(), ratios
+
+
+def plant_inputs(model, fmt: str, actuators, inputs) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Check a plant's strain actuators (on the beam) and the inputs a file of ``fmt`` drives;
+    returns the spans [x_start_m, x_end_m] (m, shape (k, 2)) and the input names."""
+    from .plant.inputs import StrainActuator, parse_inputs, strain_map
+
+    if isinstance(actuators, (str, bytes)) or not hasattr(actuators, "__len__"):
+        raise BeamInputError(f"actuators = {actuators!r:.60}: must be a sequence of "
+                             "StrainActuator")
+    for i, a in enumerate(actuators):
+        if not isinstance(a, StrainActuator):
+            raise BeamInputError(f"actuators[{i}] = {a!r:.60}: must be a StrainActuator")
+        strain_map(model.lengths_m, a, f"actuators[{i}]")
+    spans = np.array([[a.x_start_m, a.x_end_m] for a in actuators], dtype=float).reshape(-1, 2)
+    hub = model.hub is not None
+    if inputs is None:
+        if fmt != "mjcf":
+            return spans, ()
+        inputs = (("hub_torque",) if hub else ()) + tuple(
+            f"strain[{i}]" for i in range(len(actuators)))
+    elif fmt != "mjcf" and len(inputs):
+        raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
+                             "(only the MJCF does)")
+    if not len(inputs):
+        return spans, ()
+    parsed = parse_inputs(tuple(inputs), model.n_joints, len(actuators), hub)
+    return spans, tuple(name for name, _, _ in parsed)

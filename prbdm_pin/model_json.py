@@ -1,0 +1,158 @@
+"""The model JSON file: a PRBDM's parameters, its plant (hub, strain actuators) and its export
+record, written by :func:`model_dict` and read back, validated, by :func:`read_model_json` and
+:func:`read_plant_json`.
+
+Plant fields: ``hub`` is null or ``{"inertia_kg_m2": J, "radius_m": r}``; ``actuators`` is a
+list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b). A file written
+before they existed has neither and reads as the clamped beam without actuators.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from .beam_file import beam_from_dict
+from .errors import BeamInputError
+from .export_record import export_record
+from .geometry import beam_to_dict
+
+__all__ = ["JSON_FORMAT", "model_dict", "read_model_json", "read_plant_json"]
+
+JSON_FORMAT = "prbdm-model/1"
+
+
+def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
+               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
+               actuators=()) -> dict[str, Any]:
+    """JSON-ready parameters of ``model`` (SI units), its hub and strain ``actuators``, and its
+    :class:`~prbdm_pin.export_record.ExportRecord` fields."""
+    rec = export_record(model, "json", damping_ratio, damping_form, omega_truth_rad_s,
+                        actuators=actuators)
+    s = model.sections
+    hub = model.hub
+    out = {
+        "format": JSON_FORMAT,
+        "version": __version__,
+        "beam": None if model.beam is None else beam_to_dict(model.beam),
+        "n_joints": model.n_joints,
+        "lengths_m": [float(v) for v in model.lengths_m],
+        "stiffness_Nm_per_rad": [float(v) for v in model.stiffness_Nm_per_rad],
+        "hub": None if hub is None else {"inertia_kg_m2": hub.inertia_kg_m2,
+                                         "radius_m": hub.radius_m},
+        "actuators": [{"x_start_m": float(a), "x_end_m": float(b)}
+                      for a, b in rec.strain_actuators_m],
+        "links": [
+            {
+                "start_m": float(s.start_m[i]),
+                "end_m": float(s.end_m[i]),
+                "mass_kg": float(s.mass_kg[i]),
+                "com_m": [float(v) for v in s.com_m[i]],
+                "inertia_com_kg_m2": [[float(v) for v in row] for row in s.inertia_com_kg_m2[i]],
+            }
+            for i in range(s.mass_kg.size)
+        ],
+    }
+    out.update(rec.to_dict())
+    return out
+
+
+def _number(what: str, field: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(float(value)):
+        raise BeamInputError(f"{what}: {field} = {value!r:.60}: must be a finite number")
+    return float(value)
+
+
+def _fields(what: str, field: str, value: Any, keys: tuple[str, ...]) -> list[float]:
+    if not isinstance(value, dict):
+        raise BeamInputError(f"{what}: {field} = {value!r:.60}: must be an object with "
+                             + ", ".join(keys))
+    for key in keys:
+        if key not in value:
+            raise BeamInputError(f"{what}: {field}.{key}: missing")
+    return [_number(what, f"{field}.{key}", value[key]) for key in keys]
+
+
+def _hub(what: str, value: Any):
+    from .plant.hub import Hub
+
+    if value is None:
+        return None
+    J, r = _fields(what, "hub", value, ("inertia_kg_m2", "radius_m"))
+    if not J > 0.0:
+        raise BeamInputError(f"{what}: hub.inertia_kg_m2 = {J!r}: must be > 0 (kg m^2)")
+    if r < 0.0:
+        raise BeamInputError(f"{what}: hub.radius_m = {r!r}: must be >= 0 (m)")
+    return Hub(J, r)
+
+
+def _actuators(what: str, value: Any, length_m: float) -> tuple:
+    from .plant.inputs import ON_JOINT_RTOL, StrainActuator
+
+    if value is None:
+        return ()
+    if not isinstance(value, list):
+        raise BeamInputError(f"{what}: actuators = {value!r:.60}: must be a list")
+    tol = ON_JOINT_RTOL * length_m
+    out = []
+    for i, item in enumerate(value):
+        field = f"actuators[{i}]"
+        a, b = _fields(what, field, item, ("x_start_m", "x_end_m"))
+        for key, v in (("x_start_m", a), ("x_end_m", b)):
+            if v < -tol or v > length_m + tol:
+                raise BeamInputError(f"{what}: {field}.{key} = {v!r}: must lie on the beam, in "
+                                     f"[0, {length_m:g}] (m)")
+        if not a < b:
+            raise BeamInputError(f"{what}: {field}.x_end_m = {b!r}: must be > x_start_m = "
+                                 f"{a!r} (m)")
+        out.append(StrainActuator(a, b))
+    return tuple(out)
+
+
+def read_plant_json(path: str | os.PathLike):
+    """The PrbdmModel (with its hub, if the file records one) and the strain actuators
+    (tuple of :class:`~prbdm_pin.plant.inputs.StrainActuator`) of a model JSON file.
+
+    Raises BeamInputError naming the file and the field (``hub.inertia_kg_m2``,
+    ``actuators[1].x_end_m``, ...).
+    """
+    from .jsonfile import read_json
+    from .model import build_model
+    from .model_files import LINK_FLOOR_FRACTION, check_chain, file_kind
+
+    what = f"model file {str(path)!r}"
+    d = read_json(path, "model file")
+    if not isinstance(d, dict) or d.get("format") != JSON_FORMAT:
+        kind = file_kind(d)
+        got = f"a {kind} file" if kind != "unknown" else (
+            f"format = {d.get('format')!r:.60}" if isinstance(d, dict)
+            else f"a JSON {type(d).__name__}")
+        raise BeamInputError(f"{what}: {got}; format must be {JSON_FORMAT!r}")
+    if d.get("beam") is None:
+        raise BeamInputError(f"{what}: has no beam; load the URDF export instead")
+    for key in ("lengths_m", "stiffness_Nm_per_rad"):
+        if key not in d:
+            raise BeamInputError(f"{what}: missing {key!r}")
+    try:
+        beam = beam_from_dict(d["beam"], check_caps=True)
+    except BeamInputError as exc:
+        raise BeamInputError(f"{what}: beam: {exc}") from None
+    lengths, k = check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], beam.length_m)
+    if "n_joints" in d and d["n_joints"] != k.size:
+        raise BeamInputError(f"{what}: n_joints = {d['n_joints']!r:.60}: lengths_m and "
+                             f"stiffness_Nm_per_rad hold {k.size} joints")
+    hub = _hub(what, d.get("hub"))
+    actuators = _actuators(what, d.get("actuators"), beam.length_m)
+    model = build_model(beam, lengths, k, min_fraction=LINK_FLOOR_FRACTION, hub=hub)
+    return model, actuators
+
+
+def read_model_json(path: str | os.PathLike):
+    """Rebuild the PrbdmModel from a file written by :func:`write_json` (needs its beam), on
+    its hub if the file records one (:func:`read_plant_json` also returns the actuators)."""
+    return read_plant_json(path)[0]
