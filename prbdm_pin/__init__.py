@@ -42,6 +42,8 @@ _EXPORTS = {
     "linearize": "plant.linearize",
     "LinearModel": "plant.state_space",
     "ModalData": "plant.state_space",
+    "compare_plant": "plant.comparison",
+    "PlantComparison": "plant.comparison",
     # truth
     "TruthResult": "truth",
     "compute_truth": "truth",

@@ -48,6 +48,8 @@ OUTPUT_NAMES = frozenset({
     "truth.json", "modes.vtu",  # truth
     "trajectory.csv", "response.png", "truth_comparison.png", "truth_comparison.json",
     "results.md", "results.json", "error_vs_cost.png",  # bench
+    "linear_model.npz", "linear_model.json", "bode.png",  # linearize
+    "comparison.json", "comparison.png",  # linearize --compare-truth
 })
 _RENAME_EXCHANGE = 2
 _AT_FDCWD = -100

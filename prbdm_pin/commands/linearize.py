@@ -25,6 +25,8 @@ examples:
       --actuator 0.05:0.4 --load 0,0,-10 --out runs/ref/plant
   prbdm linearize runs/ref/fit.json --inputs hub_torque --outputs hub_angle,tip_z \\
       --hub 0.5:0.05 --damping-ratio 0.01 --out runs/ref/hub
+  prbdm linearize runs/ref/fit.json --inputs hub_torque,strain[0] --outputs hub_angle,tip_z \\
+      --hub 5:0.1 --actuator 0:0.1 --compare-truth --out runs/ref/hub
 
 Inputs: tip_force_z, tip_force_x (N), joint_torque[j] (N m, beam joint j from the root, 0-based),
 strain[i] (N m, the moment of the i-th --actuator), hub_torque (N m, with --hub).
@@ -34,9 +36,21 @@ under --load and --gravity; a hub is held there by a trim torque.
 
 Writes OUT/linear_model.npz (A, B, C, D; x = [q; v]), OUT/linear_model.json (names, units,
 equilibrium, modal table) and OUT/bode.png.
+
+--compare-truth adds OUT/comparison.json and OUT/comparison.png: the plant against the truth of
+the same plant (the finite-element truth the fit.json was fitted to, from the cache, on the same
+hub and with the same actuators: its clamped modes, in hybrid coordinates on a hub), both damped
+alike (every flexible mode at --damping-ratio), unloaded at the straight pose. Per flexible
+mode: the signed frequency error; per input/output pair both plants have: the FRF error over
+[0, 1.2 omega_n] (a hub's from 0.1 omega_1, its rigid-body mode being singular at 0; and its
+flexible part from 0), the peak error at each resonance, and the unit-step response error (a
+hub's flexible part: the rigid rotation's response subtracted). Signals the truth plant lacks
+(tip_x, q[j], q_rate[j], spring_torque[j], tip_force_x, joint_torque[j]) are listed as not
+compared.
 """
 
-LINEARIZE_FILES = ("linear_model.npz", "linear_model.json", "bode.png")
+LINEARIZE_FILES = ("linear_model.npz", "linear_model.json", "bode.png", "comparison.json",
+                   "comparison.png")
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -66,6 +80,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "(stiffness) (default 0.02)")
     p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c"), default="modal",
                    help="damping form (default modal; a hub's rigid mode is never damped)")
+    p.add_argument("--compare-truth", action="store_true",
+                   help="also compare the plant with the truth the fit was made against, on "
+                        "the same hub and actuators (comparison.json, comparison.png)")
+    p.add_argument("--cache-dir", default=None, metavar="DIR",
+                   help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
+                        "~/.cache/prbdm_pin)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     add_common(p)
     p.set_defaults(func=run)
@@ -98,6 +118,9 @@ def check_options(args: argparse.Namespace) -> dict:
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
     writable_dir(args.out, "--out")
+    from .plant_comparison import check_compare_options
+
+    check_compare_options(args, out)
     return out
 
 
@@ -141,7 +164,11 @@ def run(args: argparse.Namespace) -> int:
     from .simulate import load_model_and_fit
 
     opts = check_options(args)
-    model, _ = load_model_and_fit(args.model, args.beam)
+    model, fitted = load_model_and_fit(args.model, args.beam)
+    if args.compare_truth:
+        from .plant_comparison import truth_request_of
+
+        request = truth_request_of(fitted, args.model)
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None
@@ -160,16 +187,37 @@ def run(args: argparse.Namespace) -> int:
         "damping_ratio": args.damping_ratio, "damping_form": args.damping_form,
         "state_units": ["rad"] * len(lin.q_eq) + ["rad/s"] * len(lin.q_eq),
     }
+    cmp = None
+    if args.compare_truth:  # before any file is written: a refusal leaves OUT as it was
+        from .fit_checks import cache_dir
+        from .plant_comparison import compare_with_truth, comparison_record
+
+        cmp, truth = compare_with_truth(lin, model, request, opts, args.damping_ratio,
+                                        cache_dir(args), quiet=args.quiet)
+        cmp_record = comparison_record(cmp, truth, request, Path(args.model).name,
+                                       args.damping_ratio)
     buf = io.BytesIO()
     np.savez(buf, A=lin.A, B=lin.B, C=lin.C, D=lin.D)
     out = Path(args.out)
     with output_folder(out, LINEARIZE_FILES, marker="linear_model.json") as stage:
         atomic_write_bytes(stage / "linear_model.npz", buf.getvalue())
         _bode(lin, stage / "bode.png")
+        if cmp is not None:
+            from ..plant.comparison_plot import plot_plant_comparison
+
+            plot_plant_comparison(cmp, stage / "comparison.png")
+            atomic_write_text(stage / "comparison.json", json.dumps(cmp_record, indent=2) + "\n")
         atomic_write_text(stage / "linear_model.json", json.dumps(record, indent=2) + "\n")
     if not args.quiet:
         w = ", ".join(f"{x:.4g}" for x in lin.modal().omega_rad_s)
         print(f"{lin.A.shape[0]} states, {len(lin.input_names)} inputs, "
               f"{len(lin.output_names)} outputs; omega = [{w}] rad/s; wrote "
               f"{out / 'linear_model.json'}", file=sys.stderr)
+    if cmp is not None and not args.quiet:
+        from ..plant.comparison_record import comparison_summary
+
+        print(f"against the {truth.model} truth plant (wrote {out / 'comparison.json'}):",
+              file=sys.stderr)
+        for line in comparison_summary(cmp):
+            print(f"  {line}", file=sys.stderr)
     return 0

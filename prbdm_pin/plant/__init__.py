@@ -4,6 +4,9 @@
 actuators, hub torque), ``outputs`` (tip motion, joint angles and rates, spring torques, hub
 angle), ``equilibrium`` (the pose under a dead tip load and gravity, and its stiffness),
 ``damping`` (damping that leaves the hub's rigid mode undamped), ``linearize`` (the entry
-point) and ``state_space`` (``LinearModel`` and its modal view). Nothing is imported here, so
+point) and ``state_space`` (``LinearModel`` and its modal view); ``second_order`` (any plant of
+the package as M, C_d, K with its rigid-body and flexible parts), ``comparison`` (a PRBDM plant
+against the truth of the same plant, with ``comparison_metrics``, ``comparison_record`` (JSON,
+summary) and ``comparison_plot`` (Bode figure)). Nothing is imported here, so
 that :mod:`prbdm_pin.model` can use :mod:`.hub` without loading the rest.
 """

@@ -4,14 +4,24 @@
 generalised force of a tip force and of full-width strain actuators (moment pairs) and the tip z
 output. ``hybrid_model`` (``hybrid``): the truth on a rotating rigid hub (Likins' hybrid
 coordinates) as M, K and a state space with the PRBDM plant's input and output names.
+``clamped_model`` (``clamped``): the clamped truth's selected modes as a state space with the
+same names, the truth side of a PRBDM plant without a hub.
 
 A subpackage on purpose: the truth's code digest (``truth.digest``) covers ``truth/*.py`` and
 what it imports, and these modules only read a truth, so adding them leaves every truth's cache
 key as it was.
 """
 
+from .clamped import (
+    CLAMPED_OUTPUT_NAMES,
+    ClampedModel,
+    clamped_from_gains,
+    clamped_input_names,
+    clamped_model,
+)
 from .gains import ModalGains, check_actuators, truth_modal_gains
 from .hybrid import (
+    HUB_DAMPING_FORMS,
     OUTPUT_NAMES,
     HybridModel,
     hub_frequencies_rad_s,
@@ -32,4 +42,10 @@ __all__ = [
     "hub_frequencies_rad_s",
     "input_names",
     "OUTPUT_NAMES",
+    "HUB_DAMPING_FORMS",
+    "ClampedModel",
+    "clamped_model",
+    "clamped_from_gains",
+    "clamped_input_names",
+    "CLAMPED_OUTPUT_NAMES",
 ]

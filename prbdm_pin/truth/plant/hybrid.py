@@ -11,6 +11,13 @@ The kinetic energy gives the mass matrix
 the strain energy K = diag(0, omega_k^2), and the virtual work the input matrix: a hub torque
 acts on theta; a tip force F_z does F_z (-(r + L) theta + sum b_k eta_k); a strain actuator (an
 internal moment pair, no work on a rigid rotation) acts on the eta_k only.
+
+Damping (``damping``): ``"clamped"`` damps the clamped modes, D = diag(0, 2 zeta omega_k) in
+these coordinates, so the hub-stiffened modes get ratios that differ from zeta (and are coupled);
+``"modal"`` damps the coupled flexible modes, D = M Phi_f diag(2 zeta Omega_k) Phi_f^T M with
+the hub-stiffened frequencies Omega_k and mass-normalised modes Phi_f: each flexible mode gets
+zeta exactly and the rigid rotation none, the definition ``prbdm_pin.linearize(...,
+damping="modal")`` uses on a PRBDM hub model.
 """
 
 from __future__ import annotations
@@ -26,11 +33,13 @@ from ...geometry import Beam
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 
-__all__ = ["OUTPUT_NAMES", "HybridModel", "beam_inertia_kg_m2", "hybrid_matrices",
+__all__ = ["HUB_DAMPING_FORMS", "OUTPUT_NAMES", "HybridModel", "beam_inertia_kg_m2",
+           "coupled_modal_damping", "hybrid_matrices",
            "hub_frequencies_rad_s",
            "hybrid_from_gains", "hybrid_model", "input_names"]
 
 OUTPUT_NAMES = ("tip_z", "tip_z_rate", "hub_angle", "hub_rate")
+HUB_DAMPING_FORMS = ("clamped", "modal")
 
 
 def input_names(n_actuators: int) -> tuple[str, ...]:
@@ -50,13 +59,15 @@ class HybridModel:
     Attributes
     ----------
     hub_inertia_kg_m2, hub_radius_m, damping_ratio : float
+    damping_form : str
+        ``"clamped"`` or ``"modal"`` (see the module notes).
     beam_inertia_kg_m2 : float
         J_beam, the undeformed beam's inertia about the hub axis.
     participation_sqrt_kg_m : ndarray, shape (N,)
         d_k = int rho t (r + x) phi_k dA.
     mass, stiffness, damping : ndarray, shape (N+1, N+1)
-        M, K = diag(0, omega_k^2), D = diag(0, 2 zeta omega_k) (no damping on the rigid
-        rotation); SI units of q (kg m^2, sqrt(kg) m, 1; N m/rad, 1/s^2; 1/s).
+        M, K = diag(0, omega_k^2) and D (no damping on the rigid rotation; see the module
+        notes); SI units of q (kg m^2, sqrt(kg) m, 1; N m/rad, 1/s^2; 1/s).
     input_matrix : ndarray, shape (N+1, 2+a)
         Generalised forces per unit input.
     output_matrix : ndarray, shape (2, N+1)
@@ -85,6 +96,7 @@ class HybridModel:
     frequencies_rad_s: np.ndarray
     input_names: tuple[str, ...]
     output_names: tuple[str, ...] = OUTPUT_NAMES
+    damping_form: str = "clamped"
 
 
 def _check_number(name: str, value: object, unit: str, upper: float = np.inf) -> float:
@@ -151,13 +163,38 @@ def hub_frequencies_rad_s(M: np.ndarray, K: np.ndarray) -> np.ndarray:
     return np.sqrt(np.clip(lam, 0.0, None))
 
 
+def _check_form(damping: object) -> str:
+    if damping not in HUB_DAMPING_FORMS:
+        raise BeamInputError(f"damping = {damping!r}: must be one of "
+                             f"{', '.join(HUB_DAMPING_FORMS)}")
+    return str(damping)
+
+
+def coupled_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.ndarray:
+    """D = M Phi_f diag(2 zeta Omega_k) Phi_f^T M over the flexible modes of the hub model
+    (M, K = diag(0, omega_k^2)): every hub-stiffened mode gets ``damping_ratio``, the rigid
+    rotation none. The rigid mode is taken out exactly: with the hub free, the flexible modes
+    solve K_ff v = Omega^2 S v (S the Schur complement of M's hub entry) and have the hub
+    component -M_hf v / M_hh."""
+    S = M[1:, 1:] - np.outer(M[1:, 0], M[0, 1:]) / M[0, 0]
+    lam, V = scipy.linalg.eigh(K[1:, 1:], 0.5 * (S + S.T))
+    Phi = np.vstack([-(M[0, 1:] @ V) / M[0, 0], V])
+    MP = M @ Phi
+    D = (MP * (2.0 * damping_ratio * np.sqrt(np.clip(lam, 0.0, None)))) @ MP.T
+    return 0.5 * (D + D.T)
+
+
 def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: float,
-                      damping_ratio: float = 0.02) -> HybridModel:
+                      damping_ratio: float = 0.02, damping: str = "clamped") -> HybridModel:
     """The hub model of ``gains`` (see ``hybrid_model``)."""
     zeta = _check_number("damping_ratio", damping_ratio, "1", upper=1.0)
+    form = _check_form(damping)
     M, K, Bq, Cq = hybrid_matrices(gains, hub_inertia_kg_m2, hub_radius_m)
     n = M.shape[0]
-    D = np.diag(np.concatenate([[0.0], 2.0 * zeta * gains.omega_rad_s]))
+    if form == "modal":
+        D = coupled_modal_damping(M, K, zeta)
+    else:
+        D = np.diag(np.concatenate([[0.0], 2.0 * zeta * gains.omega_rad_s]))
     MinvK, MinvD, MinvB = np.hsplit(scipy.linalg.solve(M, np.hstack([K, D, Bq]),
                                                        assume_a="pos"), [n, 2 * n])
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-MinvK, -MinvD]])
@@ -176,12 +213,13 @@ def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m:
         D=_ro(np.zeros((C.shape[0], B.shape[1]))),
         frequencies_rad_s=_ro(hub_frequencies_rad_s(M, K)),
         input_names=input_names(gains.actuators_m.shape[0]),
+        damping_form=form,
     )
 
 
 def hybrid_model(truth: TruthResult, beam: Beam, hub_inertia_kg_m2: float, hub_radius_m: float,
                  actuators: Sequence[tuple[float, float]] = (),
-                 damping_ratio: float = 0.02) -> HybridModel:
+                 damping_ratio: float = 0.02, damping: str = "clamped") -> HybridModel:
     """The clamped truth on a rotating rigid hub, in hybrid coordinates, as a linear plant.
 
     Parameters
@@ -197,7 +235,10 @@ def hybrid_model(truth: TruthResult, beam: Beam, hub_inertia_kg_m2: float, hub_r
     actuators : sequence of (x_a, x_b)
         Strain actuators' stations, m (see ``truth_modal_gains``).
     damping_ratio : float
-        zeta in [0, 1) of every clamped mode (none on the rigid rotation).
+        zeta in [0, 1) (none on the rigid rotation).
+    damping : str
+        ``"clamped"`` (default): zeta on every clamped mode; ``"modal"``: zeta on every
+        hub-stiffened flexible mode, as a PRBDM hub plant's modal damping (module notes).
 
     Returns
     -------
@@ -207,8 +248,9 @@ def hybrid_model(truth: TruthResult, beam: Beam, hub_inertia_kg_m2: float, hub_r
     _check_number("hub_inertia_kg_m2", hub_inertia_kg_m2, "kg m^2")
     _check_number("hub_radius_m", hub_radius_m, "m")
     _check_number("damping_ratio", damping_ratio, "1", upper=1.0)
+    _check_form(damping)
     gains = truth_modal_gains(truth, beam, actuators)
-    return hybrid_from_gains(gains, hub_inertia_kg_m2, hub_radius_m, damping_ratio)
+    return hybrid_from_gains(gains, hub_inertia_kg_m2, hub_radius_m, damping_ratio, damping)
 
 
 def _ro(a: np.ndarray) -> np.ndarray:

@@ -1,0 +1,149 @@
+"""Any linear plant of the package in its second-order form, split into its rigid-body and
+flexible parts, with its frequency and step responses.
+
+    M q'' + C_d q' + K q = B_q u,   y = C_q q + C_v q'
+
+A PRBDM ``LinearModel`` and the truth's ``HybridModel`` and ``ClampedModel`` all have this form
+(state x = [q, q'], y = C x with C = [C_q, C_v], D = 0). On a hub plant coordinate 0 is the hub
+angle, free of any spring (K's row and column 0 are zero) and undamped (C_d e_0 = 0), so
+phi_0 = e_0 / sqrt(M_00) is the rigid-body mode. Its modal coordinate r = phi_0^T M q obeys
+r'' = phi_0^T B_q u exactly, and q_f = q - phi_0 r stays in the M-orthogonal complement, spanned
+by T = [-M_0f / M_00; I]; there
+
+    T^T M T z'' + T^T C_d T z' + T^T K T z = T^T B_q u,   y_f = C_q T z + C_v T z'
+
+is positive definite, so the flexible part has a finite static gain and decaying transients:
+y = y_rigid + y_f with y_rigid = (C_q phi_0 + s C_v phi_0)(phi_0^T B_q) / s^2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..errors import BeamInputError
+
+__all__ = ["SecondOrderPlant", "second_order"]
+
+
+@dataclass(frozen=True, eq=False)
+class SecondOrderPlant:
+    """M q'' + C_d q' + K q = B_q u, y = C_q q + C_v q' (units of the source plant).
+
+    Attributes
+    ----------
+    mass, damping, stiffness : ndarray (nq, nq)
+    input_map : ndarray (nq, m)
+    output_map_position, output_map_rate : ndarray (p, nq)
+    input_names, output_names : tuple of str
+    rigid : bool
+        Coordinate 0 is free (a hub): one rigid-body mode, phi_0 = e_0 / sqrt(M_00).
+    """
+
+    mass: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    input_map: np.ndarray
+    output_map_position: np.ndarray
+    output_map_rate: np.ndarray
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    rigid: bool
+
+    def flexible(self) -> SecondOrderPlant:
+        """The flexible part in the coordinates z (q_f = T z, see the module notes); the plant
+        itself when it has no rigid mode."""
+        if not self.rigid:
+            return self
+        M = self.mass
+        T = np.vstack([-M[0, 1:] / M[0, 0], np.eye(M.shape[0] - 1)])
+
+        def sym(a):
+            a = T.T @ a @ T
+            return 0.5 * (a + a.T)
+
+        return SecondOrderPlant(sym(M), sym(self.damping), sym(self.stiffness),
+                                T.T @ self.input_map, self.output_map_position @ T,
+                                self.output_map_rate @ T, self.input_names, self.output_names,
+                                rigid=False)
+
+    def rigid_gains(self) -> tuple[np.ndarray, np.ndarray]:
+        """Coefficients of 1/s^2 and 1/s of the rigid-body mode's transfer matrix (p, m):
+        (C_q phi_0)(phi_0^T B_q) and (C_v phi_0)(phi_0^T B_q); zero without a rigid mode."""
+        p, m = self.output_map_position.shape[0], self.input_map.shape[1]
+        if not self.rigid:
+            return np.zeros((p, m)), np.zeros((p, m))
+        b = self.input_map[0] / self.mass[0, 0]  # phi_0 phi_0^T = e_0 e_0^T / M_00
+        return np.outer(self.output_map_position[:, 0], b), np.outer(self.output_map_rate[:, 0], b)
+
+    def modes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (rad/s, ascending) and damping ratios diag(Phi^T C_d Phi) / (2 omega) of
+        the flexible modes (mass-normalised undamped modes of the flexible part)."""
+        f = self.flexible()
+        lam, Phi = sla.eigh(f.stiffness, f.mass)
+        omega = np.sqrt(np.clip(lam, 0.0, None))
+        c = np.einsum("ik,ij,jk->k", Phi, f.damping, Phi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            zeta = np.where(omega > 0.0, c / (2.0 * np.where(omega > 0.0, omega, 1.0)), 0.0)
+        return omega, zeta
+
+    def frequency_response(self, omega_rad_s: np.ndarray) -> np.ndarray:
+        """(C_q + i w C_v)(K - w^2 M + i w C_d)^-1 B_q at each w (rad/s), complex (f, p, m);
+        on a rigid plant w = 0 is singular (use ``flexible()``)."""
+        w = np.asarray(omega_rad_s, dtype=float)[:, None, None]
+        Z = self.stiffness[None] - w**2 * self.mass[None] + 1j * w * self.damping[None]
+        X = np.linalg.solve(Z, np.broadcast_to(self.input_map, (w.shape[0],)
+                                               + self.input_map.shape).astype(complex))
+        return (self.output_map_position[None] + 1j * w * self.output_map_rate[None]) @ X
+
+    def step_response(self, t_s: np.ndarray) -> np.ndarray:
+        """Output (T, p, m) at times ``t_s`` (s) under a unit step of each input from rest.
+
+        Only for a plant without a rigid mode (``flexible()``): x(t) = A^-1 (e^(A t) - I) B over
+        the eigenvectors of A, exact at every sample."""
+        if self.rigid:
+            raise BeamInputError("step_response: the plant has a rigid mode; use flexible()")
+        n = self.mass.shape[0]
+        MinvK, MinvC, MinvB = np.hsplit(sla.solve(self.mass, np.hstack(
+            [self.stiffness, self.damping, self.input_map]), assume_a="pos"), [n, 2 * n])
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-MinvK, -MinvC]])
+        B = np.vstack([np.zeros_like(MinvB), MinvB])
+        C = np.hstack([self.output_map_position, self.output_map_rate])
+        lam, V = np.linalg.eig(A)
+        left = C @ V
+        right = np.linalg.solve(V, B)
+        t = np.asarray(t_s, dtype=float)[:, None]
+        g = np.expm1(lam[None, :] * t) / lam[None, :]  # (T, 2n)
+        y = np.einsum("pk,tk,km->tpm", left, g, right)
+        return y.real
+
+
+def _check_plant(name: str, plant) -> None:
+    for attr in ("A", "B", "C", "D", "input_names", "output_names"):
+        if not hasattr(plant, attr):
+            raise BeamInputError(f"{name} = {type(plant).__name__}: must be a linear plant "
+                                 "(prbdm_pin.linearize, or the truth's hybrid_model or "
+                                 "clamped_model)")
+    if np.any(np.asarray(plant.D)):
+        raise BeamInputError(f"{name}: has a feedthrough D != 0; the plants here have none")
+
+
+def second_order(plant, name: str = "plant") -> SecondOrderPlant:
+    """The second-order form of a PRBDM ``LinearModel`` or a truth ``HybridModel`` /
+    ``ClampedModel``; ``name`` names the argument in errors."""
+    _check_plant(name, plant)
+    if hasattr(plant, "mass_kg_m2"):  # a LinearModel
+        M, Cd, K = plant.mass_kg_m2, plant.damping_Nms_per_rad, plant.stiffness_Nm_per_rad
+        Bq = plant.input_map
+    else:
+        M, Cd, K, Bq = plant.mass, plant.damping, plant.stiffness, plant.input_matrix
+    M, Cd, K, Bq = (np.asarray(a, dtype=float) for a in (M, Cd, K, Bq))
+    nq = M.shape[0]
+    C = np.asarray(plant.C, dtype=float)
+    if C.shape[1] != 2 * nq or Bq.shape != (nq, len(plant.input_names)):
+        raise BeamInputError(f"{name}: its state is not [q, dq/dt] with {nq} coordinates")
+    rigid = not np.any(K[0]) and not np.any(K[:, 0])
+    return SecondOrderPlant(M, Cd, K, Bq, C[:, :nq], C[:, nq:], tuple(plant.input_names),
+                            tuple(plant.output_names), rigid)

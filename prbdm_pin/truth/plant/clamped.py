@@ -1,0 +1,131 @@
+"""The clamped truth as a linear plant: its selected modes in modal coordinates.
+
+With mass-normalised modes the coordinates eta_k obey
+
+    eta_k'' + 2 zeta omega_k eta_k' + omega_k^2 eta_k = b_k F_z + sum_i s_ik M_i,
+    tip z = sum_k c_k eta_k,
+
+with the modal gains of :func:`truth_modal_gains` (b: tip force, s: strain actuators, c: tip
+z). The inputs and outputs carry the PRBDM plant's names (``tip_force_z``, ``strain[i]``;
+``tip_z``, ``tip_z_rate``) and its signs, so the two plants compare pair by pair. The modal
+damping is the same definition as ``prbdm_pin.linearize(..., damping="modal")`` on a clamped
+PRBDM: every mode gets ``damping_ratio``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import BeamInputError
+from ...geometry import Beam
+from ..result import TruthResult
+from .gains import ModalGains, truth_modal_gains
+
+__all__ = ["CLAMPED_OUTPUT_NAMES", "ClampedModel", "clamped_from_gains", "clamped_input_names",
+           "clamped_model"]
+
+CLAMPED_OUTPUT_NAMES = ("tip_z", "tip_z_rate")
+
+
+def clamped_input_names(n_actuators: int) -> tuple[str, ...]:
+    """``tip_force_z``, ``strain[0]`` ... ``strain[a-1]``."""
+    return ("tip_force_z", *(f"strain[{i}]" for i in range(n_actuators)))
+
+
+@dataclass(frozen=True, eq=False)
+class ClampedModel:
+    """The clamped modal model as second-order matrices and as a state space.
+
+    Generalised coordinates q = eta (sqrt(kg) m); state x = [q, dq/dt]. Inputs u
+    (``input_names``): tip force F_z (N), actuator moments (N m). Outputs y
+    (``output_names``): tip z (m) and its rate (m/s).
+
+    Attributes
+    ----------
+    damping_ratio : float
+    mass, stiffness, damping : ndarray, shape (N, N)
+        I, diag(omega_k^2) (1/s^2) and diag(2 zeta omega_k) (1/s).
+    input_matrix : ndarray, shape (N, 1+a)
+        Generalised forces per unit input (modal gains).
+    output_matrix : ndarray, shape (1, N)
+        Tip z per unit modal coordinate.
+    A, B, C, D : ndarray
+        dx/dt = A x + B u, y = C x + D u (D = 0).
+    frequencies_rad_s : ndarray, shape (N,)
+        Clamped natural frequencies, rad/s, ascending.
+    input_names, output_names : tuple of str
+    """
+
+    damping_ratio: float
+    mass: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
+    input_matrix: np.ndarray
+    output_matrix: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    frequencies_rad_s: np.ndarray
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...] = CLAMPED_OUTPUT_NAMES
+
+
+def _check_zeta(damping_ratio: object) -> float:
+    if isinstance(damping_ratio, bool) or not isinstance(
+            damping_ratio, (int, float, np.integer, np.floating)) \
+            or not (0.0 <= float(damping_ratio) < 1.0):
+        raise BeamInputError(f"damping_ratio = {damping_ratio!r}: must be a number in [0, 1)")
+    return float(damping_ratio)
+
+
+def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02) -> ClampedModel:
+    """The clamped plant of ``gains`` (see ``clamped_model``)."""
+    zeta = _check_zeta(damping_ratio)
+    w = np.asarray(gains.omega_rad_s, dtype=float)
+    n = w.size
+    Bq = np.column_stack([gains.tip_force_per_sqrt_kg, gains.strain_per_sqrt_kg_m.T])
+    Cq = np.asarray(gains.tip_z_per_sqrt_kg, dtype=float)[None, :]
+    K, D = np.diag(w**2), np.diag(2.0 * zeta * w)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-K, -D]])
+    B = np.vstack([np.zeros_like(Bq), Bq])  # M = I
+    z = np.zeros_like(Cq)
+    C = np.vstack([np.hstack([Cq, z]), np.hstack([z, Cq])])
+    return ClampedModel(
+        damping_ratio=zeta, mass=_ro(np.eye(n)), stiffness=_ro(K), damping=_ro(D),
+        input_matrix=_ro(Bq), output_matrix=_ro(Cq), A=_ro(A), B=_ro(B), C=_ro(C),
+        D=_ro(np.zeros((2, Bq.shape[1]))), frequencies_rad_s=_ro(w),
+        input_names=clamped_input_names(gains.actuators_m.shape[0]),
+    )
+
+
+def clamped_model(truth: TruthResult, beam: Beam,
+                  actuators: Sequence[tuple[float, float]] = (),
+                  damping_ratio: float = 0.02) -> ClampedModel:
+    """The clamped truth (its selected modes) as a linear plant.
+
+    Parameters
+    ----------
+    truth : TruthResult
+        A ``"plate"``, ``"plate-morley"`` or ``"beam"`` truth of ``beam``.
+    beam : Beam
+    actuators : sequence of (x_a, x_b)
+        Strain actuators' stations, m (see ``truth_modal_gains``).
+    damping_ratio : float
+        zeta in [0, 1) of every mode.
+
+    Returns
+    -------
+    ClampedModel
+    """
+    _check_zeta(damping_ratio)  # before the modal solve
+    return clamped_from_gains(truth_modal_gains(truth, beam, actuators), damping_ratio)
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
