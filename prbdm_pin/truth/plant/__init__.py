@@ -12,9 +12,11 @@ key as it was.
 
 from .gains import ModalGains, check_actuators, truth_modal_gains
 from .hybrid import (
+    DAMPING_KINDS,
     OUTPUT_NAMES,
     HybridModel,
     hub_frequencies_rad_s,
+    hub_modal_damping,
     hybrid_from_gains,
     hybrid_matrices,
     hybrid_model,
@@ -30,6 +32,8 @@ __all__ = [
     "hybrid_from_gains",
     "hybrid_matrices",
     "hub_frequencies_rad_s",
+    "hub_modal_damping",
     "input_names",
+    "DAMPING_KINDS",
     "OUTPUT_NAMES",
 ]
