@@ -21,10 +21,11 @@ from .clamped import (
 )
 from .gains import ModalGains, check_actuators, truth_modal_gains
 from .hybrid import (
-    HUB_DAMPING_FORMS,
+    DAMPING_KINDS,
     OUTPUT_NAMES,
     HybridModel,
     hub_frequencies_rad_s,
+    hub_modal_damping,
     hybrid_from_gains,
     hybrid_matrices,
     hybrid_model,
@@ -40,9 +41,10 @@ __all__ = [
     "hybrid_from_gains",
     "hybrid_matrices",
     "hub_frequencies_rad_s",
+    "hub_modal_damping",
     "input_names",
+    "DAMPING_KINDS",
     "OUTPUT_NAMES",
-    "HUB_DAMPING_FORMS",
     "ClampedModel",
     "clamped_model",
     "clamped_from_gains",
