@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
 from . import add_common
+from .plant_options import actuators_option, add_plant_options, hub_option, names_option
 from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
 
 if TYPE_CHECKING:
@@ -25,14 +26,31 @@ examples:
   prbdm simulate runs/ref/fit.json --duration 0.1 --compare-truth --truth-model beam \\
       --out runs/ref/sim
 
-Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position) and OUT/response.png.
+  prbdm simulate runs/ref/fit.json --duration 2 --hub 5:0.1 --actuator 0:0.3 \
+      --input hub_torque=pulse:0.5:0.4 --input "strain[0]=sine:2:3" \
+      --outputs hub_angle,tip_z --out runs/ref/slew
+  prbdm simulate runs/ref/fit.json --duration 1 --hub 5:0.1 --actuator 0:0.3 \
+      --input hub_torque=1 --compare-truth --out runs/ref/slew
+
+Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position; with a hub the hub angle
+and rate first; then each input as u:NAME and each output as y:NAME in their units) and
+OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N m, needs
+--hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x
+(N); SIGNAL is A (a step at t = 0), step:A:T0, pulse:A:T1 (A until T1 s) or sine:A:F (F in Hz).
+Outputs (--outputs): tip_z, tip_z_rate, tip_x, q[j], q_rate[j], spring_torque[j], hub_angle,
+hub_rate.
 --compare-truth adds OUT/truth_comparison.json and OUT/truth_comparison.png: the tip response to
 a unit step tip force over the first second and the tip FRF over [0, 1.2 omega_n] (n = joints)
 of the model linearised at the straight pose, against the finite-element truth's modal
 superposition at the same modal damping ratio. The truth is the one a fit.json was fitted to
 (its model, mode selection and mesh level, found in the cache `prbdm fit` filled), else the
 Kirchhoff plate (every plate mode up to the n-th selected bending mode, exact finite-element modal
-masses); --truth-model beam asks for the 1D Euler-Bernoulli beam (milliseconds).
+masses); --truth-model beam asks for the 1D Euler-Bernoulli beam (milliseconds). With --hub,
+--actuator or --input, --compare-truth compares the plant instead (as `prbdm linearize
+--compare-truth`):
+the model linearised at the straight pose with the --input names as inputs and the --outputs,
+against the truth plant of the same hub and actuators, per input/output pair (FRF, resonance
+peaks, step) and per mode: OUT/comparison.json and OUT/comparison.png.
 """
 
 
@@ -81,6 +99,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--cache-dir", default=None, metavar="DIR",
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
+    add_plant_options(p)
+    p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
+                   help="a plant input and its signal (repeat for more): A, step:A:T0, "
+                        "pulse:A:T1 or sine:A:F (Hz); e.g. hub_torque=pulse:0.5:0.4")
+    p.add_argument("--outputs", default=None, metavar="NAMES",
+                   help="plant outputs to record, comma-separated (default tip_z, and "
+                        "hub_angle with a hub)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     add_common(p)
     p.set_defaults(func=run)
@@ -155,23 +180,48 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
     return model, fit
 
 
-def _csv(tr) -> str:
+def _csv(tr, hub: bool = False) -> str:
     import numpy as np
 
-    n = tr.q_rad.shape[1]
-    head = (["t_s"] + [f"q{j + 1}_rad" for j in range(n)] + [f"v{j + 1}_rad_s" for j in range(n)]
-            + ["tip_x_m", "tip_y_m", "tip_z_m"])
-    rows = np.column_stack([tr.t_s, tr.q_rad, tr.v_rad_s, tr.tip_position_m])
+    n = tr.q_rad.shape[1] - int(hub)
+    coords = (["hub_angle_rad"] if hub else []) + [f"q{j + 1}_rad" for j in range(n)]
+    rates = (["hub_rate_rad_s"] if hub else []) + [f"v{j + 1}_rad_s" for j in range(n)]
+    head = (["t_s"] + coords + rates + ["tip_x_m", "tip_y_m", "tip_z_m"]
+            + [f"u:{name}" for name in tr.input_names]
+            + [f"y:{name}" for name in tr.output_names])
+    rows = np.column_stack([tr.t_s, tr.q_rad, tr.v_rad_s, tr.tip_position_m, tr.input_values,
+                            tr.output_values])
     return ",".join(head) + "\n" + "\n".join(",".join(repr(float(v)) for v in r)
                                              for r in rows) + "\n"
 
 
 SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
-                  "truth_comparison.json")
+                  "truth_comparison.json", "comparison.png", "comparison.json")
 
 
 # the CSV's default sampling: duration / DEFAULT_SAMPLES
 DEFAULT_SAMPLES = 2000
+
+
+def check_plant_options(args: argparse.Namespace) -> dict:
+    """The plant options (hub, actuators, input signals, output names), each refused with a
+    message naming it; ``plant`` says whether any was given."""
+    from .input_signals import parse_inputs
+
+    names, signal = parse_inputs(args.input)
+    outputs = None if args.outputs is None else names_option(args.outputs, "--outputs")
+    opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
+            "inputs": names, "u": signal, "outputs": outputs}
+    opts["plant"] = bool(args.hub or args.actuator or args.input)
+    if args.compare_truth and opts["plant"]:
+        if args.damping_form != "modal":
+            raise BeamInputError(f"--damping-form = {args.damping_form!r}: --compare-truth of "
+                                 "a plant damps every flexible mode of both plants alike; use "
+                                 "modal")
+        if not names:
+            raise BeamInputError("--compare-truth: with --hub or --actuator, name the inputs "
+                                 "to compare with --input")
+    return opts
 
 
 def check_options(args: argparse.Namespace) -> np.ndarray:
@@ -218,6 +268,65 @@ def simulation_options(args, output_dt_s: float):
                              damping_ratio=args.damping, damping=args.damping_form)
 
 
+def _outputs(plant: dict, hub: bool) -> tuple[str, ...]:
+    """The outputs to record: --outputs, or with plant options tip_z (and hub_angle)."""
+    if plant["outputs"] is not None:
+        return plant["outputs"]
+    if plant["plant"]:
+        return ("hub_angle", "tip_z") if hub else ("tip_z",)
+    return ()
+
+
+def _response_figure(model, tr, force, args):
+    """Tip displacement, the plant's inputs and outputs (when any), joint angles."""
+    from ..plots import new_figure
+
+    rows = 2 + len(tr.output_names) + int(bool(tr.input_names))
+    fig = new_figure((7.0, 2.2 + 1.6 * rows))
+    axes = [fig.add_subplot(rows, 1, k + 1) for k in range(rows)]
+    rest = model.tip_position()
+    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
+    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
+    axes[0].set_ylabel("tip displacement (mm)")
+    axes[0].legend(fontsize=7)
+    k = 1
+    for name, unit in zip(tr.output_names, tr.output_units, strict=True):
+        axes[k].plot(tr.t_s, tr.output(name))
+        axes[k].set_ylabel(f"{name} ({unit})", fontsize=8)
+        k += 1
+    if tr.input_names:
+        for name, unit in zip(tr.input_names, tr.input_units, strict=True):
+            axes[k].plot(tr.t_s, tr.input(name), label=f"{name} ({unit})")
+        axes[k].set_ylabel("inputs")
+        axes[k].legend(fontsize=7)
+        k += 1
+    axes[k].plot(tr.t_s, tr.q_rad[:, int(model.hub is not None):])
+    axes[k].set_ylabel("joint angles (rad)")
+    axes[k].set_xlabel("t (s)")
+    hub = "" if model.hub is None else (f", hub {model.hub.inertia_kg_m2:g} kg m^2 at "
+                                        f"{model.hub.radius_m:g} m")
+    fig.suptitle(f"{model.n_joints}R PRBDM{hub}, F = {force.tolist()} N, zeta = {args.damping}",
+                 fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def _plant_comparison(model, fitted, plant: dict, outputs, args):
+    """The linearised plant against the truth plant (``prbdm linearize --compare-truth``)."""
+    from ..plant.linearize import linearize
+    from .fit_checks import cache_dir
+    from .plant_comparison import compare_with_truth, comparison_record, truth_request_of
+
+    request = truth_request_of(fitted, args.model)
+    lin = linearize(model, inputs=plant["inputs"], outputs=outputs or ("tip_z",),
+                    damping_ratio=args.damping, damping="modal",
+                    actuators=tuple(plant["actuators"]))
+    opts = {"hub": model.hub, "actuators": plant["actuators"]}
+    cmp, truth = compare_with_truth(lin, model, request, opts, args.damping, cache_dir(args),
+                                    quiet=args.quiet)
+    return cmp, comparison_record(cmp, truth, request, Path(args.model).name, args.damping)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
@@ -226,47 +335,57 @@ def run(args: argparse.Namespace) -> int:
     from ..output_folder import output_folder
     from ..plots import save_png
     from ..simulation import simulate
+    from .plant_options import actuators_on_beam, with_hub
 
     force = check_options(args)
+    plant = check_plant_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
+    if plant["hub"] is not None:
+        model = with_hub(model, plant["hub"])
+    actuators_on_beam(model, plant["actuators"], args.actuator)
+    hub = model.hub is not None
+    outputs = _outputs(plant, hub)
     out = Path(args.out)
     output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
+    nv = model.pin_model.nv
+    q0 = np.full(nv, args.initial_angle)
+    q0[:int(hub)] = 0.0  # the hub starts at 0; --initial-angle bends the beam joints
     # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
     # other forms are exact about the initial pose
-    damping_pose = np.zeros(model.n_joints) if args.damping_form == "stiffness" else None
-    tr = simulate(model, args.duration, q0=np.full(model.n_joints, args.initial_angle),
-                  tip_force=force if np.any(force) else None,
-                  options=simulation_options(args, output_dt), damping_pose=damping_pose)
+    damping_pose = np.zeros(nv) if args.damping_form == "stiffness" else None
+    tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
+                  options=simulation_options(args, output_dt), damping_pose=damping_pose,
+                  inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
+                  outputs=outputs)
+    plant_cmp = None
+    if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was
+        plant_cmp = _plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
-        atomic_write_text(stage / "trajectory.csv", _csv(tr))
-
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
-        rest = model.tip_position()
-        ax[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
-        ax[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
-        ax[0].set_ylabel("tip displacement (mm)")
-        ax[0].legend()
-        ax[1].plot(tr.t_s, tr.q_rad)
-        ax[1].set_xlabel("t (s)")
-        ax[1].set_ylabel("joint angles (rad)")
-        fig.suptitle(f"{model.n_joints}R PRBDM, F = {force.tolist()} N, zeta = {args.damping}")
-        fig.tight_layout()
-        save_png(fig, stage / "response.png")
-        plt.close(fig)
+        atomic_write_text(stage / "trajectory.csv", _csv(tr, hub))
+        save_png(_response_figure(model, tr, force, args), stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
                   f"{args.duration} s simulated; wrote {out / 'trajectory.csv'}", file=sys.stderr)
+        if plant_cmp is not None:
+            from ..plant.comparison_plot import plot_plant_comparison
+            from ..plant.comparison_record import comparison_summary
 
-        if args.compare_truth:
+            plot_plant_comparison(plant_cmp[0], stage / "comparison.png")
+            atomic_write_text(stage / "comparison.json",
+                              json.dumps(plant_cmp[1], indent=2) + "\n")
+            if not args.quiet:
+                for line in comparison_summary(plant_cmp[0]):
+                    print(line, file=sys.stderr)
+        elif args.compare_truth:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
             from .fit_checks import cache_dir
 
             request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
