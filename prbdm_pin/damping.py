@@ -29,13 +29,14 @@ import numpy as np
 import scipy.linalg as sla
 
 from .choices import DAMPING_FORMS
-from .eigen import generalized_eigh, symmetric_eigh
+from .eigen import generalized_eigh, modes_from_mass, symmetric_eigh
 from .errors import BeamInputError, SolveError
 
 __all__ = [
     "DAMPING_FORMS",
     "damping_ratios",
     "modal_damping",
+    "spring_modal_damping",
     "eq5c_damping",
     "stiffness_damping",
     "stiffness_damping_coefficient",
@@ -97,10 +98,25 @@ def modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarra
     """
     M, K = _check_pair(M, K)
     xi = damping_ratios(damping_ratio, M.shape[0])
+    k = np.diagonal(K)
+    if np.count_nonzero(K) == k.size and np.all(k > 0.0):
+        return spring_modal_damping(M, k, xi)
     w2, phi = generalized_eigh(K, M, "modal damping")  # Phi^T M Phi = I
     omega = np.sqrt(np.clip(w2, 0.0, None))
     MPhi = M @ phi
     C = (MPhi * (2.0 * xi * omega)) @ MPhi.T
+    return 0.5 * (C + C.T)
+
+
+def spring_modal_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray, xi: np.ndarray
+                         ) -> np.ndarray:
+    """:func:`modal_damping` for joint springs alone, K = diag(springs) (N m/rad, all > 0),
+    with validated ratios ``xi`` (n,), through the scaled standard eigenproblem
+    (:func:`prbdm_pin.eigen.modes_from_mass`, under its guard): a linearisation builds this
+    every call, and the generalized problem's set-up costs more than the solve. N m s/rad."""
+    omega, phi = modes_from_mass(M[None], springs_Nm_per_rad)
+    MPhi = M @ phi[0]
+    C = (MPhi * (2.0 * xi * omega[0])) @ MPhi.T
     return 0.5 * (C + C.T)
 
 

@@ -85,6 +85,8 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
         If no equilibrium is found.
     """
     hub = model.hub is not None
+    if pm_g is None and not np.any(load_N):
+        return np.zeros(model.pin_model.nv), 0.0  # unloaded: the straight pose, no trim
     if pm_g is None and not hub:
         return model.static_deflection(load_N)[0], 0.0
     off = int(hub)

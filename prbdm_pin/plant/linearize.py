@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-import scipy.linalg as sla
 
 from ..errors import BeamInputError, SolveError
 from .damping import plant_damping
@@ -112,17 +111,19 @@ def linearize(
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
+    nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
     try:
-        cho = sla.cho_factor(M)
+        np.linalg.cholesky(M)  # the check: M must be positive definite
+        # one solve for the three right-hand sides (small matrices: call overhead dominates)
+        X = np.linalg.solve(M, np.hstack([K, Cd, Bq]))
     except np.linalg.LinAlgError as exc:
         raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
-    nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
     A = np.zeros((2 * nv, 2 * nv))
     A[:nv, nv:] = np.eye(nv)
-    A[nv:, :nv] = -sla.cho_solve(cho, K)
-    A[nv:, nv:] = -sla.cho_solve(cho, Cd)
+    A[nv:, :nv] = -X[:, :nv]
+    A[nv:, nv:] = -X[:, nv:2 * nv]
     B = np.zeros((2 * nv, m))
-    B[nv:] = sla.cho_solve(cho, Bq)
+    B[nv:] = X[:, 2 * nv:]
     coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_joints)]
     states = tuple(coords + [f"{c}_rate" if c == "hub" else c.replace("q[", "q_rate[")
                              for c in coords])

@@ -3,6 +3,7 @@ command line can check them before it loads anything)."""
 
 from __future__ import annotations
 
+import functools
 import re
 
 from ..errors import BeamInputError
@@ -25,13 +26,28 @@ def parse_names(names: object, field: str, indexed: dict[str, int | None],
                 plain: tuple[str, ...]) -> tuple[tuple[str, str, int | None], ...]:
     """Check ``names`` (a sequence of str) against the ``plain`` names and the ``indexed``
     bases (each with its count, or None when any index >= 0 is accepted); returns
-    (name, base, index) per entry.
+    (name, base, index) per entry (remembered: a linearisation parses the same names
+    several times).
 
     Raises
     ------
     BeamInputError
         Naming ``field[i]``, the value and what is accepted.
     """
+    if isinstance(names, (list, tuple)) and all(isinstance(s, str) for s in names):
+        return _parse_remembered(tuple(names), field, tuple(indexed.items()), tuple(plain))
+    return _parse(names, field, indexed, plain)
+
+
+@functools.lru_cache(maxsize=256)
+def _parse_remembered(names: tuple[str, ...], field: str,
+                      indexed: tuple[tuple[str, int | None], ...], plain: tuple[str, ...]
+                      ) -> tuple[tuple[str, str, int | None], ...]:
+    return _parse(names, field, dict(indexed), plain)
+
+
+def _parse(names: object, field: str, indexed: dict[str, int | None],
+           plain: tuple[str, ...]) -> tuple[tuple[str, str, int | None], ...]:
     if isinstance(names, str) or not isinstance(names, (list, tuple)) or not names:
         raise BeamInputError(f"{field} = {names!r}: must be a non-empty sequence of names")
     known = ", ".join([*plain, *(f"{b}[i]" for b in indexed)])
