@@ -150,7 +150,7 @@ def file_actuators(path: str | Path) -> tuple:
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm export``."""
     from ..export import export_model, export_record
-    from .simulate import load_model_and_fit
+    from .model_source import load_model_and_fit
 
     opts = check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)

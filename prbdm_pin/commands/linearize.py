@@ -161,7 +161,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io import atomic_write_bytes, atomic_write_text
     from ..output_folder import output_folder
     from ..plant.linearize import linearize
-    from .simulate import load_model_and_fit
+    from .model_source import load_model_and_fit
 
     opts = check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)

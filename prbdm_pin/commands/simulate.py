@@ -10,7 +10,9 @@ from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
 from . import add_common
-from .plant_options import actuators_option, add_plant_options, hub_option, names_option
+from .model_source import load_model_and_fit
+from .plant_options import add_plant_options
+from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
 from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
 
 if TYPE_CHECKING:
@@ -126,60 +128,6 @@ def parse_force(text: str) -> np.ndarray:
     return f
 
 
-def load_model(path: str, beam_path: str | None = None):
-    """A PrbdmModel from a URDF, a model JSON (export) or a fit.json (with its beam file)."""
-    return load_model_and_fit(path, beam_path)[0]
-
-
-def load_model_and_fit(path: str, beam_path: str | None = None):
-    """:func:`load_model`, and the ``FitResult`` when ``path`` is a fit.json (else None)."""
-    from ..beam_file import load_beam
-    from ..jsonfile import read_json
-    from ..model import build_model, load_urdf
-    from ..model_files import LINK_FLOOR_FRACTION, file_kind
-
-    p = Path(path)
-    if not p.is_file():
-        raise BeamInputError(f"MODEL {path!r}: not found")
-    if p.suffix.lower() == ".urdf":
-        return load_urdf(p), None
-    d = read_json(p, "MODEL")
-    kind = file_kind(d)
-    if kind == "model":
-        from ..export import read_model_json
-
-        return read_model_json(p), None
-    if kind == "beam":
-        raise BeamInputError(f"MODEL {path!r}: is a beam file, not a fit.json or model: run "
-                             f"`prbdm fit {path} --joints N --out DIR` first and pass "
-                             "DIR/fit.json")
-    if kind != "fit":
-        what = f"a {kind} file" if kind != "unknown" else (
-            f"a JSON object with keys {sorted(d)[:8]}" if isinstance(d, dict)
-            else f"a JSON {type(d).__name__}")
-        raise BeamInputError(f"MODEL {path!r}: is {what}, not a fit.json, a model JSON "
-                             "(prbdm export --format json) or a URDF")
-    from ..fit_file import fit_beam
-    from ..results import FitResult
-
-    what = f"MODEL {path!r}"
-    beam = load_beam(beam_path) if beam_path is not None else fit_beam(d, what)
-    if beam is None:
-        raise BeamInputError(f"{what}: this fit.json carries no beam; give --beam "
-                             "BEAM.json (the beam it was fitted to)")
-    fp = d.get("beam_fingerprint")
-    if isinstance(fp, str) and fp and fp != beam.fingerprint():
-        if beam_path is None:  # the beam stored in the file: the file itself was edited
-            raise BeamInputError(f"{what}: its beam does not match its beam_fingerprint = "
-                                 f"{fp!r} (the beam stored in it has {beam.fingerprint()!r})")
-        raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
-                             f"({d.get('beam_name')!r:.60})")
-    fit = FitResult.from_dict(d, beam=beam, what=what)
-    model = build_model(beam, fit.lengths_m, fit.stiffness_Nm_per_rad,
-                        min_fraction=LINK_FLOOR_FRACTION)
-    return model, fit
-
-
 def _csv(tr, hub: bool = False) -> str:
     import numpy as np
 
@@ -201,27 +149,6 @@ SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
 
 # the CSV's default sampling: duration / DEFAULT_SAMPLES
 DEFAULT_SAMPLES = 2000
-
-
-def check_plant_options(args: argparse.Namespace) -> dict:
-    """The plant options (hub, actuators, input signals, output names), each refused with a
-    message naming it; ``plant`` says whether any was given."""
-    from .input_signals import parse_inputs
-
-    names, signal = parse_inputs(args.input)
-    outputs = None if args.outputs is None else names_option(args.outputs, "--outputs")
-    opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
-            "inputs": names, "u": signal, "outputs": outputs}
-    opts["plant"] = bool(args.hub or args.actuator or args.input)
-    if args.compare_truth and opts["plant"]:
-        if args.damping_form != "modal":
-            raise BeamInputError(f"--damping-form = {args.damping_form!r}: --compare-truth of "
-                                 "a plant damps every flexible mode of both plants alike; use "
-                                 "modal")
-        if not names:
-            raise BeamInputError("--compare-truth: with --hub or --actuator, name the inputs "
-                                 "to compare with --input")
-    return opts
 
 
 def check_options(args: argparse.Namespace) -> np.ndarray:
@@ -268,15 +195,6 @@ def simulation_options(args, output_dt_s: float):
                              damping_ratio=args.damping, damping=args.damping_form)
 
 
-def _outputs(plant: dict, hub: bool) -> tuple[str, ...]:
-    """The outputs to record: --outputs, or with plant options tip_z (and hub_angle)."""
-    if plant["outputs"] is not None:
-        return plant["outputs"]
-    if plant["plant"]:
-        return ("hub_angle", "tip_z") if hub else ("tip_z",)
-    return ()
-
-
 def _response_figure(model, tr, force, args):
     """Tip displacement, the plant's inputs and outputs (when any), joint angles."""
     from ..plots import new_figure
@@ -311,22 +229,6 @@ def _response_figure(model, tr, force, args):
     return fig
 
 
-def _plant_comparison(model, fitted, plant: dict, outputs, args):
-    """The linearised plant against the truth plant (``prbdm linearize --compare-truth``)."""
-    from ..plant.linearize import linearize
-    from .fit_checks import cache_dir
-    from .plant_comparison import compare_with_truth, comparison_record, truth_request_of
-
-    request = truth_request_of(fitted, args.model)
-    lin = linearize(model, inputs=plant["inputs"], outputs=outputs or ("tip_z",),
-                    damping_ratio=args.damping, damping="modal",
-                    actuators=tuple(plant["actuators"]))
-    opts = {"hub": model.hub, "actuators": plant["actuators"]}
-    cmp, truth = compare_with_truth(lin, model, request, opts, args.damping, cache_dir(args),
-                                    quiet=args.quiet)
-    return cmp, comparison_record(cmp, truth, request, Path(args.model).name, args.damping)
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
@@ -347,7 +249,7 @@ def run(args: argparse.Namespace) -> int:
         model = with_hub(model, plant["hub"])
     actuators_on_beam(model, plant["actuators"], args.actuator)
     hub = model.hub is not None
-    outputs = _outputs(plant, hub)
+    outputs = plant_outputs(plant, hub)
     out = Path(args.out)
     output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
     nv = model.pin_model.nv
@@ -362,7 +264,7 @@ def run(args: argparse.Namespace) -> int:
                   outputs=outputs)
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was
-        plant_cmp = _plant_comparison(model, fitted, plant, outputs, args)
+        plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
         atomic_write_text(stage / "trajectory.csv", _csv(tr, hub))

@@ -1,0 +1,62 @@
+"""The model a command reads: a URDF, a model JSON (``prbdm export``) or a fit.json (with the
+beam it was fitted to), each refused with a message naming the file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import BeamInputError
+
+
+def load_model(path: str, beam_path: str | None = None):
+    """A PrbdmModel from a URDF, a model JSON (export) or a fit.json (with its beam file)."""
+    return load_model_and_fit(path, beam_path)[0]
+
+
+def load_model_and_fit(path: str, beam_path: str | None = None):
+    """:func:`load_model`, and the ``FitResult`` when ``path`` is a fit.json (else None)."""
+    from ..beam_file import load_beam
+    from ..jsonfile import read_json
+    from ..model import build_model, load_urdf
+    from ..model_files import LINK_FLOOR_FRACTION, file_kind
+
+    p = Path(path)
+    if not p.is_file():
+        raise BeamInputError(f"MODEL {path!r}: not found")
+    if p.suffix.lower() == ".urdf":
+        return load_urdf(p), None
+    d = read_json(p, "MODEL")
+    kind = file_kind(d)
+    if kind == "model":
+        from ..export import read_model_json
+
+        return read_model_json(p), None
+    if kind == "beam":
+        raise BeamInputError(f"MODEL {path!r}: is a beam file, not a fit.json or model: run "
+                             f"`prbdm fit {path} --joints N --out DIR` first and pass "
+                             "DIR/fit.json")
+    if kind != "fit":
+        what = f"a {kind} file" if kind != "unknown" else (
+            f"a JSON object with keys {sorted(d)[:8]}" if isinstance(d, dict)
+            else f"a JSON {type(d).__name__}")
+        raise BeamInputError(f"MODEL {path!r}: is {what}, not a fit.json, a model JSON "
+                             "(prbdm export --format json) or a URDF")
+    from ..fit_file import fit_beam
+    from ..results import FitResult
+
+    what = f"MODEL {path!r}"
+    beam = load_beam(beam_path) if beam_path is not None else fit_beam(d, what)
+    if beam is None:
+        raise BeamInputError(f"{what}: this fit.json carries no beam; give --beam "
+                             "BEAM.json (the beam it was fitted to)")
+    fp = d.get("beam_fingerprint")
+    if isinstance(fp, str) and fp and fp != beam.fingerprint():
+        if beam_path is None:  # the beam stored in the file: the file itself was edited
+            raise BeamInputError(f"{what}: its beam does not match its beam_fingerprint = "
+                                 f"{fp!r} (the beam stored in it has {beam.fingerprint()!r})")
+        raise BeamInputError(f"--beam {beam_path!r}: is not the beam {path!r} was fitted to "
+                             f"({d.get('beam_name')!r:.60})")
+    fit = FitResult.from_dict(d, beam=beam, what=what)
+    model = build_model(beam, fit.lengths_m, fit.stiffness_Nm_per_rad,
+                        min_fraction=LINK_FLOOR_FRACTION)
+    return model, fit
