@@ -135,13 +135,11 @@ def file_actuators(path: str | Path) -> tuple:
     from ..export import read_export_record, read_plant_json
     from ..jsonfile import read_json
     from ..model_files import file_kind
-    from ..plant.inputs import StrainActuator
 
     p = Path(path)
     if p.suffix.lower() == ".urdf":
         rec = read_export_record(p.read_text(encoding="utf-8"))
-        spans = () if rec is None else rec.strain_actuators_m
-        return tuple(StrainActuator(float(a), float(b)) for a, b in spans)
+        return () if rec is None else rec.actuators()
     if file_kind(read_json(p, "MODEL")) == "model":
         return read_plant_json(p)[1]
     return ()
