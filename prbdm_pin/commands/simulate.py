@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
 from . import add_common
+from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import actuators_option, add_plant_options, hub_option, names_option
 from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
 
@@ -100,6 +101,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
     add_plant_options(p)
+    add_fit_actuators_option(p)
     p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
                         "pulse:A:T1 or sine:A:F (Hz); e.g. hub_torque=pulse:0.5:0.4")
@@ -213,6 +215,7 @@ def check_plant_options(args: argparse.Namespace) -> dict:
     opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
             "inputs": names, "u": signal, "outputs": outputs}
     opts["plant"] = bool(args.hub or args.actuator or args.input)
+    check_fit_actuators(args, len(opts["actuators"]))
     if args.compare_truth and opts["plant"]:
         if args.damping_form != "modal":
             raise BeamInputError(f"--damping-form = {args.damping_form!r}: --compare-truth of "
@@ -346,6 +349,11 @@ def run(args: argparse.Namespace) -> int:
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
     actuators_on_beam(model, plant["actuators"], args.actuator)
+    plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])
+    if args.fit_actuators and not args.quiet:
+        for i, a in enumerate(plant["actuators"]):
+            print(f"strain[{i}] joint weights fitted to the truth: "
+                  + " ".join(f"{v:.6g}" for v in a.joint_weights), file=sys.stderr)
     hub = model.hub is not None
     outputs = _outputs(plant, hub)
     out = Path(args.out)
