@@ -14,7 +14,10 @@ the truth as the tip force's is.
 Mode k of the PRBDM is paired with the truth's k-th selected mode, and the truth mode's sign is
 aligned with the PRBDM's by the sign of the tip deflection each gives (``tip_z_per_sqrt_kg``
 against J_z phi_k), or, when one of them barely moves its tip, of the tip rotation (the truth's
-gain of the full-span patch, psi_k(L), against the chain's sum of joint angles).
+gain of the full-span patch, psi_k(L), against the chain's sum of joint angles). "Barely" is
+against the mode's own amplitude along the beam: its largest deflection (or section rotation),
+from the link ends of the chain and, on the truth, from psi_k at ``PROFILE_POINTS`` stations
+(the gains of the patches (0, x_i); psi(0) = 0 at the clamp) and its integral.
 
 A hub model is fitted on its clamped beam (the hub held): a patch's moment pair is internal to
 the beam, so it acts on the beam joints only, and the truth's hybrid model uses the same clamped
@@ -31,16 +34,19 @@ from ..eigen import modes_from_mass
 from ..errors import BeamInputError
 from .inputs import StrainActuator, strain_map
 
-__all__ = ["MATCHES", "SEPARATION_MIN_RTOL", "STILL_RTOL", "WEIGHT_LIMIT", "clamped_modes",
-           "fit_strain_actuators", "fitted_weights", "mode_signs"]
+__all__ = ["MATCHES", "PROFILE_POINTS", "SEPARATION_MIN_RTOL", "STILL_RTOL", "WEIGHT_LIMIT",
+           "clamped_modes", "fit_strain_actuators", "fitted_weights", "mode_signs",
+           "profile_stations"]
 
 MATCHES = ("modal", "tip_z")
 # consecutive PRBDM frequencies closer than this (relative) make modes whose shapes a fit's
 # frequency error can mix, so "mode k" would not be a shape to pair with the truth's
 SEPARATION_MIN_RTOL = 1e-2
-# a mode's tip gain below this fraction of the largest mode's tip gain is "still": its sign is
-# taken from the tip rotation (the tip gains of a cantilever's modes are of one size)
+# a mode's tip deflection (rotation) below this fraction of its own largest deflection (section
+# rotation) along the beam is "still": the other indicator gives its sign
 STILL_RTOL = 0.05
+# stations of the truth's rotation profile, for the amplitudes above
+PROFILE_POINTS = 40
 # a sanity bound, not a tuning: the virtual-work map's weights lie in [0, 1] and fitted maps of
 # a model whose modes match the truth's stay near that size; a weight an order of magnitude
 # beyond means the modes do not correspond (another beam, a poor fit) and the map is refused
@@ -69,21 +75,55 @@ def clamped_modes(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray
     return omega[0], Phi[0], Jz @ Phi[0], Phi[0].sum(axis=0)
 
 
+def _chain_amplitudes(model, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Largest |z| of the link ends and largest |section rotation| of the links, per mode."""
+    x = np.cumsum(np.asarray(model.lengths_m, dtype=float))  # joints, then the tip
+    arm = np.clip(x[:, None] - x[None, :-1], 0.0, None)  # dz(end i)/dq_j = -(x_i - x_j)
+    z = -arm @ Phi
+    rot = np.cumsum(Phi, axis=0)
+    return np.abs(z).max(axis=0), np.abs(rot).max(axis=0)
+
+
+def profile_stations(length_m: float) -> tuple[tuple[float, float], ...]:
+    """The patches (0, x_i), x_i = i L / PROFILE_POINTS (the last: the full span) whose truth
+    gains are the section rotation profile :func:`fitted_weights` needs."""
+    x = np.linspace(0.0, float(length_m), PROFILE_POINTS + 1)[1:]
+    x[-1] = float(length_m)
+    return tuple((0.0, float(v)) for v in x)
+
+
+def _truth_amplitudes(gains, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tip rotation, largest |deflection| and largest |rotation| of the truth's first n modes,
+    from the profile patches at the end of ``gains``."""
+    psi = np.asarray(gains.strain_per_sqrt_kg_m, dtype=float)[-PROFILE_POINTS:, :n]
+    x = np.asarray(gains.actuators_m, dtype=float)[-PROFILE_POINTS:, 1]
+    xs, ps = np.concatenate([[0.0], x]), np.vstack([np.zeros(n), psi])
+    w = -np.concatenate([np.zeros((1, n)), np.cumsum(0.5 * (ps[1:] + ps[:-1])
+                                                     * np.diff(xs)[:, None], axis=0)])
+    tip = np.abs(np.asarray(gains.tip_z_per_sqrt_kg, dtype=float)[:n])
+    return psi[-1], np.maximum(np.abs(w).max(axis=0), tip), np.abs(psi).max(axis=0)
+
+
 def mode_signs(tip_z: np.ndarray, tip_rotation: np.ndarray, truth_tip_z: np.ndarray,
-               truth_tip_rotation: np.ndarray) -> np.ndarray:
+               truth_tip_rotation: np.ndarray, amplitudes=None) -> np.ndarray:
     """+-1 per mode: the sign that turns each truth mode into the PRBDM's (same tip deflection
     sign; the tip rotation's where either side's tip is still, ``STILL_RTOL``).
+
+    ``amplitudes``: (z, rotation, truth z, truth rotation), each mode's largest deflection and
+    section rotation along the beam on either side (default: each indicator's largest |value|
+    over the modes).
 
     Raises BeamInputError when a mode moves neither tip on one side, or when the two indicators
     disagree (the modes do not correspond).
     """
-    def clear(v):
-        return np.abs(v) > STILL_RTOL * np.max(np.abs(v))
-
+    values = (tip_z, tip_rotation, truth_tip_z, truth_tip_rotation)
+    if amplitudes is None:
+        amplitudes = tuple(np.full(np.shape(v), np.max(np.abs(v))) for v in values)
+    ok = [np.abs(v) > STILL_RTOL * np.asarray(a) for v, a in zip(values, amplitudes, strict=True)]
     by_z = np.sign(tip_z) * np.sign(truth_tip_z)
     by_rot = np.sign(tip_rotation) * np.sign(truth_tip_rotation)
-    z_ok = clear(tip_z) & clear(truth_tip_z)
-    rot_ok = clear(tip_rotation) & clear(truth_tip_rotation)
+    z_ok = ok[0] & ok[2]
+    rot_ok = ok[1] & ok[3]
     for k in range(tip_z.size):
         if not (z_ok[k] or rot_ok[k]):
             raise BeamInputError(f"model mode {k + 1}: neither its tip deflection nor its tip "
@@ -119,7 +159,8 @@ def _check_pairing(omega: np.ndarray, omega_truth: np.ndarray) -> None:
 
 def fitted_weights(model, gains, match: str = "modal") -> np.ndarray:
     """Joint weights (a, n) of the actuators of ``gains`` (a ``ModalGains`` of the truth whose
-    last actuator is the full span (0, L), used for the sign alignment and not fitted).
+    last ``PROFILE_POINTS`` actuators are :func:`profile_stations`, used for the sign alignment
+    and not fitted).
 
     See :func:`fit_strain_actuators`.
     """
@@ -130,8 +171,12 @@ def fitted_weights(model, gains, match: str = "modal") -> np.ndarray:
     _check_pairing(omega, np.asarray(gains.omega_rad_s, dtype=float))
     c_t = np.asarray(gains.tip_z_per_sqrt_kg, dtype=float)[:n]
     S = np.asarray(gains.strain_per_sqrt_kg_m, dtype=float)[:, :n]
-    s = mode_signs(c, rot, c_t, S[-1])
-    b = S[:-1] * s  # the truth's gains of the PRBDM's modes, as the PRBDM signs them
+    if S.shape[0] <= PROFILE_POINTS:
+        raise BeamInputError("gains: must end with the profile_stations patches")
+    rot_t, z_amp_t, rot_amp_t = _truth_amplitudes(gains, n)
+    z_amp, rot_amp = _chain_amplitudes(model, Phi)
+    s = mode_signs(c, rot, c_t, rot_t, (z_amp, rot_amp, z_amp_t, rot_amp_t))
+    b = S[:-PROFILE_POINTS] * s  # the truth's gains of the PRBDM's modes, as the PRBDM signs them
     if match == "tip_z":
         b = b * (s * c_t / c)  # c_k phi_k^T w = c_t,k b_t,k
     W = np.linalg.solve(Phi.T, b.T).T
@@ -195,7 +240,7 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
         raise BeamInputError(f"truth: has {n_selected} selected modes, fewer than the model's "
                              f"{model.n_joints} joints; compute it with modes >= "
                              f"{model.n_joints}")
-    gains = truth_modal_gains(truth, beam, [*stations, (0.0, L)])
+    gains = truth_modal_gains(truth, beam, [*stations, *profile_stations(L)])
     W = fitted_weights(model, gains, match)
     return tuple(StrainActuator(a.x_start_m, a.x_end_m, joint_weights=tuple(w))
                  for a, w in zip(acts, W, strict=True))

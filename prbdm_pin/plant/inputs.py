@@ -26,6 +26,14 @@ one to use for patches that are short against the links or that sit anywhere but
 (co-design sweeps of patch position). The truth's modes above the n-th are not in either map.
 ``strain_map`` returns the weights when an actuator carries them; the truth side of a plant
 uses the stations only.
+
+Which fitted map: matching the modal gains (the default) forces every mode as the truth's patch
+does, so each output is as right as the PRBDM's own mode shapes make it (its tip force is
+matched no better); where the chain's tip gain of a high mode is off, outputs weighted to high
+frequency (tip z rate) keep that error. Matching the strain -> tip z residues (``match="tip_z"``)
+makes that FRF exact over the n modes and moves the error to the other outputs (the hub's). The
+virtual-work map remains the choice without a truth, and for patches that span several links
+on a chain with many joints.
 """
 
 from __future__ import annotations
