@@ -39,6 +39,7 @@ _EXPORTS = {
     # the linear plant
     "Hub": "plant.hub",
     "StrainActuator": "plant.inputs",
+    "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
     "LinearModel": "plant.state_space",
     "ModalData": "plant.state_space",

@@ -8,9 +8,10 @@ named by :func:`~prbdm_pin.export_plant.mujoco_name` (``strain[0]`` -> ``strain_
 - ``hub_torque`` (N m): on the hub joint;
 - ``joint_torque[j]`` (N m): on beam joint ``joint_{j+1}``;
 - ``strain[i]`` (N m, the patch moment): on a fixed tendon ``strain_i`` over the joints of the
-  patch with the coefficients of :func:`~prbdm_pin.plant.inputs.strain_map` (1 inside, 1/2 on a
-  joint an end sits on); MuJoCo applies coef * force to each joint of a fixed tendon, which is
-  the patch's virtual-work map;
+  patch with the coefficients of :func:`~prbdm_pin.plant.inputs.strain_map` (the virtual-work
+  map: 1 inside, 1/2 on a joint an end sits on; or the actuator's fitted joint weights, any
+  real numbers, over every joint); MuJoCo applies coef * force to each joint of a fixed tendon,
+  which is the patch's map;
 - ``tip_force_z``, ``tip_force_x`` (N): a site transmission at ``tip`` with ``refsite`` a site
   fixed at the world origin, so the force is along world z (x) at the tip: J^T F, a dead load.
 """
@@ -65,7 +66,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         The inputs written as MuJoCo actuators (module notes); default ``hub_torque`` with a
         hub, and ``strain[i]`` for every actuator.
     """
-    from .plant.inputs import StrainActuator, strain_map
+    from .plant.inputs import strain_map
 
     rec = export_record(model, "mjcf", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators, inputs=inputs)
@@ -136,7 +137,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         indent = indent[:-2]
         lines.append(f"{indent}</body>")
     lines.append("  </worldbody>")
-    spans = [StrainActuator(a, b) for a, b in rec.strain_actuators_m]
+    spans = rec.actuators()
     tendons, motors = [], []
     for u in rec.inputs:
         label = f'name="{mujoco_name(u)}"'

@@ -45,9 +45,12 @@ def stiffness_form(model, M: np.ndarray, xi: np.ndarray, omega_hub: np.ndarray |
     return 2.0 * float(xi[0]) / float(omega_hub[0]), np.diag(C)[1:].copy(), ratios
 
 
-def plant_inputs(model, fmt: str, actuators, inputs) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Check a plant's strain actuators (on the beam) and the inputs a file of ``fmt`` drives;
-    returns the spans [x_start_m, x_end_m] (m, shape (k, 2)) and the input names."""
+def plant_inputs(model, fmt: str, actuators, inputs
+                 ) -> tuple[np.ndarray, tuple, tuple[str, ...]]:
+    """Check a plant's strain actuators (on the beam, their joint weights one per joint) and
+    the inputs a file of ``fmt`` drives; returns the spans [x_start_m, x_end_m] (m, shape
+    (k, 2)), each actuator's joint weights (a tuple, or None for the virtual-work map) and the
+    input names."""
     from .plant.inputs import StrainActuator, parse_inputs, strain_map
 
     if isinstance(actuators, (str, bytes)) or not hasattr(actuators, "__len__"):
@@ -58,16 +61,17 @@ def plant_inputs(model, fmt: str, actuators, inputs) -> tuple[np.ndarray, tuple[
             raise BeamInputError(f"actuators[{i}] = {a!r:.60}: must be a StrainActuator")
         strain_map(model.lengths_m, a, f"actuators[{i}]")
     spans = np.array([[a.x_start_m, a.x_end_m] for a in actuators], dtype=float).reshape(-1, 2)
+    weights = tuple(a.joint_weights for a in actuators)
     hub = model.hub is not None
     if inputs is None:
         if fmt != "mjcf":
-            return spans, ()
+            return spans, weights, ()
         inputs = (("hub_torque",) if hub else ()) + tuple(
             f"strain[{i}]" for i in range(len(actuators)))
     elif fmt != "mjcf" and len(inputs):
         raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
                              "(only the MJCF does)")
     if not len(inputs):
-        return spans, ()
+        return spans, weights, ()
     parsed = parse_inputs(tuple(inputs), model.n_joints, len(actuators), hub)
-    return spans, tuple(name for name, _, _ in parsed)
+    return spans, weights, tuple(name for name, _, _ in parsed)

@@ -31,6 +31,7 @@ WORST_MODE_WARN_PCT = 1.0
 _FLOATS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
            "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios",
            "hub_frequencies_rad_s", "strain_actuators_m")
+_WEIGHTS_VW = "virtual-work"
 _RECORD_HEAD = " prbdm_pin export record (prbdm_pin.export.read_export_record reads it)"
 
 
@@ -90,6 +91,9 @@ class ExportRecord:
     inputs : tuple of str
         The inputs the file drives (MJCF ``<actuator>`` entries, by the package's input names;
         empty for URDF and JSON, which carry no actuators).
+    strain_actuator_weights : tuple
+        Per strain actuator, its fitted joint weights (a tuple, N m per N m) or None (the
+        virtual-work map); empty when no actuator has weights.
     """
 
     natural_frequencies_rad_s: np.ndarray
@@ -107,13 +111,31 @@ class ExportRecord:
     hub_frequencies_rad_s: np.ndarray | None = None
     strain_actuators_m: np.ndarray | None = None
     inputs: tuple = ()
+    strain_actuator_weights: tuple = ()
 
     def __post_init__(self) -> None:
         acts = np.zeros((0, 2)) if self.strain_actuators_m is None else self.strain_actuators_m
         object.__setattr__(self, "strain_actuators_m", np.reshape(acts, (-1, 2)))
         object.__setattr__(self, "inputs", tuple(self.inputs))
+        w = tuple(None if v is None else tuple(float(x) for x in v)
+                  for v in self.strain_actuator_weights)
+        if all(v is None for v in w):
+            w = ()
+        elif len(w) != self.strain_actuators_m.shape[0]:
+            raise ValueError(f"strain_actuator_weights: {len(w)} entries for "
+                             f"{self.strain_actuators_m.shape[0]} actuators")
+        object.__setattr__(self, "strain_actuator_weights", w)
         for name in _FLOATS:
             object.__setattr__(self, name, _ro(getattr(self, name)))
+
+    def actuators(self) -> tuple:
+        """The recorded strain actuators as :class:`~prbdm_pin.plant.inputs.StrainActuator`,
+        with their joint weights when they have them."""
+        from .plant.inputs import StrainActuator
+
+        w = self.strain_actuator_weights or (None,) * self.strain_actuators_m.shape[0]
+        return tuple(StrainActuator(float(a), float(b), joint_weights=v)
+                     for (a, b), v in zip(self.strain_actuators_m, w, strict=True))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready fields (SI units, %)."""
@@ -178,6 +200,13 @@ class ExportRecord:
             lines += [
                 "     Strain actuators [x_start_m x_end_m], m from the root, ';' between them:",
                 "     strain_actuators_m: " + "; ".join(_vec(a) for a in self.strain_actuators_m),
+            ]
+        if self.strain_actuator_weights:
+            lines += [
+                "     Their joint weights, N m per N m of patch moment, one per joint:",
+                "     fitted to the truth's modal gains, or virtual-work (1 inside, 1/2 on ends):",
+                "     strain_actuator_weights: " + "; ".join(
+                    _WEIGHTS_VW if v is None else _vec(v) for v in self.strain_actuator_weights),
             ]
         if self.inputs:
             lines.append("     inputs: " + " ".join(self.inputs))
@@ -255,7 +284,7 @@ def export_record(
     if requested not in EXPORT_DAMPING_FORMS:
         raise BeamInputError(f"damping_form = {requested!r}: must be one of "
                              f"{', '.join(EXPORT_DAMPING_FORMS)}")
-    spans, names = plant_inputs(model, fmt, actuators, inputs)
+    spans, weights, names = plant_inputs(model, fmt, actuators, inputs)
     n = model.n_joints
     xi = damping_ratios(damping_ratio, n)
     M = model.mass_matrix()
@@ -288,7 +317,7 @@ def export_record(
         notes.append(f"mode {worst_mode} of the exported model is {err[worst_mode - 1]:+.3f} % "
                      f"off the truth (straight pose); more than {WORST_MODE_WARN_PCT:g} %")
     return ExportRecord(omega, wt, err, worst, worst_mode, requested, form, xi, beta, c,
-                        ratios, tuple(notes), omega_hub, spans, names)
+                        ratios, tuple(notes), omega_hub, spans, names, weights)
 
 
 def read_export_record(text: str) -> ExportRecord | None:
@@ -313,6 +342,9 @@ def read_export_record(text: str) -> ExportRecord | None:
             warnings.append(value)
         elif key == "strain_actuators_m":
             fields[key] = np.array([p.split() for p in value.split(";")], dtype=float)
+        elif key == "strain_actuator_weights":
+            fields[key] = tuple(None if p.strip() == _WEIGHTS_VW else np.array(p.split(),
+                                dtype=float) for p in value.split(";"))
         elif key == "inputs":
             fields[key] = tuple(value.split())
         elif key in _FLOATS:

@@ -3,8 +3,10 @@ record, written by :func:`model_dict` and read back, validated, by :func:`read_m
 :func:`read_plant_json`.
 
 Plant fields: ``hub`` is null or ``{"inertia_kg_m2": J, "radius_m": r}``; ``actuators`` is a
-list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b). A file written
-before they existed has neither and reads as the clamped beam without actuators.
+list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b), with
+``"joint_weights": [w_1, ..., w_n]`` (one finite number per joint) for an actuator whose map
+was fitted to the truth. A file written before they existed has neither and reads as the
+clamped beam without actuators.
 """
 
 from __future__ import annotations
@@ -44,8 +46,7 @@ def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
         "stiffness_Nm_per_rad": [float(v) for v in model.stiffness_Nm_per_rad],
         "hub": None if hub is None else {"inertia_kg_m2": hub.inertia_kg_m2,
                                          "radius_m": hub.radius_m},
-        "actuators": [{"x_start_m": float(a), "x_end_m": float(b)}
-                      for a, b in rec.strain_actuators_m],
+        "actuators": [_actuator_dict(a) for a in rec.actuators()],
         "links": [
             {
                 "start_m": float(s.start_m[i]),
@@ -58,6 +59,13 @@ def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
         ],
     }
     out.update(rec.to_dict())
+    return out
+
+
+def _actuator_dict(a) -> dict[str, Any]:
+    out: dict[str, Any] = {"x_start_m": a.x_start_m, "x_end_m": a.x_end_m}
+    if a.joint_weights is not None:
+        out["joint_weights"] = list(a.joint_weights)
     return out
 
 
@@ -91,7 +99,20 @@ def _hub(what: str, value: Any):
     return Hub(J, r)
 
 
-def _actuators(what: str, value: Any, length_m: float) -> tuple:
+def _joint_weights(what: str, field: str, value: Any, n_joints: int) -> tuple | None:
+    if value is None:
+        return None
+    if not isinstance(value, list):
+        raise BeamInputError(f"{what}: {field}.joint_weights = {value!r:.60}: must be a list "
+                             "of numbers, one per joint")
+    w = tuple(_number(what, f"{field}.joint_weights[{j}]", v) for j, v in enumerate(value))
+    if len(w) != n_joints:
+        raise BeamInputError(f"{what}: {field}.joint_weights: has {len(w)} entries, this model "
+                             f"has {n_joints} joints")
+    return w
+
+
+def _actuators(what: str, value: Any, length_m: float, n_joints: int) -> tuple:
     from .plant.inputs import ON_JOINT_RTOL, StrainActuator
 
     if value is None:
@@ -110,7 +131,8 @@ def _actuators(what: str, value: Any, length_m: float) -> tuple:
         if not a < b:
             raise BeamInputError(f"{what}: {field}.x_end_m = {b!r}: must be > x_start_m = "
                                  f"{a!r} (m)")
-        out.append(StrainActuator(a, b))
+        w = _joint_weights(what, field, item.get("joint_weights"), n_joints)
+        out.append(StrainActuator(a, b, joint_weights=w))
     return tuple(out)
 
 
@@ -119,7 +141,7 @@ def read_plant_json(path: str | os.PathLike):
     (tuple of :class:`~prbdm_pin.plant.inputs.StrainActuator`) of a model JSON file.
 
     Raises BeamInputError naming the file and the field (``hub.inertia_kg_m2``,
-    ``actuators[1].x_end_m``, ...).
+    ``actuators[1].x_end_m``, ``actuators[0].joint_weights``, ...).
     """
     from .jsonfile import read_json
     from .model import build_model
@@ -147,7 +169,7 @@ def read_plant_json(path: str | os.PathLike):
         raise BeamInputError(f"{what}: n_joints = {d['n_joints']!r:.60}: lengths_m and "
                              f"stiffness_Nm_per_rad hold {k.size} joints")
     hub = _hub(what, d.get("hub"))
-    actuators = _actuators(what, d.get("actuators"), beam.length_m)
+    actuators = _actuators(what, d.get("actuators"), beam.length_m, k.size)
     model = build_model(beam, lengths, k, min_fraction=LINK_FLOOR_FRACTION, hub=hub)
     return model, actuators
 

@@ -3,8 +3,11 @@
 A rigid hub (inertia J_h about the bending axis, panel root at radius r) carries the panel and a
 full-width strain actuator. J_h is chosen so that the hub raises the first flexible mode a given
 ratio above the clamped panel's (default +20 %), from the truth's hybrid model. PRBDMs of 3, 4
-and 5 joints (eigen and combined fits, joint springs) are built on the hub and linearised; an
-LQG output-feedback compensator (``prbdm_pin.plant.slew``) designed on the 5R combined model
+and 5 joints (eigen and combined fits, joint springs) are built on the hub and linearised, each
+with three strain maps: the virtual-work map (the joints inside the patch), the map fitted to the
+truth's clamped modal gains (``prbdm_pin.fit_strain_actuators``) and the map fitted to its
+strain -> tip z residues (``match="tip_z"``). An LQG output-feedback
+compensator (``prbdm_pin.plant.slew``) designed on the 5R combined model with the fitted map
 slews the hub by 0.1 rad on every PRBDM and on the truth's hybrid model (both with modal damping
 on the hub-stiffened modes), by exact linear simulation. Reported: the open-loop FRF errors per
 input/output pair over [f omega_1, 1.2 omega_n] of the truth (a linear grid from the fraction f
@@ -29,7 +32,6 @@ from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
-from scipy.optimize import brentq  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -39,21 +41,21 @@ from prbdm_pin.fitting import fit  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.model import build_model  # noqa: E402
 from prbdm_pin.plant import slew  # noqa: E402
+from prbdm_pin.plant.actuator_fit import profile_stations  # noqa: E402
 from prbdm_pin.plant.hub import Hub  # noqa: E402
-from prbdm_pin.plant.inputs import StrainActuator  # noqa: E402
 from prbdm_pin.plant.linearize import linearize  # noqa: E402
+from prbdm_pin.plant.slew_study import (  # noqa: E402
+    MAPS,
+    PAIR_NAMES,
+    frf_errors,
+    hub_inertia_for_stiffening,
+    patch_actuators,
+    slew_metrics,
+)
 from prbdm_pin.response import relative_l2  # noqa: E402
 from prbdm_pin.target import target_from_truth  # noqa: E402
 from prbdm_pin.truth import compute_truth  # noqa: E402
-from prbdm_pin.truth.plant import (  # noqa: E402
-    hub_frequencies_rad_s,
-    hybrid_from_gains,
-    hybrid_matrices,
-    truth_modal_gains,
-)
-
-PAIRS = [(i, o) for i in range(2) for o in range(4)]
-PAIR_NAMES = [f"{slew.INPUTS[i].split('[')[0]}->{slew.OUTPUTS[o]}" for i, o in PAIRS]
+from prbdm_pin.truth.plant import hybrid_from_gains, truth_modal_gains  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -73,17 +75,6 @@ class Case:
     design: slew.SlewDesign = slew.SlewDesign()
 
 
-def hub_inertia_for_stiffening(gains, radius_m: float, ratio: float) -> float:
-    """J_h (kg m^2) at which the truth's first hub-stiffened mode is ``ratio`` times its first
-    clamped mode (brentq on log J_h; omega_1 falls monotonically to the clamped value)."""
-    def gap(log_j: float) -> float:
-        M, K, _, _ = hybrid_matrices(gains, float(np.exp(log_j)), radius_m)
-        return hub_frequencies_rad_s(M, K)[1] / gains.omega_rad_s[0] - ratio
-    j_beam = gains.second_moment_kg_m2 + gains.mass_kg * radius_m**2
-    lo, hi = np.log(j_beam) - 20.0, np.log(j_beam) + 20.0
-    return float(np.exp(brentq(gap, lo, hi, xtol=1e-12)))
-
-
 def stations(beam, case: Case) -> tuple[tuple[float, float], ...]:
     """The swept patches (x_a, x_b), m."""
     L = beam.length_m
@@ -91,55 +82,44 @@ def stations(beam, case: Case) -> tuple[tuple[float, float], ...]:
 
 
 def truth_plants(truth, beam, case: Case):
-    """J_h (kg m^2), r (m) and the truth's slew plant for every swept patch."""
+    """J_h (kg m^2), r (m), the truth's modal gains (the swept patches, then the profile the
+    fitted map's sign alignment needs) and its slew plant for every swept patch."""
     r = case.radius_frac * beam.length_m
-    gains = truth_modal_gains(truth, beam, stations(beam, case))
+    gains = truth_modal_gains(truth, beam, (*stations(beam, case),
+                                            *profile_stations(beam.length_m)))
     J_h = hub_inertia_for_stiffening(gains, r, case.stiffening)
     h = hybrid_from_gains(gains, J_h, r, case.damping_ratio, damping="modal")
-    return J_h, r, [slew.plant_from_hybrid(h, a) for a in range(len(case.starts_frac))]
+    return J_h, r, gains, [slew.plant_from_hybrid(h, a) for a in range(len(case.starts_frac))]
 
 
-def prbdm_plants(beam, result, J_h: float, r: float, case: Case):
-    """A fitted PRBDM on the hub: (LinearModel, slew plant) for every swept patch."""
+def prbdm_plants(beam, result, gains, J_h: float, r: float, case: Case, kind: str):
+    """A fitted PRBDM on the hub with the ``kind`` of strain map: (LinearModel, slew plant) for
+    every swept patch."""
     model = build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad, hub=Hub(J_h, r))
     out = []
-    for xa, xb in stations(beam, case):
-        lin = linearize(model, inputs=slew.INPUTS, outputs=slew.OUTPUTS,
-                        actuators=(StrainActuator(xa, xb),), damping_ratio=case.damping_ratio)
+    for act in patch_actuators(model, gains, stations(beam, case), kind):
+        lin = linearize(model, inputs=slew.INPUTS, outputs=slew.OUTPUTS, actuators=(act,),
+                        damping_ratio=case.damping_ratio)
         out.append((lin, slew.plant_from_linear(lin, r + beam.length_m)))
     return out
 
 
-def frf_errors(lin, truth: slew.SlewPlant, n: int, case: Case) -> np.ndarray:
-    """Relative L2 FRF error of each input/output pair (``PAIRS``) over the band."""
-    w_t = truth.frequencies_rad_s
-    w = np.linspace(case.frf_start_frac * w_t[0], 1.2 * w_t[min(n, w_t.size) - 1], 4000)
-    eye = np.eye(truth.A.shape[0])
-    H_t = np.array([truth.C @ np.linalg.solve(1j * wi * eye - truth.A, truth.B) for wi in w])
-    H_p = lin.frequency_response(w)
-    return np.array([relative_l2(H_p[:, o, i], H_t[:, o, i]) for i, o in PAIRS])
-
-
 def metrics(resp: slew.SlewResponse, wc: float, case: Case) -> dict:
-    """Settling times (2 % band), peak residual tip vibration after ``residual_per_wc``/omega_c."""
-    th = case.design.angle_rad
-    w = resp.tip_vibration_m
-    late = resp.t_s >= case.residual_per_wc / wc
-    return {"settle_hub_s": slew.settling_time_s(resp.t_s, resp.hub_angle_rad, th, 0.02 * th),
-            "settle_tip_s": slew.settling_time_s(resp.t_s, w, 0.0, 0.02 * np.abs(w).max()),
-            "residual_tip_m": float(np.abs(w[late]).max()), "peak_tip_m": float(np.abs(w).max()),
-            "cost": resp.cost, "max_pole": resp.max_real_pole_rad_s}
+    """Settling, residual tip vibration and cost of a slew (``slew_metrics``)."""
+    return slew_metrics(resp, case.design.angle_rad, wc, case.residual_per_wc)
 
 
 def run(beam, truth, case: Case, joints=(3, 4, 5), objectives=("eigen", "combined"),
-        starts: int = 8, design_model=(5, "combined")):
-    """Fits, open-loop errors, closed loops and the co-design sweep; returns a dict of rows
-    and the responses to plot."""
-    J_h, r, t_plants = truth_plants(truth, beam, case)
+        starts: int = 8, design_model=(5, "combined", "fitted")):
+    """Fits, open-loop errors, closed loops and the co-design sweep, with either strain map
+    (``MAPS``); ``design_model``: (joints, objective, map) of the plant the LQG is designed on.
+    Returns a dict of rows and the responses to plot."""
+    J_h, r, gains, t_plants = truth_plants(truth, beam, case)
     target = target_from_truth(truth, beam.tip_force_N)
     fits = {(n, o): fit(beam, target, n, objective=o, stiffness="joint", starts=starts,
                         seed=0, progress=False) for n in joints for o in objectives}
-    plants = {k: prbdm_plants(beam, f, J_h, r, case) for k, f in fits.items()}
+    plants = {(n, o, m): prbdm_plants(beam, f, gains, J_h, r, case, m)
+              for (n, o), f in fits.items() for m in MAPS}
     nom = case.starts_frac.index(case.nominal_start_frac)
     d_plant = plants[design_model][nom][1]
     scales = slew.slew_scales(d_plant, case.design)
@@ -148,26 +128,28 @@ def run(beam, truth, case: Case, joints=(3, 4, 5), objectives=("eigen", "combine
     comp = slew.slew_controller(d_plant, case.design, scales)
     t_resp = slew.slew_response(t_plants[nom], comp, case.design, scales, t)
     rows, curves = [], {"truth": t_resp}
-    for (n, o), pl in plants.items():
+    for (n, o, m), pl in plants.items():
         lin, p = pl[nom]
         w_t = t_plants[nom].frequencies_rad_s[:n]
         resp = slew.slew_response(p, comp, case.design, scales, t)
-        curves[f"{n}R {o}"] = resp
+        if o == design_model[1]:
+            curves[f"{n}R {o} {m}"] = resp
         own_s = slew.slew_scales(p, case.design)
         own = slew.slew_controller(p, case.design, own_s)
         own_p = slew.slew_response(p, own, case.design, own_s, t)
         own_t = slew.slew_response(t_plants[nom], own, case.design, own_s, t)
         rows.append({
-            "model": f"{n}R", "objective": o,
+            "model": f"{n}R", "objective": o, "map": m,
             "freq_err_pct": 100.0 * (p.frequencies_rad_s[:n] / w_t - 1.0),
-            "frf_err": frf_errors(lin, t_plants[nom], n, case),
+            "frf_err": frf_errors(lin, t_plants[nom], n, case.frf_start_frac),
             "hub_l2": relative_l2(resp.hub_angle_rad - case.design.angle_rad,
                                   t_resp.hub_angle_rad - case.design.angle_rad),
             "tip_l2": relative_l2(resp.tip_vibration_m, t_resp.tip_vibration_m),
             "prbdm": metrics(resp, wc, case), "own_prbdm": metrics(own_p, wc, case),
             "own_truth": metrics(own_t, wc, case)})
     sweep = codesign(t_plants, plants, case, objective="combined")
-    return {"design": f"{design_model[0]}R {design_model[1]}", "J_h": J_h, "r": r,
+    return {"design": " ".join(str(v) for v in (f"{design_model[0]}R", *design_model[1:])),
+            "J_h": J_h, "r": r,
             "wc": wc, "truth": metrics(t_resp, wc, case), "rows": rows, "sweep": sweep,
             "curves": curves, "truth_w": t_plants[nom].frequencies_rad_s}
 
@@ -180,7 +162,7 @@ def codesign(t_plants, plants, case: Case, objective: str) -> dict:
         s = slew.slew_scales(tp, case.design)
         c = slew.slew_controller(tp, case.design, s)
         out["truth_designed"].append(_cost(tp, c, case, s))
-    for (n, o), pl in plants.items():
+    for (n, o, m), pl in plants.items():
         if o != objective:
             continue
         pred, on_truth = [], []
@@ -189,7 +171,8 @@ def codesign(t_plants, plants, case: Case, objective: str) -> dict:
             c = slew.slew_controller(p, case.design, s)
             pred.append(_cost(p, c, case, s))
             on_truth.append(_cost(t_plants[a], c, case, s))
-        out[f"{n}R predicted"], out[f"{n}R on truth"] = pred, on_truth
+        tag = f"{n}R" if m == "virtual-work" else f"{n}R {m}"
+        out[f"{tag} predicted"], out[f"{tag} on truth"] = pred, on_truth
     return {k: np.array(v) for k, v in out.items()}
 
 
@@ -208,14 +191,17 @@ def tables(res: dict, case: Case, beam, truth) -> tuple[str, dict[str, str]]:
           f"{case.design.angle_rad} rad, patch {case.patch_frac} L from "
           f"{case.nominal_start_frac} L; FRF band [{case.frf_start_frac} omega_1, 1.2 omega_n].",
           "", "## Open loop", "",
-          "| model | objective | frequency errors (%) | " + " | ".join(PAIR_NAMES) + " |",
-          "|---|---|---|" + "---|" * len(PAIRS)]
-    csv1 = ["model,objective,freq_errors_pct," + ",".join(PAIR_NAMES)]
+          "Strain map: virtual-work (the joints inside the patch), fitted (joint weights matching "
+          "the truth's clamped modal gains) or fitted-tip_z (matching its strain -> tip z "
+          "residues); the hub-torque columns do not depend on it.",
+          "", "| model | objective | map | frequency errors (%) | " + " | ".join(PAIR_NAMES)
+          + " |", "|---|---|---|---|" + "---|" * len(PAIR_NAMES)]
+    csv1 = ["model,objective,map,freq_errors_pct," + ",".join(PAIR_NAMES)]
     for r in res["rows"]:
         fe = " / ".join(f"{e:+.3g}" for e in r["freq_err_pct"])
-        md.append(f"| {r['model']} | {r['objective']} | {fe} | "
+        md.append(f"| {r['model']} | {r['objective']} | {r['map']} | {fe} | "
                   + " | ".join(f"{100 * e:.3g} %" for e in r["frf_err"]) + " |")
-        csv1.append(f"{r['model']},{r['objective']},{fe.replace(' ', '')},"
+        csv1.append(f"{r['model']},{r['objective']},{r['map']},{fe.replace(' ', '')},"
                     + ",".join(f"{e:.6g}" for e in r["frf_err"]))
     keys = ("settle_hub_s", "settle_tip_s", "residual_tip_m", "cost")
     head = "| plant | hub error L2 | tip error L2 | hub settling (s) | tip settling (s) | " \
@@ -229,11 +215,12 @@ def tables(res: dict, case: Case, beam, truth) -> tuple[str, dict[str, str]]:
     csv2.append("truth,,," + ",".join(f"{tm[k]:.6g}" for k in keys) + ",,,,")
     for r in res["rows"]:
         m, o = r["prbdm"], r["own_truth"]
-        md.append(f"| {r['model']} {r['objective']} | {100 * r['hub_l2']:.3g} % | "
+        md.append(f"| {r['model']} {r['objective']} {r['map']} | {100 * r['hub_l2']:.3g} % | "
                   f"{100 * r['tip_l2']:.3g} % | {m['settle_hub_s']:.3g} | "
                   f"{m['settle_tip_s']:.3g} | {m['residual_tip_m']:.3g} | {m['cost']:.4g} | "
                   f"{o['settle_hub_s']:.3g} / {o['residual_tip_m']:.3g} / {o['cost']:.4g} |")
-        csv2.append(f"{r['model']} {r['objective']},{r['hub_l2']:.6g},{r['tip_l2']:.6g},"
+        csv2.append(f"{r['model']} {r['objective']} {r['map']},{r['hub_l2']:.6g},"
+                    f"{r['tip_l2']:.6g},"
                     + ",".join(f"{m[k]:.6g}" for k in keys) + ","
                     + ",".join(f"{o[k]:.6g}" for k in keys))
     sw = res["sweep"]
@@ -294,7 +281,7 @@ def main(argv: list[str] | None = None) -> int:
     case = Case()
     joints = tuple(int(v) for v in args.joints.split(","))
     res = run(beam, truth, case, joints=joints, starts=args.starts,
-              design_model=(max(joints), "combined"))
+              design_model=(max(joints), "combined", "fitted"))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     md, csvs = tables(res, case, beam, truth)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BETA_L", "ELASTICA", "REF_OMEGA", "SQUARE_PLATE"]
+__all__ = ["BETA_L", "ELASTICA", "REF_OMEGA", "SQUARE_PLATE", "cantilever_modes"]
 
 # clamped-free Euler-Bernoulli roots beta_k L of cos(beta L) cosh(beta L) = -1
 BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376, 10.995540734875,
@@ -33,3 +33,27 @@ SQUARE_PLATE = np.array([3.4710, 8.5063, 21.284, 27.199, 30.955])
 # shared by every test module: read-only, so no test can change another's reference
 for _table in (BETA_L, REF_OMEGA, SQUARE_PLATE):
     _table.setflags(write=False)
+
+
+def cantilever_modes(EI_Nm2: float, mass_per_length_kg_m: float, length_m: float, n: int):
+    """Closed-form clamped-free Euler-Bernoulli modes, mass-normalised (int m phi^2 dx = 1):
+    omega (rad/s, (n,)), the tip deflection per modal coordinate (positive, (n,)) and
+    ``psi(x)`` -> (n,) the section rotation -d phi / dx (the sense of a joint angle: a positive
+    psi turns the beam towards -z) at station x (m)."""
+    L, bl = length_m, BETA_L[:n]
+    beta = bl / L
+    omega = bl**2 * np.sqrt(EI_Nm2 / (mass_per_length_kg_m * L**4))
+    sigma = (np.cosh(bl) + np.cos(bl)) / (np.sinh(bl) + np.sin(bl))
+    a = 1.0 / np.sqrt(mass_per_length_kg_m * L)  # the bracket's square integrates to L
+
+    def shape(x):
+        b = beta * x
+        return a * (np.cosh(b) - np.cos(b) - sigma * (np.sinh(b) - np.sin(b)))
+
+    sign = np.sign(shape(L))
+
+    def psi(x):
+        b = beta * x
+        return -sign * a * beta * (np.sinh(b) + np.sin(b) - sigma * (np.cosh(b) - np.cos(b)))
+
+    return omega, sign * shape(L), psi

@@ -37,6 +37,9 @@ HUB = Hub(2.0, 0.1)
 # strain[0] ends exactly on joint 2 (x = 0.45 L): coefficient 1/2 there; strain[1] spans two
 ACTUATORS = (StrainActuator(0.05 * BEAM.length_m, 0.45 * BEAM.length_m),
              StrainActuator(0.2 * BEAM.length_m, 0.9 * BEAM.length_m))
+# a fitted map: any real weights on every joint (negative, beyond 1)
+FITTED = (StrainActuator(0.02 * BEAM.length_m, 0.08 * BEAM.length_m,
+                         joint_weights=(0.43, -0.27, 1.6)),)
 POSE = np.array([0.4, 0.2, -0.3, 0.5])
 XI = 0.02
 
@@ -125,6 +128,25 @@ def test_mjcf_actuators_apply_the_input_map(hub_model):
     np.testing.assert_allclose(moment.T, B, rtol=1e-12, atol=1e-15)
     # patch 0 from 0.05 L to 0.45 L: joint 1 (0.15 L) inside, joint 2 (0.45 L) under its end
     np.testing.assert_array_equal(moment[2], [0.0, 1.0, 0.5, 0.0])
+
+
+def test_mjcf_fitted_weights_are_the_tendon_coefficients(hub_model):
+    """A fitted map (a patch inside link 0, which the virtual-work map leaves without any joint)
+    gives MuJoCo the same actuator moment as input_map: the weights on the beam joints, none on
+    the hub; the record carries the weights and reads them back."""
+    acts = ACTUATORS + FITTED
+    names = ("hub_torque", "strain[0]", "strain[2]")
+    text = mjcf_text(hub_model, XI, actuators=acts, inputs=names)
+    m, d = _mj(text)
+    d.qpos[:] = POSE
+    mujoco.mj_forward(m, d)
+    moment = np.zeros((m.nu, m.nv))
+    mujoco.mju_sparse2dense(moment, d.actuator_moment, d.moment_rownnz, d.moment_rowadr,
+                            d.moment_colind)
+    np.testing.assert_allclose(moment.T, input_map(hub_model, POSE, names, acts), rtol=1e-15,
+                               atol=0.0)
+    np.testing.assert_array_equal(moment[2], [0.0, 0.43, -0.27, 1.6])
+    assert read_export_record(text).actuators() == acts
 
 
 def test_mjcf_default_inputs(hub_model):
@@ -238,6 +260,12 @@ def test_json_round_trip_rebuilds_hub_and_actuators(hub_model, tmp_path):
                                  "x_end_m": 0.45 * BEAM.length_m}
     model, acts = read_plant_json(path)
     assert model.hub == HUB and acts == ACTUATORS
+    # fitted weights are recorded with their actuator and read back; virtual-work ones are not
+    path = export_model(hub_model, tmp_path / "f.json", "json", actuators=ACTUATORS + FITTED)
+    d2 = json.loads(path.read_text())
+    assert "joint_weights" not in d2["actuators"][0]
+    assert d2["actuators"][2]["joint_weights"] == [0.43, -0.27, 1.6]
+    assert read_plant_json(path)[1] == ACTUATORS + FITTED
     np.testing.assert_allclose(model.mass_matrix(POSE), _crba(hub_model, POSE), rtol=1e-14,
                                atol=1e-15)
     assert read_model_json(path).hub == HUB
@@ -255,6 +283,10 @@ def test_json_round_trip_rebuilds_hub_and_actuators(hub_model, tmp_path):
      "actuators[1].x_end_m = 2.0: must lie on the beam"),
     ("actuators", [{"x_start_m": 0.5, "x_end_m": 0.2}], "actuators[0].x_end_m = 0.2"),
     ("actuators", [{"x_start_m": "a", "x_end_m": 0.2}], "actuators[0].x_start_m = 'a'"),
+    ("actuators", [{"x_start_m": 0.1, "x_end_m": 0.2, "joint_weights": [0.5, 0.1]}],
+     "actuators[0].joint_weights: has 2 entries, this model has 3 joints"),
+    ("actuators", [{"x_start_m": 0.1, "x_end_m": 0.2, "joint_weights": [0.5, None, 0]}],
+     "actuators[0].joint_weights[1] = None"),
 ])
 def test_hand_edited_model_json_is_refused_naming_the_field(hub_model, tmp_path, capsys,
                                                             field, value, needle):

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from . import add_common
+from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
     actuators_on_beam,
     actuators_option,
@@ -30,6 +31,8 @@ examples:
   prbdm export ref.urdf --format mjcf --out ref.xml
   prbdm export runs/ref/fit.json --format mjcf --hub 0.5:0.05 \\
       --actuator 0.05:0.4 --out ref_plant.xml
+  prbdm export runs/ref/fit.json --format mjcf --actuator 0.2:0.3 --fit-actuators \\
+      --out ref_patch.xml
 
 Plant: --hub INERTIA:RADIUS puts the beam on a rotating hub (the MJCF hinge and the URDF
 revolute joint `hub`, no spring, no damping); --actuator XA:XB adds a strain actuator
@@ -38,6 +41,9 @@ and strain[i] for every actuator) as MuJoCo actuators named hub_torque, joint_to
 strain_I, tip_force_z, tip_force_x (data.ctrl is the input, N m or N). URDF has no tendons: it
 records the actuators in its comment; JSON records hub and actuators as fields. A model JSON
 or URDF written with them carries them into the next export unless the options replace them.
+A strain tendon's coefficients are the virtual-work map (1 on the joints inside the patch, 1/2
+under an end) or, with --fit-actuators, joint weights fitted to the modal gains of the truth the
+fit.json was made against (from the truth cache); the file records them.
 
 Damping: URDF <dynamics damping> and MJCF joint damping are diagonal, so they carry the
 stiffness-proportional form C = beta K (default): mode 1 gets ZETA, mode k ZETA omega_k/omega_1.
@@ -78,6 +84,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="stiffness (C = beta K; default for urdf and mjcf) or modal (default "
                         "for json; urdf/mjcf write the stiffness form instead and warn)")
     add_plant_options(p)
+    add_fit_actuators_option(p, cache_dir=True)
     p.add_argument("--inputs", default=None, metavar="NAMES",
                    help="comma-separated inputs the MJCF drives as MuJoCo actuators: "
                         "hub_torque, joint_torque[j], strain[i], tip_force_z, tip_force_x "
@@ -122,6 +129,7 @@ def check_options(args: argparse.Namespace) -> dict:
     if opts["inputs"] is not None and args.format != "mjcf":
         raise BeamInputError(f"--inputs = {args.inputs!r}: only the MJCF carries actuators; "
                              f"drop it for --format {args.format}")
+    check_fit_actuators(args, len(opts["actuators"]) or -1)
     out = writable_file(args.out, "--out")
     if os.path.exists(args.model) and out.exists() and os.path.samefile(args.model, out):
         raise BeamInputError(f"--out = {args.out!r}: is the MODEL file itself; give another "
@@ -135,13 +143,11 @@ def file_actuators(path: str | Path) -> tuple:
     from ..export import read_export_record, read_plant_json
     from ..jsonfile import read_json
     from ..model_files import file_kind
-    from ..plant.inputs import StrainActuator
 
     p = Path(path)
     if p.suffix.lower() == ".urdf":
         rec = read_export_record(p.read_text(encoding="utf-8"))
-        spans = () if rec is None else rec.strain_actuators_m
-        return tuple(StrainActuator(float(a), float(b)) for a, b in spans)
+        return () if rec is None else rec.actuators()
     if file_kind(read_json(p, "MODEL")) == "model":
         return read_plant_json(p)[1]
     return ()
@@ -162,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
         actuators_on_beam(model, actuators, args.actuator)
     else:
         actuators = file_actuators(args.model)
+    actuators = fit_actuators(args, model, fitted, actuators)
     plant = {"actuators": actuators}
     if args.format == "mjcf":
         plant["inputs"] = opts["inputs"]
@@ -175,7 +182,8 @@ def run(args: argparse.Namespace) -> int:
         for line in rec.summary_lines():
             print(line)
         hub = "" if model.hub is None else ", on a hub"
-        acts = f", {len(actuators)} strain actuators" if len(actuators) else ""
+        fit = " (joint weights fitted to the truth)" if args.fit_actuators else ""
+        acts = f", {len(actuators)} strain actuators{fit}" if len(actuators) else ""
         inputs = f", inputs {', '.join(rec.inputs)}" if rec.inputs else ""
         print(f"wrote {path} ({args.format}, {model.n_joints} joints{hub}{acts}{inputs})",
               file=sys.stderr)

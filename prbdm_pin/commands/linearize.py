@@ -10,6 +10,7 @@ from pathlib import Path
 
 from ..errors import BeamInputError
 from . import add_common
+from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
     actuators_option,
     add_plant_options,
@@ -27,6 +28,8 @@ examples:
       --hub 0.5:0.05 --damping-ratio 0.01 --out runs/ref/hub
   prbdm linearize runs/ref/fit.json --inputs hub_torque,strain[0] --outputs hub_angle,tip_z \\
       --hub 5:0.1 --actuator 0:0.1 --compare-truth --out runs/ref/hub
+  prbdm linearize runs/ref/fit.json --inputs strain[0] --outputs tip_z --actuator 0.2:0.3 \\
+      --fit-actuators --out runs/ref/patch
 
 Inputs: tip_force_z, tip_force_x (N), joint_torque[j] (N m, beam joint j from the root, 0-based),
 strain[i] (N m, the moment of the i-th --actuator), hub_torque (N m, with --hub).
@@ -34,8 +37,13 @@ Outputs: tip_z, tip_x (m), tip_z_rate (m/s), q[j] (rad), q_rate[j] (rad/s), spri
 (N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are deviations from the equilibrium
 under --load and --gravity; a hub is held there by a trim torque.
 
+Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
+ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.
+--fit-actuators fits each joint's weight so that the PRBDM's n modes get the truth's modal input
+gains (the truth the fit.json was made against, from the cache).
+
 Writes OUT/linear_model.npz (A, B, C, D; x = [q; v]), OUT/linear_model.json (names, units,
-equilibrium, modal table) and OUT/bode.png.
+equilibrium, modal table, the actuators' stations and joint weights) and OUT/bode.png.
 
 --compare-truth adds OUT/comparison.json and OUT/comparison.png: the plant against the truth of
 the same plant (the finite-element truth the fit.json was fitted to, from the cache, on the same
@@ -86,6 +94,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--cache-dir", default=None, metavar="DIR",
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
+    add_fit_actuators_option(p)
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     add_common(p)
     p.set_defaults(func=run)
@@ -121,6 +130,7 @@ def check_options(args: argparse.Namespace) -> dict:
     from .plant_comparison import check_compare_options
 
     check_compare_options(args, out)
+    check_fit_actuators(args, len(out["actuators"]))
     return out
 
 
@@ -152,6 +162,17 @@ def _bode(lin, path: Path) -> None:
     save_png(fig, path)
 
 
+def actuator_weights_record(model, actuators) -> dict:
+    """``actuator_weights`` (each actuator's joint weights, N m per N m, as used) and
+    ``actuator_maps`` (``"fitted"`` or ``"virtual-work"`` each)."""
+    from ..plant.inputs import strain_map
+
+    return {"actuator_weights": [[float(v) for v in strain_map(model.lengths_m, a,
+                                                                f"actuators[{i}]")]
+                                 for i, a in enumerate(actuators)],
+            "actuator_maps": ["fitted" if a.fitted else "virtual-work" for a in actuators]}
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm linearize``."""
     import io
@@ -171,6 +192,7 @@ def run(args: argparse.Namespace) -> int:
         request = truth_request_of(fitted, args.model)
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
+    opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=args.damping_ratio,
@@ -183,6 +205,7 @@ def run(args: argparse.Namespace) -> int:
         "hub": None if opts["hub"] is None else {
             "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m},
         "actuators_m": [[a.x_start_m, a.x_end_m] for a in opts["actuators"]],
+        **actuator_weights_record(model, opts["actuators"]),
         "load_N": opts["load"], "gravity_m_s2": opts["gravity"],
         "damping_ratio": args.damping_ratio, "damping_form": args.damping_form,
         "state_units": ["rad"] * len(lin.q_eq) + ["rad/s"] * len(lin.q_eq),

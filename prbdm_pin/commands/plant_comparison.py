@@ -31,15 +31,15 @@ def check_compare_options(args, opts: dict) -> None:
     check_cache_dir(args)
 
 
-def truth_request_of(fitted, model_path: str):
-    """The truth request a fit recorded; BeamInputError when the model file has none or its
-    truth has no modal plant."""
+def truth_request_of(fitted, model_path: str, option: str = "--compare-truth"):
+    """The truth request a fit recorded; BeamInputError naming ``option`` when the model file
+    has none or its truth has no modal plant."""
     request = getattr(fitted, "truth_request", None)
     if request is None:
-        raise BeamInputError(f"--compare-truth: MODEL {model_path!r} carries no truth record "
+        raise BeamInputError(f"{option}: MODEL {model_path!r} carries no truth record "
                              "(give the fit.json written by `prbdm fit`)")
     if request.model not in PLANT_TRUTH_MODELS:
-        raise BeamInputError(f"--compare-truth: the fit's truth model {request.model!r} has no "
+        raise BeamInputError(f"{option}: the fit's truth model {request.model!r} has no "
                              f"modal plant; fit against one of {', '.join(PLANT_TRUTH_MODELS)}")
     return request
 

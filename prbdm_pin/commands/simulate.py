@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
 from . import add_common
+from .fit_actuators import add_fit_actuators_option, fit_actuators
 from .model_source import load_model_and_fit
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
@@ -102,6 +103,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
     add_plant_options(p)
+    add_fit_actuators_option(p)
     p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
                         "pulse:A:T1 or sine:A:F (Hz); e.g. hub_torque=pulse:0.5:0.4")
@@ -248,6 +250,11 @@ def run(args: argparse.Namespace) -> int:
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
     actuators_on_beam(model, plant["actuators"], args.actuator)
+    plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])
+    if args.fit_actuators and not args.quiet:
+        for i, a in enumerate(plant["actuators"]):
+            print(f"strain[{i}] joint weights fitted to the truth: "
+                  + " ".join(f"{v:.6g}" for v in a.joint_weights), file=sys.stderr)
     hub = model.hub is not None
     outputs = plant_outputs(plant, hub)
     out = Path(args.out)

@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 
 from ..errors import BeamInputError
+from .fit_actuators import check_fit_actuators
 from .plant_options import actuators_option, hub_option, names_option
 
 
@@ -20,6 +21,7 @@ def check_plant_options(args: argparse.Namespace) -> dict:
     opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
             "inputs": names, "u": signal, "outputs": outputs}
     opts["plant"] = bool(args.hub or args.actuator or args.input)
+    check_fit_actuators(args, len(opts["actuators"]))
     if args.compare_truth and opts["plant"]:
         if args.damping_form != "modal":
             raise BeamInputError(f"--damping-form = {args.damping_form!r}: --compare-truth of "

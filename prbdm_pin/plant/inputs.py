@@ -14,6 +14,26 @@ half the moment: the generalized torque jumps from 0 to M as the end moves acros
 and the joint's lumped compliance stands for the beam on both sides of it, so the midpoint of
 the jump is the consistent value (a patch from one joint to the next gives each 1/2, and two
 such patches end to end add up to the one patch that covers both).
+
+Two maps. The virtual-work map above is what the chain's kinematics give: it needs nothing but
+the joint stations, and it is exact in the limit of many joints, but a patch shorter than a
+link moves no joint (zero gain) and one across a joint gives that joint the whole moment,
+whichever part of the beam the patch bends. A fitted map (``StrainActuator(...,
+joint_weights=w)``, made by :func:`prbdm_pin.plant.actuator_fit.fit_strain_actuators`) gives
+each joint the weight that makes the chain's n modal input gains the finite-element truth's,
+as the springs and links are fitted to its n frequencies: it needs the truth, and it is the
+one to use for patches that are short against the links or that sit anywhere but on joints
+(co-design sweeps of patch position). The truth's modes above the n-th are not in either map.
+``strain_map`` returns the weights when an actuator carries them; the truth side of a plant
+uses the stations only.
+
+Which fitted map: matching the modal gains (the default) forces every mode as the truth's patch
+does, so each output is as right as the PRBDM's own mode shapes make it (its tip force is
+matched no better); where the chain's tip gain of a high mode is off, outputs weighted to high
+frequency (tip z rate) keep that error. Matching the strain -> tip z residues (``match="tip_z"``)
+makes that FRF exact over the n modes and moves the error to the other outputs (the hub's). The
+virtual-work map remains the choice without a truth, and for patches that span several links
+on a chain with many joints.
 """
 
 from __future__ import annotations
@@ -42,10 +62,14 @@ class StrainActuator:
     """A bending-moment actuator over the beam span [x_start_m, x_end_m], m from the root.
 
     Its input is the moment M (N m) the patch applies (see the module notes for the sign).
+    ``joint_weights`` (one finite number per joint, N m per N m of patch moment), when given,
+    replaces the virtual-work map (see the module notes); its length is checked against the
+    model where the actuator is used.
     """
 
     x_start_m: float
     x_end_m: float
+    joint_weights: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         for name in ("x_start_m", "x_end_m"):
@@ -58,6 +82,28 @@ class StrainActuator:
         if not self.x_start_m < self.x_end_m:
             raise BeamInputError(f"StrainActuator x_start_m = {self.x_start_m!r}: must be < "
                                  f"x_end_m = {self.x_end_m!r} (m)")
+        if self.joint_weights is not None:
+            object.__setattr__(self, "joint_weights", _weights(self.joint_weights))
+
+    @property
+    def fitted(self) -> bool:
+        """Whether the actuator carries its own joint weights (else: the virtual-work map)."""
+        return self.joint_weights is not None
+
+
+def _weights(value: object) -> tuple[float, ...]:
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__") \
+            or np.ndim(value) != 1 or len(value) == 0:
+        raise BeamInputError(f"StrainActuator joint_weights = {value!r:.60}: must be a sequence "
+                             "of numbers, one per joint")
+    out = []
+    for j, v in enumerate(value):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.number)) \
+                or not math.isfinite(float(v)):
+            raise BeamInputError(f"StrainActuator joint_weights[{j}] = {v!r}: must be a finite "
+                                 "number (N m per N m)")
+        out.append(float(v))
+    return tuple(out)
 
 
 def joint_stations(lengths_m: np.ndarray) -> np.ndarray:
@@ -67,10 +113,12 @@ def joint_stations(lengths_m: np.ndarray) -> np.ndarray:
 
 def strain_map(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "actuators[0]"
                ) -> np.ndarray:
-    """Generalized torque per unit patch moment on each joint, shape (n,): 1 inside the patch,
-    1/2 for a joint an end sits on, 0 outside (dimensionless, N m per N m).
+    """Generalized torque per unit patch moment on each joint, shape (n,): the actuator's
+    ``joint_weights`` when it has them, else 1 inside the patch, 1/2 for a joint an end sits
+    on, 0 outside (dimensionless, N m per N m).
 
-    Raises BeamInputError naming ``field`` when the patch leaves [0, L].
+    Raises BeamInputError naming ``field`` when the patch leaves [0, L] or its weights do not
+    have one entry per joint.
     """
     lengths = np.asarray(lengths_m, dtype=float)
     L = float(lengths.sum())
@@ -81,6 +129,11 @@ def strain_map(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "ac
             raise BeamInputError(f"{field} {name} = {v!r}: must lie on the beam, in [0, {L:g}] "
                                  "(m)")
     x = joint_stations(lengths)
+    if actuator.joint_weights is not None:
+        if len(actuator.joint_weights) != x.size:
+            raise BeamInputError(f"{field}.joint_weights: has {len(actuator.joint_weights)} "
+                                 f"entries, this model has {x.size} joints")
+        return np.array(actuator.joint_weights)
     a, b = actuator.x_start_m, actuator.x_end_m
     inside = ((x > a + tol) & (x < b - tol)).astype(float)
     on_end = (np.abs(x - a) <= tol) | (np.abs(x - b) <= tol)
