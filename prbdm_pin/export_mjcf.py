@@ -25,20 +25,14 @@ import numpy as np
 
 from . import __version__
 from .errors import BeamInputError
+from .export_comment import number_text as _f
+from .export_comment import vector_text as _vec
 from .export_plant import mujoco_name
 from .export_record import export_record
 
 __all__ = ["mjcf_text"]
 
 _TIP_GEAR = {"tip_force_z": "0 0 1 0 0 0", "tip_force_x": "1 0 0 0 0 0"}
-
-
-def _f(v: float) -> str:
-    return repr(float(v))
-
-
-def _vec(v: np.ndarray) -> str:
-    return " ".join(_f(x) for x in v)
 
 
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,

@@ -5,7 +5,6 @@ JSON as fields."""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,19 +27,9 @@ __all__ = [
 
 # a worst mode further off the truth than this, %, is worth a warning
 WORST_MODE_WARN_PCT = 1.0
-_FLOATS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
+FLOAT_FIELDS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
            "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios",
            "hub_frequencies_rad_s", "strain_actuators_m")
-_WEIGHTS_VW = "virtual-work"
-_RECORD_HEAD = " prbdm_pin export record (prbdm_pin.export.read_export_record reads it)"
-
-
-def _f(v: float) -> str:
-    return repr(float(v))
-
-
-def _vec(v: np.ndarray) -> str:
-    return " ".join(_f(x) for x in v)
 
 
 def _ro(a: np.ndarray | None) -> np.ndarray | None:
@@ -125,7 +114,7 @@ class ExportRecord:
             raise ValueError(f"strain_actuator_weights: {len(w)} entries for "
                              f"{self.strain_actuators_m.shape[0]} actuators")
         object.__setattr__(self, "strain_actuator_weights", w)
-        for name in _FLOATS:
+        for name in FLOAT_FIELDS:
             object.__setattr__(self, name, _ro(getattr(self, name)))
 
     def actuators(self) -> tuple:
@@ -162,56 +151,11 @@ class ExportRecord:
         }
 
     def comment_text(self) -> str:
-        """The record as the text of an XML comment (one ``key: values`` line each)."""
-        def vals(a):
-            return "unknown" if a is None else _vec(a)
+        """The record as the text of an XML comment (one ``key: values`` line each; see
+        :mod:`prbdm_pin.export_comment`)."""
+        from .export_comment import comment_text
 
-        def num(v):
-            return "unknown" if v is None else _f(v)
-
-        lines = [
-            _RECORD_HEAD,
-            "     The exported model at the straight pose (q = 0): its own natural frequencies",
-            "     (rad/s), the truth frequencies it was fitted to (rad/s), the signed errors",
-            "     100 (omega_model / omega_truth - 1) and the worst absolute error (%); the joint",
-            "     damping written (C = beta K for the stiffness form, N m s/rad) and the damping",
-            "     ratio it gives each mode, ascending frequency.",
-            f"     natural_frequencies_rad_s: {vals(self.natural_frequencies_rad_s)}",
-            f"     omega_truth_rad_s: {vals(self.omega_truth_rad_s)}",
-            f"     omega_errors_pct: {vals(self.omega_errors_pct)}",
-            f"     worst_mode_error_pct: {num(self.worst_mode_error_pct)}",
-            f"     worst_mode: {'unknown' if self.worst_mode is None else self.worst_mode}",
-            f"     damping_requested: {self.damping_requested}",
-            f"     damping_form: {self.damping_form}",
-            f"     damping_ratio: {vals(self.damping_ratio)}",
-            f"     damping_beta_s: {num(self.damping_beta_s)}",
-            f"     joint_damping_Nms_per_rad: {vals(self.joint_damping_Nms_per_rad)}",
-            f"     modal_damping_ratios: {vals(self.modal_damping_ratios)}",
-        ]
-        if self.hub_frequencies_rad_s is not None:
-            lines += [
-                "     The model turns on a hub: the frequencies and errors above are the",
-                "     clamped (fitted) model's; the hub model's flexible frequencies (rad/s,",
-                "     the rigid mode at 0 left out) follow; the damping and its modal ratios",
-                "     are the hub model's.",
-                f"     hub_frequencies_rad_s: {vals(self.hub_frequencies_rad_s)}",
-            ]
-        if self.strain_actuators_m.size:
-            lines += [
-                "     Strain actuators [x_start_m x_end_m], m from the root, ';' between them:",
-                "     strain_actuators_m: " + "; ".join(_vec(a) for a in self.strain_actuators_m),
-            ]
-        if self.strain_actuator_weights:
-            lines += [
-                "     Their joint weights, N m per N m of patch moment, one per joint:",
-                "     fitted to the truth's modal gains, or virtual-work (1 inside, 1/2 on ends):",
-                "     strain_actuator_weights: " + "; ".join(
-                    _WEIGHTS_VW if v is None else _vec(v) for v in self.strain_actuator_weights),
-            ]
-        if self.inputs:
-            lines.append("     inputs: " + " ".join(self.inputs))
-        lines += [f"     warning: {w}" for w in self.warnings]
-        return "\n".join(lines) + "\n"
+        return comment_text(self)
 
     def summary_lines(self) -> list[str]:
         """Human-readable lines for a command's output."""
@@ -321,41 +265,8 @@ def export_record(
 
 
 def read_export_record(text: str) -> ExportRecord | None:
-    """The :class:`ExportRecord` in the comment of an exported URDF or MJCF text (None if none).
+    """The :class:`ExportRecord` in the comment of an exported URDF or MJCF text (None if
+    none); see :func:`prbdm_pin.export_comment.read_export_record`."""
+    from .export_comment import read_export_record as read
 
-    Raises BeamInputError when the record is there but malformed.
-    """
-    start = text.find("<!--" + _RECORD_HEAD)
-    if start < 0:
-        return None
-    end = text.find("-->", start)
-    if end < 0:
-        raise BeamInputError("export record: comment is not closed")
-    fields: dict[str, Any] = {}
-    warnings = []
-    for line in text[start:end].splitlines()[1:]:
-        m = re.match(r"\s*([A-Za-z0-9_]+): (.*)$", line)
-        if m is None:
-            continue
-        key, value = m.group(1), m.group(2).strip()
-        if key == "warning":
-            warnings.append(value)
-        elif key == "strain_actuators_m":
-            fields[key] = np.array([p.split() for p in value.split(";")], dtype=float)
-        elif key == "strain_actuator_weights":
-            fields[key] = tuple(None if p.strip() == _WEIGHTS_VW else np.array(p.split(),
-                                dtype=float) for p in value.split(";"))
-        elif key == "inputs":
-            fields[key] = tuple(value.split())
-        elif key in _FLOATS:
-            fields[key] = None if value == "unknown" else np.array(value.split(), dtype=float)
-        elif key in ("worst_mode_error_pct", "damping_beta_s"):
-            fields[key] = None if value == "unknown" else float(value)
-        elif key == "worst_mode":
-            fields[key] = None if value == "unknown" else int(value)
-        elif key in ("damping_requested", "damping_form"):
-            fields[key] = value
-    try:
-        return ExportRecord(warnings=tuple(warnings), **fields)
-    except (TypeError, ValueError) as exc:
-        raise BeamInputError(f"export record: malformed ({exc})") from None
+    return read(text)
