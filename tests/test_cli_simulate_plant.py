@@ -98,3 +98,32 @@ def test_bad_plant_options_exit_2_with_one_line(fit_json, tmp_path, capsys, args
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and text in err[0], err
     assert not out.exists()
+
+
+def test_a_model_json_brings_its_hub_and_actuators(fit_json, tmp_path):
+    # an exported plant is simulated and linearised as exported: the hub and the patch it
+    # records act without --hub or --actuator (a strain moment alone keeps the hub's angular
+    # momentum at zero and turns the joints inside the patch)
+    plant = tmp_path / "plant.json"
+    assert main(["export", str(fit_json), "--format", "json", "--hub", "5:0.1",
+                 "--actuator", "0:0.5", "--out", str(plant), "-q"]) == 0
+    out = tmp_path / "sim"
+    assert main(["simulate", str(plant), "--duration", "0.3", "--input", "strain[0]=40",
+                 "--output-dt", "0.01", "--out", str(out), "-q"]) == 0
+    head, rows = _csv(out / "trajectory.csv")
+    assert head[1] == "hub_angle_rad" and "u:strain[0]" in head
+    from prbdm_pin.export import read_plant_json
+
+    model, acts = read_plant_json(plant)
+    assert model.hub == Hub(5.0, 0.1) and len(acts) == 1
+    q, v = rows[:, 1:5], rows[:, 5:9]
+    p_hub = [(model.mass_matrix(qi) @ vi)[0] for qi, vi in zip(q, v, strict=True)]
+    recoil = np.abs(model.mass_matrix()[0, 0] * v[:, 0]).max()  # the hub's own momentum
+    assert np.abs(q[:, 1:]).max() > 0.005 and recoil > 0.0
+    # the exponential integrator's step control (3e-4 of the motion per step) bounds the drift
+    assert np.abs(p_hub).max() < 1e-3 * recoil
+    lin_out = tmp_path / "lin"
+    assert main(["linearize", str(plant), "--inputs", "strain[0]", "--outputs", "tip_z",
+                 "--out", str(lin_out), "-q"]) == 0
+    d = json.loads((lin_out / "linear_model.json").read_text())
+    assert d["actuators_m"] == [[0.0, 0.5]]

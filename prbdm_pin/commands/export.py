@@ -137,26 +137,10 @@ def check_options(args: argparse.Namespace) -> dict:
     return opts
 
 
-def file_actuators(path: str | Path) -> tuple:
-    """The strain actuators a model file records: a model JSON's ``actuators``, the record of
-    a URDF export; none for a fit.json."""
-    from ..export import read_export_record, read_plant_json
-    from ..jsonfile import read_json
-    from ..model_files import file_kind
-
-    p = Path(path)
-    if p.suffix.lower() == ".urdf":
-        rec = read_export_record(p.read_text(encoding="utf-8"))
-        return () if rec is None else rec.actuators()
-    if file_kind(read_json(p, "MODEL")) == "model":
-        return read_plant_json(p)[1]
-    return ()
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm export``."""
     from ..export import export_model, export_record
-    from .model_source import load_model_and_fit
+    from .model_source import file_actuators, load_model_and_fit
 
     opts = check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)

@@ -182,7 +182,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io import atomic_write_bytes, atomic_write_text
     from ..output_folder import output_folder
     from ..plant.linearize import linearize
-    from .model_source import load_model_and_fit
+    from .model_source import file_actuators, load_model_and_fit
 
     opts = check_options(args)
     model, fitted = load_model_and_fit(args.model, args.beam)
@@ -192,6 +192,8 @@ def run(args: argparse.Namespace) -> int:
         request = truth_request_of(fitted, args.model)
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
+    if not args.actuator:  # those a model JSON or URDF export records
+        opts["actuators"] = file_actuators(args.model)
     opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],

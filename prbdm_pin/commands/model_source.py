@@ -60,3 +60,19 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
     model = build_model(beam, fit.lengths_m, fit.stiffness_Nm_per_rad,
                         min_fraction=LINK_FLOOR_FRACTION)
     return model, fit
+
+
+def file_actuators(path: str | Path) -> tuple:
+    """The strain actuators a model file records: a model JSON's ``actuators``, the record of
+    a URDF export; none for a fit.json."""
+    from ..export import read_export_record, read_plant_json
+    from ..jsonfile import read_json
+    from ..model_files import file_kind
+
+    p = Path(path)
+    if p.suffix.lower() == ".urdf":
+        rec = read_export_record(p.read_text(encoding="utf-8"))
+        return () if rec is None else rec.actuators()
+    if file_kind(read_json(p, "MODEL")) == "model":
+        return read_plant_json(p)[1]
+    return ()

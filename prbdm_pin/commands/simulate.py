@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from ..errors import BeamInputError
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
-from .model_source import load_model_and_fit
+from .model_source import file_actuators, load_model_and_fit
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
 from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
@@ -249,7 +249,10 @@ def run(args: argparse.Namespace) -> int:
                              "a URDF does not carry it)")
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
-    actuators_on_beam(model, plant["actuators"], args.actuator)
+    if args.actuator:
+        actuators_on_beam(model, plant["actuators"], args.actuator)
+    else:  # those a model JSON or URDF export records
+        plant["actuators"] = file_actuators(args.model)
     plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])
     if args.fit_actuators and not args.quiet:
         for i, a in enumerate(plant["actuators"]):
