@@ -47,7 +47,8 @@ def _link_axes(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
-                        stiffness_Nm_per_rad: np.ndarray, poses_rad: np.ndarray):
+                        stiffness_Nm_per_rad: np.ndarray, poses_rad: np.ndarray,
+                        mass_matrices: np.ndarray | None = None):
     """Squared frequencies and their derivatives at each pose, from the closed-form chain.
 
     Parameters
@@ -60,6 +61,8 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
         Joint springs, N m/rad.
     poses_rad : ndarray, shape (m, n)
         Joint angles where the frequencies are taken, rad.
+    mass_matrices : ndarray, shape (m, n, n), optional
+        ``planar_mass_matrices`` at the poses when already computed, kg m^2.
 
     Returns
     -------
@@ -75,7 +78,8 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     s = sections
     n = k.size
-    M = planar_mass_matrices(L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q)
+    M = mass_matrices if mass_matrices is not None else planar_mass_matrices(
+        L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q)
     omega, Phi = modes_from_mass(M, k)  # Phi[pose, joint, mode]
     lam = omega**2
     c, sn = _link_axes(Q)  # (m, n+1); the sign of z does not matter in a quadratic form
@@ -112,21 +116,6 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
     return lam, d_station, d_stiffness
 
 
-def _force_length_terms(links: np.ndarray, q: np.ndarray, F: np.ndarray):
-    """d(J^T F)/dL_i (n, n: [joint m, link i], links 1..n) and d p_tip / dL_i (3, n+1, links
-    0..n) at the pose q (rad) under the dead force F (N)."""
-    c, sn = _link_axes(q[None])
-    c, sn = c[0, 1:], sn[0, 1:]
-    n = q.size
-    # (J^T F)_m = -F_x s_m - F_z c_m with s_m, c_m the sums over links i >= m of L_i sin, cos
-    dJtF = np.triu(np.ones((n, n))) * (-F[0] * sn - F[2] * c)[None, :]
-    dtip = np.zeros((3, n + 1))
-    dtip[0, 0] = 1.0
-    dtip[0, 1:] = c
-    dtip[2, 1:] = -sn
-    return dJtF, dtip
-
-
 def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
                         tip_force_N: np.ndarray, q_rad: np.ndarray):
     """Derivatives of the equilibrium pose and tip at fixed sections (the statics do not see the
@@ -155,18 +144,26 @@ def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
     q = np.asarray(q_rad, dtype=float)
     n = k.size
     tip, J = planar_tip(L, q)
-    H = np.diag(k) - load_stiffness(L, q, F)
-    dJtF, dtip_dL = _force_length_terms(L[1:], q, F)
-    # station j (index j - 1) lengthens link j - 1 and shortens link j
-    dL_dx = np.zeros((n + 1, n))
-    dL_dx[np.arange(n), np.arange(n)] = 1.0
-    dL_dx[np.arange(1, n + 1), np.arange(n)] = -1.0
+    H = -load_stiffness(L, q, F)
+    H.flat[:: n + 1] += k
+    phi = q.cumsum()
+    c, sn = np.cos(phi), np.sin(phi)
+    # d(J^T F)_m / dL_i = -F_x sin phi_i - F_z cos phi_i for links i >= m (links 1..n; link 0
+    # does not enter), and the tip's d p / dL_i = (cos phi_i, 0, -sin phi_i) (link 0: e_x)
+    dJtF = np.zeros((n, n + 1))
+    dJtF[:, 1:] = np.triu(np.broadcast_to(-F[0] * sn - F[2] * c, (n, n)))
+    dtip_dL = np.zeros((3, n + 1))
+    dtip_dL[0, 0] = 1.0
+    dtip_dL[0, 1:] = c
+    dtip_dL[2, 1:] = -sn
+    # station j (column j - 1) lengthens link j - 1 and shortens link j: d/dx = d/dL_(j-1) -
+    # d/dL_j
     dg = np.empty((n, 2 * n))
-    dg[:, :n] = -dJtF @ dL_dx[1:]
+    dg[:, :n] = dJtF[:, 1:] - dJtF[:, :-1]  # -(d(J^T F)/dx)
     dg[:, n:] = np.diag(q)
     dq = -np.linalg.solve(H, dg)
     dtip = J @ dq
-    dtip[:, :n] += dtip_dL @ dL_dx
+    dtip[:, :n] += dtip_dL[:, :-1] - dtip_dL[:, 1:]
     return tip, dq, dtip
 
 

@@ -58,17 +58,25 @@ def stations_from_lengths(lengths_m: np.ndarray) -> np.ndarray:
     return np.cumsum(np.asarray(lengths_m, dtype=float))[:-1]
 
 
-def _mean_sides(beam: Beam, x: np.ndarray, power: int) -> np.ndarray:
-    """w(x)^power (w in m), the mean of the one-sided limits at a width step."""
+def _mean_sides(beam: Beam, x: np.ndarray, powers: tuple[int, ...]) -> list[np.ndarray]:
+    """w(x)^p (w in m) for each p of ``powers``, the mean of the one-sided limits at a width
+    step."""
+    if not beam.step_index.size:  # called in the fit's inner loop: one interpolation
+        w = np.interp(x, beam.x_m, beam.half_width_m)
+        return [w**p for p in powers]
     wl, wr = beam.half_width_at(x, "left"), beam.half_width_at(x, "right")
-    return 0.5 * (wl**power + wr**power)
+    return [0.5 * (wl**p + wr**p) for p in powers]
 
 
-def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray) -> SectionGradient:
+def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
+                             sections: tuple | None = None) -> SectionGradient:
     """:func:`sections.planar_sections` of ``lengths_m`` (m, (n+1,), valid) and its exact
-    derivatives with respect to the joint stations (see the module docstring)."""
+    derivatives with respect to the joint stations (see the module docstring).
+    ``sections``: ``planar_sections(beam, lengths_m)`` when already computed."""
     lengths = np.asarray(lengths_m, dtype=float)
-    mass, offset, Iyy, area_moment = planar_sections(beam, lengths)
+    if sections is None:
+        sections = planar_sections(beam, lengths)
+    mass, offset, Iyy, area_moment = sections
     nl = lengths.size
     n = nl - 1
     t = beam.thickness_m
@@ -79,46 +87,44 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray) -> SectionGradie
     P1 = A * offset
     x = stations_from_lengths(lengths)
     h = np.diff(np.r_[0.0, x, beam.length_m])  # the spans the sections integrated over
-    w1, w3 = _mean_sides(beam, x, 1), _mean_sides(beam, x, 3)
-    dA = np.zeros((nl, n))
-    dP1 = np.zeros((nl, n))
-    dP2 = np.zeros((nl, n))
-    dSyy = np.zeros((nl, n))
-    dh = np.zeros((nl, n))
-    j = np.arange(n)
-    # station j + 1 ends link j ...
-    dA[j, j] = 2.0 * w1
-    dP1[j, j] = 2.0 * w1 * h[j]
-    dP2[j, j] = 2.0 * w1 * h[j] ** 2
-    dSyy[j, j] = 2.0 * w3 / 3.0
-    dh[j, j] = 1.0
-    # ... and starts link j + 1 (the integrand (x - a)^p vanishes at the start for p > 0)
-    dA[j + 1, j] = -2.0 * w1
-    dP1[j + 1, j] = -A[j + 1]
-    dP2[j + 1, j] = -2.0 * P1[j + 1]
-    dSyy[j + 1, j] = -2.0 * w3 / 3.0
-    dh[j + 1, j] = -1.0
-    Ac = A[:, None]
-    d_off = (dP1 - offset[:, None] * dA) / Ac
-    # Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12 (the Syy moment is not in Iyy)
-    dSxx = dP2 - 2.0 * (P1 / A)[:, None] * dP1 + ((P1 / A) ** 2)[:, None] * dA
-    dIyy = rho_t * dSxx + rho_t * dA * t * t / 12.0
+    w2 = 2.0 * _mean_sides(beam, x, (1,))[0]
+    # each link moves with two stations only: its end (station j + 1 ends link j) and its
+    # start (station j + 1 starts link j + 1); the derivatives of both bands, then the matrices
+    e, b = np.arange(n), np.arange(1, nl)  # links ended, links started by station j + 1
+    # ends: d/db of A, P1, P2 is the integrand at b; starts: (x - a)^p vanishes at a for p > 0
+    he = h[e]
+    bands = (
+        (e, w2, w2 * he, w2 * he * he, 1.0),
+        (b, -w2, -A[b], -2.0 * P1[b], -1.0),
+    )
     c3 = t**3 / 12.0
-    d_area = c3 * (dA / h[:, None] - (A / h**2)[:, None] * dh)
-    return SectionGradient(mass, offset, Iyy, area_moment, rho_t * dA, d_off, dIyy, d_area)
+    out = [np.zeros((nl, n)) for _ in range(4)]
+    cols = np.arange(n)
+    for links, dA, dP1, dP2, dh in bands:
+        off, r = offset[links], P1[links] / A[links]
+        d_off = (dP1 - off * dA) / A[links]
+        # Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12
+        dIyy = rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA) + rho_t * dA * t * t / 12.0
+        d_area = c3 * (dA / h[links] - A[links] / h[links] ** 2 * dh)
+        for o, v in zip(out, (rho_t * dA, d_off, dIyy, d_area), strict=True):
+            o[links, cols] = v
+    return SectionGradient(mass, offset, Iyy, area_moment, *out)
 
 
-def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray
+def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
+                                      K: np.ndarray | None = None
                                       ) -> tuple[np.ndarray, np.ndarray]:
     """The finite-segment springs K_j = E (2 t^3 / 12) / ∫_(c_j)^(c_(j+1)) dx / w (N m/rad,
     (n,), ``stiffness.finite_segment_stiffness``) and their derivatives with respect to the
     joint stations, N m/rad per m, shape (n, n) (entry [j, l]: spring j, station l + 1).
 
     The span ends c_j are the links' mid-spans (x_j + x_(j+1)) / 2, except c_0 = 0 and c_n = L,
-    which do not move; d/dc of the integral is -+1 / w(c) at its ends.
+    which do not move; d/dc of the integral is -+1 / w(c) at its ends. ``K``: the springs of
+    ``lengths_m`` when already computed.
     """
     lengths = np.asarray(lengths_m, dtype=float)
-    K = finite_segment_stiffness_unchecked(beam, lengths)
+    if K is None:
+        K = finite_segment_stiffness_unchecked(beam, lengths)
     n = K.size
     C = beam.material.E_Pa * 2.0 * beam.thickness_m**3 / 12.0
     ends = lengths.cumsum()
@@ -127,7 +133,7 @@ def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray
     if n == 1:
         return K, dK
     inner = centres[1:n]  # c_1 .. c_(n-1), each the mean of stations j and j + 1
-    dI_dc = 0.5 / _mean_sides(beam, inner, 1)  # (n-1,): 1 / w(c) times dc/dx = 1/2
+    dI_dc = 0.5 / _mean_sides(beam, inner, (1,))[0]  # (n-1,): 1 / w(c) times dc/dx = 1/2
     r = np.arange(n - 1)
     # spring j's integral ends at c_(j+1) (+) and spring j + 1's starts there (-)
     dI = np.zeros((n, n))
