@@ -35,7 +35,7 @@ from prbdm_pin.section_gradients import (
 )
 from prbdm_pin.sections import planar_sections
 from prbdm_pin.stiffness import finite_segment_stiffness_unchecked
-from prbdm_pin.target import FitTarget
+from prbdm_pin.target import FitTarget, target_from_truth
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
@@ -249,16 +249,22 @@ def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_narrow_3r(
                                    rtol=1e-4)
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("objective", ["eigen", "combined"])
-def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_reference_4r(
-        monkeypatch, objective):
-    beam = _beam("reference-random")
+@pytest.mark.parametrize("name,objective", [("reference-random", "eigen"),
+                                            ("reference-random", "deflection"),
+                                            ("tapered", "combined")])
+def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_4r(
+        monkeypatch, name, objective):
+    # 1D beam truths. (reference-random's combined 4R fit is left out: its best starts stop
+    # at the evaluation cap in a flat valley, with either Jacobian, so where they stop is not
+    # an optimum to compare.)
+    beam = _beam(name)
     tr = compute_truth(beam, model="beam", modes=6, error_tol_pct=None)
-    from prbdm_pin.target import target_from_truth
-
     target = target_from_truth(tr, beam.tip_force_N)
     r_an, r_fd = _fits(monkeypatch, beam, target, 4, objective, 6)
-    loss = "eigen_loss_pct" if objective == "eigen" else "combined_loss_pct"
+    loss = f"{objective}_loss_pct"
     a, b = getattr(r_an, loss), getattr(r_fd, loss)
     assert abs(a - b) <= max(1e-6 * b, 1e-6), (a, b)
+    if objective == "combined":
+        np.testing.assert_allclose(r_an.lengths_m, r_fd.lengths_m, atol=1e-4 * beam.length_m)
+        np.testing.assert_allclose(r_an.stiffness_Nm_per_rad, r_fd.stiffness_Nm_per_rad,
+                                   rtol=1e-3)
