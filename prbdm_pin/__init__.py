@@ -32,6 +32,9 @@ _EXPORTS = {
     "pose_sweep": "stiffness",
     "paper_stiffness": "stiffness",
     "finite_segment_stiffness": "stiffness",
+    # model sensitivities
+    "model_gradient": "chain_gradient",
+    "ModelGradient": "chain_gradient",
     # model
     "PrbdmModel": "model",
     "build_model": "model",

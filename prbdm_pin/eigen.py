@@ -96,7 +96,14 @@ def modes_from_mass(
     Phi[i]^T K Phi[i] = diag(omega[i]^2), under the guard of :func:`eig_scaled`.
     """
     s = np.broadcast_to(1.0 / np.sqrt(stiffness_Nm_per_rad), M.shape[:2])
-    mu, V = np.linalg.eigh(M * s[:, :, None] * s[:, None, :])
+    A = M * s[:, :, None] * s[:, None, :]
+    if A.shape[0] == 1:  # one small matrix (the fits' Jacobians): LAPACK directly
+        mu, V, info = _syevd(A[0], compute_v=1, lower=0)
+        if info != 0:
+            raise SolveError(f"symmetric eigensolver failed (LAPACK info {info})")
+        mu, V = mu[None], V[None]
+    else:
+        mu, V = np.linalg.eigh(A)
     check_spectrum(mu)
     with np.errstate(over="ignore", divide="ignore"):
         _check_finite(1.0 / mu)

@@ -1,7 +1,8 @@
 """Single-objective multistart fits and the NSGA-II Pareto fit.
 
 Modules: ``spec`` (what a start is given and returns), ``joint`` and ``paper`` (the two
-parametrisations' residuals and losses), ``local`` (the local solver of a start), ``multistart``
+parametrisations' residuals and losses), ``joint_jacobian`` (the ``joint`` residuals' analytic
+Jacobian), ``local`` (the local solver of a start), ``multistart``
 (:func:`fit`), ``result`` (a design evaluated in full as a FitResult), ``pareto_problem`` (the
 pymoo problem and repair), ``pareto`` (:func:`fit_pareto`), ``pool`` and ``progress``.
 
@@ -13,7 +14,10 @@ Local solvers (chosen for accuracy per model evaluation; see ``scripts/bench_fit
   length simplex by stick-breaking (``problem.lengths_from_unit``). With the straight pose
   (the default) the sum of squares is exactly the squared loss, and n frequencies are matched to
   round-off. With a sweep (m > 1) the least-squares optimum is polished on the true loss
-  (mean of per-pose norms) by SLSQP.
+  (mean of per-pose norms) by SLSQP. Its Jacobian is analytic (``joint_jacobian``: mode
+  derivatives and the implicit derivative of each load case's equilibrium, through the exact
+  section integrals and the finite-segment springs, ``chain_gradient``), computed from what the
+  residuals at the same x already hold; it counts as one model evaluation.
 - ``paper`` parametrisation, eigen objective: variable projection. For fixed lengths every
   pose's SCF k_i enters only as ``omega = sqrt(k_i) w_i`` (the mass matrix does not depend on
   the springs), so its best value is a 1-D linear least-squares solution in closed form
@@ -43,9 +47,9 @@ model's own frequencies at q = 0 and its per-mode errors, and warns when one is 
 Inner loop: trial designs are evaluated without building a ``pinocchio.Model``, through
 ``evaluate.chain_mass_matrices`` (exact link sections and the closed-form mass matrix of the
 planar chain, checked against Pinocchio's CRBA in the tests) and the vectorised static solver
-``statics.static_deflection_planar_batch``; each finite-difference stencil, and each NSGA-II
-generation, is evaluated as one stacked batch (scipy's ``workers`` map, the analytic-in-ln s
-Jacobian of the ``joint`` fit, ``pareto_problem.pareto_objectives_batch``). The chosen design
+``statics.static_deflection_planar_batch``; each finite-difference stencil of the ``paper``
+fits, and each NSGA-II generation, is evaluated as one stacked batch (scipy's ``workers`` map,
+``pareto_problem.pareto_objectives_batch``). The chosen design
 is evaluated again through the exported ``PrbdmModel`` (``result.result_from_design``): its
 frequencies from Pinocchio's mass matrix, its static equilibrium from the model's own planar
 Newton solve and its tip from Pinocchio's kinematics, so every number of a FitResult is the

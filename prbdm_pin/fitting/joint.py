@@ -2,7 +2,8 @@
 finite-segment springs, over x = [u (n), ln s (n)] (u the stick-breaking length coordinates).
 
 Like every parametrisation it has ``nfev``, ``design(x) -> (lengths m, factors)`` and
-``loss(x)`` (fraction); the local solvers use its residuals and Jacobians.
+``loss(x)`` (fraction); the local solvers use its residuals and analytic Jacobians
+(:mod:`.joint_jacobian`).
 """
 
 from __future__ import annotations
@@ -11,13 +12,15 @@ import math
 
 import numpy as np
 
-from ..eigen import modes_from_mass
 from ..errors import BeamInputError, SolveError
-from ..evaluate import chain_frequencies, chain_mass_matrices
+from ..evaluate import chain_frequencies
 from ..objectives import eigen_residuals, eigen_weights
-from ..planar import planar_tip, planar_tips
+from ..planar import planar_mass_matrices, planar_tip
 from ..problem import lengths_from_unit
-from ..statics import static_deflection_planar, static_deflection_planar_batch
+from ..sections import planar_sections
+from ..statics import static_deflection_planar
+from ..stiffness import finite_segment_stiffness_unchecked
+from .joint_jacobian import joint_residual_jacobian
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
 __all__ = ["JointResiduals"]
@@ -37,7 +40,7 @@ class JointResiduals:
         self.norms = tip_scales_m(p, spec.deflection_norm) if self.cases else np.zeros(0)
         self.q0 = [None] * len(self.cases)  # warm starts, one per load case
         self.nfev = 0
-        self._cache = None
+        self._last = None  # (x, equilibria of the load cases) of the last residuals
 
     def design(self, x):
         """Lengths (m) and joint factors of x."""
@@ -50,7 +53,10 @@ class JointResiduals:
         lengths, s = self.design(x)
         parts = []
         try:
-            M, K0 = chain_mass_matrices(p, lengths)
+            # evaluate.chain_mass_matrices, keeping the sections for the Jacobian at x
+            sec = planar_sections(p.beam, lengths)
+            K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
+            M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad)
             K = s * K0
             if spec.objective != "deflection":
                 w = chain_frequencies(M, K)[:, : p.n_freq]
@@ -64,116 +70,39 @@ class JointResiduals:
                 self.q0[c] = q
                 parts.append((tip - case.tip_position_m) * (wc / self.norms[c]))
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            self._last = None
             return np.full(self.size(), BAD_LOSS)
+        # what the Jacobian at the same x reuses: the chain and the equilibria
+        self._last = (np.array(x, dtype=float), (sec, K0, M), list(self.q0))
         return np.concatenate(parts)
 
     def size(self):
         p, o = self.p, self.spec.objective
         return (p.n_poses * p.n_freq if o != "deflection" else 0) + 3 * len(self.cases)
 
-    def _eigen_parts(self, x):
-        """Scaled eigen residuals (m*N,) and their analytic derivative in ln s, (m*N, n)."""
-        p = self.p
-        lengths, s = self.design(x)
-        M, K0 = chain_mass_matrices(p, lengths)
-        K = s * K0
-        # the residuals through the same eigensolver as the finite-difference stencil below
-        w = chain_frequencies(M, K)[:, : p.n_freq]
-        _, PHI = modes_from_mass(M, K)
-        dlns = []
-        for wi, Phi in zip(w, PHI, strict=True):
-            Phi = Phi[:, : p.n_freq]
-            # d(omega_k^2)/d ln s_j = phi_jk^2 K_j for mass-normalised phi (M is independent of K)
-            dw2 = (Phi**2 * K[:, None]).T
-            dlns.append(dw2 if p.squared else dw2 / (2.0 * wi[:, None]))
-        # objectives.eigen_residuals with the weights and 1/sqrt(m) in one factor, which the
-        # analytic ln s derivative shares
-        c = np.tile(self.d, p.n_poses) / math.sqrt(p.n_poses)
-        res = (w ** (2 if p.squared else 1)).ravel()
-        return (res - np.tile(self.f, p.n_poses)) * c, np.vstack(dlns) * c[:, None]
-
-    def _stencil_residuals(self, X, chain=None):
-        """Scaled eigen residuals of the designs in the rows of X, (B, m*N), in one batch
-        (``chain``: their lengths, mass matrices and unit springs, when already computed)."""
-        p, n = self.p, self.p.n_joints
-        if chain is None:
-            lengths = np.array([self.design(x)[0] for x in X])
-            chain = (lengths, *chain_mass_matrices(p, lengths))
-        _, M, K0 = chain
-        w = chain_frequencies(M, np.exp(X[:, n:]) * K0)[..., : p.n_freq]
-        r = eigen_residuals(w, p.target.omega_truth_rad_s, p.squared, p.eigen_norm)
-        return r.reshape(X.shape[0], -1) / math.sqrt(p.n_poses)
-
-    def _batch_residuals(self, X):
-        """:meth:`residuals` of the designs in the rows of X, (B, size), in one batch: one
-        stacked eigensolve and, per load case, every design's static solve in one vectorised
-        Newton. A design that cannot be solved gets NaN residuals."""
-        p, n = self.p, self.p.n_joints
-        lengths = np.array([self.design(x)[0] for x in X])
-        M, K0 = chain_mass_matrices(p, lengths)
-        K = np.exp(X[:, n:]) * K0
-        parts = []
-        if self.spec.objective != "deflection":
-            parts.append(self._stencil_residuals(X, (lengths, M, K0)))
-        wc = 1.0 / math.sqrt(max(len(self.cases), 1))
-        for c, case in enumerate(self.cases):
-            q, ok = static_deflection_planar_batch(lengths, K, case.tip_force_N)
-            tips = planar_tips(lengths, np.where(ok[:, None], q, 0.0))
-            r = (tips - case.tip_position_m) * (wc / self.norms[c])
-            r[~ok] = np.nan
-            parts.append(r)
-        return np.concatenate(parts, axis=1)
-
     def jac(self, x):
-        """Forward-difference Jacobian of :meth:`residuals`, the 2n shifted designs in one
-        batch (a design that cannot be solved contributes a zero column)."""
+        """Analytic Jacobian of :meth:`residuals` (:mod:`.joint_jacobian`), counted as one
+        evaluation; zero where the model cannot be solved (as its residuals are then)."""
         x = np.asarray(x, dtype=float)
-        n2 = x.size
-        h = np.full(n2, 1e-7)
-        h[: self.p.n_joints] = np.where(x[: self.p.n_joints] + 1e-7 <= 1.0, 1e-7, -1e-7)
-        X = np.vstack([x, x + np.diag(h)])
-        self.nfev += n2 + 1
+        if self._last is None or not np.array_equal(self._last[0], x):
+            # scipy asks at the last residuals' x; elsewhere evaluate there first
+            self.residuals(x)
+            self.nfev -= 1
+        self.nfev += 1
+        if self._last is None:
+            return np.zeros((self.size(), x.size))
         try:
-            R = self._batch_residuals(X)
+            return joint_residual_jacobian(self, x, *self._last[1:])
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
-            return np.zeros((self.size(), n2))
-        D = (R[1:] - R[0]) / h[:, None]
-        D[~np.all(np.isfinite(D), axis=1)] = 0.0
-        return D.T
+            return np.zeros((self.size(), x.size))
 
     def eigen_residuals(self, x):
-        """Residuals of the eigen objective (caches the ln s derivative for :meth:`eigen_jac`)."""
-        self.nfev += 1
-        try:
-            r, d = self._eigen_parts(x)
-        except (SolveError, BeamInputError, np.linalg.LinAlgError):
-            r, d = np.full(self.size(), BAD_LOSS), np.zeros((self.size(), self.p.n_joints))
-        self._cache = (np.array(x, copy=True), r, d)
-        return r
+        """Residuals of the eigen objective (:meth:`residuals` with no load case)."""
+        return self.residuals(x)
 
     def eigen_jac(self, x):
-        """Jacobian: forward differences in u (all n designs in one batch), analytic in ln s."""
-        n = self.p.n_joints
-        if self._cache is None or not np.array_equal(self._cache[0], x):
-            self.eigen_residuals(x)
-        _, r0, dlns = self._cache
-        Jm = np.empty((r0.size, 2 * n))
-        Jm[:, n:] = dlns
-        h = np.where(x[:n] + 1e-7 <= 1.0, 1e-7, -1e-7)
-        X = np.tile(x, (n, 1))
-        X[np.arange(n), np.arange(n)] += h
-        self.nfev += n
-        try:
-            RH = self._stencil_residuals(X)
-        except (SolveError, BeamInputError, np.linalg.LinAlgError):
-            RH = np.empty((n, r0.size))
-            for j in range(n):  # find the failing designs one by one
-                try:
-                    RH[j] = self._stencil_residuals(X[j : j + 1])[0]
-                except (SolveError, BeamInputError, np.linalg.LinAlgError):
-                    RH[j] = r0
-        Jm[:, :n] = ((RH - r0) / h[:, None]).T
-        return Jm
+        """Analytic Jacobian of :meth:`eigen_residuals`."""
+        return self.jac(x)
 
     def loss(self, x):
         """The true loss (fraction): mean of per-pose eigen norms, hypot with the tip term."""

@@ -1,0 +1,256 @@
+"""Analytic derivatives of the planar chain's natural frequencies and large-deflection static tip
+with respect to the joint stations and the joint springs.
+
+Variables: the n joint stations x_j = L_0 + ... + L_(j-1) (m; the free coordinates of the link
+lengths on their simplex, L_i = x_(i+1) - x_i with x_0 = 0, x_(n+1) = L) and the n springs k_j
+(N m/rad). Each link's mass, centre of mass and inertia move with the stations through the exact
+section integrals (:mod:`.section_gradients`).
+
+Frequencies: with mass-normalised modes phi_k (phi^T M phi = 1) and distinct eigenvalues
+lam_k = omega_k^2, ``d lam_k = phi_k^T (dK - lam_k dM) phi_k``. The mass term is the derivative of
+the mode's kinetic energy ``phi^T M phi = sum_i m_i |v_i|^2 + I_i w_i^2`` (v_i, w_i: velocity of
+link i's centre of mass and angular rate of link i in the mode), evaluated without forming dM.
+For a repeated eigenvalue the modes are any basis of the eigenspace and the single-mode formula
+does not hold: the derivatives of the repeated group are the eigenvalues of the matrix
+``Phi_g^T (dK - lam dM) Phi_g`` over its modes, which depend on the direction of the change. A
+symmetric planar chain with a diagonal K of positive springs has simple frequencies in practice;
+this module does not test for coincidence.
+
+Static tip: the equilibrium g(q, p) = K q - J(q)^T F = 0 gives ``H dq = -dg/dp`` with H the
+potential's Hessian ``K - d(J^T F)/dq`` (positive definite at a stable equilibrium), and the tip
+``dp_tip = J dq + dp_tip/dp`` at fixed q.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .eigen import modes_from_mass
+from .errors import BeamInputError
+from .geometry import Beam
+from .layout import validate_lengths
+from .planar import load_stiffness, planar_mass_matrices, planar_tip
+from .section_gradients import SectionGradient, planar_sections_gradient
+from .statics import static_deflection_planar
+from .stiffness import validate_stiffness
+
+__all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "static_tip_gradient"]
+
+
+def _link_axes(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cosines and sines of the world angles of links 0..n at the poses Q (m, n): (m, n+1)."""
+    phi = np.zeros(Q.shape[:-1] + (Q.shape[-1] + 1,))
+    phi[..., 1:] = Q.cumsum(axis=-1)
+    return np.cos(phi), np.sin(phi)
+
+
+def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
+                        stiffness_Nm_per_rad: np.ndarray, poses_rad: np.ndarray,
+                        mass_matrices: np.ndarray | None = None):
+    """Squared frequencies and their derivatives at each pose, from the closed-form chain.
+
+    Parameters
+    ----------
+    lengths_m : ndarray, shape (n+1,)
+        Valid link lengths, m.
+    sections : SectionGradient
+        ``planar_sections_gradient`` of the same lengths.
+    stiffness_Nm_per_rad : ndarray, shape (n,)
+        Joint springs, N m/rad.
+    poses_rad : ndarray, shape (m, n)
+        Joint angles where the frequencies are taken, rad.
+    mass_matrices : ndarray, shape (m, n, n), optional
+        ``planar_mass_matrices`` at the poses when already computed, kg m^2.
+
+    Returns
+    -------
+    lam : ndarray, shape (m, n)
+        omega^2, ascending, rad^2/s^2.
+    d_station : ndarray, shape (m, n, n)
+        d lam_k / d x_j at [pose, k, j], rad^2/s^2 per m.
+    d_stiffness : ndarray, shape (m, n, n)
+        d lam_k / d k_j at [pose, k, j], rad^2/s^2 per N m/rad (phi_jk^2).
+    """
+    L = np.asarray(lengths_m, dtype=float)
+    Q = np.atleast_2d(np.asarray(poses_rad, dtype=float))
+    k = np.asarray(stiffness_Nm_per_rad, dtype=float)
+    s = sections
+    n = k.size
+    M = mass_matrices if mass_matrices is not None else planar_mass_matrices(
+        L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q)
+    omega, Phi = modes_from_mass(M, k)  # Phi[pose, joint, mode]
+    lam = omega**2
+    c, sn = _link_axes(Q)  # (m, n+1); the sign of z does not matter in a quadratic form
+    # joints 1..n at the ends of links 0..n-1 and the centres of mass of links 1..n
+    jx = (L[None, :-1] * c[:, :-1]).cumsum(axis=1)
+    jz = (L[None, :-1] * sn[:, :-1]).cumsum(axis=1)
+    cx = jx + s.com_offset_m[1:] * c[:, 1:]
+    cz = jz + s.com_offset_m[1:] * sn[:, 1:]
+    # per mode: angular rate of link i (sum of its joints' rates) and velocity of its centre of
+    # mass v_i = w_i C_i - sum_(j <= i) phi_j J_j, all links at once; shapes (m, mode, link)
+    P = Phi.swapaxes(1, 2)
+    w = P.cumsum(axis=2)
+    vx = w * cx[:, None, :] - (P * jx[:, None, :]).cumsum(axis=2)
+    vz = w * cz[:, None, :] - (P * jz[:, None, :]).cumsum(axis=2)
+    m1 = s.mass_kg[1:]
+    ux, uz = c[:, None, 1:], sn[:, None, 1:]
+    # d(phi^T M phi) per unit change of each link's mass, inertia and offset (links 1..n)
+    e_mass = vx * vx + vz * vz
+    e_inertia = w * w
+    e_offset = 2.0 * m1 * w * (ux * vx + uz * vz)
+    dE = (e_mass @ s.d_mass_kg_per_m[1:] + e_inertia @ s.d_inertia_yy_kg_m[1:]
+          + e_offset @ s.d_com_offset[1:])
+    # the chain's geometry at fixed sections: link l's length moves every centre of mass
+    # beyond it, G_l = 2 w_l u_l . sum_(i > l) m_i v_i (l = 1..n-1; L_0 and L_n do not enter r)
+    if n > 1:
+        tx = (m1 * vx)[..., ::-1].cumsum(axis=2)[..., ::-1]  # sum over i >= l
+        tz = (m1 * vz)[..., ::-1].cumsum(axis=2)[..., ::-1]
+        G = 2.0 * w[..., :-1] * (ux[..., :-1] * tx[..., 1:] + uz[..., :-1] * tz[..., 1:])
+        # L_l = x_(l+1) - x_l: station j (index j - 1) lengthens link j - 1, shortens link j
+        dE[..., 1:] += G
+        dE[..., :-1] -= G
+    d_station = -lam[..., None] * dE
+    d_stiffness = P * P
+    return lam, d_station, d_stiffness
+
+
+def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
+                        tip_force_N: np.ndarray, q_rad: np.ndarray):
+    """Derivatives of the equilibrium pose and tip at fixed sections (the statics do not see the
+    masses), by implicit differentiation of K q = J(q)^T F.
+
+    Parameters
+    ----------
+    lengths_m : ndarray, shape (n+1,)
+    stiffness_Nm_per_rad : ndarray, shape (n,)
+    tip_force_N : ndarray, shape (3,)
+        Dead tip force, N (world).
+    q_rad : ndarray, shape (n,)
+        The equilibrium (``statics.static_deflection_planar``), rad.
+
+    Returns
+    -------
+    tip_m : ndarray, shape (3,)
+    d_q : ndarray, shape (n, 2n)
+        dq / d(x, k): rad per m (first n columns), rad per N m/rad (last n).
+    d_tip : ndarray, shape (3, 2n)
+        d p_tip / d(x, k): m per m, m per N m/rad.
+    """
+    L = np.asarray(lengths_m, dtype=float)
+    k = np.asarray(stiffness_Nm_per_rad, dtype=float)
+    F = np.asarray(tip_force_N, dtype=float)
+    q = np.asarray(q_rad, dtype=float)
+    n = k.size
+    tip, J = planar_tip(L, q)
+    H = -load_stiffness(L, q, F)
+    H.flat[:: n + 1] += k
+    phi = q.cumsum()
+    c, sn = np.cos(phi), np.sin(phi)
+    # d(J^T F)_m / dL_i = -F_x sin phi_i - F_z cos phi_i for links i >= m (links 1..n; link 0
+    # does not enter), and the tip's d p / dL_i = (cos phi_i, 0, -sin phi_i) (link 0: e_x)
+    dJtF = np.zeros((n, n + 1))
+    dJtF[:, 1:] = np.triu(np.broadcast_to(-F[0] * sn - F[2] * c, (n, n)))
+    dtip_dL = np.zeros((3, n + 1))
+    dtip_dL[0, 0] = 1.0
+    dtip_dL[0, 1:] = c
+    dtip_dL[2, 1:] = -sn
+    # station j (column j - 1) lengthens link j - 1 and shortens link j: d/dx = d/dL_(j-1) -
+    # d/dL_j
+    dg = np.empty((n, 2 * n))
+    dg[:, :n] = dJtF[:, 1:] - dJtF[:, :-1]  # -(d(J^T F)/dx)
+    dg[:, n:] = np.diag(q)
+    dq = -np.linalg.solve(H, dg)
+    dtip = J @ dq
+    dtip[:, :n] += dtip_dL[:, :-1] - dtip_dL[:, 1:]
+    return tip, dq, dtip
+
+
+@dataclass(frozen=True, eq=False)
+class ModelGradient:
+    """A chain's frequencies and static tip with their derivatives.
+
+    The variables are ``variables`` = ("x[1]", ..., "x[n]", "k[0]", ..., "k[n-1]"): the joint
+    stations (m; moving x_j lengthens link j - 1 and shortens link j, the beam length fixed) and
+    the joint springs (N m/rad), with ``variable_units`` ("m" or "N m/rad").
+
+    Attributes
+    ----------
+    omega_rad_s : ndarray, shape (n,)
+        Natural frequencies at ``pose_rad``, ascending.
+    d_omega_rad_s : ndarray, shape (n, 2n)
+        d omega_k / d variable (rad/s per the variable's unit).
+    tip_position_m, static_pose_rad : ndarray, shape (3,), (n,), or None
+        The tip and the joint angles under ``tip_force_N``; None without a load.
+    d_tip_position_m : ndarray, shape (3, 2n), or None
+    d_static_pose_rad : ndarray, shape (n, 2n), or None
+    """
+
+    variables: tuple[str, ...]
+    variable_units: tuple[str, ...]
+    pose_rad: np.ndarray
+    omega_rad_s: np.ndarray
+    d_omega_rad_s: np.ndarray
+    tip_force_N: np.ndarray | None = None
+    tip_position_m: np.ndarray | None = None
+    d_tip_position_m: np.ndarray | None = None
+    static_pose_rad: np.ndarray | None = None
+    d_static_pose_rad: np.ndarray | None = None
+
+
+def _frozen(a):
+    if a is None:
+        return None
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def model_gradient(beam: Beam, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
+                   pose_rad: np.ndarray | None = None,
+                   tip_force_N: np.ndarray | None = None) -> ModelGradient:
+    """Frequencies and static tip of the chain cut from ``beam`` and their analytic derivatives
+    with respect to the joint stations and springs.
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : array_like, shape (n+1,)
+        Link lengths, m (validated as for ``build_model``).
+    stiffness_Nm_per_rad : array_like, shape (n,)
+        Joint springs, N m/rad, held fixed when the stations move (a spring law such as the
+        finite-segment one chains through ``section_gradients.finite_segment_stiffness_gradient``).
+    pose_rad : array_like, shape (n,), optional
+        Joint angles of the frequencies (default straight), rad.
+    tip_force_N : array_like, shape (3,), optional
+        Dead tip force (N, world); default the beam's ``tip_force_N``. A zero load gives no
+        static part.
+
+    Returns
+    -------
+    ModelGradient
+    """
+    lengths = validate_lengths(beam, lengths_m)
+    n = lengths.size - 1
+    k = validate_stiffness(stiffness_Nm_per_rad, n)
+    q = np.zeros(n) if pose_rad is None else np.asarray(pose_rad, dtype=float)
+    if q.shape != (n,) or not np.all(np.isfinite(q)):
+        raise BeamInputError(f"pose_rad = {np.asarray(pose_rad).tolist()}: must be {n} finite "
+                             "joint angles (rad)")
+    sec = planar_sections_gradient(beam, lengths)
+    lam, dx, dk = frequency_gradients(lengths, sec, k, q[None])
+    omega = np.sqrt(lam[0])
+    d_omega = np.hstack([dx[0], dk[0]]) / (2.0 * omega[:, None])
+    names = tuple(f"x[{j + 1}]" for j in range(n)) + tuple(f"k[{j}]" for j in range(n))
+    units = ("m",) * n + ("N m/rad",) * n
+    F = beam.tip_force_N if tip_force_N is None else tip_force_N
+    F = np.asarray(F, dtype=float)
+    if F.shape != (3,) or not np.all(np.isfinite(F)):
+        raise BeamInputError(f"tip_force = {F.tolist()}: must be 3 finite numbers (N)")
+    if F[0] == 0.0 and F[2] == 0.0:
+        return ModelGradient(names, units, _frozen(q), _frozen(omega), _frozen(d_omega))
+    qs = static_deflection_planar(lengths, k, F)
+    tip, dq, dtip = static_tip_gradient(lengths, k, F, qs)
+    return ModelGradient(names, units, _frozen(q), _frozen(omega), _frozen(d_omega), _frozen(F),
+                         _frozen(tip), _frozen(dtip), _frozen(qs), _frozen(dq))

@@ -1,0 +1,83 @@
+"""The analytic Jacobian of the ``joint`` residuals over x = [u (n), ln s (n)].
+
+The residuals depend on u through the joint stations (stick-breaking lengths, their cumulative
+sums) and through the finite-segment springs K0(x), and on ln s through the springs k = s K0:
+
+    dr/du = (dr/dx + dr/dk diag(s) dK0/dx) dx/du,   dr/d ln s = dr/dk diag(k),
+
+with dr/dx and dr/dk from :mod:`prbdm_pin.chain_gradient` (eigen residuals: mode derivatives at
+each pose; tip residuals: implicit differentiation of each load case's equilibrium).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..chain_gradient import frequency_gradients, static_tip_gradient
+from ..section_gradients import finite_segment_stiffness_gradient, planar_sections_gradient
+
+__all__ = ["unit_lengths_jacobian", "joint_residual_jacobian"]
+
+
+def unit_lengths_jacobian(u: np.ndarray, length_m: float, min_fraction: float) -> np.ndarray:
+    """d lengths / d u of ``problem.lengths_from_unit``, m, shape (n+1, n).
+
+    Link j takes ``e_j = u_j r_j`` of the excess r_j still unassigned (r_(j+1) = r_j - e_j), the
+    last link the rest; u is clipped to [0, 1] there, so the derivative is the one inside.
+    """
+    u = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
+    n = u.size
+    rest = length_m - (n + 1) * min_fraction * length_m
+    d_rest = np.zeros(n)
+    out = np.zeros((n + 1, n))
+    for j in range(n):
+        de = u[j] * d_rest
+        de[j] += rest
+        out[j] = de
+        rest -= u[j] * rest
+        d_rest = d_rest - de
+    out[n] = d_rest
+    return out
+
+
+def joint_residual_jacobian(res, x: np.ndarray, chain: tuple, static_poses: list
+                            ) -> np.ndarray:
+    """Jacobian (size, 2n) of ``res.residuals`` (a :class:`JointResiduals`) at x, given what its
+    residuals computed there: ``chain`` = (``planar_sections``, unit springs K0 (N m/rad), mass
+    matrices at the poses (kg m^2)) and the equilibrium of each load case (rad,
+    ``static_poses``).
+
+    Raises SolveError or LinAlgError where the model cannot be solved (the caller decides).
+    """
+    p, spec = res.p, res.spec
+    n = p.n_joints
+    x = np.asarray(x, dtype=float)
+    lengths, s = res.design(x)
+    sections, K0, M = chain
+    sec = planar_sections_gradient(p.beam, lengths, sections)
+    K0, dK0 = finite_segment_stiffness_gradient(p.beam, lengths, K0)
+    k = s * K0
+    dx_du = unit_lengths_jacobian(x[:n], p.length_m, p.min_fraction).cumsum(axis=0)[:-1]
+    dk_dx = s[:, None] * dK0  # springs per station, at fixed s
+
+    def chain(d_x: np.ndarray, d_k: np.ndarray) -> np.ndarray:
+        """[dr/du, dr/d ln s] from the derivatives at fixed springs and at fixed stations."""
+        return np.hstack([(d_x + d_k @ dk_dx) @ dx_du, d_k * k])
+
+    parts = []
+    if spec.objective != "deflection":
+        lam, d_x, d_k = frequency_gradients(lengths, sec, k, p.poses_rad, M)
+        N = p.n_freq
+        lam, d_x, d_k = lam[:, :N], d_x[:, :N], d_k[:, :N]
+        if not p.squared:  # d omega = d lam / (2 omega)
+            f = 0.5 / np.sqrt(lam)[..., None]
+            d_x, d_k = d_x * f, d_k * f
+        c = (np.tile(res.d, p.n_poses) / math.sqrt(p.n_poses))[:, None]
+        parts.append(c * chain(d_x.reshape(-1, n), d_k.reshape(-1, n)))
+    wc = 1.0 / math.sqrt(max(len(res.cases), 1))
+    for case, q, norm in zip(res.cases, static_poses, res.norms, strict=True):
+        _, _, dtip = static_tip_gradient(lengths, k, case.tip_force_N, q)
+        parts.append((wc / norm) * chain(dtip[:, :n], dtip[:, n:]))
+    return np.vstack(parts)

@@ -1,0 +1,145 @@
+"""Derivatives of the link sections and of the finite-segment springs with respect to the joint
+stations.
+
+A chain of n joints on a beam of length L is cut at the stations x_1 < ... < x_n (joint j sits at
+x_j = L_0 + ... + L_(j-1)); x_0 = 0 and x_(n+1) = L are fixed, so the stations are the n free
+coordinates of the lengths on their simplex (L_i = x_(i+1) - x_i). Every section quantity is an
+integral over [a, b] = [x_i, x_(i+1)] of the planform, so by the fundamental theorem of calculus
+its derivative with respect to a cut station is the integrand at the cut:
+
+    d/db ∫_a^b f dx = f(b),
+    d/da ∫_a^b f(x) (x - a)^p dx = -[p = 0] f(a) - p ∫_a^b f (x - a)^(p-1).
+
+At a width step the half-width jumps, the integrals have different one-sided derivatives there,
+and the derivative returned is their mean (the limit of a central difference).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .geometry import Beam
+from .sections import planar_sections
+from .stiffness import finite_segment_stiffness_unchecked
+
+__all__ = ["SectionGradient", "stations_from_lengths", "planar_sections_gradient",
+           "finite_segment_stiffness_gradient"]
+
+
+@dataclass(frozen=True, eq=False)
+class SectionGradient:
+    """The planar sections of n + 1 links (``sections.planar_sections``) and their derivatives
+    with respect to the n joint stations.
+
+    Attributes
+    ----------
+    mass_kg, com_offset_m, inertia_yy_kg_m2, area_moment_m4 : ndarray, shape (n+1,)
+        Link mass (kg), centre-of-mass distance from the link's start (m), inertia about the
+        centre of mass around y (kg m^2) and mean bending area moment (m^4).
+    d_mass_kg_per_m, d_com_offset, d_inertia_yy_kg_m, d_area_moment_m3 : ndarray, shape (n+1, n)
+        Entry [i, j]: derivative of link i's quantity with respect to the station of joint
+        j + 1 (kg/m, m/m, kg m, m^3).
+    """
+
+    mass_kg: np.ndarray
+    com_offset_m: np.ndarray
+    inertia_yy_kg_m2: np.ndarray
+    area_moment_m4: np.ndarray
+    d_mass_kg_per_m: np.ndarray
+    d_com_offset: np.ndarray
+    d_inertia_yy_kg_m: np.ndarray
+    d_area_moment_m3: np.ndarray
+
+
+def stations_from_lengths(lengths_m: np.ndarray) -> np.ndarray:
+    """Joint stations x_j = L_0 + ... + L_(j-1), m, shape (n,) for lengths (n+1,)."""
+    return np.cumsum(np.asarray(lengths_m, dtype=float))[:-1]
+
+
+def _mean_sides(beam: Beam, x: np.ndarray, powers: tuple[int, ...]) -> list[np.ndarray]:
+    """w(x)^p (w in m) for each p of ``powers``, the mean of the one-sided limits at a width
+    step."""
+    if not beam.step_index.size:  # called in the fit's inner loop: one interpolation
+        w = np.interp(x, beam.x_m, beam.half_width_m)
+        return [w**p for p in powers]
+    wl, wr = beam.half_width_at(x, "left"), beam.half_width_at(x, "right")
+    return [0.5 * (wl**p + wr**p) for p in powers]
+
+
+def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
+                             sections: tuple | None = None) -> SectionGradient:
+    """:func:`sections.planar_sections` of ``lengths_m`` (m, (n+1,), valid) and its exact
+    derivatives with respect to the joint stations (see the module docstring).
+    ``sections``: ``planar_sections(beam, lengths_m)`` when already computed."""
+    lengths = np.asarray(lengths_m, dtype=float)
+    if sections is None:
+        sections = planar_sections(beam, lengths)
+    mass, offset, Iyy, area_moment = sections
+    nl = lengths.size
+    n = nl - 1
+    t = beam.thickness_m
+    rho_t = beam.material.rho_kg_m3 * t
+    # moments about each link's start: A = ∫ 2w, P1 = ∫ 2w (x - a) (P2 = ∫ 2w (x - a)^2 enters
+    # only through its derivative)
+    A = mass / rho_t
+    P1 = A * offset
+    x = stations_from_lengths(lengths)
+    h = np.diff(np.r_[0.0, x, beam.length_m])  # the spans the sections integrated over
+    w2 = 2.0 * _mean_sides(beam, x, (1,))[0]
+    # each link moves with two stations only: its end (station j + 1 ends link j) and its
+    # start (station j + 1 starts link j + 1); the derivatives of both bands, then the matrices
+    e, b = np.arange(n), np.arange(1, nl)  # links ended, links started by station j + 1
+    # ends: d/db of A, P1, P2 is the integrand at b; starts: (x - a)^p vanishes at a for p > 0
+    he = h[e]
+    bands = (
+        (e, w2, w2 * he, w2 * he * he, 1.0),
+        (b, -w2, -A[b], -2.0 * P1[b], -1.0),
+    )
+    c3 = t**3 / 12.0
+    out = [np.zeros((nl, n)) for _ in range(4)]
+    cols = np.arange(n)
+    for links, dA, dP1, dP2, dh in bands:
+        off, r = offset[links], P1[links] / A[links]
+        d_off = (dP1 - off * dA) / A[links]
+        # Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12
+        dIyy = rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA) + rho_t * dA * t * t / 12.0
+        d_area = c3 * (dA / h[links] - A[links] / h[links] ** 2 * dh)
+        for o, v in zip(out, (rho_t * dA, d_off, dIyy, d_area), strict=True):
+            o[links, cols] = v
+    return SectionGradient(mass, offset, Iyy, area_moment, *out)
+
+
+def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
+                                      K: np.ndarray | None = None
+                                      ) -> tuple[np.ndarray, np.ndarray]:
+    """The finite-segment springs K_j = E (2 t^3 / 12) / ∫_(c_j)^(c_(j+1)) dx / w (N m/rad,
+    (n,), ``stiffness.finite_segment_stiffness``) and their derivatives with respect to the
+    joint stations, N m/rad per m, shape (n, n) (entry [j, l]: spring j, station l + 1).
+
+    The span ends c_j are the links' mid-spans (x_j + x_(j+1)) / 2, except c_0 = 0 and c_n = L,
+    which do not move; d/dc of the integral is -+1 / w(c) at its ends. ``K``: the springs of
+    ``lengths_m`` when already computed.
+    """
+    lengths = np.asarray(lengths_m, dtype=float)
+    if K is None:
+        K = finite_segment_stiffness_unchecked(beam, lengths)
+    n = K.size
+    C = beam.material.E_Pa * 2.0 * beam.thickness_m**3 / 12.0
+    ends = lengths.cumsum()
+    centres = ends - 0.5 * lengths
+    dK = np.zeros((n, n))
+    if n == 1:
+        return K, dK
+    inner = centres[1:n]  # c_1 .. c_(n-1), each the mean of stations j and j + 1
+    dI_dc = 0.5 / _mean_sides(beam, inner, (1,))[0]  # (n-1,): 1 / w(c) times dc/dx = 1/2
+    r = np.arange(n - 1)
+    # spring j's integral ends at c_(j+1) (+) and spring j + 1's starts there (-)
+    dI = np.zeros((n, n))
+    dI[r, r] += dI_dc
+    dI[r, r + 1] += dI_dc
+    dI[r + 1, r] -= dI_dc
+    dI[r + 1, r + 1] -= dI_dc
+    dK = -(K * K / C)[:, None] * dI
+    return K, dK
