@@ -32,7 +32,11 @@ from .option_checks import check_choice as _choice
 from .option_checks import check_float as _float
 from .option_checks import check_int as _int
 
-__all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict"]
+__all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict",
+           "UNIQUE_RULES"]
+
+# ``FitOptions.unique``: "none" (a multistart's best) or "nearest" (fitting/unique.py)
+UNIQUE_RULES = ("none", "nearest")
 
 
 @dataclass(frozen=True)
@@ -137,6 +141,12 @@ class FitOptions(_ProblemOptions):
         ``paper`` eigen: polish up to this many distinct best starts on the paper's loss.
     max_nfev : int
         Evaluation cap of each least-squares start.
+    unique : str
+        ``"none"``: the best of the starts; ``"nearest"``: one model per design, smooth in it
+        (``joint`` eigen fits of n frequencies; ``fitting/unique.py`` states the rule).
+    start_lengths_m, start_factors : tuple of float or None
+        A warm start (``fit(..., start=previous)``): the local solver runs from these link
+        lengths (m) and stiffness factors only, instead of random starts.
     """
 
     kind: ClassVar[str] = "fit"
@@ -147,6 +157,9 @@ class FitOptions(_ProblemOptions):
     joint_sweep: bool = False
     polish: int = 4
     max_nfev: int = 400
+    unique: str = "none"
+    start_lengths_m: tuple[float, ...] | None = None
+    start_factors: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -158,6 +171,20 @@ class FitOptions(_ProblemOptions):
         s(self, "joint_sweep", _bool("joint_sweep", self.joint_sweep))
         s(self, "polish", _int("polish", self.polish, 0))
         s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1))
+        s(self, "unique", _choice("unique", self.unique, UNIQUE_RULES))
+        for name in ("start_lengths_m", "start_factors"):
+            v = getattr(self, name)
+            if v is not None:
+                if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or len(v) == 0:
+                    raise BeamInputError(f"{name} = {v!r:.60}: must be a list of numbers > 0")
+                s(self, name, tuple(_float(f"{name}[{i}]", e, low=0.0, low_open=True)
+                                    for i, e in enumerate(v)))
+        if (self.start_lengths_m is None) != (self.start_factors is None):
+            raise BeamInputError("start_lengths_m, start_factors: give both (a warm start) or "
+                                 "neither")
+        if self.start_lengths_m is not None and self.unique != "none":
+            raise BeamInputError(f"unique = {self.unique!r}: the rule chooses the model itself; "
+                                 "a warm start (start_lengths_m) needs unique = 'none'")
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,10 @@ Modules: ``spec`` (what a start is given and returns), ``joint`` and ``paper`` (
 parametrisations' residuals and losses), ``joint_jacobian`` (the ``joint`` residuals' analytic
 Jacobian), ``local`` (the local solver of a start), ``multistart``
 (:func:`fit`), ``result`` (a design evaluated in full as a FitResult), ``pareto_problem`` (the
-pymoo problem and repair), ``pareto`` (:func:`fit_pareto`), ``pool`` and ``progress``.
+pymoo problem and repair), ``pareto`` (:func:`fit_pareto`), ``pool`` and ``progress``;
+``warm`` (a previous fit as the one start), ``unique`` (the ``unique="nearest"`` rule: one
+model per design, smooth in it), ``sweep`` (:func:`fit_sweep` along a design path) and
+``derivative`` (:func:`fit_derivative`, dtheta/dp by the implicit-function theorem).
 
 Local solvers (chosen for accuracy per model evaluation; see ``scripts/bench_fit.py``):
 
@@ -73,6 +76,14 @@ _EXPORTS = {
     "run_starts": "multistart",
     "draw_starts": "multistart",
     "fit_pareto": "pareto",
+    "fit_sweep": "sweep",
+    "SweepResult": "sweep",
+    "check_path": "sweep",
+    "start_changes": "warm",
+    "solve_unique": "unique",
+    "rule_lengths": "unique",
+    "fit_derivative": "derivative",
+    "FitDerivative": "derivative",
     "FitSpec": "spec",
     "StartResult": "spec",
     "OBJECTIVES": "spec",

@@ -96,6 +96,27 @@ def draw_starts(problem: FitProblem, starts: int, seed: int) -> list:
     return [(i, L0[i], F0[i]) for i in range(starts)]
 
 
+def _warm_task(problem: FitProblem, o: FitOptions) -> tuple:
+    L, F = np.array(o.start_lengths_m), np.array(o.start_factors)
+    if L.size != problem.n_joints + 1 or F.size != problem.n_factors:
+        raise BeamInputError(f"start_lengths_m, start_factors: {L.size} lengths and {F.size} "
+                             f"factors: this fit needs {problem.n_joints + 1} and "
+                             f"{problem.n_factors}")
+    return (0, L * (problem.length_m / L.sum()), F)
+
+
+def _fit_unique(problem: FitProblem, o: FitOptions, t0: float) -> FitResult:
+    from .unique import check_unique_problem, solve_unique
+
+    check_unique_problem(problem, o.objective.value)
+    best, _ = solve_unique(problem)
+    return result_from_design(
+        problem, best.lengths_m, best.factors, objective=o.objective.value, seed=o.seed,
+        starts=1, starts_run=1, nfev=best.nfev, start_losses_pct=np.array([best.loss_pct]),
+        wall_time_s=time.perf_counter() - t0, success=True, message=best.message,
+        deflection_norm=o.deflection_norm.value, options=o)
+
+
 def fit(
     beam: Beam,
     target: FitTarget,
@@ -104,6 +125,7 @@ def fit(
     *,
     workers: int = 1,
     progress: bool = True,
+    start: Any = None,
     **changes: Any,
 ) -> FitResult:
     """Fit an nR PRBDM to a target by a multistart of a local solver.
@@ -123,6 +145,9 @@ def fit(
         does not depend on it.
     progress : bool
         Show a tqdm progress bar.
+    start : FitResult or (lengths m, springs N m/rad), optional
+        Warm start: the local solver runs from there only (``fitting/warm.py``); recorded in
+        the result's options (``start_lengths_m``, ``start_factors``).
     **changes
         Options by name, applied to ``options`` (``fit(beam, target, 3, objective="combined")``).
 
@@ -135,14 +160,22 @@ def fit(
     """
     t0 = time.perf_counter()
     o = resolve_options(options, FitOptions, changes)
+    if start is not None:
+        from .warm import start_changes
+
+        o = o.replace(**start_changes(start, beam, joints, o))
     problem = make_problem(beam, target, joints, o.frequencies, o.stiffness.value, o.xi_rad,
                            o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
                            o.eigen_norm.value)
     _check_fit_args(o, workers, target)
     objective, norm = o.objective.value, o.deflection_norm.value
     spec = FitSpec(problem, objective, norm, o.max_nfev)
+    if o.unique != "none":
+        return _fit_unique(problem, o, t0)
     tasks = draw_starts(problem, o.starts, o.seed)
-    if problem.stiffness == "paper" and objective != "eigen":
+    if o.start_lengths_m is not None:
+        tasks = [_warm_task(problem, o)]
+    elif problem.stiffness == "paper" and objective != "eigen":
         # random SCFs around each start's projected eigen optimum (the SCF scale is beam-specific)
         P = PaperEigenResiduals(FitSpec(problem, "eigen", norm, o.max_nfev))
         tasks = [(i, L, F * P.factors(unit_from_lengths(L, problem.length_m,

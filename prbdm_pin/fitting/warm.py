@@ -1,0 +1,77 @@
+"""Warm starts: a previous fit (or explicit lengths and springs) as the one start of a fit.
+
+A warm fit runs that start only. The point of a warm start is to stay on the previous fit's
+branch: a multistart would return whichever local optimum is lowest, which is what makes the
+parameters of independent fits jump between neighbouring designs. The start is recorded in the
+options (``start_lengths_m``, ``start_factors``), so a fit.json says it was warm-started and
+from where.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..geometry import Beam
+from ..options import FitOptions
+from ..results import FitResult
+from ..stiffness import finite_segment_stiffness
+
+__all__ = ["start_changes"]
+
+
+def _lengths(v: Any, beam: Beam, joints: int) -> np.ndarray:
+    try:
+        L = np.asarray(v, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise BeamInputError(f"start lengths = {v!r:.60}: must be numbers (m)") from None
+    if L.size != joints + 1:
+        raise BeamInputError(f"start lengths: {L.size} links given: a {joints}R model has "
+                             f"{joints + 1}")
+    if not np.all(np.isfinite(L)) or np.any(L <= 0):
+        raise BeamInputError(f"start lengths = {L.tolist()}: must be finite and > 0 (m)")
+    # a design path may change the span: keep the start's length fractions
+    return L * (beam.length_m / L.sum())
+
+
+def start_changes(start: Any, beam: Beam, joints: int, options: FitOptions) -> dict[str, Any]:
+    """The option changes of a warm start from ``start``: a FitResult, or a pair
+    (lengths m (n+1,), springs N m/rad (n,)) for a ``joint`` fit.
+
+    ``joint``: the start keeps the previous springs (N m/rad), as factors on this beam's
+    finite-segment springs. ``paper``: a FitResult's SCFs, one per pose. Lengths are rescaled to
+    this beam's span. A start with another number of joints, stiffness kind or number of poses
+    is a BeamInputError naming it.
+    """
+    stiffness = options.stiffness.value
+    if isinstance(start, FitResult):
+        if start.joints != joints:
+            raise BeamInputError(f"start: a {start.joints}R fit cannot start a {joints}R fit "
+                                 f"(joints = {joints})")
+        if start.stiffness != stiffness:
+            raise BeamInputError(f"start: stiffness = {start.stiffness!r}: this fit's is "
+                                 f"{stiffness!r}")
+        lengths = _lengths(start.lengths_m, beam, joints)
+        springs = np.asarray(start.stiffness_Nm_per_rad, dtype=float)
+        scf = np.asarray(start.factors, dtype=float)
+    elif isinstance(start, (tuple, list)) and len(start) == 2:
+        if stiffness != "joint":
+            raise BeamInputError("start = (lengths, springs): needs stiffness = 'joint' (a "
+                                 "'paper' fit starts from a FitResult, which has its SCFs)")
+        lengths = _lengths(start[0], beam, joints)
+        springs = np.asarray(start[1], dtype=float).reshape(-1)
+        scf = None
+    else:
+        raise BeamInputError(f"start = {start!r:.60}: must be a FitResult or a pair "
+                             "(lengths m, springs N m/rad)")
+    if stiffness == "joint":
+        if springs.size != joints or not np.all(np.isfinite(springs)) or np.any(springs <= 0):
+            raise BeamInputError(f"start springs = {springs.tolist()}: need {joints} finite "
+                                 "values > 0 (N m/rad)")
+        factors = springs / finite_segment_stiffness(beam, lengths, options.min_fraction)
+    else:
+        factors = scf  # fit() checks there is one per pose of this fit's sweep
+    return {"start_lengths_m": tuple(float(v) for v in lengths),
+            "start_factors": tuple(float(v) for v in factors)}
