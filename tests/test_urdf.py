@@ -135,7 +135,8 @@ def test_installed_package_finds_templates(tmp_path):
     assert out.returncode == 0, out.stderr
     lines = out.stdout.splitlines()
     assert lines[0].startswith(str(target))
-    assert lines[1] == "hub.urdf.tmpl,joint.urdf.tmpl,link.urdf.tmpl,robot.urdf.tmpl,spring.urdf.tmpl"
+    assert lines[1] == ("hub.urdf.tmpl,joint.urdf.tmpl,link.urdf.tmpl,robot.urdf.tmpl,"
+                        "spring.urdf.tmpl")
     assert lines[2] == "True"
 
 
