@@ -149,9 +149,10 @@ class Design:
     @property
     def scales(self) -> np.ndarray:
         """A scale of every variable (SI units), for finite-difference steps: the value itself
-        for thickness, E and rho; 0.1 for nu; for a half-width the half-width or, at a width
-        step, the step's jump if smaller; for a station the shorter adjacent vertex interval
-        (the distances over which the planform changes character)."""
+        for thickness, E and rho; 0.1 for nu; for a half-width the smallest of the half-width,
+        the adjacent vertex intervals and, at a width step, the step's jump; for a station the
+        shorter adjacent vertex interval (the distances over which the planform, and the mesh
+        that follows it, change character)."""
         b = self.beam
         x, w = b.x_m, b.half_width_m
         gaps = np.diff(x)
@@ -162,8 +163,12 @@ class Design:
             elif i < 0:
                 out[row] = self.values[row]
             elif kind == "half_width":
+                # the outline next to the vertex moves across elements as small as the
+                # adjacent vertex intervals (the mesh follows every vertex)
                 j = _step_partner(b, i)
-                out[row] = w[i] if j is None else min(w[i], abs(w[i] - w[j]))
+                near = [g for g in (gaps[i - 1] if i > 0 else 0.0,
+                                    gaps[i] if i < gaps.size else 0.0) if g > 0]
+                out[row] = min([w[i], *near] + ([abs(w[i] - w[j])] if j is not None else []))
             else:
                 out[row] = min(gaps[:i][gaps[:i] > 0][-1], gaps[i:][gaps[i:] > 0][0])
         out.setflags(write=False)

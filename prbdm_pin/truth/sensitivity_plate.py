@@ -14,7 +14,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from skfem import Basis
+from skfem import Basis, MeshTri
 
 from ..design import Design
 from ..errors import TruthError
@@ -39,8 +39,9 @@ from .shape_forms import copies_tri_mesh, plate_element_forms, tip_edge_integral
 __all__ = ["plate_sensitivity"]
 
 def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
-                      n_computed: int, static: bool) -> dict:
-    """Frequencies, tip deflection and their design derivatives of the plate truth.
+                      n_computed: int, static: bool, mesh: MeshTri | None = None) -> dict:
+    """Frequencies, tip deflection and their design derivatives of the plate truth (on its own
+    mesh of ``level``, or on ``mesh``, a mesh of ``design.beam``'s planform).
 
     Returns a dict of plain arrays (``truth_gradient`` wraps it): ``mode_index``,
     ``omega_rad_s``, ``d_omega_rad_s`` (modes, n), ``tip_z_m``, ``d_tip_z_m`` (n,),
@@ -48,8 +49,9 @@ def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
     """
     beam = design.beam
     t0 = time.perf_counter()
-    check_plate_budget(beam, level, "argyris")
-    mesh = planform_tri_mesh(beam, level)
+    if mesh is None:
+        check_plate_budget(beam, level, "argyris")
+        mesh = planform_tri_mesh(beam, level)
     pm = plate_modes(beam, level, n_computed, "argyris", mesh=mesh)
     lam_all = np.sign(pm.omega_rad_s) * pm.omega_rad_s**2
     if np.any(lam_all <= 0.0) or not np.all(np.isfinite(lam_all)):
