@@ -8,6 +8,8 @@ same relative position s in the vertex interval. A node at a width step's statio
 intervals meet and the half-width is two-valued) scales by the narrow side's ratio below the
 narrow half-width and maps linearly along the step's outline piece above it. Vertices map onto
 vertices, the outline onto the outline, the axis y = 0 onto itself, the root edge stays at x = 0.
+The map is meant for small moves (gradients, optimiser steps): a large one can fold the small
+elements at a width step's corner; remesh the new planform then.
 """
 
 from __future__ import annotations
