@@ -51,6 +51,10 @@ _EXPORTS = {
     # truth
     "TruthResult": "truth",
     "compute_truth": "truth",
+    # design sensitivities
+    "Design": "design",
+    "truth_gradient": "truth.gradient",
+    "TruthGradient": "truth.gradient",
     # fitting
     "FitTarget": "target",
     "target_from_truth": "target",

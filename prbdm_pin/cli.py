@@ -17,8 +17,8 @@ from .commands.checks import CliParser, one_line
 from .errors import BeamInputError, SolveError, TruthError
 
 # Order is the order of `prbdm --help`.
-COMMANDS = ("truth", "fit", "pareto", "simulate", "linearize", "export", "batch", "batch_report",
-            "bench")
+COMMANDS = ("truth", "sensitivity", "fit", "pareto", "simulate", "linearize", "export", "batch",
+            "batch_report", "bench")
 
 
 def _pin_threads() -> None:

@@ -19,7 +19,8 @@ from ..geometry import Beam
 from ..limits import check_cap
 from .result import ModalSolution, StaticSolution, Timings
 
-__all__ = ["beam_stations", "beam_modal", "beam_bending_modes", "beam_static"]
+__all__ = ["beam_stations", "beam_modal", "beam_modes", "beam_modal_solution",
+           "beam_bending_modes", "beam_static"]
 
 # w(x) linear, Hermite cubic: the mass integrand has degree 1 + 3 + 3 = 7, stiffness 1 + 1 + 1 = 3.
 _INTORDER = 7
@@ -97,8 +98,9 @@ def _mass(u, v, w):
     return w["rhoA"] * u * v
 
 
-def _assemble(beam: Beam, n_elements: int):
-    xs = beam_stations(beam, n_elements)
+def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None):
+    # given stations: a mesh that moved with the planform (shape sensitivities keep its topology)
+    xs = beam_stations(beam, n_elements) if stations_m is None else np.asarray(stations_m, float)
     mesh = MeshLine(xs)
     basis = Basis(mesh, ElementLineHermite(), intorder=_INTORDER)
     xq = basis.global_coordinates()[0]
@@ -142,7 +144,8 @@ def _eigsh(Kf, Mf, n):
     return lam, vec
 
 
-def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200) -> ModalSolution:
+def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200,
+               stations_m: np.ndarray | None = None) -> ModalSolution:
     """Bending modes of the 1D Euler-Bernoulli beam with varying section.
 
     Parameters
@@ -152,6 +155,9 @@ def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200) -> ModalSol
         Number of modes (lowest first).
     n_elements : int
         About this many Hermite elements along the span (vertices are always element edges).
+    stations_m : array_like, optional
+        Ready element edges (m, ascending, from 0 to L, every vertex among them) instead of
+        ``beam_stations(beam, n_elements)``.
 
     Returns
     -------
@@ -161,14 +167,29 @@ def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200) -> ModalSol
         nodal deflections scaled to unit maximum with a positive tip.
     """
     n_modes = _check_count("n_modes", n_modes)
+    return beam_modal_solution(beam, *beam_modes(beam, n_modes, n_elements, stations_m))
+
+
+def beam_modes(beam: Beam, n_modes: int, n_elements: int = 200,
+               stations_m: np.ndarray | None = None):
+    """The raw modes of ``beam_modal``: (mesh, basis, K, M, u_dofs, free, lam, phi, timings),
+    ``phi`` (N, k) the full DOF vectors (clamped DOFs zero; not mass-normalised: the dense
+    solve gives phi^T K phi = 1), ``lam`` in (rad/s)^2."""
     t0 = time.perf_counter()
-    mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements)
+    mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements, stations_m)
     t1 = time.perf_counter()
     lam, vec = _eigh(K, M, free, n_modes)
     t2 = time.perf_counter()
-    k = lam.size
-    phi = np.zeros((basis.N, k))
+    phi = np.zeros((basis.N, lam.size))
     phi[free] = vec
+    timings = Timings(assembly_s=t1 - t0, solve_s=t2 - t1)
+    return mesh, basis, K, M, u_dofs, free, lam, phi, timings
+
+
+def beam_modal_solution(beam, mesh, basis, K, M, u_dofs, free, lam, phi,
+                        timings) -> ModalSolution:
+    """The ``ModalSolution`` of the raw modes ``beam_modes`` returns."""
+    k = lam.size
     r_z = np.zeros(basis.N)
     r_z[u_dofs] = 1.0  # the rigid z translation: u = 1, u_x = 0
     Mphi = M @ phi
@@ -189,7 +210,7 @@ def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200) -> ModalSol
         centerline_uz=uz,
         dofs=int(free.size),
         mesh_level=int(mesh.t.shape[1]),
-        timings=Timings(assembly_s=t1 - t0, solve_s=t2 - t1),
+        timings=timings,
         nodes_m=nodes,
         cells=mesh.t.T.copy(),
         cell_type="line",
@@ -246,7 +267,8 @@ def beam_bending_modes(
 
 
 def beam_static(
-    beam: Beam, tip_force_N: np.ndarray | None = None, n_elements: int = 200
+    beam: Beam, tip_force_N: np.ndarray | None = None, n_elements: int = 200,
+    stations_m: np.ndarray | None = None,
 ) -> StaticSolution:
     """Linear tip deflection of the 1D beam under the z component of a tip force.
 
@@ -256,6 +278,8 @@ def beam_static(
     tip_force_N : array_like, shape (3,), optional
         Tip force in N (default: ``beam.tip_force_N``); only F_z bends the beam here.
     n_elements : int
+    stations_m : array_like, optional
+        Ready element edges (m), as in ``beam_modal``.
 
     Returns
     -------
@@ -266,7 +290,7 @@ def beam_static(
     if F.shape != (3,) or not np.all(np.isfinite(F)):
         raise BeamInputError(f"tip_force_N = {F.tolist()}: must be 3 finite numbers in N")
     t0 = time.perf_counter()
-    mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements)
+    mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements, stations_m)
     tip = int(np.argmax(mesh.p[0]))
     f = np.zeros(basis.N)
     f[basis.nodal_dofs[0, tip]] = F[2]

@@ -22,6 +22,7 @@ __all__ = [
     "PlateModes",
     "plate_modes",
     "plate_modal",
+    "classified_plate_modes",
     "plate_forms",
     "assemble_plate",
     "plate_rigidity_Nm",
@@ -220,9 +221,15 @@ def plate_modal(
         ``model`` is ``"plate-argyris"`` or ``"plate-morley"``; frequencies in rad/s (a negative
         value stands for a negative eigenvalue, which the caller must refuse).
     """
+    return classified_plate_modes(beam, plate_modes(beam, level, n_modes, element), level)
+
+
+def classified_plate_modes(beam: Beam, pm: PlateModes, level: int) -> ModalSolution:
+    """The ``ModalSolution`` of raw plate modes ``pm`` of ``beam`` at mesh ``level``: z mass
+    participation, symmetry about x and MAC with beam modes (``plate_modal``'s classification)."""
     from .modes import beam_mac, mass_participation_z, symmetry_about_x
 
-    pm = plate_modes(beam, level, n_modes, element)
+    element = pm.element
     mpf = mass_participation_z(pm.M, pm.phi, pm.rz)
     uz = pm.nodal_uz()
     nodes = np.column_stack([pm.mesh.p.T, np.zeros(pm.mesh.p.shape[1])])

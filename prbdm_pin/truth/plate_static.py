@@ -14,7 +14,7 @@ import time
 import numpy as np
 from scipy.sparse import diags
 from scipy.sparse.linalg import splu
-from skfem import Basis, FacetBasis, LinearForm, asm
+from skfem import Basis, FacetBasis, LinearForm, MeshTri, asm
 
 from ..errors import BeamInputError, TruthError
 from ..geometry import Beam
@@ -24,7 +24,7 @@ from .plate_elements import ElementTriArgyrisLocal
 from .result import StaticSolution, Timings
 from .settings import DEFAULT_PLATE_LEVEL, check_level
 
-__all__ = ["plate_static", "tip_edge_load"]
+__all__ = ["plate_static", "tip_edge_load", "spd_solve"]
 
 
 @LinearForm
@@ -38,8 +38,27 @@ def tip_edge_load(beam: Beam, facet_basis: FacetBasis, force_z_N: float) -> np.n
     return q_N_m * asm(_unit_line_load, facet_basis)
 
 
+def spd_solve(Kf, b: np.ndarray) -> np.ndarray:
+    """Solution of the sparse SPD system Kf x = b (b of shape (n,) or (n, m)).
+
+    A symmetric diagonal scaling equilibrates values, slopes and curvatures (scales h^0..h^-2);
+    the scaled matrix is SPD: symmetric fill-reducing order, no pivoting (least fill measured),
+    then one step of iterative refinement.
+    """
+    s = 1.0 / np.sqrt(Kf.diagonal())
+    A = (diags(s) @ Kf @ diags(s)).tocsc()
+    lu = splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+              options={"SymmetricMode": True})
+    sb = s * b.T
+    rhs = sb.T
+    y = lu.solve(rhs)
+    y += lu.solve(rhs - A @ y)
+    return (s * y.T).T
+
+
 def plate_static(
-    beam: Beam, level: int | None = None, tip_force_N: np.ndarray | None = None
+    beam: Beam, level: int | None = None, tip_force_N: np.ndarray | None = None,
+    mesh: MeshTri | None = None,
 ) -> StaticSolution:
     """Linear tip deflection of the clamped Kirchhoff plate under a uniform tip-edge load.
 
@@ -51,6 +70,9 @@ def plate_static(
     tip_force_N : array_like, shape (3,), optional
         Total tip force in N (default: ``beam.tip_force_N``); its z component is spread
         uniformly over the free edge x = L as a line load F_z / (2 w(L)) in N/m.
+    mesh : MeshTri, optional
+        A ready mesh of the planform (nodes in m, the clamp at x = 0, a node at (L, 0)), as
+        ``plate_modes`` takes; ``level`` then only labels the result.
 
     Returns
     -------
@@ -68,8 +90,9 @@ def plate_static(
     lev = DEFAULT_PLATE_LEVEL if level is None else check_level(level)
     L = beam.length_m
     t0 = time.perf_counter()
-    check_plate_budget(beam, lev, "argyris")
-    mesh = planform_tri_mesh(beam, lev)
+    if mesh is None:
+        check_plate_budget(beam, lev, "argyris")
+        mesh = planform_tri_mesh(beam, lev)
     check_dofs("plate-argyris", lev, PLATE_DOFS_PER_NODE["argyris"] * mesh.p.shape[1]
                + PLATE_DOFS_PER_EDGE * mesh.facets.shape[1], beam)
     t1 = time.perf_counter()
@@ -86,17 +109,8 @@ def plate_static(
     free = np.setdiff1d(np.arange(basis.N), clamped)
     Kf = K[free][:, free].tocsc()
     t3 = time.perf_counter()
-    # symmetric diagonal scaling equilibrates values, slopes and curvatures (scales h^0..h^-2);
-    # the scaled matrix is SPD: symmetric fill-reducing order, no pivoting (least fill measured)
-    s = 1.0 / np.sqrt(Kf.diagonal())
-    A = (diags(s) @ Kf @ diags(s)).tocsc()
-    lu = splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-              options={"SymmetricMode": True})
-    b = s * f[free]
-    y = lu.solve(b)
-    y += lu.solve(b - A @ y)  # one step of iterative refinement
     u = np.zeros(basis.N)
-    u[free] = s * y
+    u[free] = spd_solve(Kf, f[free])
     t4 = time.perf_counter()
     node = np.flatnonzero((np.abs(mesh.p[0] - L) < tol) & (mesh.p[1] == 0.0))
     if node.size != 1:

@@ -1,0 +1,100 @@
+"""Benchmark of the truth's design gradients: the cost of all gradients against the truth's solve.
+
+For each shipped panel (reference-random, tapered, stepped-narrow) and each truth model (Argyris
+plate at its default level, 1D beam) this takes every design variable a beam offers (thickness,
+E, rho, nu, every half-width, every interior station) and times ``truth_gradient``: its solve
+(the truth's own modal solve with the bending-mode selection and the linear tip-load solve) and
+all gradients after it. The ratio gradient / solve is the cost of the gradients in truth solves
+(target: at most 2). Wall times on a shared machine can be inflated by other processes: each
+case is run ``--repeats`` times and the fastest run is kept. Writes a Markdown table (default
+results/bench_truth_gradient.md).
+
+usage: python scripts/bench_truth_gradient.py [--repeats 3] [--modes 3] [--out PATH]
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_var] = "1"  # pin BLAS to one thread before numpy is imported
+
+import argparse  # noqa: E402
+import platform  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.geometry import Beam  # noqa: E402
+from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.truth.gradient import truth_gradient  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+PANELS = ("reference-random", "tapered", "stepped-narrow")
+
+
+def all_variables(beam: Beam) -> tuple[str, ...]:
+    """Every design variable of ``beam``: thickness, material, half-widths, interior stations
+    (one name per width step)."""
+    x = beam.x_m
+    stations = [f"x[{i}]" for i in range(1, x.size - 1) if x[i] != x[i - 1]]
+    widths = [f"half_width[{i}]" for i in range(x.size)]
+    return ("thickness", "E", "rho", "nu", *widths, *stations)
+
+
+def run(repeats: int, modes: int) -> list[tuple]:
+    rows = []
+    for name in PANELS:
+        beam = load_beam(ROOT / "examples" / "beams" / f"{name}.json")
+        names = all_variables(beam)
+        for model in ("plate", "beam"):
+            best = None
+            for _ in range(repeats):
+                g = truth_gradient(beam, names, model=model, modes=modes)
+                if best is None or g.solve_s + g.gradient_s < best.solve_s + best.gradient_s:
+                    best = g
+            shape = sum(1 for n in names if "[" in n)
+            rows.append((name, model, best.dofs, len(names), shape, best.solve_s,
+                         best.gradient_s, best.gradient_s / best.solve_s))
+            print(f"{name:18s} {model:6s} dofs {best.dofs:6d} variables {len(names):3d} "
+                  f"solve {best.solve_s:7.3f} s gradients {best.gradient_s:7.3f} s ratio "
+                  f"{best.gradient_s / best.solve_s:5.2f}", flush=True)
+    return rows
+
+
+def table(rows: list[tuple], repeats: int, modes: int) -> str:
+    lines = [
+        "# Cost of the truth's design gradients",
+        "",
+        f"`python scripts/bench_truth_gradient.py` ({platform.processor() or platform.machine()}, "
+        f"one BLAS thread, fastest of {repeats} runs, {modes} bending modes). Every design "
+        "variable of the panel: thickness, E, rho, nu, every half-width and every interior "
+        "station. *solve*: the truth's modal solve (25 modes, bending-mode selection) and linear "
+        "tip solve; *gradients*: the derivatives of the selected frequencies and the tip with "
+        "respect to all variables after it (closed form for thickness and material, shape "
+        "derivatives of the element integrals on the moved elements for the planform).",
+        "",
+        "| panel | model | DOFs | variables | of which planform | solve s | gradients s | "
+        "gradients / solve |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name, model, dofs, n, shape, solve, grad, ratio in rows:
+        lines.append(f"| {name} | {model} | {dofs} | {n} | {shape} | {solve:.3f} | {grad:.3f} "
+                     f"| {ratio:.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--modes", type=int, default=3)
+    ap.add_argument("--out", default=str(ROOT / "results" / "bench_truth_gradient.md"))
+    args = ap.parse_args()
+    rows = run(args.repeats, args.modes)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out, table(rows, args.repeats, args.modes))
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
