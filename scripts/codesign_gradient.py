@@ -289,7 +289,8 @@ def convergence_figure(runs: dict, path: Path) -> None:
     ax1.set_xlabel("truth evaluations")
     ax1.set_ylabel("panel mass (kg)")
     ax2.set_xlabel("truth evaluations")
-    ax2.set_ylabel("max relative constraint violation (1e-12: feasible)")
+    ax2.set_ylabel("max relative constraint violation")
+    ax2.set_title("feasible designs drawn at 1e-12", fontsize=9)
     for ax in (ax1, ax2):
         ax.grid(True, lw=0.3)
         ax.legend(fontsize=8)
