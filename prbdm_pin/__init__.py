@@ -71,6 +71,11 @@ _EXPORTS = {
     "SweepResult": "fitting",
     "fit_derivative": "fitting",
     "FitDerivative": "fitting",
+    "fit_design_gradient": "fitting",
+    "FitDesignGradient": "fitting",
+    # co-design through truth -> fit -> model
+    "codesign_point": "codesign",
+    "CodesignPoint": "codesign",
     "FitResult": "results",
     "ParetoResult": "pareto_result",
     "load_fit": "fit_file",

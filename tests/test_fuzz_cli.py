@@ -44,6 +44,12 @@ NUMBERS = st.one_of(
 )
 TEXT = st.one_of(st.text(max_size=12), st.sampled_from(["0,0,-10", "1,2", "2,5", "x", "3/2",
                                                         "0/1", "1/4", "tcp://h:1", "a\nb"]))
+# design specifications: valid ones, unknown names, vertices that do not exist or are not
+# design variables (the root, the tip station), a name twice, empty lists
+DESIGNS = st.one_of(st.sampled_from(["thickness", "half_width[1]", "thickness,E,rho,nu",
+                                     "half_width[0],half_width[1]", "x[0]", "x[1]",
+                                     "half_width[9]", "thickness,thickness", ",", "",
+                                     "half_width[-1]", "E ,rho"]), TEXT)
 # "fresh": a path that does not exist yet (must still not exist after a refusal)
 PATH_KINDS = st.sampled_from(["fresh", "fresh", "dir", "file", "under-file", "/proc/x",
                               "/sys/x", "/dev/x", "", "trailing/"])
@@ -78,6 +84,9 @@ OPTIONS = {
               "--workers": NUMBERS, "--shard": TEXT, "--retry-failed": None},
     "batch-report": {"--out": "dir", "--no-plots": None},
     "bench": {"--quick": None, "--out": "dir", "--cache-dir": "dir", "--no-mujoco": None},
+    "sensitivity": {"--design": DESIGNS, "--model": ["plate", "beam", "solid"],
+                    "--modes": NUMBERS, "--mesh": NUMBERS,
+                    "--selection": ["paper", "shape", "other"], "--out": "dir"},
 }
 
 
@@ -93,6 +102,8 @@ def _base(cmd: str, fresh: Path) -> list[str]:
                   str(fresh)],
         "batch-report": ["batch-report", str(fresh.parent)],
         "bench": ["bench", "--out", str(fresh)],
+        "sensitivity": ["sensitivity", BEAM, "--design", "thickness", "--model", "beam",
+                        "--out", str(fresh)],
     }[cmd]
 
 
@@ -160,9 +171,11 @@ def stubs(monkeypatch, tmp_path):
     import prbdm_pin.commands.pareto
     import prbdm_pin.commands.simulate
     import prbdm_pin.truth
+    import prbdm_pin.truth.gradient
 
     monkeypatch.setenv("PRBDM_CACHE", str(tmp_path / "cache"))
     for mod, name in [(prbdm_pin.truth, "compute_truth"),
+                      (prbdm_pin.truth.gradient, "truth_gradient"),
                       (prbdm_pin.commands.fit, "load_target"),
                       (prbdm_pin.commands.pareto, "load_target"),
                       (prbdm_pin.commands.simulate, "load_model_and_fit"),
@@ -226,9 +239,9 @@ def test_cli_options_fuzz_stress(cmd, stubs, capsys):
 def test_stubs_are_reached_by_valid_command_lines(stubs, capsys, tmp_path):
     # the property above is not vacuous: a valid command line of each command gets past its
     # checks to the work (here the sentinel)
-    fresh = tmp_path / "out"
     (tmp_path / "m.json").write_text("{}")
     for cmd in OPTIONS:
+        fresh = tmp_path / f"out-{cmd}"  # bench creates its folder before its work
         argv = _base(cmd, fresh)
         with pytest.raises(Reached):
             main(argv)

@@ -52,6 +52,7 @@ def parse_design(spec: str) -> tuple[str, ...]:
 def run(args) -> int:
     from ..beam_file import load_beam
     from ..design import Design
+    from ..errors import BeamInputError
     from ..io import atomic_write_text
     from ..limits import check_cap
     from ..output_folder import output_folder
@@ -65,7 +66,10 @@ def run(args) -> int:
     names = parse_design(args.design)
     t0 = time.perf_counter()
     beam = load_beam(args.beam)
-    design = Design(beam, names)
+    try:
+        design = Design(beam, names)
+    except BeamInputError as exc:  # name the option the variables came from
+        raise BeamInputError(f"--design {args.design!r}: {exc}") from exc
     if not args.quiet:
         print(f"sensitivity: {beam.name} with the {args.model} model ...", flush=True)
     g = truth_gradient(beam, design, model=args.model, modes=args.modes, mesh_level=args.mesh,

@@ -6,8 +6,10 @@ Jacobian), ``local`` (the local solver of a start), ``multistart``
 (:func:`fit`), ``result`` (a design evaluated in full as a FitResult), ``pareto_problem`` (the
 pymoo problem and repair), ``pareto`` (:func:`fit_pareto`), ``pool`` and ``progress``;
 ``warm`` (a previous fit as the one start), ``unique`` (the ``unique="nearest"`` rule: one
-model per design, smooth in it), ``sweep`` (:func:`fit_sweep` along a design path) and
-``derivative`` (:func:`fit_derivative`, dtheta/dp by the implicit-function theorem).
+model per design, smooth in it), ``sweep`` (:func:`fit_sweep` along a design path),
+``derivative`` (:func:`fit_derivative`, dtheta/dp by the implicit-function theorem) and
+``design_gradient`` (:func:`fit_design_gradient`: the same for every design variable at once,
+with the truth's analytic frequency gradient).
 
 Local solvers (chosen for accuracy per model evaluation; see ``scripts/bench_fit.py``):
 
@@ -84,6 +86,8 @@ _EXPORTS = {
     "rule_lengths": "unique",
     "fit_derivative": "derivative",
     "FitDerivative": "derivative",
+    "fit_design_gradient": "design_gradient",
+    "FitDesignGradient": "design_gradient",
     "FitSpec": "spec",
     "StartResult": "spec",
     "OBJECTIVES": "spec",
