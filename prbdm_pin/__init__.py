@@ -55,6 +55,8 @@ _EXPORTS = {
     "Design": "design",
     "truth_gradient": "truth.gradient",
     "TruthGradient": "truth.gradient",
+    "elastica_gradient": "truth.elastica_gradient",
+    "ElasticaGradient": "truth.elastica_gradient",
     # fitting
     "FitTarget": "target",
     "target_from_truth": "target",

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import functools
 import time
+from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate import solve_bvp
@@ -35,7 +36,7 @@ from ..errors import BeamInputError, SolveError
 from ..geometry import Beam
 from .result import StaticSolution, Timings
 
-__all__ = ["elastica_static", "anticlastic_factor"]
+__all__ = ["elastica_static", "anticlastic_factor", "ElasticaPrimal", "elastica_primal"]
 
 _ETA_MAX = 40.0
 
@@ -132,6 +133,22 @@ def _near_step_hint(beam: Beam) -> str:
             f"resolve: make it a width step (x[{i}] = x[{i - 1}]) or lengthen it")
 
 
+class ElasticaPrimal(NamedTuple):
+    """The converged elastica for its design sensitivities: segment i (cut at the width steps)
+    is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
+    4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
+    vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
+    half-width)."""
+
+    static: StaticSolution
+    sol: object
+    cuts: np.ndarray
+    seg_x: tuple[np.ndarray, ...]
+    seg_w: tuple[np.ndarray, ...]
+    ei_per_width: float
+    m_scale: float
+
+
 def elastica_static(
     beam: Beam,
     tip_force_N: np.ndarray | None = None,
@@ -163,6 +180,20 @@ def elastica_static(
         ``nonlinear=True``; tip position and displacement in m; ``dofs`` is the number of
         collocation nodes of the final mesh.
     """
+    return elastica_primal(beam, tip_force_N, load_steps, tol, ei_scale=ei_scale,
+                           anticlastic=anticlastic).static
+
+
+def elastica_primal(
+    beam: Beam,
+    tip_force_N: np.ndarray | None = None,
+    load_steps: int | None = None,
+    tol: float = 1e-9,
+    *,
+    ei_scale: float = 1.0,
+    anticlastic: bool = False,
+) -> ElasticaPrimal:
+    """``elastica_static`` with the converged solution kept (see ``ElasticaPrimal``)."""
     F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)
     if F.shape != (3,) or not np.all(np.isfinite(F)):
         raise BeamInputError(f"tip_force_N = {F.tolist()}: must be 3 finite numbers in N")
@@ -261,7 +292,7 @@ def elastica_static(
         s, y = sol.x, sol.y
     t1 = time.perf_counter()
     tip = np.array([y[4 * nseg - 2, -1], 0.0, y[4 * nseg - 1, -1]])
-    return StaticSolution(
+    static = StaticSolution(
         model="elastica",
         nonlinear=True,
         tip_force_N=F.copy(),
@@ -272,3 +303,4 @@ def elastica_static(
         load_steps=load_steps,
         timings=Timings(solve_s=t1 - t0),
     )
+    return ElasticaPrimal(static, sol, cuts, tuple(seg_x), tuple(seg_w), EI_factor, m_scale)

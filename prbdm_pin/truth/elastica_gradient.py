@@ -1,0 +1,247 @@
+"""``elastica_gradient``: the large-deflection (elastica) tip and its design and load gradients.
+
+The elastica ``elastica_static`` solves, in the undeformed arc length s (= x, inextensible),
+phi' = C M and M' = F_x sin phi - F_z cos phi with phi(0) = 0, M(L) = 0, C = 1 / EI(s), and the
+tip is r(L) = int (cos phi, sin phi) ds. A design change dC(s) perturbs it by psi = d phi,
+mu = d M: psi' = C mu + dC M, mu' = g psi + (dF_x sin phi - dF_z cos phi), g = F_x cos phi +
+F_z sin phi, psi(0) = 0, mu(L) = 0, and d r_e = int c_e psi ds with c_x = -sin phi,
+c_z = cos phi. With the adjoint (lam, nu) of each tip coordinate,
+
+    lam' = C nu,  nu' = g lam + c_e,  lam(0) = 0,  nu(L) = 0,
+
+(the tangent operator is self-adjoint) integration by parts gives
+
+    d r_e = -int dC M nu ds + int lam (dF_x sin phi - dF_z cos phi) ds,
+
+so two linear solves (x and z, one system) on the converged solution's mesh give the gradient
+for every design variable and the tip load. dC = -dEI / EI^2: thickness 3 / t and E 1 / E
+scalings, the half-width field's derivative at fixed s (a hat function of the vertex for a
+half-width; -w'(s) times that hat for a station, the field stretching with its vertex), and at
+a width step a moved station adds the point term -(C_left - C_right) M nu at the step (the
+region left of the step grows). rho and nu do not enter. ``ei_scale`` is a fixed factor on EI:
+with the plate-calibrated scale of ``compute_truth`` (the ratio of the 1D and plate linear tips)
+this is the derivative at that scale held fixed.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_bvp
+
+from ..design import Design, _step_partner
+from ..errors import BeamInputError, SolveError
+from ..geometry import Beam
+from .elastica import ElasticaPrimal, elastica_primal
+
+__all__ = ["ElasticaGradient", "elastica_gradient"]
+
+# Gauss-Legendre points per interval of the quadrature of the gradient integrals (every integrand
+# is smooth between mesh nodes and vertices; the interpolants are cubic)
+_GAUSS = np.polynomial.legendre.leggauss(4)
+
+
+def _ro(a) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class ElasticaGradient:
+    """The elastica's tip under a dead tip load and its derivatives.
+
+    Attributes
+    ----------
+    names, units : tuple of str
+        The design variables and their SI units.
+    values : ndarray, shape (n,)
+        The design variables' values (SI units).
+    tip_force_N : ndarray, shape (3,)
+    ei_scale : float
+        The fixed factor on EI (not differentiated).
+    tip_position_m : ndarray, shape (3,)
+        Tip position (x, 0, z), m.
+    d_tip_position_m : ndarray, shape (3, n)
+        d tip_position / d p_j, m per unit of variable j (row y is zero).
+    d_tip_d_force_m_per_N : ndarray, shape (3, 2)
+        d tip_position / d (F_x, F_z), m/N.
+    nodes : int
+        Collocation nodes of the adjoint solve.
+    solve_s, gradient_s : float
+        Wall time of the elastica's solve and of all gradients after it.
+    """
+
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    values: np.ndarray
+    tip_force_N: np.ndarray
+    ei_scale: float
+    tip_position_m: np.ndarray
+    d_tip_position_m: np.ndarray
+    d_tip_d_force_m_per_N: np.ndarray
+    nodes: int
+    solve_s: float
+    gradient_s: float
+
+
+def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
+    """The adjoints (lam, nu) of the tip's x and z, solved on the primal's mesh: a solve_bvp
+    solution whose rows 4 i .. 4 i + 3 are lam_x, nu_x, lam_z, nu_z on segment i, scaled by
+    L^2 / EI_root (lam, 1/N) and L (nu, m)."""
+    L = beam.length_m
+    cuts = pr.cuts
+    a, ell = cuts[:-1], np.diff(cuts) / L
+    nseg = ell.size
+    ei_root = beam.root_EI_Nm2
+    lam_s, nu_s = L**2 / ei_root, L
+
+    def rhs(tau, y):
+        out = np.empty_like(y)
+        prim = pr.sol.sol(tau)
+        for i in range(nseg):
+            phi = prim[4 * i]
+            s = a[i] + ell[i] * tau
+            c = 1.0 / (pr.ei_per_width * np.interp(s, pr.seg_x[i], pr.seg_w[i]))
+            g = F[0] * np.cos(phi) + F[2] * np.sin(phi)
+            for j, ce in ((0, -np.sin(phi)), (2, np.cos(phi))):
+                lam, nu = y[4 * i + j] * lam_s, y[4 * i + j + 1] * nu_s
+                out[4 * i + j] = ell[i] * c * nu / lam_s
+                out[4 * i + j + 1] = ell[i] * (g * lam + ce) / nu_s
+        return out
+
+    def bc(ya, yb):
+        joins = [ya[4 * (i + 1): 4 * (i + 2)] - yb[4 * i: 4 * (i + 1)] for i in range(nseg - 1)]
+        last = 4 * (nseg - 1)
+        return np.concatenate([[ya[0], ya[2], yb[last + 1], yb[last + 3]], *joins])
+
+    tau = pr.sol.x
+    sol = solve_bvp(rhs, bc, tau, np.zeros((4 * nseg, tau.size)), tol=tol, max_nodes=200_000,
+                    bc_tol=tol)
+    if sol.status != 0:
+        raise SolveError(f"elastica adjoint did not converge on {beam.name!r}: {sol.message}")
+    return sol, lam_s, nu_s
+
+
+def elastica_gradient(
+    beam: Beam,
+    design: Design | tuple[str, ...] | list[str],
+    tip_force_N: np.ndarray | None = None,
+    ei_scale: float = 1.0,
+    tol: float = 1e-9,
+) -> ElasticaGradient:
+    """The elastica's large-deflection tip and its derivatives with respect to the design
+    variables (and the tip load), by the adjoint of the tangent equation.
+
+    Parameters
+    ----------
+    beam : Beam
+        The design point.
+    design : Design or sequence of str
+        The design variables (a ``Design`` of any beam of the same vertex structure, or its
+        variable names); the gradient is taken at ``beam``.
+    tip_force_N : array_like, shape (3,), optional
+        Dead tip force in N (default ``beam.tip_force_N``); F_y must be 0.
+    ei_scale : float
+        Fixed factor on EI(x) (> 0), as ``elastica_static`` takes it; held fixed.
+    tol : float
+        Collocation tolerance of the elastica and of its adjoint (``solve_bvp``).
+
+    Returns
+    -------
+    ElasticaGradient
+
+    Raises
+    ------
+    BeamInputError
+        Bad arguments or design variables (named).
+    SolveError
+        The elastica or its adjoint did not converge.
+    """
+    if not isinstance(beam, Beam):
+        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+    names = design.names if isinstance(design, Design) else design
+    if isinstance(names, str):
+        names = tuple(n.strip() for n in names.split(","))
+    d = Design(beam, tuple(names))
+    if (isinstance(tol, bool) or not isinstance(tol, (int, float, np.floating))
+            or not np.isfinite(tol) or not 0.0 < tol < 1e-2):
+        raise BeamInputError(f"tol = {tol!r}: must be a number in (0, 0.01)")
+    t0 = time.perf_counter()
+    pr = elastica_primal(beam, tip_force_N, tol=float(tol), ei_scale=ei_scale)
+    F = pr.static.tip_force_N
+    t1 = time.perf_counter()
+    adj, lam_s, nu_s = _adjoint(pr, beam, F, float(tol))
+
+    L = beam.length_m
+    cuts = pr.cuts
+    a, ell = cuts[:-1], np.diff(cuts) / L
+    nseg = ell.size
+    first = [0] + [int(k) + 1 for k in beam.step_index]  # global index of each segment's vertex 0
+    gx, gw = _GAUSS
+    n = d.size
+    d_tip = np.zeros((3, n))
+    d_force = np.zeros((3, 2))
+    for i in range(nseg):
+        xs, ws = pr.seg_x[i], pr.seg_w[i]
+        # quadrature intervals: both meshes and the segment's vertices (EI kinks), in tau
+        nodes = np.unique(np.concatenate([pr.sol.x, adj.x, (xs - a[i]) / ell[i]]))
+        nodes = nodes[(nodes >= 0.0) & (nodes <= L)]
+        mid, half = 0.5 * (nodes[1:] + nodes[:-1]), 0.5 * np.diff(nodes)
+        tau = (mid[:, None] + half[:, None] * gx[None, :]).ravel()
+        wq = (half[:, None] * gw[None, :]).ravel() * ell[i]  # ds weights
+        s = a[i] + ell[i] * tau
+        prim, ad = pr.sol.sol(tau), adj.sol(tau)
+        phi, m = prim[4 * i], prim[4 * i + 1] * pr.m_scale
+        w = np.interp(s, xs, ws)
+        c = 1.0 / (pr.ei_per_width * w)
+        lam = np.stack([ad[4 * i] * lam_s, ad[4 * i + 2] * lam_s])  # (x, z)
+        nu = np.stack([ad[4 * i + 1] * nu_s, ad[4 * i + 3] * nu_s])
+        d_force[[0, 2], 0] += (lam * np.sin(phi)) @ wq
+        d_force[[0, 2], 1] -= (lam * np.cos(phi)) @ wq
+        # slope of the width field on each quadrature point's vertex interval
+        k = np.clip(np.searchsorted(xs, s, side="right") - 1, 0, xs.size - 2)
+        slope = np.diff(ws) / np.where(np.diff(xs) > 0.0, np.diff(xs), np.inf)
+        slope = slope[k]
+        local = range(first[i], first[i] + xs.size)
+        for row, (kind, j) in enumerate(d.kinds):
+            if kind == "thickness":
+                dc = -3.0 * c / beam.thickness_m
+            elif kind == "E":
+                dc = -c / beam.material.E_Pa
+            elif kind in ("rho", "nu"):
+                continue
+            else:
+                moved = [j] if kind == "half_width" else [j, _step_partner(beam, j)]
+                moved = [v - first[i] for v in moved if v is not None and v in local]
+                if not moved:
+                    continue
+                dw = np.zeros_like(s)
+                for v in moved:
+                    e = np.zeros(xs.size)
+                    e[v] = 1.0
+                    hat = np.interp(s, xs, e)
+                    dw += hat if kind == "half_width" else -slope * hat
+                dc = -c * dw / w
+            d_tip[[0, 2], row] -= (dc * m * nu) @ wq
+    # a moved width step: the region left of it (compliance C_left) grows into C_right's
+    for row, (kind, j) in enumerate(d.kinds):
+        if kind != "x" or _step_partner(beam, j) is None:
+            continue
+        i = int(np.flatnonzero(beam.step_index == min(j, _step_partner(beam, j)))[0])
+        end = np.array([L])
+        m = float(pr.sol.sol(end)[4 * i + 1, 0]) * pr.m_scale
+        ad = adj.sol(end)[:, 0]
+        nu = np.array([ad[4 * i + 1], ad[4 * i + 3]]) * nu_s
+        c_left = 1.0 / (pr.ei_per_width * pr.seg_w[i][-1])
+        c_right = 1.0 / (pr.ei_per_width * pr.seg_w[i + 1][0])
+        d_tip[[0, 2], row] -= (c_left - c_right) * m * nu
+    t2 = time.perf_counter()
+    return ElasticaGradient(
+        names=d.names, units=d.units, values=_ro(d.values), tip_force_N=_ro(F),
+        ei_scale=float(ei_scale), tip_position_m=_ro(pr.static.tip_position_m),
+        d_tip_position_m=_ro(d_tip), d_tip_d_force_m_per_N=_ro(d_force),
+        nodes=int(adj.x.size), solve_s=t1 - t0, gradient_s=t2 - t1,
+    )

@@ -1,0 +1,152 @@
+"""The elastica's large-deflection tip gradients against central finite differences of
+``elastica_static`` and against the elastica's load scaling."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import prbdm_pin as pp
+from prbdm_pin.errors import BeamInputError
+from prbdm_pin.geometry import Beam
+from prbdm_pin.truth.elastica import elastica_static
+
+BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
+# the solver tolerance of both the gradient and the finite differences: at solve_bvp's default
+# 1e-9 the differences of re-meshed solves scatter by up to 1e-6 relative at a moved step
+TOL = 1e-11
+# fourth-order central differences, step 1e-3 of the variable's scale (truncation ~1e-12)
+STENCIL = ((1.0, 8.0), (-1.0, -8.0), (2.0, -1.0), (-2.0, 1.0))
+# measured: at most 8e-11 relative (per variable, against its largest tip component) on these
+# beams; the bound leaves room for the re-meshing noise of the differenced solves
+REL = 1e-9
+
+
+def _fd_design(beam, names, ei_scale=1.0, rel=1e-3):
+    d = pp.Design(beam, names)
+    p0, scales = d.values, d.scales
+    out = np.zeros((3, d.size))
+    for j in range(d.size):
+        h = rel * scales[j]
+        e = np.zeros(d.size)
+        e[j] = h
+        out[:, j] = sum(c * elastica_static(d.beam_at(p0 + k * e), tol=TOL,
+                                            ei_scale=ei_scale).tip_position_m
+                        for k, c in STENCIL) / (12.0 * h)
+    return out
+
+
+def _fd_force(beam, rel=1e-3):
+    F0 = beam.tip_force_N
+    h = rel * np.hypot(F0[0], F0[2])
+    out = np.zeros((3, 2))
+    for col, comp in enumerate((0, 2)):
+        e = np.zeros(3)
+        e[comp] = h
+        out[:, col] = sum(c * elastica_static(beam, F0 + k * e, tol=TOL).tip_position_m
+                          for k, c in STENCIL) / (12.0 * h)
+    return out
+
+
+def _check(analytic, reference):
+    scale = np.abs(reference).max(axis=0)
+    assert np.all(scale > 0.0)
+    err = np.abs(analytic - reference).max(axis=0) / scale
+    assert err.max() < REL, err
+
+
+def _steel():
+    return pp.load_beam(BEAMS / "tapered.json").material
+
+
+def _tapered() -> Beam:
+    """Four vertices, tapering by kinks; a combined tip load (F_x and F_z)."""
+    return Beam(np.array([0.0, 0.2, 0.45, 0.6]), np.array([0.05, 0.04, 0.03, 0.02]), 0.005,
+                _steel(), np.array([-100.0, 0.0, -300.0]), "tapered-kinked", "")
+
+
+def _stepped() -> Beam:
+    """A width step at x = 0.5 m between kinked spans."""
+    return Beam(np.array([0.0, 0.25, 0.5, 0.5, 0.8, 1.0]),
+                np.array([0.02, 0.019, 0.017, 0.01, 0.009, 0.008]), 0.005, _steel(),
+                np.array([0.0, 0.0, -150.0]), "stepped-kinked", "")
+
+
+def test_uniform_strip_against_differences_and_the_classical_tip():
+    beam = pp.load_beam(BEAMS / "uniform-narrow.json")  # P L^2 / EI = 1
+    names = ("thickness", "half_width[0]", "half_width[1]", "E", "rho", "nu")
+    g = pp.elastica_gradient(beam, names, tol=TOL)
+    # the classical elastica at P L^2 / EI = 1 (Bisshopp & Drucker)
+    L = beam.length_m
+    assert g.tip_position_m[0] == pytest.approx(L * (1 - 0.056433), abs=2e-6 * L)
+    assert g.tip_position_m[2] == pytest.approx(-0.301721 * L, abs=2e-6 * L)
+    ref = _fd_design(beam, names[:3])
+    _check(g.d_tip_position_m[:, :3], ref)
+    # rho and nu do not enter the plain elastica
+    assert np.all(g.d_tip_position_m[:, 4:] == 0.0)
+    assert np.all(g.d_tip_position_m[1] == 0.0)
+
+
+def test_thickness_and_modulus_follow_from_the_load_scaling():
+    """The tip depends on F / EI only and EI is proportional to E t^3: d r / d t =
+    -(3 / t) F . d r / d F and d r / d E = -(1 / E) F . d r / d F, with d r / d F from finite
+    differences in the load (an independent check of the design gradient and of the analytic
+    load gradient)."""
+    beam = pp.load_beam(BEAMS / "uniform-narrow.json")
+    g = pp.elastica_gradient(beam, ("thickness", "E"), tol=TOL)
+    dF = _fd_force(beam)
+    _check(g.d_tip_d_force_m_per_N[[0, 2]], dF[[0, 2]])
+    F = beam.tip_force_N[[0, 2]]
+    along = dF @ F
+    t, E = beam.thickness_m, beam.material.E_Pa
+    scale = np.abs(along).max()
+    assert np.abs(g.d_tip_position_m[:, 0] + 3.0 / t * along).max() < REL * 3.0 / t * scale
+    assert np.abs(g.d_tip_position_m[:, 1] + along / E).max() < REL * scale / E
+
+
+def test_tapered_combined_load_against_differences():
+    beam = _tapered()
+    names = ("half_width[1]", "half_width[3]", "x[1]", "x[2]")
+    g = pp.elastica_gradient(beam, names, tol=TOL)
+    _check(g.d_tip_position_m, _fd_design(beam, names))
+    _check(g.d_tip_d_force_m_per_N, _fd_force(beam))
+
+
+def test_stepped_against_differences_with_a_moved_step():
+    beam = _stepped()
+    names = ("x[3]", "half_width[2]", "half_width[3]", "x[4]")  # x[3] moves the step
+    g = pp.elastica_gradient(beam, names, tol=TOL)
+    _check(g.d_tip_position_m, _fd_design(beam, names))
+
+
+def test_fixed_ei_scale_against_differences():
+    beam = pp.load_beam(BEAMS / "stepped-narrow.json")
+    names = ("x[1]", "half_width[0]")
+    g = pp.elastica_gradient(beam, names, ei_scale=0.9, tol=TOL)
+    assert np.allclose(g.tip_position_m,
+                       elastica_static(beam, tol=TOL, ei_scale=0.9).tip_position_m,
+                       rtol=0.0, atol=1e-12)
+    _check(g.d_tip_position_m, _fd_design(beam, names, ei_scale=0.9))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        (dict(design=("depth",)), "depth"),
+        (dict(design=("x[0]",)), "x[0]"),
+        (dict(design=("thickness",), tol=0.0), "tol"),
+        (dict(design=("thickness",), tol=True), "tol"),
+        (dict(design=("thickness",), ei_scale=-1.0), "ei_scale"),
+        (dict(design=("thickness",), tip_force_N=[0.0, 5.0, -1.0]), "tip_force_N[1]"),
+        (dict(design=("thickness",), tip_force_N=[0.0, np.nan]), "tip_force_N"),
+    ],
+)
+def test_bad_input_is_named(kwargs, field):
+    beam = pp.load_beam(BEAMS / "uniform-narrow.json")
+    with pytest.raises(BeamInputError, match=field.replace("[", r"\[").replace("]", r"\]")):
+        pp.elastica_gradient(beam, **kwargs)
+
+
+def test_bad_beam_is_named():
+    with pytest.raises(BeamInputError, match="beam"):
+        pp.elastica_gradient("uniform-narrow.json", ("thickness",))
