@@ -150,3 +150,78 @@ def test_bad_input_is_named(kwargs, field):
 def test_bad_beam_is_named():
     with pytest.raises(BeamInputError, match="beam"):
         pp.elastica_gradient("uniform-narrow.json", ("thickness",))
+
+
+# The calibrated scale u_1D / u_plate is a ratio of two re-solved linear finite-element tips whose
+# rounding (see tests/test_truth_gradient.py: 4e-6 for the tapered 1D beam) the differences
+# divide by the step: between steps of 1e-2 and 3e-2 of the scale the reference itself moves by
+# up to 2e-5 (half_width[1]), and at 1e-1 the thickness's truncation shows (3e-4). Measured at
+# 3e-2: at most 3.5e-6 relative; the bound is the reference's scatter, not the gradient's.
+REL_PLATE = 1e-5
+
+
+def _fd_calibrated(beam, names, rel=3e-2):
+    """Central differences (sixth order) of the calibrated elastica of ``compute_truth``:
+    EI scaled by u_1D / u_plate of the linear tips, the plate on the beam's mesh moved with the
+    planform (fixed topology) and the 1D beam on its moved stations."""
+    from skfem import MeshTri
+
+    from prbdm_pin.truth.beam import beam_static, beam_stations
+    from prbdm_pin.truth.mesh import planform_tri_mesh
+    from prbdm_pin.truth.morph import morph_plane, morph_x
+    from prbdm_pin.truth.plate_static import plate_static
+    from prbdm_pin.truth.settings import DEFAULT_PLATE_LEVEL
+
+    mesh = planform_tri_mesh(beam, DEFAULT_PLATE_LEVEL)
+    xs = beam_stations(beam, 200)
+
+    def tip(b):
+        moved = MeshTri(morph_plane(beam, b, mesh.p), mesh.t)
+        u_pl = plate_static(b, DEFAULT_PLATE_LEVEL, mesh=moved).tip_displacement_m[2]
+        u_1d = beam_static(b, stations_m=morph_x(beam, b, xs)).tip_displacement_m[2]
+        return elastica_static(b, tol=TOL, ei_scale=u_1d / u_pl).tip_position_m
+
+    d = pp.Design(beam, names)
+    p0, scales = d.values, d.scales
+    sixth = ((1, 45.0), (-1, -45.0), (2, -9.0), (-2, 9.0), (3, 1.0), (-3, -1.0))
+    out = np.zeros((3, d.size))
+    for j in range(d.size):
+        h = rel * scales[j]
+        e = np.zeros(d.size)
+        e[j] = h
+        out[:, j] = sum(c * tip(d.beam_at(p0 + k * e)) for k, c in sixth) / (60.0 * h)
+    return out
+
+
+def test_plate_calibrated_scale_against_differences():
+    beam = pp.load_beam(BEAMS / "tapered.json")
+    names = ("nu", "thickness", "half_width[0]", "half_width[1]")
+    g = pp.elastica_gradient(beam, names, ei_scale="plate", tol=TOL)
+    assert g.ei_scale_source == "plate"
+    # the scale is independent of t (both tips scale as 1 / t^3); nu moves only the plate
+    assert g.d_ei_scale[1] == pytest.approx(0.0, abs=1e-9 * g.ei_scale / beam.thickness_m)
+    ref = _fd_calibrated(beam, names)
+    err = np.abs(g.d_tip_position_m - ref).max(axis=0) / np.abs(ref).max(axis=0)
+    assert err.max() < REL_PLATE, err
+    # nu enters through the plate's scale only: without it the elastica ignores nu
+    fixed = pp.elastica_gradient(beam, names, ei_scale=g.ei_scale, tol=TOL)
+    assert np.all(fixed.d_tip_position_m[:, 0] == 0.0)
+    assert np.abs(g.d_tip_position_m[:, 0]).max() > 0.0
+
+
+def test_plate_scale_is_the_calibrated_truths():
+    """``ei_scale="plate"`` is the large-deflection tip of the truth's calibrated elastica."""
+    from prbdm_pin.truth.tip_response import tip_response
+
+    beam = pp.load_beam(BEAMS / "stepped-narrow.json")
+    g = pp.elastica_gradient(beam, ("x[1]",), ei_scale="plate")
+    _, calibrated, gap = tip_response(beam, "plate", 0, "calibrated-elastica")
+    assert g.ei_scale == pytest.approx(1.0 + gap / 100.0, rel=1e-7)
+    # the two scales' plate solves round differently (1e-8): the tips agree to that
+    assert np.abs(g.tip_position_m - calibrated.tip_position_m).max() < 1e-7 * beam.length_m
+
+
+def test_unknown_scale_is_named():
+    beam = pp.load_beam(BEAMS / "uniform-narrow.json")
+    with pytest.raises(BeamInputError, match="ei_scale"):
+        pp.elastica_gradient(beam, ("thickness",), ei_scale="solid")

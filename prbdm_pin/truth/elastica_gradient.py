@@ -18,9 +18,12 @@ for every design variable and the tip load. dC = -dEI / EI^2: thickness 3 / t an
 scalings, the half-width field's derivative at fixed s (a hat function of the vertex for a
 half-width; -w'(s) times that hat for a station, the field stretching with its vertex), and at
 a width step a moved station adds the point term -(C_left - C_right) M nu at the step (the
-region left of the step grows). rho and nu do not enter. ``ei_scale`` is a fixed factor on EI:
-with the plate-calibrated scale of ``compute_truth`` (the ratio of the 1D and plate linear tips)
-this is the derivative at that scale held fixed.
+region left of the step grows). rho and nu do not enter the elastica itself.
+
+``ei_scale`` is a factor on EI: a number is held fixed; ``"plate"`` is the calibrated elastica of
+``compute_truth`` (the ratio u_1D / u_plate of the 1D beam's and the plate's linear tips), whose
+derivative comes from ``truth_gradient``'s adjoint tips of both and enters through
+d r / d scale = (E / scale) d r / d E (EI is proportional to both).
 """
 
 from __future__ import annotations
@@ -61,7 +64,12 @@ class ElasticaGradient:
         The design variables' values (SI units).
     tip_force_N : ndarray, shape (3,)
     ei_scale : float
-        The fixed factor on EI (not differentiated).
+        The factor on EI.
+    ei_scale_source : str
+        ``"fixed"`` (a number, not differentiated) or ``"plate"`` (u_1D / u_plate of the linear
+        tips, differentiated).
+    d_ei_scale : ndarray, shape (n,)
+        d ei_scale / d p_j (zero when fixed), per unit of variable j.
     tip_position_m : ndarray, shape (3,)
         Tip position (x, 0, z), m.
     d_tip_position_m : ndarray, shape (3, n)
@@ -79,6 +87,8 @@ class ElasticaGradient:
     values: np.ndarray
     tip_force_N: np.ndarray
     ei_scale: float
+    ei_scale_source: str
+    d_ei_scale: np.ndarray
     tip_position_m: np.ndarray
     d_tip_position_m: np.ndarray
     d_tip_d_force_m_per_N: np.ndarray
@@ -125,12 +135,27 @@ def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
     return sol, lam_s, nu_s
 
 
+def _plate_scale(d: Design, mesh_level: int | None) -> tuple[float, np.ndarray]:
+    """u_1D / u_plate of the linear tips under the beam's tip force and its design gradient
+    (1 and zeros without a vertical load, as ``compute_truth`` sets it)."""
+    from .gradient import truth_gradient
+
+    if d.beam.tip_force_N[2] == 0.0:
+        return 1.0, np.zeros(d.size)
+    # modes=1: the fewest frequencies truth_gradient computes alongside its tips
+    gb = truth_gradient(d.beam, d, model="beam", modes=1)
+    gp = truth_gradient(d.beam, d, model="plate", modes=1, mesh_level=mesh_level)
+    scale = gb.tip_z_m / gp.tip_z_m
+    return scale, (gb.d_tip_z_m - scale * gp.d_tip_z_m) / gp.tip_z_m
+
+
 def elastica_gradient(
     beam: Beam,
     design: Design | tuple[str, ...] | list[str],
     tip_force_N: np.ndarray | None = None,
-    ei_scale: float = 1.0,
+    ei_scale: float | str = 1.0,
     tol: float = 1e-9,
+    mesh_level: int | None = None,
 ) -> ElasticaGradient:
     """The elastica's large-deflection tip and its derivatives with respect to the design
     variables (and the tip load), by the adjoint of the tangent equation.
@@ -144,10 +169,15 @@ def elastica_gradient(
         variable names); the gradient is taken at ``beam``.
     tip_force_N : array_like, shape (3,), optional
         Dead tip force in N (default ``beam.tip_force_N``); F_y must be 0.
-    ei_scale : float
-        Fixed factor on EI(x) (> 0), as ``elastica_static`` takes it; held fixed.
+    ei_scale : float or "plate"
+        Factor on EI(x): a number (> 0, as ``elastica_static`` takes it) is held fixed;
+        ``"plate"`` is u_1D / u_plate of the linear tips under ``beam.tip_force_N`` (the
+        calibrated elastica of ``compute_truth``; 1 without a vertical load), differentiated.
     tol : float
         Collocation tolerance of the elastica and of its adjoint (``solve_bvp``).
+    mesh_level : int, optional
+        Plate mesh level of ``ei_scale="plate"`` (default: ``truth_gradient``'s); ignored
+        otherwise.
 
     Returns
     -------
@@ -170,6 +200,13 @@ def elastica_gradient(
             or not np.isfinite(tol) or not 0.0 < tol < 1e-2):
         raise BeamInputError(f"tol = {tol!r}: must be a number in (0, 0.01)")
     t0 = time.perf_counter()
+    source = "fixed"
+    d_scale = np.zeros(d.size)
+    if isinstance(ei_scale, str):
+        if ei_scale != "plate":
+            raise BeamInputError(f"ei_scale = {ei_scale!r}: must be a number > 0 or 'plate'")
+        ei_scale, d_scale = _plate_scale(d, mesh_level)
+        source = "plate"
     pr = elastica_primal(beam, tip_force_N, tol=float(tol), ei_scale=ei_scale)
     F = pr.static.tip_force_N
     t1 = time.perf_counter()
@@ -184,6 +221,7 @@ def elastica_gradient(
     n = d.size
     d_tip = np.zeros((3, n))
     d_force = np.zeros((3, 2))
+    d_by_scale = np.zeros(3)  # d r / d ei_scale
     for i in range(nseg):
         xs, ws = pr.seg_x[i], pr.seg_w[i]
         # quadrature intervals: both meshes and the segment's vertices (EI kinks), in tau
@@ -201,6 +239,7 @@ def elastica_gradient(
         nu = np.stack([ad[4 * i + 1] * nu_s, ad[4 * i + 3] * nu_s])
         d_force[[0, 2], 0] += (lam * np.sin(phi)) @ wq
         d_force[[0, 2], 1] -= (lam * np.cos(phi)) @ wq
+        d_by_scale[[0, 2]] += (c / ei_scale * m * nu) @ wq
         # slope of the width field on each quadrature point's vertex interval
         k = np.clip(np.searchsorted(xs, s, side="right") - 1, 0, xs.size - 2)
         slope = np.diff(ws) / np.where(np.diff(xs) > 0.0, np.diff(xs), np.inf)
@@ -238,10 +277,12 @@ def elastica_gradient(
         c_left = 1.0 / (pr.ei_per_width * pr.seg_w[i][-1])
         c_right = 1.0 / (pr.ei_per_width * pr.seg_w[i + 1][0])
         d_tip[[0, 2], row] -= (c_left - c_right) * m * nu
+    d_tip += np.outer(d_by_scale, d_scale)
     t2 = time.perf_counter()
     return ElasticaGradient(
         names=d.names, units=d.units, values=_ro(d.values), tip_force_N=_ro(F),
-        ei_scale=float(ei_scale), tip_position_m=_ro(pr.static.tip_position_m),
+        ei_scale=float(ei_scale), ei_scale_source=source, d_ei_scale=_ro(d_scale),
+        tip_position_m=_ro(pr.static.tip_position_m),
         d_tip_position_m=_ro(d_tip), d_tip_d_force_m_per_N=_ro(d_force),
         nodes=int(adj.x.size), solve_s=t1 - t0, gradient_s=t2 - t1,
     )
