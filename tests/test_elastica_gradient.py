@@ -225,3 +225,14 @@ def test_unknown_scale_is_named():
     beam = pp.load_beam(BEAMS / "uniform-narrow.json")
     with pytest.raises(BeamInputError, match="ei_scale"):
         pp.elastica_gradient(beam, ("thickness",), ei_scale="solid")
+
+
+def test_strongly_bent_strip_against_differences():
+    """P L^2 / EI = 5, far beyond the linear range: the tip is lowered by about 0.7 L and
+    retreats by about 0.4 L."""
+    beam = pp.load_beam(BEAMS / "uniform-narrow.json")
+    beam = Beam(beam.x_m, beam.half_width_m, beam.thickness_m, beam.material,
+                5.0 * beam.tip_force_N, "uniform-narrow-5", "")
+    names = ("thickness", "half_width[0]")
+    g = pp.elastica_gradient(beam, names, tol=TOL)
+    _check(g.d_tip_position_m, _fd_design(beam, names))
