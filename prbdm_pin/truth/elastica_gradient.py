@@ -5,19 +5,19 @@ phi' = C M and M' = F_x sin phi - F_z cos phi with phi(0) = 0, M(L) = 0, C = 1 /
 tip is r(L) = int (cos phi, sin phi) ds. A design change dC(s) perturbs it by psi = d phi,
 mu = d M: psi' = C mu + dC M, mu' = g psi + (dF_x sin phi - dF_z cos phi), g = F_x cos phi +
 F_z sin phi, psi(0) = 0, mu(L) = 0, and d r_e = int c_e psi ds with c_x = -sin phi,
-c_z = cos phi. With the adjoint (lam, nu) of each tip coordinate,
+c_z = cos phi. With the adjoint (lam, mom) of each tip coordinate,
 
-    lam' = C nu,  nu' = g lam + c_e,  lam(0) = 0,  nu(L) = 0,
+    lam' = C mom,  mom' = g lam + c_e,  lam(0) = 0,  mom(L) = 0,
 
 (the tangent operator is self-adjoint) integration by parts gives
 
-    d r_e = -int dC M nu ds + int lam (dF_x sin phi - dF_z cos phi) ds,
+    d r_e = -int dC M mom ds + int lam (dF_x sin phi - dF_z cos phi) ds,
 
 so two linear solves (x and z, one system) on the converged solution's mesh give the gradient
 for every design variable and the tip load. dC = -dEI / EI^2: thickness 3 / t and E 1 / E
 scalings, the half-width field's derivative at fixed s (a hat function of the vertex for a
 half-width; -w'(s) times that hat for a station, the field stretching with its vertex), and at
-a width step a moved station adds the point term -(C_left - C_right) M nu at the step (the
+a width step a moved station adds the point term -(C_left - C_right) M mom at the step (the
 region left of the step grows). rho and nu do not enter the elastica itself.
 
 ``ei_scale`` is a factor on EI: a number is held fixed; ``"plate"`` is the calibrated elastica of
@@ -79,7 +79,9 @@ class ElasticaGradient:
     nodes : int
         Collocation nodes of the adjoint solve.
     solve_s, gradient_s : float
-        Wall time of the elastica's solve and of all gradients after it.
+        Wall time of the elastica's solve and of all gradients after it (with
+        ``ei_scale="plate"`` each includes the part of the two linear truths': ``truth_gradient``
+        solves their modes too).
     """
 
     names: tuple[str, ...]
@@ -98,15 +100,15 @@ class ElasticaGradient:
 
 
 def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
-    """The adjoints (lam, nu) of the tip's x and z, solved on the primal's mesh: a solve_bvp
-    solution whose rows 4 i .. 4 i + 3 are lam_x, nu_x, lam_z, nu_z on segment i, scaled by
-    L^2 / EI_root (lam, 1/N) and L (nu, m)."""
+    """The adjoints (lam, mom) of the tip's x and z, solved on the primal's mesh: a solve_bvp
+    solution whose rows 4 i .. 4 i + 3 are lam_x, mom_x, lam_z, mom_z on segment i, scaled by
+    L^2 / EI_root (lam, 1/N) and L (mom, m)."""
     L = beam.length_m
     cuts = pr.cuts
     a, ell = cuts[:-1], np.diff(cuts) / L
     nseg = ell.size
     ei_root = beam.root_EI_Nm2
-    lam_s, nu_s = L**2 / ei_root, L
+    lam_s, mom_s = L**2 / ei_root, L
 
     def rhs(tau, y):
         out = np.empty_like(y)
@@ -117,9 +119,9 @@ def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
             c = 1.0 / (pr.ei_per_width * np.interp(s, pr.seg_x[i], pr.seg_w[i]))
             g = F[0] * np.cos(phi) + F[2] * np.sin(phi)
             for j, ce in ((0, -np.sin(phi)), (2, np.cos(phi))):
-                lam, nu = y[4 * i + j] * lam_s, y[4 * i + j + 1] * nu_s
-                out[4 * i + j] = ell[i] * c * nu / lam_s
-                out[4 * i + j + 1] = ell[i] * (g * lam + ce) / nu_s
+                lam, mom = y[4 * i + j] * lam_s, y[4 * i + j + 1] * mom_s
+                out[4 * i + j] = ell[i] * c * mom / lam_s
+                out[4 * i + j + 1] = ell[i] * (g * lam + ce) / mom_s
         return out
 
     def bc(ya, yb):
@@ -132,21 +134,23 @@ def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
                     bc_tol=tol)
     if sol.status != 0:
         raise SolveError(f"elastica adjoint did not converge on {beam.name!r}: {sol.message}")
-    return sol, lam_s, nu_s
+    return sol, lam_s, mom_s
 
 
-def _plate_scale(d: Design, mesh_level: int | None) -> tuple[float, np.ndarray]:
+def _plate_scale(d: Design, mesh_level: int | None) -> tuple[float, np.ndarray, float, float]:
     """u_1D / u_plate of the linear tips under the beam's tip force and its design gradient
-    (1 and zeros without a vertical load, as ``compute_truth`` sets it)."""
+    (1 and zeros without a vertical load, as ``compute_truth`` sets it), and the wall times of
+    the two truths' solves and of their gradients (s)."""
     from .gradient import truth_gradient
 
     if d.beam.tip_force_N[2] == 0.0:
-        return 1.0, np.zeros(d.size)
+        return 1.0, np.zeros(d.size), 0.0, 0.0
     # modes=1: the fewest frequencies truth_gradient computes alongside its tips
     gb = truth_gradient(d.beam, d, model="beam", modes=1)
     gp = truth_gradient(d.beam, d, model="plate", modes=1, mesh_level=mesh_level)
     scale = gb.tip_z_m / gp.tip_z_m
-    return scale, (gb.d_tip_z_m - scale * gp.d_tip_z_m) / gp.tip_z_m
+    return (scale, (gb.d_tip_z_m - scale * gp.d_tip_z_m) / gp.tip_z_m,
+            gb.solve_s + gp.solve_s, gb.gradient_s + gp.gradient_s)
 
 
 def elastica_gradient(
@@ -199,18 +203,19 @@ def elastica_gradient(
     if (isinstance(tol, bool) or not isinstance(tol, (int, float, np.floating))
             or not np.isfinite(tol) or not 0.0 < tol < 1e-2):
         raise BeamInputError(f"tol = {tol!r}: must be a number in (0, 0.01)")
-    t0 = time.perf_counter()
     source = "fixed"
     d_scale = np.zeros(d.size)
+    scale_solve_s = scale_gradient_s = 0.0
     if isinstance(ei_scale, str):
         if ei_scale != "plate":
             raise BeamInputError(f"ei_scale = {ei_scale!r}: must be a number > 0 or 'plate'")
-        ei_scale, d_scale = _plate_scale(d, mesh_level)
+        ei_scale, d_scale, scale_solve_s, scale_gradient_s = _plate_scale(d, mesh_level)
         source = "plate"
+    t0 = time.perf_counter()
     pr = elastica_primal(beam, tip_force_N, tol=float(tol), ei_scale=ei_scale)
     F = pr.static.tip_force_N
     t1 = time.perf_counter()
-    adj, lam_s, nu_s = _adjoint(pr, beam, F, float(tol))
+    adj, lam_s, mom_s = _adjoint(pr, beam, F, float(tol))
 
     L = beam.length_m
     cuts = pr.cuts
@@ -236,10 +241,10 @@ def elastica_gradient(
         w = np.interp(s, xs, ws)
         c = 1.0 / (pr.ei_per_width * w)
         lam = np.stack([ad[4 * i] * lam_s, ad[4 * i + 2] * lam_s])  # (x, z)
-        nu = np.stack([ad[4 * i + 1] * nu_s, ad[4 * i + 3] * nu_s])
+        mom = np.stack([ad[4 * i + 1] * mom_s, ad[4 * i + 3] * mom_s])
         d_force[[0, 2], 0] += (lam * np.sin(phi)) @ wq
         d_force[[0, 2], 1] -= (lam * np.cos(phi)) @ wq
-        d_by_scale[[0, 2]] += (c / ei_scale * m * nu) @ wq
+        d_by_scale[[0, 2]] += (c / ei_scale * m * mom) @ wq
         # slope of the width field on each quadrature point's vertex interval
         k = np.clip(np.searchsorted(xs, s, side="right") - 1, 0, xs.size - 2)
         slope = np.diff(ws) / np.where(np.diff(xs) > 0.0, np.diff(xs), np.inf)
@@ -264,7 +269,7 @@ def elastica_gradient(
                     hat = np.interp(s, xs, e)
                     dw += hat if kind == "half_width" else -slope * hat
                 dc = -c * dw / w
-            d_tip[[0, 2], row] -= (dc * m * nu) @ wq
+            d_tip[[0, 2], row] -= (dc * m * mom) @ wq
     # a moved width step: the region left of it (compliance C_left) grows into C_right's
     for row, (kind, j) in enumerate(d.kinds):
         if kind != "x" or _step_partner(beam, j) is None:
@@ -273,10 +278,10 @@ def elastica_gradient(
         end = np.array([L])
         m = float(pr.sol.sol(end)[4 * i + 1, 0]) * pr.m_scale
         ad = adj.sol(end)[:, 0]
-        nu = np.array([ad[4 * i + 1], ad[4 * i + 3]]) * nu_s
+        mom = np.array([ad[4 * i + 1], ad[4 * i + 3]]) * mom_s
         c_left = 1.0 / (pr.ei_per_width * pr.seg_w[i][-1])
         c_right = 1.0 / (pr.ei_per_width * pr.seg_w[i + 1][0])
-        d_tip[[0, 2], row] -= (c_left - c_right) * m * nu
+        d_tip[[0, 2], row] -= (c_left - c_right) * m * mom
     d_tip += np.outer(d_by_scale, d_scale)
     t2 = time.perf_counter()
     return ElasticaGradient(
@@ -284,5 +289,6 @@ def elastica_gradient(
         ei_scale=float(ei_scale), ei_scale_source=source, d_ei_scale=_ro(d_scale),
         tip_position_m=_ro(pr.static.tip_position_m),
         d_tip_position_m=_ro(d_tip), d_tip_d_force_m_per_N=_ro(d_force),
-        nodes=int(adj.x.size), solve_s=t1 - t0, gradient_s=t2 - t1,
+        nodes=int(adj.x.size), solve_s=t1 - t0 + scale_solve_s,
+        gradient_s=t2 - t1 + scale_gradient_s,
     )
