@@ -15,6 +15,7 @@ from .layout import validate_lengths
 from .sections import LinkSections
 
 __all__ = [
+    "MAX_POSES",
     "pose_sweep",
     "paper_stiffness",
     "paper_unit_stiffness",
@@ -23,6 +24,10 @@ __all__ = [
     "inv_width_integral",
     "validate_stiffness",
 ]
+
+
+# the most poses a sweep may have (each is a generalized eigensolve per evaluation)
+MAX_POSES = 1000
 
 
 def pose_sweep(
@@ -45,7 +50,12 @@ def pose_sweep(
         raise BeamInputError(
             f"xi = {xi}: must be >= 0 with n_joints * xi <= max_tip_angle ({max_tip_angle_rad})"
         )
-    m = int(math.floor((max_tip_angle_rad * (1 + 1e-12) / n_joints - xi) / eps)) + 1
+    ratio = (max_tip_angle_rad * (1 + 1e-12) / n_joints - xi) / eps  # inf for a subnormal eps
+    if not ratio < MAX_POSES:
+        raise BeamInputError(f"eps = {eps!r}: the sweep from xi = {xi:g} to a tip angle of "
+                             f"{max_tip_angle_rad:g} rad would have more than {MAX_POSES} poses; "
+                             "give a larger step (rad)")
+    m = int(math.floor(ratio)) + 1
     angles = xi + eps * np.arange(m)
     return np.repeat(angles[:, None], int(n_joints), axis=1)
 

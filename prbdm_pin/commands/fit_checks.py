@@ -10,7 +10,6 @@ from pathlib import Path
 # a start holds its lengths and factors from the outset; more starts is a slip, not a study
 MAX_STARTS = 100_000
 # every evaluation solves one eigenproblem per pose of the sweep
-MAX_POSES = 1000
 
 
 def cache_dir(args) -> str:
@@ -85,9 +84,12 @@ def check_sweep(args) -> None:
 
     in_range("--eps", args.eps, 0.0, lo_open=True, unit="rad")
     if args.stiffness == "paper":
+        from ..stiffness import MAX_POSES
+
         in_range("--xi", args.xi, 0.0, math.pi / 2 / args.joints, unit="rad",
                  why="the sweep's first pose turns the tip by joints * xi <= pi/2")
-        poses = math.floor((math.pi / 2 / args.joints - args.xi) / args.eps) + 1
+        ratio = (math.pi / 2 / args.joints - args.xi) / args.eps  # inf for a subnormal eps
+        poses = math.floor(ratio) + 1 if math.isfinite(ratio) else math.inf
         if poses > MAX_POSES:
             from ..errors import BeamInputError
 

@@ -177,7 +177,8 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
         in_range(name, dt, 0.0, args.duration, lo_open=True, unit="s",
                  why=f"a step within --duration {args.duration:g} s")
     if args.output_dt is not None:
-        samples = math.floor(args.duration / args.output_dt + 1e-9) + 1
+        ratio = args.duration / args.output_dt  # inf for a subnormal step: over any cap
+        samples = math.floor(ratio + 1e-9) + 1 if math.isfinite(ratio) else math.inf
         check_cap(f"output samples (--duration {args.duration:g} / --output-dt "
                   f"{args.output_dt:g} + 1)", samples, "max_output_samples")
     writable_dir(args.out, "--out")

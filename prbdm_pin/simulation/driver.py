@@ -14,6 +14,7 @@ from ..choices import FIXED_STEP_METHODS
 from ..damping import damping_ratios
 from ..eigen import generalized_eigh
 from ..errors import BeamInputError
+from ..limits import check_cap
 from ..options import SimulationOptions
 from ..plant.hub import hub_frequencies
 from ..plant.inputs import StrainActuator, parse_inputs, strain_map
@@ -111,6 +112,13 @@ def simulate(
     for name, val in (("dt", dt), ("output_dt", output_dt)):
         if val is not None and not (math.isfinite(val) and 0.0 < val <= duration_s):
             raise BeamInputError(f"{name} = {val!r} s: must be in (0, duration]")
+    # counted before anything is allocated (a subnormal step gives an infinite count)
+    if dt is not None and not duration_s / dt <= o.max_steps:
+        raise BeamInputError(f"dt = {dt!r} s: {duration_s / dt:.3g} steps exceed max_steps = "
+                             f"{o.max_steps}")
+    if output_dt is not None:
+        check_cap(f"output_dt = {output_dt!r} s: output samples", duration_s / output_dt,
+                  "max_output_samples")
     system = assemble_system(model, q0, damping_ratios=xi, damping=o.damping,
                              schedule=stiffness_schedule, tip_force_N=force,
                              constant_force=constant_force, damping_pose=damping_pose,
