@@ -61,9 +61,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``simulate`` subparser."""
     p = subparsers.add_parser(
         "simulate",
-        help="simulate a PRBDM's response to a tip force (trajectory CSV and plot)",
+        help="simulate a PRBDM's response to a tip force or plant inputs (trajectory CSV, "
+             "plot)",
         description="Integrate the PRBDM's equations of motion through Pinocchio with its "
-        "joint springs, modal damping and a step tip force.",
+        "joint springs, modal damping, a step tip force and plant inputs (hub torque, joint "
+        "torques, strain actuators) on a clamped root or a rotating hub.",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
