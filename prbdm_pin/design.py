@@ -67,7 +67,7 @@ def _parse(beam: Beam, name: object) -> tuple[str, int]:
     return kind, i
 
 
-def _step_partner(beam: Beam, i: int) -> int | None:
+def step_partner(beam: Beam, i: int) -> int | None:
     """The other vertex of the width step vertex i belongs to, or None."""
     x = beam.x_m
     if i + 1 < x.size and x[i + 1] == x[i]:
@@ -106,7 +106,7 @@ class Design:
         for name in names:
             kind, i = _parse(self.beam, name)
             # a step's station is one quantity, whichever of its two vertices names it
-            key = (kind, i if kind != "x" else min(i, _step_partner(self.beam, i) or i))
+            key = (kind, i if kind != "x" else min(i, step_partner(self.beam, i) or i))
             if key in seen:
                 raise BeamInputError(f"design variable {name!r}: the same quantity as "
                                      f"{seen[key]!r} (named twice)")
@@ -165,7 +165,7 @@ class Design:
             elif kind == "half_width":
                 # the outline next to the vertex moves across elements as small as the
                 # adjacent vertex intervals (the mesh follows every vertex)
-                j = _step_partner(b, i)
+                j = step_partner(b, i)
                 near = [g for g in (gaps[i - 1] if i > 0 else 0.0,
                                     gaps[i] if i < gaps.size else 0.0) if g > 0]
                 out[row] = min([w[i], *near] + ([abs(w[i] - w[j])] if j is not None else []))
@@ -181,7 +181,7 @@ class Design:
         b = self.beam
         x, w = b.x_m, b.half_width_m
         varied_x = {i for k, i in self._parsed if k == "x"}
-        varied_x |= {_step_partner(b, i) for i in varied_x} - {None}
+        varied_x |= {step_partner(b, i) for i in varied_x} - {None}
         varied_w = {i for k, i in self._parsed if k == "half_width"}
         out = np.empty((self.size, 2))
         for row, (kind, i) in enumerate(self._parsed):
@@ -190,8 +190,8 @@ class Design:
             elif kind in ("thickness", "E", "rho"):
                 out[row] = (0.0, np.inf)
             elif kind == "x":
-                lo_i = i - 1 if _step_partner(b, i) != i - 1 else i - 2
-                hi_i = i + 1 if _step_partner(b, i) != i + 1 else i + 2
+                lo_i = i - 1 if step_partner(b, i) != i - 1 else i - 2
+                hi_i = i + 1 if step_partner(b, i) != i + 1 else i + 2
                 lo, hi = x[lo_i], x[hi_i]
                 if lo_i in varied_x:
                     lo = 0.5 * (lo + x[i])
@@ -199,7 +199,7 @@ class Design:
                     hi = 0.5 * (hi + x[i])
                 out[row] = (lo, hi)
             else:
-                j = _step_partner(b, i)
+                j = step_partner(b, i)
                 if j is None:
                     out[row] = (0.0, np.inf)
                     continue
@@ -249,7 +249,7 @@ class Design:
                 w[i] = v
             else:
                 x[i] = v
-                j = _step_partner(b, i)
+                j = step_partner(b, i)
                 if j is not None:
                     x[j] = v
         return Beam(x, w, t, replace(b.material, **mat), b.tip_force_N, b.name, b.description)

@@ -65,19 +65,24 @@ class FitDerivative:
     cond: float
 
 
-def _problem(result: FitResult, beam: Beam, target: FitTarget) -> FitProblem:
+def fit_problem_of(result: FitResult, beam: Beam, target: FitTarget) -> FitProblem:
+    """The fit problem ``result``'s recorded options pose for ``beam`` and ``target``."""
     o = result.options
     return make_problem(beam, target, result.joints, o.frequencies, o.stiffness.value,
                         o.xi_rad, o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
                         o.eigen_norm.value)
 
 
-def _x_of(result: FitResult, problem: FitProblem) -> np.ndarray:
+def fit_coordinates(result: FitResult, problem: FitProblem) -> np.ndarray:
+    """``result``'s parameters in the joint fit's coordinates: link-length units and log
+    spring factors, shape (2n,)."""
     u = unit_from_lengths(result.lengths_m, problem.length_m, problem.min_fraction)
     return np.r_[u, np.log(result.factors)]
 
 
-def _kkt(problem: FitProblem, z: np.ndarray) -> np.ndarray:
+def kkt_residuals(problem: FitProblem, z: np.ndarray) -> np.ndarray:
+    """The optimality conditions of the ``unique="nearest"`` fit at z = (x, multipliers):
+    stationarity, then the n log-frequency matches (zero at the fit)."""
     n = problem.n_joints
     x, lam = z[: 2 * n], z[2 * n :]
     w, J = log_frequency_jacobian(problem, x)
@@ -87,19 +92,18 @@ def _kkt(problem: FitProblem, z: np.ndarray) -> np.ndarray:
 
 def _normal(spec: FitSpec, x: np.ndarray) -> np.ndarray:
     R = JointResiduals(spec)
-    h = 1e-6
-    E = h * np.eye(x.size)
-    r0 = R.residuals(x)
-    J = np.array([(R.residuals(x + e) - R.residuals(x - e)) / (2 * h) for e in E]).T
-    return J.T @ r0
+    return central_jacobian(R.residuals, x, 1e-6).T @ R.residuals(x)
 
 
-def _diff(G: Callable[[np.ndarray], np.ndarray], z: np.ndarray, h: float) -> np.ndarray:
+def central_jacobian(G: Callable[[np.ndarray], np.ndarray], z: np.ndarray, h: float
+                     ) -> np.ndarray:
+    """dG/dz by central differences of step ``h`` (in z's units), shape (len(G), len(z))."""
     E = h * np.eye(z.size)
     return np.array([(G(z + e) - G(z - e)) / (2 * h) for e in E]).T
 
 
-def _physical(problem: FitProblem, x: np.ndarray):
+def physical_parameters(problem: FitProblem, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Link lengths (m) and joint springs (N m/rad) of the fit coordinates ``x``."""
     n = problem.n_joints
     L = lengths_from_unit(x[:n], problem.length_m, problem.min_fraction)
     K = np.exp(x[n:]) * finite_segment_stiffness(problem.beam, L, problem.min_fraction)
@@ -128,24 +132,24 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
         raise BeamInputError("result: needs a joint fit that recorded its options")
     p = float(parameter)
     h = H_P_REL * max(abs(p), 1e-12) if step is None else float(step)
-    probs = {s: _problem(result, b, target_at(b))
+    probs = {s: fit_problem_of(result, b, target_at(b))
              for s, b in ((0, beam_at(p)), (1, beam_at(p + h)), (-1, beam_at(p - h)))}
     P0 = probs[0]
-    x = _x_of(result, P0)
+    x = fit_coordinates(result, P0)
     n = P0.n_joints
     if result.options.unique == "nearest":
         w, J = log_frequency_jacobian(P0, x)
         # the multipliers of the KKT point: x - x_ref + J^T lambda = 0
         lam = -np.linalg.lstsq(J.T, x - reference_x(P0), rcond=None)[0]
         z = np.r_[x, lam]
-        Gz = _diff(lambda v: _kkt(P0, v), z, H_X)
-        Gp = (_kkt(probs[1], z) - _kkt(probs[-1], z)) / (2 * h)
+        Gz = central_jacobian(lambda v: kkt_residuals(P0, v), z, H_X)
+        Gp = (kkt_residuals(probs[1], z) - kkt_residuals(probs[-1], z)) / (2 * h)
         kind = "kkt"
     else:
         specs = {s: FitSpec(q, result.objective, result.options.deflection_norm.value,
                             result.options.max_nfev) for s, q in probs.items()}
         z = x
-        Gz = _diff(lambda v: _normal(specs[0], v), z, H_X)
+        Gz = central_jacobian(lambda v: _normal(specs[0], v), z, H_X)
         Gp = (_normal(specs[1], z) - _normal(specs[-1], z)) / (2 * h)
         kind = "normal"
     c = float(np.linalg.cond(Gz))
@@ -156,6 +160,6 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     dz = -np.linalg.solve(Gz, Gp)
     dx = dz[: 2 * n]
     # the physical parameters also move with the design directly (K0, the span)
-    Lp, Kp = _physical(probs[1], x + h * dx)
-    Lm, Km = _physical(probs[-1], x - h * dx)
+    Lp, Kp = physical_parameters(probs[1], x + h * dx)
+    Lm, Km = physical_parameters(probs[-1], x - h * dx)
     return FitDerivative(p, (Lp - Lm) / (2 * h), (Kp - Km) / (2 * h), dx, kind, c)

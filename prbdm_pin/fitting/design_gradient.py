@@ -25,7 +25,15 @@ from ..errors import BeamInputError, SolveError
 from ..results import FitResult
 from ..target import FitTarget, read_only
 from ..truth.gradient import TruthGradient
-from .derivative import COND_MAX, H_X, _diff, _kkt, _physical, _problem, _x_of
+from .derivative import (
+    COND_MAX,
+    H_X,
+    central_jacobian,
+    fit_coordinates,
+    fit_problem_of,
+    kkt_residuals,
+    physical_parameters,
+)
 from .unique import log_frequency_jacobian, reference_x
 
 __all__ = ["FitDesignGradient", "fit_design_gradient", "STEP_REL"]
@@ -107,12 +115,12 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
         raise BeamInputError(f"result: its frequencies {model_w.tolist()} rad/s are not the "
                              f"truth's {omega.tolist()}: a fit of another design or target")
     target = FitTarget(omega, beam.tip_force_N)
-    P0 = _problem(result, beam, target)
-    x = _x_of(result, P0)
+    P0 = fit_problem_of(result, beam, target)
+    x = fit_coordinates(result, P0)
     _, J = log_frequency_jacobian(P0, x)
     lam = -np.linalg.lstsq(J.T, x - reference_x(P0), rcond=None)[0]
     z = np.r_[x, lam]
-    Gz = _diff(lambda v: _kkt(P0, v), z, H_X)
+    Gz = central_jacobian(lambda v: kkt_residuals(P0, v), z, H_X)
     c = float(np.linalg.cond(Gz))
     if not c < COND_MAX:
         raise SolveError(f"fit_design_gradient: the KKT conditions are singular (cond {c:.3g})")
@@ -123,8 +131,8 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
     for j in range(nv):
         e = np.zeros(nv)
         e[j] = h[j]
-        pair = [_problem(result, design.beam_at(p + s * e), target) for s in (1.0, -1.0)]
-        Gp[:, j] = (_kkt(pair[0], z) - _kkt(pair[1], z)) / (2.0 * h[j])
+        pair = [fit_problem_of(result, design.beam_at(p + s * e), target) for s in (1.0, -1.0)]
+        Gp[:, j] = (kkt_residuals(pair[0], z) - kkt_residuals(pair[1], z)) / (2.0 * h[j])
         problems.append(pair)
     # the truth frequencies move the constraint rows only: d(-ln omega)/dp
     Gp[2 * n:] -= d_omega / omega[:, None]
@@ -133,8 +141,8 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
     dL = np.zeros((n + 1, nv))
     dK = np.zeros((n, nv))
     for j, (Pp, Pm) in enumerate(problems):
-        Lp, Kp = _physical(Pp, x + h[j] * dx[:, j])
-        Lm, Km = _physical(Pm, x - h[j] * dx[:, j])
+        Lp, Kp = physical_parameters(Pp, x + h[j] * dx[:, j])
+        Lm, Km = physical_parameters(Pm, x - h[j] * dx[:, j])
         dL[:, j] = (Lp - Lm) / (2.0 * h[j])
         dK[:, j] = (Kp - Km) / (2.0 * h[j])
     return FitDesignGradient(design.names, design.units, read_only(dL), read_only(dK),

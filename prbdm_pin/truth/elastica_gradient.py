@@ -34,9 +34,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_bvp
 
-from ..design import Design, _step_partner
+from ..design import Design, step_partner
 from ..errors import BeamInputError, SolveError
 from ..geometry import Beam
+from ..json_record import readonly_array as _ro
 from .elastica import ElasticaPrimal, elastica_primal
 
 __all__ = ["ElasticaGradient", "elastica_gradient"]
@@ -44,12 +45,6 @@ __all__ = ["ElasticaGradient", "elastica_gradient"]
 # Gauss-Legendre points per interval of the quadrature of the gradient integrals (every integrand
 # is smooth between mesh nodes and vertices; the interpolants are cubic)
 _GAUSS = np.polynomial.legendre.leggauss(4)
-
-
-def _ro(a) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,7 +253,7 @@ def elastica_gradient(
             elif kind in ("rho", "nu"):
                 continue
             else:
-                moved = [j] if kind == "half_width" else [j, _step_partner(beam, j)]
+                moved = [j] if kind == "half_width" else [j, step_partner(beam, j)]
                 moved = [v - first[i] for v in moved if v is not None and v in local]
                 if not moved:
                     continue
@@ -272,9 +267,9 @@ def elastica_gradient(
             d_tip[[0, 2], row] -= (dc * m * mom) @ wq
     # a moved width step: the region left of it (compliance C_left) grows into C_right's
     for row, (kind, j) in enumerate(d.kinds):
-        if kind != "x" or _step_partner(beam, j) is None:
+        if kind != "x" or step_partner(beam, j) is None:
             continue
-        i = int(np.flatnonzero(beam.step_index == min(j, _step_partner(beam, j)))[0])
+        i = int(np.flatnonzero(beam.step_index == min(j, step_partner(beam, j)))[0])
         end = np.array([L])
         m = float(pr.sol.sol(end)[4 * i + 1, 0]) * pr.m_scale
         ad = adj.sol(end)[:, 0]

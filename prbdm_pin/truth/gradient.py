@@ -16,18 +16,13 @@ import numpy as np
 from ..design import Design
 from ..errors import BeamInputError
 from ..geometry import Beam
+from ..json_record import readonly_array as _ro
 from .modes import SELECTIONS
 from .settings import DEFAULT_COMPUTED_MODES, DEFAULT_PLATE_LEVEL, check_mesh_level
 
 __all__ = ["TruthGradient", "truth_gradient", "GRADIENT_MODELS"]
 
 GRADIENT_MODELS = ("plate", "beam")
-
-
-def _ro(a) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)

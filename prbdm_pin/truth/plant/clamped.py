@@ -21,6 +21,7 @@ import numpy as np
 
 from ...errors import BeamInputError
 from ...geometry import Beam
+from ...json_record import readonly_array as _ro
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 
@@ -123,9 +124,3 @@ def clamped_model(truth: TruthResult, beam: Beam,
     """
     _check_zeta(damping_ratio)  # before the modal solve
     return clamped_from_gains(truth_modal_gains(truth, beam, actuators), damping_ratio)
-
-
-def _ro(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a

@@ -30,6 +30,7 @@ import scipy.linalg
 
 from ...errors import BeamInputError
 from ...geometry import Beam
+from ...json_record import readonly_array as _ro
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 
@@ -250,9 +251,3 @@ def hybrid_model(truth: TruthResult, beam: Beam, hub_inertia_kg_m2: float, hub_r
     _check_damping(damping)
     gains = truth_modal_gains(truth, beam, actuators)
     return hybrid_from_gains(gains, hub_inertia_kg_m2, hub_radius_m, damping_ratio, damping)
-
-
-def _ro(a: np.ndarray) -> np.ndarray:
-    a = np.array(a)
-    a.setflags(write=False)
-    return a
