@@ -50,7 +50,8 @@ class CodesignPoint:
     omega_rad_s : ndarray, shape (n,)
         The PRBDM's natural frequencies (straight pose).
     tip_deflection_m : float
-        |z| of the PRBDM's large-deflection tip under the beam's tip force (0 without a load).
+        The absolute z of the PRBDM's large-deflection tip under the beam's tip force (0
+        without a load).
     truth_omega_rad_s : ndarray, shape (n,)
         The truth frequencies the model was fitted to.
     lengths_m, stiffness_Nm_per_rad : ndarray

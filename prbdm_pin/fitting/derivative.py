@@ -126,7 +126,7 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     target_at : callable Beam -> FitTarget
         The truth of a design (called at p, p + h, p - h).
     step : float, optional
-        h of G_p's central difference (default 5e-3 max(|p|, 1e-12)).
+        h of G_p's central difference (default 5e-3 max(abs(p), 1e-12)).
     """
     if result.stiffness != "joint" or result.options is None:
         raise BeamInputError("result: needs a joint fit that recorded its options")

@@ -50,8 +50,8 @@ class SweepResult:
     def max_relative_step(self) -> np.ndarray:
         """Per parameter (the n+1 lengths, then the n springs): the largest step-to-step
         change relative to the parameter's mean along the path, divided by the design's
-        relative step: max_i (|dtheta_i| / mean|theta|) / (|dp_i| / mean|p|). A jump shows as
-        a value far above the smooth map's elasticity."""
+        relative step: max_i (abs(dtheta_i) / mean abs(theta)) / (abs(dp_i) / mean abs(p)).
+        A jump shows as a value far above the smooth map's elasticity."""
         return max_relative_step(np.hstack([self.lengths_m, self.stiffness_Nm_per_rad]),
                                  self.parameter)
 
