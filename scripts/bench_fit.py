@@ -34,7 +34,10 @@ import numpy as np  # noqa: E402
 
 from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit, fit_pareto  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from docs_tables import write_table  # noqa: E402
+
 from prbdm_pin.target import FitTarget  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -135,7 +138,7 @@ def main() -> None:
     if not args.pareto_stiffness:
         lines += ["", "Targets (issue 4): 5R eigen fit with 64 starts <= 5 s (joint), <= 10 s "
                   "(paper).", ""]
-        atomic_write_text(args.out, "\n".join(lines))
+        write_table(args.out, "\n".join(lines), ap.get_default("out"), "bench_fit")
         print(f"wrote {args.out}")
         return
     lines += ["", "## NSGA-II, 4R, uniform-narrow.json (Euler-Bernoulli + elastica), "
@@ -163,7 +166,7 @@ def main() -> None:
         print(lines[-1], flush=True)
     lines += ["", "Targets (issue 4): 5R eigen fit with 64 starts <= 5 s (joint), <= 10 s (paper); "
               "4R Pareto <= 120 s.", ""]
-    atomic_write_text(args.out, "\n".join(lines))
+    write_table(args.out, "\n".join(lines), ap.get_default("out"), "bench_fit")
     print(f"wrote {args.out}")
 
 

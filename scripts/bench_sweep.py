@@ -16,6 +16,7 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import dataclasses  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -24,7 +25,9 @@ import numpy as np  # noqa: E402
 import prbdm_pin as pp  # noqa: E402
 from prbdm_pin.errors import SolveError  # noqa: E402
 from prbdm_pin.fitting.sweep import max_relative_step  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from docs_tables import write_table  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 JOINTS = 3
@@ -169,7 +172,7 @@ def main() -> None:
         rule_success(a.panels, 4),
         "",
     ])
-    atomic_write_text(a.out, text)
+    write_table(a.out, text, ap.get_default("out"), "bench_sweep")
     print(text)
 
 

@@ -24,11 +24,15 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import platform  # noqa: E402
+import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.geometry import Beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from docs_tables import write_table  # noqa: E402
+
 from prbdm_pin.truth.elastica_gradient import elastica_gradient  # noqa: E402
 from prbdm_pin.truth.gradient import truth_gradient  # noqa: E402
 
@@ -112,8 +116,8 @@ def main() -> None:
     args = ap.parse_args()
     rows = run(args.repeats, args.modes)
     out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out, table(rows, args.repeats, args.modes))
+    write_table(out, table(rows, args.repeats, args.modes), ap.get_default("out"),
+                "bench_truth_gradient")
     print(f"wrote {out}")
 
 

@@ -47,6 +47,9 @@ import prbdm_pin as pp  # noqa: E402
 from prbdm_pin.codesign import CodesignPoint, codesign_point  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from docs_tables import write_table  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 BEAM = ROOT / "examples" / "beams" / "tapered.json"
 VERTICES = 4  # planform vertices, equally spaced: their half-widths are design variables
@@ -330,8 +333,9 @@ def main(argv: list[str] | None = None) -> int:
     text = table(problem, runs, checks)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "codesign_gradient.md", "# Gradient-based co-design\n\n" + text
-                      + "\n")
+    write_table(out / "codesign_gradient.md", "# Gradient-based co-design\n\n" + text + "\n",
+                Path(ap.get_default("out")) / "codesign_gradient.md",
+                "codesign_gradient" if args.truth == "beam" else f"codesign_gradient_{args.truth}")
     convergence_figure(runs, out / "convergence.png")
     hist = {name: {"success": bool(res.success), "message": str(res.message),
                    "wall_time_s": wall, "history": [r.__dict__ for r in ev.history]}

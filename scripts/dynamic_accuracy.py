@@ -31,7 +31,10 @@ sys.path.insert(0, str(ROOT))
 
 from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from docs_tables import write_table  # noqa: E402
+
 from prbdm_pin.model import build_model  # noqa: E402
 from prbdm_pin.response import (  # noqa: E402
     centerline_modal_tip,
@@ -137,7 +140,7 @@ def main() -> int:
         lines += beam_rows(path, args, joints, stiffness, rows)
     lines += summary(rows)
     print("\n".join(summary(rows)))
-    atomic_write_text(args.out, "\n".join(lines) + "\n")
+    write_table(args.out, "\n".join(lines) + "\n", ap.get_default("out"), "dynamic_accuracy")
     print(f"wrote {args.out}")
     return 0
 

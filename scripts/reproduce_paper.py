@@ -39,7 +39,10 @@ from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.commands.fit import write_fit_outputs  # noqa: E402
 from prbdm_pin.commands.pareto import write_pareto_outputs  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from docs_tables import write_table  # noqa: E402
+
 from prbdm_pin.target import FitTarget, target_from_truth  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -205,7 +208,8 @@ def main() -> None:
     args = ap.parse_args()
     if args.narrow:
         md = narrow_study(Path(args.out), args.joints, args.combined_starts, args.workers)
-        atomic_write_text(Path(args.out) / "tables-narrow.md", "\n".join(md) + "\n")
+        write_table(Path(args.out) / "tables-narrow.md", "\n".join(md) + "\n",
+                    Path(ap.get_default("out")) / "tables-narrow.md", "paper_narrow")
         print(f"wrote {Path(args.out) / 'tables-narrow.md'}")
         return
 
@@ -278,7 +282,8 @@ def main() -> None:
                 print(md[-1], flush=True)
             md += load_sweep(beam, fitted)
         md.append("")
-    atomic_write_text(out / "tables.md", "\n".join(md) + "\n")
+    write_table(out / "tables.md", "\n".join(md) + "\n", Path(ap.get_default("out")) / "tables.md",
+                "paper")
     print(f"wrote {out / 'tables.md'}")
 
 
