@@ -86,7 +86,8 @@ def check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Materi
 
 def check_stations(x: np.ndarray, w: np.ndarray) -> None:
     """x non-decreasing from 0 to L, at most two vertices per station, steps inside (0, L) with
-    different half-widths (a repeated vertex is not a step and would only hide a typo)."""
+    different half-widths (a repeated vertex is not a step and would only hide a typo).
+    """
     dx = np.diff(x)
     bad = np.flatnonzero(dx < 0.0)
     if bad.size:

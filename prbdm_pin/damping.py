@@ -113,7 +113,8 @@ def spring_modal_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray, xi: np.n
     """:func:`modal_damping` for joint springs alone, K = diag(springs) (N m/rad, all > 0),
     with validated ratios ``xi`` (n,), through the scaled standard eigenproblem
     (:func:`prbdm_pin.eigen.modes_from_mass`, under its guard): a linearisation builds this
-    every call, and the generalized problem's set-up costs more than the solve. N m s/rad."""
+    every call, and the generalized problem's set-up costs more than the solve. N m s/rad.
+    """
     omega, phi = modes_from_mass(M[None], springs_Nm_per_rad)
     MPhi = M @ phi[0]
     C = (MPhi * (2.0 * xi * omega[0])) @ MPhi.T
@@ -222,7 +223,8 @@ def damping_matrix(
     M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray, kind: str = "modal"
 ) -> np.ndarray:
     """Damping matrix of ``kind`` ``"modal"`` (default), ``"eq5c"`` or ``"stiffness"``;
-    N m s/rad."""
+    N m s/rad.
+    """
     if kind == "modal":
         return modal_damping(M, K, damping_ratio)
     if kind == "eq5c":

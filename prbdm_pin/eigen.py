@@ -30,7 +30,8 @@ COND_LIMIT = FREQUENCY_RTOL / np.finfo(float).eps
 
 def check_spectrum(mu: np.ndarray) -> None:
     """Raise SolveError unless every row of ascending eigenvalues ``mu`` of S M S is positive,
-    finite and within ``COND_LIMIT``."""
+    finite and within ``COND_LIMIT``.
+    """
     lo, hi = mu[..., 0], mu[..., -1]
     # the common case in one pass (NaN fails every comparison): the full checks below only
     # run to find what is wrong
@@ -134,5 +135,6 @@ def generalized_eigh(
 
 def symmetric_eigh(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues (ascending) and orthonormal eigenvectors of a symmetric matrix A (n, n), in
-    A's units; the standard problem a Cholesky factor of M turns the generalised one into."""
+    A's units; the standard problem a Cholesky factor of M turns the generalised one into.
+    """
     return np.linalg.eigh(A)

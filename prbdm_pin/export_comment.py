@@ -1,5 +1,6 @@
 """The export record as the text of an XML comment (URDF, MJCF) and read back from it: one
-``key: values`` line per field, under a fixed head line."""
+``key: values`` line per field, under a fixed head line.
+"""
 
 from __future__ import annotations
 

@@ -19,7 +19,8 @@ __all__ = ["stiffness_form", "plant_inputs", "mujoco_name"]
 
 def mujoco_name(input_name: str) -> str:
     """The MuJoCo actuator (and tendon) name of an input: ``strain[0]`` -> ``strain_0``,
-    ``joint_torque[2]`` -> ``joint_torque_2``; names without an index are kept."""
+    ``joint_torque[2]`` -> ``joint_torque_2``; names without an index are kept.
+    """
     return input_name.replace("[", "_").replace("]", "")
 
 
@@ -27,7 +28,8 @@ def stiffness_form(model, M: np.ndarray, xi: np.ndarray, omega_hub: np.ndarray |
     """The stiffness form C = beta K of ``model`` (mass matrix ``M``, kg m^2, straight pose) with
     mode 1's ratio ``xi[0]``: beta (s), the beam joints' damping beta K_jj (N m s/rad, shape
     (n,)) and the ratio it gives each (flexible) mode; ``omega_hub``: the hub model's flexible
-    frequencies, rad/s (None without a hub)."""
+    frequencies, rad/s (None without a hub).
+    """
     k = np.asarray(model.stiffness_Nm_per_rad, dtype=float)
     if omega_hub is None:
         K = model.stiffness_matrix()
@@ -50,7 +52,8 @@ def plant_inputs(model, fmt: str, actuators, inputs
     """Check a plant's strain actuators (on the beam, their joint weights one per joint) and
     the inputs a file of ``fmt`` drives; returns the spans [x_start_m, x_end_m] (m, shape
     (k, 2)), each actuator's joint weights (a tuple, or None for the virtual-work map) and the
-    input names."""
+    input names.
+    """
     from .plant.inputs import StrainActuator, parse_inputs, strain_map
 
     if isinstance(actuators, (str, bytes)) or not hasattr(actuators, "__len__"):

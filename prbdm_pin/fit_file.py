@@ -1,5 +1,6 @@
 """``fit.json``: a :class:`~prbdm_pin.results.FitResult` written with the beam it was fitted to,
-and read back validated."""
+and read back validated.
+"""
 
 from __future__ import annotations
 
@@ -14,7 +15,8 @@ __all__ = ["fit_beam", "load_fit", "save_fit"]
 
 def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
     """Write ``fit.json`` atomically; with ``beam`` it carries the beam it was fitted to, so the
-    file alone rebuilds the model (``prbdm simulate fit.json``, ``prbdm export fit.json``)."""
+    file alone rebuilds the model (``prbdm simulate fit.json``, ``prbdm export fit.json``).
+    """
     from .geometry import beam_to_dict
 
     d = result.to_dict()

@@ -43,7 +43,8 @@ def _discard(tmp: str) -> None:
 def atomic_path(path: str | os.PathLike) -> Iterator[str]:
     """A temporary path to write ``path`` through, for writers that take a file name
     (``savefig``, ``meshio.write``): renamed over ``path`` when the block ends without error,
-    removed in any case. The folder is created when missing."""
+    removed in any case. The folder is created when missing.
+    """
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = _temporary(p.parent, f".{p.name}.")

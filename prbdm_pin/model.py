@@ -119,7 +119,8 @@ class PrbdmModel:
 
     def stiffness_matrix(self) -> np.ndarray:
         """K = diag(stiffness), N m/rad, shape (nv, nv) (with a hub: a zero first row and
-        column, the hub joint has no spring)."""
+        column, the hub joint has no spring).
+        """
         if self.hub is None:
             return np.diag(self.stiffness_Nm_per_rad)
         return np.diag(np.concatenate([[0.0], self.stiffness_Nm_per_rad]))

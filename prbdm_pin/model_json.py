@@ -32,7 +32,8 @@ def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
                damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
                actuators=()) -> dict[str, Any]:
     """JSON-ready parameters of ``model`` (SI units), its hub and strain ``actuators``, and its
-    :class:`~prbdm_pin.export_record.ExportRecord` fields."""
+    :class:`~prbdm_pin.export_record.ExportRecord` fields.
+    """
     rec = export_record(model, "json", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators)
     s = model.sections
@@ -176,5 +177,6 @@ def read_plant_json(path: str | os.PathLike):
 
 def read_model_json(path: str | os.PathLike):
     """Rebuild the PrbdmModel from a file written by :func:`write_json` (needs its beam), on
-    its hub if the file records one (:func:`read_plant_json` also returns the actuators)."""
+    its hub if the file records one (:func:`read_plant_json` also returns the actuators).
+    """
     return read_plant_json(path)[0]

@@ -1,5 +1,6 @@
 """Checks of option values, free of numpy: each returns the value in its checked type or raises
-a BeamInputError that names the option and the value."""
+a BeamInputError that names the option and the value.
+"""
 
 from __future__ import annotations
 
@@ -27,7 +28,8 @@ def check_int(name: str, v: Any, low: int, *, optional: bool = False) -> int | N
 def check_float(name: str, v: Any, *, low: float | None = None, low_open: bool = False,
            optional: bool = False, unit: str = "") -> float | None:
     """``v`` as a finite float, > ``low`` (``low_open``) or >= ``low`` (None too when
-    ``optional``)."""
+    ``optional``).
+    """
     if v is None and optional:
         return None
     ok = not isinstance(v, bool) and isinstance(v, numbers.Real) and math.isfinite(float(v))
@@ -49,7 +51,8 @@ def check_bool(name: str, v: Any) -> bool:
 
 def check_choice(name: str, v: Any, kind: type[Choice] | Sequence[str]) -> Any:
     """``v`` as a member of the enumeration ``kind``, or ``v`` itself if it is one of the
-    strings ``kind``; else a BeamInputError naming ``name`` and the allowed values."""
+    strings ``kind``; else a BeamInputError naming ``name`` and the allowed values.
+    """
     if isinstance(kind, type) and issubclass(kind, Choice):
         try:
             return kind(v)

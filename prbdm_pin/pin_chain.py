@@ -20,7 +20,8 @@ TIP_FRAME = "tip"
 
 def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
     """The chain of links ``sections`` cut at ``lengths`` (m), built through the Pinocchio API
-    frame for frame as its URDF parser builds it; returns the model and the tip frame id."""
+    frame for frame as its URDF parser builds it; returns the model and the tip frame id.
+    """
     n = lengths.size - 1
     model = pin.Model()
     model.name = name

@@ -163,7 +163,8 @@ def planar_sections(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """What the planar bending dynamics needs, as :func:`link_sections_unchecked` computes it (same
     arithmetic): mass (kg), centre-of-mass distance from the link's start (m), inertia about
-    the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,)."""
+    the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,).
+    """
     starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
     t = beam.thickness_m
     rho_t = beam.material.rho_kg_m3 * t

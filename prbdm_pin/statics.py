@@ -136,7 +136,8 @@ _ROWS_CHOLESKY_MIN = 400
 
 def _cholesky_solve_batch(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Solve H d = g for a stack of small symmetric matrices; returns (d, positive definite per
-    row). Rows that are not positive definite get d = 0."""
+    row). Rows that are not positive definite get d = 0.
+    """
     if g.shape[0] >= _ROWS_CHOLESKY_MIN:
         return _cholesky_rows(H, g)
     try:
@@ -149,7 +150,8 @@ def _cholesky_solve_batch(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.
 
 def _cholesky_rows(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_cholesky_solve_batch` row by row in the factorisation, so that the rows that are
-    not positive definite are found (n^2 vectorised steps for any batch size)."""
+    not positive definite are found (n^2 vectorised steps for any batch size).
+    """
     B, n = g.shape
     C = np.zeros_like(H)
     pd = np.ones(B, dtype=bool)

@@ -29,7 +29,8 @@ _EPS = float(np.finfo(float).eps)
 
 def max_load_index(rtol: float) -> float:
     """The largest load index |F| L / k_max the convergence test ``rtol`` can resolve (no
-    bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on)."""
+    bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on).
+    """
     return math.pi * rtol / _EPS if rtol > 0.0 else math.inf
 
 
@@ -40,7 +41,8 @@ def _magnitude_cap(n: int) -> float:
 
 def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarray:
     """|F| L / k_max (dimensionless) of chains with lever arms ``arm_m`` (m, the summed lengths
-    after the first joint) and stiffest springs ``k_max`` (N m/rad) under |F| = ``force_N``."""
+    after the first joint) and stiffest springs ``k_max`` (N m/rad) under |F| = ``force_N``.
+    """
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         return force_N * np.asarray(arm_m, dtype=float) / np.asarray(k_max, dtype=float)
 
@@ -48,7 +50,8 @@ def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarr
 def load_ok_rows(lengths_m: np.ndarray, k: np.ndarray, force: np.ndarray,
                  rtol: float) -> np.ndarray:
     """Per row of ``lengths_m`` (B, n+1) and ``k`` (B, n): whether the load ``force`` (N) is
-    within what double precision resolves (see the module notes)."""
+    within what double precision resolves (see the module notes).
+    """
     f = math.hypot(float(force[0]), float(force[2]))
     arm = np.sum(lengths_m[:, 1:], axis=1)
     kmax = np.max(k, axis=1)
@@ -83,7 +86,8 @@ def off_saddle(pot, q: np.ndarray, step_rad: float = 1e-2) -> np.ndarray:
     """``q`` moved ``step_rad`` along the Hessian's most negative curvature (downhill in V),
     or ``q`` itself where V is convex there: a start for a descent that crawls near a saddle
     (a straight column past its buckling load), with ``pot`` a
-    :class:`prbdm_pin.planar.ChainPotential`."""
+    :class:`prbdm_pin.planar.ChainPotential`.
+    """
     _, H, _ = pot.derivatives(q, 1.0)
     w, V = np.linalg.eigh(H)
     if w[0] > 0.0:

@@ -1,5 +1,6 @@
 """Pose sweep (the paper's Eqs. 10-11), joint stiffness laws (Eq. 14, finite segments), and the
-check of a model's joint springs."""
+check of a model's joint springs.
+"""
 
 from __future__ import annotations
 
@@ -148,7 +149,8 @@ def finite_segment_stiffness(
 
 def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.ndarray:
     """:func:`finite_segment_stiffness` for lengths already validated, shape (n,) or, for a
-    stack of designs (B, n+1), (B, n); N m/rad (the fit's inner loop)."""
+    stack of designs (B, n+1), (B, n); N m/rad (the fit's inner loop).
+    """
     ends = lengths.cumsum(axis=-1)
     centres = ends - 0.5 * lengths
     centres[..., 0] = 0.0

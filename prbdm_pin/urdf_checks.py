@@ -131,7 +131,8 @@ def check_sections(what: str, lengths_m: np.ndarray, mass_kg: np.ndarray) -> Non
 
 def hub_inertia(text: str, what: str = "urdf") -> float:
     """The hub's inertia about its axis (``iyy`` of link ``hub_body``), kg m^2, from a URDF text
-    that :func:`check_urdf` accepted."""
+    that :func:`check_urdf` accepted.
+    """
     root = ET.fromstring(text)
     for link in root.findall("link"):
         el = None if link.get("name") != HUB_LINK else link.find("inertial/inertia")

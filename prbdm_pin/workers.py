@@ -161,7 +161,8 @@ def stop_pool(executor: cf.Executor, join_s: float = 5.0) -> None:
 @contextlib.contextmanager
 def pool_scope(executor: cf.Executor) -> Iterator[cf.Executor]:
     """Use ``executor`` in a ``with`` block: on leaving normally wait for it, on any exception
-    (Ctrl-C included) :func:`stop_pool` it."""
+    (Ctrl-C included) :func:`stop_pool` it.
+    """
     try:
         yield executor
     except BaseException:
