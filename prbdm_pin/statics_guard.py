@@ -28,8 +28,9 @@ _EPS = float(np.finfo(float).eps)
 
 
 def max_load_index(rtol: float) -> float:
-    """The largest load index |F| L / k_max the convergence test ``rtol`` can resolve (no
-    bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on).
+    """Return the largest load index |F| L / k_max the convergence test ``rtol`` can resolve.
+
+    No bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on.
     """
     return math.pi * rtol / _EPS if rtol > 0.0 else math.inf
 
@@ -40,8 +41,10 @@ def _magnitude_cap(n: int) -> float:
 
 
 def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarray:
-    """|F| L / k_max (dimensionless) of chains with lever arms ``arm_m`` (m, the summed lengths
-    after the first joint) and stiffest springs ``k_max`` (N m/rad) under |F| = ``force_N``.
+    """Compute the load index |F| L / k_max (dimensionless) of chains.
+
+    The chains have lever arms ``arm_m`` (m, the summed lengths after the first joint) and
+    stiffest springs ``k_max`` (N m/rad), under |F| = ``force_N`` (N).
     """
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         return force_N * np.asarray(arm_m, dtype=float) / np.asarray(k_max, dtype=float)
@@ -49,8 +52,9 @@ def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarr
 
 def load_ok_rows(lengths_m: np.ndarray, k: np.ndarray, force: np.ndarray,
                  rtol: float) -> np.ndarray:
-    """Per row of ``lengths_m`` (B, n+1) and ``k`` (B, n): whether the load ``force`` (N) is
-    within what double precision resolves (see the module notes).
+    """Tell, per row, whether the load ``force`` (N) is within what double precision resolves.
+
+    Rows of ``lengths_m`` (B, n+1), m, and ``k`` (B, n), N m/rad; see the module notes.
     """
     f = math.hypot(float(force[0]), float(force[2]))
     arm = np.sum(lengths_m[:, 1:], axis=1)
@@ -83,10 +87,11 @@ def require_finite(force: np.ndarray, *values: float) -> None:
 
 
 def off_saddle(pot, q: np.ndarray, step_rad: float = 1e-2) -> np.ndarray:
-    """``q`` moved ``step_rad`` along the Hessian's most negative curvature (downhill in V),
-    or ``q`` itself where V is convex there: a start for a descent that crawls near a saddle
-    (a straight column past its buckling load), with ``pot`` a
-    :class:`prbdm_pin.planar.ChainPotential`.
+    """Move ``q`` (rad) by ``step_rad`` along the Hessian's most negative curvature.
+
+    The step goes downhill in V; where V is convex ``q`` itself is returned. It gives a start
+    for a descent that crawls near a saddle (a straight column past its buckling load), with
+    ``pot`` a :class:`prbdm_pin.planar.ChainPotential`.
     """
     _, H, _ = pot.derivatives(q, 1.0)
     w, V = np.linalg.eigh(H)
