@@ -24,8 +24,9 @@ _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
 
 
 def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
-    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field
-    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load).
+    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field.
+
+    Keys and defaults are as in :func:`load_beam`: no ``tip_force`` means no load.
 
     ``check_caps`` (the readers of beam, fit.json and model files set it) also refuses more
     than ``limits().max_vertices`` vertices; a mapping built in code is not capped.

@@ -30,7 +30,7 @@ DEFAULT_MIN_FRACTION = MIN_FRACTION
 
 
 def check_min_fraction(min_fraction: Any, joints: int, name: str = "min_fraction") -> float:
-    """The lower bound f on link lengths (a fraction of L) for an nR fit, validated.
+    """Validate the lower bound f on link lengths (a fraction of L) for an nR fit.
 
     A fit draws and bounds lengths in [f L, (1 - f) L] on a simplex that is not empty only if
     0 < f < 1 / (n + 1). ``name`` is what the error calls the value (the CLI's ``--min-link``).

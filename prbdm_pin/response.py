@@ -99,7 +99,7 @@ class DynamicAccuracy:
 
 
 def prbdm_modal_tip(model, q: np.ndarray | None = None) -> ModalTip:
-    """The PRBDM linearised at pose ``q`` (default straight): frequencies and tip gains."""
+    """Linearise the PRBDM at pose ``q`` (rad, default straight): frequencies and tip gains."""
     omega, phi = model.modes(q)
     jz = model.tip_jacobian(q)[2]
     return ModalTip(np.asarray(omega, dtype=float), (jz @ phi) ** 2)
@@ -148,7 +148,7 @@ def centerline_modal_tip(modal, beam, indices: np.ndarray | None = None) -> Moda
 
 
 def truth_modal_tip(truth, beam) -> ModalTip:
-    """The modal tip of a ``TruthResult``: every computed mode up to the highest selected one.
+    """Build the modal tip of a ``TruthResult``: every computed mode up to the highest selected.
 
     Bending, torsion and chordwise modes below the last selected frequency all respond to a tip
     force, so all of them are superposed (with the finite-element modal masses where the truth
@@ -212,7 +212,7 @@ def modal_step_response(tip: ModalTip, t_s: np.ndarray, damping_ratio: float | n
 
 
 def relative_l2(a: np.ndarray, ref: np.ndarray) -> float:
-    """||a - ref|| / ||ref|| (complex allowed)."""
+    """Compute ||a - ref|| / ||ref|| (complex allowed)."""
     return float(np.linalg.norm(np.asarray(a) - ref) / np.linalg.norm(ref))
 
 

@@ -1,5 +1,6 @@
-"""Pose sweep (the paper's Eqs. 10-11), joint stiffness laws (Eq. 14, finite segments), and the
-check of a model's joint springs.
+"""Pose sweep (the paper's Eqs. 10-11) and joint stiffness laws (Eq. 14, finite segments).
+
+Also the check of a model's joint springs.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ MAX_POSES = 1000
 def pose_sweep(
     n_joints: int, xi: float = XI_RAD, eps: float = EPS_RAD, max_tip_angle_rad: float = math.pi / 2
 ) -> np.ndarray:
-    """The poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
+    """Return the poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
 
     Pose i = 0, 1, ... has every joint at ``xi + i * eps`` while the tip link's world angle
     ``n_joints * (xi + i * eps)`` stays within ``max_tip_angle_rad`` (a 1e-12 relative slack keeps
@@ -148,8 +149,9 @@ def finite_segment_stiffness(
 
 
 def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.ndarray:
-    """:func:`finite_segment_stiffness` for lengths already validated, shape (n,) or, for a
-    stack of designs (B, n+1), (B, n); N m/rad (the fit's inner loop).
+    """Compute :func:`finite_segment_stiffness` for lengths already validated, N m/rad.
+
+    Shape (n,), or (B, n) for a stack of designs (B, n+1) (the fit's inner loop).
     """
     ends = lengths.cumsum(axis=-1)
     centres = ends - 0.5 * lengths
