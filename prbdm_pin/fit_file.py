@@ -59,7 +59,24 @@ def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
 
     Every field is validated (:func:`prbdm_pin.model_files.fit_kwargs`); the link lengths must
     sum to the length of ``beam`` (a Beam), else of the beam embedded in the file, when there
-    is one. Raises BeamInputError naming the file, the field and the value.
+    is one.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The ``fit.json`` file.
+    beam : Beam, optional
+        The beam the fit was made for; its length L (m) checks the link lengths.
+
+    Returns
+    -------
+    FitResult
+        The fit (lengths in m, springs in N m/rad, losses in %).
+
+    Raises
+    ------
+    BeamInputError
+        Naming the file, the field and the value.
     """
     from .jsonfile import read_json
 

@@ -162,6 +162,24 @@ def sample_lengths(
     A flat Dirichlet draw (the same law as the sorted-uniform spacings of Smith & Tromble) scaled
     to the free length L - n_links f L and shifted by the lower bound; draws that break the upper
     bound are redrawn (with n_links >= 2 the upper bound is implied and nothing is redrawn).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The only source of randomness.
+    length_m : float
+        Beam length L, m.
+    n_links : int
+        Number of links n + 1.
+    size : int
+        Number of draws.
+    min_fraction : float
+        The bound f of Eq. 15 on each link (a fraction of L; default 0.02).
+
+    Returns
+    -------
+    ndarray, shape (size, n_links)
+        The drawn link lengths, m.
     """
     n_links = _check_n_links(n_links)
     lo, hi = length_bounds(length_m, n_links, min_fraction)
@@ -183,6 +201,20 @@ def repair_lengths(lengths: np.ndarray, length_m: float,
 
     Solves min ||l - x|| subject to sum(l) = L, lo <= l <= hi: l = clip(x - tau, lo, hi) with the
     scalar tau found by bisection and then made exact on the final active set.
+
+    Parameters
+    ----------
+    lengths : ndarray, shape (n+1,) or (B, n+1)
+        Link lengths to repair, m.
+    length_m : float
+        Beam length L, m.
+    min_fraction : float
+        The bound f of Eq. 15: lo = f L, hi = (1 - f) L (default 0.02).
+
+    Returns
+    -------
+    ndarray, shape of ``lengths``
+        The nearest lengths on the bounded simplex, m.
     """
     x = np.asarray(lengths, dtype=float)
     one = x.ndim == 1

@@ -231,6 +231,28 @@ def dynamic_accuracy(
     ``simulate_step`` the PRBDM step response is integrated with :func:`prbdm_pin.simulate` under
     a small force (linear regime) instead of its modal superposition. Both sides use the same
     modal damping ratio for every mode.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        The PRBDM, linearised at the straight pose.
+    truth : ModalTip
+        The truth's modal tip (:func:`truth_modal_tip`): frequencies in rad/s.
+    damping_ratio : float
+        Modal damping ratio of every mode, dimensionless.
+    duration_s : float
+        Length of the step response compared, s.
+    band_factor : float
+        The FRF band ends at this multiple of the highest truth frequency.
+    samples : int
+        Number of time samples and of band frequencies.
+    simulate_step : bool
+        Integrate the PRBDM step response with :func:`prbdm_pin.simulate`.
+
+    Returns
+    -------
+    DynamicAccuracy
+        The errors (fractions; phase in rad) and the curves compared (m/N).
     """
     t = np.linspace(0.0, duration_s, samples)
     mine = prbdm_modal_tip(model)

@@ -40,6 +40,22 @@ def pose_sweep(
     Pose i = 0, 1, ... has every joint at ``xi + i * eps`` while the tip link's world angle
     ``n_joints * (xi + i * eps)`` stays within ``max_tip_angle_rad`` (a 1e-12 relative slack keeps
     a pose that lands exactly on the limit).
+
+    Parameters
+    ----------
+    n_joints : int
+        Number of joints n (>= 1).
+    xi : float
+        Joint angle of the first pose, rad.
+    eps : float
+        Step of the joint angle from pose to pose, rad.
+    max_tip_angle_rad : float
+        Largest world angle of the tip link, rad.
+
+    Returns
+    -------
+    ndarray, shape (m, n_joints)
+        The poses' joint angles, rad.
     """
     if isinstance(n_joints, bool) or not isinstance(n_joints, (int, np.integer)) or n_joints < 1:
         raise BeamInputError(f"n_joints = {n_joints!r}: must be an integer >= 1")
@@ -144,6 +160,20 @@ def finite_segment_stiffness(
     [h/2, h, ..., h, h/2] would then converge only as 1/N instead of getting K = EI/h at every
     joint.) The integral is exact for the piecewise-linear planform (logarithms on each vertex
     interval).
+
+    Parameters
+    ----------
+    beam : Beam
+        Supplies the planform, thickness (m) and Young's modulus (Pa).
+    lengths_m : array_like, shape (n+1,)
+        Link lengths in m, validated as by :func:`~prbdm_pin.layout.validate_lengths`.
+    min_fraction : float
+        The bound f of Eq. 15 on each link (a fraction of L; default 0.02).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The joint springs, N m/rad.
     """
     return finite_segment_stiffness_unchecked(beam, validate_lengths(beam, lengths_m, min_fraction))
 
