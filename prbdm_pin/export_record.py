@@ -55,7 +55,7 @@ class ExportRecord:
     omega_errors_pct : ndarray, shape (min(n, N),) or None
         Signed per-mode errors 100 (omega_model / omega_truth - 1), %.
     worst_mode_error_pct : float or None
-        max |omega_errors_pct|, %.
+        ``max |omega_errors_pct|``, %.
     worst_mode : int or None
         The mode (1-based) of the worst error.
     damping_requested : str

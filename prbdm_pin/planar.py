@@ -160,21 +160,8 @@ def load_stiffness(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) ->
     """Compute the load stiffness d(J^T F)/dq, N m/rad.
 
     The stiffness a dead tip force adds to the joint springs with the sign of a force (the
-    potential's Hessian is diag(K) minus it); symmetric.
-
-    Parameters
-    ----------
-    lengths_m : ndarray, shape (n+1,)
-        Link lengths, m.
-    q : ndarray, shape (n,) or (..., n)
-        Joint angles, rad.
-    force_N : ndarray, shape (3,)
-        Dead tip force in the world frame, N.
-
-    Returns
-    -------
-    ndarray, shape (n, n) or (..., n, n)
-        The load stiffness, N m/rad.
+    potential's Hessian is diag(K) minus it); symmetric, shape (n, n), or (..., n, n) for
+    stacked ``q``. Parameters as :func:`generalised_force`.
     """
     return force_and_load_stiffness(lengths_m, q, force_N)[1]
 

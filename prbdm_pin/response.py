@@ -2,7 +2,7 @@
 
 Both sides are written as a modal superposition of the tip z displacement under a tip z force:
 mode k (frequency omega_k, mass-normalised shape phi_k) contributes the gain
-g_k = phi_k(tip)^2 (m/N per (rad/s)^2), so that
+g_k = phi_k(tip)^2 (m/N per (rad/s)^2), so that::
 
     H(omega) = sum_k g_k / (omega_k^2 - omega^2 + 2 i xi_k omega_k omega)        (FRF, m/N)
     u(t) / F = sum_k g_k / omega_k^2 (1 - e^(-xi_k omega_k t) (cos omega_dk t
@@ -80,7 +80,7 @@ class DynamicAccuracy:
     frf_error : float
         Relative L2 error of the complex tip FRF over the band (fraction).
     frf_magnitude_error, frf_phase_error_rad : float
-        Relative L2 error of |H| and RMS phase difference over the band.
+        Relative L2 error of ``|H|`` and RMS phase difference over the band.
     t_s, step_model_m_per_N, step_truth_m_per_N : ndarray
     omega_band_rad_s : ndarray
     frf_model_m_per_N, frf_truth_m_per_N : ndarray (complex)

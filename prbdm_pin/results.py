@@ -123,7 +123,7 @@ class FitResult(JsonRecord):
     omega_errors_pct : ndarray, shape (m, N)
         Signed per-mode errors 100 (omega_model / omega_truth - 1) at every fitted pose, %.
     worst_mode_error_pct : float
-        max |omega_errors_pct| over the fitted poses and modes, %.
+        ``max |omega_errors_pct|`` over the fitted poses and modes, %.
     export_pose_rad : ndarray, shape (n,), or None
         The pose whose springs are exported (paper: sweep pose 0; joint: the straight pose;
         None in a fit.json written before it was recorded).
@@ -133,7 +133,7 @@ class FitResult(JsonRecord):
         The exported model's own frequencies at the straight pose q = 0 (rad/s) and their signed
         errors against the truth (%).
     worst_export_error_pct : float
-        max |omega_export_errors_pct|, %.
+        ``max |omega_export_errors_pct|``, %.
     options : FitOptions or ParetoOptions or None
         Every option the fit was run with (a Pareto knee: the Pareto fit's); None in a
         fit.json written before options were recorded.
@@ -238,7 +238,7 @@ class FitResult(JsonRecord):
 
         Row i of ``stiffness_per_pose_Nm_per_rad`` belongs to the sweep angle
         ``poses_rad[i, 0]`` (every joint at the same angle); a pose q is mapped to the mean
-        |q_j| and the springs are interpolated linearly between the sweep poses, held at the
+        ``|q_j|`` and the springs are interpolated linearly between the sweep poses, held at the
         first (last) pose's below (above) the sweep. At the straight pose it gives pose 0's
         springs, the exported ones.
         """

@@ -1,16 +1,17 @@
 """Loads the planar statics solver can answer in double precision, and its finiteness guard.
 
 The solver stops when ||K q - J^T F|| <= rtol max(||K q||, ||J^T F||). The terms of J^T F are
-sums of L_i (F_x sin phi_i, F_z cos phi_i), each rounded to about eps |F| L (eps = 2.2e-16), so the
-residual carries a rounding floor of eps |F| L whatever q is. At an equilibrium ||K q|| is at most
-k_max |q|_1 <= k_max pi (a chain under a dead load turns at most half a turn towards it), so once
+sums of L_i (F_x sin phi_i, F_z cos phi_i), each rounded to about ``eps |F| L`` (eps = 2.2e-16),
+so the residual carries a rounding floor of ``eps |F| L`` whatever q is. At an equilibrium
+||K q|| is at most ``k_max |q|_1 <= k_max pi`` (a chain under a dead load turns at most half a
+turn towards it), so once::
 
     eps |F| L > rtol pi k_max,   i.e.   alpha = |F| L / k_max > pi rtol / eps  (1.4e6 at rtol 1e-10)
 
 the test can only pass by rounding luck, and the answer is not an equilibrium of the model: the
 chain lies along the load to within the rounding of the angles. ``alpha`` is the chain's load index
 (P L^2 / EI of a beam with EI / L ~ k). Separately, the squared norms overflow (and ``inf <= inf``
-passes) once |F| L or k_max pi exceed sqrt(max double / (n + 1)); both loads are refused.
+passes) once ``|F| L`` or k_max pi exceed sqrt(max double / (n + 1)); both loads are refused.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ _EPS = float(np.finfo(float).eps)
 
 
 def max_load_index(rtol: float) -> float:
-    """Return the largest load index |F| L / k_max the convergence test ``rtol`` can resolve.
+    """Return the largest load index ``|F| L / k_max`` the convergence test ``rtol`` resolves.
 
     No bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on.
     """
@@ -41,10 +42,10 @@ def _magnitude_cap(n: int) -> float:
 
 
 def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarray:
-    """Compute the load index |F| L / k_max (dimensionless) of chains.
+    """Compute the load index ``|F| L / k_max`` (dimensionless) of chains.
 
     The chains have lever arms ``arm_m`` (m, the summed lengths after the first joint) and
-    stiffest springs ``k_max`` (N m/rad), under |F| = ``force_N`` (N).
+    stiffest springs ``k_max`` (N m/rad), under ``|F| = force_N`` (N).
     """
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         return force_N * np.asarray(arm_m, dtype=float) / np.asarray(k_max, dtype=float)
