@@ -55,6 +55,7 @@ class BenchConfig:
     mujoco: bool = True
 
     def __post_init__(self) -> None:
+        """Check the lists and the durations (BeamInputError naming the field)."""
         if not self.beams or not self.joints or not self.chain_joints:
             raise BeamInputError("BenchConfig: beams, joints and chain_joints must be non-empty")
         for name, vals, lo in (("joints", self.joints, 1), ("chain_joints", self.chain_joints, 1)):

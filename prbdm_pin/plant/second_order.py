@@ -54,7 +54,8 @@ class SecondOrderPlant:
 
     def flexible(self) -> SecondOrderPlant:
         """The flexible part in the coordinates z (q_f = T z, see the module notes); the plant
-        itself when it has no rigid mode."""
+        itself when it has no rigid mode.
+        """
         if not self.rigid:
             return self
         M = self.mass
@@ -71,7 +72,8 @@ class SecondOrderPlant:
 
     def rigid_gains(self) -> tuple[np.ndarray, np.ndarray]:
         """Coefficients of 1/s^2 and 1/s of the rigid-body mode's transfer matrix (p, m):
-        (C_q phi_0)(phi_0^T B_q) and (C_v phi_0)(phi_0^T B_q); zero without a rigid mode."""
+        (C_q phi_0)(phi_0^T B_q) and (C_v phi_0)(phi_0^T B_q); zero without a rigid mode.
+        """
         p, m = self.output_map_position.shape[0], self.input_map.shape[1]
         if not self.rigid:
             return np.zeros((p, m)), np.zeros((p, m))
@@ -80,7 +82,8 @@ class SecondOrderPlant:
 
     def modes(self) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s, ascending) and damping ratios diag(Phi^T C_d Phi) / (2 omega) of
-        the flexible modes (mass-normalised undamped modes of the flexible part)."""
+        the flexible modes (mass-normalised undamped modes of the flexible part).
+        """
         f = self.flexible()
         lam, Phi = sla.eigh(f.stiffness, f.mass)
         omega = np.sqrt(np.clip(lam, 0.0, None))
@@ -91,7 +94,8 @@ class SecondOrderPlant:
 
     def frequency_response(self, omega_rad_s: np.ndarray) -> np.ndarray:
         """(C_q + i w C_v)(K - w^2 M + i w C_d)^-1 B_q at each w (rad/s), complex (f, p, m);
-        on a rigid plant w = 0 is singular (use ``flexible()``)."""
+        on a rigid plant w = 0 is singular (use ``flexible()``).
+        """
         w = np.asarray(omega_rad_s, dtype=float)[:, None, None]
         Z = self.stiffness[None] - w**2 * self.mass[None] + 1j * w * self.damping[None]
         X = np.linalg.solve(Z, np.broadcast_to(self.input_map, (w.shape[0],)
@@ -102,7 +106,8 @@ class SecondOrderPlant:
         """Output (T, p, m) at times ``t_s`` (s) under a unit step of each input from rest.
 
         Only for a plant without a rigid mode (``flexible()``): x(t) = A^-1 (e^(A t) - I) B over
-        the eigenvectors of A, exact at every sample."""
+        the eigenvectors of A, exact at every sample.
+        """
         if self.rigid:
             raise BeamInputError("step_response: the plant has a rigid mode; use flexible()")
         n = self.mass.shape[0]
@@ -132,7 +137,8 @@ def _check_plant(name: str, plant) -> None:
 
 def second_order(plant, name: str = "plant") -> SecondOrderPlant:
     """The second-order form of a PRBDM ``LinearModel`` or a truth ``HybridModel`` /
-    ``ClampedModel``; ``name`` names the argument in errors."""
+    ``ClampedModel``; ``name`` names the argument in errors.
+    """
     _check_plant(name, plant)
     if hasattr(plant, "mass_kg_m2"):  # a LinearModel
         M, Cd, K = plant.mass_kg_m2, plant.damping_Nms_per_rad, plant.stiffness_Nm_per_rad

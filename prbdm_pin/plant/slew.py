@@ -65,7 +65,8 @@ class SlewPlant:
 
 def plant_from_linear(lin, arm_m: float) -> SlewPlant:
     """The slew plant of a PRBDM ``LinearModel`` linearised on a hub with inputs ``INPUTS`` and
-    outputs ``OUTPUTS`` (in that order); ``arm_m`` = r + L, m."""
+    outputs ``OUTPUTS`` (in that order); ``arm_m`` = r + L, m.
+    """
     if not lin.hub or lin.input_names != INPUTS or lin.output_names != OUTPUTS:
         raise BeamInputError(f"lin: must be a hub model with inputs {INPUTS} and outputs "
                              f"{OUTPUTS}, got {lin.input_names} and {lin.output_names}")
@@ -76,7 +77,8 @@ def plant_from_linear(lin, arm_m: float) -> SlewPlant:
 
 def plant_from_hybrid(h, actuator: int = 0) -> SlewPlant:
     """The slew plant of the truth's ``HybridModel`` ``h`` with its strain actuator
-    ``actuator`` (its inputs and outputs picked and put in the slew's order)."""
+    ``actuator`` (its inputs and outputs picked and put in the slew's order).
+    """
     cols = [h.input_names.index("hub_torque"), h.input_names.index(f"strain[{actuator}]")]
     rows = [h.output_names.index(name) for name in OUTPUTS]
     arm = -float(h.output_matrix[0, 0])  # tip z = -(r + L) theta + ...
@@ -122,7 +124,8 @@ class SlewDesign:
 @dataclass(frozen=True)
 class SlewScales:
     """The cost's scales, taken from the design plant: omega_c (rad/s), tau_0 (N m), M_0 (N m),
-    E (J)."""
+    E (J).
+    """
 
     omega_c_rad_s: float
     torque_Nm: float
@@ -203,7 +206,8 @@ def slew_response(plant: SlewPlant, comp: Compensator, design: SlewDesign,
 
 def settling_time_s(t_s: np.ndarray, y: np.ndarray, final: float, band: float) -> float:
     """First time (s) after which |y - final| <= ``band`` for good; ``inf`` if the last sample
-    is outside it."""
+    is outside it.
+    """
     out = np.flatnonzero(np.abs(np.asarray(y) - final) > band)
     if out.size == 0:
         return float(t_s[0])

@@ -1,5 +1,6 @@
 """The public entry of a time response: ``simulate`` checks its inputs, assembles the system,
-picks the default step and runs the chosen integrator."""
+picks the default step and runs the chosen integrator.
+"""
 
 from __future__ import annotations
 
@@ -150,7 +151,8 @@ def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
 
 def _plant(model, inputs, u, actuators, outputs, method: str):
     """(a maker of the system's InputForce or None, the output names): checked before any
-    work."""
+    work.
+    """
     acts = tuple(actuators) if isinstance(actuators, (list, tuple)) else actuators
     if not isinstance(acts, tuple) or not all(isinstance(a, StrainActuator) for a in acts):
         raise BeamInputError(f"actuators = {actuators!r:.80}: must be a sequence of "

@@ -87,7 +87,8 @@ def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSett
               ) -> Samples:
     """Step-controlled exprb32 steps of at most ``settings.dt_s`` (s) from (q0 rad, v0 rad/s)
     over ``settings.duration_s``; every step, or the continuous extension every
-    ``output_dt_s``."""
+    ``output_dt_s``.
+    """
     # a diverging trial step is detected and halved: no overflow warnings for it
     with np.errstate(over="ignore", invalid="ignore"):
         return _run(system, q0, v0, settings)
@@ -164,7 +165,8 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
 
     def attempt(t, y, h):
         """One exprb32 step of length h from (t, y): the end state, the correction's size in q,
-        its reference (the guard's) and the dense-output record."""
+        its reference (the guard's) and the dense-output record.
+        """
         nonlocal half_minv
         q, v = y[:n], y[n:]
         f = force(t) if varying else f_const
@@ -327,7 +329,8 @@ def _schur(M: np.ndarray, free: np.ndarray) -> np.ndarray:
 def _continuous_extension(t_nodes: np.ndarray, Y: np.ndarray, records: list, duration: float,
                           output_dt: float) -> tuple[np.ndarray, np.ndarray]:
     """Sample times every ``output_dt`` (s) and the states (q, v) there: each step's formula
-    with h replaced by the offset from its start (exact for the linear part)."""
+    with h replaced by the offset from its start (exact for the linear part).
+    """
     t_out = output_times(duration, output_dt)
     starts = t_nodes[:-1]
     idx = np.clip(np.searchsorted(starts, t_out, side="right") - 1, 0, len(starts) - 1)

@@ -37,7 +37,8 @@ _TIP = {"tip_force_x": 0, "tip_force_z": 2}
 @dataclass(frozen=True)
 class Controller:
     """A feedback law u = function(t, q, v): time (s), joint angles (rad, the hub angle first on
-    a hub model) and rates (rad/s) to the inputs (m,) in their units."""
+    a hub model) and rates (rad/s) to the inputs (m,) in their units.
+    """
 
     function: Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 
@@ -154,7 +155,8 @@ class InputForce:
 
     def time_rate(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray | None:
         """d tau / dt at a fixed state (nv,), N m/s, by a short forward difference; None when
-        the signal does not depend on time."""
+        the signal does not depend on time.
+        """
         if not self.time_varying:
             return None
         delta = 1e-6 * max(1e-3, abs(t)) if t else 1e-9
@@ -202,7 +204,8 @@ def _signal(u, m: int, nv: int):
 def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_terms
                 ) -> InputForce:
     """The :class:`InputForce` of the inputs ``names`` driven by ``u`` on ``model``; the tip
-    forces' generalized force and load stiffness come from ``tip_terms(q, F)``."""
+    forces' generalized force and load stiffness come from ``tip_terms(q, F)``.
+    """
     hub = model.hub is not None
     parsed = parse_inputs(names, model.n_joints, len(actuators), hub)
     names = tuple(n for n, _, _ in parsed)

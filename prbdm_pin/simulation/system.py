@@ -41,7 +41,8 @@ from .schedule import StiffnessSchedule
 
 def vector(name: str, value, n: int) -> np.ndarray:
     """``value`` as a fresh array of ``n`` finite numbers (zeros when None); BeamInputError
-    naming ``name`` otherwise."""
+    naming ``name`` otherwise.
+    """
     if value is None:
         return np.zeros(n)
     try:
@@ -55,7 +56,8 @@ def vector(name: str, value, n: int) -> np.ndarray:
 
 def force_function(tip_force) -> tuple[Callable[[float], np.ndarray] | None, bool]:
     """The tip force (N) as a function of time (s), None when absent or zero, and whether it is
-    constant."""
+    constant.
+    """
     if tip_force is None:
         return None, True
     if callable(tip_force):
@@ -74,7 +76,8 @@ def force_function(tip_force) -> tuple[Callable[[float], np.ndarray] | None, boo
 
 def static_angle_rad(tau_Nm: np.ndarray | None, springs_Nm_per_rad: np.ndarray) -> float:
     """The largest joint angle the springs would yield to ``tau_Nm`` statically, rad (0 without
-    a torque); a coordinate without a spring (the hub) is left out."""
+    a torque); a coordinate without a spring (the hub) is left out.
+    """
     if tau_Nm is None:
         return 0.0
     k = np.asarray(springs_Nm_per_rad, dtype=float)
@@ -159,7 +162,8 @@ class System:
     def tau_external(self, q: np.ndarray, t: float, v: np.ndarray | None = None
                      ) -> np.ndarray | None:
         """Generalised force of the tip force, J(q)^T F(t), and of the inputs at state
-        (q rad, v rad/s) (nv,), N m, by Pinocchio's frame Jacobian; None when there is none."""
+        (q rad, v rad/s) (nv,), N m, by Pinocchio's frame Jacobian; None when there is none.
+        """
         out = None
         if self.tip_force_N is not None:
             J = pin.computeFrameJacobian(self.pin_model, self.data, q, self.tip_frame_id,
@@ -180,7 +184,8 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
     ratios ``damping_ratios`` (form ``damping``) frozen at ``damping_pose`` (rad, default the
     start pose ``q0``), the springs of ``schedule`` (default the model's) and the tip force
     ``tip_force_N`` (N, of time in s); ``inputs`` makes the plant inputs' force from the tip
-    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain."""
+    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain.
+    """
     pm = model.pin_model
     data = pm.createData()
     fid = int(model.tip_frame_id)
@@ -209,7 +214,8 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
 def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | None
                   ) -> np.ndarray:
     """Tip positions (s, 3), m, at the output samples only; closed form for a planar chain
-    (``lengths``, m; None otherwise)."""
+    (``lengths``, m; None otherwise).
+    """
     pm, fid = model.pin_model, int(model.tip_frame_id)
     tip = np.empty((len(Q), 3))
     if lengths is not None:

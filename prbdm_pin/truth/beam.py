@@ -174,7 +174,8 @@ def beam_modes(beam: Beam, n_modes: int, n_elements: int = 200,
                stations_m: np.ndarray | None = None):
     """The raw modes of ``beam_modal``: (mesh, basis, K, M, u_dofs, free, lam, phi, timings),
     ``phi`` (N, k) the full DOF vectors (clamped DOFs zero; not mass-normalised: the dense
-    solve gives phi^T K phi = 1), ``lam`` in (rad/s)^2."""
+    solve gives phi^T K phi = 1), ``lam`` in (rad/s)^2.
+    """
     t0 = time.perf_counter()
     mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements, stations_m)
     t1 = time.perf_counter()

@@ -46,7 +46,8 @@ class TruthCacheWarning(UserWarning):
 
 def cache_key(beam: Beam, **inputs) -> str:
     """SHA-256 hex digest of the beam fingerprint, the keyword inputs (JSON-serialisable) and
-    :func:`code_digest`."""
+    :func:`code_digest`.
+    """
     payload = json.dumps({"beam": beam.fingerprint(), "code": code_digest(), **inputs},
                          sort_keys=True, default=str)
     return hashlib.sha256(payload.encode()).hexdigest()
@@ -59,7 +60,8 @@ def entry_path(cache_dir, key: str) -> Path:
 
 def entry_checksum(meta: dict, arrays: dict[str, np.ndarray]) -> str:
     """SHA-256 of the metadata (without its checksum) and of every array's name, dtype, shape
-    and bytes."""
+    and bytes.
+    """
     h = hashlib.sha256()
     body = {k: v for k, v in meta.items() if k != "checksum"}
     h.update(json.dumps(body, sort_keys=True).encode())
@@ -145,7 +147,8 @@ def load_cached(cache_dir, key: str, beam_fingerprint: str) -> TruthResult | Non
 
 def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
     """Write ``result`` under ``key`` atomically; returns the path, or None (with a
-    :class:`TruthCacheWarning`) when the folder cannot take it: the truth is still returned."""
+    :class:`TruthCacheWarning`) when the folder cannot take it: the truth is still returned.
+    """
     arrays: dict[str, np.ndarray] = {}
     meta = {"format": FORMAT, "key": key, "beam_fingerprint": result.beam_fingerprint,
             "result": encode(result, arrays)}

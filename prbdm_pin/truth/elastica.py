@@ -103,7 +103,8 @@ _MAX_INITIAL_NODES = 2001
 
 def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
     """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
-    unchanged when there are that few, else only those at least L / (that number) apart."""
+    unchanged when there are that few, else only those at least L / (that number) apart.
+    """
     if s.size <= _MAX_INITIAL_NODES:
         return s
     gap = length_m / (_MAX_INITIAL_NODES - 1)
@@ -118,7 +119,8 @@ def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
 def _near_step_hint(beam: Beam) -> str:
     """A hint naming the narrowest section or the shortest vertex interval when it is the likely
     cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
-    step, and the C1 collocation follows neither."""
+    step, and the C1 collocation follows neither.
+    """
     w = beam.half_width_m
     k = int(np.argmin(w))
     if w[k] < 1e-4 * w.max():
@@ -138,7 +140,8 @@ class ElasticaPrimal(NamedTuple):
     is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
     4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
     vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
-    half-width)."""
+    half-width).
+    """
 
     static: StaticSolution
     sol: object

@@ -97,7 +97,8 @@ class ElasticaGradient:
 def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
     """The adjoints (lam, mom) of the tip's x and z, solved on the primal's mesh: a solve_bvp
     solution whose rows 4 i .. 4 i + 3 are lam_x, mom_x, lam_z, mom_z on segment i, scaled by
-    L^2 / EI_root (lam, 1/N) and L (mom, m)."""
+    L^2 / EI_root (lam, 1/N) and L (mom, m).
+    """
     L = beam.length_m
     cuts = pr.cuts
     a, ell = cuts[:-1], np.diff(cuts) / L
@@ -135,7 +136,8 @@ def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
 def _plate_scale(d: Design, mesh_level: int | None) -> tuple[float, np.ndarray, float, float]:
     """u_1D / u_plate of the linear tips under the beam's tip force and its design gradient
     (1 and zeros without a vertical load, as ``compute_truth`` sets it), and the wall times of
-    the two truths' solves and of their gradients (s)."""
+    the two truths' solves and of their gradients (s).
+    """
     from .gradient import truth_gradient
 
     if d.beam.tip_force_N[2] == 0.0:

@@ -141,7 +141,8 @@ def decode(cls_name: str, tree: Any, arrays: dict[str, np.ndarray], path: str = 
 
 def check_truth(result: TruthResult) -> None:
     """Shapes and values a TruthResult must have (EntryError otherwise): finite positive
-    frequencies, selected arrays of one length N, indices into the computed modes."""
+    frequencies, selected arrays of one length N, indices into the computed modes.
+    """
     w = result.omega_rad_s
     n = w.shape[0] if w.ndim == 1 else -1
     if n < 1 or not np.all(np.isfinite(w)) or np.any(w <= 0):

@@ -76,7 +76,8 @@ def estimate_skipped(model: str, modal: ModalSolution) -> bool:
 
 def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.ndarray):
     """The modal solution one mesh level finer (beam: twice the elements), or None for a model
-    whose next level is not estimated (the solid: minutes) or too large (``ESTIMATE_MAX_DOFS``)."""
+    whose next level is not estimated (the solid: minutes) or too large (``ESTIMATE_MAX_DOFS``).
+    """
     if model not in ESTIMATED_MODELS or estimate_skipped(model, modal):
         return None
     # a few modes beyond the highest selected one: the order shifts by 1e-4 between levels at most
@@ -106,7 +107,8 @@ def _match(modal: ModalSolution, finer: ModalSolution, index: np.ndarray) -> np.
 def error_estimate_pct(modal: ModalSolution, finer: ModalSolution | None,
                        index: np.ndarray) -> np.ndarray | None:
     """Estimated relative error of each selected frequency, in % (>= PRECISION_FLOOR_PCT):
-    2 |omega_l / omega_(l+1) - 1| against the next mesh level; None without ``finer``."""
+    2 |omega_l / omega_(l+1) - 1| against the next mesh level; None without ``finer``.
+    """
     if finer is None:
         return None
     j = _match(modal, finer, index)
@@ -117,7 +119,8 @@ def error_estimate_pct(modal: ModalSolution, finer: ModalSolution | None,
 def beam_theory_gap(beam: Beam, modal: ModalSolution, index: np.ndarray,
                     labels: tuple[str, ...]) -> tuple[np.ndarray, tuple[str, ...]]:
     """Gap 100 (omega_1D / omega_truth - 1) in % of each selected mode to its best-MAC 1D beam
-    mode, and its cause (one short phrase each)."""
+    mode, and its cause (one short phrase each).
+    """
     from .beam import beam_modal
 
     idx = np.asarray(index)

@@ -45,7 +45,8 @@ _ARC_RATIO = 2.0
 
 def half_boundary(beam: Beam) -> np.ndarray:
     """Vertices (2, m) of the closed upper half of the planform, counter-clockwise from (0, 0):
-    the axis, the tip edge, the outline from tip to root and the root edge, m."""
+    the axis, the tip edge, the outline from tip to root and the root edge, m.
+    """
     L = beam.length_m
     x, w = beam.x_m, beam.half_width_m
     return np.hstack([[[0.0, L], [0.0, 0.0]], np.vstack([x[::-1], w[::-1]])])
@@ -53,7 +54,8 @@ def half_boundary(beam: Beam) -> np.ndarray:
 
 def _samples(poly: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray]:
     """Points on the closed polygon (its vertices, points at most ``spacing`` apart and points
-    graded towards every vertex) and their arc length from the first vertex."""
+    graded towards every vertex) and their arc length from the first vertex.
+    """
     nxt = np.roll(poly, -1, axis=1)
     seg = np.linalg.norm(nxt - poly, axis=0)
     start = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
@@ -90,7 +92,8 @@ def _feature_sizes(poly: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nda
 
 def size_field(beam: Beam, h_m: float, growth: float = 0.5, floor_m: float = 0.0):
     """The element-size function s(points (2, n)) -> (n,) m of ``feature_size_tri_mesh``:
-    min(h_m, min_q lfs(q) + growth |p - q|) over boundary points q, at least ``floor_m``."""
+    min(h_m, min_q lfs(q) + growth |p - q|) over boundary points q, at least ``floor_m``.
+    """
     poly = half_boundary(beam)
     q, lfs = _feature_sizes(poly, h_m / 4.0)
     keep = lfs < h_m
@@ -130,7 +133,8 @@ def _boundary_points(poly: np.ndarray, size) -> np.ndarray:
 
 def _lattice(h: float, boxes: np.ndarray) -> np.ndarray:
     """Points (2, n) of the triangular lattice of spacing h (rows parallel to the axis, the axis
-    a row) that fall in any of the boxes (4, b): x0, x1, y0, y1."""
+    a row) that fall in any of the boxes (4, b): x0, x1, y0, y1.
+    """
     dy = h * np.sqrt(3.0) / 2.0
     pts = []
     for x0, x1, y0, y1 in boxes.T:
@@ -193,7 +197,8 @@ def _interior_points(beam: Beam, size, h: float, poly: np.ndarray) -> np.ndarray
 def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
                           floor_m: float = 0.0) -> MeshTri:
     """Triangle mesh of the planform with element size ``size_field`` (h_m where the geometry is
-    wide), mirror-symmetric about y = 0, every planform vertex a node (nodes in m)."""
+    wide), mirror-symmetric about y = 0, every planform vertex a node (nodes in m).
+    """
     size = size_field(beam, h_m, growth, floor_m)
     poly = half_boundary(beam)
     boundary = _boundary_points(poly, size)
@@ -234,7 +239,8 @@ def _mirror_half(beam: Beam, p_up: np.ndarray, t_up: np.ndarray) -> MeshTri:
 
 def tri_to_quads(mesh: MeshTri) -> MeshQuad:
     """Split every triangle into three quadrilaterals (vertex, edge midpoint, centroid, edge
-    midpoint), counter-clockwise; shared edges get one midpoint, so the mesh is conforming."""
+    midpoint), counter-clockwise; shared edges get one midpoint, so the mesh is conforming.
+    """
     p, t = mesh.p, mesh.t.copy()
     v = p[:, t]
     cw = ((v[0, 1] - v[0, 0]) * (v[1, 2] - v[1, 0])

@@ -66,7 +66,8 @@ def x_stations(
 
 def _interval_counts(beam: Beam, h_m: float, growth: float, narrow: bool):
     """For every vertex interval: sample points (m), the cumulative element count along them
-    (the integral of 1 / size) and the number of elements ``x_stations`` puts there."""
+    (the integral of 1 / size) and the number of elements ``x_stations`` puts there.
+    """
     starts, ends = beam.intervals_m  # a width step is one station
     for a, b in zip(starts, ends, strict=True):
         xs = np.linspace(a, b, 201)
@@ -107,7 +108,8 @@ def local_size(
 def _upper_outline(beam: Beam, xs: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     """Points (2, b) on the upper outline y = w(x), a column's top at every station plus
     extra points on steep pieces so that boundary spacing follows the local size. A width step
-    is a vertical piece at its station, from the root-side to the tip-side half-width."""
+    is a vertical piece at its station, from the root-side to the tip-side half-width.
+    """
     wl = beam.half_width_at(xs, "left")
     wr = beam.half_width_at(xs, "right")
     # the outline's corners: two at a step's station, one elsewhere
@@ -175,14 +177,16 @@ def delaunay_with_outline(
 
 def inner_half_width(beam: Beam, x_m: np.ndarray) -> np.ndarray:
     """min of the two one-sided half-widths at ``x_m`` (m): a point (x, y) with |y| below it is
-    inside the planform; at a step's station the points between the two are on its outline."""
+    inside the planform; at a step's station the points between the two are on its outline.
+    """
     return np.minimum(beam.half_width_at(x_m, "left"), beam.half_width_at(x_m, "right"))
 
 
 def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.ndarray:
     """Planform vertices (2, r) of the upper outline (and their mirror images) where the interior
     angle exceeds pi + ``min_turn_rad``: re-entrant corners, where plate bending moments are
-    singular and uniform refinement converges slowly, m."""
+    singular and uniform refinement converges slowly, m.
+    """
     x, w = beam.x_m, beam.half_width_m
     direction = np.arctan2(np.diff(w), np.diff(x))
     # walking the upper outline root -> tip the plate lies on the right: a left turn is re-entrant
@@ -193,7 +197,8 @@ def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.
 def refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: np.ndarray) -> MeshTri:
     """Refine (red-green-blue, conforming) the elements touching a corner until they are no
     longer than that corner's ``target_m``: a geometric grading towards each corner (sizes double
-    outwards)."""
+    outwards).
+    """
     if not corners.size:
         return mesh
     tol = 1e-9 * float(np.ptp(mesh.p[0]))

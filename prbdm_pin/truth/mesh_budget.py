@@ -81,7 +81,8 @@ def check_plate_budget(beam: Beam, level: int, element: str = "argyris") -> None
 
 def check_solid_budget(beam: Beam, level: int) -> None:
     """BeamInputError when the solid mesh at ``level`` must exceed ``max_mesh_dofs``: its
-    in-plane size is at most 2 L / (10 2^level) everywhere, which bounds its DOFs from below."""
+    in-plane size is at most 2 L / (10 2^level) everywhere, which bounds its DOFs from below.
+    """
     h = 2.0 * element_size(beam, level)
     dofs = SOLID_DOFS_PER_AREA * beam.planform_area_m2 / h**2
     if dofs > limits().max_mesh_dofs:

@@ -62,7 +62,8 @@ def plate_forms(D_Nm: float, nu: float, rho_h_kg_m2: float):
 def assemble_plate(basis: Basis, D_Nm: float, nu: float, rho_h_kg_m2: float):
     """Plate stiffness and mass matrices; the same forms as ``plate_forms`` but contracted over
     all basis-function pairs at once (scikit-fem's ``asm`` loops over the 21 x 21 pairs, which
-    dominated the solve time)."""
+    dominated the solve time).
+    """
     from scipy.sparse import coo_matrix
 
     dx = basis.dx  # (nel, nq)
@@ -226,7 +227,8 @@ def plate_modal(
 
 def classified_plate_modes(beam: Beam, pm: PlateModes, level: int) -> ModalSolution:
     """The ``ModalSolution`` of raw plate modes ``pm`` of ``beam`` at mesh ``level``: z mass
-    participation, symmetry about x and MAC with beam modes (``plate_modal``'s classification)."""
+    participation, symmetry about x and MAC with beam modes (``plate_modal``'s classification).
+    """
     from .modes import beam_mac, mass_participation_z, symmetry_about_x
 
     element = pm.element

@@ -121,7 +121,8 @@ def discretise(beam: Beam, level: int | None) -> SolidDiscretisation:
 
 class ScalarPattern:
     """CSR pattern of the scalar element matrices (27 x 27 per element) and the slot of every
-    element-matrix entry, so each scalar matrix is one ``bincount``."""
+    element-matrix entry, so each scalar matrix is one ``bincount``.
+    """
 
     def __init__(self, element_dofs: np.ndarray, n: int):
         e = element_dofs.T.astype(np.int64)  # (E, 27)
@@ -138,7 +139,8 @@ class ScalarPattern:
 
     def vector_matrix(self, blocks: np.ndarray) -> sp.csr_matrix:
         """The (3n, 3n) matrix whose 3 x 3 block at (a, b) is ``blocks[slot(a, b)]``: vector DOF
-        3 a + i is component i at scalar DOF a."""
+        3 a + i is component i at scalar DOF a.
+        """
         return sp.bsr_matrix((blocks, self.indices, self.indptr),
                              shape=(3 * self.n, 3 * self.n)).tocsr()
 

@@ -77,7 +77,8 @@ class Kinematics:
 
     def evaluate(self, u: np.ndarray, tangent: bool = True, which: str = "full"):
         """Internal force vector (all DOFs) and, if asked, the tangent stiffness (CSR) on
-        ``which`` DOFs: ``"full"`` or ``"free"``."""
+        ``which`` DOFs: ``"full"`` or ``"free"``.
+        """
         lam, mu = self.d.lam, self.d.mu
         ne, na = self.dofs.shape
         nd = 3 * na
@@ -153,7 +154,8 @@ class TangentSolver:
 def solve_nonlinear(beam, d: SolidDiscretisation, f_ext: np.ndarray, load_steps: int, tol: float,
                     max_iter: int, progress=None, stats=None) -> tuple[np.ndarray, int]:
     """Displacements (m, all vector DOFs) under the dead load ``f_ext`` (N) and the number of
-    converged load steps; an increment whose Newton iteration fails is halved."""
+    converged load steps; an increment whose Newton iteration fails is halved.
+    """
     kin = Kinematics(d)
     solver = TangentSolver(order=d.order)
     free = d.free

@@ -81,7 +81,8 @@ class ModalGains:
     def static_tip_z_m(self, tip_force_N: float = 0.0,
                        moments_Nm: Sequence[float] | np.ndarray = ()) -> float:
         """Clamped static tip z (m) of the modal model under a tip force (N) and actuator
-        moments (N m; none given: all zero): sum_k c_k f_k / omega_k^2 over the selected modes."""
+        moments (N m; none given: all zero): sum_k c_k f_k / omega_k^2 over the selected modes.
+        """
         m = np.asarray(moments_Nm, dtype=float).reshape(-1)
         if m.size == 0:
             m = np.zeros(self.actuators_m.shape[0])
@@ -94,7 +95,8 @@ class ModalGains:
 
 def check_actuators(actuators: object, length_m: float) -> np.ndarray:
     """Actuator stations as an (a, 2) float array; BeamInputError naming ``actuators[i]``
-    unless 0 <= x_a < x_b <= L (m)."""
+    unless 0 <= x_a < x_b <= L (m).
+    """
     try:
         st = np.array(actuators, dtype=float)
     except (TypeError, ValueError) as exc:

@@ -112,7 +112,8 @@ def _check_number(name: str, value: object, unit: str, upper: float = np.inf) ->
 
 def beam_inertia_kg_m2(gains: ModalGains, hub_radius_m: float) -> float:
     """J_beam = int rho t (r + x)^2 dA: the undeformed beam's inertia about the hub axis, kg m^2
-    (r = ``hub_radius_m``, m)."""
+    (r = ``hub_radius_m``, m).
+    """
     r = hub_radius_m
     return gains.mass_kg * r**2 + 2.0 * r * gains.first_moment_kg_m + gains.second_moment_kg_m2
 
@@ -159,7 +160,8 @@ def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: f
 
 def hub_frequencies_rad_s(M: np.ndarray, K: np.ndarray) -> np.ndarray:
     """Undamped frequencies (rad/s, ascending) of K v = omega^2 M v, the symmetric generalised
-    eigenproblem (M never inverted); the rigid mode's rounding is clipped to 0."""
+    eigenproblem (M never inverted); the rigid mode's rounding is clipped to 0.
+    """
     lam = scipy.linalg.eigh(K, M, eigvals_only=True)
     return np.sqrt(np.clip(lam, 0.0, None))
 
@@ -173,7 +175,8 @@ def _check_damping(damping: object) -> str:
 def hub_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.ndarray:
     """D = M Phi_f diag(2 zeta omega_f) Phi_f^T M over the hub system's flexible modes Phi_f
     (mass-normalised, the rigid mode taken out exactly): each flexible mode of (K, M) gets the
-    ratio ``damping_ratio``, the rigid rotation none; the PRBDM plant's ``"modal"`` form."""
+    ratio ``damping_ratio``, the rigid rotation none; the PRBDM plant's ``"modal"`` form.
+    """
     from ...plant.hub import hub_modes
 
     omega, Phi = hub_modes(M, np.diag(K)[1:])

@@ -61,7 +61,8 @@ def _line_rule(basis: Basis, x0: float, half_width: float) -> tuple[np.ndarray, 
 
 def line_average_matrix(basis: Basis, x0_m: float, half_width_m: float, d_dx: bool = False):
     """Row vector (1, DOFs): a field's width average (or its x derivative's, ``d_dx``) along the
-    line x = x0 over |y| <= half_width (m)."""
+    line x = x0 over |y| <= half_width (m).
+    """
     y, w = _line_rule(basis, float(x0_m), float(half_width_m))
     P = probe_matrix(basis, np.full(y.size, float(x0_m)), y, d_dx)
     return (P.T @ w)[None, :]
