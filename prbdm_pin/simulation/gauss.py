@@ -64,8 +64,10 @@ def gauss_frequency_ratio(omega_dt: float | np.ndarray) -> float | np.ndarray:
 
 def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
               ) -> Samples:
-    """Fixed steps of at most ``settings.dt_s`` (s) from (q0 rad, v0 rad/s) over
-    ``settings.duration_s``; every step, or quintic Hermite samples every ``output_dt_s``.
+    """Integrate with fixed Gauss-Legendre steps of at most ``settings.dt_s`` (s).
+
+    From (q0 rad, v0 rad/s) over ``settings.duration_s``; samples every step, or quintic
+    Hermite samples every ``output_dt_s``.
     """
     interpolate = settings.output_dt_s is not None
     # a diverging trial step is detected and halved: no overflow warnings for it

@@ -67,8 +67,9 @@ def _anticlastic_table(nu: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
-    """Moment ratio r = M / (EI kappa) of a bent free-edged plate strip (Ashwell's anticlastic
-    restraint): 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
+    """Return the moment ratio r = M / (EI kappa) of a bent free-edged plate strip.
+
+    Ashwell's anticlastic restraint: 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
 
     Parameters
     ----------
@@ -102,8 +103,9 @@ _MAX_INITIAL_NODES = 2001
 
 
 def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
-    """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
-    unchanged when there are that few, else only those at least L / (that number) apart.
+    """Return the nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES``.
+
+    Unchanged when there are that few, else only those at least L / (that number) apart.
     """
     if s.size <= _MAX_INITIAL_NODES:
         return s
@@ -117,9 +119,10 @@ def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
 
 
 def _near_step_hint(beam: Beam) -> str:
-    """A hint naming the narrowest section or the shortest vertex interval when it is the likely
-    cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
-    step, and the C1 collocation follows neither.
+    """Return a hint naming the narrowest section or the shortest vertex interval.
+
+    Given when it is the likely cause: a section of almost no stiffness is a hinge, a width
+    change over a tiny interval a step, and the C1 collocation follows neither.
     """
     w = beam.half_width_m
     k = int(np.argmin(w))
@@ -136,8 +139,10 @@ def _near_step_hint(beam: Beam) -> str:
 
 
 class ElasticaPrimal(NamedTuple):
-    """The converged elastica for its design sensitivities: segment i (cut at the width steps)
-    is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
+    """The converged elastica for its design sensitivities.
+
+    Segment i (cut at the width steps) is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in
+    [0, L]; ``sol.sol(tau)`` rows
     4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
     vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
     half-width).

@@ -23,6 +23,7 @@ class Timings:
 
     @property
     def total_s(self) -> float:
+        """Total wall time of the solve, s."""
         return self.mesh_s + self.basis_s + self.assembly_s + self.solve_s
 
 

@@ -84,7 +84,7 @@ def _check_zeta(damping_ratio: object) -> float:
 
 
 def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02) -> ClampedModel:
-    """The clamped plant of ``gains`` (see ``clamped_model``)."""
+    """Return the clamped plant of ``gains`` (see ``clamped_model``)."""
     zeta = _check_zeta(damping_ratio)
     w = np.asarray(gains.omega_rad_s, dtype=float)
     n = w.size
@@ -106,7 +106,7 @@ def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02) -> Clampe
 def clamped_model(truth: TruthResult, beam: Beam,
                   actuators: Sequence[tuple[float, float]] = (),
                   damping_ratio: float = 0.02) -> ClampedModel:
-    """The clamped truth (its selected modes) as a linear plant.
+    """Return the clamped truth (its selected modes) as a linear plant.
 
     Parameters
     ----------

@@ -111,8 +111,9 @@ def _check_number(name: str, value: object, unit: str, upper: float = np.inf) ->
 
 
 def beam_inertia_kg_m2(gains: ModalGains, hub_radius_m: float) -> float:
-    """J_beam = int rho t (r + x)^2 dA: the undeformed beam's inertia about the hub axis, kg m^2
-    (r = ``hub_radius_m``, m).
+    """Return the undeformed beam's inertia about the hub axis, kg m^2.
+
+    J_beam = int rho t (r + x)^2 dA with r = ``hub_radius_m``, m.
     """
     r = hub_radius_m
     return gains.mass_kg * r**2 + 2.0 * r * gains.first_moment_kg_m + gains.second_moment_kg_m2
@@ -159,8 +160,10 @@ def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: f
 
 
 def hub_frequencies_rad_s(M: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Undamped frequencies (rad/s, ascending) of K v = omega^2 M v, the symmetric generalised
-    eigenproblem (M never inverted); the rigid mode's rounding is clipped to 0.
+    """Return the undamped frequencies (rad/s, ascending) of K v = omega^2 M v.
+
+    The symmetric generalised eigenproblem (M never inverted); the rigid mode's rounding is
+    clipped to 0.
     """
     lam = scipy.linalg.eigh(K, M, eigvals_only=True)
     return np.sqrt(np.clip(lam, 0.0, None))
@@ -173,9 +176,11 @@ def _check_damping(damping: object) -> str:
 
 
 def hub_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.ndarray:
-    """D = M Phi_f diag(2 zeta omega_f) Phi_f^T M over the hub system's flexible modes Phi_f
-    (mass-normalised, the rigid mode taken out exactly): each flexible mode of (K, M) gets the
-    ratio ``damping_ratio``, the rigid rotation none; the PRBDM plant's ``"modal"`` form.
+    """Return the modal damping D = M Phi_f diag(2 zeta omega_f) Phi_f^T M of the hub system.
+
+    Phi_f are the flexible modes (mass-normalised, the rigid mode taken out exactly): each
+    flexible mode of (K, M) gets the ratio ``damping_ratio``, the rigid rotation none; the PRBDM
+    plant's ``"modal"`` form.
     """
     from ...plant.hub import hub_modes
 
@@ -187,7 +192,7 @@ def hub_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.
 
 def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: float,
                       damping_ratio: float = 0.02, damping: str = "clamped") -> HybridModel:
-    """The hub model of ``gains`` (see ``hybrid_model``)."""
+    """Return the hub model of ``gains`` (see ``hybrid_model``)."""
     zeta = _check_number("damping_ratio", damping_ratio, "1", upper=1.0)
     kind = _check_damping(damping)
     M, K, Bq, Cq = hybrid_matrices(gains, hub_inertia_kg_m2, hub_radius_m)
@@ -221,7 +226,7 @@ def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m:
 def hybrid_model(truth: TruthResult, beam: Beam, hub_inertia_kg_m2: float, hub_radius_m: float,
                  actuators: Sequence[tuple[float, float]] = (),
                  damping_ratio: float = 0.02, damping: str = "clamped") -> HybridModel:
-    """The clamped truth on a rotating rigid hub, in hybrid coordinates, as a linear plant.
+    """Return the clamped truth on a rotating rigid hub, in hybrid coordinates, as a plant.
 
     Parameters
     ----------
