@@ -83,6 +83,19 @@ class BeamTask:
 
     ``beam`` is None for a random batch: the worker regenerates beam ``index`` from ``seed``
     (cheaper to ship than the beam, and reproducible anywhere).
+
+    Attributes
+    ----------
+    index : int
+        The beam's index in the batch (0-based).
+    seed : int
+        The batch's root seed.
+    settings : FitSettings
+        What is fitted (joints, fit options, truth model).
+    name : str
+        The beam's name in the records (``beam-<index>`` or the beam file's stem).
+    beam : Beam or None
+        The beam of a beam-file batch; None for a random batch.
     """
 
     index: int

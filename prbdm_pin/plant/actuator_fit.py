@@ -78,7 +78,10 @@ def clamped_modes(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray
 
 
 def _chain_amplitudes(model, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Largest |z| of the link ends and largest |section rotation| of the links, per mode."""
+    """Return the largest ``|z|`` of the link ends and ``|section rotation|`` of the links.
+
+    One of each per mode.
+    """
     x = np.cumsum(np.asarray(model.lengths_m, dtype=float))  # joints, then the tip
     arm = np.clip(x[:, None] - x[None, :-1], 0.0, None)  # dz(end i)/dq_j = -(x_i - x_j)
     z = -arm @ Phi
@@ -97,7 +100,7 @@ def profile_stations(length_m: float) -> tuple[tuple[float, float], ...]:
 
 
 def _truth_amplitudes(gains, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Return tip rotation, largest |deflection| and largest |rotation| of the truth's modes.
+    """Return tip rotation, largest ``|deflection|`` and ``|rotation|`` of the truth's modes.
 
     They are those of the truth's first n modes, from the profile patches at the end of
     ``gains``.
@@ -119,7 +122,7 @@ def mode_signs(tip_z: np.ndarray, tip_rotation: np.ndarray, truth_tip_z: np.ndar
     (``STILL_RTOL``).
 
     ``amplitudes``: (z, rotation, truth z, truth rotation), each mode's largest deflection and
-    section rotation along the beam on either side (default: each indicator's largest |value|
+    section rotation along the beam on either side (default: each indicator's largest ``|value|``
     over the modes).
 
     Raises BeamInputError when a mode moves neither tip on one side, or when the two indicators

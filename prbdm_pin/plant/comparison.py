@@ -64,7 +64,7 @@ class PairComparison:
     """The comparison of one (input, output) pair.
 
     Errors in % (None where the truth's response is zero); peaks per flexible mode as
-    (omega rad/s, |H|) or None (no resonance peak in this pair).
+    (omega rad/s, ``|H|``) or None (no resonance peak in this pair).
 
     ``frf_flexible_error_pct`` and ``rigid_gain_error_pct`` are for hub plants (None
     otherwise). The curves: ``omega_rad_s`` with the complex FRFs (output unit per input unit),
@@ -91,7 +91,7 @@ class PairComparison:
 
     @property
     def peak_errors_pct(self) -> tuple[float | None, ...]:
-        """100 (|H_prbdm| / |H_truth| - 1) at each mode's peak, None where either has none."""
+        """``100 (|H_prbdm| / |H_truth| - 1)`` at each mode's peak, None where either has none."""
         return tuple(None if a is None or b is None else 100.0 * (b[1] / a[1] - 1.0)
                      for a, b in zip(self.peaks_truth, self.peaks_prbdm, strict=True))
 

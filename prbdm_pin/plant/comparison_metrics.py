@@ -38,7 +38,7 @@ def frequency_grid(lo_rad_s: float, hi_rad_s: float, n_points: int,
 def relative_l2_band(a: np.ndarray, ref: np.ndarray, w: np.ndarray) -> float | None:
     """Return the relative L2 error of ``a`` against ``ref`` over the grid ``w``, a fraction.
 
-    sqrt(int |a - ref|^2 dw / int |ref|^2 dw) by trapezoids; None where ``ref`` is zero.
+    ``sqrt(int |a - ref|^2 dw / int |ref|^2 dw)`` by trapezoids; None where ``ref`` is zero.
     """
     den = np.trapezoid(np.abs(ref) ** 2, w)
     if not den > 0.0:
@@ -48,10 +48,10 @@ def relative_l2_band(a: np.ndarray, ref: np.ndarray, w: np.ndarray) -> float | N
 
 def peak(response, omega_rad_s: float, zeta: float, neighbours: np.ndarray
          ) -> tuple[float, float] | None:
-    """Return the resonance peak (frequency rad/s, |H|) of ``response`` near a mode.
+    """Return the resonance peak (frequency rad/s, ``|H|``) of ``response`` near a mode.
 
     ``response(w)`` returns a complex array; the mode is at ``omega_rad_s`` with ratio
-    ``zeta``. None when |H| has no local maximum there (a mode the pair does not see). The
+    ``zeta``. None when ``|H|`` has no local maximum there (a mode the pair does not see). The
     window is omega (1 +- PEAK_WINDOW zeta), at most +-MAX_WINDOW and at most half-way to the
     ``neighbours`` (the plant's other modes).
     """
@@ -74,9 +74,9 @@ def peak(response, omega_rad_s: float, zeta: float, neighbours: np.ndarray
 def step_errors(y: np.ndarray, ref: np.ndarray) -> dict[str, float | None]:
     """Return the errors of a sampled response ``y`` against ``ref`` (uniform samples), in %.
 
-    ``step_error_pct`` = 100 ||y - ref|| / ||ref||, ``step_peak_error_pct`` = 100 (max|y| /
-    max|ref| - 1) (signed: the peak's over- or under-estimate), ``step_max_deviation_pct`` =
-    100 max|y - ref| / max|ref|; None where ``ref`` is zero.
+    ``step_error_pct`` = ``100 ||y - ref|| / ||ref||``, ``step_peak_error_pct`` =
+    ``100 (max|y| / max|ref| - 1)`` (signed: the peak's over- or under-estimate),
+    ``step_max_deviation_pct`` = ``100 max|y - ref| / max|ref|``; None where ``ref`` is zero.
     """
     top = float(np.max(np.abs(ref)))
     if not top > 0.0:

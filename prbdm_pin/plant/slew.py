@@ -172,7 +172,7 @@ class SlewResponse:
     t_s, hub_angle_rad, tip_vibration_m : ndarray
         Time, hub angle and elastic tip deflection w = tip_z + (r + L) theta.
     input_peak : ndarray (2,)
-        max |hub torque| (N m) and max |strain moment| (N m).
+        max ``|hub torque|`` (N m) and max ``|strain moment|`` (N m).
     cost : float
         J of the module notes (``inf`` when the loop is unstable).
     max_real_pole_rad_s : float
@@ -209,7 +209,7 @@ def slew_response(plant: SlewPlant, comp: Compensator, design: SlewDesign,
 
 
 def settling_time_s(t_s: np.ndarray, y: np.ndarray, final: float, band: float) -> float:
-    """Return the first time (s) after which |y - final| <= ``band`` for good.
+    """Return the first time (s) after which ``|y - final| <= band`` for good.
 
     ``inf`` if the last sample is outside the band.
     """

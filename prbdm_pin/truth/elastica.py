@@ -1,7 +1,9 @@
 """Large deflection of the inextensible elastica with varying EI(x), clamped root, dead tip load.
 
 The centreline angle phi(s) (from +x towards +z) minimises
+
     1/2 int EI(s) phi'^2 ds - F . r(L),   r(L) = int (cos phi, sin phi) ds,
+
 which gives (EI phi')' = F_x sin phi - F_z cos phi with phi(0) = 0 and EI phi'(L) = 0. The
 boundary-value problem is solved with scipy's collocation solver, continuing in the load from the
 straight beam so the stable (continuously loaded) branch is followed.
@@ -15,7 +17,7 @@ scripts/target_consistency.py):
   (strain kappa f), which the energy per unit length
   ``1/2 int D (kappa^2 + f_yy^2 + 2 nu kappa f_yy) + E t kappa^2 f^2 dy`` resists. Minimising over
   f gives a beam on an elastic foundation across the width, D f_yyyy + E t kappa^2 f = 0 with free
-  edges, and the moment ``M = EI kappa r(eta)``, eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t):
+  edges, and the moment ``M = EI kappa r(eta)``, eta = ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)``:
   r = 1 for a narrow or slightly bent strip (the beam) and 1 / (1 - nu^2) for a wide or strongly
   bent one (the plate's cylindrical bending). This is geometric nonlinearity of the section that
   a 1D elastica lacks and a linear plate solve cannot see.
@@ -74,7 +76,7 @@ def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
     Parameters
     ----------
     eta : array_like
-        a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) with a the half-width (m), kappa the curvature
+        ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)`` with a the half-width (m), kappa the curvature
         (1/m), t the thickness (m); dimensionless.
     nu : float
         Poisson's ratio.

@@ -5,7 +5,7 @@ Per selected mode, a discretisation error estimate and the gap to 1D beam theory
 Error estimate: twice the change of each selected frequency to the next mesh level (the
 level-(l+1) mesh is the level-l mesh refined once, so the level-l nodes are its first nodes and the
 modes are matched by MAC there), floored at ``PRECISION_FLOOR_PCT``. With errors e_l converging
-at least like h (the rate at the planform's singular corners), |e_l| <= |Delta| / (1 - 1/2): an
+at least like h (the rate at the planform's singular corners), ``|e_l| <= |Delta| / (1 - 1/2)``: an
 upper bound for Morley (order 2) as for Argyris. Measured on the reference panel, the square
 plate and the tapered panel (scripts/truth_error_estimate.py): the Argyris/Morley bracket on the
 same mesh is a guaranteed bound and costs a tenth of a second, but it is the Morley error,
@@ -111,7 +111,7 @@ def error_estimate_pct(modal: ModalSolution, finer: ModalSolution | None,
                        index: np.ndarray) -> np.ndarray | None:
     """Return the estimated relative error of each selected frequency, in %.
 
-    2 |omega_l / omega_(l+1) - 1| against the next mesh level, at least PRECISION_FLOOR_PCT;
+    ``2 |omega_l / omega_(l+1) - 1|`` against the next mesh level, at least PRECISION_FLOOR_PCT;
     None without ``finer``.
     """
     if finer is None:

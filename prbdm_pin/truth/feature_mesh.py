@@ -97,7 +97,7 @@ def _feature_sizes(poly: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nda
 def size_field(beam: Beam, h_m: float, growth: float = 0.5, floor_m: float = 0.0):
     """Return the element-size function s(points (2, n)) -> (n,) m of the feature mesh.
 
-    s = min(h_m, min_q lfs(q) + growth |p - q|) over boundary points q, at least ``floor_m``
+    ``s = min(h_m, min_q lfs(q) + growth |p - q|)`` over boundary points q, at least ``floor_m``
     (used by ``feature_size_tri_mesh``).
     """
     poly = half_boundary(beam)

@@ -51,7 +51,7 @@ def x_stations(
 
     The size field is s(x) = min(h, min_k(l_k + growth * dist(x, interval_k))) over vertex
     intervals of length l_k < h, so elements next to a short interval are small and grow gently.
-    With ``narrow`` it is also at most c w_k + growth * |x - x_k| at every vertex of half-width
+    With ``narrow`` it is also at most ``c w_k + growth * |x - x_k|`` at every vertex of half-width
     w_k < h / c (c = ``NARROW_ELEMENTS``), so a narrow neck gets two elements across its
     half-width instead of slivers.
     """
@@ -184,7 +184,7 @@ def delaunay_with_outline(
 def inner_half_width(beam: Beam, x_m: np.ndarray) -> np.ndarray:
     """Return the smaller of the two one-sided half-widths at ``x_m`` (m).
 
-    A point (x, y) with |y| below it is inside the planform; at a step's station the points
+    A point (x, y) with ``|y|`` below it is inside the planform; at a step's station the points
     between the two are on its outline.
     """
     return np.minimum(beam.half_width_at(x_m, "left"), beam.half_width_at(x_m, "right"))

@@ -100,7 +100,17 @@ class ModalGains:
 def check_actuators(actuators: object, length_m: float) -> np.ndarray:
     """Return actuator stations as an (a, 2) float array, m.
 
-    Raises BeamInputError naming ``actuators[i]`` unless 0 <= x_a < x_b <= L.
+    Parameters
+    ----------
+    actuators : sequence of (x_a, x_b)
+        Patch stations, m from the root.
+    length_m : float
+        Beam length L, m.
+
+    Raises
+    ------
+    BeamInputError
+        Naming ``actuators[i]`` unless 0 <= x_a < x_b <= L.
     """
     try:
         st = np.array(actuators, dtype=float)

@@ -64,7 +64,7 @@ def _line_rule(basis: Basis, x0: float, half_width: float) -> tuple[np.ndarray, 
 def line_average_matrix(basis: Basis, x0_m: float, half_width_m: float, d_dx: bool = False):
     """Return the row vector (1, DOFs) of a field's width average along the line x = x0.
 
-    Or of its x derivative's (``d_dx``), over |y| <= half_width (m).
+    Or of its x derivative's (``d_dx``), over ``|y| <= half_width`` (m).
     """
     y, w = _line_rule(basis, float(x0_m), float(half_width_m))
     P = probe_matrix(basis, np.full(y.size, float(x0_m)), y, d_dx)
