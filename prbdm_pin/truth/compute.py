@@ -54,7 +54,7 @@ def compute_truth(
     check_convergence: bool = False,
     error_tol_pct: float | None = ERROR_TOL_PCT,
 ) -> TruthResult:
-    """The finite-element truth of a beam: selected bending frequencies and tip-load response.
+    """Compute the finite-element truth of a beam: bending frequencies and tip-load response.
 
     Parameters
     ----------
@@ -205,7 +205,7 @@ def compute_truth(
 
 
 def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> TruthResult:
-    """``result``, or TruthError when a selected mode's error estimate exceeds the tolerance."""
+    """Return ``result``; TruthError when a selected mode's error estimate exceeds the tolerance."""
     est = result.error_estimate_pct
     if error_tol_pct is None or est is None or np.all(est <= error_tol_pct):
         return result
