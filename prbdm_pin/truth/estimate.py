@@ -6,23 +6,19 @@ Error estimate: twice the change of each selected frequency to the next mesh lev
 level-(l+1) mesh is the level-l mesh refined once, so the level-l nodes are its first nodes and the
 modes are matched by MAC there), floored at ``PRECISION_FLOOR_PCT``. With errors e_l converging
 at least like h (the rate at the planform's singular corners), ``|e_l| <= |Delta| / (1 - 1/2)``: an
-upper bound for Morley (order 2) as for Argyris. Measured on the reference panel, the square
-plate and the tapered panel (scripts/truth_error_estimate.py): the Argyris/Morley bracket on the
-same mesh is a guaranteed bound and costs a tenth of a second, but it is the Morley error,
-0.3-16 % at level 0 where Argyris is within 0.008 % of level 2, so it would refuse every default
-truth; the next-level change is sharp, and costs one more solve (the reference panel's default
-truth: 3.8 s of CPU time without the estimate, 10.4 s with it; it is cached with the truth).
+upper bound for Morley (order 2) as for Argyris. The Argyris/Morley bracket on the same mesh
+would be a guaranteed bound and cheap, but it measures the Morley error, far larger than the
+Argyris one, so it would refuse every default truth; the next-level change is sharp and costs one
+more solve (cached with the truth). scripts/truth_error_estimate.py compares the two.
 Nested conforming meshes make Argyris frequencies decrease with the level in exact arithmetic; in
-floating point the graded meshes reproduce them to about 2.5e-5 only (the reference panel's mode 1
-rises by 3e-6 from level 0 to level 1, then falls by 2.5e-5 to level 2), hence the floor.
+floating point the graded meshes reproduce them only to a few 1e-5, hence the floor.
 
 Beam-theory gap: 100 (omega_1D / omega_truth - 1) against the 1D Euler-Bernoulli beam
 (``beam.py``) mode of best MAC. Its cause: for a mode that is not beam-like, the mode has no 1D
 counterpart (chordwise, torsion, mixed); for a beam-like mode of a slender strip (full width at
 most ``SLENDER_WIDTH`` L everywhere) a plate stiffer than the beam is the clamped Poisson effect
-(the root clamp blocks the anticlastic curvature: 0.3-0.5 % on uniform-narrow.json, 0.7-1.1 % on
-the tapered panel); on a wider panel, or a plate softer than the beam, it is plate action (2D
-load paths of a wide or jagged planform).
+(the root clamp blocks the anticlastic curvature); on a wider panel, or a plate softer than the
+beam, it is plate action (2D load paths of a wide or jagged planform).
 """
 
 from __future__ import annotations
