@@ -20,6 +20,7 @@ __all__ = ["finite_positive", "float_array", "check_representable", "check_stati
 
 
 def finite_positive(name: str, value: Any) -> float:
+    """Return ``value`` as a finite float > 0; a BeamInputError names the field ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise BeamInputError(f"{name} = {value!r}: must be a number")
     v = float(value)
@@ -31,6 +32,10 @@ def finite_positive(name: str, value: Any) -> float:
 
 
 def float_array(name: str, value: Any, unit: str) -> np.ndarray:
+    """Return ``value`` as a flat float array of finite numbers.
+
+    A BeamInputError names the field ``name``, the offending entry and the ``unit``.
+    """
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
         raise BeamInputError(f"{name} = {value!r}: must be a list of numbers ({unit})")
     for i, v in enumerate(value):
@@ -85,8 +90,12 @@ def check_representable(x: np.ndarray, w: np.ndarray, t: float, material: Materi
 
 
 def check_stations(x: np.ndarray, w: np.ndarray) -> None:
-    """x non-decreasing from 0 to L, at most two vertices per station, steps inside (0, L) with
-    different half-widths (a repeated vertex is not a step and would only hide a typo)."""
+    """Check the stations ``x`` (m) and half-widths ``w`` (m) of a planform.
+
+    ``x`` must not decrease from 0 to L, at most two vertices may share a station, and steps
+    lie inside (0, L) with different half-widths (a repeated vertex is not a step and would
+    only hide a typo).
+    """
     dx = np.diff(x)
     bad = np.flatnonzero(dx < 0.0)
     if bad.size:

@@ -24,8 +24,9 @@ _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
 
 
 def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
-    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field
-    (keys and defaults as in :func:`load_beam`: no ``tip_force`` means no load).
+    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field.
+
+    Keys and defaults are as in :func:`load_beam`: no ``tip_force`` means no load.
 
     ``check_caps`` (the readers of beam, fit.json and model files set it) also refuses more
     than ``limits().max_vertices`` vertices; a mapping built in code is not capped.
@@ -88,10 +89,33 @@ def load_beam(path: str | os.PathLike) -> Beam:
     The file is read by :func:`prbdm_pin.jsonfile.read_json` (size, UTF-8, depth, integer
     length, finiteness); at most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
     names hold no control characters.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The beam JSON file.
+
+    Returns
+    -------
+    Beam
+        The validated beam (SI units).
     """
     return beam_from_dict(read_json(path, "beam file"), check_caps=True)
 
 
 def save_beam(beam: Beam, path: str | os.PathLike) -> Path:
-    """Write ``beam`` as beam JSON (atomically)."""
+    """Write ``beam`` as beam JSON (atomically).
+
+    Parameters
+    ----------
+    beam : Beam
+        The beam; the file holds it in SI units (m, Pa, kg/m^3, N).
+    path : str or path-like
+        The file to write; its folder is created when missing.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
     return atomic_write_json(path, beam_to_dict(beam))

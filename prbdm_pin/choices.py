@@ -38,11 +38,12 @@ class Choice(str, Enum):
     """A named choice that is also its string (JSON and f-strings see the value)."""
 
     def __str__(self) -> str:
+        """Return the choice's string, as the command line and the JSON files spell it."""
         return str(self.value)
 
     @classmethod
     def values(cls) -> tuple[str, ...]:
-        """The allowed strings, in declaration order."""
+        """Return the allowed strings, in declaration order."""
         return tuple(m.value for m in cls)
 
 

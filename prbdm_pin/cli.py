@@ -28,7 +28,7 @@ def _pin_threads() -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every available subcommand."""
+    """Build the argument parser with every available subcommand."""
     # subparsers take the parser class of their parent: every error of every command is one line
     parser = CliParser(
         prog="prbdm",

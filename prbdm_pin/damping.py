@@ -110,10 +110,13 @@ def modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarra
 
 def spring_modal_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray, xi: np.ndarray
                          ) -> np.ndarray:
-    """:func:`modal_damping` for joint springs alone, K = diag(springs) (N m/rad, all > 0),
-    with validated ratios ``xi`` (n,), through the scaled standard eigenproblem
-    (:func:`prbdm_pin.eigen.modes_from_mass`, under its guard): a linearisation builds this
-    every call, and the generalized problem's set-up costs more than the solve. N m s/rad."""
+    """Compute :func:`modal_damping` for joint springs alone, N m s/rad.
+
+    K = diag(springs) (N m/rad, all > 0), with validated ratios ``xi`` (n,), through the scaled
+    standard eigenproblem (:func:`prbdm_pin.eigen.modes_from_mass`, under its guard): a
+    linearisation builds this every call, and the generalized problem's set-up costs more than
+    the solve.
+    """
     omega, phi = modes_from_mass(M[None], springs_Nm_per_rad)
     MPhi = M @ phi[0]
     C = (MPhi * (2.0 * xi * omega[0])) @ MPhi.T
@@ -121,7 +124,7 @@ def spring_modal_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray, xi: np.n
 
 
 def eq5c_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray) -> np.ndarray:
-    """The paper's Eq. 5c damping, C = 2 diag(xi_j) (M K)^(1/2), per-joint factors xi_j.
+    """Compute the paper's Eq. 5c damping, C = 2 diag(xi_j) (M K)^(1/2), per-joint xi_j.
 
     Not symmetric in general and does not give mode k the ratio xi_k (use :func:`modal_damping`
     for that). The principal square root is computed as L (L^T K L)^(1/2) L^-1 with M = L L^T.
@@ -157,7 +160,7 @@ def _first_mode_ratio(damping_ratio: float | np.ndarray, n: int) -> float:
 def stiffness_damping_coefficient(
     M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray
 ) -> float:
-    """beta = 2 xi_1 / omega_1 of the stiffness form C = beta K, s.
+    """Compute beta = 2 xi_1 / omega_1 of the stiffness form C = beta K, s.
 
     Parameters
     ----------
@@ -221,8 +224,10 @@ def modal_ratios(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> np.ndarray:
 def damping_matrix(
     M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray, kind: str = "modal"
 ) -> np.ndarray:
-    """Damping matrix of ``kind`` ``"modal"`` (default), ``"eq5c"`` or ``"stiffness"``;
-    N m s/rad."""
+    """Compute the damping matrix of ``kind``, N m s/rad.
+
+    ``kind`` is ``"modal"`` (default), ``"eq5c"`` or ``"stiffness"``.
+    """
     if kind == "modal":
         return modal_damping(M, K, damping_ratio)
     if kind == "eq5c":

@@ -85,8 +85,10 @@ def _poses(pin_model: pin.Model, Q: np.ndarray) -> np.ndarray:
 
 
 def checked_stiffness(k: np.ndarray, n: int, m: int | None = None) -> np.ndarray:
-    """Joint springs ``k`` (N m/rad) as a float array of shape (n,) (or (m, n) when ``m`` is
-    given); raises BeamInputError unless every spring is finite, > 0 and a normal double."""
+    """Return joint springs ``k`` (N m/rad) as a float array of shape (n,), or (m, n) with ``m``.
+
+    Raises BeamInputError unless every spring is finite, > 0 and a normal double.
+    """
     k = np.asarray(k, dtype=float)
     ok_shapes = [(n,)] if m is None else [(n,), (m, n)]
     if k.shape not in ok_shapes:

@@ -29,8 +29,10 @@ COND_LIMIT = FREQUENCY_RTOL / np.finfo(float).eps
 
 
 def check_spectrum(mu: np.ndarray) -> None:
-    """Raise SolveError unless every row of ascending eigenvalues ``mu`` of S M S is positive,
-    finite and within ``COND_LIMIT``."""
+    """Raise SolveError unless every row of eigenvalues ``mu`` of S M S is well conditioned.
+
+    Each row of ascending eigenvalues must be positive, finite and within ``COND_LIMIT``.
+    """
     lo, hi = mu[..., 0], mu[..., -1]
     # the common case in one pass (NaN fails every comparison): the full checks below only
     # run to find what is wrong
@@ -64,8 +66,10 @@ def _check_finite(w2: np.ndarray) -> np.ndarray:
 
 
 def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarray:
-    """Frequencies (rad/s, ascending; omega^2 in rad^2/s^2 when ``squared``) from mass matrices
-    M (n, n) or (m, n, n), kg m^2, and s = K^(-1/2) (n,) or (m, n), (N m/rad)^(-1/2).
+    """Compute frequencies from mass matrices and scaled springs.
+
+    Frequencies are in rad/s, ascending (omega^2 in rad^2/s^2 when ``squared``), from mass
+    matrices M (n, n) or (m, n, n), kg m^2, and s = K^(-1/2) (n,) or (m, n), (N m/rad)^(-1/2).
 
     No input checks: the callers validate once. Raises SolveError when the guard
     (:func:`check_spectrum`) refuses the spectrum or omega^2 overflows.
@@ -116,8 +120,10 @@ def modes_from_mass(
 def generalized_eigh(
     K: np.ndarray, M: np.ndarray, what: str, vectors: bool = True, lowest_only: bool = False
 ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-    """omega^2 (rad^2/s^2, ascending) of K phi = omega^2 M phi for full symmetric K (N m/rad)
-    and M (kg m^2), shape (n, n); with ``vectors`` also the modes Phi, Phi^T M Phi = I.
+    """Solve K phi = omega^2 M phi for omega^2 (rad^2/s^2, ascending).
+
+    K (N m/rad) and M (kg m^2) are full symmetric, shape (n, n); with ``vectors`` also the
+    modes Phi, Phi^T M Phi = I.
 
     ``lowest_only`` returns omega_1^2 alone, shape (1,) (no vectors). A failed solve (M not
     positive definite, non-finite entries) raises SolveError naming ``what``; the callers
@@ -133,6 +139,9 @@ def generalized_eigh(
 
 
 def symmetric_eigh(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues (ascending) and orthonormal eigenvectors of a symmetric matrix A (n, n), in
-    A's units; the standard problem a Cholesky factor of M turns the generalised one into."""
+    """Compute eigenvalues (ascending) and orthonormal eigenvectors of a symmetric A (n, n).
+
+    Eigenvalues are in A's units; this is the standard problem a Cholesky factor of M turns
+    the generalised one into.
+    """
     return np.linalg.eigh(A)

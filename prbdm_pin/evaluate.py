@@ -1,6 +1,9 @@
-"""A design evaluated against its target: through the Pinocchio model (:func:`evaluate`, what
-every reported number comes from) and, for the fit's inner loop, through the closed-form planar
-chain for many designs at once (:func:`batch_losses`), which the tests check against it."""
+"""A design evaluated against its target.
+
+Through the Pinocchio model (:func:`evaluate`, what every reported number comes from) and, for
+the fit's inner loop, through the closed-form planar chain for many designs at once
+(:func:`batch_losses`), which the tests check against it.
+"""
 
 from __future__ import annotations
 
@@ -69,24 +72,31 @@ class Evaluation:
 
     @property
     def eigen_loss_pct(self) -> float:
+        """Eigen loss: the per-pose relative eigen errors averaged over the poses (Eq. 17), %."""
         return float(100.0 * np.mean(self.eigen_errors))
 
     @property
     def deflection_loss_pct(self) -> float:
+        """Tip error normalised by the truth tip position (Eq. 19), %; NaN without statics."""
         return math.nan if self.position_errors is None else float(
             100.0 * np.mean(self.position_errors))
 
     @property
     def displacement_loss_pct(self) -> float:
+        """Tip error normalised by the truth tip displacement, %; NaN without statics."""
         return math.nan if self.displacement_errors is None else float(
             100.0 * np.mean(self.displacement_errors))
 
     @property
     def combined_loss_pct(self) -> float:
+        """Combined loss sqrt(eigen^2 + deflection^2) (Eq. 27), %."""
         return float(math.hypot(self.eigen_loss_pct, self.deflection_loss_pct))
 
     def tip_loss_pct(self, norm: str = "position") -> float:
-        """The tip loss in the normalisation ``norm`` (``objectives.DEFLECTION_NORMS``), %."""
+        """Return the tip loss in the normalisation ``norm``, %.
+
+        ``norm`` is one of ``objectives.DEFLECTION_NORMS``.
+        """
         if check_deflection_norm(norm) == "position":
             return self.deflection_loss_pct
         return self.displacement_loss_pct
@@ -126,17 +136,31 @@ def chain_mass_matrices(problem: FitProblem, lengths_m: np.ndarray):
 
 
 def chain_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Frequencies (rad/s, ascending) from :func:`chain_mass_matrices`' M, shape (..., m, n, n),
-    and springs K, shape (..., n) (N m/rad): shape (..., m, n)."""
+    """Compute frequencies from :func:`chain_mass_matrices`' mass matrices and springs.
+
+    Parameters
+    ----------
+    M : ndarray, shape (..., m, n, n)
+        Mass matrices at the poses, kg m^2.
+    K : ndarray, shape (..., n)
+        Joint springs, N m/rad.
+
+    Returns
+    -------
+    ndarray, shape (..., m, n)
+        Natural frequencies at each pose, ascending, rad/s.
+    """
     n = M.shape[-1]
     s = np.broadcast_to((1.0 / np.sqrt(K))[..., None, :], M.shape[:-1])
     return eig_scaled(M.reshape(-1, n, n), s.reshape(-1, n)).reshape(M.shape[:-1])
 
 
 def fast_unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
-    """Unit-factor springs ``K0`` and frequencies over the poses (rad/s), as
-    :func:`unit_frequencies` but through :func:`chain_mass_matrices` (the fit's inner loop);
-    shapes (n,), (m, N) for one design, (B, n), (B, m, N) for a stack."""
+    """Return unit-factor springs ``K0`` (N m/rad) and frequencies over the poses (rad/s).
+
+    As :func:`unit_frequencies` but through :func:`chain_mass_matrices` (the fit's inner loop);
+    shapes (n,), (m, N) for one design, (B, n), (B, m, N) for a stack.
+    """
     M, K0 = chain_mass_matrices(problem, lengths_m)
     return K0, chain_frequencies(M, K0)[..., : problem.n_freq]
 
@@ -198,8 +222,9 @@ def evaluate(
 
 @dataclass(frozen=True, eq=False)
 class BatchLosses:
-    """Per-pose errors of a stack of designs (rows), as fractions; NaN where a design cannot
-    be solved.
+    """Per-pose errors of a stack of designs (rows), as fractions.
+
+    NaN where a design cannot be solved.
 
     Attributes
     ----------
@@ -231,14 +256,17 @@ class BatchLosses:
         return 100.0 * self.displacement_errors.mean(axis=1)
 
     def tip_errors(self, norm: str = "position") -> np.ndarray | None:
-        """The tip errors in the normalisation ``norm`` (``objectives.DEFLECTION_NORMS``)."""
+        """Return the tip errors in the normalisation ``norm``, as fractions.
+
+        ``norm`` is one of ``objectives.DEFLECTION_NORMS``.
+        """
         if check_deflection_norm(norm) == "position":
             return self.position_errors
         return self.displacement_errors
 
 def batch_losses(problem: FitProblem, lengths_m: np.ndarray, factors: np.ndarray,
                  deflection: bool = True) -> BatchLosses:
-    """The losses of :func:`evaluate` for many designs at once, without Pinocchio.
+    """Compute the losses of :func:`evaluate` for many designs at once, without Pinocchio.
 
     The population of a Pareto generation or a finite-difference stencil is evaluated in one
     pass: closed-form mass matrices (:func:`chain_mass_matrices`), one stacked eigensolve, and

@@ -133,7 +133,7 @@ __all__ = [
 def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
               actuators=()) -> str:
-    """The model's URDF with ``<dynamics damping>`` (stiffness form) and the record comment.
+    """Return the model's URDF with ``<dynamics damping>`` (stiffness form) and record comment.
 
     Parameters as :func:`export_record`; a hub model gets the revolute joint ``hub`` (see the
     module notes). URDF has no tendons: ``actuators`` are recorded in the comment only. With
@@ -180,12 +180,28 @@ def export_model(model, path: str | os.PathLike, fmt: str,
                  damping_ratio: float | np.ndarray = 0.02, *, damping_form: str | None = None,
                  omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None
                  ) -> Path:
-    """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt`` (``"urdf"``,
-    ``"mjcf"`` or ``"json"``).
+    """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt``.
 
-    ``damping_ratio``, ``damping_form``, ``omega_truth_rad_s``, ``actuators`` (strain actuators)
-    and ``inputs`` (MJCF only) as :func:`export_record` (which gives what the file records, for
-    a command to print).
+    Parameters
+    ----------
+    model : PrbdmModel
+        The model to export.
+    path : str or path-like
+        The file to write (atomically).
+    fmt : {"urdf", "mjcf", "json"}
+        The file format.
+    damping_ratio : float or ndarray (n,)
+        Mode 1's damping ratio (stiffness form) or each mode's (modal form), dimensionless; 0
+        writes no damping.
+    damping_form, omega_truth_rad_s, actuators, inputs
+        As :func:`~prbdm_pin.export_record.export_record` (which gives what the file records,
+        for a command to print): the damping form, the truth frequencies (rad/s), the strain
+        actuators and the inputs (MJCF only).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
     """
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")

@@ -1,5 +1,7 @@
-"""The export record as the text of an XML comment (URDF, MJCF) and read back from it: one
-``key: values`` line per field, under a fixed head line."""
+"""The export record as the text of an XML comment (URDF, MJCF), and read back from it.
+
+The comment holds one ``key: values`` line per field, under a fixed head line.
+"""
 
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ RECORD_HEAD = " prbdm_pin export record (prbdm_pin.export.read_export_record rea
 
 
 def number_text(v: float) -> str:
-    """A float as text that reads back to the same double."""
+    """Write a float as text that reads back to the same double."""
     return repr(float(v))
 
 
@@ -84,7 +86,9 @@ def comment_text(record: ExportRecord) -> str:
 
 
 def read_export_record(text: str) -> ExportRecord | None:
-    """The :class:`ExportRecord` in the comment of an exported URDF or MJCF text (None if none).
+    """Read the :class:`ExportRecord` in the comment of an exported URDF or MJCF text.
+
+    None when the text has none.
 
     Raises BeamInputError when the record is there but malformed.
     """

@@ -1,5 +1,7 @@
-"""The MJCF (MuJoCo) text of a PRBDM: the chain, a hub when the model has one, and the plant's
-inputs as MuJoCo actuators.
+"""The MJCF (MuJoCo) text of a PRBDM.
+
+The text holds the chain, a hub when the model has one, and the plant's inputs as MuJoCo
+actuators.
 
 Inputs (names as :func:`prbdm_pin.plant.inputs.input_map`'s) become ``<actuator>`` entries
 named by :func:`~prbdm_pin.export_plant.mujoco_name` (``strain[0]`` -> ``strain_0``), each a
@@ -38,7 +40,7 @@ _TIP_GEAR = {"tip_force_z": "0 0 1 0 0 0", "tip_force_x": "1 0 0 0 0 0"}
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
               *, damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
               actuators=(), inputs=None) -> str:
-    """The model as an MJCF string for MuJoCo.
+    """Write the model as an MJCF string for MuJoCo.
 
     Parameters
     ----------

@@ -1,5 +1,7 @@
-"""The plant side of an export: the strain actuators and inputs a file carries, and the
-stiffness-form damping of a model with or without a hub.
+"""The plant side of an export.
+
+The strain actuators and inputs a file carries, and the stiffness-form damping of a model with or
+without a hub.
 
 With a hub the damping is :func:`prbdm_pin.plant.damping.plant_damping`'s stiffness form
 (beta = 2 xi_1 / omega_1 from the lowest flexible frequency of the hub model, the hub joint
@@ -18,16 +20,37 @@ __all__ = ["stiffness_form", "plant_inputs", "mujoco_name"]
 
 
 def mujoco_name(input_name: str) -> str:
-    """The MuJoCo actuator (and tendon) name of an input: ``strain[0]`` -> ``strain_0``,
-    ``joint_torque[2]`` -> ``joint_torque_2``; names without an index are kept."""
+    """Return the MuJoCo actuator (and tendon) name of an input.
+
+    ``strain[0]`` -> ``strain_0``, ``joint_torque[2]`` -> ``joint_torque_2``; names without an
+    index are kept.
+    """
     return input_name.replace("[", "_").replace("]", "")
 
 
 def stiffness_form(model, M: np.ndarray, xi: np.ndarray, omega_hub: np.ndarray | None):
-    """The stiffness form C = beta K of ``model`` (mass matrix ``M``, kg m^2, straight pose) with
-    mode 1's ratio ``xi[0]``: beta (s), the beam joints' damping beta K_jj (N m s/rad, shape
-    (n,)) and the ratio it gives each (flexible) mode; ``omega_hub``: the hub model's flexible
-    frequencies, rad/s (None without a hub)."""
+    """Compute the stiffness form C = beta K of ``model`` with mode 1's ratio ``xi[0]``.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        The exported model, with or without a hub.
+    M : ndarray, shape (n, n) or (n+1, n+1)
+        Mass matrix at the straight pose, kg m^2.
+    xi : ndarray
+        Damping ratios; mode 1's is used.
+    omega_hub : ndarray or None
+        The hub model's flexible frequencies, rad/s (None without a hub).
+
+    Returns
+    -------
+    beta : float
+        The stiffness-proportional coefficient, s.
+    c : ndarray, shape (n,)
+        The beam joints' damping beta K_jj, N m s/rad.
+    ratios : ndarray
+        The damping ratio it gives each (flexible) mode.
+    """
     k = np.asarray(model.stiffness_Nm_per_rad, dtype=float)
     if omega_hub is None:
         K = model.stiffness_matrix()
@@ -47,10 +70,19 @@ def stiffness_form(model, M: np.ndarray, xi: np.ndarray, omega_hub: np.ndarray |
 
 def plant_inputs(model, fmt: str, actuators, inputs
                  ) -> tuple[np.ndarray, tuple, tuple[str, ...]]:
-    """Check a plant's strain actuators (on the beam, their joint weights one per joint) and
-    the inputs a file of ``fmt`` drives; returns the spans [x_start_m, x_end_m] (m, shape
-    (k, 2)), each actuator's joint weights (a tuple, or None for the virtual-work map) and the
-    input names."""
+    """Check a plant's strain actuators and the inputs a file of ``fmt`` drives.
+
+    Actuators must lie on the beam, with one joint weight per joint when they have weights.
+
+    Returns
+    -------
+    spans : ndarray, shape (k, 2)
+        The actuators' [x_start_m, x_end_m], m.
+    weights : tuple
+        Each actuator's joint weights (a tuple, or None for the virtual-work map).
+    names : tuple of str
+        The input names.
+    """
     from .plant.inputs import StrainActuator, parse_inputs, strain_map
 
     if isinstance(actuators, (str, bytes)) or not hasattr(actuators, "__len__"):

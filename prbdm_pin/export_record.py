@@ -1,7 +1,9 @@
-"""The record every export carries: the exported model's own frequencies, its per-mode errors
-against the truth it was fitted to, and the damping the file holds (with the modal ratios that
-damping gives). URDF and MJCF hold it as an XML comment (:func:`read_export_record` reads it back),
-JSON as fields."""
+"""The record every export carries.
+
+It holds the exported model's own frequencies, its per-mode errors against the truth it was
+fitted to, and the damping the file holds (with the modal ratios that damping gives). URDF and
+MJCF hold it as an XML comment (:func:`read_export_record` reads it back), JSON as fields.
+"""
 
 from __future__ import annotations
 
@@ -53,7 +55,7 @@ class ExportRecord:
     omega_errors_pct : ndarray, shape (min(n, N),) or None
         Signed per-mode errors 100 (omega_model / omega_truth - 1), %.
     worst_mode_error_pct : float or None
-        max |omega_errors_pct|, %.
+        ``max |omega_errors_pct|``, %.
     worst_mode : int or None
         The mode (1-based) of the worst error.
     damping_requested : str
@@ -103,6 +105,7 @@ class ExportRecord:
     strain_actuator_weights: tuple = ()
 
     def __post_init__(self) -> None:
+        """Shape the actuator spans, check one weight entry per actuator, freeze the arrays."""
         acts = np.zeros((0, 2)) if self.strain_actuators_m is None else self.strain_actuators_m
         object.__setattr__(self, "strain_actuators_m", np.reshape(acts, (-1, 2)))
         object.__setattr__(self, "inputs", tuple(self.inputs))
@@ -118,8 +121,10 @@ class ExportRecord:
             object.__setattr__(self, name, _ro(getattr(self, name)))
 
     def actuators(self) -> tuple:
-        """The recorded strain actuators as :class:`~prbdm_pin.plant.inputs.StrainActuator`,
-        with their joint weights when they have them."""
+        """Return the recorded strain actuators as :class:`~prbdm_pin.plant.inputs.StrainActuator`.
+
+        Each carries its joint weights when it has them.
+        """
         from .plant.inputs import StrainActuator
 
         w = self.strain_actuator_weights or (None,) * self.strain_actuators_m.shape[0]
@@ -151,8 +156,10 @@ class ExportRecord:
         }
 
     def comment_text(self) -> str:
-        """The record as the text of an XML comment (one ``key: values`` line each; see
-        :mod:`prbdm_pin.export_comment`)."""
+        """Return the record as the text of an XML comment.
+
+        One ``key: values`` line each; see :mod:`prbdm_pin.export_comment`.
+        """
         from .export_comment import comment_text
 
         return comment_text(self)
@@ -200,7 +207,7 @@ def export_record(
     actuators=(),
     inputs=None,
 ) -> ExportRecord:
-    """The :class:`ExportRecord` of ``model`` exported as ``fmt``.
+    """Compute the :class:`ExportRecord` of ``model`` exported as ``fmt``.
 
     Parameters
     ----------
@@ -265,8 +272,10 @@ def export_record(
 
 
 def read_export_record(text: str) -> ExportRecord | None:
-    """The :class:`ExportRecord` in the comment of an exported URDF or MJCF text (None if
-    none); see :func:`prbdm_pin.export_comment.read_export_record`."""
+    """Read the :class:`ExportRecord` in the comment of an exported URDF or MJCF text.
+
+    None if there is none; see :func:`prbdm_pin.export_comment.read_export_record`.
+    """
     from .export_comment import read_export_record as read
 
     return read(text)

@@ -1,5 +1,7 @@
-"""``fit.json``: a :class:`~prbdm_pin.results.FitResult` written with the beam it was fitted to,
-and read back validated."""
+"""``fit.json``: a :class:`~prbdm_pin.results.FitResult` with the beam it was fitted to.
+
+The file is written atomically and read back validated.
+"""
 
 from __future__ import annotations
 
@@ -13,8 +15,23 @@ __all__ = ["fit_beam", "load_fit", "save_fit"]
 
 
 def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
-    """Write ``fit.json`` atomically; with ``beam`` it carries the beam it was fitted to, so the
-    file alone rebuilds the model (``prbdm simulate fit.json``, ``prbdm export fit.json``)."""
+    """Write ``fit.json`` atomically.
+
+    Parameters
+    ----------
+    result : FitResult
+        The fit (lengths in m, springs in N m/rad, losses in %).
+    path : str or path-like
+        The file to write.
+    beam : Beam, optional
+        The beam it was fitted to; with it the file alone rebuilds the model
+        (``prbdm simulate fit.json``, ``prbdm export fit.json``).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
     from .geometry import beam_to_dict
 
     d = result.to_dict()
@@ -24,7 +41,7 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
 
 
 def fit_beam(d: dict[str, Any], what: str = "fit.json"):
-    """The Beam embedded in a fit.json mapping, or None when it has none."""
+    """Return the Beam embedded in a fit.json mapping, or None when it has none."""
     from .beam_file import beam_from_dict
     from .errors import BeamInputError
 
@@ -42,7 +59,24 @@ def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
 
     Every field is validated (:func:`prbdm_pin.model_files.fit_kwargs`); the link lengths must
     sum to the length of ``beam`` (a Beam), else of the beam embedded in the file, when there
-    is one. Raises BeamInputError naming the file, the field and the value.
+    is one.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The ``fit.json`` file.
+    beam : Beam, optional
+        The beam the fit was made for; its length L (m) checks the link lengths.
+
+    Returns
+    -------
+    FitResult
+        The fit (lengths in m, springs in N m/rad, losses in %).
+
+    Raises
+    ------
+    BeamInputError
+        Naming the file, the field and the value.
     """
     from .jsonfile import read_json
 

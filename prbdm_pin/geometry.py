@@ -58,6 +58,7 @@ class Beam:
     description: str = ""
 
     def __post_init__(self) -> None:
+        """Validate the fields (errors name the field and the value); freeze the arrays."""
         field_str("name", self.name)
         field_str("description", self.description)
         x = float_array("x", self.x_m, "m")
@@ -103,8 +104,10 @@ class Beam:
 
     @property
     def intervals_m(self) -> tuple[np.ndarray, np.ndarray]:
-        """Starts and ends (m) of the vertex intervals of positive length, where w is linear
-        (the zero-length "intervals" of width steps left out)."""
+        """Starts and ends (m) of the vertex intervals of positive length, where w is linear.
+
+        The zero-length "intervals" of width steps are left out.
+        """
         keep = np.diff(self.x_m) > 0.0
         return self.x_m[:-1][keep], self.x_m[1:][keep]
 
@@ -129,14 +132,18 @@ class Beam:
         return w[()] if w.ndim == 0 else w
 
     def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
-        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4 (``side`` as in
-        :meth:`half_width_at`)."""
+        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4.
+
+        ``x_m`` in m; ``side`` as in :meth:`half_width_at`.
+        """
         return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
 
     @property
     def planform_area_m2(self) -> float:
-        """Planform area in m^2 (exact for the piecewise-linear outline; a step's zero-length
-        interval adds nothing)."""
+        """Planform area in m^2.
+
+        Exact for the piecewise-linear outline; a step's zero-length interval adds nothing.
+        """
         return float(2.0 * np.trapezoid(self.half_width_m, self.x_m))
 
     @property
@@ -199,14 +206,14 @@ class Beam:
         return tuple(out)
 
     def with_tip_force(self, tip_force_N: np.ndarray) -> Beam:
-        """A copy with another tip force (N)."""
+        """Return a copy with another tip force (N)."""
         return Beam(
             self.x_m, self.half_width_m, self.thickness_m, self.material,
             np.asarray(tip_force_N, dtype=float), self.name, self.description,
         )
 
     def fingerprint(self) -> str:
-        """A stable SHA-256 hex digest of the beam's physical content (for caches)."""
+        """Return a stable SHA-256 hex digest of the beam's physical content (for caches)."""
         import hashlib
 
         d = beam_to_dict(self)
@@ -216,7 +223,7 @@ class Beam:
 
 
 def beam_to_dict(beam: Beam) -> dict[str, Any]:
-    """The beam-JSON mapping of ``beam`` (SI units)."""
+    """Return the beam-JSON mapping of ``beam`` (SI units)."""
     m = beam.material
     return {
         "name": beam.name,

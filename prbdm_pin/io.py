@@ -23,7 +23,7 @@ __all__ = [
 
 
 def _temporary(folder: Path, prefix: str) -> tuple[int, str]:
-    """A new file ``folder/<prefix><random>.tmp`` open for writing, mode 0666 & ~umask."""
+    """Create a new file ``folder/<prefix><random>.tmp`` open for writing, mode 0666 & ~umask."""
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
     for _ in range(100):
         path = str(folder / f"{prefix}{secrets.token_hex(6)}.tmp")
@@ -41,9 +41,11 @@ def _discard(tmp: str) -> None:
 
 @contextmanager
 def atomic_path(path: str | os.PathLike) -> Iterator[str]:
-    """A temporary path to write ``path`` through, for writers that take a file name
-    (``savefig``, ``meshio.write``): renamed over ``path`` when the block ends without error,
-    removed in any case. The folder is created when missing."""
+    """Yield a temporary path to write ``path`` through, for writers that take a file name.
+
+    For ``savefig``, ``meshio.write`` and the like: the temporary file is renamed over ``path``
+    when the block ends without error, removed in any case. The folder is created when missing.
+    """
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = _temporary(p.parent, f".{p.name}.")
@@ -74,6 +76,7 @@ class AtomicFile:
         self._file: Any = None
 
     def __enter__(self) -> IO[Any]:
+        """Open the temporary file and return it; on failure it is removed."""
         kw = {"encoding": "utf-8"} if self._mode == "w" else {}
         try:
             self._file = os.fdopen(self._fd, self._mode, **kw)
@@ -85,6 +88,7 @@ class AtomicFile:
             raise
 
     def __exit__(self, exc_type, exc, tb) -> None:
+        """Close the file and, without an exception, rename it over ``path``."""
         try:
             try:
                 if exc_type is None and self._fsync:

@@ -39,7 +39,7 @@ def jsonable(v: Any) -> Any:
 
 
 def from_json(v: Any) -> Any:
-    """The inverse of :func:`jsonable` on lists: None back to NaN."""
+    """Invert :func:`jsonable` on lists: None back to NaN."""
     if isinstance(v, list):
         return [from_json(x) for x in v]
     return math.nan if v is None else v
@@ -54,7 +54,7 @@ class JsonRecord:
     array_fields: frozenset[str] = frozenset()
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready mapping (NaN and inf written as null)."""
+        """Return a JSON-ready mapping (NaN and inf written as null)."""
         d = {}
         for f in fields(self):  # type: ignore[arg-type]
             v = getattr(self, f.name)
@@ -66,6 +66,7 @@ class JsonRecord:
         return d
 
     def to_json(self) -> str:
+        """Return the JSON text of :meth:`to_dict`, indented, with a final newline."""
         return json.dumps(self.to_dict(), indent=2) + "\n"
 
     def save(self, path: str | os.PathLike):
@@ -74,6 +75,7 @@ class JsonRecord:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]):
+        """Rebuild from :meth:`to_dict`'s form; names that are not fields are ignored."""
         names = {f.name for f in fields(cls)}  # type: ignore[arg-type]
         kw = {}
         for k, v in d.items():

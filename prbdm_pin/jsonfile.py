@@ -63,9 +63,11 @@ def _depth(text: str) -> int:
 
 
 def parse_json(text: str, what: str, *, scan_depth: bool = True) -> Any:
-    """Parse JSON ``text`` read from ``what`` (a name for messages) with the checks above;
+    """Parse JSON ``text`` read from ``what`` (a name for messages) with the checks above.
+
     ``scan_depth=False`` skips the (pure Python) depth scan for many short texts, where a deep
-    one still fails as a RecursionError."""
+    one still fails as a RecursionError.
+    """
     if scan_depth and _depth(text) > MAX_DEPTH:
         raise BeamInputError(f"{what}: nested deeper than {MAX_DEPTH} levels; not a data file")
     try:
@@ -136,8 +138,11 @@ def field_int(field: str, value: Any, *, minimum: int | None = None,
 
 
 def field_str(field: str, value: Any, *, printable: bool = True) -> str:
-    """``value`` as a string; with ``printable`` control characters are refused (they make
-    URDF/MJCF that no XML parser reads)."""
+    """Return ``value`` as a string; a BeamInputError names ``field`` otherwise.
+
+    With ``printable`` control characters are refused (they make URDF/MJCF that no XML parser
+    reads).
+    """
     if not isinstance(value, str):
         raise BeamInputError(f"{field} = {value!r}: must be a string")
     if printable and any(ord(c) < 32 and c not in "\t\n\r" or 0xD800 <= ord(c) <= 0xDFFF

@@ -30,7 +30,7 @@ DEFAULT_MIN_FRACTION = MIN_FRACTION
 
 
 def check_min_fraction(min_fraction: Any, joints: int, name: str = "min_fraction") -> float:
-    """The lower bound f on link lengths (a fraction of L) for an nR fit, validated.
+    """Validate the lower bound f on link lengths (a fraction of L) for an nR fit.
 
     A fit draws and bounds lengths in [f L, (1 - f) L] on a simplex that is not empty only if
     0 < f < 1 / (n + 1). ``name`` is what the error calls the value (the CLI's ``--min-link``).
@@ -162,6 +162,24 @@ def sample_lengths(
     A flat Dirichlet draw (the same law as the sorted-uniform spacings of Smith & Tromble) scaled
     to the free length L - n_links f L and shifted by the lower bound; draws that break the upper
     bound are redrawn (with n_links >= 2 the upper bound is implied and nothing is redrawn).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The only source of randomness.
+    length_m : float
+        Beam length L, m.
+    n_links : int
+        Number of links n + 1.
+    size : int
+        Number of draws.
+    min_fraction : float
+        The bound f of Eq. 15 on each link (a fraction of L; default 0.02).
+
+    Returns
+    -------
+    ndarray, shape (size, n_links)
+        The drawn link lengths, m.
     """
     n_links = _check_n_links(n_links)
     lo, hi = length_bounds(length_m, n_links, min_fraction)
@@ -183,6 +201,20 @@ def repair_lengths(lengths: np.ndarray, length_m: float,
 
     Solves min ||l - x|| subject to sum(l) = L, lo <= l <= hi: l = clip(x - tau, lo, hi) with the
     scalar tau found by bisection and then made exact on the final active set.
+
+    Parameters
+    ----------
+    lengths : ndarray, shape (n+1,) or (B, n+1)
+        Link lengths to repair, m.
+    length_m : float
+        Beam length L, m.
+    min_fraction : float
+        The bound f of Eq. 15: lo = f L, hi = (1 - f) L (default 0.02).
+
+    Returns
+    -------
+    ndarray, shape of ``lengths``
+        The nearest lengths on the bounded simplex, m.
     """
     x = np.asarray(lengths, dtype=float)
     one = x.ndim == 1

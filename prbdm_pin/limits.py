@@ -55,18 +55,19 @@ class Limits:
     max_file_bytes: int = 64 * 2**20
 
     def __post_init__(self) -> None:
+        """Check every cap is a positive integer; an error names the cap."""
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise BeamInputError(f"{f.name} = {v!r}: a cap must be a positive integer")
 
     def replace(self, **changes: int) -> Limits:
-        """A copy with some caps changed."""
+        """Return a copy with some caps changed."""
         return dataclasses.replace(self, **changes)
 
 
 def limits() -> Limits:
-    """The caps in force: the defaults, overridden by ``PRBDM_MAX_*`` environment variables."""
+    """Return the caps in force: the defaults, overridden by ``PRBDM_MAX_*`` variables."""
     changes = {}
     for field, var in ENV_VARS.items():
         text = os.environ.get(var)

@@ -35,6 +35,7 @@ class Material:
     nu: float = 0.28
 
     def __post_init__(self) -> None:
+        """Validate the name and the constants; an error names the field and the value."""
         # a control character makes the URDF/MJCF that carry the name unreadable XML
         field_str("material.name", self.name)
         finite_positive("material.E", self.E_Pa)

@@ -98,7 +98,7 @@ class PrbdmModel:
         return atomic_write_text(path, self.urdf)
 
     def new_data(self) -> pin.Data:
-        """A fresh Pinocchio workspace for this model."""
+        """Return a fresh Pinocchio workspace for this model."""
         return self.pin_model.createData()
 
     @property
@@ -118,8 +118,10 @@ class PrbdmModel:
                                  "a hub; build it without the hub")
 
     def stiffness_matrix(self) -> np.ndarray:
-        """K = diag(stiffness), N m/rad, shape (nv, nv) (with a hub: a zero first row and
-        column, the hub joint has no spring)."""
+        """Return K = diag(stiffness), N m/rad, shape (nv, nv).
+
+        With a hub the first row and column are zero: the hub joint has no spring.
+        """
         if self.hub is None:
             return np.diag(self.stiffness_Nm_per_rad)
         return np.diag(np.concatenate([[0.0], self.stiffness_Nm_per_rad]))
@@ -199,7 +201,7 @@ class PrbdmModel:
         return q, self.tip_position(q, data)
 
     def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
-        """The same chain with other springs (shares ``pin_model``)."""
+        """Return the same chain with other springs (shares ``pin_model``)."""
         k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
         return PrbdmModel(
             self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
@@ -215,7 +217,7 @@ def build_model(
     min_fraction: float = MIN_FRACTION,
     hub: Hub | None = None,
 ) -> PrbdmModel:
-    """A PRBDM of ``beam`` with the given link lengths and joint springs.
+    """Build a PRBDM of ``beam`` with the given link lengths and joint springs.
 
     Parameters
     ----------
@@ -253,9 +255,11 @@ def build_model(
 
 
 def load_urdf(path: str | os.PathLike) -> PrbdmModel:
-    """Read a PRBDM URDF file (as written by :attr:`PrbdmModel.urdf` or the URDF export),
-    springs included; a file with the revolute joint ``hub`` reads as a hub model (``hub`` set:
-    the inertia of link ``hub_body``, the radius of the ``clamp`` offset).
+    """Read a PRBDM URDF file, springs included.
+
+    The file is one written by :attr:`PrbdmModel.urdf` or the URDF export; ``path`` is a str or
+    path-like. A file with the revolute joint ``hub`` reads as a hub model (``hub`` set: the
+    inertia of link ``hub_body``, the radius of the ``clamp`` offset).
 
     The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
     ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'

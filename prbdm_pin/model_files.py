@@ -210,8 +210,11 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
 
 
 def file_kind(d: Any) -> str:
-    """What a parsed JSON file is: ``"model"``, ``"fit"``, ``"beam"``, ``"truth"``, ``"batch"``,
-    ``"pareto"`` or ``"unknown"``."""
+    """Tell what a parsed JSON file is.
+
+    One of ``"model"``, ``"fit"``, ``"beam"``, ``"truth"``, ``"batch"``, ``"pareto"`` or
+    ``"unknown"``.
+    """
     if not isinstance(d, dict):
         return "unknown"
     if isinstance(d.get("format"), str) and d["format"].startswith("prbdm-model"):

@@ -1,6 +1,7 @@
-"""The model JSON file: a PRBDM's parameters, its plant (hub, strain actuators) and its export
-record, written by :func:`model_dict` and read back, validated, by :func:`read_model_json` and
-:func:`read_plant_json`.
+"""The model JSON file: a PRBDM's parameters, its plant (hub, strain actuators), its record.
+
+The file is written by :func:`model_dict` and read back, validated, by :func:`read_model_json`
+and :func:`read_plant_json`.
 
 Plant fields: ``hub`` is null or ``{"inertia_kg_m2": J, "radius_m": r}``; ``actuators`` is a
 list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b), with
@@ -31,8 +32,11 @@ JSON_FORMAT = "prbdm-model/1"
 def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
                damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
                actuators=()) -> dict[str, Any]:
-    """JSON-ready parameters of ``model`` (SI units), its hub and strain ``actuators``, and its
-    :class:`~prbdm_pin.export_record.ExportRecord` fields."""
+    """Return the JSON-ready parameters of ``model`` (SI units) with its plant and record.
+
+    The mapping holds the model's hub and strain ``actuators``, and its
+    :class:`~prbdm_pin.export_record.ExportRecord` fields.
+    """
     rec = export_record(model, "json", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators)
     s = model.sections
@@ -137,11 +141,26 @@ def _actuators(what: str, value: Any, length_m: float, n_joints: int) -> tuple:
 
 
 def read_plant_json(path: str | os.PathLike):
-    """The PrbdmModel (with its hub, if the file records one) and the strain actuators
-    (tuple of :class:`~prbdm_pin.plant.inputs.StrainActuator`) of a model JSON file.
+    """Read the model and the strain actuators of a model JSON file.
 
-    Raises BeamInputError naming the file and the field (``hub.inertia_kg_m2``,
-    ``actuators[1].x_end_m``, ``actuators[0].joint_weights``, ...).
+    Parameters
+    ----------
+    path : str or path-like
+        A model JSON file (``prbdm-model/1``, as the JSON export writes it).
+
+    Returns
+    -------
+    model : PrbdmModel
+        The model, with its hub if the file records one.
+    actuators : tuple of StrainActuator
+        The plant's strain actuators (:class:`~prbdm_pin.plant.inputs.StrainActuator`; spans
+        in m).
+
+    Raises
+    ------
+    BeamInputError
+        Naming the file and the field (``hub.inertia_kg_m2``, ``actuators[1].x_end_m``,
+        ``actuators[0].joint_weights``, ...).
     """
     from .jsonfile import read_json
     from .model import build_model
@@ -175,6 +194,19 @@ def read_plant_json(path: str | os.PathLike):
 
 
 def read_model_json(path: str | os.PathLike):
-    """Rebuild the PrbdmModel from a file written by :func:`write_json` (needs its beam), on
-    its hub if the file records one (:func:`read_plant_json` also returns the actuators)."""
+    """Rebuild the PrbdmModel from a file written by :func:`write_json` (needs its beam).
+
+    The model is on its hub if the file records one (:func:`read_plant_json` also returns the
+    actuators).
+
+    Parameters
+    ----------
+    path : str or path-like
+        A model JSON file (``prbdm-model/1``).
+
+    Returns
+    -------
+    PrbdmModel
+        The model: link lengths in m, springs in N m/rad.
+    """
     return read_plant_json(path)[0]

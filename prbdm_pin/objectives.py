@@ -118,7 +118,7 @@ def mode_errors_pct(omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray
 
 
 def worst_mode_error_pct(errors_pct: np.ndarray) -> float:
-    """The largest ``|error|`` over poses and modes, %, of :func:`mode_errors_pct`'s table."""
+    """Return the largest ``|error|`` over poses and modes of :func:`mode_errors_pct`'s table, %."""
     e = np.asarray(errors_pct, dtype=float)
     return float(np.max(np.abs(e))) if e.size else float("nan")
 
@@ -127,9 +127,11 @@ def eigen_residuals(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
     norm: str = "paper",
 ) -> np.ndarray:
-    """Weighted per-mode residuals ``d (w - f)`` of every pose, dimensionless, shape (..., m, N)
-    for model frequencies (rad/s) of shape (..., m, >= N); their norm over the modes is
-    :func:`eigen_errors`."""
+    """Compute the weighted per-mode residuals ``d (w - f)`` of every pose, dimensionless.
+
+    Shape (..., m, N) for model frequencies (rad/s) of shape (..., m, >= N); their norm over
+    the modes is :func:`eigen_errors`.
+    """
     f = _truth(omega_truth_rad_s, squared)
     w = _model(omega_model_rad_s, f.size, squared)
     return (w - f) * eigen_weights(omega_truth_rad_s, squared, norm)
@@ -202,9 +204,11 @@ def best_scale(
 
 def best_amplitude(omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray,
                    squared: bool = False, norm: str = "paper") -> np.ndarray:
-    """The optimal multiplier of each pose's (squared) frequencies, sqrt(k_i) (k_i when
-    ``squared``), dimensionless, shape (..., m) for ``omega_unit_rad_s`` of shape (..., m, >= N)
-    (a stack of designs has a leading axis)."""
+    """Compute the optimal multiplier of each pose's (squared) frequencies, dimensionless.
+
+    The multiplier is sqrt(k_i) (k_i when ``squared``), shape (..., m) for
+    ``omega_unit_rad_s`` of shape (..., m, >= N) (a stack of designs has a leading axis).
+    """
     f = _truth(omega_truth_rad_s, squared)
     w = _model(omega_unit_rad_s, f.size, squared)
     d2 = eigen_weights(omega_truth_rad_s, squared, norm) ** 2
@@ -215,9 +219,11 @@ def projected_eigen_residuals(
     omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
     norm: str = "paper",
 ) -> np.ndarray:
-    """Weighted per-mode residuals ``d (c_i w_i - f)`` at each pose's optimal factor
-    (:func:`best_amplitude`), dimensionless, shape (..., m, N): the variable projection's
-    residual vector, whose norm over the modes is :func:`projected_eigen_errors`."""
+    """Compute the weighted residuals ``d (c_i w_i - f)`` at each pose's optimal factor.
+
+    The factor is :func:`best_amplitude`'s; dimensionless, shape (..., m, N): the variable
+    projection's residual vector, whose norm over the modes is :func:`projected_eigen_errors`.
+    """
     f = _truth(omega_truth_rad_s, squared)
     w = _model(omega_unit_rad_s, f.size, squared)
     c = best_amplitude(omega_unit_rad_s, omega_truth_rad_s, squared, norm)
@@ -240,15 +246,21 @@ def projected_eigen_errors(
 
 def tip_scale_m(tip_truth_m: np.ndarray, tip_displacement_truth_m: np.ndarray,
                 norm: str = "position") -> float:
-    """What a tip error is divided by, m: the truth tip position's length (``"position"``,
-    Eq. 19) or the truth tip displacement's (``"displacement"``)."""
+    """Return what a tip error is divided by, m.
+
+    The truth tip position's length (``"position"``, Eq. 19) or the truth tip displacement's
+    (``"displacement"``).
+    """
     v = tip_truth_m if check_deflection_norm(norm) == "position" else tip_displacement_truth_m
     return float(np.linalg.norm(np.asarray(v, dtype=float).reshape(3)))
 
 
 def tip_errors(tip_model_m: np.ndarray, tip_truth_m: np.ndarray, scale_m: float) -> np.ndarray:
-    """``||p_model - p_truth|| / scale_m`` of each model tip (m' rows, or one (3,)), as a
-    fraction; ``scale_m`` from :func:`tip_scale_m`."""
+    """Compute ``||p_model - p_truth|| / scale_m`` of each model tip, as a fraction.
+
+    ``tip_model_m`` has m' rows or is one (3,) vector, m; ``scale_m`` comes from
+    :func:`tip_scale_m`.
+    """
     p = np.atleast_2d(np.asarray(tip_model_m, dtype=float))
     t = np.asarray(tip_truth_m, dtype=float).reshape(3)
     return np.linalg.norm(p - t, axis=1) / scale_m
@@ -280,7 +292,7 @@ def tip_displacement_errors(
 
 
 def combined_loss_pct(eigen_pct: float | np.ndarray, deflection_pct: float | np.ndarray):
-    """Combined loss of Eq. 27, ``sqrt(eigen^2 + deflection^2)`` (inputs and output in %)."""
+    """Compute the combined loss of Eq. 27, ``sqrt(eigen^2 + deflection^2)`` (inputs, output %)."""
     return np.hypot(eigen_pct, deflection_pct)
 
 

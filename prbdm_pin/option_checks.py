@@ -1,5 +1,8 @@
-"""Checks of option values, free of numpy: each returns the value in its checked type or raises
-a BeamInputError that names the option and the value."""
+"""Checks of option values, free of numpy.
+
+Each returns the value in its checked type or raises a BeamInputError that names the option and
+the value.
+"""
 
 from __future__ import annotations
 
@@ -26,8 +29,10 @@ def check_int(name: str, v: Any, low: int, *, optional: bool = False) -> int | N
 
 def check_float(name: str, v: Any, *, low: float | None = None, low_open: bool = False,
            optional: bool = False, unit: str = "") -> float | None:
-    """``v`` as a finite float, > ``low`` (``low_open``) or >= ``low`` (None too when
-    ``optional``)."""
+    """Return ``v`` as a finite float, > ``low`` (``low_open``) or >= ``low``.
+
+    None is accepted too when ``optional``; ``unit`` is named in the error.
+    """
     if v is None and optional:
         return None
     ok = not isinstance(v, bool) and isinstance(v, numbers.Real) and math.isfinite(float(v))
@@ -48,8 +53,10 @@ def check_bool(name: str, v: Any) -> bool:
 
 
 def check_choice(name: str, v: Any, kind: type[Choice] | Sequence[str]) -> Any:
-    """``v`` as a member of the enumeration ``kind``, or ``v`` itself if it is one of the
-    strings ``kind``; else a BeamInputError naming ``name`` and the allowed values."""
+    """Return ``v`` as a member of the enumeration ``kind``, or as one of the strings ``kind``.
+
+    Otherwise a BeamInputError names ``name`` and the allowed values.
+    """
     if isinstance(kind, type) and issubclass(kind, Choice):
         try:
             return kind(v)

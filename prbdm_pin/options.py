@@ -1,5 +1,7 @@
-"""The options of a fit and of a Pareto fit: frozen, validated once, carried whole from the API
-or the command line into the result and its JSON file, and read back from there.
+"""The options of a fit, of a Pareto fit and of a simulation.
+
+Frozen, validated once, carried whole from the API or the command line into the result and its
+JSON file, and read back from there.
 
 Like ``scipy.optimize.minimize``'s ``options``, they hold what determines a result; how it is
 computed (worker processes, a progress bar) is passed beside them. Free of numpy, so the command
@@ -41,8 +43,10 @@ UNIQUE_RULES = ("none", "nearest")
 
 @dataclass(frozen=True)
 class _ProblemOptions:
-    """The options that define a fit problem (shared by :class:`FitOptions` and
-    :class:`ParetoOptions`)."""
+    """The options that define a fit problem.
+
+    Shared by :class:`FitOptions` and :class:`ParetoOptions`.
+    """
 
     kind: ClassVar[str] = ""
 
@@ -57,6 +61,7 @@ class _ProblemOptions:
     min_fraction: float = MIN_FRACTION
 
     def __post_init__(self) -> None:
+        """Validate every field; an error names the field and the value."""
         s = object.__setattr__
         s(self, "frequencies", _int("frequencies", self.frequencies, 1, optional=True))
         s(self, "stiffness", _choice("stiffness", self.stiffness, StiffnessKind))
@@ -73,7 +78,10 @@ class _ProblemOptions:
         s(self, "min_fraction", f)
 
     def replace(self, **changes: Any):
-        """A copy with ``changes`` applied and validated; an unknown name is a BeamInputError."""
+        """Return a copy with ``changes`` applied and validated.
+
+        An unknown name is a BeamInputError.
+        """
         names = {f.name for f in fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
@@ -82,7 +90,7 @@ class _ProblemOptions:
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON form: every option by name, with ``kind`` saying which options these are."""
+        """Return the JSON form: every option by name, with ``kind`` saying which these are."""
         d: dict[str, Any] = {"kind": self.kind}
         for f in fields(self):
             v = getattr(self, f.name)
@@ -162,6 +170,7 @@ class FitOptions(_ProblemOptions):
     start_factors: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
+        """Validate every field; an error names the field and the value."""
         super().__post_init__()
         s = object.__setattr__
         s(self, "objective", _choice("objective", self.objective, Objective))
@@ -221,6 +230,7 @@ class ParetoOptions(_ProblemOptions):
     polish_knee: bool = True
 
     def __post_init__(self) -> None:
+        """Validate every field; an error names the field and the value."""
         super().__post_init__()
         s = object.__setattr__
         s(self, "pop", _int("pop", self.pop, 1))
@@ -241,8 +251,9 @@ class ParetoOptions(_ProblemOptions):
 
 @dataclass(frozen=True)
 class SimulationOptions:
-    """How :func:`prbdm_pin.simulate` integrates and damps a run (what it integrates, the
-    model, the initial state and the load, is passed beside them).
+    """How :func:`prbdm_pin.simulate` integrates and damps a run.
+
+    What it integrates (the model, the initial state and the load) is passed beside them.
 
     Attributes
     ----------
@@ -283,6 +294,7 @@ class SimulationOptions:
     damping: str = "modal"
 
     def __post_init__(self) -> None:
+        """Validate every field; an error names the field and the value."""
         s = object.__setattr__
         if self.method not in FIXED_STEP_METHODS + IVP_METHODS:
             raise BeamInputError(f"method = {self.method!r}: must be one of "
@@ -314,7 +326,7 @@ class SimulationOptions:
 
 
 def options_from_dict(d: Any, what: str = "options") -> FitOptions | ParetoOptions:
-    """The options a result file recorded (``kind`` says which)."""
+    """Read the options a result file recorded (``kind`` says which)."""
     kind = d.get("kind") if isinstance(d, dict) else None
     cls = ParetoOptions if kind == ParetoOptions.kind else FitOptions
     return cls.from_dict(d, what)

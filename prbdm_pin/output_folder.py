@@ -73,7 +73,7 @@ def _mkdir_new(parent: Path, prefix: str) -> Path:
 
 
 def _lock(path: Path, block: bool = True) -> int | None:
-    """An fd holding an exclusive flock on the folder ``path``; None if another process has it."""
+    """Open an fd holding an exclusive flock on the folder ``path``; None if another has it."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
     if fcntl is None:
         return fd

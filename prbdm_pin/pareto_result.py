@@ -74,16 +74,18 @@ class ParetoResult(JsonRecord):
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:
+        """Freeze the arrays."""
         for name in self.array_fields & {f.name for f in fields(self)}:
             object.__setattr__(self, name, readonly_array(getattr(self, name)))
 
     def to_dict(self) -> dict[str, Any]:
+        """Return a JSON-ready mapping without the knee (written as its own fit.json)."""
         d = super().to_dict()
         d.pop("knee", None)
         return d
 
     def to_csv(self) -> str:
-        """The front as CSV: eigen %, deflection %, combined %, lengths, factors."""
+        """Return the front as CSV: eigen %, deflection %, combined %, lengths (m), factors."""
         n1 = self.front_lengths_m.shape[1]
         nf = self.front_factors.shape[1]
         head = (["eigen_loss_pct", "deflection_loss_pct", "combined_loss_pct", "knee"]

@@ -1,5 +1,7 @@
-"""The Pinocchio side of a link chain: the ``pinocchio.Model`` built by hand from the links'
-sections, and the sections read back from a model (one parsed from a URDF file).
+"""The Pinocchio side of a link chain.
+
+The ``pinocchio.Model`` built by hand from the links' sections, and the sections read back from
+a model (one parsed from a URDF file).
 
 Building through the API rather than rendering and parsing a URDF keeps ``build_model`` cheap
 inside optimisation loops; the model equals the one Pinocchio's URDF parser makes.
@@ -19,8 +21,11 @@ TIP_FRAME = "tip"
 
 
 def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
-    """The chain of links ``sections`` cut at ``lengths`` (m), built through the Pinocchio API
-    frame for frame as its URDF parser builds it; returns the model and the tip frame id."""
+    """Build the chain of links ``sections`` cut at ``lengths`` (m) through the Pinocchio API.
+
+    It is built frame for frame as Pinocchio's URDF parser builds it; returns the model and the
+    tip frame id.
+    """
     n = lengths.size - 1
     model = pin.Model()
     model.name = name
@@ -56,8 +61,10 @@ def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[p
 
 def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False
                       ) -> LinkSections:
-    """The links' mass (kg), COM (m, beam frame) and inertia (kg m^2) as a Pinocchio model holds
-    them, for lengths ``lengths`` (m); ``area_moment_m4`` is NaN (a URDF does not carry it).
+    """Read the links' sections back from a Pinocchio model.
+
+    Mass (kg), COM (m, beam frame) and inertia (kg m^2) as the model holds them, for lengths
+    ``lengths`` (m); ``area_moment_m4`` is NaN (a URDF does not carry it).
 
     On a hub model (``hub``) link 0 is the inertia of the ``clamp`` frame (the parser keeps a
     fixed joint's child there) and link j that of Pinocchio joint j + 1.

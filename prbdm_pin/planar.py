@@ -37,9 +37,12 @@ __all__ = [
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray | float:
-    """Sum over the last axis of a * b: numpy's pairwise sum for one pose, einsum row by row for
-    a stack, the orders of summation the single and stacked statics have always used (the
-    fits' numbers do not move by a rounding)."""
+    """Sum a * b over the last axis.
+
+    Numpy's pairwise sum for one pose, einsum row by row for a stack: the orders of summation
+    the single and stacked statics have always used (the fits' numbers do not move by a
+    rounding).
+    """
     if a.ndim == 1:
         return (a * b).sum()
     return np.einsum("bi,bi->b", a.reshape(-1, a.shape[-1]),
@@ -53,8 +56,11 @@ def _angles(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _tip_xz(L0, links: np.ndarray, c: np.ndarray, s: np.ndarray):
-    """x and z of the tip (m) from the clamped length ``L0``, the links (..., n) and the
-    cosines and sines of their angles."""
+    """Return the tip's x and z (m).
+
+    From the clamped length ``L0``, the links (..., n) and the cosines and sines of their
+    angles.
+    """
     return L0 + _dot(links, c), -_dot(links, s)
 
 
@@ -131,23 +137,42 @@ def planar_tip(lengths_m: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def generalised_force(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) -> np.ndarray:
-    """J(q)^T F, N m: the joint torques of a dead tip force ``force_N`` (N, world, (3,)) at
-    ``q`` (rad, (n,) or (..., n)); shape of ``q``."""
+    """Compute J(q)^T F, the joint torques of a dead tip force, N m.
+
+    Parameters
+    ----------
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    q : ndarray, shape (n,) or (..., n)
+        Joint angles, rad.
+    force_N : ndarray, shape (3,)
+        Dead tip force in the world frame, N.
+
+    Returns
+    -------
+    ndarray, shape of ``q``
+        The joint torques, N m.
+    """
     return force_and_load_stiffness(lengths_m, q, force_N, stiffness=False)[0]
 
 
 def load_stiffness(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) -> np.ndarray:
-    """d(J^T F)/dq, N m/rad, shape (n, n) (or (..., n, n) for stacked ``q``), symmetric: the
-    stiffness a dead tip force adds to the joint springs with the sign of a force (the
-    potential's Hessian is diag(K) minus it)."""
+    """Compute the load stiffness d(J^T F)/dq, N m/rad.
+
+    The stiffness a dead tip force adds to the joint springs with the sign of a force (the
+    potential's Hessian is diag(K) minus it); symmetric, shape (n, n), or (..., n, n) for
+    stacked ``q``. Parameters as :func:`generalised_force`.
+    """
     return force_and_load_stiffness(lengths_m, q, force_N)[1]
 
 
 def force_and_load_stiffness(
     lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray, stiffness: bool = True
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """:func:`generalised_force` and :func:`load_stiffness` (None unless ``stiffness``) from one
-    evaluation of the angles."""
+    """Compute :func:`generalised_force` and :func:`load_stiffness` from one angle evaluation.
+
+    The load stiffness is None unless ``stiffness``.
+    """
     q, _, links = _chain(lengths_m, q)
     rc, rs = _lever_arms(links, *_angles(q))
     return _force_terms(rc, rs, float(force_N[0]), float(force_N[2]), stiffness)
@@ -215,8 +240,9 @@ def planar_mass_matrices(
 
 
 class ChainPotential:
-    """V(q) = 1/2 q^T K q - lam F . p_tip(q) of one chain or of B chains, with its exact gradient
-    K q - lam J^T F and Hessian diag(K) - lam d(J^T F)/dq.
+    """The potential V(q) = 1/2 q^T K q - lam F . p_tip(q) of one chain or of B chains.
+
+    Its exact gradient is K q - lam J^T F and its Hessian diag(K) - lam d(J^T F)/dq.
 
     ``lengths_m`` (n+1,) with ``stiffness_Nm_per_rad`` (n,) for one chain (q of shape (n,)), or
     (B, n+1) with (B, n) for B chains, whose methods take the poses of the chains ``rows``
@@ -237,8 +263,10 @@ class ChainPotential:
         return self.L0[rows], self.links[rows], self.k[rows]
 
     def value(self, q: np.ndarray, lam: float = 1.0, rows: np.ndarray | None = None):
-        """V at ``q`` (rad) under the load fraction ``lam``, J: a float for one chain, (r,) for
-        the chains ``rows``."""
+        """Return V at ``q`` (rad) under the load fraction ``lam``, J.
+
+        A float for one chain, shape (r,) for the chains ``rows``.
+        """
         L0, links, k = self._rows(rows)
         x, z = _tip_xz(L0, links, *_angles(q))
         work = self.fx * x + self.fz * z
@@ -248,8 +276,11 @@ class ChainPotential:
 
     def derivatives(self, q: np.ndarray, lam: float = 1.0, rows: np.ndarray | None = None,
                     hessian: bool = True):
-        """Gradient (N m), Hessian (N m/rad, None unless ``hessian``) and the residual scale
-        max(||K q||, ||lam J^T F||) (N m) of the convergence test, at ``q`` (rad)."""
+        """Return the gradient, the Hessian and the residual scale at ``q`` (rad).
+
+        The gradient is in N m, the Hessian in N m/rad (None unless ``hessian``), and the
+        residual scale max(||K q||, ||lam J^T F||) of the convergence test in N m.
+        """
         _, links, k = self._rows(rows)
         rc, rs = _lever_arms(links, *_angles(q))
         jtf, T = _force_terms(rc, rs, lam * self.fx, lam * self.fz, hessian)

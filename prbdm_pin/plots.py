@@ -1,9 +1,12 @@
-"""Figures of a fit: the planform with its links and joints (paper Figs. 5, 7, 9, 12), SCF against
-joint angle (Figs. 8, 10), the Pareto front with its knee (Fig. 11). Every function writes a PNG
-atomically and returns its path.
+"""Figures of a fit.
+
+The planform with its links and joints (paper Figs. 5, 7, 9, 12), SCF against joint angle
+(Figs. 8, 10), the Pareto front with its knee (Fig. 11). Every function writes a PNG atomically
+and returns its path.
 
 matplotlib is imported lazily and without pyplot: each figure is a ``Figure`` on its own Agg
-canvas, so no backend is chosen and no figure manager holds it."""
+canvas, so no backend is chosen and no figure manager holds it.
+"""
 
 from __future__ import annotations
 
@@ -33,10 +36,11 @@ def pyplot():
 
 
 def new_figure(figsize_in: tuple[float, float]):
-    """A matplotlib Figure of ``figsize_in`` (width, height; inches) on its own Agg canvas.
+    """Make a matplotlib Figure of ``figsize_in`` (width, height; inches) on its own Agg canvas.
 
     Neither pyplot nor a backend is loaded: the figure is not managed by any window manager,
-    so nothing needs closing and no display is looked for."""
+    so nothing needs closing and no display is looked for.
+    """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -57,8 +61,10 @@ def save_png(fig, path: str | os.PathLike, bbox_inches: str | None = None) -> Pa
 
 
 def save_figure(fig, path: str | os.PathLike) -> Path:
-    """Write ``fig`` as a PNG (``DPI``) cropped to its artists (as ``bbox_inches="tight"``) to
-    ``path`` atomically; a pyplot figure is closed."""
+    """Write ``fig`` as a PNG (``DPI``) cropped to its artists to ``path`` atomically.
+
+    The crop is that of ``bbox_inches="tight"``; a pyplot figure is closed.
+    """
     import matplotlib
 
     p = Path(path)
@@ -78,7 +84,7 @@ def save_figure(fig, path: str | os.PathLike) -> Path:
 
 
 def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
-    """The planform (m) with joint lines, link spans and centres of mass.
+    """Plot the planform (m) with joint lines, link spans and centres of mass.
 
     Parameters
     ----------
@@ -119,8 +125,10 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
 
 
 def plot_scf(result, path) -> Path:
-    """SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis; the
-    exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted."""
+    """Plot SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis.
+
+    The exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted.
+    """
     ang = np.degrees(np.asarray(result.poses_rad)[:, 0])
     k = np.asarray(result.factors)
     fig = new_figure((6, 4))
@@ -143,8 +151,10 @@ def plot_scf(result, path) -> Path:
 
 
 def plot_pareto(pareto, path) -> Path:
-    """The front (eigen %, deflection %) with the knee of Eq. 27 starred; ``pareto`` may be a
-    list of ParetoResults, drawn together (as the paper's Fig. 11)."""
+    """Plot the front (eigen %, deflection %) with the knee of Eq. 27 starred.
+
+    ``pareto`` may be a list of ParetoResults, drawn together (as the paper's Fig. 11).
+    """
     fronts = list(pareto) if isinstance(pareto, (list, tuple)) else [pareto]
     fig = new_figure((6, 4.5))
     ax = fig.subplots()

@@ -1,5 +1,7 @@
-"""The fit problem: everything fixed during a fit (FitProblem), the length parametrisation, and
-how a design (lengths, stiffness factors) becomes a model.
+"""The fit problem.
+
+Everything fixed during a fit (FitProblem), the length parametrisation, and how a design
+(lengths, stiffness factors) becomes a model.
 
 Two stiffness parametrisations:
 
@@ -121,14 +123,17 @@ class FitProblem:
 
     @property
     def n_freq(self) -> int:
+        """Number of truth frequencies fitted, N."""
         return int(self.target.omega_truth_rad_s.size)
 
     @property
     def n_poses(self) -> int:
+        """Number of poses where frequencies are compared, m."""
         return int(self.poses_rad.shape[0])
 
     @property
     def length_m(self) -> float:
+        """Beam length L, m."""
         return self.beam.length_m
 
     @property
@@ -202,7 +207,7 @@ def base_stiffness(problem: FitProblem, model_or_lengths) -> np.ndarray:
 
 
 def build(problem: FitProblem, lengths_m: np.ndarray):
-    """The model with unit-factor springs and those springs ``K0`` (n,), N m/rad."""
+    """Build the model with unit-factor springs; return it and the springs ``K0`` (n,), N m/rad."""
     from .model import build_model
 
     lengths = np.asarray(lengths_m, dtype=float)
@@ -216,7 +221,7 @@ def build(problem: FitProblem, lengths_m: np.ndarray):
 
 
 def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
-    """The model at unit stiffness factor and its frequencies over the problem's poses.
+    """Build the model at unit stiffness factor; compute its frequencies over the poses.
 
     Returns
     -------

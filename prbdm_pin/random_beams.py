@@ -24,7 +24,7 @@ def random_beam(
     tip_force_N: tuple[float, float, float] = (0.0, 0.0, -2500.0),
     name: str | None = None,
 ) -> Beam:
-    """A random planform as in the paper's Sec. 2.1.
+    """Draw a random planform as in the paper's Sec. 2.1.
 
     ``p`` sorted uniform stations in (0, 1) plus 0 and 1 give x (scaled by ``length_m``); ``p + 2``
     uniform numbers scaled by ``width_scale`` (the published code's 0.5, so the panel is at most
@@ -38,6 +38,25 @@ def random_beam(
         The only source of randomness.
     p : int
         Number of interior sections (>= 0).
+    length_m : float
+        Span L, m.
+    width_scale : float
+        Scale of the uniform half-width draws, m.
+    min_half_width_m : float
+        Floor of the half-widths, m.
+    thickness_m : float or tuple of float
+        Thickness, m, or a (low, high) range in m drawn uniformly.
+    material : Material
+        The material (default AISI 4340 steel).
+    tip_force_N : tuple of float
+        The static tip load (Fx, Fy, Fz), N.
+    name : str, optional
+        The beam's name.
+
+    Returns
+    -------
+    Beam
+        The drawn beam.
     """
     if isinstance(p, bool) or not isinstance(p, (int, np.integer)) or p < 0:
         raise BeamInputError(f"p = {p!r}: must be an integer >= 0")

@@ -2,7 +2,7 @@
 
 Both sides are written as a modal superposition of the tip z displacement under a tip z force:
 mode k (frequency omega_k, mass-normalised shape phi_k) contributes the gain
-g_k = phi_k(tip)^2 (m/N per (rad/s)^2), so that
+g_k = phi_k(tip)^2 (m/N per (rad/s)^2), so that::
 
     H(omega) = sum_k g_k / (omega_k^2 - omega^2 + 2 i xi_k omega_k omega)        (FRF, m/N)
     u(t) / F = sum_k g_k / omega_k^2 (1 - e^(-xi_k omega_k t) (cos omega_dk t
@@ -80,7 +80,7 @@ class DynamicAccuracy:
     frf_error : float
         Relative L2 error of the complex tip FRF over the band (fraction).
     frf_magnitude_error, frf_phase_error_rad : float
-        Relative L2 error of |H| and RMS phase difference over the band.
+        Relative L2 error of ``|H|`` and RMS phase difference over the band.
     t_s, step_model_m_per_N, step_truth_m_per_N : ndarray
     omega_band_rad_s : ndarray
     frf_model_m_per_N, frf_truth_m_per_N : ndarray (complex)
@@ -99,7 +99,7 @@ class DynamicAccuracy:
 
 
 def prbdm_modal_tip(model, q: np.ndarray | None = None) -> ModalTip:
-    """The PRBDM linearised at pose ``q`` (default straight): frequencies and tip gains."""
+    """Linearise the PRBDM at pose ``q`` (rad, default straight): frequencies and tip gains."""
     omega, phi = model.modes(q)
     jz = model.tip_jacobian(q)[2]
     return ModalTip(np.asarray(omega, dtype=float), (jz @ phi) ** 2)
@@ -148,7 +148,7 @@ def centerline_modal_tip(modal, beam, indices: np.ndarray | None = None) -> Moda
 
 
 def truth_modal_tip(truth, beam) -> ModalTip:
-    """The modal tip of a ``TruthResult``: every computed mode up to the highest selected one.
+    """Build the modal tip of a ``TruthResult``: every computed mode up to the highest selected.
 
     Bending, torsion and chordwise modes below the last selected frequency all respond to a tip
     force, so all of them are superposed (with the finite-element modal masses where the truth
@@ -212,7 +212,7 @@ def modal_step_response(tip: ModalTip, t_s: np.ndarray, damping_ratio: float | n
 
 
 def relative_l2(a: np.ndarray, ref: np.ndarray) -> float:
-    """||a - ref|| / ||ref|| (complex allowed)."""
+    """Compute ||a - ref|| / ||ref|| (complex allowed)."""
     return float(np.linalg.norm(np.asarray(a) - ref) / np.linalg.norm(ref))
 
 
@@ -231,6 +231,28 @@ def dynamic_accuracy(
     ``simulate_step`` the PRBDM step response is integrated with :func:`prbdm_pin.simulate` under
     a small force (linear regime) instead of its modal superposition. Both sides use the same
     modal damping ratio for every mode.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        The PRBDM, linearised at the straight pose.
+    truth : ModalTip
+        The truth's modal tip (:func:`truth_modal_tip`): frequencies in rad/s.
+    damping_ratio : float
+        Modal damping ratio of every mode, dimensionless.
+    duration_s : float
+        Length of the step response compared, s.
+    band_factor : float
+        The FRF band ends at this multiple of the highest truth frequency.
+    samples : int
+        Number of time samples and of band frequencies.
+    simulate_step : bool
+        Integrate the PRBDM step response with :func:`prbdm_pin.simulate`.
+
+    Returns
+    -------
+    DynamicAccuracy
+        The errors (fractions; phase in rad) and the curves compared (m/N).
     """
     t = np.linspace(0.0, duration_s, samples)
     mine = prbdm_modal_tip(model)

@@ -1,5 +1,7 @@
-"""A single-objective fit's result with provenance (its JSON form: :mod:`prbdm_pin.json_record`,
-the file: :mod:`prbdm_pin.fit_file`; a Pareto front's: :mod:`prbdm_pin.pareto_result`).
+"""A single-objective fit's result with provenance.
+
+Its JSON form is in :mod:`prbdm_pin.json_record`, the file in :mod:`prbdm_pin.fit_file`, and a
+Pareto front's result in :mod:`prbdm_pin.pareto_result`.
 
 :class:`FitResult` is a frozen dataclass following the conventions of
 ``scipy.optimize.OptimizeResult`` (``success``, ``message``, ``x``, ``fun``, ``nfev``); use
@@ -121,7 +123,7 @@ class FitResult(JsonRecord):
     omega_errors_pct : ndarray, shape (m, N)
         Signed per-mode errors 100 (omega_model / omega_truth - 1) at every fitted pose, %.
     worst_mode_error_pct : float
-        max abs(omega_errors_pct) over the fitted poses and modes, %.
+        ``max |omega_errors_pct|`` over the fitted poses and modes, %.
     export_pose_rad : ndarray, shape (n,), or None
         The pose whose springs are exported (paper: sweep pose 0; joint: the straight pose;
         None in a fit.json written before it was recorded).
@@ -131,7 +133,7 @@ class FitResult(JsonRecord):
         The exported model's own frequencies at the straight pose q = 0 (rad/s) and their signed
         errors against the truth (%).
     worst_export_error_pct : float
-        max abs(omega_export_errors_pct), %.
+        ``max |omega_export_errors_pct|``, %.
     options : FitOptions or ParetoOptions or None
         Every option the fit was run with (a Pareto knee: the Pareto fit's); None in a
         fit.json written before options were recorded.
@@ -196,6 +198,7 @@ class FitResult(JsonRecord):
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:
+        """Freeze the arrays; derive what an older fit.json did not record."""
         for name in self.array_fields & {f.name for f in fields(self)}:
             object.__setattr__(self, name, readonly_array(getattr(self, name)))
         # a fit.json written before the per-mode errors were recorded: derive them
@@ -213,8 +216,10 @@ class FitResult(JsonRecord):
 
     @classmethod
     def from_dict(cls, d: Any, beam=None, what: str = "fit.json") -> FitResult:
-        """Rebuild from the JSON form, validated (:func:`prbdm_pin.model_files.fit_kwargs`);
-        with ``beam`` the link lengths must sum to its length. BeamInputError names the field.
+        """Rebuild from the JSON form, validated (:func:`prbdm_pin.model_files.fit_kwargs`).
+
+        With ``beam`` the link lengths must sum to its length (m). BeamInputError names the
+        field.
         """
         from .errors import BeamInputError
         from .jsonfile import require_mapping
@@ -229,11 +234,11 @@ class FitResult(JsonRecord):
         return super().from_dict(d)
 
     def stiffness_schedule(self):
-        """The per-pose springs as a ``simulation.StiffnessSchedule`` for ``simulate``.
+        """Return the per-pose springs as a ``simulation.StiffnessSchedule`` for ``simulate``.
 
         Row i of ``stiffness_per_pose_Nm_per_rad`` belongs to the sweep angle
         ``poses_rad[i, 0]`` (every joint at the same angle); a pose q is mapped to the mean
-        abs(q_j) and the springs are interpolated linearly between the sweep poses, held at the
+        ``|q_j|`` and the springs are interpolated linearly between the sweep poses, held at the
         first (last) pose's below (above) the sweep. At the straight pose it gives pose 0's
         springs, the exported ones.
         """
@@ -254,10 +259,11 @@ class FitResult(JsonRecord):
 
     @property
     def fun(self) -> float:
+        """The loss of the fitted objective, %, under ``OptimizeResult``'s name."""
         return self.loss_pct
 
     def to_optimize_result(self):
-        """A ``scipy.optimize.OptimizeResult`` view (x, fun, success, message, nfev, ...)."""
+        """Return a ``scipy.optimize.OptimizeResult`` view (x, fun, success, message, nfev, ...)."""
         from scipy.optimize import OptimizeResult
 
         return OptimizeResult(x=self.x, fun=self.fun, success=self.success,

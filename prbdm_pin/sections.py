@@ -96,8 +96,10 @@ def link_sections(beam: Beam, lengths_m: np.ndarray,
 
 
 def _integrals(beam: Beam, lengths: np.ndarray):
-    """Link spans, mid-spans and the exact planform integrals of every link (area, first and
-    second moment in x about the mid-span, y^2 moment), all links at once.
+    """Link spans, mid-spans and the exact planform integrals of every link, all at once.
+
+    The integrals are the area, the first and second moment in x about the mid-span, and the
+    y^2 moment.
 
     ``lengths`` is (n+1,) or a stack (B, n+1) of designs (the fit's finite differences); every
     output then has the same leading shape. Each design's numbers do not depend on the stack.
@@ -161,9 +163,11 @@ def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
 def planar_sections(
     beam: Beam, lengths: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """What the planar bending dynamics needs, as :func:`link_sections_unchecked` computes it (same
-    arithmetic): mass (kg), centre-of-mass distance from the link's start (m), inertia about
-    the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,)."""
+    """Compute what the planar bending dynamics needs, as :func:`link_sections_unchecked` does.
+
+    With the same arithmetic: mass (kg), centre-of-mass distance from the link's start (m),
+    inertia about the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,).
+    """
     starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
     t = beam.thickness_m
     rho_t = beam.material.rho_kg_m3 * t

@@ -1,5 +1,7 @@
-"""Large-deflection statics of the planar chain under a dead tip force: damped Newton on the
-potential of :class:`prbdm_pin.planar.ChainPotential`, one chain at a time or a stack at once.
+"""Large-deflection statics of the planar chain under a dead tip force.
+
+Damped Newton on the potential of :class:`prbdm_pin.planar.ChainPotential`, one chain at a time
+or a stack at once.
 
 ``static_deflection`` is the Pinocchio-model entry point in the style f(model, data, ...); the
 planar solvers take link lengths (m) and joint springs (N m/rad) directly, as the fit's inner
@@ -135,8 +137,10 @@ _ROWS_CHOLESKY_MIN = 400
 
 
 def _cholesky_solve_batch(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve H d = g for a stack of small symmetric matrices; returns (d, positive definite per
-    row). Rows that are not positive definite get d = 0."""
+    """Solve H d = g for a stack of small symmetric matrices.
+
+    Returns d and whether each row is positive definite; rows that are not get d = 0.
+    """
     if g.shape[0] >= _ROWS_CHOLESKY_MIN:
         return _cholesky_rows(H, g)
     try:
@@ -148,8 +152,11 @@ def _cholesky_solve_batch(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.
 
 
 def _cholesky_rows(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_cholesky_solve_batch` row by row in the factorisation, so that the rows that are
-    not positive definite are found (n^2 vectorised steps for any batch size)."""
+    """Run :func:`_cholesky_solve_batch` row by row in the factorisation.
+
+    So the rows that are not positive definite are found (n^2 vectorised steps for any batch
+    size).
+    """
     B, n = g.shape
     C = np.zeros_like(H)
     pd = np.ones(B, dtype=bool)

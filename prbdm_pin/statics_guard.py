@@ -1,16 +1,17 @@
 """Loads the planar statics solver can answer in double precision, and its finiteness guard.
 
 The solver stops when ||K q - J^T F|| <= rtol max(||K q||, ||J^T F||). The terms of J^T F are
-sums of L_i (F_x sin phi_i, F_z cos phi_i), each rounded to about eps |F| L (eps = 2.2e-16), so the
-residual carries a rounding floor of eps |F| L whatever q is. At an equilibrium ||K q|| is at most
-k_max |q|_1 <= k_max pi (a chain under a dead load turns at most half a turn towards it), so once
+sums of L_i (F_x sin phi_i, F_z cos phi_i), each rounded to about ``eps |F| L`` (eps = 2.2e-16),
+so the residual carries a rounding floor of ``eps |F| L`` whatever q is. At an equilibrium
+||K q|| is at most ``k_max |q|_1 <= k_max pi`` (a chain under a dead load turns at most half a
+turn towards it), so once::
 
     eps |F| L > rtol pi k_max,   i.e.   alpha = |F| L / k_max > pi rtol / eps  (1.4e6 at rtol 1e-10)
 
 the test can only pass by rounding luck, and the answer is not an equilibrium of the model: the
 chain lies along the load to within the rounding of the angles. ``alpha`` is the chain's load index
 (P L^2 / EI of a beam with EI / L ~ k). Separately, the squared norms overflow (and ``inf <= inf``
-passes) once |F| L or k_max pi exceed sqrt(max double / (n + 1)); both loads are refused.
+passes) once ``|F| L`` or k_max pi exceed sqrt(max double / (n + 1)); both loads are refused.
 """
 
 from __future__ import annotations
@@ -28,8 +29,10 @@ _EPS = float(np.finfo(float).eps)
 
 
 def max_load_index(rtol: float) -> float:
-    """The largest load index |F| L / k_max the convergence test ``rtol`` can resolve (no
-    bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on)."""
+    """Return the largest load index ``|F| L / k_max`` the convergence test ``rtol`` resolves.
+
+    No bound for ``rtol <= 0``, an exact test that the iteration itself passes or stalls on.
+    """
     return math.pi * rtol / _EPS if rtol > 0.0 else math.inf
 
 
@@ -39,16 +42,21 @@ def _magnitude_cap(n: int) -> float:
 
 
 def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarray:
-    """|F| L / k_max (dimensionless) of chains with lever arms ``arm_m`` (m, the summed lengths
-    after the first joint) and stiffest springs ``k_max`` (N m/rad) under |F| = ``force_N``."""
+    """Compute the load index ``|F| L / k_max`` (dimensionless) of chains.
+
+    The chains have lever arms ``arm_m`` (m, the summed lengths after the first joint) and
+    stiffest springs ``k_max`` (N m/rad), under ``|F| = force_N`` (N).
+    """
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         return force_N * np.asarray(arm_m, dtype=float) / np.asarray(k_max, dtype=float)
 
 
 def load_ok_rows(lengths_m: np.ndarray, k: np.ndarray, force: np.ndarray,
                  rtol: float) -> np.ndarray:
-    """Per row of ``lengths_m`` (B, n+1) and ``k`` (B, n): whether the load ``force`` (N) is
-    within what double precision resolves (see the module notes)."""
+    """Tell, per row, whether the load ``force`` (N) is within what double precision resolves.
+
+    Rows of ``lengths_m`` (B, n+1), m, and ``k`` (B, n), N m/rad; see the module notes.
+    """
     f = math.hypot(float(force[0]), float(force[2]))
     arm = np.sum(lengths_m[:, 1:], axis=1)
     kmax = np.max(k, axis=1)
@@ -80,10 +88,12 @@ def require_finite(force: np.ndarray, *values: float) -> None:
 
 
 def off_saddle(pot, q: np.ndarray, step_rad: float = 1e-2) -> np.ndarray:
-    """``q`` moved ``step_rad`` along the Hessian's most negative curvature (downhill in V),
-    or ``q`` itself where V is convex there: a start for a descent that crawls near a saddle
-    (a straight column past its buckling load), with ``pot`` a
-    :class:`prbdm_pin.planar.ChainPotential`."""
+    """Move ``q`` (rad) by ``step_rad`` along the Hessian's most negative curvature.
+
+    The step goes downhill in V; where V is convex ``q`` itself is returned. It gives a start
+    for a descent that crawls near a saddle (a straight column past its buckling load), with
+    ``pot`` a :class:`prbdm_pin.planar.ChainPotential`.
+    """
     _, H, _ = pot.derivatives(q, 1.0)
     w, V = np.linalg.eigh(H)
     if w[0] > 0.0:

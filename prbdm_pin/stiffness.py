@@ -1,5 +1,7 @@
-"""Pose sweep (the paper's Eqs. 10-11), joint stiffness laws (Eq. 14, finite segments), and the
-check of a model's joint springs."""
+"""Pose sweep (the paper's Eqs. 10-11) and joint stiffness laws (Eq. 14, finite segments).
+
+Also the check of a model's joint springs.
+"""
 
 from __future__ import annotations
 
@@ -33,11 +35,27 @@ MAX_POSES = 1000
 def pose_sweep(
     n_joints: int, xi: float = XI_RAD, eps: float = EPS_RAD, max_tip_angle_rad: float = math.pi / 2
 ) -> np.ndarray:
-    """The poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
+    """Return the poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
 
     Pose i = 0, 1, ... has every joint at ``xi + i * eps`` while the tip link's world angle
     ``n_joints * (xi + i * eps)`` stays within ``max_tip_angle_rad`` (a 1e-12 relative slack keeps
     a pose that lands exactly on the limit).
+
+    Parameters
+    ----------
+    n_joints : int
+        Number of joints n (>= 1).
+    xi : float
+        Joint angle of the first pose, rad.
+    eps : float
+        Step of the joint angle from pose to pose, rad.
+    max_tip_angle_rad : float
+        Largest world angle of the tip link, rad.
+
+    Returns
+    -------
+    ndarray, shape (m, n_joints)
+        The poses' joint angles, rad.
     """
     if isinstance(n_joints, bool) or not isinstance(n_joints, (int, np.integer)) or n_joints < 1:
         raise BeamInputError(f"n_joints = {n_joints!r}: must be an integer >= 1")
@@ -142,13 +160,29 @@ def finite_segment_stiffness(
     [h/2, h, ..., h, h/2] would then converge only as 1/N instead of getting K = EI/h at every
     joint.) The integral is exact for the piecewise-linear planform (logarithms on each vertex
     interval).
+
+    Parameters
+    ----------
+    beam : Beam
+        Supplies the planform, thickness (m) and Young's modulus (Pa).
+    lengths_m : array_like, shape (n+1,)
+        Link lengths in m, validated as by :func:`~prbdm_pin.layout.validate_lengths`.
+    min_fraction : float
+        The bound f of Eq. 15 on each link (a fraction of L; default 0.02).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The joint springs, N m/rad.
     """
     return finite_segment_stiffness_unchecked(beam, validate_lengths(beam, lengths_m, min_fraction))
 
 
 def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.ndarray:
-    """:func:`finite_segment_stiffness` for lengths already validated, shape (n,) or, for a
-    stack of designs (B, n+1), (B, n); N m/rad (the fit's inner loop)."""
+    """Compute :func:`finite_segment_stiffness` for lengths already validated, N m/rad.
+
+    Shape (n,), or (B, n) for a stack of designs (B, n+1) (the fit's inner loop).
+    """
     ends = lengths.cumsum(axis=-1)
     centres = ends - 0.5 * lengths
     centres[..., 0] = 0.0

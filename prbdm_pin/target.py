@@ -1,5 +1,7 @@
-"""What a fit matches: the truth's frequencies and static load cases (FitTarget), from a truth
-computation or from a PRBDM taken as its own truth."""
+"""What a fit matches: the truth's frequencies and static load cases (FitTarget).
+
+The target comes from a truth computation or from a PRBDM taken as its own truth.
+"""
 
 from __future__ import annotations
 
@@ -17,8 +19,10 @@ __all__ = ["LoadCase", "FitTarget", "target_from_truth", "model_target", "read_o
 
 
 def read_only(a, shape: tuple | None = None) -> np.ndarray:
-    """A read-only float copy of ``a`` (reshaped to ``shape`` when given): frozen dataclasses
-    hold arrays nobody can change under them."""
+    """Return a read-only float copy of ``a``, reshaped to ``shape`` when given.
+
+    Frozen dataclasses hold arrays nobody can change under them.
+    """
     a = np.array(a, dtype=float)
     if shape is not None:
         a = a.reshape(shape)
@@ -43,6 +47,7 @@ class LoadCase:
     tip_displacement_m: np.ndarray
 
     def __post_init__(self) -> None:
+        """Check the three vectors are finite and the deflection nonzero; freeze them."""
         for name in ("tip_force_N", "tip_position_m", "tip_displacement_m"):
             v = np.asarray(getattr(self, name), dtype=float)
             if v.size != 3 or not np.all(np.isfinite(v)):
@@ -94,6 +99,7 @@ class FitTarget:
     static_theory_gap_pct: float | None = None
 
     def __post_init__(self) -> None:
+        """Check the frequencies, load cases and labels; freeze the arrays."""
         w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
         if w.size == 0 or not np.all(np.isfinite(w)) or np.any(w <= 0):
             raise BeamInputError(f"omega_truth_rad_s = {w.tolist()}: must be finite and > 0")
@@ -136,7 +142,7 @@ class FitTarget:
                 *self.extra_loads)
 
     def first(self, n_freq: int) -> FitTarget:
-        """The same target keeping only the first ``n_freq`` frequencies."""
+        """Return the same target keeping only the first ``n_freq`` frequencies."""
         if not 1 <= n_freq <= self.omega_truth_rad_s.size:
             raise BeamInputError(
                 f"frequencies = {n_freq}: must be in 1..{self.omega_truth_rad_s.size} "
@@ -148,8 +154,11 @@ class FitTarget:
                        labels=labels)
 
     def shape_notes(self) -> list[str]:
-        """Why a chain may miss this target: truth modes that are not beam-like (labelled other
-        than bending, or MAC < 0.8 with a beam bending mode), one line each."""
+        """List why a chain may miss this target, one line per truth mode that is not beam-like.
+
+        A mode is not beam-like when labelled other than bending, or when its MAC with a beam
+        bending mode is below 0.8.
+        """
         out = []
         for k in range(self.omega_truth_rad_s.size):
             label = None if self.labels is None else self.labels[k]
@@ -164,8 +173,22 @@ class FitTarget:
 
 def target_from_truth(truth, tip_force_N: np.ndarray,
                       request: TruthRequest | None = None) -> FitTarget:
-    """A :class:`FitTarget` from a ``truth.TruthResult`` computed under ``tip_force_N`` (N), by
-    ``request`` when given."""
+    """Build a :class:`FitTarget` from a truth result.
+
+    Parameters
+    ----------
+    truth : TruthResult
+        The truth computation (frequencies in rad/s, tip position and displacement in m).
+    tip_force_N : ndarray, shape (3,)
+        The tip force the truth's statics were computed under, N.
+    request : TruthRequest or None
+        The ``compute_truth`` request that produced ``truth``, recorded in the target.
+
+    Returns
+    -------
+    FitTarget
+        The target, with the truth's frequencies, tip, MAC and mode labels.
+    """
     mac = getattr(truth, "mac_beam", None)
     src = f"{truth.model}, mesh level {truth.mesh_level}, selection {truth.selection}"
     labels = tuple(truth.labels[int(i)] for i in truth.mode_index)
@@ -183,9 +206,12 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
 
 
 def model_target(model, tip_forces_N) -> FitTarget:
-    """A PRBDM as its own truth: its frequencies (rad/s) and its large-deflection tip (m) under
+    """Take a PRBDM as its own truth.
+
+    The target holds the model's frequencies (rad/s) and its large-deflection tip (m) under
     each force of ``tip_forces_N`` (k, 3), N; the first is the primary load case, the others
-    ``extra_loads``. A fit to it should recover the model (identifiability checks)."""
+    ``extra_loads``. A fit to it should recover the model (identifiability checks).
+    """
     forces = np.asarray(tip_forces_N, dtype=float).reshape(-1, 3)
     rest = model.tip_position()
     cases = []

@@ -54,7 +54,7 @@ HUB_LIMIT_RAD = 1.0e6
 
 @cache
 def template_text(name: str) -> str:
-    """The text of template ``name`` from the installed package ``prbdm_pin.urdf_templates``.
+    """Read template ``name`` from the installed package ``prbdm_pin.urdf_templates``.
 
     A source checkout that was not installed falls back to the repository's ``urdf_templates/``.
     """
@@ -83,7 +83,7 @@ def render_urdf(
     comment: str = "",
     hub=None,
 ) -> str:
-    """The URDF string of the chain.
+    """Render the URDF string of the chain.
 
     Parameters
     ----------

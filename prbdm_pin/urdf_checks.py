@@ -24,7 +24,7 @@ HUB_LINK = "hub_body"
 
 
 def read_urdf_text(path: str | os.PathLike) -> str:
-    """The text of a URDF file: size capped by ``max_file_bytes``, UTF-8, named on error."""
+    """Read the text of a URDF file: size capped by ``max_file_bytes``, UTF-8, named on error."""
     p = Path(path)
     label = f"urdf file {str(p)!r}"
     try:
@@ -130,8 +130,10 @@ def check_sections(what: str, lengths_m: np.ndarray, mass_kg: np.ndarray) -> Non
 
 
 def hub_inertia(text: str, what: str = "urdf") -> float:
-    """The hub's inertia about its axis (``iyy`` of link ``hub_body``), kg m^2, from a URDF text
-    that :func:`check_urdf` accepted."""
+    """Read the hub's inertia about its axis (``iyy`` of link ``hub_body``), kg m^2.
+
+    From a URDF text that :func:`check_urdf` accepted.
+    """
     root = ET.fromstring(text)
     for link in root.findall("link"):
         el = None if link.get("name") != HUB_LINK else link.find("inertial/inertia")

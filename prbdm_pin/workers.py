@@ -80,8 +80,9 @@ def _watch(driver_pid: int, parent_pid: int, poll_s: float) -> None:
 
 def init_worker(driver_pid: int, initializer: Callable[..., Any] | None = None,
                 initargs: tuple = (), poll_s: float = PARENT_POLL_S) -> None:
-    """Pool initializer: Ctrl-C left to the driver, exit when the driver is gone, then
-    ``initializer(*initargs)``.
+    """Guard a pool worker: Ctrl-C left to the driver, exit when the driver is gone.
+
+    Then run ``initializer(*initargs)``.
 
     Parameters
     ----------
@@ -114,7 +115,7 @@ def init_worker(driver_pid: int, initializer: Callable[..., Any] | None = None,
 
 def process_pool(workers: int, mp_context: Any, initializer: Callable[..., Any] | None = None,
                  initargs: tuple = ()) -> cf.ProcessPoolExecutor:
-    """A ``ProcessPoolExecutor`` of ``workers`` processes whose workers run :func:`init_worker`.
+    """Make a ``ProcessPoolExecutor`` of ``workers`` processes that run :func:`init_worker`.
 
     Parameters
     ----------
@@ -160,8 +161,10 @@ def stop_pool(executor: cf.Executor, join_s: float = 5.0) -> None:
 
 @contextlib.contextmanager
 def pool_scope(executor: cf.Executor) -> Iterator[cf.Executor]:
-    """Use ``executor`` in a ``with`` block: on leaving normally wait for it, on any exception
-    (Ctrl-C included) :func:`stop_pool` it."""
+    """Use ``executor`` in a ``with`` block.
+
+    On leaving normally wait for it; on any exception (Ctrl-C included) :func:`stop_pool` it.
+    """
     try:
         yield executor
     except BaseException:
@@ -171,8 +174,9 @@ def pool_scope(executor: cf.Executor) -> Iterator[cf.Executor]:
 
 
 def pin_blas() -> None:
-    """Pool initializer: :data:`BLAS_THREAD_VARS` set to 1 in the worker, before anything it
-    receives loads numpy (BLAS reads them once, when it loads).
+    """Set :data:`BLAS_THREAD_VARS` to 1 in a pool worker before anything loads numpy.
+
+    BLAS reads them once, when it loads, so this runs as the pool's initializer.
 
     It takes no arguments on purpose: a spawned worker unpickles an initializer's arguments
     before running it, and arguments holding arrays would load numpy first. Work that needs

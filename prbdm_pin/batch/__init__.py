@@ -1,5 +1,7 @@
-"""Batch studies: many beams, each one truth (cached) plus one fit, over a concurrent.futures
-executor (a local process pool by default; a Dask cluster when asked).
+"""Batch studies: many beams, each one truth (cached) plus one fit.
+
+The beams run over a concurrent.futures executor (a local process pool by default; a Dask
+cluster when asked).
 
 Only the driver writes. Every finished beam becomes one JSON line appended to
 ``DIR/results.jsonl`` (flushed and fsynced), failures included with their error; at the end the

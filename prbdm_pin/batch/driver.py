@@ -1,5 +1,7 @@
-"""The batch driver: plan, check the folder, keep the executor full, record every beam as it
-finishes, retry the beams of a dead worker alone, and stop cleanly on Ctrl-C or SIGTERM.
+"""The batch driver: plan, run and record every beam of a batch.
+
+It checks the folder, keeps the executor full, records every beam as it finishes, retries the
+beams of a dead worker alone, and stops cleanly on Ctrl-C or SIGTERM.
 
 Only the driver writes, and one driver per folder (a lock).
 """
@@ -206,8 +208,10 @@ def run_batch(
 
 
 def _drive(todo: Sequence[BeamTask], work: Callable, backend: Any, run: _Run) -> list[BeamTask]:
-    """Run ``todo`` keeping ``backend.slots`` beams in flight; returns the beams that were in
-    flight when a worker process died (to be retried)."""
+    """Run ``todo`` keeping ``backend.slots`` beams in flight.
+
+    Returns the beams that were in flight when a worker process died (to be retried).
+    """
     pending = deque(todo)
     suspects: list[BeamTask] = []
     executor = backend.executor()
@@ -254,8 +258,11 @@ def _drive(todo: Sequence[BeamTask], work: Callable, backend: Any, run: _Run) ->
 
 
 def _retry_isolated(suspects: list[BeamTask], work: Callable, backend: Any, run: _Run) -> None:
-    """Run each beam that was in flight when a worker died once more, alone in a fresh
-    one-worker pool, so a beam that kills its worker again is identified and recorded failed."""
+    """Run once more, alone, each beam that was in flight when a worker died.
+
+    Each runs in a fresh one-worker pool, so a beam that kills its worker again is identified
+    and recorded failed.
+    """
     queue = deque(sorted(suspects, key=lambda t: t.index))
     running: dict[cf.Future, tuple[BeamTask, cf.Executor]] = {}
     try:

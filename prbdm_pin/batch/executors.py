@@ -1,5 +1,7 @@
-"""Where the beams of a batch run: a local process pool (one BLAS thread per worker) or an
-existing Dask cluster; both give the driver a concurrent.futures executor.
+"""Where the beams of a batch run: a local process pool or an existing Dask cluster.
+
+The local pool runs one BLAS thread per worker; both give the driver a concurrent.futures
+executor.
 
 No numpy at import: a spawned worker imports this module to unpickle the pool initializer, which
 must set the BLAS thread variables before numpy loads its BLAS.
@@ -22,8 +24,9 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
 
 
 def _init_worker() -> None:
-    """Pool initializer: one BLAS/OpenMP thread per worker (``workers.init_worker`` leaves
-    Ctrl-C to the driver and ends the worker with it).
+    """Pool initializer: one BLAS/OpenMP thread per worker.
+
+    ``workers.init_worker`` leaves Ctrl-C to the driver and ends the worker with it.
 
     It runs before the first task is unpickled, and the batch package imports no numpy at
     import, so the variables are set before BLAS loads (OpenBLAS reads them once, when it loads).
@@ -57,7 +60,7 @@ class LocalPool:
         return self.workers
 
     def executor(self, workers: int | None = None) -> cf.Executor:
-        """A fresh pool (``workers`` processes, default ``self.workers``)."""
+        """Return a fresh pool (``workers`` processes, default ``self.workers``)."""
         from ..workers import process_pool
 
         return process_pool(workers or self.workers,
@@ -109,7 +112,7 @@ class DaskCluster:
         return max(1, 2 * sum(self.client.nthreads().values()))
 
     def executor(self, workers: int | None = None) -> cf.Executor:
-        """The client's concurrent.futures executor."""
+        """Return the client's concurrent.futures executor."""
         return self.client.get_executor(pure=False)
 
     def abort(self, executor: cf.Executor) -> None:

@@ -1,5 +1,7 @@
-"""The files of a batch folder as data: ``batch.json`` and ``results.jsonl`` checked on read,
-the arguments a resume must share with the records already there, and one file mode.
+"""The files of a batch folder as data, checked on read.
+
+``batch.json`` and ``results.jsonl`` checked on read, the arguments a resume must share with
+the records already there, and one file mode.
 
 A batch folder outlives the process that wrote it: it is copied between machines, merged from
 shards, edited, truncated by a full disk. Every defect found here is a BeamInputError that names
@@ -136,8 +138,9 @@ def _recorded(rec: Mapping[str, Any]) -> dict[str, Any]:
 
 def check_records_match(records: Iterable[Mapping[str, Any]], manifest: Mapping[str, Any],
                         where: str | os.PathLike) -> None:
-    """Refuse records computed with other arguments than ``manifest`` (a resume whose
-    ``batch.json`` was lost); the message names the option.
+    """Refuse records computed with other arguments than ``manifest``.
+
+    This catches a resume whose ``batch.json`` was lost; the message names the option.
 
     Parameters
     ----------
@@ -162,7 +165,7 @@ def check_records_match(records: Iterable[Mapping[str, Any]], manifest: Mapping[
 
 
 def missing_shards(shards: Iterable[tuple[int, int]]) -> tuple[int, list[int]]:
-    """The shard count N and the shard indices absent from ``shards`` (pairs ``(i, N)``).
+    """Return the shard count N and the shard indices absent from ``shards`` (pairs ``(i, N)``).
 
     Raises
     ------
@@ -179,7 +182,7 @@ def missing_shards(shards: Iterable[tuple[int, int]]) -> tuple[int, list[int]]:
 
 
 def output_mode() -> int:
-    """The mode of a file the package writes: 0o666 less the umask (0o644 under umask 022)."""
+    """Return the mode of a file the package writes: 0o666 less the umask (0o644 under 022)."""
     try:
         for line in Path("/proc/self/status").read_text().splitlines():
             if line.startswith("Umask:"):
@@ -192,8 +195,11 @@ def output_mode() -> int:
 
 
 def write_output(path: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically with :func:`output_mode`; a file that already
-    holds exactly ``text`` is left alone (a resume with nothing to do changes nothing)."""
+    """Write ``text`` to ``path`` atomically with :func:`output_mode`.
+
+    A file that already holds exactly ``text`` is left alone (a resume with nothing to do
+    changes nothing).
+    """
     from ..io import atomic_write_text
 
     p = Path(path)

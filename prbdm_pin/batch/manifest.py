@@ -1,5 +1,8 @@
-"""``batch.json``: the arguments that determine a batch's results, written by the first run and
-checked by every resume (field by field, naming the one that differs)."""
+"""``batch.json``: the arguments that determine a batch's results.
+
+Written by the first run and checked by every resume (field by field, naming the one that
+differs).
+"""
 
 from __future__ import annotations
 
@@ -20,7 +23,7 @@ MANIFEST = "batch.json"
 
 
 def build_manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]:
-    """What ``batch.json`` records for ``spec`` (its beams: ``tasks``, from :func:`plan_tasks`)."""
+    """Return what ``batch.json`` records for ``spec`` (``tasks``: from :func:`plan_tasks`)."""
     from .. import __version__
 
     s = spec.settings
@@ -51,8 +54,10 @@ def build_manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]
 
 
 def check_manifest(path: Path, wanted: dict[str, Any], jsonl: Path) -> None:
-    """Refuse a folder made with other arguments than ``wanted`` (naming the field); a folder
-    without ``batch.json`` has its records in ``jsonl`` checked, then gets one."""
+    """Refuse a folder made with other arguments than ``wanted`` (naming the field).
+
+    A folder without ``batch.json`` has its records in ``jsonl`` checked, then gets one.
+    """
     if not path.exists():
         # records without their manifest: they still show the arguments they were made with
         check_records_match(read_records(jsonl), wanted, jsonl)

@@ -1,5 +1,7 @@
-"""The figures of a batch report: loss and link-fraction histograms, SCF_mean against
-the geometry features."""
+"""The figures of a batch report.
+
+Loss and link-fraction histograms, and SCF_mean against the geometry features.
+"""
 
 from __future__ import annotations
 
@@ -12,8 +14,10 @@ from .report import FEATURES, BatchReport, column_values
 
 
 def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> list[str]:
-    """Histograms of the losses and link fractions, SCF_mean against the geometry features;
-    returns the PNG paths."""
+    """Plot the loss and link-fraction histograms and SCF_mean against the geometry features.
+
+    Returns the PNG paths.
+    """
     import matplotlib
 
     matplotlib.use("Agg")

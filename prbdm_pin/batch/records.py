@@ -1,5 +1,8 @@
-"""``results.jsonl`` and ``results.csv``: one JSON line per finished beam (appended durably),
-read back checked, and consolidated into a CSV of the latest record of each beam."""
+"""``results.jsonl`` and ``results.csv``: the records of a batch.
+
+One JSON line per finished beam (appended durably), read back checked, and consolidated into a
+CSV of the latest record of each beam.
+"""
 
 from __future__ import annotations
 
@@ -59,7 +62,7 @@ def read_records(path: str | os.PathLike, *, repair: bool = False) -> list[dict[
 
 
 def latest_records(records: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The last record of every beam, sorted by beam index."""
+    """Return the last record of every beam, sorted by beam index."""
     last: dict[int, dict[str, Any]] = {}
     for rec in records:
         last[rec["beam_index"]] = rec
@@ -73,11 +76,13 @@ class RecordWriter:
         self._fh = open(path, "a", encoding="utf-8")  # noqa: SIM115 -- closed by close()
 
     def write(self, record: dict[str, Any]) -> None:
+        """Append ``record`` as one JSON line, flushed and fsynced."""
         self._fh.write(record_to_json(record) + "\n")
         self._fh.flush()
         os.fsync(self._fh.fileno())
 
     def close(self) -> None:
+        """Close the file."""
         self._fh.close()
 
 
@@ -99,8 +104,10 @@ def _flat_row(rec: dict[str, Any]) -> dict[str, Any]:
 
 
 def write_csv(records: Sequence[dict[str, Any]], path: str | os.PathLike) -> Path:
-    """Write the latest record of each beam, sorted by index, as CSV (lists become ``key_j``
-    columns), atomically."""
+    """Write the latest record of each beam, sorted by index, as CSV, atomically.
+
+    Lists become ``key_j`` columns.
+    """
     rows = [_flat_row(r) for r in latest_records(records)]
     keys = {k for r in rows for k in r}
     lead = [k for k in _LEADING if k in keys]

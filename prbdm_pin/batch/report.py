@@ -1,5 +1,6 @@
-"""The report of a batch study: distributions and correlations over the latest record of every
-beam, and their Markdown.
+"""The report of a batch study and its Markdown.
+
+Distributions and correlations over the latest record of every beam.
 
 Losses, link-length fractions (gamma_1 is the paper's "characteristic pivot"), and SCF_mean
 against simple geometry features (taper ratio, mean width). Several output folders (the shards
@@ -200,7 +201,7 @@ def _fmt(v: float) -> str:
 
 
 def to_markdown(rep: BatchReport, plots: list[str]) -> str:
-    """The report as Markdown."""
+    """Return the report as Markdown."""
     s = rep.settings.get("settings", {})
     lines = ["# Batch study report", ""]
     src = (f"{rep.settings.get('n_beams')} random beams, seed {rep.settings.get('seed')}"

@@ -1,5 +1,7 @@
-"""What a batch computes and over which beams: the fit settings (the joints, the fit's options
-and the truth model), the spec that determines the results, one task per beam of a shard.
+"""What a batch computes and over which beams.
+
+The fit settings (the joints, the fit's options and the truth model), the spec that determines
+the results, one task per beam of a shard.
 
 No numpy at import (see the package docstring): the settings are checked with plain Python.
 """
@@ -47,6 +49,7 @@ class FitSettings:
     cache_dir: str | None = None
 
     def __post_init__(self) -> None:
+        """Check the joints, the options and the truth model (BeamInputError naming the field)."""
         from ..layout import check_min_fraction
 
         check_int("joints", self.joints, 1)
@@ -56,8 +59,11 @@ class FitSettings:
         check_choice("truth_model", self.truth_model, TRUTH_MODELS)
 
     def replace(self, **changes: Any) -> FitSettings:
-        """A copy with ``changes`` applied: ``joints``, ``truth_model``, ``cache_dir`` or any
-        option of :class:`FitOptions` by name."""
+        """Return a copy with ``changes`` applied.
+
+        ``changes`` may name ``joints``, ``truth_model``, ``cache_dir`` or any option of
+        :class:`FitOptions`.
+        """
         own = {k: changes.pop(k) for k in ("joints", "truth_model", "cache_dir")
                if k in changes}
         if changes:
@@ -77,6 +83,19 @@ class BeamTask:
 
     ``beam`` is None for a random batch: the worker regenerates beam ``index`` from ``seed``
     (cheaper to ship than the beam, and reproducible anywhere).
+
+    Attributes
+    ----------
+    index : int
+        The beam's index in the batch (0-based).
+    seed : int
+        The batch's root seed.
+    settings : FitSettings
+        What is fitted (joints, fit options, truth model).
+    name : str
+        The beam's name in the records (``beam-<index>`` or the beam file's stem).
+    beam : Beam or None
+        The beam of a beam-file batch; None for a random batch.
     """
 
     index: int
@@ -110,6 +129,7 @@ class BatchSpec:
     shard: tuple[int, int] = (0, 1)
 
     def __post_init__(self) -> None:
+        """Check the seed, the beams and the shard (BeamInputError naming the field)."""
         check_int("seed", self.seed, 0)
         if (self.n_beams is None) == (self.beams_dir is None):
             raise BeamInputError(

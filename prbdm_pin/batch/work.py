@@ -1,5 +1,7 @@
-"""The per-beam work of a batch: the beam and fit seed of a task, its geometry features, and
-:func:`evaluate_beam` (truth + fit -> one flat record).
+"""The per-beam work of a batch.
+
+The beam and fit seed of a task, its geometry features, and :func:`evaluate_beam` (truth + fit
+-> one flat record).
 
 Beam i of a random batch is ``random_beam(default_rng(SeedSequence(seed, spawn_key=(i,))))`` and
 its fit seed is the first 32-bit word of that sequence's first child, so no result depends on the
@@ -27,7 +29,7 @@ def _beam_seed_sequence(seed: int, index: int):
 
 
 def beam_of(task: BeamTask) -> Beam:
-    """The beam of a task: the file's beam, or random beam ``index`` of root seed ``seed``."""
+    """Return the beam of a task: the file's beam, or random beam ``index`` of seed ``seed``."""
     if task.beam is not None:
         return task.beam
     import numpy as np
@@ -39,7 +41,7 @@ def beam_of(task: BeamTask) -> Beam:
 
 
 def fit_seed_of(task: BeamTask) -> int:
-    """The fit seed of a task: first 32-bit word of its beam sequence's first child."""
+    """Return the fit seed of a task: first 32-bit word of its beam sequence's first child."""
     import numpy as np
 
     child = _beam_seed_sequence(task.seed, task.index).spawn(1)[0]
@@ -47,7 +49,7 @@ def fit_seed_of(task: BeamTask) -> int:
 
 
 def beam_features(beam: Beam) -> dict[str, float]:
-    """Simple geometry features of a beam (for reports): widths in m, mass in kg.
+    """Return simple geometry features of a beam (for reports): widths in m, mass in kg.
 
     ``taper_ratio`` is the tip width over the root width; ``mean_width_m`` the planform area over
     the length.
@@ -71,7 +73,7 @@ def beam_features(beam: Beam) -> dict[str, float]:
 
 
 def record_header(task: BeamTask) -> dict[str, Any]:
-    """The fields every record of ``task`` starts with: the beam and the batch's arguments."""
+    """Return the fields every record of ``task`` starts with: the beam and the arguments."""
     s = task.settings
     o = s.options
     # the arguments travel with the record (a resume that lost batch.json still checks them)
@@ -82,7 +84,7 @@ def record_header(task: BeamTask) -> dict[str, Any]:
 
 
 def evaluate_beam(task: BeamTask) -> dict[str, Any]:
-    """The default per-beam work: truth (cached) then fit; a flat JSON-ready record.
+    """Run the default per-beam work: truth (cached) then fit; return a flat JSON-ready record.
 
     An error inside the truth or the fit is part of the result (``status = "failed"``, with
     ``error`` and ``stage``); only interrupts and process deaths escape.

@@ -55,6 +55,7 @@ class BenchConfig:
     mujoco: bool = True
 
     def __post_init__(self) -> None:
+        """Check the lists and the durations (BeamInputError naming the field)."""
         if not self.beams or not self.joints or not self.chain_joints:
             raise BeamInputError("BenchConfig: beams, joints and chain_joints must be non-empty")
         for name, vals, lo in (("joints", self.joints, 1), ("chain_joints", self.chain_joints, 1)):
@@ -98,7 +99,7 @@ class ModelRow:
     omega_model_rad_s, omega_truth_rad_s : ndarray, shape (k,)
         The model's first k = min(joints, truth modes) frequencies and the truth's, rad/s.
     tip_errors_pct : ndarray, shape (loads,)
-        |p_model - p_elastica| / |u_elastica| per load index, % (NaN: statics failed/not run).
+        ``|p_model - p_elastica| / |u_elastica|`` per load index, % (NaN: statics failed/not run).
     step_error_pct, frf_error_pct : float
         Relative L2 error of the tip step response and FRF, % (NaN: not run).
     sim_cpu_s_per_s, sim_wall_s_per_s : float
@@ -126,7 +127,10 @@ class ModelRow:
         return 100.0 * (self.omega_model_rad_s / self.omega_truth_rad_s - 1.0)
 
     def max_freq_error_pct(self, modes: int) -> float:
-        """Largest |error| over the first ``modes`` frequencies, % (NaN if fewer are available)."""
+        """Return the largest ``|error|`` over the first ``modes`` frequencies, %.
+
+        NaN if fewer are available.
+        """
         e = self.freq_errors_pct
         return float(np.max(np.abs(e[:modes]))) if e.size >= modes else float("nan")
 

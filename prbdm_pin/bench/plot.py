@@ -13,9 +13,11 @@ __all__ = ["plot_error_vs_cost"]
 
 
 def plot_error_vs_cost(result: BenchResult, path: str | Path) -> Path:
-    """Log-log error against simulation cost, one panel per k (first k modes), frontier marked;
-    a last panel shows the FE truth levels (modal-solve CPU against error vs the finest level).
-    Writes a PNG atomically."""
+    """Plot error against simulation cost (log-log) and write a PNG atomically.
+
+    One panel per k (first k modes), frontier marked; a last panel shows the FE truth levels
+    (modal-solve CPU against error vs the finest level).
+    """
     from ..plots import pyplot, save_figure
 
     plt = pyplot()

@@ -1,5 +1,7 @@
-"""A benchmark run as numbers to read: the non-dominated frontier, the Markdown report and the
-raw JSON mapping."""
+"""A benchmark run as numbers to read.
+
+The non-dominated frontier, the Markdown report and the raw JSON mapping.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ __all__ = ["frontier_mask", "markdown_report", "plot_modes", "result_dict", "sum
 
 
 def frontier_mask(cost: np.ndarray, error: np.ndarray) -> np.ndarray:
-    """True for points no other point dominates (cost <= and error <=, one of them <)."""
+    """Return True for points no other point dominates (cost <= and error <=, one of them <)."""
     c, e = np.asarray(cost, dtype=float), np.asarray(error, dtype=float)
     ok = np.isfinite(c) & np.isfinite(e)
     mask = np.zeros(c.size, dtype=bool)
@@ -30,8 +32,11 @@ def frontier_mask(cost: np.ndarray, error: np.ndarray) -> np.ndarray:
 
 
 def summary_points(result: BenchResult, modes: int) -> list[tuple[str, float, float]]:
-    """(label, mean CPU s per simulated s, worst max frequency error over the first ``modes``
-    modes across beams, %) of every model configuration able to give ``modes`` frequencies."""
+    """Return the cost and error of every model configuration able to give ``modes`` frequencies.
+
+    Each entry is (label, mean CPU s per simulated s, worst max frequency error over the first
+    ``modes`` modes across beams, %).
+    """
     groups: dict[tuple[str, int], list[ModelRow]] = {}
     for r in result.models:
         if r.joints >= modes:
@@ -51,7 +56,7 @@ def _g(v: float, fmt: str = ".3g") -> str:
 
 
 def markdown_report(result: BenchResult, machine: str = "") -> str:
-    """The Markdown table of a run (models, comparisons, frontier points, FE truth levels)."""
+    """Return the Markdown table of a run (models, comparisons, frontier, FE truth levels)."""
     cfg = result.config
     loads = ", ".join(f"{a:g}" for a in cfg.load_indices)
     lines = [
@@ -138,7 +143,7 @@ def markdown_report(result: BenchResult, machine: str = "") -> str:
 
 
 def result_dict(result: BenchResult) -> dict:
-    """The raw numbers of a run as JSON-ready lists (frequencies in rad/s, errors in %)."""
+    """Return the raw numbers of a run as JSON-ready lists (frequencies in rad/s, errors in %)."""
 
     def f(v):
         return None if v is None or not np.isfinite(v) else float(v)
@@ -166,5 +171,5 @@ def result_dict(result: BenchResult) -> dict:
 
 
 def plot_modes(result: BenchResult) -> list[int]:
-    """The k of the "first k modes" panels and frontier tables: every fitted n."""
+    """Return the k of the "first k modes" panels and frontier tables: every fitted n."""
     return sorted(set(result.config.joints))

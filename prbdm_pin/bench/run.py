@@ -1,5 +1,8 @@
-"""The measurements of a benchmark run: fitted nR models, finite-segment chains, the MuJoCo peer
-and the FE truth levels of every beam of a :class:`~prbdm_pin.bench.config.BenchConfig`."""
+"""The measurements of a benchmark run.
+
+Fitted nR models, finite-segment chains, the MuJoCo peer and the FE truth levels of every beam
+of a :class:`~prbdm_pin.bench.config.BenchConfig`.
+"""
 
 from __future__ import annotations
 
@@ -25,7 +28,7 @@ def chain_lengths(length_m: float, n_joints: int) -> np.ndarray:
 
 
 def finite_segment_chain(beam: Beam, n_joints: int):
-    """The hand-built chain: equal segments, springs at the segment centres, K = E / ∫dx/I."""
+    """Build the hand-built chain: equal segments, springs at the segment centres, K = E / ∫dx/I."""
     from ..model import build_model
     from ..stiffness import finite_segment_stiffness
 
@@ -36,8 +39,11 @@ def finite_segment_chain(beam: Beam, n_joints: int):
 
 
 def bench_beams(names: tuple[str, ...], beam_dir: str | Path | None = None) -> list[Beam]:
-    """The beams of a config: shipped names from ``beam_dir`` (default ``examples/beams``) and
-    ``random-<seed>`` for ``random_beam(np.random.default_rng(seed))``."""
+    """Return the beams of a config.
+
+    Shipped names come from ``beam_dir`` (default ``examples/beams``) and ``random-<seed>``
+    stands for ``random_beam(np.random.default_rng(seed))``.
+    """
     d = Path(beam_dir) if beam_dir is not None else _examples_dir()
     out = []
     for name in names:
@@ -131,6 +137,24 @@ def _measure(beam: Beam, kind: str, model, omega_truth, forces, statics, truth_t
 
 
 def mujoco_row(beam: Beam, model, omega_truth, duration_s: float) -> ModelRow | None:
+    """Measure the MuJoCo peer of ``model``: its frequencies and its simulation cost.
+
+    Parameters
+    ----------
+    beam : Beam
+        The beam (its name labels the row).
+    model : PrbdmModel
+        The chain exported to MJCF.
+    omega_truth : array_like
+        Truth natural frequencies, rad/s.
+    duration_s : float
+        Simulated time, s.
+
+    Returns
+    -------
+    ModelRow or None
+        The row (cost in CPU and wall s per simulated s); None without MuJoCo installed.
+    """
     try:
         import mujoco
     except ImportError:
@@ -275,5 +299,5 @@ def run_benchmark(
 
 
 def work_units(config: BenchConfig) -> int:
-    """Number of ``progress`` calls a run of ``config`` makes."""
+    """Return the number of ``progress`` calls a run of ``config`` makes."""
     return len(config.beams) * (2 + len(config.joints) + len(config.chain_joints))

@@ -117,8 +117,10 @@ def check_options(args: argparse.Namespace) -> None:
 
 
 def batch_fit_options(args: argparse.Namespace):
-    """The FitOptions of a ``prbdm batch`` command line (each beam's fit seed replaces
-    ``seed``)."""
+    """Return the FitOptions of a ``prbdm batch`` command line.
+
+    Each beam's fit seed replaces ``seed``.
+    """
     from ..options import FitOptions
 
     return FitOptions(frequencies=args.frequencies, objective=args.objective,

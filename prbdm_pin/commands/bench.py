@@ -17,6 +17,7 @@ EXAMPLE = """example:
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``bench`` subparser."""
     p = subparsers.add_parser(
         "bench", help="benchmark: model error against simulation cost",
         description="Fitted nR models (n = 1..8) beside finite-segment chains (N = 2..64) and the "
@@ -48,6 +49,7 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    """Run ``prbdm bench`` (exit code 0 on success)."""
     from dataclasses import replace
 
     import numpy as np

@@ -73,8 +73,10 @@ def _bounds_text(lo, hi, lo_open, hi_open, integer) -> str:
 def in_range(field: str, value: object, lo: float | None = None, hi: float | None = None, *,
              lo_open: bool = False, hi_open: bool = False, integer: bool = False,
              unit: str = "", why: str = "") -> None:
-    """Refuse a number outside ``[lo, hi]`` (``lo_open``/``hi_open`` exclude an end; None: no
-    bound on that side), a non-finite one, and a non-integer when ``integer``.
+    """Refuse a number outside ``[lo, hi]``, a non-finite one, and a non-integer if asked.
+
+    ``lo_open``/``hi_open`` exclude an end; None: no bound on that side; ``integer`` refuses a
+    non-integer.
 
     Raises
     ------

@@ -96,8 +96,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
-    """The truth frequencies (rad/s) a model file knows: a fit.json's ``omega_truth_rad_s``, or
-    the record of an earlier export (model JSON fields, URDF comment); None if none."""
+    """Return the truth frequencies (rad/s) a model file knows; None if none.
+
+    These are a fit.json's ``omega_truth_rad_s``, or the record of an earlier export (model
+    JSON fields, URDF comment).
+    """
     import numpy as np
 
     from ..export import read_export_record
@@ -114,8 +117,10 @@ def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
 
 
 def check_options(args: argparse.Namespace) -> dict:
-    """Refuse bad ``prbdm export`` options before the model is read; returns the parsed plant
-    options (hub, actuators, inputs)."""
+    """Refuse bad ``prbdm export`` options before the model is read.
+
+    Returns the parsed plant options (hub, actuators, inputs).
+    """
     import os
 
     from ..errors import BeamInputError

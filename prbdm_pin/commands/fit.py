@@ -1,5 +1,7 @@
-"""``prbdm fit``: fit an nR PRBDM to a beam's finite-element truth; writes fit.json, model.urdf
-and plots."""
+"""``prbdm fit``: fit an nR PRBDM to a beam's finite-element truth.
+
+Writes fit.json, model.urdf and plots.
+"""
 
 from __future__ import annotations
 
@@ -65,6 +67,7 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``fit`` subparser."""
     p = subparsers.add_parser(
         "fit", help="fit a PRBDM to the truth (multistart, single objective)",
         description="Multistart fit of an nR PRBDM: eigen (Eq. 17), deflection (Eq. 19) or "
@@ -89,7 +92,7 @@ def worst_mode_text(result) -> str:
 
 
 def export_text(result) -> str:
-    """The exported model: which springs, and its own frequencies and errors at q = 0."""
+    """Return the exported model: which springs, and its frequencies and errors at q = 0."""
     w = " ".join(f"{v:.6g}" for v in result.omega_export_rad_s)
     e = " ".join(f"{v:+.3g}" for v in result.omega_export_errors_pct)
     return (f"exported model: {result.stiffness_pose}\n"
@@ -105,11 +108,13 @@ def print_warnings(result) -> None:
 
 def extra_load_cases(beam, factors: list[float], large_deflection: str,
                      static_theory_gap_pct: float | None = None) -> tuple:
-    """Load cases at multiples of the beam's tip force, with the large-deflection truth's tip
-    (the elastica, milliseconds each, or the 3D nonlinear solid, about a minute each).
+    """Build load cases at multiples of the beam's tip force, with the large-deflection tip.
+
+    The large-deflection truth is the elastica (fast) or the 3D nonlinear solid (slow).
 
     ``calibrated-elastica`` scales EI(x) by 1 + gap / 100 with the primary truth's
-    ``static_theory_gap_pct`` (the linear ratio does not depend on the load)."""
+    ``static_theory_gap_pct`` (the linear ratio does not depend on the load).
+    """
     from ..target import LoadCase
 
     cases = []
@@ -129,8 +134,10 @@ def extra_load_cases(beam, factors: list[float], large_deflection: str,
 
 
 def load_target(args, beam):
-    """The FitTarget of the command: from ``--truth`` or from ``compute_truth`` (cached), with
-    the ``--extra-loads`` cases."""
+    """Return the FitTarget of the command, with the ``--extra-loads`` cases.
+
+    The truth comes from ``--truth`` or from ``compute_truth`` (cached).
+    """
     import dataclasses
 
     target = _base_target(args, beam)
@@ -197,9 +204,10 @@ FIT_FILES = ("fit.json", "model.urdf", "planform.png", "scf.png")
 
 
 def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]:
-    """fit.json, model.urdf and the plots of a FitResult, put into ``out`` as one set
-    (``output_folder``: an earlier fit's files there are replaced all together, other files
-    are kept).
+    """Write fit.json, model.urdf and the plots of a FitResult into ``out`` as one set.
+
+    With ``output_folder``, an earlier fit's files there are replaced all together; other files
+    are kept.
 
     model.urdf is what ``prbdm export fit.json --format urdf`` writes: fit.json's
     ``stiffness_Nm_per_rad``, 2 % stiffness-proportional joint damping, and the record comment
@@ -214,7 +222,7 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
 
 
 def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path]:
-    """The files of :func:`write_fit_outputs` written into ``folder`` (each atomically)."""
+    """Write the files of :func:`write_fit_outputs` into ``folder`` (each atomically)."""
     from ..choices import MIN_FRACTION
     from ..export import write_urdf
     from ..model import build_model
@@ -256,6 +264,7 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    """Run ``prbdm fit`` (exit code 0 on success)."""
     from ..beam_file import load_beam
     from ..fitting import fit
 

@@ -1,6 +1,9 @@
-"""``--fit-actuators`` of ``prbdm linearize``, ``prbdm simulate`` and ``prbdm export``: the strain
-actuators' joint weights fitted to the truth the fit.json was made against (from the cache),
-instead of the virtual-work map."""
+"""``--fit-actuators``: strain actuator weights fitted to the truth.
+
+Shared by ``prbdm linearize``, ``prbdm simulate`` and ``prbdm export``: the strain actuators'
+joint weights fitted to the truth the fit.json was made against (from the cache), instead of
+the virtual-work map.
+"""
 
 from __future__ import annotations
 
@@ -26,8 +29,11 @@ def add_fit_actuators_option(p: argparse.ArgumentParser, cache_dir: bool = False
 
 
 def check_fit_actuators(args, n_actuators: int) -> None:
-    """Refuse ``--fit-actuators`` without actuators or with an unwritable truth cache, before
-    any work (a command whose actuators may come from the model file passes -1)."""
+    """Refuse ``--fit-actuators`` without actuators or with an unwritable truth cache.
+
+    This runs before any work; a command whose actuators may come from the model file passes
+    -1.
+    """
     if not args.fit_actuators:
         return
     from .fit_checks import check_cache_dir
@@ -38,8 +44,11 @@ def check_fit_actuators(args, n_actuators: int) -> None:
 
 
 def fit_actuators(args, model, fitted, actuators) -> tuple:
-    """``actuators`` with joint weights fitted to the fit.json's truth (``model``: the PRBDM,
-    clamped or on its hub); unchanged without ``--fit-actuators``."""
+    """Return ``actuators`` with joint weights fitted to the fit.json's truth.
+
+    ``model`` is the PRBDM, clamped or on its hub; ``actuators`` come back unchanged without
+    ``--fit-actuators``.
+    """
     if not args.fit_actuators:
         return tuple(actuators)
     from ..plant.actuator_fit import fit_strain_actuators

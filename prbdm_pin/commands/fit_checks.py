@@ -1,5 +1,8 @@
-"""The checks of ``prbdm fit``'s options (shared with ``prbdm pareto``, ``simulate`` and
-``batch``): every range, cap and folder is refused before any file is read or truth computed."""
+"""The checks of ``prbdm fit``'s options.
+
+Shared with ``prbdm pareto``, ``simulate`` and ``batch``: every range, cap and folder is
+refused before any file is read or truth computed.
+"""
 
 from __future__ import annotations
 
@@ -13,16 +16,20 @@ MAX_STARTS = 100_000
 
 
 def cache_dir(args) -> str:
-    """The truth cache folder: ``--cache-dir``, else ``$PRBDM_CACHE``, else
-    ``~/.cache/prbdm_pin``."""
+    """Return the truth cache folder.
+
+    It is ``--cache-dir``, else ``$PRBDM_CACHE``, else ``~/.cache/prbdm_pin``.
+    """
     if args.cache_dir:
         return args.cache_dir
     return os.environ.get("PRBDM_CACHE") or str(Path.home() / ".cache" / "prbdm_pin")
 
 
 def load_factors(text: str | None) -> list[float]:
-    """``--extra-loads`` as multiples of the tip force ([] when not given); BeamInputError for a
-    non-finite or zero factor."""
+    """Return ``--extra-loads`` as multiples of the tip force ([] when not given).
+
+    Raises BeamInputError for a non-finite or zero factor.
+    """
     from ..errors import BeamInputError
 
     if not text:
@@ -40,9 +47,11 @@ def load_factors(text: str | None) -> list[float]:
 
 
 def check_truth_options(args) -> None:
-    """The checks of :func:`add_truth_options`' options (shared with ``prbdm pareto``): ranges,
-    the joint cap, the extra loads, a writable ``--out`` and cache folder; nothing is read or
-    computed yet."""
+    """Check the options of :func:`add_truth_options` (shared with ``prbdm pareto``).
+
+    Ranges, the joint cap, the extra loads, a writable ``--out`` and cache folder; nothing is
+    read or computed yet.
+    """
     from ..errors import BeamInputError
     from ..layout import check_min_fraction
     from ..limits import check_cap
@@ -65,8 +74,11 @@ def check_truth_options(args) -> None:
 
 
 def check_cache_dir(args) -> None:
-    """The truth cache folder must be writable: ``--cache-dir``, else ``$PRBDM_CACHE``, else
-    ``~/.cache/prbdm_pin`` (each named as what it is)."""
+    """Refuse a truth cache folder that is not writable.
+
+    The folder is ``--cache-dir``, else ``$PRBDM_CACHE``, else ``~/.cache/prbdm_pin`` (each
+    named as what it is).
+    """
     from .checks import writable_dir
 
     if args.cache_dir is not None:
@@ -99,8 +111,10 @@ def check_sweep(args) -> None:
 
 
 def check_inputs(args, beam, objective: str) -> float:
-    """Refuse, before any truth is computed, what cannot be fitted: a ``--min-link`` that leaves
-    no room for n + 1 links, and a deflection term without a tip load. Returns the min_fraction.
+    """Refuse, before any truth is computed, what cannot be fitted.
+
+    That is a ``--min-link`` that leaves no room for n + 1 links, and a deflection term without
+    a tip load. Returns the min_fraction.
     """
     from ..errors import BeamInputError
     from ..layout import check_min_fraction

@@ -1,5 +1,7 @@
-"""``prbdm simulate --input NAME=SIGNAL``: open-loop input signals of time, each checked with a
-message naming the option and the value (numpy-free, so they are refused before any import).
+"""``prbdm simulate --input NAME=SIGNAL``: open-loop input signals of time.
+
+Each is checked with a message naming the option and the value (numpy-free, so they are
+refused before any import).
 
 SIGNAL is one of
 
@@ -24,8 +26,10 @@ _KINDS = {"step": 2, "pulse": 2, "sine": 2}
 
 @dataclass(frozen=True)
 class InputSignal:
-    """One ``--input``: the input's name, the signal's kind and its two parameters (amplitude
-    in the input's unit; T0 or T1 in s, or F in Hz)."""
+    """One ``--input``: the input's name, the signal's kind and its two parameters.
+
+    The amplitude is in the input's unit; T0 or T1 in s, or F in Hz.
+    """
 
     name: str
     kind: str
@@ -33,7 +37,7 @@ class InputSignal:
     parameter: float
 
     def value(self, t_s: float) -> float:
-        """The input at time ``t_s`` (s)."""
+        """Return the input at time ``t_s`` (s)."""
         if self.kind == "step":
             return self.amplitude if t_s >= self.parameter else 0.0
         if self.kind == "pulse":
@@ -69,7 +73,7 @@ def parse_input(text: str) -> InputSignal:
 
 
 def parse_inputs(texts: list[str]) -> tuple[tuple[str, ...], Callable[[float], list] | None]:
-    """The ``--input`` options as (names, u(t) -> list of values); ((), None) without any."""
+    """Return the ``--input`` options as (names, u(t) -> list of values); ((), None) if none."""
     signals = [parse_input(t) for t in texts]
     names = tuple(s.name for s in signals)
     if len(set(names)) != len(names):

@@ -1,5 +1,7 @@
-"""``prbdm linearize``: a fitted PRBDM as a linear state-space plant (matrices, names, modes,
-Bode plot)."""
+"""``prbdm linearize``: a fitted PRBDM as a linear state-space plant.
+
+Writes the matrices, names, modes and a Bode plot.
+"""
 
 from __future__ import annotations
 
@@ -115,8 +117,10 @@ def _vector(text: str, option: str, unit: str) -> list[float]:
 
 
 def check_options(args: argparse.Namespace) -> dict:
-    """Refuse bad ``prbdm linearize`` options before the model is read; returns the parsed
-    values (names, actuators, hub, load, gravity)."""
+    """Refuse bad ``prbdm linearize`` options before the model is read.
+
+    Returns the parsed values (names, actuators, hub, load, gravity).
+    """
     from .checks import in_range, writable_dir
 
     out = {"inputs": names_option(args.inputs, "--inputs"),
@@ -163,8 +167,11 @@ def _bode(lin, path: Path) -> None:
 
 
 def actuator_weights_record(model, actuators) -> dict:
-    """``actuator_weights`` (each actuator's joint weights, N m per N m, as used) and
-    ``actuator_maps`` (``"fitted"`` or ``"virtual-work"`` each)."""
+    """Return the record fields ``actuator_weights`` and ``actuator_maps``.
+
+    ``actuator_weights``: each actuator's joint weights, N m per N m, as used;
+    ``actuator_maps``: ``"fitted"`` or ``"virtual-work"`` each.
+    """
     from ..plant.inputs import strain_map
 
     return {"actuator_weights": [[float(v) for v in strain_map(model.lengths_m, a,

@@ -1,5 +1,8 @@
-"""The model a command reads: a URDF, a model JSON (``prbdm export``) or a fit.json (with the
-beam it was fitted to), each refused with a message naming the file."""
+"""The model a command reads: a URDF, a model JSON or a fit.json.
+
+A model JSON comes from ``prbdm export``, a fit.json with the beam it was fitted to; each is
+refused with a message naming the file.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +12,7 @@ from ..errors import BeamInputError
 
 
 def load_model(path: str, beam_path: str | None = None):
-    """A PrbdmModel from a URDF, a model JSON (export) or a fit.json (with its beam file)."""
+    """Load a PrbdmModel from a URDF, a model JSON (export) or a fit.json (with its beam)."""
     return load_model_and_fit(path, beam_path)[0]
 
 
@@ -63,8 +66,10 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
 
 
 def file_actuators(path: str | Path) -> tuple:
-    """The strain actuators a model file records: a model JSON's ``actuators``, the record of
-    a URDF export; none for a fit.json."""
+    """Return the strain actuators a model file records.
+
+    These are a model JSON's ``actuators`` or the record of a URDF export; none for a fit.json.
+    """
     from ..export import read_export_record, read_plant_json
     from ..jsonfile import read_json
     from ..model_files import file_kind

@@ -1,6 +1,8 @@
-"""The fit options on the command line: the flags of ``prbdm fit`` and ``prbdm pareto``, and
-the one function each that turns parsed arguments into the frozen options object the library
-takes (and the result records)."""
+"""The fit options on the command line.
+
+The flags of ``prbdm fit`` and ``prbdm pareto``, and the one function each that turns parsed
+arguments into the frozen options object the library takes (and the result records).
+"""
 
 from __future__ import annotations
 
@@ -24,7 +26,7 @@ __all__ = ["add_problem_options", "add_fit_options", "add_pareto_options", "fit_
 
 
 def add_problem_options(p: argparse.ArgumentParser) -> None:
-    """The flags that define the fit problem (shared by ``prbdm fit`` and ``prbdm pareto``)."""
+    """Add the flags that define the fit problem (shared by ``prbdm fit`` and ``pareto``)."""
     p.add_argument("--frequencies", type=int, default=None,
                    help="truth frequencies to match, <= n (default n)")
     p.add_argument("--stiffness", default="paper", choices=list(STIFFNESS_KINDS),
@@ -45,7 +47,7 @@ def add_problem_options(p: argparse.ArgumentParser) -> None:
 
 
 def add_fit_options(p: argparse.ArgumentParser) -> None:
-    """The flags of ``prbdm fit`` beyond the problem's."""
+    """Add the flags of ``prbdm fit`` beyond the problem's."""
     p.add_argument("--objective", default="eigen", choices=list(OBJECTIVES))
     p.add_argument("--starts", type=int, default=64, help="multistart start points")
     p.add_argument("--eps", type=float, default=EPS_RAD, help="pose sweep step, rad (Eq. 11)")
@@ -61,7 +63,7 @@ def add_fit_options(p: argparse.ArgumentParser) -> None:
 
 
 def add_pareto_options(p: argparse.ArgumentParser) -> None:
-    """The flags of ``prbdm pareto`` beyond the problem's."""
+    """Add the flags of ``prbdm pareto`` beyond the problem's."""
     p.add_argument("--pop", type=int, default=100, help="population size")
     p.add_argument("--generations", type=int, default=200, help="generations (termination)")
     p.add_argument("--eps", type=float, default=PARETO_EPS_RAD,
@@ -78,8 +80,10 @@ def add_pareto_options(p: argparse.ArgumentParser) -> None:
 
 
 def fit_options(args: argparse.Namespace, min_fraction: float) -> FitOptions:
-    """The FitOptions of a ``prbdm fit`` command line (``min_fraction``: ``--min-link``,
-    checked against the beam)."""
+    """Return the FitOptions of a ``prbdm fit`` command line.
+
+    ``min_fraction`` is ``--min-link``, checked against the beam.
+    """
     return FitOptions(
         frequencies=args.frequencies, objective=args.objective, stiffness=args.stiffness,
         starts=args.starts, seed=args.seed, xi_rad=args.xi, eps_rad=args.eps,
@@ -89,7 +93,7 @@ def fit_options(args: argparse.Namespace, min_fraction: float) -> FitOptions:
 
 
 def pareto_options(args: argparse.Namespace, min_fraction: float) -> ParetoOptions:
-    """The ParetoOptions of a ``prbdm pareto`` command line."""
+    """Return the ParetoOptions of a ``prbdm pareto`` command line."""
     return ParetoOptions(
         frequencies=args.frequencies, stiffness=args.stiffness, seed=args.seed,
         xi_rad=args.xi, eps_rad=args.eps, squared=args.squared,

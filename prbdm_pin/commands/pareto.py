@@ -1,5 +1,7 @@
-"""``prbdm pareto``: NSGA-II front over (eigen loss, deflection loss); writes pareto.csv, the
-knee's fit.json and model.urdf, and plots."""
+"""``prbdm pareto``: NSGA-II front over (eigen loss, deflection loss).
+
+Writes pareto.csv, the knee's fit.json and model.urdf, and plots.
+"""
 
 from __future__ import annotations
 
@@ -29,6 +31,7 @@ The beam file must give "tip_force" (the deflection objective's load)."""
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``pareto`` subparser."""
     p = subparsers.add_parser(
         "pareto", help="NSGA-II Pareto fit (eigen vs deflection) and its knee",
         description="NSGA-II over (eigen loss, tip deflection loss); knee by Eq. 27.",
@@ -45,8 +48,11 @@ PARETO_FILES = ("pareto.csv", "pareto.json", "pareto.png")
 
 
 def write_pareto_outputs(res, beam, out: Path) -> None:
-    """pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json,
-    model.urdf and plots, put into ``out`` as one set (``output_folder``)."""
+    """Write the front's files into ``out`` as one set (``output_folder``).
+
+    pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json, model.urdf
+    and plots.
+    """
     from ..io import atomic_write_text
     from ..output_folder import output_folder
     from ..plots import plot_pareto
@@ -78,6 +84,7 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    """Run ``prbdm pareto`` (exit code 0 on success)."""
     from ..beam_file import load_beam
     from ..fitting import fit_pareto
 

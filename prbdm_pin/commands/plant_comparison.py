@@ -1,5 +1,7 @@
-"""``prbdm linearize --compare-truth``: the linearised PRBDM against the truth of the same plant
-(the truth the fit was made against, on the same hub and with the same actuators)."""
+"""``prbdm linearize --compare-truth``: the linearised PRBDM against the truth plant.
+
+The truth is the one the fit was made against, on the same hub and with the same actuators.
+"""
 
 from __future__ import annotations
 
@@ -13,8 +15,10 @@ PLANT_TRUTH_MODELS = ("plate", "plate-morley", "beam")
 
 
 def check_compare_options(args, opts: dict) -> None:
-    """Refuse ``--compare-truth`` with options the truth plant has no counterpart of, before
-    any work."""
+    """Refuse ``--compare-truth`` with options the truth plant has no counterpart of.
+
+    This runs before any work.
+    """
     if not args.compare_truth:
         return
     from .fit_checks import check_cache_dir
@@ -32,8 +36,11 @@ def check_compare_options(args, opts: dict) -> None:
 
 
 def truth_request_of(fitted, model_path: str, option: str = "--compare-truth"):
-    """The truth request a fit recorded; BeamInputError naming ``option`` when the model file
-    has none or its truth has no modal plant."""
+    """Return the truth request a fit recorded.
+
+    Raises BeamInputError naming ``option`` when the model file has none or its truth has no
+    modal plant.
+    """
     request = getattr(fitted, "truth_request", None)
     if request is None:
         raise BeamInputError(f"{option}: MODEL {model_path!r} carries no truth record "
@@ -46,8 +53,11 @@ def truth_request_of(fitted, model_path: str, option: str = "--compare-truth"):
 
 def compare_with_truth(lin, model, request, opts: dict, damping_ratio: float, cache_dir: str,
                        quiet: bool = True):
-    """The comparison of ``lin`` (the PRBDM plant of ``model``) with the truth plant of the
-    same hub and actuators, damped alike (every flexible mode of the coupled plant)."""
+    """Compare ``lin`` (the PRBDM plant of ``model``) with the truth plant.
+
+    The truth plant has the same hub and actuators and is damped alike (every flexible mode of
+    the coupled plant).
+    """
     from ..plant.comparison import compare_plant
     from ..truth.plant import clamped_model, hybrid_model
 

@@ -1,6 +1,8 @@
-"""Plant options shared by ``prbdm linearize`` and ``prbdm export``: input names, strain
-actuators (``--actuator XA:XB``) and a hub (``--hub INERTIA:RADIUS``), each refused with a
-message naming the option and the value."""
+"""Plant options shared by ``prbdm linearize`` and ``prbdm export``.
+
+Input names, strain actuators (``--actuator XA:XB``) and a hub (``--hub INERTIA:RADIUS``), each
+refused with a message naming the option and the value.
+"""
 
 from __future__ import annotations
 
@@ -23,7 +25,7 @@ def add_plant_options(p: argparse.ArgumentParser) -> None:
 
 
 def names_option(text: str, option: str) -> tuple[str, ...]:
-    """A comma-separated list of input or output names (each ``base`` or ``base[i]``)."""
+    """Split a comma-separated list of input or output names (each ``base`` or ``base[i]``)."""
     from ..plant.names import split_name
 
     names = tuple(s.strip() for s in text.split(","))
@@ -45,8 +47,10 @@ def pair_option(text: str, option: str, what: str) -> tuple[float, float]:
 
 
 def actuators_option(texts: list[str]) -> list:
-    """The ``--actuator XA:XB`` values as StrainActuators (XA < XB; the beam is checked later
-    by :func:`actuators_on_beam`)."""
+    """Return the ``--actuator XA:XB`` values as StrainActuators (XA < XB).
+
+    The beam is checked later by :func:`actuators_on_beam`.
+    """
     from ..plant.inputs import StrainActuator
 
     acts = []
@@ -60,7 +64,7 @@ def actuators_option(texts: list[str]) -> list:
 
 
 def hub_option(text: str | None):
-    """The ``--hub INERTIA:RADIUS`` value as a Hub (None without the option)."""
+    """Return the ``--hub INERTIA:RADIUS`` value as a Hub (None without the option)."""
     from ..plant.hub import Hub
 
     if text is None:

@@ -18,6 +18,7 @@ SENSITIVITY_FILES = ("sensitivity.json", "sensitivity.png")
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``sensitivity`` subparser."""
     p = subparsers.add_parser(
         "sensitivity", help="design gradients of the truth's frequencies and tip deflection",
         description="Derivatives of the truth's bending frequencies and linear tip deflection "
@@ -40,7 +41,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def parse_design(spec: str) -> tuple[str, ...]:
-    """The variable names of ``--design``, comma-separated."""
+    """Return the variable names of ``--design``, comma-separated."""
     names = tuple(s.strip() for s in spec.split(",") if s.strip())
     if not names:
         from ..errors import BeamInputError
@@ -50,6 +51,7 @@ def parse_design(spec: str) -> tuple[str, ...]:
 
 
 def run(args) -> int:
+    """Run ``prbdm sensitivity`` (exit code 0 on success)."""
     from ..beam_file import load_beam
     from ..design import Design
     from ..errors import BeamInputError

@@ -156,8 +156,10 @@ DEFAULT_SAMPLES = 2000
 
 
 def check_options(args: argparse.Namespace) -> np.ndarray:
-    """Refuse bad ``prbdm simulate`` options before the model is read or ``--out`` created;
-    returns the tip force (N)."""
+    """Refuse bad ``prbdm simulate`` options before the model is read or ``--out`` created.
+
+    Returns the tip force (N).
+    """
     import math
 
     from ..limits import check_cap
@@ -192,8 +194,10 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
 
 
 def simulation_options(args, output_dt_s: float):
-    """The SimulationOptions of a ``prbdm simulate`` command line (``output_dt_s``: the
-    sample interval, s, ``--output-dt`` or its default)."""
+    """Return the SimulationOptions of a ``prbdm simulate`` command line.
+
+    ``output_dt_s`` is the sample interval, s: ``--output-dt`` or its default.
+    """
     from ..options import SimulationOptions
 
     return SimulationOptions(method=args.method, dt_s=args.dt, output_dt_s=output_dt_s,

@@ -1,5 +1,8 @@
-"""``prbdm simulate``'s plant options (``--hub``, ``--actuator``, ``--input``, ``--outputs``),
-checked before any work, the outputs recorded by default, and ``--compare-truth`` of a plant."""
+"""``prbdm simulate``'s plant options and ``--compare-truth`` of a plant.
+
+The options (``--hub``, ``--actuator``, ``--input``, ``--outputs``) are checked before any
+work; the outputs recorded by default.
+"""
 
 from __future__ import annotations
 
@@ -12,8 +15,10 @@ from .plant_options import actuators_option, hub_option, names_option
 
 
 def check_plant_options(args: argparse.Namespace) -> dict:
-    """The plant options (hub, actuators, input signals, output names), each refused with a
-    message naming it; ``plant`` says whether any was given."""
+    """Return the plant options (hub, actuators, input signals, output names).
+
+    Each is refused with a message naming it; ``plant`` says whether any was given.
+    """
     from .input_signals import parse_inputs
 
     names, signal = parse_inputs(args.input)
@@ -34,7 +39,7 @@ def check_plant_options(args: argparse.Namespace) -> dict:
 
 
 def plant_outputs(plant: dict, hub: bool) -> tuple[str, ...]:
-    """The outputs to record: --outputs, or with plant options tip_z (and hub_angle)."""
+    """Return the outputs to record: --outputs, or with plant options tip_z (and hub_angle)."""
     if plant["outputs"] is not None:
         return plant["outputs"]
     if plant["plant"]:
@@ -43,7 +48,7 @@ def plant_outputs(plant: dict, hub: bool) -> tuple[str, ...]:
 
 
 def plant_comparison(model, fitted, plant: dict, outputs, args):
-    """The linearised plant against the truth plant (``prbdm linearize --compare-truth``)."""
+    """Compare the linearised plant with the truth plant (``prbdm linearize --compare-truth``)."""
     from ..plant.linearize import linearize
     from .fit_checks import cache_dir
     from .plant_comparison import compare_with_truth, comparison_record, truth_request_of

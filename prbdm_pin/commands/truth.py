@@ -15,6 +15,7 @@ EXAMPLE = """example:
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Create the ``truth`` subparser."""
     p = subparsers.add_parser(
         "truth", help="finite-element truth: bending frequencies and tip deflection",
         description="Modal analysis (Kirchhoff plate by default) and tip-load solve of a beam.",
@@ -60,6 +61,7 @@ def check_options(args) -> None:
 
 
 def run(args) -> int:
+    """Run ``prbdm truth`` (exit code 0 on success)."""
     from ..beam_file import load_beam
     from ..errors import BeamInputError
     from ..io import atomic_write_text

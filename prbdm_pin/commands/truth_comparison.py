@@ -1,5 +1,8 @@
-"""``prbdm simulate --compare-truth``: a PRBDM's step and frequency response against its beam's
-finite-element truth (what ``truth_comparison.json`` and ``truth_comparison.png`` report)."""
+"""``prbdm simulate --compare-truth``: a PRBDM's responses against its beam's truth.
+
+The step and frequency responses against the finite-element truth (what
+``truth_comparison.json`` and ``truth_comparison.png`` report).
+"""
 
 from __future__ import annotations
 
@@ -60,7 +63,7 @@ class TruthComparison:
         return float(static.tip_displacement_m[2] / static.tip_force_N[2])
 
     def to_dict(self, source: str) -> dict:
-        """The JSON form; ``source`` names the model file."""
+        """Return the JSON form; ``source`` names the model file."""
         acc, truth = self.accuracy, self.truth
         return {
             "truth": {
@@ -100,7 +103,7 @@ class TruthComparison:
 
 def comparison_request(model, fitted, truth_model: str | None = None,
                        quiet: bool = True) -> TruthRequest:
-    """The truth ``--compare-truth`` asks for.
+    """Return the truth request ``--compare-truth`` asks for.
 
     With no ``truth_model`` (or the fit's own model), the request recorded in the fit
     (``fitted.truth_request``: model, selection, mesh level, ...) when it is a plate or beam truth,
@@ -147,8 +150,10 @@ def compare_truth(model, request: TruthRequest, damping_ratio: float, cache_dir,
 
 
 def comparison_figure(cmp: TruthComparison, plt):
-    """The figure of the step response and the FRF magnitude and phase of both sides (pyplot
-    ``plt``); the command writes and closes it."""
+    """Draw the step response and the FRF magnitude and phase of both sides (pyplot ``plt``).
+
+    Returns the figure; the command writes and closes it.
+    """
     import numpy as np
 
     acc, name = cmp.accuracy, cmp.truth_model

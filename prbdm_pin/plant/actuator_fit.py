@@ -1,5 +1,7 @@
-"""Strain actuator maps fitted to the truth: the joint weights that give the PRBDM's n clamped
-modes the finite-element truth's modal input gains.
+"""Strain actuator maps fitted to the truth.
+
+The joint weights that give the PRBDM's n clamped modes the finite-element truth's modal input
+gains.
 
 With the mass-normalised modes Phi (n x n) of the clamped chain at the straight pose (K phi =
 omega^2 M phi, phi^T M phi = 1), a map w (N m on each joint per N m of patch moment) forces
@@ -54,7 +56,7 @@ WEIGHT_LIMIT = 10.0
 
 
 def clamped_modes(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The clamped chain's modes at the straight pose (a hub model with its hub held).
+    """Return the clamped chain's modes at the straight pose (a hub model with its hub held).
 
     Returns
     -------
@@ -76,7 +78,10 @@ def clamped_modes(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray
 
 
 def _chain_amplitudes(model, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Largest |z| of the link ends and largest |section rotation| of the links, per mode."""
+    """Return the largest ``|z|`` of the link ends and ``|section rotation|`` of the links.
+
+    One of each per mode.
+    """
     x = np.cumsum(np.asarray(model.lengths_m, dtype=float))  # joints, then the tip
     arm = np.clip(x[:, None] - x[None, :-1], 0.0, None)  # dz(end i)/dq_j = -(x_i - x_j)
     z = -arm @ Phi
@@ -85,16 +90,21 @@ def _chain_amplitudes(model, Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def profile_stations(length_m: float) -> tuple[tuple[float, float], ...]:
-    """The patches (0, x_i), x_i = i L / PROFILE_POINTS (the last: the full span) whose truth
-    gains are the section rotation profile :func:`fitted_weights` needs."""
+    """Return the patches (0, x_i), x_i = i L / PROFILE_POINTS (the last: the full span).
+
+    Their truth gains are the section rotation profile :func:`fitted_weights` needs.
+    """
     x = np.linspace(0.0, float(length_m), PROFILE_POINTS + 1)[1:]
     x[-1] = float(length_m)
     return tuple((0.0, float(v)) for v in x)
 
 
 def _truth_amplitudes(gains, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Tip rotation, largest |deflection| and largest |rotation| of the truth's first n modes,
-    from the profile patches at the end of ``gains``."""
+    """Return tip rotation, largest ``|deflection|`` and ``|rotation|`` of the truth's modes.
+
+    They are those of the truth's first n modes, from the profile patches at the end of
+    ``gains``.
+    """
     psi = np.asarray(gains.strain_per_sqrt_kg_m, dtype=float)[-PROFILE_POINTS:, :n]
     x = np.asarray(gains.actuators_m, dtype=float)[-PROFILE_POINTS:, 1]
     xs, ps = np.concatenate([[0.0], x]), np.vstack([np.zeros(n), psi])
@@ -106,11 +116,13 @@ def _truth_amplitudes(gains, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray
 
 def mode_signs(tip_z: np.ndarray, tip_rotation: np.ndarray, truth_tip_z: np.ndarray,
                truth_tip_rotation: np.ndarray, amplitudes=None) -> np.ndarray:
-    """+-1 per mode: the sign that turns each truth mode into the PRBDM's (same tip deflection
-    sign; the tip rotation's where either side's tip is still, ``STILL_RTOL``).
+    """Return +-1 per mode: the sign that turns each truth mode into the PRBDM's.
+
+    The sign matches the tip deflection; the tip rotation's where either side's tip is still
+    (``STILL_RTOL``).
 
     ``amplitudes``: (z, rotation, truth z, truth rotation), each mode's largest deflection and
-    section rotation along the beam on either side (default: each indicator's largest |value|
+    section rotation along the beam on either side (default: each indicator's largest ``|value|``
     over the modes).
 
     Raises BeamInputError when a mode moves neither tip on one side, or when the two indicators
@@ -158,9 +170,10 @@ def _check_pairing(omega: np.ndarray, omega_truth: np.ndarray) -> None:
 
 
 def fitted_weights(model, gains, match: str = "modal") -> np.ndarray:
-    """Joint weights (a, n) of the actuators of ``gains`` (a ``ModalGains`` of the truth whose
-    last ``PROFILE_POINTS`` actuators are :func:`profile_stations`, used for the sign alignment
-    and not fitted).
+    """Return the joint weights (a, n) of the actuators of ``gains``.
+
+    ``gains`` is a ``ModalGains`` of the truth whose last ``PROFILE_POINTS`` actuators are
+    :func:`profile_stations`, used for the sign alignment and not fitted.
 
     See :func:`fit_strain_actuators`.
     """

@@ -1,5 +1,6 @@
-"""A PRBDM plant against the finite-element truth of the same plant, input/output pair by pair
-and mode by mode (``compare_plant``).
+"""A PRBDM plant against the finite-element truth of the same plant (``compare_plant``).
+
+The comparison goes input/output pair by pair and mode by mode.
 
 What is compared, for every (input, output) pair both plants have:
 
@@ -60,12 +61,15 @@ class ModeComparison:
 
 @dataclass(frozen=True, eq=False)
 class PairComparison:
-    """One (input, output) pair. Errors in % (None where the truth's response is zero); peaks
-    per flexible mode as (omega rad/s, |H|) or None (no resonance peak in this pair).
+    """The comparison of one (input, output) pair.
+
+    Errors in % (None where the truth's response is zero); peaks per flexible mode as
+    (omega rad/s, ``|H|``) or None (no resonance peak in this pair).
 
     ``frf_flexible_error_pct`` and ``rigid_gain_error_pct`` are for hub plants (None
     otherwise). The curves: ``omega_rad_s`` with the complex FRFs (output unit per input unit),
-    ``t_s`` with the step responses (flexible part on a hub plant)."""
+    ``t_s`` with the step responses (flexible part on a hub plant).
+    """
 
     input_name: str
     output_name: str
@@ -87,7 +91,7 @@ class PairComparison:
 
     @property
     def peak_errors_pct(self) -> tuple[float | None, ...]:
-        """100 (|H_prbdm| / |H_truth| - 1) at each mode's peak, None where either has none."""
+        """``100 (|H_prbdm| / |H_truth| - 1)`` at each mode's peak, None where either has none."""
         return tuple(None if a is None or b is None else 100.0 * (b[1] / a[1] - 1.0)
                      for a, b in zip(self.peaks_truth, self.peaks_prbdm, strict=True))
 
@@ -123,7 +127,7 @@ class PlantComparison:
     notes: tuple[str, ...]
 
     def pair(self, input_name: str, output_name: str) -> PairComparison:
-        """The comparison of one pair; BeamInputError when it was not compared."""
+        """Return the comparison of one pair; BeamInputError when it was not compared."""
         for p in self.pairs:
             if (p.input_name, p.output_name) == (input_name, output_name):
                 return p
@@ -270,8 +274,10 @@ class _PairCurves:
 
 
 class _Side:
-    """One plant's responses on the common grid and horizon, its rows and columns picked by
-    the compared names."""
+    """Return one plant's responses on the common grid and horizon.
+
+    Its rows and columns are picked by the compared names.
+    """
 
     def __init__(self, plant: SecondOrderPlant, outs, ins, grid, ts):
         self.rows = [plant.output_names.index(o) for o in outs]

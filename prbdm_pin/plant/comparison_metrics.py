@@ -1,5 +1,6 @@
-"""The measures of a plant comparison: the frequency grid, relative L2 errors over it, resonance
-peaks, and the step-response errors.
+"""The measures of a plant comparison.
+
+The frequency grid, relative L2 errors over it, resonance peaks, and the step-response errors.
 
 The grid is uniform over the band plus, around every flexible pole of either plant, points
 spaced a tenth of the half-power half-width zeta omega over +-10 zeta omega, so every
@@ -22,8 +23,10 @@ PEAK_WINDOW, MAX_WINDOW = 5.0, 0.3
 
 def frequency_grid(lo_rad_s: float, hi_rad_s: float, n_points: int,
                    poles: list[tuple[float, float]]) -> np.ndarray:
-    """Sorted unique frequencies (rad/s) in [lo, hi]: ``n_points`` uniform ones plus the
-    clusters around ``poles`` ((omega rad/s, zeta) pairs)."""
+    """Return sorted unique frequencies (rad/s) in [lo, hi].
+
+    ``n_points`` uniform ones plus the clusters around ``poles`` ((omega rad/s, zeta) pairs).
+    """
     parts = [np.linspace(lo_rad_s, hi_rad_s, n_points)]
     s = np.linspace(-POLE_SPAN, POLE_SPAN, 2 * int(POLE_SPAN) * POLE_STEPS + 1)
     for w, z in poles:
@@ -33,8 +36,10 @@ def frequency_grid(lo_rad_s: float, hi_rad_s: float, n_points: int,
 
 
 def relative_l2_band(a: np.ndarray, ref: np.ndarray, w: np.ndarray) -> float | None:
-    """sqrt(int |a - ref|^2 dw / int |ref|^2 dw) over the grid ``w`` (trapezoids) as a
-    fraction; None where ``ref`` is zero."""
+    """Return the relative L2 error of ``a`` against ``ref`` over the grid ``w``, a fraction.
+
+    ``sqrt(int |a - ref|^2 dw / int |ref|^2 dw)`` by trapezoids; None where ``ref`` is zero.
+    """
     den = np.trapezoid(np.abs(ref) ** 2, w)
     if not den > 0.0:
         return None
@@ -43,10 +48,13 @@ def relative_l2_band(a: np.ndarray, ref: np.ndarray, w: np.ndarray) -> float | N
 
 def peak(response, omega_rad_s: float, zeta: float, neighbours: np.ndarray
          ) -> tuple[float, float] | None:
-    """The resonance peak (frequency rad/s, |H|) of ``response(w) -> complex array`` near a
-    mode at ``omega_rad_s`` with ratio ``zeta``; None when |H| has no local maximum there (a
-    mode the pair does not see). The window is omega (1 +- PEAK_WINDOW zeta), at most
-    +-MAX_WINDOW and at most half-way to the ``neighbours`` (the plant's other modes)."""
+    """Return the resonance peak (frequency rad/s, ``|H|``) of ``response`` near a mode.
+
+    ``response(w)`` returns a complex array; the mode is at ``omega_rad_s`` with ratio
+    ``zeta``. None when ``|H|`` has no local maximum there (a mode the pair does not see). The
+    window is omega (1 +- PEAK_WINDOW zeta), at most +-MAX_WINDOW and at most half-way to the
+    ``neighbours`` (the plant's other modes).
+    """
     half = min(PEAK_WINDOW * max(zeta, 1e-4), MAX_WINDOW)
     others = neighbours[neighbours != omega_rad_s]
     if others.size:
@@ -64,10 +72,12 @@ def peak(response, omega_rad_s: float, zeta: float, neighbours: np.ndarray
 
 
 def step_errors(y: np.ndarray, ref: np.ndarray) -> dict[str, float | None]:
-    """Errors of a sampled response ``y`` against ``ref`` (uniform samples), in %:
-    ``step_error_pct`` = 100 ||y - ref|| / ||ref||, ``step_peak_error_pct`` = 100 (max|y| /
-    max|ref| - 1) (signed: the peak's over- or under-estimate), ``step_max_deviation_pct`` =
-    100 max|y - ref| / max|ref|; None where ``ref`` is zero."""
+    """Return the errors of a sampled response ``y`` against ``ref`` (uniform samples), in %.
+
+    ``step_error_pct`` = ``100 ||y - ref|| / ||ref||``, ``step_peak_error_pct`` =
+    ``100 (max|y| / max|ref| - 1)`` (signed: the peak's over- or under-estimate),
+    ``step_max_deviation_pct`` = ``100 max|y - ref| / max|ref|``; None where ``ref`` is zero.
+    """
     top = float(np.max(np.abs(ref)))
     if not top > 0.0:
         return {"step_error_pct": None, "step_peak_error_pct": None,

@@ -1,5 +1,8 @@
-"""The Bode figure of a plant comparison: magnitude and phase of the PRBDM and the truth for
-every compared (input, output) pair (drawn without pyplot, see :mod:`prbdm_pin.plots`)."""
+"""The Bode figure of a plant comparison.
+
+Magnitude and phase of the PRBDM and the truth for every compared (input, output) pair (drawn
+without pyplot, see :mod:`prbdm_pin.plots`).
+"""
 
 from __future__ import annotations
 
@@ -18,9 +21,11 @@ PLOT_LOW_FRACTION = 0.1
 
 def plot_plant_comparison(cmp: PlantComparison, path: str | os.PathLike,
                           title: str = "") -> Path:
-    """Write the Bode magnitude (log-log) and phase of both plants, one column per input and a
-    magnitude and a phase row per output, to ``path`` (PNG, atomically); returns the path.
-    Dotted lines mark the truth's flexible frequencies."""
+    """Write the Bode magnitude (log-log) and phase of both plants to ``path``; return the path.
+
+    One column per input and a magnitude and a phase row per output (PNG, written atomically).
+    Dotted lines mark the truth's flexible frequencies.
+    """
     from ..plots import new_figure, save_png
 
     ins = list(dict.fromkeys(p.input_name for p in cmp.pairs))

@@ -19,9 +19,11 @@ def _peak(p: tuple[float, float] | None) -> dict[str, float] | None:
 
 
 def comparison_dict(cmp: PlantComparison) -> dict[str, Any]:
-    """The JSON form of ``cmp``: errors in % (null where the truth's response is zero or a
-    mode has no resonance peak in a pair), frequencies in rad/s, magnitudes in output unit per
-    input unit."""
+    """Return the JSON form of ``cmp``.
+
+    Errors in % (null where the truth's response is zero or a mode has no resonance peak in a
+    pair), frequencies in rad/s, magnitudes in output unit per input unit.
+    """
     lo, hi = cmp.band_rad_s
     return {
         "hub": cmp.hub,

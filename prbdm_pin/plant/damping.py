@@ -26,8 +26,11 @@ __all__ = ["plant_damping"]
 
 def plant_damping(model, M: np.ndarray, damping_ratio: float | np.ndarray, kind: str
                   ) -> np.ndarray:
-    """Damping matrix (N m s/rad, (nv, nv)) of ``model`` with mass matrix ``M`` (kg m^2) at the
-    linearisation pose, of form ``kind`` ("modal", "stiffness", "eq5c")."""
+    """Return the damping matrix (N m s/rad, (nv, nv)) of ``model``.
+
+    ``M`` is the mass matrix (kg m^2) at the linearisation pose; ``kind`` the form ("modal",
+    "stiffness", "eq5c").
+    """
     if kind not in DAMPING_FORMS:
         raise BeamInputError(f"damping = {kind!r}: must be one of {', '.join(DAMPING_FORMS)}")
     if model.hub is None:

@@ -27,7 +27,7 @@ __all__ = ["check_vector", "planar_lengths_with_hub", "gravity_model", "static_t
 
 
 def check_vector(field: str, value, unit: str) -> np.ndarray | None:
-    """A world vector (3,) as floats, None for None; BeamInputError naming ``field``."""
+    """Return a world vector (3,) as floats, None for None; BeamInputError naming ``field``."""
     if value is None:
         return None
     try:
@@ -40,8 +40,10 @@ def check_vector(field: str, value, unit: str) -> np.ndarray | None:
 
 
 def planar_lengths_with_hub(model) -> np.ndarray:
-    """Lengths (m) of the planar chain over every coordinate of ``model``: its link lengths, or
-    (0, radius + L_0, L_1, ..., L_n) on a hub model."""
+    """Return the lengths (m) of the planar chain over every coordinate of ``model``.
+
+    These are its link lengths, or (0, radius + L_0, L_1, ..., L_n) on a hub model.
+    """
     L = np.asarray(model.lengths_m, dtype=float)
     if model.hub is None:
         return L
@@ -49,7 +51,7 @@ def planar_lengths_with_hub(model) -> np.ndarray:
 
 
 def gravity_model(model, gravity_m_s2: np.ndarray | None) -> pin.Model | None:
-    """A copy of the Pinocchio model with the gravity (m/s^2, world), None without gravity."""
+    """Return a copy of the Pinocchio model with the gravity (m/s^2, world); None without."""
     if gravity_m_s2 is None or not np.any(gravity_m_s2):
         return None
     pm = pin.Model(model.pin_model)
@@ -59,8 +61,11 @@ def gravity_model(model, gravity_m_s2: np.ndarray | None) -> pin.Model | None:
 
 def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | None,
                  data_g: pin.Data | None) -> tuple[np.ndarray, np.ndarray]:
-    """Static residual K q + g(q) - J^T F (N m, (nv,)) and its Jacobian, the effective
-    stiffness (N m/rad, (nv, nv)), at pose ``q`` (rad)."""
+    """Return the static residual and its Jacobian at pose ``q`` (rad).
+
+    The residual is K q + g(q) - J^T F (N m, (nv,)); its Jacobian the effective stiffness
+    (N m/rad, (nv, nv)).
+    """
     K = model.stiffness_matrix()
     jtf, T = force_and_load_stiffness(planar_lengths_with_hub(model), q, load_N)
     r = K @ q - jtf
@@ -73,8 +78,10 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
 
 def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float = 1e-10,
                 max_iter: int = 60) -> tuple[np.ndarray, float]:
-    """Equilibrium pose (rad, (nv,)) under the dead tip load (N) and the gravity of ``pm_g``,
-    and the trim hub torque holding the hub at 0 (N m; 0.0 without a hub).
+    """Return the equilibrium pose (rad, (nv,)) and the trim hub torque (N m).
+
+    The pose is under the dead tip load (N) and the gravity of ``pm_g``; the trim torque holds
+    the hub at 0 (0.0 without a hub).
 
     Without gravity and hub this is :meth:`PrbdmModel.static_deflection`; otherwise damped
     Newton steps on the beam joints from the planar statics' pose.

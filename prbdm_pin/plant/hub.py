@@ -1,5 +1,7 @@
-"""A rotating rigid hub at the beam's root: its description, its Pinocchio chain, and the
-frequencies and modes of a chain whose first joint has no spring.
+"""A rotating rigid hub at the beam's root.
+
+Its description, its Pinocchio chain, and the frequencies and modes of a chain whose first
+joint has no spring.
 
 The hub turns about the bending axis y through its centre (the world origin); the beam root is
 clamped to it at ``radius_m`` along x. In the Pinocchio model the hub joint comes first
@@ -53,6 +55,7 @@ class Hub:
     radius_m: float = 0.0
 
     def __post_init__(self) -> None:
+        """Check the inertia and the radius (BeamInputError naming the field)."""
         J = _number("Hub inertia_kg_m2", self.inertia_kg_m2)
         r = _number("Hub radius_m", self.radius_m)
         if not J > 0.0:
@@ -65,8 +68,10 @@ class Hub:
 
 
 def hub_chain(sections, lengths: np.ndarray, hub: Hub, name: str) -> tuple[pin.Model, int]:
-    """The link chain of ``sections`` (cut at ``lengths``, m) on a hub joint at the origin;
-    returns the ``pinocchio.Model`` (gravity zero) and the tip frame id."""
+    """Build the link chain of ``sections`` (cut at ``lengths``, m) on a hub joint at the origin.
+
+    Returns the ``pinocchio.Model`` (gravity zero) and the tip frame id.
+    """
     from ..pin_chain import TIP_FRAME
 
     n = lengths.size - 1
@@ -102,8 +107,11 @@ def hub_chain(sections, lengths: np.ndarray, hub: Hub, name: str) -> tuple[pin.M
 
 
 def schur_mass(M: np.ndarray) -> np.ndarray:
-    """S = M_ff - m_fh m_hf / m_hh of mass matrices (..., n+1, n+1) whose first coordinate is
-    the hub, kg m^2, shape (..., n, n): the flexible joints' mass with the hub free."""
+    """Return S = M_ff - m_fh m_hf / m_hh: the flexible joints' mass with the hub free.
+
+    Of mass matrices (..., n+1, n+1) whose first coordinate is the hub, kg m^2; shape
+    (..., n, n).
+    """
     m_hh = M[..., 0, 0]
     m_fh = M[..., 1:, 0]
     S = M[..., 1:, 1:] - m_fh[..., :, None] * m_fh[..., None, :] / m_hh[..., None, None]
@@ -112,9 +120,11 @@ def schur_mass(M: np.ndarray) -> np.ndarray:
 
 def hub_frequencies(M: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
                     squared: bool = False) -> np.ndarray:
-    """Frequencies of hub chains, rad/s ascending (omega^2 if ``squared``): the rigid mode's
-    exact 0 first, then the n flexible ones; ``M`` (n+1, n+1) or (m, n+1, n+1), springs (n,)
-    or (m, n), N m/rad."""
+    """Return the frequencies of hub chains, rad/s ascending (omega^2 if ``squared``).
+
+    The rigid mode's exact 0 first, then the n flexible ones; ``M`` (n+1, n+1) or
+    (m, n+1, n+1), kg m^2; springs (n,) or (m, n), N m/rad.
+    """
     s = 1.0 / np.sqrt(np.asarray(stiffness_Nm_per_rad, dtype=float))
     flex = eig_scaled(schur_mass(M), s, squared)
     return np.concatenate([np.zeros(flex.shape[:-1] + (1,)), flex], axis=-1)
@@ -122,8 +132,11 @@ def hub_frequencies(M: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
 
 def hub_modes(M: np.ndarray, stiffness_Nm_per_rad: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies (rad/s, the rigid 0 first) and mass-normalised modes (columns, shape
-    (n+1, n+1)) of one hub chain with mass matrix ``M`` (kg m^2) and springs (n,), N m/rad."""
+    """Return the frequencies and mass-normalised modes of one hub chain.
+
+    Frequencies in rad/s, the rigid 0 first; modes as columns, shape (n+1, n+1); the chain has
+    mass matrix ``M`` (kg m^2) and springs (n,), N m/rad.
+    """
     M = np.asarray(M, dtype=float)
     omega_f, Phi_f = modes_from_mass(schur_mass(M)[None], stiffness_Nm_per_rad)
     omega_f, Phi_f = omega_f[0], Phi_f[0]

@@ -1,5 +1,6 @@
-"""Plant inputs and the generalized forces they make: tip forces, joint torques, strain
-actuators and the hub torque.
+"""Plant inputs and the generalized forces they make.
+
+Tip forces, joint torques, strain actuators and the hub torque.
 
 Strain actuator (a full-width piezo patch between stations x_a < x_b of the beam, m from the
 root along the undeformed beam): it bends the beam by a moment M (N m) applied as a pair, +M
@@ -72,6 +73,7 @@ class StrainActuator:
     joint_weights: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
+        """Check the stations and the weights (BeamInputError naming the field)."""
         for name in ("x_start_m", "x_end_m"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float, np.number)) \
@@ -113,9 +115,10 @@ def joint_stations(lengths_m: np.ndarray) -> np.ndarray:
 
 def strain_map(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "actuators[0]"
                ) -> np.ndarray:
-    """Generalized torque per unit patch moment on each joint, shape (n,): the actuator's
-    ``joint_weights`` when it has them, else 1 inside the patch, 1/2 for a joint an end sits
-    on, 0 outside (dimensionless, N m per N m).
+    """Return the generalized torque per unit patch moment on each joint, shape (n,).
+
+    The actuator's ``joint_weights`` when it has them, else 1 inside the patch, 1/2 for a joint
+    an end sits on, 0 outside (dimensionless, N m per N m).
 
     Raises BeamInputError naming ``field`` when the patch leaves [0, L] or its weights do not
     have one entry per joint.
@@ -149,8 +152,10 @@ def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool):
 
 def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...] = ()
               ) -> np.ndarray:
-    """Generalized force per unit input at pose ``q`` (rad), shape (nv, m): tip forces through
-    the tip Jacobian's transpose (m/rad), torques and patch moments directly.
+    """Return the generalized force per unit input at pose ``q`` (rad), shape (nv, m).
+
+    Tip forces act through the tip Jacobian's transpose (m/rad), torques and patch moments
+    directly.
 
     ``q`` has ``pin_model.nq`` entries (the hub angle first on a hub model).
     """
@@ -175,5 +180,5 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
 
 
 def input_unit(name: str) -> str:
-    """Unit of the input ``name``."""
+    """Return the unit of the input ``name``."""
     return INPUT_UNITS[name.split("[")[0]]

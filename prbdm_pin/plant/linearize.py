@@ -1,5 +1,7 @@
-"""``linearize``: a PRBDM as a linear plant about its equilibrium (the entry point of
-:mod:`prbdm_pin.plant`)."""
+"""``linearize``: a PRBDM as a linear plant about its equilibrium.
+
+The entry point of :mod:`prbdm_pin.plant`.
+"""
 
 from __future__ import annotations
 
@@ -49,12 +51,12 @@ def linearize(
     actuators: Sequence[StrainActuator] = (),
     gravity_m_s2: np.ndarray | None = None,
 ) -> LinearModel:
-    """Linearise ``model`` (a :class:`prbdm_pin.PrbdmModel`, with or without hub) about an
-    equilibrium.
+    """Linearise ``model`` about an equilibrium.
 
     Parameters
     ----------
     model : PrbdmModel
+        The chain, with or without hub.
     inputs : sequence of str
         ``tip_force_z``, ``tip_force_x`` (N, world), ``joint_torque[j]`` (N m, beam joint j from
         the root, 0-based), ``strain[i]`` (N m, the moment of ``actuators[i]``), ``hub_torque``

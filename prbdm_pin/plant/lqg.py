@@ -107,8 +107,10 @@ def closed_loop(A: np.ndarray, B: np.ndarray, C: np.ndarray, comp: Compensator) 
 
 
 def initial_response(A_cl: np.ndarray, x0: np.ndarray, t_s: np.ndarray) -> np.ndarray:
-    """States (len(t), n) of x' = A_cl x from x(0) = ``x0`` on a uniform grid ``t_s`` (s,
-    starting at 0), exact up to rounding: x_(k+1) = expm(A_cl dt) x_k."""
+    """Return the states (len(t), n) of x' = A_cl x from x(0) = ``x0`` on a uniform grid.
+
+    ``t_s`` (s) starts at 0; exact up to rounding: x_(k+1) = expm(A_cl dt) x_k.
+    """
     t = np.asarray(t_s, dtype=float)
     dt = np.diff(t)
     if t.size < 2 or t[0] != 0.0 or not np.allclose(dt, dt[0], rtol=1e-9, atol=0.0) \
@@ -123,8 +125,11 @@ def initial_response(A_cl: np.ndarray, x0: np.ndarray, t_s: np.ndarray) -> np.nd
 
 
 def quadratic_cost(A_cl: np.ndarray, Q_cl: np.ndarray, x0: np.ndarray) -> float:
-    """int_0^inf x^T Q_cl x dt along x' = A_cl x from ``x0``: x0^T P x0 with
-    A_cl^T P + P A_cl + Q_cl = 0; ``inf`` when the closed loop is not asymptotically stable."""
+    """Return the closed-loop cost int_0^inf x^T Q_cl x dt along x' = A_cl x from ``x0``.
+
+    It is x0^T P x0 with A_cl^T P + P A_cl + Q_cl = 0; ``inf`` when the closed loop is not
+    asymptotically stable.
+    """
     if np.max(np.linalg.eigvals(A_cl).real) >= 0.0:
         return float("inf")
     P = sla.solve_continuous_lyapunov(A_cl.T, -_sym(Q_cl))

@@ -1,5 +1,7 @@
-"""Input and output names of the plant: ``base`` or ``base[index]`` (numpy-free, so that the
-command line can check them before it loads anything)."""
+"""Input and output names of the plant: ``base`` or ``base[index]``.
+
+Numpy-free, so that the command line can check them before it loads anything.
+"""
 
 from __future__ import annotations
 
@@ -14,8 +16,10 @@ _NAME = re.compile(r"^([a-z_]+)(?:\[(\d+)\])?$")
 
 
 def split_name(text: object, field: str) -> tuple[str, int | None]:
-    """``"q[3]"`` -> ``("q", 3)``, ``"tip_z"`` -> ``("tip_z", None)``; BeamInputError naming
-    ``field`` for anything else."""
+    """Split a name: ``"q[3]"`` -> ``("q", 3)``, ``"tip_z"`` -> ``("tip_z", None)``.
+
+    Raises BeamInputError naming ``field`` for anything else.
+    """
     m = _NAME.match(text) if isinstance(text, str) else None
     if m is None:
         raise BeamInputError(f"{field} = {text!r}: must be a name such as 'tip_z' or 'q[0]'")
@@ -24,10 +28,11 @@ def split_name(text: object, field: str) -> tuple[str, int | None]:
 
 def parse_names(names: object, field: str, indexed: dict[str, int | None],
                 plain: tuple[str, ...]) -> tuple[tuple[str, str, int | None], ...]:
-    """Check ``names`` (a sequence of str) against the ``plain`` names and the ``indexed``
-    bases (each with its count, or None when any index >= 0 is accepted); returns
-    (name, base, index) per entry (remembered: a linearisation parses the same names
-    several times).
+    """Check ``names`` against the ``plain`` names and the ``indexed`` bases.
+
+    ``names`` is a sequence of str; each indexed base has its count, or None when any index
+    >= 0 is accepted. Returns (name, base, index) per entry (remembered: a linearisation
+    parses the same names several times).
 
     Raises
     ------

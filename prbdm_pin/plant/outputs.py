@@ -31,8 +31,10 @@ def parse_outputs(names, n_joints: int, hub: bool):
 
 
 def output_maps(model, q: np.ndarray, names) -> tuple[np.ndarray, np.ndarray]:
-    """(C_q, C_v), each shape (p, nv): the outputs' derivatives with respect to the joint
-    angles (per rad) and rates (per rad/s) at pose ``q`` (rad)."""
+    """Return (C_q, C_v), each shape (p, nv): the outputs' derivatives at pose ``q`` (rad).
+
+    The derivatives are with respect to the joint angles (per rad) and rates (per rad/s).
+    """
     hub = model.hub is not None
     parsed = parse_outputs(names, model.n_joints, hub)
     nv, off = model.pin_model.nv, int(hub)
@@ -60,8 +62,10 @@ def output_maps(model, q: np.ndarray, names) -> tuple[np.ndarray, np.ndarray]:
 
 
 def output_values(model, q: np.ndarray, names) -> np.ndarray:
-    """The outputs' values at rest at pose ``q`` (rad): tip coordinates (m), angles (rad),
-    spring torques (N m), rates 0; shape (p,)."""
+    """Return the outputs' values at rest at pose ``q`` (rad), shape (p,).
+
+    Tip coordinates (m), angles (rad), spring torques (N m), rates 0.
+    """
     hub = model.hub is not None
     parsed = parse_outputs(names, model.n_joints, hub)
     off = int(hub)
@@ -82,14 +86,17 @@ def output_values(model, q: np.ndarray, names) -> np.ndarray:
 
 
 def output_unit(name: str) -> str:
-    """Unit of the output ``name``."""
+    """Return the unit of the output ``name``."""
     return OUTPUT_UNITS[name.split("[")[0]]
 
 
 def output_samples(model, Q: np.ndarray, V: np.ndarray, tip_m: np.ndarray, names
                    ) -> np.ndarray:
-    """The outputs' values along a trajectory (not deviations), shape (s, p): joint angles
-    ``Q`` (rad) and rates ``V`` (rad/s), (s, nv), with the tip positions ``tip_m`` (s, 3), m."""
+    """Return the outputs' values along a trajectory (not deviations), shape (s, p).
+
+    From joint angles ``Q`` (rad) and rates ``V`` (rad/s), (s, nv), with the tip positions
+    ``tip_m`` (s, 3), m.
+    """
     hub = model.hub is not None
     parsed = parse_outputs(names, model.n_joints, hub)
     off = int(hub)

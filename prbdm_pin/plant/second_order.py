@@ -1,5 +1,7 @@
-"""Any linear plant of the package in its second-order form, split into its rigid-body and
-flexible parts, with its frequency and step responses.
+"""Any linear plant of the package in its second-order form, with its responses.
+
+The plant is split into its rigid-body and flexible parts, with its frequency and step
+responses.
 
     M q'' + C_d q' + K q = B_q u,   y = C_q q + C_v q'
 
@@ -53,8 +55,10 @@ class SecondOrderPlant:
     rigid: bool
 
     def flexible(self) -> SecondOrderPlant:
-        """The flexible part in the coordinates z (q_f = T z, see the module notes); the plant
-        itself when it has no rigid mode."""
+        """Return the flexible part in the coordinates z (q_f = T z, see the module notes).
+
+        The plant itself when it has no rigid mode.
+        """
         if not self.rigid:
             return self
         M = self.mass
@@ -70,8 +74,11 @@ class SecondOrderPlant:
                                 rigid=False)
 
     def rigid_gains(self) -> tuple[np.ndarray, np.ndarray]:
-        """Coefficients of 1/s^2 and 1/s of the rigid-body mode's transfer matrix (p, m):
-        (C_q phi_0)(phi_0^T B_q) and (C_v phi_0)(phi_0^T B_q); zero without a rigid mode."""
+        """Return the coefficients of 1/s^2 and 1/s of the rigid-body mode's transfer matrix.
+
+        They are (C_q phi_0)(phi_0^T B_q) and (C_v phi_0)(phi_0^T B_q), shape (p, m); zero
+        without a rigid mode.
+        """
         p, m = self.output_map_position.shape[0], self.input_map.shape[1]
         if not self.rigid:
             return np.zeros((p, m)), np.zeros((p, m))
@@ -79,8 +86,11 @@ class SecondOrderPlant:
         return np.outer(self.output_map_position[:, 0], b), np.outer(self.output_map_rate[:, 0], b)
 
     def modes(self) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (rad/s, ascending) and damping ratios diag(Phi^T C_d Phi) / (2 omega) of
-        the flexible modes (mass-normalised undamped modes of the flexible part)."""
+        """Return the frequencies (rad/s, ascending) and damping ratios of the flexible modes.
+
+        The ratios are diag(Phi^T C_d Phi) / (2 omega) with Phi the mass-normalised undamped
+        modes of the flexible part.
+        """
         f = self.flexible()
         lam, Phi = sla.eigh(f.stiffness, f.mass)
         omega = np.sqrt(np.clip(lam, 0.0, None))
@@ -90,8 +100,10 @@ class SecondOrderPlant:
         return omega, zeta
 
     def frequency_response(self, omega_rad_s: np.ndarray) -> np.ndarray:
-        """(C_q + i w C_v)(K - w^2 M + i w C_d)^-1 B_q at each w (rad/s), complex (f, p, m);
-        on a rigid plant w = 0 is singular (use ``flexible()``)."""
+        """Return the FRF (C_q + i w C_v)(K - w^2 M + i w C_d)^-1 B_q at each w (rad/s).
+
+        Complex, shape (f, p, m); on a rigid plant w = 0 is singular (use ``flexible()``).
+        """
         w = np.asarray(omega_rad_s, dtype=float)[:, None, None]
         Z = self.stiffness[None] - w**2 * self.mass[None] + 1j * w * self.damping[None]
         X = np.linalg.solve(Z, np.broadcast_to(self.input_map, (w.shape[0],)
@@ -102,7 +114,8 @@ class SecondOrderPlant:
         """Output (T, p, m) at times ``t_s`` (s) under a unit step of each input from rest.
 
         Only for a plant without a rigid mode (``flexible()``): x(t) = A^-1 (e^(A t) - I) B over
-        the eigenvectors of A, exact at every sample."""
+        the eigenvectors of A, exact at every sample.
+        """
         if self.rigid:
             raise BeamInputError("step_response: the plant has a rigid mode; use flexible()")
         n = self.mass.shape[0]
@@ -131,8 +144,11 @@ def _check_plant(name: str, plant) -> None:
 
 
 def second_order(plant, name: str = "plant") -> SecondOrderPlant:
-    """The second-order form of a PRBDM ``LinearModel`` or a truth ``HybridModel`` /
-    ``ClampedModel``; ``name`` names the argument in errors."""
+    """Return the second-order form of a PRBDM or truth linear plant.
+
+    ``plant`` is a PRBDM ``LinearModel`` or a truth ``HybridModel`` / ``ClampedModel``; ``name``
+    names the argument in errors.
+    """
     _check_plant(name, plant)
     if hasattr(plant, "mass_kg_m2"):  # a LinearModel
         M, Cd, K = plant.mass_kg_m2, plant.damping_Nms_per_rad, plant.stiffness_Nm_per_rad

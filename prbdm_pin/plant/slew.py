@@ -64,8 +64,10 @@ class SlewPlant:
 
 
 def plant_from_linear(lin, arm_m: float) -> SlewPlant:
-    """The slew plant of a PRBDM ``LinearModel`` linearised on a hub with inputs ``INPUTS`` and
-    outputs ``OUTPUTS`` (in that order); ``arm_m`` = r + L, m."""
+    """Return the slew plant of a PRBDM ``LinearModel`` linearised on a hub.
+
+    Its inputs are ``INPUTS`` and outputs ``OUTPUTS`` (in that order); ``arm_m`` = r + L, m.
+    """
     if not lin.hub or lin.input_names != INPUTS or lin.output_names != OUTPUTS:
         raise BeamInputError(f"lin: must be a hub model with inputs {INPUTS} and outputs "
                              f"{OUTPUTS}, got {lin.input_names} and {lin.output_names}")
@@ -75,8 +77,10 @@ def plant_from_linear(lin, arm_m: float) -> SlewPlant:
 
 
 def plant_from_hybrid(h, actuator: int = 0) -> SlewPlant:
-    """The slew plant of the truth's ``HybridModel`` ``h`` with its strain actuator
-    ``actuator`` (its inputs and outputs picked and put in the slew's order)."""
+    """Return the slew plant of the truth's ``HybridModel`` ``h`` with its strain actuator.
+
+    Its inputs and outputs are picked and put in the slew's order.
+    """
     cols = [h.input_names.index("hub_torque"), h.input_names.index(f"strain[{actuator}]")]
     rows = [h.output_names.index(name) for name in OUTPUTS]
     arm = -float(h.output_matrix[0, 0])  # tip z = -(r + L) theta + ...
@@ -112,6 +116,7 @@ class SlewDesign:
     sensor_noise: float = 1.0
 
     def __post_init__(self) -> None:
+        """Check every field (BeamInputError naming it)."""
         for name in ("angle_rad", "bandwidth_ratio", "vibration_weight", "strain_ratio",
                      "input_noise", "sensor_noise"):
             v = getattr(self, name)
@@ -121,8 +126,10 @@ class SlewDesign:
 
 @dataclass(frozen=True)
 class SlewScales:
-    """The cost's scales, taken from the design plant: omega_c (rad/s), tau_0 (N m), M_0 (N m),
-    E (J)."""
+    """The cost's scales, taken from the design plant.
+
+    omega_c (rad/s), tau_0 (N m), M_0 (N m), E (J).
+    """
 
     omega_c_rad_s: float
     torque_Nm: float
@@ -131,7 +138,7 @@ class SlewScales:
 
 
 def slew_scales(plant: SlewPlant, design: SlewDesign) -> SlewScales:
-    """The scales of ``design`` on the design plant ``plant``."""
+    """Return the scales of ``design`` on the design plant ``plant``."""
     wc = design.bandwidth_ratio * float(plant.frequencies_rad_s[0])
     tau = plant.inertia_kg_m2 * wc**2 * design.angle_rad
     return SlewScales(wc, tau, design.strain_ratio * tau,
@@ -148,7 +155,7 @@ def _weights(plant: SlewPlant, design: SlewDesign, s: SlewScales):
 
 
 def slew_controller(plant: SlewPlant, design: SlewDesign, scales: SlewScales) -> Compensator:
-    """The LQG compensator of ``design`` on ``plant``, from the outputs' errors to the inputs."""
+    """Return the LQG compensator of ``design`` on ``plant`` (outputs' errors to inputs)."""
     Q, R = _weights(plant, design, scales)
     th, wc, arm = design.angle_rad, scales.omega_c_rad_s, plant.arm_m
     Wn = design.input_noise * np.diag([scales.torque_Nm**2, scales.moment_Nm**2])
@@ -165,7 +172,7 @@ class SlewResponse:
     t_s, hub_angle_rad, tip_vibration_m : ndarray
         Time, hub angle and elastic tip deflection w = tip_z + (r + L) theta.
     input_peak : ndarray (2,)
-        max |hub torque| (N m) and max |strain moment| (N m).
+        max ``|hub torque|`` (N m) and max ``|strain moment|`` (N m).
     cost : float
         J of the module notes (``inf`` when the loop is unstable).
     max_real_pole_rad_s : float
@@ -182,7 +189,7 @@ class SlewResponse:
 
 def slew_response(plant: SlewPlant, comp: Compensator, design: SlewDesign,
                   scales: SlewScales, t_s: np.ndarray) -> SlewResponse:
-    """The slew of ``plant`` under ``comp`` on the uniform grid ``t_s`` (s), exact."""
+    """Return the slew of ``plant`` under ``comp`` on the uniform grid ``t_s`` (s), exact."""
     A_cl = closed_loop(plant.A, plant.B, plant.C, comp)
     n = plant.A.shape[0]
     x0 = np.zeros(A_cl.shape[0])
@@ -202,8 +209,10 @@ def slew_response(plant: SlewPlant, comp: Compensator, design: SlewDesign,
 
 
 def settling_time_s(t_s: np.ndarray, y: np.ndarray, final: float, band: float) -> float:
-    """First time (s) after which |y - final| <= ``band`` for good; ``inf`` if the last sample
-    is outside it."""
+    """Return the first time (s) after which ``|y - final| <= band`` for good.
+
+    ``inf`` if the last sample is outside the band.
+    """
     out = np.flatnonzero(np.abs(np.asarray(y) - final) > band)
     if out.size == 0:
         return float(t_s[0])

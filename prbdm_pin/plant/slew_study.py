@@ -1,8 +1,11 @@
-"""The measures of a slew study (``scripts/ccd_slew.py``): the hub inertia that stiffens the
-truth's first mode by a given ratio, the open-loop FRF errors of a PRBDM slew plant against the
+"""The measures of a slew study (``scripts/ccd_slew.py``).
+
+The hub inertia that stiffens the truth's first mode by a given ratio, the open-loop FRF errors
+of a PRBDM slew plant against the
 truth's, the closed-loop response's settling and residual vibration, and each strain actuator
 map of a PRBDM on a hub (``MAPS``: virtual work, fitted to the truth's modal gains, fitted to
-its strain -> tip z residues)."""
+its strain -> tip z residues).
+"""
 
 from __future__ import annotations
 
@@ -23,8 +26,11 @@ PAIR_NAMES = [f"{slew.INPUTS[i].split('[')[0]}->{slew.OUTPUTS[o]}" for i, o in P
 
 
 def hub_inertia_for_stiffening(gains, radius_m: float, ratio: float) -> float:
-    """J_h (kg m^2) at which the truth's first hub-stiffened mode is ``ratio`` times its first
-    clamped mode (brentq on log J_h; omega_1 falls monotonically to the clamped value)."""
+    """Return the hub inertia J_h (kg m^2) that stiffens the truth's first mode by ``ratio``.
+
+    At J_h the truth's first hub-stiffened mode is ``ratio`` times its first clamped mode
+    (brentq on log J_h; omega_1 falls monotonically to the clamped value).
+    """
     from ..truth.plant import hub_frequencies_rad_s, hybrid_matrices
 
     def gap(log_j: float) -> float:
@@ -36,9 +42,11 @@ def hub_inertia_for_stiffening(gains, radius_m: float, ratio: float) -> float:
 
 
 def patch_actuators(model, gains, stations, kind: str) -> tuple[StrainActuator, ...]:
-    """The patches ``stations`` ((x_a, x_b), m) as actuators of ``model`` with the ``kind`` of
-    map (``MAPS``); ``gains``: the truth's modal gains of the stations followed by the
-    ``profile_stations`` (see ``fitted_weights``)."""
+    """Return the patches ``stations`` ((x_a, x_b), m) as actuators of ``model``.
+
+    ``kind`` is the map (``MAPS``); ``gains``: the truth's modal gains of the stations followed
+    by the ``profile_stations`` (see ``fitted_weights``).
+    """
     if kind == "virtual-work":
         return tuple(StrainActuator(a, b) for a, b in stations)
     W = fitted_weights(model, gains, "tip_z" if kind == "fitted-tip_z" else "modal")
@@ -47,8 +55,11 @@ def patch_actuators(model, gains, stations, kind: str) -> tuple[StrainActuator, 
 
 
 def frf_errors(lin, truth: slew.SlewPlant, n: int, start_frac: float) -> np.ndarray:
-    """Relative L2 FRF error of each input/output pair (``PAIRS``) of a PRBDM ``LinearModel``
-    against the truth's slew plant over [start_frac omega_1, 1.2 omega_n] (linear grid)."""
+    """Return the relative L2 FRF error of each input/output pair (``PAIRS``).
+
+    Of a PRBDM ``LinearModel`` against the truth's slew plant over
+    [start_frac omega_1, 1.2 omega_n] (linear grid).
+    """
     w_t = truth.frequencies_rad_s
     w = np.linspace(start_frac * w_t[0], 1.2 * w_t[min(n, w_t.size) - 1], 4000)
     eye = np.eye(truth.A.shape[0])
@@ -59,8 +70,11 @@ def frf_errors(lin, truth: slew.SlewPlant, n: int, start_frac: float) -> np.ndar
 
 def slew_metrics(resp: slew.SlewResponse, angle_rad: float, wc: float,
                  residual_per_wc: float) -> dict:
-    """Settling times (2 % band, s), the peak residual tip vibration after ``residual_per_wc``
-    / omega_c (m), the peak tip vibration (m), the cost and the largest pole real part."""
+    """Return the closed-loop measures of a slew.
+
+    Settling times (2 % band, s), the peak residual tip vibration after ``residual_per_wc``
+    / omega_c (m), the peak tip vibration (m), the cost and the largest pole real part.
+    """
     w = resp.tip_vibration_m
     late = resp.t_s >= residual_per_wc / wc
     return {"settle_hub_s": slew.settling_time_s(resp.t_s, resp.hub_angle_rad, angle_rad,

@@ -1,5 +1,6 @@
-"""The linearised plant: ``LinearModel`` (state space and its second-order form) and its modal
-view ``ModalData``.
+"""The linearised plant: ``LinearModel`` and its modal view ``ModalData``.
+
+``LinearModel`` holds the state space and its second-order form.
 
 x = [dq; dv] (deviations of the joint angles, rad, and rates, rad/s, from the equilibrium),
 u = input deviations from their nominal values, y = output deviations:
@@ -99,7 +100,7 @@ class LinearModel:
     hub: bool = False
 
     def to_control(self):
-        """The plant as a ``control.StateSpace`` (python-control), with the signal names."""
+        """Return the plant as a ``control.StateSpace`` (python-control), with signal names."""
         import control
 
         return control.ss(self.A, self.B, self.C, self.D, states=list(self.state_names),

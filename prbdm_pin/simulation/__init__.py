@@ -1,5 +1,7 @@
-"""Time response of a PRBDM through Pinocchio: joint springs, damping, a tip force and the
-plant's inputs (open loop or in closed loop).
+"""Time response of a PRBDM through Pinocchio.
+
+The model carries joint springs, damping, a tip force and the plant's inputs (open loop or in
+closed loop).
 
 Equations of motion (relative joint angles q, rad; the hub angle first on a hub model):
 

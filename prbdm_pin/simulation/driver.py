@@ -1,5 +1,8 @@
-"""The public entry of a time response: ``simulate`` checks its inputs, assembles the system,
-picks the default step and runs the chosen integrator."""
+"""The public entry of a time response: ``simulate``.
+
+It checks its inputs, assembles the system, picks the default step and runs the chosen
+integrator.
+"""
 
 from __future__ import annotations
 
@@ -140,7 +143,7 @@ def simulate(
 
 
 def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
-    """The lowest natural frequency at ``q0``, rad/s (the lowest flexible one with a hub)."""
+    """Return the lowest natural frequency at ``q0``, rad/s (lowest flexible one with a hub)."""
     M = mass_matrix(system.pin_model, system.data, q0)
     if hub:
         return float(hub_frequencies(M, system.springs(q0)[1:])[1])
@@ -149,8 +152,10 @@ def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
 
 
 def _plant(model, inputs, u, actuators, outputs, method: str):
-    """(a maker of the system's InputForce or None, the output names): checked before any
-    work."""
+    """Check the plant inputs and outputs before any work.
+
+    Returns (a maker of the system's InputForce or None, the output names).
+    """
     acts = tuple(actuators) if isinstance(actuators, (list, tuple)) else actuators
     if not isinstance(acts, tuple) or not all(isinstance(a, StrainActuator) for a in acts):
         raise BeamInputError(f"actuators = {actuators!r:.80}: must be a sequence of "

@@ -85,17 +85,20 @@ REJECT_FACTOR = 3.0
 
 def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
               ) -> Samples:
-    """Step-controlled exprb32 steps of at most ``settings.dt_s`` (s) from (q0 rad, v0 rad/s)
-    over ``settings.duration_s``; every step, or the continuous extension every
-    ``output_dt_s``."""
+    """Integrate with step-controlled exprb32 steps of at most ``settings.dt_s`` (s).
+
+    From (q0 rad, v0 rad/s) over ``settings.duration_s``; samples every step, or the continuous
+    extension every ``output_dt_s``.
+    """
     # a diverging trial step is detected and halved: no overflow warnings for it
     with np.errstate(over="ignore", invalid="ignore"):
         return _run(system, q0, v0, settings)
 
 
 def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings) -> Samples:
-    """Exponential Rosenbrock method exprb32 (Hochbruck, Ostermann & Schweitzer 2009), step
-    controlled, nominal step ``dt``.
+    """Exponential Rosenbrock method exprb32, step controlled, nominal step ``dt``.
+
+    The method is that of Hochbruck, Ostermann & Schweitzer (2009).
 
     y = (q, v), y' = F(t, y) = (v, ABA(q, v, tau)). The dynamics are linearised,
     F ~ F_n + J (y - y_n) + b_n (t - t_n) (J from ``pin.computeABADerivatives``, the springs,
@@ -163,8 +166,11 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
     cache = {"q": None, "h": None}
 
     def attempt(t, y, h):
-        """One exprb32 step of length h from (t, y): the end state, the correction's size in q,
-        its reference (the guard's) and the dense-output record."""
+        """Take one exprb32 step of length h from (t, y).
+
+        Returns the end state, the correction's size in q, its reference (the guard's) and the
+        dense-output record.
+        """
         nonlocal half_minv
         q, v = y[:n], y[n:]
         f = force(t) if varying else f_const
@@ -296,9 +302,10 @@ def _run(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings)
 
 
 def _soft_springs(pm, data, q0: np.ndarray, k_const: np.ndarray) -> np.ndarray | None:
-    """Springs (N m/rad) that put each coordinate without a spring (a hub) at
-    ``_SOFT_RATIO`` times the lowest flexible frequency, for the Jacobian only; None when every
-    coordinate has a spring.
+    """Return soft springs (N m/rad) for the coordinates without a spring, for the Jacobian.
+
+    They put each coordinate without a spring (a hub) at ``_SOFT_RATIO`` times the lowest
+    flexible frequency; None when every coordinate has a spring.
 
     A free coordinate with no damping makes the Jacobian defective (a Jordan block at 0: the
     rigid rotation's angle grows with its rate), and an eigen-decomposition of it is
@@ -319,15 +326,18 @@ def _soft_springs(pm, data, q0: np.ndarray, k_const: np.ndarray) -> np.ndarray |
 
 
 def _schur(M: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """The sprung coordinates' mass with the free ones left to move, kg m^2."""
+    """Return the sprung coordinates' mass with the free ones left to move, kg m^2."""
     a, b = M[np.ix_(~free, ~free)], M[np.ix_(~free, free)]
     return a - b @ np.linalg.solve(M[np.ix_(free, free)], b.T)
 
 
 def _continuous_extension(t_nodes: np.ndarray, Y: np.ndarray, records: list, duration: float,
                           output_dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """Sample times every ``output_dt`` (s) and the states (q, v) there: each step's formula
-    with h replaced by the offset from its start (exact for the linear part)."""
+    """Return sample times every ``output_dt`` (s) and the states (q, v) there.
+
+    Each step's formula with h replaced by the offset from its start (exact for the linear
+    part).
+    """
     t_out = output_times(duration, output_dt)
     starts = t_nodes[:-1]
     idx = np.clip(np.searchsorted(starts, t_out, side="right") - 1, 0, len(starts) - 1)

@@ -52,8 +52,20 @@ MAX_HALVINGS = 3
 
 
 def gauss_frequency_ratio(omega_dt: float | np.ndarray) -> float | np.ndarray:
-    """Numerical over exact frequency of an undamped linear mode under 2-stage Gauss-Legendre.
+    """Return the numerical over exact frequency of an undamped mode under 2-stage Gauss.
 
+    Parameters
+    ----------
+    omega_dt : float or ndarray
+        The mode's frequency times the step, omega (rad/s) dt (s): dimensionless.
+
+    Returns
+    -------
+    float or ndarray
+        The ratio, dimensionless (1 for an exact scheme).
+
+    Notes
+    -----
     The stability function R(z) = (1 + z/2 + z^2/12) / (1 - z/2 + z^2/12) has modulus 1 at
     z = i x (x = omega dt) and phase 2 arctan((x/2) / (1 - x^2/12)); the ratio is
     1 - x^4/720 + O(x^6).
@@ -64,8 +76,11 @@ def gauss_frequency_ratio(omega_dt: float | np.ndarray) -> float | np.ndarray:
 
 def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
               ) -> Samples:
-    """Fixed steps of at most ``settings.dt_s`` (s) from (q0 rad, v0 rad/s) over
-    ``settings.duration_s``; every step, or quintic Hermite samples every ``output_dt_s``."""
+    """Integrate with fixed Gauss-Legendre steps of at most ``settings.dt_s`` (s).
+
+    From (q0 rad, v0 rad/s) over ``settings.duration_s``; samples every step, or quintic
+    Hermite samples every ``output_dt_s``.
+    """
     interpolate = settings.output_dt_s is not None
     # a diverging trial step is detected and halved: no overflow warnings for it
     with np.errstate(over="ignore", invalid="ignore"):

@@ -1,5 +1,7 @@
-"""Plant inputs in a time response: what drives them (a constant, a function of time, a
-controller of the state, a state-feedback gain) and the generalized force they make.
+"""Plant inputs in a time response: what drives them and the generalized force they make.
+
+They are driven by a constant, a function of time, a controller of the state or a
+state-feedback gain.
 
 The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
 ``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch moments and the hub torque
@@ -36,12 +38,16 @@ _TIP = {"tip_force_x": 0, "tip_force_z": 2}
 
 @dataclass(frozen=True)
 class Controller:
-    """A feedback law u = function(t, q, v): time (s), joint angles (rad, the hub angle first on
-    a hub model) and rates (rad/s) to the inputs (m,) in their units."""
+    """A feedback law u = function(t, q, v).
+
+    It maps time (s), joint angles (rad, the hub angle first on a hub model) and rates (rad/s)
+    to the inputs (m,) in their units.
+    """
 
     function: Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 
     def __post_init__(self) -> None:
+        """Check that ``function`` is callable (BeamInputError otherwise)."""
         if not callable(self.function):
             raise BeamInputError(f"Controller function = {self.function!r}: must be callable "
                                  "u(t, q, v)")
@@ -101,7 +107,7 @@ class InputForce:
     tip_terms: Callable | None  # (q, F) -> (J^T F, d(J^T F)/dq)
 
     def values(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Inputs u (m,) at time t (s) and state (q rad, v rad/s)."""
+        """Return the inputs u (m,) at time t (s) and state (q rad, v rad/s)."""
         return self.signal(t, q, v)
 
     def _force(self, u: np.ndarray) -> np.ndarray:
@@ -120,7 +126,7 @@ class InputForce:
 
     def jacobians(self, t: float, q: np.ndarray, v: np.ndarray
                   ) -> tuple[np.ndarray | None, np.ndarray | None]:
-        """d tau / dq and d tau / dv (nv, nv); None for what is not known in closed form."""
+        """Return d tau / dq and d tau / dv (nv, nv); None for what is not known in closed form."""
         nv = q.size
         # the load stiffness of the tip forces at their present value
         dq = self.tip_terms(q, self._force(self.values(t, q, v)))[1] if self.tip_rows else None
@@ -153,8 +159,10 @@ class InputForce:
         return K
 
     def time_rate(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray | None:
-        """d tau / dt at a fixed state (nv,), N m/s, by a short forward difference; None when
-        the signal does not depend on time."""
+        """Return d tau / dt at a fixed state (nv,), N m/s, by a short forward difference.
+
+        None when the signal does not depend on time.
+        """
         if not self.time_varying:
             return None
         delta = 1e-6 * max(1e-3, abs(t)) if t else 1e-9
@@ -201,8 +209,10 @@ def _signal(u, m: int, nv: int):
 
 def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_terms
                 ) -> InputForce:
-    """The :class:`InputForce` of the inputs ``names`` driven by ``u`` on ``model``; the tip
-    forces' generalized force and load stiffness come from ``tip_terms(q, F)``."""
+    """Return the :class:`InputForce` of the inputs ``names`` driven by ``u`` on ``model``.
+
+    The tip forces' generalized force and load stiffness come from ``tip_terms(q, F)``.
+    """
     hub = model.hub is not None
     parsed = parse_inputs(names, model.n_joints, len(actuators), hub)
     names = tuple(n for n, _, _ in parsed)

@@ -20,8 +20,11 @@ _IMPLICIT = ("Radau", "BDF", "LSODA")
 
 def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
               ) -> Samples:
-    """``solve_ivp`` with method ``settings.method`` and its tolerances from (q0 rad, v0 rad/s)
-    over ``settings.duration_s``; its own steps, or dense output every ``output_dt_s``."""
+    """Integrate with ``solve_ivp``, method ``settings.method`` and its tolerances.
+
+    From (q0 rad, v0 rad/s) over ``settings.duration_s``; samples at its own steps, or dense
+    output every ``output_dt_s``.
+    """
     # scipy.integrate is imported only by the runs that use it
     from scipy.integrate import solve_ivp
 

@@ -27,8 +27,11 @@ from .system import System, mass_matrix, static_angle_rad
 
 def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
               ) -> Samples:
-    """Newmark average-acceleration steps of at most ``settings.dt_s`` (s; shortened to divide
-    ``output_dt_s``) from (q0 rad, v0 rad/s) over ``settings.duration_s``."""
+    """Integrate with Newmark average-acceleration steps of at most ``settings.dt_s`` (s).
+
+    The step is shortened to divide ``output_dt_s``; from (q0 rad, v0 rad/s) over
+    ``settings.duration_s``.
+    """
     pm, data = system.pin_model, system.data
     stiffness, C, tau_external = system.springs, system.damping_Nms_per_rad, system.tau_external
     duration, dt, output_dt = settings.duration_s, settings.dt_s, settings.output_dt_s

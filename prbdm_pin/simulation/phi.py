@@ -13,8 +13,8 @@ _PHI_TAYLOR = [[1.0 / math.factorial(m + k) for m in range(9, -1, -1)] for k in 
 def phi123(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """phi_1, phi_2, phi_3 of complex ``z`` (elementwise): phi_k(z) = sum_m z^m / (m + k)!.
 
-    Taylor series (10 terms: truncation below 1e-16) for |z| < 0.1; elsewhere the recurrence
-    phi_{k+1} = (phi_k - 1/k!) / z, whose cancellation costs at most eps / |z|^3 ~ 2e-13.
+    Taylor series (10 terms: truncation below 1e-16) for ``|z| < 0.1``; elsewhere the recurrence
+    phi_{k+1} = (phi_k - 1/k!) / z, whose cancellation costs at most ``eps / |z|^3`` ~ 2e-13.
     """
     small = np.abs(z) < 0.1
     zb = np.where(small, 1.0, z)

@@ -29,6 +29,7 @@ class StiffnessSchedule:
     stiffness_Nm_per_rad: np.ndarray
 
     def __post_init__(self) -> None:
+        """Check the shapes and values of the table (BeamInputError naming the field)."""
         th = np.asarray(self.pose_angle_rad, dtype=float).reshape(-1)
         k = np.asarray(self.stiffness_Nm_per_rad, dtype=float)
         if k.ndim != 2 or k.shape[0] != th.size or th.size < 1:

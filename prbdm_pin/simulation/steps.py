@@ -77,8 +77,10 @@ def output_times(duration_s: float, output_dt_s: float) -> np.ndarray:
 
 
 def equal_steps(duration_s: float, dt_s: float, max_steps: int) -> int:
-    """Number of equal steps ending on ``duration_s``, each at most ``dt_s`` (up to a 1e-6
-    relative rounding slack); BeamInputError beyond ``max_steps``."""
+    """Return the number of equal steps ending on ``duration_s``, each at most ``dt_s``.
+
+    Up to a 1e-6 relative rounding slack; BeamInputError beyond ``max_steps``.
+    """
     nsteps = max(1, math.ceil(duration_s / dt_s - 1e-6))
     if nsteps > max_steps:
         raise BeamInputError(f"dt = {dt_s} s: {nsteps} steps exceed max_steps = {max_steps}")

@@ -40,8 +40,10 @@ from .schedule import StiffnessSchedule
 
 
 def vector(name: str, value, n: int) -> np.ndarray:
-    """``value`` as a fresh array of ``n`` finite numbers (zeros when None); BeamInputError
-    naming ``name`` otherwise."""
+    """Return ``value`` as a fresh array of ``n`` finite numbers (zeros when None).
+
+    Raises BeamInputError naming ``name`` otherwise.
+    """
     if value is None:
         return np.zeros(n)
     try:
@@ -54,8 +56,10 @@ def vector(name: str, value, n: int) -> np.ndarray:
 
 
 def force_function(tip_force) -> tuple[Callable[[float], np.ndarray] | None, bool]:
-    """The tip force (N) as a function of time (s), None when absent or zero, and whether it is
-    constant."""
+    """Return the tip force (N) as a function of time (s) and whether it is constant.
+
+    The function is None when the force is absent or zero.
+    """
     if tip_force is None:
         return None, True
     if callable(tip_force):
@@ -73,8 +77,10 @@ def force_function(tip_force) -> tuple[Callable[[float], np.ndarray] | None, boo
 
 
 def static_angle_rad(tau_Nm: np.ndarray | None, springs_Nm_per_rad: np.ndarray) -> float:
-    """The largest joint angle the springs would yield to ``tau_Nm`` statically, rad (0 without
-    a torque); a coordinate without a spring (the hub) is left out."""
+    """Return the largest joint angle the springs would yield to ``tau_Nm`` statically, rad.
+
+    0 without a torque; a coordinate without a spring (the hub) is left out.
+    """
     if tau_Nm is None:
         return 0.0
     k = np.asarray(springs_Nm_per_rad, dtype=float)
@@ -83,7 +89,7 @@ def static_angle_rad(tau_Nm: np.ndarray | None, springs_Nm_per_rad: np.ndarray) 
 
 
 def symmetrised(upper: np.ndarray) -> np.ndarray:
-    """The symmetric matrix whose upper triangle is ``upper``'s (Pinocchio may fill only that)."""
+    """Return the symmetric matrix whose upper triangle is ``upper``'s (Pinocchio fills it)."""
     return np.triu(upper) + np.triu(upper, 1).T
 
 
@@ -158,8 +164,11 @@ class System:
 
     def tau_external(self, q: np.ndarray, t: float, v: np.ndarray | None = None
                      ) -> np.ndarray | None:
-        """Generalised force of the tip force, J(q)^T F(t), and of the inputs at state
-        (q rad, v rad/s) (nv,), N m, by Pinocchio's frame Jacobian; None when there is none."""
+        """Return the generalised force of the tip force and the inputs at (q rad, v rad/s).
+
+        J(q)^T F(t) plus the inputs' force, (nv,), N m, by Pinocchio's frame Jacobian; None
+        when there is none.
+        """
         out = None
         if self.tip_force_N is not None:
             J = pin.computeFrameJacobian(self.pin_model, self.data, q, self.tip_frame_id,
@@ -176,11 +185,14 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
                     tip_force_N: Callable[[float], np.ndarray] | None, constant_force: bool,
                     damping_pose: np.ndarray | None,
                     inputs: Callable[[Callable], InputForce] | None = None) -> System:
-    """The system of ``model`` (``PrbdmModel``) in a fresh workspace: the damping matrix of the
-    ratios ``damping_ratios`` (form ``damping``) frozen at ``damping_pose`` (rad, default the
+    """Assemble the system of ``model`` (``PrbdmModel``) in a fresh workspace.
+
+    The damping matrix of the ratios ``damping_ratios`` (form ``damping``) frozen at
+    ``damping_pose`` (rad, default the
     start pose ``q0``), the springs of ``schedule`` (default the model's) and the tip force
     ``tip_force_N`` (N, of time in s); ``inputs`` makes the plant inputs' force from the tip
-    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain."""
+    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain.
+    """
     pm = model.pin_model
     data = pm.createData()
     fid = int(model.tip_frame_id)
@@ -208,8 +220,10 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
 
 def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | None
                   ) -> np.ndarray:
-    """Tip positions (s, 3), m, at the output samples only; closed form for a planar chain
-    (``lengths``, m; None otherwise)."""
+    """Return the tip positions (s, 3), m, at the output samples only.
+
+    Closed form for a planar chain (``lengths``, m; None otherwise).
+    """
     pm, fid = model.pin_model, int(model.tip_frame_id)
     tip = np.empty((len(Q), 3))
     if lengths is not None:
@@ -221,8 +235,9 @@ def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | No
 
 
 def generalised_force(pm, data, fid, lengths):
-    """tau_ext(q, f) = J(q)^T f, its derivative d tau_ext / dq (the load stiffness), and a
-    function returning both.
+    """Return tau_ext(q, f) = J(q)^T f, its derivative, and a function returning both.
+
+    The derivative d tau_ext / dq is the load stiffness.
 
     Closed form for the planar chain (link i at world angle phi_i = q_1 + ... + q_i); Pinocchio's
     frame Jacobian and forward differences otherwise.

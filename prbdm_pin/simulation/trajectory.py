@@ -66,11 +66,11 @@ class Trajectory:
     output_values: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def input(self, name: str) -> np.ndarray:
-        """The samples (s,) of the input ``name``."""
+        """Return the samples (s,) of the input ``name``."""
         return self.input_values[:, _index(self.input_names, name, "input")]
 
     def output(self, name: str) -> np.ndarray:
-        """The samples (s,) of the output ``name``."""
+        """Return the samples (s,) of the output ``name``."""
         return self.output_values[:, _index(self.output_names, name, "output")]
 
     @property
@@ -88,8 +88,10 @@ def _index(names: tuple[str, ...], name: str, kind: str) -> int:
 def hermite_output(t_nodes: np.ndarray, Q: np.ndarray, V: np.ndarray, Acc: np.ndarray,
                    duration_s: float, output_dt_s: float
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Samples every ``output_dt_s`` (s) by quintic Hermite interpolation of (q, v, a) at the
-    equal steps ``t_nodes`` (s): times (s), joint angles (rad), velocities (rad/s).
+    """Sample every ``output_dt_s`` (s) by quintic Hermite interpolation of (q, v, a).
+
+    The nodes are the equal steps ``t_nodes`` (s); returns times (s), joint angles (rad),
+    velocities (rad/s).
 
     Local error O(dt^6) in q and O(dt^5) in v: below the Gauss scheme's own O(dt^4) error.
     """

@@ -41,8 +41,10 @@ def _check_count(name: str, value: int, minimum: int = 1) -> int:
 
 
 def beam_stations(beam: Beam, n_elements: int = 200) -> np.ndarray:
-    """Element edges (m): every planform vertex, plus about ``n_elements`` elements shared out
-    in proportion to the vertex intervals' lengths (at least one per interval).
+    """Return the element edges (m): every planform vertex plus about ``n_elements`` elements.
+
+    The elements are shared out in proportion to the vertex intervals' lengths (at least one
+    per interval).
 
     A vertex closer than ``MIN_ELEMENT_REL`` L to the previous edge is not an edge (the element
     across it integrates the kink of w(x) by quadrature): an element that short makes the
@@ -133,7 +135,7 @@ def _eigh(K, M, free, n_modes):
 
 
 def _eigsh(Kf, Mf, n):
-    """The n lowest modes by shift-invert Lanczos about 0 (banded K: linear cost)."""
+    """Return the n lowest modes by shift-invert Lanczos about 0 (banded K: linear cost)."""
     from scipy.sparse.linalg import eigsh
 
     lam, vec = eigsh(Kf.tocsc(), k=n, M=Mf.tocsc(), sigma=0.0, which="LM", tol=0.0)
@@ -172,9 +174,12 @@ def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200,
 
 def beam_modes(beam: Beam, n_modes: int, n_elements: int = 200,
                stations_m: np.ndarray | None = None):
-    """The raw modes of ``beam_modal``: (mesh, basis, K, M, u_dofs, free, lam, phi, timings),
-    ``phi`` (N, k) the full DOF vectors (clamped DOFs zero; not mass-normalised: the dense
-    solve gives phi^T K phi = 1), ``lam`` in (rad/s)^2."""
+    """Return the raw modes of ``beam_modal``.
+
+    (mesh, basis, K, M, u_dofs, free, lam, phi, timings), ``phi`` (N, k) the full DOF vectors
+    (clamped DOFs zero; not mass-normalised: the dense solve gives phi^T K phi = 1), ``lam`` in
+    (rad/s)^2.
+    """
     t0 = time.perf_counter()
     mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements, stations_m)
     t1 = time.perf_counter()
@@ -188,7 +193,7 @@ def beam_modes(beam: Beam, n_modes: int, n_elements: int = 200,
 
 def beam_modal_solution(beam, mesh, basis, K, M, u_dofs, free, lam, phi,
                         timings) -> ModalSolution:
-    """The ``ModalSolution`` of the raw modes ``beam_modes`` returns."""
+    """Return the ``ModalSolution`` of the raw modes ``beam_modes`` returns."""
     k = lam.size
     r_z = np.zeros(basis.N)
     r_z[u_dofs] = 1.0  # the rigid z translation: u = 1, u_x = 0

@@ -45,21 +45,26 @@ class TruthCacheWarning(UserWarning):
 
 
 def cache_key(beam: Beam, **inputs) -> str:
-    """SHA-256 hex digest of the beam fingerprint, the keyword inputs (JSON-serialisable) and
-    :func:`code_digest`."""
+    """Return the cache key: a SHA-256 hex digest of the beam and the inputs.
+
+    It digests the beam fingerprint, the keyword inputs (JSON-serialisable) and
+    :func:`code_digest`.
+    """
     payload = json.dumps({"beam": beam.fingerprint(), "code": code_digest(), **inputs},
                          sort_keys=True, default=str)
     return hashlib.sha256(payload.encode()).hexdigest()
 
 
 def entry_path(cache_dir, key: str) -> Path:
-    """The file of the entry ``key`` in ``cache_dir``."""
+    """Return the file of the entry ``key`` in ``cache_dir``."""
     return Path(cache_dir) / f"truth-{key}.npz"
 
 
 def entry_checksum(meta: dict, arrays: dict[str, np.ndarray]) -> str:
-    """SHA-256 of the metadata (without its checksum) and of every array's name, dtype, shape
-    and bytes."""
+    """Return the checksum of an entry: SHA-256 of its metadata and arrays.
+
+    The metadata without its checksum, and every array's name, dtype, shape and bytes.
+    """
     h = hashlib.sha256()
     body = {k: v for k, v in meta.items() if k != "checksum"}
     h.update(json.dumps(body, sort_keys=True).encode())
@@ -109,7 +114,7 @@ def _read_entry(path: Path) -> tuple[dict, dict[str, np.ndarray]]:
 
 
 def load_cached(cache_dir, key: str, beam_fingerprint: str) -> TruthResult | None:
-    """The cached result for ``key`` or None.
+    """Return the cached result for ``key`` or None.
 
     A missing entry is a silent miss; an entry that fails any check (format, key, beam
     fingerprint, checksum, field types, shapes) is a miss with a :class:`TruthCacheWarning`.
@@ -144,8 +149,11 @@ def load_cached(cache_dir, key: str, beam_fingerprint: str) -> TruthResult | Non
 
 
 def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
-    """Write ``result`` under ``key`` atomically; returns the path, or None (with a
-    :class:`TruthCacheWarning`) when the folder cannot take it: the truth is still returned."""
+    """Write ``result`` under ``key`` atomically.
+
+    Returns the path, or None (with a :class:`TruthCacheWarning`) when the folder cannot take
+    it: the truth is still returned.
+    """
     arrays: dict[str, np.ndarray] = {}
     meta = {"format": FORMAT, "key": key, "beam_fingerprint": result.beam_fingerprint,
             "result": encode(result, arrays)}

@@ -54,7 +54,7 @@ def compute_truth(
     check_convergence: bool = False,
     error_tol_pct: float | None = ERROR_TOL_PCT,
 ) -> TruthResult:
-    """The finite-element truth of a beam: selected bending frequencies and tip-load response.
+    """Compute the finite-element truth of a beam: bending frequencies and tip-load response.
 
     Parameters
     ----------
@@ -80,10 +80,9 @@ def compute_truth(
         Geometrically nonlinear tip solve. ``calibrated-elastica`` (default): the 1D elastica
         with EI(x) scaled by u_1D / u_model, the ratio of the 1D beam's and the truth model's
         linear tip deflections, so that at small load it is the model the frequencies come from
-        (0.44 % and 0.57 % from the nonlinear 3D solid's tip displacement on the tapered and the
-        reference panel, 0.16 % and 0.08 % of the tip position; scripts/target_consistency.py).
-        ``elastica``: the plain 1D elastica (exact for slender strips; 1.30 % and 0.23 % off).
-        ``solid``: the nonlinear 3D solid (the reference; 14 s and 90 s of CPU time).
+        (its distance to the nonlinear solid is measured by scripts/target_consistency.py).
+        ``elastica``: the plain 1D elastica (exact for slender strips).
+        ``solid``: the nonlinear 3D solid (the reference, and by far the costliest).
     check_convergence : bool
         Also solve one mesh level finer and raise TruthError if a selected frequency moves by
         more than 0.1 % or increases (Argyris converges from above).
@@ -205,7 +204,7 @@ def compute_truth(
 
 
 def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> TruthResult:
-    """``result``, or TruthError when a selected mode's error estimate exceeds the tolerance."""
+    """Return ``result``; TruthError when a selected mode's error estimate exceeds the tolerance."""
     est = result.error_estimate_pct
     if error_tol_pct is None or est is None or np.all(est <= error_tol_pct):
         return result

@@ -25,8 +25,10 @@ _LIBRARIES = ("numpy", "scipy", "scikit-fem")
 
 
 def _module_file(root: Path, name: str) -> Path | None:
-    """The source file of package module ``name`` (dotted) under ``root`` (the folder holding the
-    package), or None when it is not a module of the package."""
+    """Return the source file of package module ``name`` (dotted) under ``root``.
+
+    ``root`` is the folder holding the package; None when ``name`` is not a module of it.
+    """
     parts = name.split(".")
     if parts[0] != _PACKAGE:
         return None
@@ -56,12 +58,13 @@ _IMPORT_WORD = re.compile(rb"\bimport\b")
 
 
 def _import_nodes(path: Path) -> list[ast.stmt]:
-    """The import statements of ``path`` (all of them, also those inside functions).
+    """Return the import statements of ``path`` (all of them, also those inside functions).
 
     Parsing a whole module is most of the digest's cost, so only the import statements are
     parsed when every ``import`` word of the file is in one of them; otherwise (an ``import``
     after ``;`` or ``:``, or in a comment or a string) the whole module is. A string line that
-    looks like an import can only add a module to the closure, never drop one."""
+    looks like an import can only add a module to the closure, never drop one.
+    """
     source = path.read_bytes()
     found = [m.group() for m in _IMPORT_STMT.finditer(source)]
     if sum(len(_IMPORT_WORD.findall(s)) for s in found) == len(_IMPORT_WORD.findall(source)):
@@ -121,8 +124,11 @@ def truth_modules(root: Path | None = None) -> list[Path]:
 
 
 def digest_of(root: Path | None = None) -> str:
-    """SHA-256 hex digest of the relative paths and bytes of :func:`truth_modules` under
-    ``root`` and of the numerical libraries' versions."""
+    """Return the code digest: SHA-256 of the truth's modules and the libraries' versions.
+
+    It digests the relative paths and bytes of :func:`truth_modules` under ``root`` and the
+    numerical libraries' versions.
+    """
     root = Path(__file__).resolve().parents[2] if root is None else Path(root)
     h = hashlib.sha256()
     for path in truth_modules(root):

@@ -1,7 +1,9 @@
 """Large deflection of the inextensible elastica with varying EI(x), clamped root, dead tip load.
 
 The centreline angle phi(s) (from +x towards +z) minimises
+
     1/2 int EI(s) phi'^2 ds - F . r(L),   r(L) = int (cos phi, sin phi) ds,
+
 which gives (EI phi')' = F_x sin phi - F_z cos phi with phi(0) = 0 and EI phi'(L) = 0. The
 boundary-value problem is solved with scipy's collocation solver, continuing in the load from the
 straight beam so the stable (continuously loaded) branch is followed.
@@ -15,7 +17,7 @@ scripts/target_consistency.py):
   (strain kappa f), which the energy per unit length
   ``1/2 int D (kappa^2 + f_yy^2 + 2 nu kappa f_yy) + E t kappa^2 f^2 dy`` resists. Minimising over
   f gives a beam on an elastic foundation across the width, D f_yyyy + E t kappa^2 f = 0 with free
-  edges, and the moment ``M = EI kappa r(eta)``, eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t):
+  edges, and the moment ``M = EI kappa r(eta)``, eta = ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)``:
   r = 1 for a narrow or slightly bent strip (the beam) and 1 / (1 - nu^2) for a wide or strongly
   bent one (the plate's cylindrical bending). This is geometric nonlinearity of the section that
   a 1D elastica lacks and a linear plate solve cannot see.
@@ -67,13 +69,14 @@ def _anticlastic_table(nu: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
-    """Moment ratio r = M / (EI kappa) of a bent free-edged plate strip (Ashwell's anticlastic
-    restraint): 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
+    """Return the moment ratio r = M / (EI kappa) of a bent free-edged plate strip.
+
+    Ashwell's anticlastic restraint: 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
 
     Parameters
     ----------
     eta : array_like
-        a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) with a the half-width (m), kappa the curvature
+        ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)`` with a the half-width (m), kappa the curvature
         (1/m), t the thickness (m); dimensionless.
     nu : float
         Poisson's ratio.
@@ -102,8 +105,10 @@ _MAX_INITIAL_NODES = 2001
 
 
 def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
-    """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
-    unchanged when there are that few, else only those at least L / (that number) apart."""
+    """Return the nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES``.
+
+    Unchanged when there are that few, else only those at least L / (that number) apart.
+    """
     if s.size <= _MAX_INITIAL_NODES:
         return s
     gap = length_m / (_MAX_INITIAL_NODES - 1)
@@ -116,9 +121,11 @@ def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
 
 
 def _near_step_hint(beam: Beam) -> str:
-    """A hint naming the narrowest section or the shortest vertex interval when it is the likely
-    cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
-    step, and the C1 collocation follows neither."""
+    """Return a hint naming the narrowest section or the shortest vertex interval.
+
+    Given when it is the likely cause: a section of almost no stiffness is a hinge, a width
+    change over a tiny interval a step, and the C1 collocation follows neither.
+    """
     w = beam.half_width_m
     k = int(np.argmin(w))
     if w[k] < 1e-4 * w.max():
@@ -134,11 +141,14 @@ def _near_step_hint(beam: Beam) -> str:
 
 
 class ElasticaPrimal(NamedTuple):
-    """The converged elastica for its design sensitivities: segment i (cut at the width steps)
-    is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
+    """The converged elastica for its design sensitivities.
+
+    Segment i (cut at the width steps) is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in
+    [0, L]; ``sol.sol(tau)`` rows
     4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
     vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
-    half-width)."""
+    half-width).
+    """
 
     static: StaticSolution
     sol: object

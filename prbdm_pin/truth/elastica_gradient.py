@@ -95,9 +95,11 @@ class ElasticaGradient:
 
 
 def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
-    """The adjoints (lam, mom) of the tip's x and z, solved on the primal's mesh: a solve_bvp
-    solution whose rows 4 i .. 4 i + 3 are lam_x, mom_x, lam_z, mom_z on segment i, scaled by
-    L^2 / EI_root (lam, 1/N) and L (mom, m)."""
+    """Solve the adjoints (lam, mom) of the tip's x and z on the primal's mesh.
+
+    Returns a solve_bvp solution whose rows 4 i .. 4 i + 3 are lam_x, mom_x, lam_z, mom_z on
+    segment i, scaled by L^2 / EI_root (lam, 1/N) and L (mom, m).
+    """
     L = beam.length_m
     cuts = pr.cuts
     a, ell = cuts[:-1], np.diff(cuts) / L
@@ -133,9 +135,11 @@ def _adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray, tol: float):
 
 
 def _plate_scale(d: Design, mesh_level: int | None) -> tuple[float, np.ndarray, float, float]:
-    """u_1D / u_plate of the linear tips under the beam's tip force and its design gradient
-    (1 and zeros without a vertical load, as ``compute_truth`` sets it), and the wall times of
-    the two truths' solves and of their gradients (s)."""
+    """Return u_1D / u_plate of the linear tips under the beam's tip force, and its gradient.
+
+    1 and zeros without a vertical load, as ``compute_truth`` sets it; also the wall times of
+    the two truths' solves and of their gradients (s).
+    """
     from .gradient import truth_gradient
 
     if d.beam.tip_force_N[2] == 0.0:
@@ -156,8 +160,10 @@ def elastica_gradient(
     tol: float = 1e-9,
     mesh_level: int | None = None,
 ) -> ElasticaGradient:
-    """The elastica's large-deflection tip and its derivatives with respect to the design
-    variables (and the tip load), by the adjoint of the tangent equation.
+    """Compute the elastica's large-deflection tip and its design derivatives.
+
+    The derivatives with respect to the design variables (and the tip load) come from the
+    adjoint of the tangent equation.
 
     Parameters
     ----------

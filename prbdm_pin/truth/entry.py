@@ -29,7 +29,7 @@ class EntryError(ValueError):
 
 
 def _kind(annotation: str) -> tuple[str, bool]:
-    """The base type name of a field annotation and whether None is allowed."""
+    """Return the base type name of a field annotation and whether None is allowed."""
     parts = [p.strip() for p in annotation.split("|")]
     optional = "None" in parts
     parts = [p for p in parts if p != "None"]
@@ -39,7 +39,7 @@ def _kind(annotation: str) -> tuple[str, bool]:
 
 
 def encode(obj: Any, arrays: dict[str, np.ndarray], path: str = "") -> dict[str, Any]:
-    """The JSON tree of the dataclass ``obj``; its arrays go into ``arrays`` under dotted paths.
+    """Return the JSON tree of the dataclass ``obj``; arrays go into ``arrays`` by dotted path.
 
     An array field is recorded in the tree as ``"array"`` (or null), its data as
     ``arrays[path]``.
@@ -140,8 +140,11 @@ def decode(cls_name: str, tree: Any, arrays: dict[str, np.ndarray], path: str = 
 
 
 def check_truth(result: TruthResult) -> None:
-    """Shapes and values a TruthResult must have (EntryError otherwise): finite positive
-    frequencies, selected arrays of one length N, indices into the computed modes."""
+    """Check the shapes and values a TruthResult must have (EntryError otherwise).
+
+    Finite positive frequencies, selected arrays of one length N, indices into the computed
+    modes.
+    """
     w = result.omega_rad_s
     n = w.shape[0] if w.ndim == 1 else -1
     if n < 1 or not np.all(np.isfinite(w)) or np.any(w <= 0):

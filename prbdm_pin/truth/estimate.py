@@ -1,27 +1,24 @@
-"""How far a truth can be trusted: per selected mode, a discretisation error estimate and the gap to
-1D beam theory with its cause.
+"""How far a truth can be trusted.
+
+Per selected mode, a discretisation error estimate and the gap to 1D beam theory with its cause.
 
 Error estimate: twice the change of each selected frequency to the next mesh level (the
 level-(l+1) mesh is the level-l mesh refined once, so the level-l nodes are its first nodes and the
 modes are matched by MAC there), floored at ``PRECISION_FLOOR_PCT``. With errors e_l converging
-at least like h (the rate at the planform's singular corners), |e_l| <= |Delta| / (1 - 1/2): an
-upper bound for Morley (order 2) as for Argyris. Measured on the reference panel, the square
-plate and the tapered panel (scripts/truth_error_estimate.py): the Argyris/Morley bracket on the
-same mesh is a guaranteed bound and costs a tenth of a second, but it is the Morley error,
-0.3-16 % at level 0 where Argyris is within 0.008 % of level 2, so it would refuse every default
-truth; the next-level change is sharp, and costs one more solve (the reference panel's default
-truth: 3.8 s of CPU time without the estimate, 10.4 s with it; it is cached with the truth).
+at least like h (the rate at the planform's singular corners), ``|e_l| <= |Delta| / (1 - 1/2)``: an
+upper bound for Morley (order 2) as for Argyris. The Argyris/Morley bracket on the same mesh
+would be a guaranteed bound and cheap, but it measures the Morley error, far larger than the
+Argyris one, so it would refuse every default truth; the next-level change is sharp and costs one
+more solve (cached with the truth). scripts/truth_error_estimate.py compares the two.
 Nested conforming meshes make Argyris frequencies decrease with the level in exact arithmetic; in
-floating point the graded meshes reproduce them to about 2.5e-5 only (the reference panel's mode 1
-rises by 3e-6 from level 0 to level 1, then falls by 2.5e-5 to level 2), hence the floor.
+floating point the graded meshes reproduce them only to a few 1e-5, hence the floor.
 
 Beam-theory gap: 100 (omega_1D / omega_truth - 1) against the 1D Euler-Bernoulli beam
 (``beam.py``) mode of best MAC. Its cause: for a mode that is not beam-like, the mode has no 1D
 counterpart (chordwise, torsion, mixed); for a beam-like mode of a slender strip (full width at
 most ``SLENDER_WIDTH`` L everywhere) a plate stiffer than the beam is the clamped Poisson effect
-(the root clamp blocks the anticlastic curvature: 0.3-0.5 % on uniform-narrow.json, 0.7-1.1 % on
-the tapered panel); on a wider panel, or a plate softer than the beam, it is plate action (2D
-load paths of a wide or jagged planform).
+(the root clamp blocks the anticlastic curvature); on a wider panel, or a plate softer than the
+beam, it is plate action (2D load paths of a wide or jagged planform).
 """
 
 from __future__ import annotations
@@ -75,8 +72,11 @@ def estimate_skipped(model: str, modal: ModalSolution) -> bool:
 
 
 def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.ndarray):
-    """The modal solution one mesh level finer (beam: twice the elements), or None for a model
-    whose next level is not estimated (the solid: minutes) or too large (``ESTIMATE_MAX_DOFS``)."""
+    """Return the modal solution one mesh level finer (beam: twice the elements), or None.
+
+    None for a model whose next level is not estimated (the solid: minutes) or too large
+    (``ESTIMATE_MAX_DOFS``).
+    """
     if model not in ESTIMATED_MODELS or estimate_skipped(model, modal):
         return None
     # a few modes beyond the highest selected one: the order shifts by 1e-4 between levels at most
@@ -105,8 +105,11 @@ def _match(modal: ModalSolution, finer: ModalSolution, index: np.ndarray) -> np.
 
 def error_estimate_pct(modal: ModalSolution, finer: ModalSolution | None,
                        index: np.ndarray) -> np.ndarray | None:
-    """Estimated relative error of each selected frequency, in % (>= PRECISION_FLOOR_PCT):
-    2 |omega_l / omega_(l+1) - 1| against the next mesh level; None without ``finer``."""
+    """Return the estimated relative error of each selected frequency, in %.
+
+    ``2 |omega_l / omega_(l+1) - 1|`` against the next mesh level, at least PRECISION_FLOOR_PCT;
+    None without ``finer``.
+    """
     if finer is None:
         return None
     j = _match(modal, finer, index)
@@ -116,8 +119,10 @@ def error_estimate_pct(modal: ModalSolution, finer: ModalSolution | None,
 
 def beam_theory_gap(beam: Beam, modal: ModalSolution, index: np.ndarray,
                     labels: tuple[str, ...]) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Gap 100 (omega_1D / omega_truth - 1) in % of each selected mode to its best-MAC 1D beam
-    mode, and its cause (one short phrase each)."""
+    """Return the gap of each selected mode to its best-MAC 1D beam mode, and its cause.
+
+    The gap is 100 (omega_1D / omega_truth - 1) in %; the cause one short phrase each.
+    """
     from .beam import beam_modal
 
     idx = np.asarray(index)

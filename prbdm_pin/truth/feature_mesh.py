@@ -44,16 +44,22 @@ _ARC_RATIO = 2.0
 
 
 def half_boundary(beam: Beam) -> np.ndarray:
-    """Vertices (2, m) of the closed upper half of the planform, counter-clockwise from (0, 0):
-    the axis, the tip edge, the outline from tip to root and the root edge, m."""
+    """Return the vertices (2, m) of the closed upper half of the planform, m.
+
+    Counter-clockwise from (0, 0): the axis, the tip edge, the outline from tip to root and the
+    root edge.
+    """
     L = beam.length_m
     x, w = beam.x_m, beam.half_width_m
     return np.hstack([[[0.0, L], [0.0, 0.0]], np.vstack([x[::-1], w[::-1]])])
 
 
 def _samples(poly: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray]:
-    """Points on the closed polygon (its vertices, points at most ``spacing`` apart and points
-    graded towards every vertex) and their arc length from the first vertex."""
+    """Return points on the closed polygon and their arc length from the first vertex.
+
+    The points are its vertices, points at most ``spacing`` apart and points graded towards
+    every vertex.
+    """
     nxt = np.roll(poly, -1, axis=1)
     seg = np.linalg.norm(nxt - poly, axis=0)
     start = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
@@ -89,8 +95,11 @@ def _feature_sizes(poly: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nda
 
 
 def size_field(beam: Beam, h_m: float, growth: float = 0.5, floor_m: float = 0.0):
-    """The element-size function s(points (2, n)) -> (n,) m of ``feature_size_tri_mesh``:
-    min(h_m, min_q lfs(q) + growth |p - q|) over boundary points q, at least ``floor_m``."""
+    """Return the element-size function s(points (2, n)) -> (n,) m of the feature mesh.
+
+    ``s = min(h_m, min_q lfs(q) + growth |p - q|)`` over boundary points q, at least ``floor_m``
+    (used by ``feature_size_tri_mesh``).
+    """
     poly = half_boundary(beam)
     q, lfs = _feature_sizes(poly, h_m / 4.0)
     keep = lfs < h_m
@@ -129,8 +138,10 @@ def _boundary_points(poly: np.ndarray, size) -> np.ndarray:
 
 
 def _lattice(h: float, boxes: np.ndarray) -> np.ndarray:
-    """Points (2, n) of the triangular lattice of spacing h (rows parallel to the axis, the axis
-    a row) that fall in any of the boxes (4, b): x0, x1, y0, y1."""
+    """Return the points (2, n) of the triangular lattice of spacing h inside any box.
+
+    Rows are parallel to the axis, the axis a row; the boxes (4, b) are x0, x1, y0, y1.
+    """
     dy = h * np.sqrt(3.0) / 2.0
     pts = []
     for x0, x1, y0, y1 in boxes.T:
@@ -192,8 +203,11 @@ def _interior_points(beam: Beam, size, h: float, poly: np.ndarray) -> np.ndarray
 
 def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
                           floor_m: float = 0.0) -> MeshTri:
-    """Triangle mesh of the planform with element size ``size_field`` (h_m where the geometry is
-    wide), mirror-symmetric about y = 0, every planform vertex a node (nodes in m)."""
+    """Build a triangle mesh of the planform with element size ``size_field``.
+
+    The size is h_m where the geometry is wide; the mesh is mirror-symmetric about y = 0, every
+    planform vertex a node (nodes in m).
+    """
     size = size_field(beam, h_m, growth, floor_m)
     poly = half_boundary(beam)
     boundary = _boundary_points(poly, size)
@@ -206,7 +220,7 @@ def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
 
 
 def _outline_polyline(beam: Beam, boundary: np.ndarray) -> np.ndarray:
-    """The boundary points on the upper outline y = w(x), ordered from root to tip."""
+    """Return the boundary points on the upper outline y = w(x), ordered from root to tip."""
     # distance to the outline's pieces, not |y - w(x)|: a width step's vertical piece is outline
     xy = np.vstack([beam.x_m, beam.half_width_m])
     on = segment_distance(boundary, xy[:, :-1], xy[:, 1:]) < 1e-9 * beam.length_m
@@ -233,8 +247,11 @@ def _mirror_half(beam: Beam, p_up: np.ndarray, t_up: np.ndarray) -> MeshTri:
 
 
 def tri_to_quads(mesh: MeshTri) -> MeshQuad:
-    """Split every triangle into three quadrilaterals (vertex, edge midpoint, centroid, edge
-    midpoint), counter-clockwise; shared edges get one midpoint, so the mesh is conforming."""
+    """Split every triangle into three quadrilaterals, counter-clockwise.
+
+    Each is (vertex, edge midpoint, centroid, edge midpoint); shared edges get one midpoint, so
+    the mesh is conforming.
+    """
     p, t = mesh.p, mesh.t.copy()
     v = p[:, t]
     cw = ((v[0, 1] - v[0, 0]) * (v[1, 2] - v[1, 0])

@@ -51,7 +51,7 @@ def x_stations(
 
     The size field is s(x) = min(h, min_k(l_k + growth * dist(x, interval_k))) over vertex
     intervals of length l_k < h, so elements next to a short interval are small and grow gently.
-    With ``narrow`` it is also at most c w_k + growth * |x - x_k| at every vertex of half-width
+    With ``narrow`` it is also at most ``c w_k + growth * |x - x_k|`` at every vertex of half-width
     w_k < h / c (c = ``NARROW_ELEMENTS``), so a narrow neck gets two elements across its
     half-width instead of slivers.
     """
@@ -65,8 +65,11 @@ def x_stations(
 
 
 def _interval_counts(beam: Beam, h_m: float, growth: float, narrow: bool):
-    """For every vertex interval: sample points (m), the cumulative element count along them
-    (the integral of 1 / size) and the number of elements ``x_stations`` puts there."""
+    """Return, for every vertex interval, sample points and element counts.
+
+    Sample points (m), the cumulative element count along them (the integral of 1 / size) and
+    the number of elements ``x_stations`` puts there.
+    """
     starts, ends = beam.intervals_m  # a width step is one station
     for a, b in zip(starts, ends, strict=True):
         xs = np.linspace(a, b, 201)
@@ -76,14 +79,14 @@ def _interval_counts(beam: Beam, h_m: float, growth: float, narrow: bool):
 
 
 def station_count(beam: Beam, h_m: float, growth: float = 0.3, narrow: bool = False) -> int:
-    """Number of ``x_stations`` (computed without building them)."""
+    """Return the number of ``x_stations`` (computed without building them)."""
     return 1 + sum(n for _, _, n in _interval_counts(beam, h_m, growth, narrow))
 
 
 def local_size(
     beam: Beam, h_m: float, growth: float, x: np.ndarray, narrow: bool = False
 ) -> np.ndarray:
-    """The size field of ``x_stations`` evaluated at ``x`` (m)."""
+    """Return the size field of ``x_stations`` evaluated at ``x`` (m)."""
     xv = beam.x_m
     lengths = np.diff(xv)
     x = np.asarray(x, dtype=float)
@@ -105,9 +108,12 @@ def local_size(
 
 
 def _upper_outline(beam: Beam, xs: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """Points (2, b) on the upper outline y = w(x), a column's top at every station plus
-    extra points on steep pieces so that boundary spacing follows the local size. A width step
-    is a vertical piece at its station, from the root-side to the tip-side half-width."""
+    """Return the points (2, b) on the upper outline y = w(x).
+
+    A column's top at every station plus extra points on steep pieces so that boundary spacing
+    follows the local size. A width step
+    is a vertical piece at its station, from the root-side to the tip-side half-width.
+    """
     wl = beam.half_width_at(xs, "left")
     wr = beam.half_width_at(xs, "right")
     # the outline's corners: two at a step's station, one elsewhere
@@ -140,7 +146,7 @@ def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndarray:
-    """Indices i of outline pieces (outline[:, i], outline[:, i + 1]) that are not mesh edges."""
+    """Return the indices i of outline pieces (outline[:, i], [:, i + 1]) not mesh edges."""
     scale = 1e-9 * max(float(np.ptp(p[0])), float(np.ptp(p[1])))
     key = {tuple(k): i for i, k in enumerate(np.round(p.T / scale).astype(np.int64))}
     ids = np.array([key[tuple(k)] for k in np.round(outline.T / scale).astype(np.int64)])
@@ -153,9 +159,11 @@ def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndar
 def delaunay_with_outline(
     before: np.ndarray, outline: np.ndarray, after: np.ndarray, length_m: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Delaunay triangulation of the points ``before``, ``outline``, ``after`` (each (2, k), m;
-    duplicates within 1e-9 ``length_m`` merged, first kept) in which every piece of the
-    polyline ``outline`` is a mesh edge. Returns nodes (2, N) and triangles (3, M).
+    """Triangulate the points so that every piece of the polyline ``outline`` is a mesh edge.
+
+    A Delaunay triangulation of the points ``before``, ``outline``, ``after`` (each (2, k), m;
+    duplicates within 1e-9 ``length_m`` merged, first kept). Returns nodes (2, N) and triangles
+    (3, M).
 
     The outline of a concave planform is not always made of Delaunay edges: the missing pieces
     are split and the points triangulated again (boundary recovery by refinement).
@@ -174,15 +182,21 @@ def delaunay_with_outline(
 
 
 def inner_half_width(beam: Beam, x_m: np.ndarray) -> np.ndarray:
-    """min of the two one-sided half-widths at ``x_m`` (m): a point (x, y) with |y| below it is
-    inside the planform; at a step's station the points between the two are on its outline."""
+    """Return the smaller of the two one-sided half-widths at ``x_m`` (m).
+
+    A point (x, y) with ``|y|`` below it is inside the planform; at a step's station the points
+    between the two are on its outline.
+    """
     return np.minimum(beam.half_width_at(x_m, "left"), beam.half_width_at(x_m, "right"))
 
 
 def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.ndarray:
-    """Planform vertices (2, r) of the upper outline (and their mirror images) where the interior
-    angle exceeds pi + ``min_turn_rad``: re-entrant corners, where plate bending moments are
-    singular and uniform refinement converges slowly, m."""
+    """Return the re-entrant corners: planform vertices (2, r), m.
+
+    Vertices of the upper outline (and their mirror images) where the interior angle exceeds
+    pi + ``min_turn_rad``: plate bending moments are singular there and uniform refinement
+    converges slowly.
+    """
     x, w = beam.x_m, beam.half_width_m
     direction = np.arctan2(np.diff(w), np.diff(x))
     # walking the upper outline root -> tip the plate lies on the right: a left turn is re-entrant
@@ -191,9 +205,11 @@ def reentrant_vertices(beam: Beam, min_turn_rad: float = np.radians(5.0)) -> np.
 
 
 def refine_corners(mesh: MeshTri, corners: np.ndarray, target_m: np.ndarray) -> MeshTri:
-    """Refine (red-green-blue, conforming) the elements touching a corner until they are no
-    longer than that corner's ``target_m``: a geometric grading towards each corner (sizes double
-    outwards)."""
+    """Refine the elements touching a corner until they are no longer than its ``target_m``.
+
+    Red-green-blue, conforming: a geometric grading towards each corner (sizes double
+    outwards).
+    """
     if not corners.size:
         return mesh
     tol = 1e-9 * float(np.ptp(mesh.p[0]))
@@ -281,9 +297,10 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
 
 
 def mirrored_mesh(beam: Beam, p_up: np.ndarray, t_up: np.ndarray, area: np.ndarray) -> MeshTri:
-    """The full planform mesh from triangles ``t_up`` (3, k) of the upper half (nodes ``p_up``,
-    (2, N), m; triangle areas ``area``, m^2), mirrored about the axis y = 0, which must carry
-    nodes of both halves.
+    """Mirror the upper-half mesh about the axis y = 0 into the full planform mesh.
+
+    The half mesh has triangles ``t_up`` (3, k), nodes ``p_up`` ((2, N), m) and triangle areas
+    ``area`` (m^2); the axis must carry nodes of both halves.
 
     Raises RuntimeError when the half mesh does not tile the half planform (1e-9 relative).
     """

@@ -32,7 +32,7 @@ SOLID_DOFS_PER_AREA = 9.0 * 3.0 * 3.0 / (np.sqrt(3.0) / 4.0)
 
 
 def smallest_feature(beam: Beam) -> str:
-    """The beam's smallest in-plane feature, for messages."""
+    """Return the beam's smallest in-plane feature, for messages."""
     dx = np.diff(beam.x_m)
     dx = dx[dx > 0.0]
     k = int(np.argmin(beam.half_width_m))
@@ -80,8 +80,11 @@ def check_plate_budget(beam: Beam, level: int, element: str = "argyris") -> None
 
 
 def check_solid_budget(beam: Beam, level: int) -> None:
-    """BeamInputError when the solid mesh at ``level`` must exceed ``max_mesh_dofs``: its
-    in-plane size is at most 2 L / (10 2^level) everywhere, which bounds its DOFs from below."""
+    """Refuse (BeamInputError) a solid mesh at ``level`` that must exceed ``max_mesh_dofs``.
+
+    Its in-plane size is at most 2 L / (10 2^level) everywhere, which bounds its DOFs from
+    below.
+    """
     h = 2.0 * element_size(beam, level)
     dofs = SOLID_DOFS_PER_AREA * beam.planform_area_m2 / h**2
     if dofs > limits().max_mesh_dofs:

@@ -51,7 +51,7 @@ def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def mass_participation_z(M, phi: np.ndarray, r_z: np.ndarray) -> np.ndarray:
-    """z mass-participation factor (phi^T M r_z)^2 / (phi^T M phi) of every column of phi, kg."""
+    """Return the z mass participation (phi^T M r_z)^2 / (phi^T M phi) of each column, kg."""
     Mphi = M @ phi
     return (r_z @ Mphi) ** 2 / np.einsum("ij,ij->j", phi, Mphi)
 
@@ -124,7 +124,7 @@ def width_variation(
 
 
 def label_modes(modal: ModalSolution) -> tuple[str, ...]:
-    """A label for every mode: ``bending``, ``torsion``, ``chordwise``, ``mixed`` or ``in-plane``.
+    """Label every mode: ``bending``, ``torsion``, ``chordwise``, ``mixed`` or ``in-plane``.
 
     ``in-plane``: less than half of the kinetic energy in z motion (the 3D solid's membrane
     modes, which a plate model does not have). ``torsion``: antisymmetric about x.
@@ -153,7 +153,7 @@ def label_modes(modal: ModalSolution) -> tuple[str, ...]:
 
 
 def select_modes(modal: ModalSolution, n_modes: int, selection: str = "paper") -> np.ndarray:
-    """Indices (ascending in frequency) of the ``n_modes`` bending modes under a policy.
+    """Return indices (ascending in frequency) of the ``n_modes`` bending modes under a policy.
 
     Parameters
     ----------

@@ -44,6 +44,17 @@ def plate_rigidity_Nm(beam: Beam) -> float:
 
 
 def plate_forms(D_Nm: float, nu: float, rho_h_kg_m2: float):
+    """Return the Kirchhoff plate's stiffness and mass bilinear forms (scikit-fem).
+
+    Parameters
+    ----------
+    D_Nm : float
+        Flexural rigidity E t^3 / (12 (1 - nu^2)), N m.
+    nu : float
+        Poisson's ratio.
+    rho_h_kg_m2 : float
+        Mass per unit area, kg/m^2.
+    """
     @BilinearForm
     def stiffness(u, v, w):
         # bending energy density D [(1 - nu) k:k + nu tr(k)^2], k = hess(u)
@@ -60,9 +71,11 @@ def plate_forms(D_Nm: float, nu: float, rho_h_kg_m2: float):
 
 
 def assemble_plate(basis: Basis, D_Nm: float, nu: float, rho_h_kg_m2: float):
-    """Plate stiffness and mass matrices; the same forms as ``plate_forms`` but contracted over
-    all basis-function pairs at once (scikit-fem's ``asm`` loops over the 21 x 21 pairs, which
-    dominated the solve time)."""
+    """Assemble the plate stiffness and mass matrices.
+
+    The same forms as ``plate_forms`` but contracted over all basis-function pairs at once
+    (scikit-fem's ``asm`` loops over the 21 x 21 pairs, which dominated the solve time).
+    """
     from scipy.sparse import coo_matrix
 
     dx = basis.dx  # (nel, nq)
@@ -114,10 +127,14 @@ class PlateModes:
 
     @property
     def dofs(self) -> int:
+        """Number of DOFs of the discretisation."""
         return int(self.phi.shape[0])
 
     def nodal_uz(self) -> np.ndarray:
-        """z displacement of every mode at the mesh nodes, (k, n_nodes), m (mass-normalised)."""
+        """Return the z displacement of every mode at the mesh nodes, (k, n_nodes), m.
+
+        The modes are mass-normalised.
+        """
         return self.phi[self.basis.nodal_dofs[0]].T
 
 
@@ -225,8 +242,11 @@ def plate_modal(
 
 
 def classified_plate_modes(beam: Beam, pm: PlateModes, level: int) -> ModalSolution:
-    """The ``ModalSolution`` of raw plate modes ``pm`` of ``beam`` at mesh ``level``: z mass
-    participation, symmetry about x and MAC with beam modes (``plate_modal``'s classification)."""
+    """Return the ``ModalSolution`` of raw plate modes ``pm`` of ``beam`` at mesh ``level``.
+
+    It adds z mass participation, symmetry about x and MAC with beam modes (``plate_modal``'s
+    classification).
+    """
     from .modes import beam_mac, mass_participation_z, symmetry_about_x
 
     element = pm.element

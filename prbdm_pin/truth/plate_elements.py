@@ -25,7 +25,10 @@ def _monomial_exponents(deg: int) -> np.ndarray:
 
 
 def _monomials(exps: np.ndarray, x: np.ndarray, y: np.ndarray, dx: int, dy: int) -> np.ndarray:
-    """d^(dx+dy)/dx^dx dy^dy of every monomial x^i y^j at (x, y); shape (N, *x.shape)."""
+    """Return ``d^(dx+dy)/dx^dx dy^dy`` of every monomial x^i y^j at (x, y).
+
+    Shape ``(N, *x.shape)``.
+    """
     out = np.zeros((exps.shape[0], *x.shape))
     deg = int(exps.max())
     xp = [np.ones_like(x)]

@@ -41,7 +41,7 @@ class TruthRequest:
     error_tol_pct: float | None = 0.5
 
     def compute(self, beam, cache_dir=None, static: bool = True):
-        """The ``TruthResult`` of this request for ``beam`` (cached in ``cache_dir``)."""
+        """Compute the ``TruthResult`` of this request for ``beam`` (cached in ``cache_dir``)."""
         return compute_truth(beam, model=self.model, modes=self.modes,
                              mesh_level=self.mesh_level, selection=self.selection,
                              static=static, cache_dir=cache_dir,
@@ -49,7 +49,7 @@ class TruthRequest:
                              error_tol_pct=self.error_tol_pct)
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON form (a flat mapping of the attributes)."""
+        """Return the JSON form (a flat mapping of the attributes)."""
         return asdict(self)
 
     @classmethod

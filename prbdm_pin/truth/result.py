@@ -14,7 +14,19 @@ __all__ = ["Timings", "ModalSolution", "StaticSolution", "TruthResult"]
 
 @dataclass(frozen=True)
 class Timings:
-    """Wall times of one finite-element solve, in s."""
+    """Wall times of one finite-element solve, in s.
+
+    Attributes
+    ----------
+    mesh_s : float
+        Mesh generation, s.
+    basis_s : float
+        Basis (element DOF maps and quadrature), s.
+    assembly_s : float
+        Matrix assembly, s.
+    solve_s : float
+        Eigen or linear solve, s.
+    """
 
     mesh_s: float = 0.0
     basis_s: float = 0.0
@@ -23,6 +35,7 @@ class Timings:
 
     @property
     def total_s(self) -> float:
+        """Total wall time of the solve, s."""
         return self.mesh_s + self.basis_s + self.assembly_s + self.solve_s
 
 

@@ -1,5 +1,6 @@
-"""3D solid truth: the modal and the tip-load solves of quadratic hexahedra (27 nodes), one
-element through the thickness.
+"""3D solid truth: the modal and the tip-load solves.
+
+Quadratic hexahedra (27 nodes), one element through the thickness.
 
 The discretisation and linear assembly are in ``solid_fe``; the geometrically nonlinear solve
 (total-Lagrangian Saint Venant-Kirchhoff, Newton with load steps) in ``solid_nonlinear``.

@@ -1,5 +1,6 @@
-"""3D solid truth, the discretisation: quadratic hexahedra (27 nodes), one element through the
-thickness.
+"""3D solid truth, the discretisation.
+
+Quadratic hexahedra (27 nodes), one element through the thickness.
 
 The planform's quadrilateral mesh (``feature_mesh.planform_quad_mesh``: triangles graded by the
 local feature size, each split into three quadrilaterals) is extruded through the thickness
@@ -63,8 +64,9 @@ def solid_level(beam: Beam, level: int | None) -> int:
 
 
 def solid_mesh(beam: Beam, level: int | None = None) -> MeshHex:
-    """The planform's quadrilateral mesh (``planform_quad_mesh``) extruded to one hexahedron
-    through the thickness.
+    """Extrude the planform's quadrilateral mesh to one hexahedron through the thickness.
+
+    The planform mesh is ``planform_quad_mesh``'s.
 
     Nodes in m, z in [-t/2, t/2] (mid-surface at z = 0).
     """
@@ -102,7 +104,7 @@ def lame(beam: Beam) -> tuple[float, float]:
 
 
 def discretise(beam: Beam, level: int | None) -> SolidDiscretisation:
-    """The solid's mesh and basis at ``level`` (after the DOF budget) with the root clamped."""
+    """Return the solid's mesh and basis at ``level`` (after the DOF budget), root clamped."""
     lev = solid_level(beam, level)
     check_solid_budget(beam, lev)
     mesh = solid_mesh(beam, lev)
@@ -120,8 +122,10 @@ def discretise(beam: Beam, level: int | None) -> SolidDiscretisation:
 
 
 class ScalarPattern:
-    """CSR pattern of the scalar element matrices (27 x 27 per element) and the slot of every
-    element-matrix entry, so each scalar matrix is one ``bincount``."""
+    """CSR pattern of the scalar element matrices (27 x 27 per element).
+
+    It keeps the slot of every element-matrix entry, so each scalar matrix is one ``bincount``.
+    """
 
     def __init__(self, element_dofs: np.ndarray, n: int):
         e = element_dofs.T.astype(np.int64)  # (E, 27)
@@ -137,8 +141,10 @@ class ScalarPattern:
         return np.bincount(self.pos, weights=element_matrices.ravel(), minlength=self.nnz)
 
     def vector_matrix(self, blocks: np.ndarray) -> sp.csr_matrix:
-        """The (3n, 3n) matrix whose 3 x 3 block at (a, b) is ``blocks[slot(a, b)]``: vector DOF
-        3 a + i is component i at scalar DOF a."""
+        """Return the (3n, 3n) matrix whose 3 x 3 block at (a, b) is ``blocks[slot(a, b)]``.
+
+        Vector DOF 3 a + i is component i at scalar DOF a.
+        """
         return sp.bsr_matrix((blocks, self.indices, self.indptr),
                              shape=(3 * self.n, 3 * self.n)).tocsr()
 
@@ -184,6 +190,7 @@ class SpdFactor:
         )
 
     def solve(self, b: np.ndarray) -> np.ndarray:
+        """Return x with A x = ``b``."""
         if self.order is None:
             return self.lu.solve(b)
         x = np.empty_like(b)
@@ -213,7 +220,7 @@ def tip_load(beam: Beam, d: SolidDiscretisation, F: np.ndarray) -> np.ndarray:
 
 
 def tip_dofs(beam: Beam, d: SolidDiscretisation) -> np.ndarray:
-    """The three scalar DOFs on the tip edge's centreline (z = -t/2, 0, t/2)."""
+    """Return the three scalar DOFs on the tip edge's centreline (z = -t/2, 0, t/2)."""
     locs = d.basis.doflocs
     tol = 1e-9 * beam.length_m
     tip = np.flatnonzero((np.abs(locs[0] - beam.length_m) < tol) & (np.abs(locs[1]) < tol))

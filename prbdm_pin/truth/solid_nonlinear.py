@@ -44,6 +44,7 @@ class CsrPattern:
         self.nnz = unique.size
 
     def matrix(self, element_matrices: np.ndarray) -> sp.csr_matrix:
+        """Sum ``element_matrices`` into the pattern; return the CSR matrix."""
         data = np.bincount(self.pos, weights=element_matrices.ravel()[self.mask],
                            minlength=self.nnz)
         return sp.csr_matrix((data, self.indices, self.indptr), shape=self.shape)
@@ -70,14 +71,17 @@ class Kinematics:
         self._patterns: dict[str, CsrPattern] = {}
 
     def pattern(self, which: str = "full") -> CsrPattern:
+        """Return the sparsity pattern on ``which`` DOFs (``"full"`` or ``"free"``), built once."""
         if which not in self._patterns:
             keep = np.arange(self.d.n_vec) if which == "full" else self.d.free
             self._patterns[which] = CsrPattern(self.vdofs, keep, self.d.n_vec)
         return self._patterns[which]
 
     def evaluate(self, u: np.ndarray, tangent: bool = True, which: str = "full"):
-        """Internal force vector (all DOFs) and, if asked, the tangent stiffness (CSR) on
-        ``which`` DOFs: ``"full"`` or ``"free"``."""
+        """Return the internal force vector (all DOFs) and, if asked, the tangent stiffness.
+
+        The tangent stiffness (CSR) is on ``which`` DOFs: ``"full"`` or ``"free"``.
+        """
         lam, mu = self.d.lam, self.d.mu
         ne, na = self.dofs.shape
         nd = 3 * na
@@ -115,8 +119,10 @@ class Kinematics:
 
 
 class TangentSolver:
-    """Newton corrections K du = r: a fresh factorisation, or conjugate gradients preconditioned
-    by the last factorisation while they converge fast.
+    """Newton corrections K du = r by a factorisation or preconditioned conjugate gradients.
+
+    A fresh factorisation, or conjugate gradients preconditioned by the last factorisation
+    while they converge fast.
 
     Within a load step the tangent changes little between Newton iterations, so the previous
     LU is an excellent preconditioner: a few CG iterations (one triangular solve each) replace a
@@ -133,6 +139,7 @@ class TangentSolver:
         self.cg_iterations = 0
 
     def solve(self, K: sp.csr_matrix, r: np.ndarray, refactor: bool = False) -> np.ndarray:
+        """Return du with K du = ``r`` (``refactor``: factor ``K`` afresh)."""
         if self.lu is not None and not refactor:
             M = spla.LinearOperator(K.shape, matvec=self.lu.solve, dtype=float)
             count = [0]
@@ -152,8 +159,11 @@ class TangentSolver:
 
 def solve_nonlinear(beam, d: SolidDiscretisation, f_ext: np.ndarray, load_steps: int, tol: float,
                     max_iter: int, progress=None, stats=None) -> tuple[np.ndarray, int]:
-    """Displacements (m, all vector DOFs) under the dead load ``f_ext`` (N) and the number of
-    converged load steps; an increment whose Newton iteration fails is halved."""
+    """Return the displacements (m, all vector DOFs) under the dead load ``f_ext`` (N).
+
+    Also the number of converged load steps; an increment whose Newton iteration fails is
+    halved.
+    """
     kin = Kinematics(d)
     solver = TangentSolver(order=d.order)
     free = d.free

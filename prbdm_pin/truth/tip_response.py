@@ -1,5 +1,8 @@
-"""The tip-load part of a truth: the model's linear solve, the large-deflection solve and the
-small-load gap between the 1D beam and the truth model."""
+"""The tip-load part of a truth.
+
+The model's linear solve, the large-deflection solve and the small-load gap between the 1D beam
+and the truth model.
+"""
 
 from __future__ import annotations
 
@@ -17,9 +20,12 @@ ELASTICA_PLATE_TOL = 0.01
 
 def tip_response(beam: Beam, model: str, level: int | None, large: str
                  ) -> tuple[StaticSolution, StaticSolution | None, float | None]:
-    """Linear solve of the truth model, the large-deflection solve (None for ``"none"``), and
-    the small-load gap 100 (u_1D / u_model - 1) in % between the 1D beam and the truth model's
-    linear tips (None without a vertical load)."""
+    """Solve the tip load: linear, large-deflection, and the 1D beam's small-load gap.
+
+    Returns the linear solve of the truth model, the large-deflection solve (None for
+    ``"none"``), and the small-load gap 100 (u_1D / u_model - 1) in % between the 1D beam and
+    the truth model's linear tips (None without a vertical load).
+    """
     # the solvers load scikit-fem and scipy: imported here, so that a cached truth never does
     from .beam import beam_static
 

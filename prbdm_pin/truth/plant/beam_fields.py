@@ -20,8 +20,11 @@ BEAM_ELEMENTS = 200
 
 
 def hermite_slope(xs: np.ndarray, u: np.ndarray, ux: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """du/dx at ``x`` (m) of the cubic Hermite fields with nodal values ``u`` and slopes ``ux``
-    (rows: fields) at ascending nodes ``xs`` (m); shape (fields, len(x))."""
+    """Return du/dx at ``x`` (m) of cubic Hermite fields; shape (fields, len(x)).
+
+    The fields have nodal values ``u`` and slopes ``ux`` (rows: fields) at ascending nodes
+    ``xs`` (m).
+    """
     e = np.clip(np.searchsorted(xs, x, side="right") - 1, 0, xs.size - 2)
     h = xs[e + 1] - xs[e]
     s = (x - xs[e]) / h

@@ -32,7 +32,7 @@ CLAMPED_OUTPUT_NAMES = ("tip_z", "tip_z_rate")
 
 
 def clamped_input_names(n_actuators: int) -> tuple[str, ...]:
-    """``tip_force_z``, ``strain[0]`` ... ``strain[a-1]``."""
+    """Return the input names: ``tip_force_z``, ``strain[0..a-1]``."""
     return ("tip_force_z", *(f"strain[{i}]" for i in range(n_actuators)))
 
 
@@ -84,7 +84,19 @@ def _check_zeta(damping_ratio: object) -> float:
 
 
 def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02) -> ClampedModel:
-    """The clamped plant of ``gains`` (see ``clamped_model``)."""
+    """Return the clamped plant of ``gains`` (see ``clamped_model``).
+
+    Parameters
+    ----------
+    gains : ModalGains
+        The clamped truth's modal gains (``truth_modal_gains``).
+    damping_ratio : float
+        zeta in [0, 1) of every mode, dimensionless.
+
+    Returns
+    -------
+    ClampedModel
+    """
     zeta = _check_zeta(damping_ratio)
     w = np.asarray(gains.omega_rad_s, dtype=float)
     n = w.size
@@ -106,7 +118,7 @@ def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02) -> Clampe
 def clamped_model(truth: TruthResult, beam: Beam,
                   actuators: Sequence[tuple[float, float]] = (),
                   damping_ratio: float = 0.02) -> ClampedModel:
-    """The clamped truth (its selected modes) as a linear plant.
+    """Return the clamped truth (its selected modes) as a linear plant.
 
     Parameters
     ----------

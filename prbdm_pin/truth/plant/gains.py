@@ -1,5 +1,7 @@
-"""Modal input and output gains of a clamped truth's selected modes: tip force, strain actuators
-and the tip z output, plus the inertia integrals the hub model needs.
+"""Modal input and output gains of a clamped truth's selected modes.
+
+Tip force, strain actuators and the tip z output, plus the inertia integrals the hub model
+needs.
 
 Sign convention. The PRBDM's joints rotate about +y, which turns e_x towards -z (``planar``:
 dz_tip/dq < 0): a positive joint torque bends the tip down. A strain actuator is a moment pair
@@ -80,8 +82,11 @@ class ModalGains:
 
     def static_tip_z_m(self, tip_force_N: float = 0.0,
                        moments_Nm: Sequence[float] | np.ndarray = ()) -> float:
-        """Clamped static tip z (m) of the modal model under a tip force (N) and actuator
-        moments (N m; none given: all zero): sum_k c_k f_k / omega_k^2 over the selected modes."""
+        """Return the clamped static tip z (m) of the modal model.
+
+        Under a tip force (N) and actuator moments (N m; none given: all zero):
+        sum_k c_k f_k / omega_k^2 over the selected modes.
+        """
         m = np.asarray(moments_Nm, dtype=float).reshape(-1)
         if m.size == 0:
             m = np.zeros(self.actuators_m.shape[0])
@@ -93,8 +98,20 @@ class ModalGains:
 
 
 def check_actuators(actuators: object, length_m: float) -> np.ndarray:
-    """Actuator stations as an (a, 2) float array; BeamInputError naming ``actuators[i]``
-    unless 0 <= x_a < x_b <= L (m)."""
+    """Return actuator stations as an (a, 2) float array, m.
+
+    Parameters
+    ----------
+    actuators : sequence of (x_a, x_b)
+        Patch stations, m from the root.
+    length_m : float
+        Beam length L, m.
+
+    Raises
+    ------
+    BeamInputError
+        Naming ``actuators[i]`` unless 0 <= x_a < x_b <= L.
+    """
     try:
         st = np.array(actuators, dtype=float)
     except (TypeError, ValueError) as exc:

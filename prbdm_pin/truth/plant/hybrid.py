@@ -43,7 +43,7 @@ DAMPING_KINDS = ("clamped", "modal")
 
 
 def input_names(n_actuators: int) -> tuple[str, ...]:
-    """``tip_force_z``, ``hub_torque``, ``strain[0]`` ... ``strain[a-1]``."""
+    """Return the input names: ``tip_force_z``, ``hub_torque``, ``strain[0..a-1]``."""
     return ("tip_force_z", "hub_torque", *(f"strain[{i}]" for i in range(n_actuators)))
 
 
@@ -111,8 +111,10 @@ def _check_number(name: str, value: object, unit: str, upper: float = np.inf) ->
 
 
 def beam_inertia_kg_m2(gains: ModalGains, hub_radius_m: float) -> float:
-    """J_beam = int rho t (r + x)^2 dA: the undeformed beam's inertia about the hub axis, kg m^2
-    (r = ``hub_radius_m``, m)."""
+    """Return the undeformed beam's inertia about the hub axis, kg m^2.
+
+    J_beam = int rho t (r + x)^2 dA with r = ``hub_radius_m``, m.
+    """
     r = hub_radius_m
     return gains.mass_kg * r**2 + 2.0 * r * gains.first_moment_kg_m + gains.second_moment_kg_m2
 
@@ -158,8 +160,24 @@ def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: f
 
 
 def hub_frequencies_rad_s(M: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Undamped frequencies (rad/s, ascending) of K v = omega^2 M v, the symmetric generalised
-    eigenproblem (M never inverted); the rigid mode's rounding is clipped to 0."""
+    """Return the undamped frequencies (rad/s, ascending) of K v = omega^2 M v.
+
+    The symmetric generalised eigenproblem (M never inverted); the rigid mode's rounding is
+    clipped to 0.
+
+    Parameters
+    ----------
+    M : ndarray (N + 1, N + 1)
+        Mass matrix of q = [theta_hub (rad), eta (sqrt(kg) m)] (``hybrid_matrices``): kg m^2
+        on the hub, sqrt(kg) m on the coupling, identity on the modes.
+    K : ndarray (N + 1, N + 1)
+        Stiffness matrix in the same coordinates: diag(0, omega_k^2), omega_k in rad/s.
+
+    Returns
+    -------
+    ndarray (N + 1,)
+        Frequencies, rad/s, the rigid 0 first.
+    """
     lam = scipy.linalg.eigh(K, M, eigvals_only=True)
     return np.sqrt(np.clip(lam, 0.0, None))
 
@@ -171,9 +189,25 @@ def _check_damping(damping: object) -> str:
 
 
 def hub_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.ndarray:
-    """D = M Phi_f diag(2 zeta omega_f) Phi_f^T M over the hub system's flexible modes Phi_f
-    (mass-normalised, the rigid mode taken out exactly): each flexible mode of (K, M) gets the
-    ratio ``damping_ratio``, the rigid rotation none; the PRBDM plant's ``"modal"`` form."""
+    """Return the modal damping D = M Phi_f diag(2 zeta omega_f) Phi_f^T M of the hub system.
+
+    Phi_f are the flexible modes (mass-normalised, the rigid mode taken out exactly): each
+    flexible mode of (K, M) gets the ratio ``damping_ratio``, the rigid rotation none; the PRBDM
+    plant's ``"modal"`` form.
+
+    Parameters
+    ----------
+    M, K : ndarray (N + 1, N + 1)
+        Mass and stiffness matrices of the hybrid coordinates (units as in
+        :func:`hub_frequencies_rad_s`); the hub coordinate first, without a spring.
+    damping_ratio : float
+        zeta of every flexible mode, dimensionless.
+
+    Returns
+    -------
+    ndarray (N + 1, N + 1)
+        The damping matrix in the same coordinates (N m s/rad on the hub).
+    """
     from ...plant.hub import hub_modes
 
     omega, Phi = hub_modes(M, np.diag(K)[1:])
@@ -184,7 +218,25 @@ def hub_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.
 
 def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: float,
                       damping_ratio: float = 0.02, damping: str = "clamped") -> HybridModel:
-    """The hub model of ``gains`` (see ``hybrid_model``)."""
+    """Return the hub model of ``gains`` (see ``hybrid_model``).
+
+    Parameters
+    ----------
+    gains : ModalGains
+        The clamped truth's modal gains (``truth_modal_gains``).
+    hub_inertia_kg_m2 : float
+        J_h >= 0 about the hub axis, kg m^2.
+    hub_radius_m : float
+        r >= 0, the beam root's distance from the hub axis, m.
+    damping_ratio : float
+        zeta in [0, 1), dimensionless.
+    damping : {"clamped", "modal"}
+        Which modes get ``damping_ratio`` (see ``hybrid_model``).
+
+    Returns
+    -------
+    HybridModel
+    """
     zeta = _check_number("damping_ratio", damping_ratio, "1", upper=1.0)
     kind = _check_damping(damping)
     M, K, Bq, Cq = hybrid_matrices(gains, hub_inertia_kg_m2, hub_radius_m)
@@ -218,7 +270,7 @@ def hybrid_from_gains(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m:
 def hybrid_model(truth: TruthResult, beam: Beam, hub_inertia_kg_m2: float, hub_radius_m: float,
                  actuators: Sequence[tuple[float, float]] = (),
                  damping_ratio: float = 0.02, damping: str = "clamped") -> HybridModel:
-    """The clamped truth on a rotating rigid hub, in hybrid coordinates, as a linear plant.
+    """Return the clamped truth on a rotating rigid hub, in hybrid coordinates, as a plant.
 
     Parameters
     ----------

@@ -1,5 +1,7 @@
-"""The Kirchhoff plate truth's modes read along lines x = const: edge averages and width-averaged
-section rotations, from the element's own basis at any point (inside elements too).
+"""The Kirchhoff plate truth's modes read along lines x = const.
+
+Edge averages and width-averaged section rotations, from the element's own basis at any point
+(inside elements too).
 
 A width average over the line x = x0 runs from y = -w(x0) to w(x0) in segments cut where the line
 crosses the mesh's edges; inside a segment the field is one element's polynomial, which
@@ -60,8 +62,10 @@ def _line_rule(basis: Basis, x0: float, half_width: float) -> tuple[np.ndarray, 
 
 
 def line_average_matrix(basis: Basis, x0_m: float, half_width_m: float, d_dx: bool = False):
-    """Row vector (1, DOFs): a field's width average (or its x derivative's, ``d_dx``) along the
-    line x = x0 over |y| <= half_width (m)."""
+    """Return the row vector (1, DOFs) of a field's width average along the line x = x0.
+
+    Or of its x derivative's (``d_dx``), over ``|y| <= half_width`` (m).
+    """
     y, w = _line_rule(basis, float(x0_m), float(half_width_m))
     P = probe_matrix(basis, np.full(y.size, float(x0_m)), y, d_dx)
     return (P.T @ w)[None, :]
@@ -93,7 +97,7 @@ def _xv(v, w):
 
 
 def _half_width_over(beam: Beam, x: float) -> float:
-    """The full width present at station x: at a width step, the wider side's."""
+    """Return the full width present at station x: at a width step, the wider side's."""
     return float(max(beam.half_width_at(x, "left"), beam.half_width_at(x, "right")))
 
 
