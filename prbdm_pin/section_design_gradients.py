@@ -28,6 +28,7 @@ from .choices import MIN_FRACTION
 from .design import Design, step_partner
 from .errors import BeamInputError
 from .geometry import Beam
+from .json_record import readonly_array
 from .layout import validate_lengths
 from .sections import link_sections_unchecked
 from .stiffness import finite_segment_stiffness_unchecked
@@ -71,12 +72,6 @@ class SectionDesignGradient:
     d_inertia_yy_kg_m2: np.ndarray
     d_inertia_zz_kg_m2: np.ndarray
     d_area_moment_m4: np.ndarray
-
-
-def _ro(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 def _check_design(beam: Beam, design: Design) -> None:
@@ -216,9 +211,10 @@ def section_design_gradient(beam: Beam, design: Design, lengths_m: np.ndarray,
         elif kind == "rho":
             for key, q in (("m", mass), ("xx", Ixx), ("yy", Iyy), ("zz", Izz)):
                 d[key][:, row] = q / rho
-    return SectionDesignGradient(
-        design.names, design.units, _ro(mass), _ro(offset), _ro(Ixx), _ro(Iyy), _ro(Izz),
-        _ro(area), *(_ro(d[key]) for key in ("m", "c", "xx", "yy", "zz", "I")))
+    values = (mass, offset, Ixx, Iyy, Izz, area)
+    derivatives = (d[key] for key in ("m", "c", "xx", "yy", "zz", "I"))
+    return SectionDesignGradient(design.names, design.units,
+                                 *(readonly_array(v) for v in (*values, *derivatives)))
 
 
 def _psi(r: np.ndarray) -> np.ndarray:
@@ -280,4 +276,4 @@ def finite_segment_design_gradient(beam: Beam, design: Design, lengths_m: np.nda
             dK[:, row] = 3.0 * K / beam.thickness_m
         elif kind == "E":
             dK[:, row] = K / beam.material.E_Pa
-    return K, _ro(dK)
+    return K, readonly_array(dK)
