@@ -31,19 +31,13 @@ from .eigen import modes_from_mass
 from .errors import BeamInputError
 from .geometry import Beam
 from .layout import validate_lengths
+from .mode_energy import kinetic_energy_change, mode_motion
 from .planar import load_stiffness, planar_mass_matrices, planar_tip
 from .section_gradients import SectionGradient, planar_sections_gradient
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
 
 __all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "static_tip_gradient"]
-
-
-def _link_axes(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cosines and sines of the world angles of links 0..n at the poses Q (m, n): (m, n+1)."""
-    phi = np.zeros(Q.shape[:-1] + (Q.shape[-1] + 1,))
-    phi[..., 1:] = Q.cumsum(axis=-1)
-    return np.cos(phi), np.sin(phi)
 
 
 def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
@@ -82,26 +76,10 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
         L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q)
     omega, Phi = modes_from_mass(M, k)  # Phi[pose, joint, mode]
     lam = omega**2
-    c, sn = _link_axes(Q)  # (m, n+1); the sign of z does not matter in a quadratic form
-    # joints 1..n at the ends of links 0..n-1 and the centres of mass of links 1..n
-    jx = (L[None, :-1] * c[:, :-1]).cumsum(axis=1)
-    jz = (L[None, :-1] * sn[:, :-1]).cumsum(axis=1)
-    cx = jx + s.com_offset_m[1:] * c[:, 1:]
-    cz = jz + s.com_offset_m[1:] * sn[:, 1:]
-    # per mode: angular rate of link i (sum of its joints' rates) and velocity of its centre of
-    # mass v_i = w_i C_i - sum_(j <= i) phi_j J_j, all links at once; shapes (m, mode, link)
-    P = Phi.swapaxes(1, 2)
-    w = P.cumsum(axis=2)
-    vx = w * cx[:, None, :] - (P * jx[:, None, :]).cumsum(axis=2)
-    vz = w * cz[:, None, :] - (P * jz[:, None, :]).cumsum(axis=2)
+    w, vx, vz, ux, uz = motion = mode_motion(L, s.com_offset_m, Q, Phi)
     m1 = s.mass_kg[1:]
-    ux, uz = c[:, None, 1:], sn[:, None, 1:]
-    # d(phi^T M phi) per unit change of each link's mass, inertia and offset (links 1..n)
-    e_mass = vx * vx + vz * vz
-    e_inertia = w * w
-    e_offset = 2.0 * m1 * w * (ux * vx + uz * vz)
-    dE = (e_mass @ s.d_mass_kg_per_m[1:] + e_inertia @ s.d_inertia_yy_kg_m[1:]
-          + e_offset @ s.d_com_offset[1:])
+    dE = kinetic_energy_change(motion, m1, s.d_mass_kg_per_m, s.d_inertia_yy_kg_m,
+                               s.d_com_offset)
     # the chain's geometry at fixed sections: link l's length moves every centre of mass
     # beyond it, G_l = 2 w_l u_l . sum_(i > l) m_i v_i (l = 1..n-1; L_0 and L_n do not enter r)
     if n > 1:
@@ -112,7 +90,7 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
         dE[..., 1:] += G
         dE[..., :-1] -= G
     d_station = -lam[..., None] * dE
-    d_stiffness = P * P
+    d_stiffness = Phi.swapaxes(1, 2) ** 2
     return lam, d_station, d_stiffness
 
 

@@ -12,8 +12,8 @@ With ``gradient=True`` each comes with its derivative in the design variables:
 - d theta/dp: ``fit_design_gradient`` (implicit-function theorem on the fit's KKT conditions,
   with the truth's analytic frequency gradient);
 - d out/dp at fixed theta: the sections of the moved planform change the chain's masses and
-  inertias (frequencies only: the statics do not see the masses), by central differences of
-  the chain at fixed lengths and springs (cheap, no truth or fit);
+  inertias (frequencies only: the statics do not see the masses), analytic at fixed lengths
+  and springs (``model_design_gradient.frequency_design_gradient``);
 - the mass: closed form (rho t times the trapezoidal planform area).
 """
 
@@ -28,12 +28,12 @@ from .chain_gradient import model_gradient
 from .design import Design
 from .errors import BeamInputError, SolveError
 from .geometry import Beam
+from .model_design_gradient import frequency_design_gradient
 from .target import FitTarget, read_only
 
 __all__ = ["CodesignPoint", "codesign_point", "panel_mass", "TRUTH_MODELS"]
 
 TRUTH_MODELS = ("beam", "plate")
-STEP_REL = 1e-3  # d out/dp at fixed theta: central step times ``Design.scales``
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,13 +125,8 @@ def _truth(design: Design, beam: Beam, model: str, joints: int, mesh_level: int 
     return g.omega_rad_s[:joints], (g if gradient else None)
 
 
-def _chain_omega(beam: Beam, lengths: np.ndarray, springs: np.ndarray) -> np.ndarray:
-    return model_gradient(beam, lengths, springs, tip_force_N=np.zeros(3)).omega_rad_s
-
-
 def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_model: str = "beam",
-                   mesh_level: int | None = None, gradient: bool = True,
-                   step_rel: float = STEP_REL) -> CodesignPoint:
+                   mesh_level: int | None = None, gradient: bool = True) -> CodesignPoint:
     """The design ``p`` through truth -> ``unique="nearest"`` fit -> PRBDM.
 
     Parameters
@@ -147,9 +142,6 @@ def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_mode
         Plate mesh level.
     gradient : bool
         Chain the derivatives too.
-    step_rel : float
-        Central step (times ``design.scales``) of the design derivatives at fixed model
-        parameters.
 
     Returns
     -------
@@ -189,13 +181,7 @@ def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_mode
         fd = fit_design_gradient(fr, design, p, tg)
         d_stations = np.cumsum(fd.d_lengths_m, axis=0)[:-1]  # x_j = L_0 + ... + L_(j-1)
         d_theta = np.vstack([d_stations, fd.d_stiffness_Nm_per_rad])  # (2n, nv)
-        d_omega = mg.d_omega_rad_s @ d_theta
-        h = float(step_rel) * design.scales
-        for j in range(design.size):
-            e = np.zeros(design.size)
-            e[j] = h[j]
-            d_omega[:, j] += (_chain_omega(design.beam_at(p + e), L, K)
-                              - _chain_omega(design.beam_at(p - e), L, K)) / (2.0 * h[j])
+        d_omega = mg.d_omega_rad_s @ d_theta + frequency_design_gradient(beam, design, L, K)[1]
         d_tip = (sign * mg.d_tip_position_m[2] @ d_theta if mg.tip_position_m is not None
                  else np.zeros(design.size))
         if not (np.all(np.isfinite(d_omega)) and np.all(np.isfinite(d_tip))):

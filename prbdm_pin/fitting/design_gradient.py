@@ -8,10 +8,13 @@ frequencies, themselves a function of the design. The implicit-function theorem 
 
     dz/dp = -G_z^-1 (G_p + G_omega d omega/dp),   G_omega = [0; -diag(1 / omega)].
 
-G_z is the nested central difference of ``fit_derivative``; G_p is a central difference of the
-model at fixed x and fixed truth frequencies: the sections and finite-segment springs of the
-moved planform (no truth solve). The physical parameters move with x and, through the springs
-``K = s K0(L, p)``, with the design directly: central differences of that cheap map too.
+G_z is the nested central difference of ``fit_derivative``. G_p is the model's direct dependence
+on the design at fixed x (the lengths fixed, the springs s K0(L, p)), analytic
+(``model_design_gradient.frequency_design_gradient`` with ``finite_segment_design_gradient``):
+its constraint rows are d ln w/dp; its stationarity rows d(J^T lambda)/dp, the x-gradient of
+lambda . d ln w/dp, take one central difference in x of that analytic term (the same for every
+variable, no model rebuilt at a moved design). The physical parameters L(u) and
+K = s K0(L, p) follow in closed form.
 """
 
 from __future__ import annotations
@@ -22,7 +25,11 @@ import numpy as np
 
 from ..design import Design
 from ..errors import BeamInputError, SolveError
+from ..model_design_gradient import frequency_design_gradient
+from ..problem import FitProblem, lengths_from_unit
 from ..results import FitResult
+from ..section_design_gradients import finite_segment_design_gradient, section_design_gradient
+from ..section_gradients import finite_segment_stiffness_gradient
 from ..target import FitTarget, read_only
 from ..truth.gradient import TruthGradient
 from .derivative import (
@@ -32,17 +39,16 @@ from .derivative import (
     fit_coordinates,
     fit_problem_of,
     kkt_residuals,
-    physical_parameters,
 )
+from .joint_jacobian import unit_lengths_jacobian
 from .unique import log_frequency_jacobian, reference_x
 
-__all__ = ["FitDesignGradient", "fit_design_gradient", "STEP_REL"]
+__all__ = ["FitDesignGradient", "fit_design_gradient", "kkt_design_jacobian",
+           "log_frequency_design_gradient"]
 
-# central-difference step in the design at fixed truth frequencies, times ``Design.scales``:
-# the model is smooth in the planform and thickness (exact section integrals), so the step is
-# set by the O(h^2) truncation from above and by the O(1e-10) rounding of the inner
-# frequency Jacobian from below
-STEP_REL = 1e-3
+# central-difference step in x (stick-breaking units and log spring factors) of the analytic
+# d ln w/dp in G_p's stationarity rows: O(h^2) truncation against O(1e-16 / h) rounding
+H_MIXED = 1e-5
 MATCH_RTOL = 1e-6  # the fit must reproduce the truth frequencies it is differentiated about
 
 
@@ -72,9 +78,46 @@ class FitDesignGradient:
     cond: float
 
 
+def log_frequency_design_gradient(problem: FitProblem, design: Design, x: np.ndarray,
+                                  cache: dict | None = None) -> np.ndarray:
+    """d ln w/dp of the ``joint`` fit problem's model at fixed fit coordinates x (the lengths
+    fixed, the springs s K0(L, p)), shape (n, nv), per unit of each variable of ``design``;
+    ``problem.beam`` is the design's beam at p. ``cache``: a dict that keeps the sections and
+    springs of the lengths already seen (points that differ in the spring factors only)."""
+    n = problem.n_joints
+    key = x[:n].tobytes()
+    if cache is None or key not in cache:
+        L = lengths_from_unit(x[:n], problem.length_m, problem.min_fraction)
+        sec = section_design_gradient(problem.beam, design, L, problem.min_fraction)
+        springs = finite_segment_design_gradient(problem.beam, design, L, problem.min_fraction)
+        if cache is None:
+            cache = {}
+        cache[key] = (L, sec, springs)
+    L, sec, (K0, dK0) = cache[key]
+    s = np.exp(x[n:])
+    omega, d_omega = frequency_design_gradient(problem.beam, design, L, s * K0,
+                                               s[:, None] * dK0, problem.min_fraction, sec)
+    return d_omega / omega[:, None]
+
+
+def kkt_design_jacobian(problem: FitProblem, design: Design, z: np.ndarray) -> np.ndarray:
+    """dG/dp of the ``unique="nearest"`` fit's KKT conditions (``derivative.kkt_residuals``) at
+    fixed z = [x, lambda] and fixed truth frequencies, shape (3n, nv): the stationarity rows
+    d/dx (lambda . d ln w/dp) (one central difference in x), then the constraint rows
+    d ln w/dp; ``problem.beam`` is the design's beam at p."""
+    n = problem.n_joints
+    x, lam = z[: 2 * n], z[2 * n:]
+    cache: dict = {}  # the spring-factor steps keep the lengths: their sections are reused
+
+    def weighted(v: np.ndarray) -> np.ndarray:
+        return lam @ log_frequency_design_gradient(problem, design, v, cache)
+
+    return np.vstack([central_jacobian(weighted, x, H_MIXED).T,
+                      log_frequency_design_gradient(problem, design, x, cache)])
+
+
 def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
-                        truth: TruthGradient, *, step_rel: float = STEP_REL
-                        ) -> FitDesignGradient:
+                        truth: TruthGradient) -> FitDesignGradient:
     """dtheta/dp of ``result``, the ``unique="nearest"`` fit of ``design.beam_at(p)`` to the
     truth frequencies ``truth.omega_rad_s``, with their gradient ``truth.d_omega_rad_s``.
 
@@ -88,8 +131,6 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
         The design (SI units).
     truth : TruthGradient
         ``truth_gradient(design.beam_at(p), design, ...)``: at least n modes, the same variables.
-    step_rel : float
-        Step of G_p's central difference, times ``design.scales``.
 
     Raises
     ------
@@ -124,26 +165,18 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
     c = float(np.linalg.cond(Gz))
     if not c < COND_MAX:
         raise SolveError(f"fit_design_gradient: the KKT conditions are singular (cond {c:.3g})")
-    nv = design.size
-    h = float(step_rel) * design.scales
-    Gp = np.zeros((z.size, nv))
-    problems = []
-    for j in range(nv):
-        e = np.zeros(nv)
-        e[j] = h[j]
-        pair = [fit_problem_of(result, design.beam_at(p + s * e), target) for s in (1.0, -1.0)]
-        Gp[:, j] = (kkt_residuals(pair[0], z) - kkt_residuals(pair[1], z)) / (2.0 * h[j])
-        problems.append(pair)
     # the truth frequencies move the constraint rows only: d(-ln omega)/dp
+    Gp = kkt_design_jacobian(P0, design, z)
     Gp[2 * n:] -= d_omega / omega[:, None]
     dz = -np.linalg.solve(Gz, Gp)
     dx = dz[: 2 * n]
-    dL = np.zeros((n + 1, nv))
-    dK = np.zeros((n, nv))
-    for j, (Pp, Pm) in enumerate(problems):
-        Lp, Kp = physical_parameters(Pp, x + h[j] * dx[:, j])
-        Lm, Km = physical_parameters(Pm, x - h[j] * dx[:, j])
-        dL[:, j] = (Lp - Lm) / (2.0 * h[j])
-        dK[:, j] = (Kp - Km) / (2.0 * h[j])
+    # the physical parameters: L(u) does not see the design; K = s K0(L(u), p)
+    u, s = x[:n], np.exp(x[n:])
+    L = lengths_from_unit(u, P0.length_m, P0.min_fraction)
+    dL = unit_lengths_jacobian(u, P0.length_m, P0.min_fraction) @ dx[:n]
+    K0, dK0_station = finite_segment_stiffness_gradient(beam, L)
+    _, dK0_design = finite_segment_design_gradient(beam, design, L, P0.min_fraction)
+    dK0 = dK0_station @ dL.cumsum(axis=0)[:-1] + dK0_design
+    dK = s[:, None] * dK0 + (s * K0)[:, None] * dx[n:]
     return FitDesignGradient(design.names, design.units, read_only(dL), read_only(dK),
                              read_only(dx), c)
