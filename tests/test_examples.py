@@ -51,6 +51,7 @@ def test_first_fit_matches_euler_bernoulli(tmp_path):
 
 
 def test_export_and_simulate_mujoco_matches_pinocchio_aba(tmp_path):
+    pytest.importorskip("mujoco")  # the dev extra
     res = _example("export_and_simulate").main(quick=True, out=tmp_path)
     peak, z_pin = res["peak_m"], res["tip_z_pinocchio_m"]
     # MuJoCo's RK4 at the file's step against DOP853 at rtol 1e-10 on Pinocchio's ABA of the
