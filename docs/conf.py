@@ -34,8 +34,6 @@ exclude_patterns = [
     "_build",
     # the benchmark tables are included into benchmarks.md, not pages of their own
     "benchmarks/*.md",
-    # README material waiting for the user guide
-    "_moved_from_readme.md",
 ]
 
 myst_enable_extensions = ["dollarmath", "colon_fence"]
