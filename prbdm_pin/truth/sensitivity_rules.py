@@ -17,10 +17,11 @@ from ..geometry import Beam
 __all__ = ["STEP_REL", "STENCIL", "stencil_derivative", "GAP_TOL", "check_gaps", "material_forms",
            "omega_derivative", "tip_derivative"]
 
-# Shape derivatives of the element integrals: fourth-order central differences with steps
-# STEP_REL x the variable's scale (``Design.scales``). With fixed DOF vectors on moving elements
-# the integrals have large higher derivatives (small corner elements): second-order differences
-# lost 1e-4..1e-2 at 1e-5 steps and rounding took over below 1e-6.
+# Shape derivatives of the 1D beam's element integrals: fourth-order central differences with
+# steps STEP_REL x the variable's scale (``Design.scales``). (The plate's are taken by complex
+# step, ``plate_shape``: with fixed DOF vectors on moving elements its integrals have large
+# higher derivatives at the small corner elements, where second-order differences lost
+# 1e-4..1e-2 at 1e-5 steps and rounding took over below 1e-6.)
 STEP_REL = 3e-5
 # multiples of the step and their weights (x 1 / (12 h))
 STENCIL = ((1.0, 8.0), (-1.0, -8.0), (2.0, -1.0), (-2.0, 1.0))
