@@ -44,17 +44,19 @@ def monomial_table(xi: np.ndarray, eta: np.ndarray,
         xp.append(xp[-1] * xi)
         yp.append(yp[-1] * eta)
     xp, yp = np.stack(xp, axis=-1), np.stack(yp, axis=-1)
-    out = []
-    for dx, dy in derivatives:
+    out = np.empty((*np.shape(xi), len(derivatives), i.size), dtype=np.result_type(xi, eta))
+    for k, (dx, dy) in enumerate(derivatives):
         # falling factorials i (i - 1) ... (i - dx + 1), zero where the derivative vanishes
         coef = np.ones(i.size)
-        for k in range(dx):
-            coef *= i - k
-        for k in range(dy):
-            coef *= j - k
+        for f in range(dx):
+            coef *= i - f
+        for f in range(dy):
+            coef *= j - f
         coef[(i < dx) | (j < dy)] = 0.0
-        out.append(coef * xp[..., np.maximum(i - dx, 0)] * yp[..., np.maximum(j - dy, 0)])
-    return np.stack(out, axis=-2)
+        o = out[..., k, :]
+        np.multiply(xp[..., np.maximum(i - dx, 0)], yp[..., np.maximum(j - dy, 0)], out=o)
+        o *= coef
+    return out
 
 
 def argyris_coefficients(v: np.ndarray, t: np.ndarray, c: np.ndarray):

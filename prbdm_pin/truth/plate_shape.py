@@ -19,16 +19,10 @@ from skfem import Basis
 from ..design import Design
 from .argyris_forms import argyris_coefficients, argyris_edge_integrals, argyris_plate_forms
 from .morph import morph_plane
+from .sensitivity_rules import COMPLEX_STEP, VELOCITY_STEP
 
-__all__ = ["COMPLEX_STEP", "VELOCITY_STEP", "PlateFormDerivatives", "node_velocities",
-           "plate_form_derivatives"]
+__all__ = ["PlateFormDerivatives", "node_velocities", "plate_form_derivatives"]
 
-# the imaginary node move, m per unit of the variable (node velocities are at most ~1): the
-# derivative's error is tau^2 times third derivatives, far below rounding
-COMPLEX_STEP = 1e-20
-# the central difference of the (affine) morph giving the node velocities, x ``Design.scales``:
-# inside every variable's bounds; its rounding is eps / VELOCITY_STEP relative
-VELOCITY_STEP = 1e-2
 # moved element rows per batch (bounds the memory of the quadrature tables)
 BATCH = 2048
 # the two local vertices of the edge opposite local vertex k (tip edges)
