@@ -52,6 +52,8 @@ class TruthGradient:
         d tip_z / d p_j, m per unit of variable j (adjoint).
     solve_s, gradient_s : float
         Wall time of the truth's solve (modes, selection, static) and of all gradients after it.
+    solve_cpu_s, gradient_cpu_s : float
+        The same in CPU time of this process (less disturbed by other processes).
     dofs : int
     """
 
@@ -67,6 +69,8 @@ class TruthGradient:
     d_tip_z_m: np.ndarray | None
     solve_s: float
     gradient_s: float
+    solve_cpu_s: float
+    gradient_cpu_s: float
     dofs: int
 
     @property
@@ -160,5 +164,7 @@ def truth_gradient(
         d_omega_rad_s=_ro(r["d_omega_rad_s"]),
         tip_z_m=None if r["tip_z_m"] is None else float(r["tip_z_m"]),
         d_tip_z_m=None if r["d_tip_z_m"] is None else _ro(r["d_tip_z_m"]),
-        solve_s=float(r["solve_s"]), gradient_s=float(r["gradient_s"]), dofs=int(r["dofs"]),
+        solve_s=float(r["solve_s"]), gradient_s=float(r["gradient_s"]),
+        solve_cpu_s=float(r["solve_cpu_s"]), gradient_cpu_s=float(r["gradient_cpu_s"]),
+        dofs=int(r["dofs"]),
     )

@@ -1,12 +1,11 @@
 """Design sensitivities of the Kirchhoff plate truth (Argyris): frequencies and linear tip.
 
 The truth is solved once on its own mesh (the modes of ``plate_modes``, classified and selected
-as ``compute_truth`` does, and the tip-load case of ``plate_static``). Thickness and material
-derivatives are closed-form scalings of the forms; planform derivatives move the mesh with the
-planform (``morph``) on its fixed topology and differentiate the element integrals of the fixed
-modes and static/adjoint fields by central differences over the elements that move
-(semi-analytic: no re-solve, no assembly; fourth-order differences, see
-``sensitivity_rules.STEP_REL``).
+as ``compute_truth`` does, and the tip-load case of ``plate_static``, with its adjoint).
+Thickness and material derivatives are closed-form scalings of the forms; planform derivatives
+move the mesh with the planform (``morph``) on its fixed topology and differentiate the element
+integrals of the fixed modes and static/adjoint fields over the elements that move, by complex
+step (``plate_shape``: semi-analytic, no re-solve, no assembly, exact to rounding).
 """
 
 from __future__ import annotations
@@ -14,27 +13,25 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from skfem import Basis, MeshTri
+from skfem import FacetBasis, MeshTri
 
 from ..design import Design
 from ..errors import TruthError
 from .mesh import planform_tri_mesh
 from .mesh_budget import check_plate_budget
 from .modes import select_modes
-from .morph import morph_plane
-from .plate import ROOT_CLAMP_DOFS, assemble_plate, classified_plate_modes, plate_modes
-from .plate_elements import ElementTriArgyrisLocal
-from .plate_static import spd_solve
-from .sensitivity_rules import (
-    STENCIL,
-    STEP_REL,
-    check_gaps,
-    material_forms,
-    omega_derivative,
-    stencil_derivative,
-    tip_derivative,
+from .plate import (
+    ROOT_CLAMP_DOFS,
+    assemble_plate,
+    classified_plate_modes,
+    plate_modes,
+    plate_rigidity_Nm,
 )
-from .shape_forms import copies_tri_mesh, plate_element_forms, tip_edge_integrals
+from .plate_elements import ElementTriArgyrisLocal
+from .plate_shape import plate_form_derivatives
+from .plate_static import spd_solve, tip_edge_load
+from .sensitivity_rules import check_gaps, material_forms, omega_derivative, tip_derivative
+from .shape_forms import plate_element_forms
 
 __all__ = ["plate_sensitivity"]
 
@@ -45,10 +42,10 @@ def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
 
     Returns a dict of plain arrays (``truth_gradient`` wraps it): ``mode_index``,
     ``omega_rad_s``, ``d_omega_rad_s`` (modes, n), ``tip_z_m``, ``d_tip_z_m`` (n,),
-    ``solve_s``, ``gradient_s``, ``dofs``.
+    ``solve_s``, ``gradient_s`` (wall), ``solve_cpu_s``, ``gradient_cpu_s``, ``dofs``.
     """
     beam = design.beam
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     if mesh is None:
         check_plate_budget(beam, level, "argyris")
         mesh = planform_tri_mesh(beam, level)
@@ -68,18 +65,16 @@ def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
     phi = pm.phi[:, index]
     omega = pm.omega_rad_s[index]
     mat = beam.material
-    D = mat.E_Pa * beam.thickness_m**3 / (12.0 * (1.0 - mat.nu**2))
+    D = plate_rigidity_Nm(beam)
     rho_h = mat.rho_kg_m3 * beam.thickness_m
     L = beam.length_m
     Fz = float(beam.tip_force_N[2])
-    tip_elems = np.flatnonzero((np.abs(mesh.p[0, mesh.t] - L) < 1e-9 * L).sum(axis=0) >= 2)
     if static:
         K, _ = assemble_plate(basis, D, mat.nu, rho_h)
         clamped = basis.get_dofs(lambda x: np.abs(x[0]) < 1e-9 * L).all(ROOT_CLAMP_DOFS["argyris"])
         free = np.setdiff1d(np.arange(basis.N), clamped)
-        g, tind = tip_edge_integrals(copies_tri_mesh(mesh.t, tip_elems, [mesh.p]), L)
-        f = np.zeros(basis.N)
-        np.add.at(f, dofs[:, tip_elems[tind]].T, g * Fz / (2.0 * beam.half_width_at(L)))
+        tip_facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - L) < 1e-9 * L)
+        f = tip_edge_load(beam, FacetBasis(mesh, ElementTriArgyrisLocal(), facets=tip_facets), Fz)
         node = np.flatnonzero((np.abs(mesh.p[0] - L) < 1e-9 * L) & (mesh.p[1] == 0.0))
         if node.size != 1:
             raise TruthError(f"{beam.name!r}: plate mesh has {node.size} nodes at (L, 0)")
@@ -94,7 +89,7 @@ def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
     else:
         tip_z = None
         vecs = avecs = phi
-    t1 = time.perf_counter()
+    t1, c1 = time.perf_counter(), time.process_time()
 
     n = design.size
     m = index.size
@@ -114,43 +109,29 @@ def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
         d_omega[:, row] = omega_derivative(omega, dqk[:m], dqm[:m], qk[:m], qm[:m])
         if static:  # the load does not depend on t or the material
             d_tip[row] = tip_derivative(tip_z, 0.0, dqk[m], qk[m])
-    # the planform: element integrals on moved copies of the elements that move
-    p0 = design.values
-    scales = design.scales
-    for row, (_, i) in enumerate(kinds):
-        if i < 0:
-            continue
-        h = STEP_REL * scales[row]
-        e = np.zeros(n)
-        e[row] = h
-        beams = [design.beam_at(p0 + k * e) for k, _ in STENCIL]
-        pos = [morph_plane(beam, b, mesh.p) for b in beams]
-        moved = np.any([np.any(q != mesh.p, axis=0) for q in pos], axis=0)
-        tip_moves = bool(np.any(moved & (np.abs(mesh.p[0] - L) < 1e-9 * L)))
-        elems = np.flatnonzero(moved[mesh.t].any(axis=0))
-        if tip_moves:
-            elems = np.union1d(elems, tip_elems)
-        copies = copies_tri_mesh(mesh.t, elems, pos)
-        cb = Basis(copies, ElementTriArgyrisLocal())
-        nc, ne = len(pos), elems.size
-        k1, k2, mm = plate_element_forms(cb, np.concatenate([avecs[dofs[:, elems]]] * nc, axis=1),
-                                         np.concatenate([vecs[dofs[:, elems]]] * nc, axis=1))
-        qk_c = (D * ((1.0 - mat.nu) * k1 + mat.nu * k2)).reshape(nc, ne, -1).sum(axis=1)
-        qm_c = rho_h * mm.reshape(nc, ne, -1).sum(axis=1)
-        dqk = stencil_derivative(list(qk_c), h)
-        dqm = stencil_derivative(list(qm_c), h)
-        d_omega[:, row] = omega_derivative(omega, dqk[:m], dqm[:m], qk[:m], qm[:m])
-        if static:
-            d_load = 0.0
-            if tip_moves:
-                g, tind = tip_edge_integrals(copies, L)
-                a_loc = adj[dofs[:, elems[tind % ne]]].T  # (nf, 21)
-                part = np.bincount(tind // ne, np.einsum("fi,fi->f", g, a_loc), minlength=nc)
-                q = [Fz / (2.0 * b.half_width_at(L)) for b in beams]
-                d_load = stencil_derivative([qc * pc for qc, pc in zip(q, part, strict=True)],
-                                            h)
-            d_tip[row] = tip_derivative(tip_z, d_load, dqk[m], qk[m])
-    t2 = time.perf_counter()
+    # the planform: shape derivatives of the moved elements' integrals (complex step)
+    rows = [row for row, (_, i) in enumerate(kinds) if i >= 0]
+    if rows:
+        # distinct vectors: the modes, then u and the adjoint; pairs (a, b) as in qk, qm
+        vectors = np.column_stack([phi, u, adj]) if static else phi
+        pairs = np.arange(m)
+        left = np.r_[pairs, m + 1] if static else pairs
+        right = np.r_[pairs, m] if static else pairs
+        dq = plate_form_derivatives(design, rows, basis, vectors, left, right,
+                                    m + 1 if static else None)
+        w_tip = beam.half_width_at(L)
+        for k, row in enumerate(rows):
+            dqk = D * ((1.0 - mat.nu) * dq.k1[k] + mat.nu * dq.k2[k])
+            dqm = rho_h * dq.mass[k]
+            d_omega[:, row] = omega_derivative(omega, dqk[:m], dqm[:m], qk[:m], qm[:m])
+            if static:
+                # the load q = F_z / (2 w(L)) along the tip edge: q and the edge both move (the
+                # adjoint's edge integral at the design is a^T f / q)
+                d_load = Fz / (2.0 * w_tip) * dq.tip_edge[k] - dq.d_tip_half_width[k] / w_tip * (
+                    adj @ f)
+                d_tip[row] = tip_derivative(tip_z, d_load, dqk[m], qk[m])
+    t2, c2 = time.perf_counter(), time.process_time()
     return dict(mode_index=index, omega_rad_s=omega, d_omega_rad_s=d_omega, tip_z_m=tip_z,
                 d_tip_z_m=d_tip if static else None, solve_s=t1 - t0, gradient_s=t2 - t1,
+                solve_cpu_s=c1 - c0, gradient_cpu_s=c2 - c1,
                 dofs=int(pm.dofs), mesh_level=level)

@@ -1,45 +1,24 @@
-"""Element integrals of given DOF vectors on moved copies of a mesh's elements (shape derivatives).
+"""Element integrals of given DOF vectors: the forms the truth gradients differentiate.
 
 A shape derivative of a quadratic form v^T K(p) w with v, w fixed is the derivative of a sum
 of element integrals over the elements whose nodes move with p. The functions here evaluate
-those integrals for DOF vectors of the full mesh on copies of a subset of its elements (with
-moved nodes), without assembling any matrix: one basis per set of copies, the fields of the
-vectors at the quadrature points, their products integrated element by element.
+those integrals element by element, without assembling any matrix: the plate's on a skfem
+Argyris basis (the truth's own, at the design), the 1D beam's cubic Hermite ones from the
+element ends (which the 1D sensitivities move). The plate's moved elements are integrated by
+``argyris_forms`` from their vertex coordinates.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from skfem import Basis, FacetBasis, MeshTri
+from skfem import Basis
 
-from .plate_elements import ElementTriArgyrisLocal
-
-__all__ = ["copies_tri_mesh", "plate_element_forms", "tip_edge_integrals", "hermite_forms",
-           "GAUSS_1D"]
+__all__ = ["plate_element_forms", "hermite_forms", "GAUSS_1D"]
 
 # 4-point Gauss-Legendre on [0, 1]: exact to degree 7, the 1D truth's mass integrand (linear
 # rho A times two cubics), as scikit-fem's intorder=7 there
 _g, _w = np.polynomial.legendre.leggauss(4)
 GAUSS_1D = (0.5 * (_g + 1.0), 0.5 * _w)
-
-
-def copies_tri_mesh(t: np.ndarray, elements: np.ndarray, positions: list[np.ndarray]) -> MeshTri:
-    """One mesh holding a copy of ``elements`` (columns of ``t``) for every node array in
-    ``positions`` ((2, N) each, m); copy c's elements are columns c * len(elements) ... of it.
-
-    Node indices are renumbered in their original order within every copy, so each element keeps
-    its local vertex order, hence its local DOF order and the orientation of its edge normals
-    (the Argyris normal-derivative DOFs point from the lower to the higher node index).
-    """
-    if np.any(np.diff(t[:, elements], axis=0) <= 0):
-        raise ValueError("mesh triangles must list their nodes in ascending order")
-    nodes = np.unique(t[:, elements])
-    renum = np.full(int(t.max()) + 1, -1, dtype=np.int64)
-    renum[nodes] = np.arange(nodes.size)
-    local = renum[t[:, elements]]
-    p = np.hstack([pos[:, nodes] for pos in positions])
-    tt = np.hstack([local + c * nodes.size for c in range(len(positions))])
-    return MeshTri(np.ascontiguousarray(p), np.ascontiguousarray(tt))
 
 
 def _tri_fields(fields, c: np.ndarray):
@@ -73,23 +52,6 @@ def plate_element_forms(basis: Basis, a: np.ndarray, b: np.ndarray | None = None
     kk = ha[0, 0] * hb[0, 0] + ha[1, 1] * hb[1, 1] + ha[0, 1] * hb[0, 1] + ha[1, 0] * hb[1, 0]
     tt = (ha[0, 0] + ha[1, 1]) * (hb[0, 0] + hb[1, 1])
     return ((kk * dx).sum(axis=1), (tt * dx).sum(axis=1), (va * vb * dx).sum(axis=1))
-
-
-def tip_edge_integrals(mesh: MeshTri, x_tip_m: float) -> tuple[np.ndarray, np.ndarray]:
-    """Integrals along the facets at x = ``x_tip_m`` of every local basis function.
-
-    Returns
-    -------
-    g : ndarray, shape (n_facets, 21)
-        g[f, i]: integral of local basis function i of facet f's element along f, m.
-    tind : ndarray of int, shape (n_facets,)
-        The element of ``mesh`` each facet belongs to.
-    """
-    tol = 1e-9 * float(np.ptp(mesh.p[0]) or 1.0)
-    facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - x_tip_m) < tol)
-    fb = FacetBasis(mesh, ElementTriArgyrisLocal(), facets=facets)
-    V = np.stack([np.asarray(f[0]) for f in fb.basis])  # (Nd, nf, nq)
-    return np.einsum("ifq,fq->fi", V, fb.dx), np.asarray(fb.tind)
 
 
 def hermite_forms(xa: np.ndarray, xb: np.ndarray, ei_q: np.ndarray, rhoa_q: np.ndarray,
