@@ -19,11 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .plate_elements import monomial_exponents
+from .plate_elements import monomial_table as plate_monomials
+
 __all__ = ["EXPONENTS", "monomial_table", "argyris_coefficients", "argyris_plate_forms",
            "argyris_edge_integrals", "GAUSS_EDGE"]
 
 # the quintic monomials xi^i eta^j, i + j <= 5
-EXPONENTS = np.array([(i, j) for i in range(6) for j in range(6) if i + j <= 5])
+EXPONENTS = monomial_exponents(5)
 # DOF functionals at each vertex (the element's order), then one normal derivative per edge
 _VERTEX_DERIVATIVES = ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))
 _EDGES = ((0, 1), (1, 2), (0, 2))  # scikit-fem's facet order for triangles
@@ -34,29 +37,11 @@ GAUSS_EDGE = (0.5 * (_g + 1.0), 0.5 * _w)
 
 def monomial_table(xi: np.ndarray, eta: np.ndarray,
                    derivatives: tuple[tuple[int, int], ...]) -> np.ndarray:
-    """d^(dx+dy) / dxi^dx deta^dy of every monomial of ``EXPONENTS`` at (xi, eta) (dimensionless,
-    real or complex) for every (dx, dy) of ``derivatives``; shape (*xi.shape, len(derivatives),
-    21)."""
-    i, j = EXPONENTS[:, 0], EXPONENTS[:, 1]
-    xp = [np.ones_like(xi)]
-    yp = [np.ones_like(eta)]
-    for _ in range(5):
-        xp.append(xp[-1] * xi)
-        yp.append(yp[-1] * eta)
-    xp, yp = np.stack(xp, axis=-1), np.stack(yp, axis=-1)
-    out = np.empty((*np.shape(xi), len(derivatives), i.size), dtype=np.result_type(xi, eta))
-    for k, (dx, dy) in enumerate(derivatives):
-        # falling factorials i (i - 1) ... (i - dx + 1), zero where the derivative vanishes
-        coef = np.ones(i.size)
-        for f in range(dx):
-            coef *= i - f
-        for f in range(dy):
-            coef *= j - f
-        coef[(i < dx) | (j < dy)] = 0.0
-        o = out[..., k, :]
-        np.multiply(xp[..., np.maximum(i - dx, 0)], yp[..., np.maximum(j - dy, 0)], out=o)
-        o *= coef
-    return out
+    """Return the derivatives of the Argyris monomials (``EXPONENTS``) at (xi, eta).
+
+    Shape ``(*xi.shape, len(derivatives), 21)``; see ``plate_elements.monomial_table``.
+    """
+    return plate_monomials(EXPONENTS, xi, eta, derivatives)
 
 
 def argyris_coefficients(v: np.ndarray, t: np.ndarray, c: np.ndarray):

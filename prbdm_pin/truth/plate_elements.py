@@ -20,28 +20,43 @@ from skfem.refdom import RefTri
 __all__ = ["ElementTriArgyrisLocal", "ElementTriMorleyLocal", "PLATE_ELEMENTS"]
 
 
-def _monomial_exponents(deg: int) -> np.ndarray:
+def monomial_exponents(deg: int) -> np.ndarray:
+    """Return the exponents (i, j) of the monomials x^i y^j of total degree at most ``deg``."""
     return np.array([(i, j) for i in range(deg + 1) for j in range(deg + 1) if i + j <= deg])
 
 
-def _monomials(exps: np.ndarray, x: np.ndarray, y: np.ndarray, dx: int, dy: int) -> np.ndarray:
-    """Return ``d^(dx+dy)/dx^dx dy^dy`` of every monomial x^i y^j at (x, y).
+def monomial_table(exps: np.ndarray, x: np.ndarray, y: np.ndarray,
+                   derivatives: tuple[tuple[int, int], ...]) -> np.ndarray:
+    """Return ``d^(dx+dy)/dx^dx dy^dy`` of every monomial x^i y^j of ``exps`` at (x, y).
 
-    Shape ``(N, *x.shape)``.
+    Real or complex coordinates (dimensionless); one (dx, dy) per entry of ``derivatives``;
+    shape ``(*x.shape, len(derivatives), len(exps))``.
     """
-    out = np.zeros((exps.shape[0], *x.shape))
-    deg = int(exps.max())
+    i, j = exps[:, 0], exps[:, 1]
     xp = [np.ones_like(x)]
     yp = [np.ones_like(y)]
-    for _ in range(deg):
+    for _ in range(int(exps.max())):
         xp.append(xp[-1] * x)
         yp.append(yp[-1] * y)
-    for m, (i, j) in enumerate(exps):
-        if i < dx or j < dy:
-            continue
-        c = np.prod(np.arange(i - dx + 1, i + 1)) * np.prod(np.arange(j - dy + 1, j + 1))
-        out[m] = c * xp[i - dx] * yp[j - dy]
+    xp, yp = np.stack(xp, axis=-1), np.stack(yp, axis=-1)
+    out = np.empty((*np.shape(x), len(derivatives), i.size), dtype=np.result_type(x, y))
+    for k, (dx, dy) in enumerate(derivatives):
+        # falling factorials i (i - 1) ... (i - dx + 1), zero where the derivative vanishes
+        coef = np.ones(i.size)
+        for f in range(dx):
+            coef *= i - f
+        for f in range(dy):
+            coef *= j - f
+        coef[(i < dx) | (j < dy)] = 0.0
+        o = out[..., k, :]
+        np.multiply(xp[..., np.maximum(i - dx, 0)], yp[..., np.maximum(j - dy, 0)], out=o)
+        o *= coef
     return out
+
+
+def _monomials(exps: np.ndarray, x: np.ndarray, y: np.ndarray, dx: int, dy: int) -> np.ndarray:
+    """Return one derivative of every monomial at (x, y), shape ``(N, *x.shape)``."""
+    return np.moveaxis(monomial_table(exps, x, y, ((dx, dy),))[..., 0, :], -1, 0)
 
 
 class _LocalScaledGlobalTri(ElementGlobal):
@@ -58,7 +73,7 @@ class _LocalScaledGlobalTri(ElementGlobal):
     vertex_derivatives: tuple[tuple[int, int], ...] = ()
 
     def __init__(self) -> None:
-        self._exps = _monomial_exponents(self.maxdeg)
+        self._exps = monomial_exponents(self.maxdeg)
         self._mesh_state = None
         self._eval_cache = None
 
