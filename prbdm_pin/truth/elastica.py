@@ -17,15 +17,15 @@ scripts/target_consistency.py):
   f gives a beam on an elastic foundation across the width, D f_yyyy + E t kappa^2 f = 0 with free
   edges, and the moment ``M = EI kappa r(eta)``, eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t):
   r = 1 for a narrow or slightly bent strip (the beam) and 1 / (1 - nu^2) for a wide or strongly
-  bent one (the plate's cylindrical bending). This is geometric nonlinearity of the section that
-  a 1D elastica lacks and a linear plate solve cannot see.
+  bent one (the plate's cylindrical bending), in closed form in ``anticlastic``. This is
+  geometric nonlinearity of the section that a 1D elastica lacks and a linear plate solve cannot
+  see.
 * ``ei_scale``: a factor on EI(x), set from the ratio of the 1D and the plate linear tip
   deflections (clamped-root Poisson restraint, 2D load paths of a jagged planform).
 """
 
 from __future__ import annotations
 
-import functools
 import time
 from typing import NamedTuple
 
@@ -34,59 +34,10 @@ from scipy.integrate import solve_bvp
 
 from ..errors import BeamInputError, SolveError
 from ..geometry import Beam
+from .anticlastic import anticlastic_factor, section_curvature
 from .result import StaticSolution, Timings
 
 __all__ = ["elastica_static", "anticlastic_factor", "ElasticaPrimal", "elastica_primal"]
-
-_ETA_MAX = 40.0
-
-
-@functools.lru_cache(maxsize=8)
-def _anticlastic_table(nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """r(eta) on a grid of eta in [0, _ETA_MAX] (see the module docstring)."""
-    from scipy.integrate import quad
-
-    eta = np.concatenate([[0.0], np.geomspace(0.02, _ETA_MAX, 400)])
-    r = np.ones_like(eta)
-    for i, e in enumerate(eta[1:], start=1):
-        # f = nu kappa a^2 g(xi), xi = y / a: g_4 + 4 eta^4 g = 0, g_2(1) = -1, g_3(1) = 0; the
-        # even solutions are the real and imaginary parts of cosh(k xi), k = (1 + i) eta
-        k = (1.0 + 1.0j) * e
-        c2, s3 = k**2 * np.cosh(k), k**3 * np.sinh(k)
-        A, B = np.linalg.solve([[c2.real, c2.imag], [s3.real, s3.imag]], [-1.0, 0.0])
-        g1 = k * np.sinh(k)
-
-        def g(x, A=A, B=B, k=k):
-            h = np.cosh(k * x)
-            return A * h.real + B * h.imag
-
-        g2 = 2.0 * quad(lambda x, g=g: g(x) ** 2, 0.0, 1.0, limit=200, epsabs=0.0,
-                        epsrel=1e-12)[0]
-        r[i] = (1.0 + nu**2 * (A * g1.real + B * g1.imag + 2.0 * e**4 * g2)) / (1.0 - nu**2)
-    return eta, r
-
-
-def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
-    """Moment ratio r = M / (EI kappa) of a bent free-edged plate strip (Ashwell's anticlastic
-    restraint): 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
-
-    Parameters
-    ----------
-    eta : array_like
-        a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) with a the half-width (m), kappa the curvature
-        (1/m), t the thickness (m); dimensionless.
-    nu : float
-        Poisson's ratio.
-    """
-    grid, r = _anticlastic_table(float(nu))
-    e = np.abs(np.asarray(eta, dtype=float))
-    out = np.interp(e, grid, r)
-    # beyond the grid the free-edge layers are thinner than a / _ETA_MAX: the remaining relief
-    # decays like 1 / eta
-    r_inf = 1.0 / (1.0 - nu**2)
-    return np.where(e > _ETA_MAX, r_inf - (r_inf - r[-1]) * _ETA_MAX / np.maximum(e, _ETA_MAX),
-                    out)
-
 
 def _mesh(beam: Beam, n_per_span: int) -> np.ndarray:
     # Nodes at every vertex, where EI(s) has a kink.
@@ -138,7 +89,7 @@ class ElasticaPrimal(NamedTuple):
     is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
     4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
     vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
-    half-width)."""
+    half-width); ``anticlastic``: whether each section carries Ashwell's restraint."""
 
     static: StaticSolution
     sol: object
@@ -147,6 +98,7 @@ class ElasticaPrimal(NamedTuple):
     seg_w: tuple[np.ndarray, ...]
     ei_per_width: float
     m_scale: float
+    anticlastic: bool
 
 
 def elastica_static(
@@ -232,23 +184,10 @@ def elastica_primal(
         seg_w.append(wv[lo:hi])
     EI_factor = E * 2.0 * t**3 / 12.0
 
-    eta_per_root_kappa = (3.0 * (1.0 - nu**2)) ** 0.25 / np.sqrt(t)
-
     def curvature(half_width: np.ndarray, m: np.ndarray) -> np.ndarray:
-        ei = EI_factor * half_width
-        kappa = m / ei
         if not anticlastic:
-            return kappa
-        # M = EI kappa r(eta(kappa)); r varies by < 9 % over all kappa, so the fixed point
-        # kappa = m / (EI r) contracts fast
-        for _ in range(40):
-            eta = half_width * eta_per_root_kappa * np.sqrt(np.abs(kappa))
-            new = m / (ei * anticlastic_factor(eta, nu))
-            done = np.max(np.abs(new - kappa)) <= 1e-13 * max(np.max(np.abs(new)), 1e-300)
-            kappa = new
-            if done:
-                break
-        return kappa
+            return m / (EI_factor * half_width)
+        return section_curvature(m, EI_factor * half_width, half_width, t, nu)
 
     def make(fx: float, fz: float):
         def rhs(tau, y):
@@ -303,4 +242,5 @@ def elastica_primal(
         load_steps=load_steps,
         timings=Timings(solve_s=t1 - t0),
     )
-    return ElasticaPrimal(static, sol, cuts, tuple(seg_x), tuple(seg_w), EI_factor, m_scale)
+    return ElasticaPrimal(static, sol, cuts, tuple(seg_x), tuple(seg_w), EI_factor, m_scale,
+                          bool(anticlastic))
