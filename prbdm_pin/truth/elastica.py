@@ -124,7 +124,8 @@ def elastica_static(
     ei_scale : float
         Factor on EI(x) (> 0; 1 is the plain Euler-Bernoulli section).
     anticlastic : bool
-        Stiffen each section by the anticlastic restraint r(eta) of its curvature.
+        Stiffen each section by the anticlastic restraint r(eta) of its curvature
+        (``anticlastic.anticlastic_factor``).
 
     Returns
     -------
