@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from elastica_differences import REL, TOL, check, fd_design, fd_force
 
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError
@@ -12,47 +13,6 @@ from prbdm_pin.geometry import Beam
 from prbdm_pin.truth.elastica import elastica_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
-# the solver tolerance of both the gradient and the finite differences: at solve_bvp's default
-# 1e-9 the differences of re-meshed solves scatter by up to 1e-6 relative at a moved step
-TOL = 1e-11
-# fourth-order central differences, step 1e-3 of the variable's scale (truncation ~1e-12)
-STENCIL = ((1.0, 8.0), (-1.0, -8.0), (2.0, -1.0), (-2.0, 1.0))
-# measured: at most 8e-11 relative (per variable, against its largest tip component) on these
-# beams; the bound leaves room for the re-meshing noise of the differenced solves
-REL = 1e-9
-
-
-def _fd_design(beam, names, ei_scale=1.0, rel=1e-3):
-    d = pp.Design(beam, names)
-    p0, scales = d.values, d.scales
-    out = np.zeros((3, d.size))
-    for j in range(d.size):
-        h = rel * scales[j]
-        e = np.zeros(d.size)
-        e[j] = h
-        out[:, j] = sum(c * elastica_static(d.beam_at(p0 + k * e), tol=TOL,
-                                            ei_scale=ei_scale).tip_position_m
-                        for k, c in STENCIL) / (12.0 * h)
-    return out
-
-
-def _fd_force(beam, rel=1e-3):
-    F0 = beam.tip_force_N
-    h = rel * np.hypot(F0[0], F0[2])
-    out = np.zeros((3, 2))
-    for col, comp in enumerate((0, 2)):
-        e = np.zeros(3)
-        e[comp] = h
-        out[:, col] = sum(c * elastica_static(beam, F0 + k * e, tol=TOL).tip_position_m
-                          for k, c in STENCIL) / (12.0 * h)
-    return out
-
-
-def _check(analytic, reference):
-    scale = np.abs(reference).max(axis=0)
-    assert np.all(scale > 0.0)
-    err = np.abs(analytic - reference).max(axis=0) / scale
-    assert err.max() < REL, err
 
 
 def _steel():
@@ -80,8 +40,8 @@ def test_uniform_strip_against_differences_and_the_classical_tip():
     L = beam.length_m
     assert g.tip_position_m[0] == pytest.approx(L * (1 - 0.056433), abs=2e-6 * L)
     assert g.tip_position_m[2] == pytest.approx(-0.301721 * L, abs=2e-6 * L)
-    ref = _fd_design(beam, names[:3])
-    _check(g.d_tip_position_m[:, :3], ref)
+    ref = fd_design(beam, names[:3])
+    check(g.d_tip_position_m[:, :3], ref)
     # rho and nu do not enter the plain elastica
     assert np.all(g.d_tip_position_m[:, 4:] == 0.0)
     assert np.all(g.d_tip_position_m[1] == 0.0)
@@ -94,8 +54,8 @@ def test_thickness_and_modulus_follow_from_the_load_scaling():
     load gradient)."""
     beam = pp.load_beam(BEAMS / "uniform-narrow.json")
     g = pp.elastica_gradient(beam, ("thickness", "E"), tol=TOL)
-    dF = _fd_force(beam)
-    _check(g.d_tip_d_force_m_per_N[[0, 2]], dF[[0, 2]])
+    dF = fd_force(beam)
+    check(g.d_tip_d_force_m_per_N[[0, 2]], dF[[0, 2]])
     F = beam.tip_force_N[[0, 2]]
     along = dF @ F
     t, E = beam.thickness_m, beam.material.E_Pa
@@ -108,15 +68,15 @@ def test_tapered_combined_load_against_differences():
     beam = _tapered()
     names = ("half_width[1]", "half_width[3]", "x[1]", "x[2]")
     g = pp.elastica_gradient(beam, names, tol=TOL)
-    _check(g.d_tip_position_m, _fd_design(beam, names))
-    _check(g.d_tip_d_force_m_per_N, _fd_force(beam))
+    check(g.d_tip_position_m, fd_design(beam, names))
+    check(g.d_tip_d_force_m_per_N, fd_force(beam))
 
 
 def test_stepped_against_differences_with_a_moved_step():
     beam = _stepped()
     names = ("x[3]", "half_width[2]", "half_width[3]", "x[4]")  # x[3] moves the step
     g = pp.elastica_gradient(beam, names, tol=TOL)
-    _check(g.d_tip_position_m, _fd_design(beam, names))
+    check(g.d_tip_position_m, fd_design(beam, names))
 
 
 def test_fixed_ei_scale_against_differences():
@@ -126,7 +86,7 @@ def test_fixed_ei_scale_against_differences():
     assert np.allclose(g.tip_position_m,
                        elastica_static(beam, tol=TOL, ei_scale=0.9).tip_position_m,
                        rtol=0.0, atol=1e-12)
-    _check(g.d_tip_position_m, _fd_design(beam, names, ei_scale=0.9))
+    check(g.d_tip_position_m, fd_design(beam, names, ei_scale=0.9))
 
 
 @pytest.mark.parametrize(
@@ -139,6 +99,7 @@ def test_fixed_ei_scale_against_differences():
         (dict(design=("thickness",), ei_scale=-1.0), "ei_scale"),
         (dict(design=("thickness",), tip_force_N=[0.0, 5.0, -1.0]), "tip_force_N[1]"),
         (dict(design=("thickness",), tip_force_N=[0.0, np.nan]), "tip_force_N"),
+        (dict(design=("thickness",), anticlastic="yes"), "anticlastic"),
     ],
 )
 def test_bad_input_is_named(kwargs, field):
@@ -235,4 +196,4 @@ def test_strongly_bent_strip_against_differences():
                 5.0 * beam.tip_force_N, "uniform-narrow-5", "")
     names = ("thickness", "half_width[0]")
     g = pp.elastica_gradient(beam, names, tol=TOL)
-    _check(g.d_tip_position_m, _fd_design(beam, names))
+    check(g.d_tip_position_m, fd_design(beam, names))

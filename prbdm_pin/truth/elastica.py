@@ -1,9 +1,7 @@
 """Large deflection of the inextensible elastica with varying EI(x), clamped root, dead tip load.
 
 The centreline angle phi(s) (from +x towards +z) minimises
-
     1/2 int EI(s) phi'^2 ds - F . r(L),   r(L) = int (cos phi, sin phi) ds,
-
 which gives (EI phi')' = F_x sin phi - F_z cos phi with phi(0) = 0 and EI phi'(L) = 0. The
 boundary-value problem is solved with scipy's collocation solver, continuing in the load from the
 straight beam so the stable (continuously loaded) branch is followed.
@@ -17,17 +15,17 @@ scripts/target_consistency.py):
   (strain kappa f), which the energy per unit length
   ``1/2 int D (kappa^2 + f_yy^2 + 2 nu kappa f_yy) + E t kappa^2 f^2 dy`` resists. Minimising over
   f gives a beam on an elastic foundation across the width, D f_yyyy + E t kappa^2 f = 0 with free
-  edges, and the moment ``M = EI kappa r(eta)``, eta = ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)``:
+  edges, and the moment ``M = EI kappa r(eta)``, eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t):
   r = 1 for a narrow or slightly bent strip (the beam) and 1 / (1 - nu^2) for a wide or strongly
-  bent one (the plate's cylindrical bending). This is geometric nonlinearity of the section that
-  a 1D elastica lacks and a linear plate solve cannot see.
+  bent one (the plate's cylindrical bending), in closed form in ``anticlastic``. This is
+  geometric nonlinearity of the section that a 1D elastica lacks and a linear plate solve cannot
+  see.
 * ``ei_scale``: a factor on EI(x), set from the ratio of the 1D and the plate linear tip
   deflections (clamped-root Poisson restraint, 2D load paths of a jagged planform).
 """
 
 from __future__ import annotations
 
-import functools
 import time
 from typing import NamedTuple
 
@@ -36,60 +34,10 @@ from scipy.integrate import solve_bvp
 
 from ..errors import BeamInputError, SolveError
 from ..geometry import Beam
+from .anticlastic import anticlastic_factor, section_curvature
 from .result import StaticSolution, Timings
 
 __all__ = ["elastica_static", "anticlastic_factor", "ElasticaPrimal", "elastica_primal"]
-
-_ETA_MAX = 40.0
-
-
-@functools.lru_cache(maxsize=8)
-def _anticlastic_table(nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """r(eta) on a grid of eta in [0, _ETA_MAX] (see the module docstring)."""
-    from scipy.integrate import quad
-
-    eta = np.concatenate([[0.0], np.geomspace(0.02, _ETA_MAX, 400)])
-    r = np.ones_like(eta)
-    for i, e in enumerate(eta[1:], start=1):
-        # f = nu kappa a^2 g(xi), xi = y / a: g_4 + 4 eta^4 g = 0, g_2(1) = -1, g_3(1) = 0; the
-        # even solutions are the real and imaginary parts of cosh(k xi), k = (1 + i) eta
-        k = (1.0 + 1.0j) * e
-        c2, s3 = k**2 * np.cosh(k), k**3 * np.sinh(k)
-        A, B = np.linalg.solve([[c2.real, c2.imag], [s3.real, s3.imag]], [-1.0, 0.0])
-        g1 = k * np.sinh(k)
-
-        def g(x, A=A, B=B, k=k):
-            h = np.cosh(k * x)
-            return A * h.real + B * h.imag
-
-        g2 = 2.0 * quad(lambda x, g=g: g(x) ** 2, 0.0, 1.0, limit=200, epsabs=0.0,
-                        epsrel=1e-12)[0]
-        r[i] = (1.0 + nu**2 * (A * g1.real + B * g1.imag + 2.0 * e**4 * g2)) / (1.0 - nu**2)
-    return eta, r
-
-
-def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
-    """Return the moment ratio r = M / (EI kappa) of a bent free-edged plate strip.
-
-    Ashwell's anticlastic restraint: 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
-
-    Parameters
-    ----------
-    eta : array_like
-        ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)`` with a the half-width (m), kappa the curvature
-        (1/m), t the thickness (m); dimensionless.
-    nu : float
-        Poisson's ratio.
-    """
-    grid, r = _anticlastic_table(float(nu))
-    e = np.abs(np.asarray(eta, dtype=float))
-    out = np.interp(e, grid, r)
-    # beyond the grid the free-edge layers are thinner than a / _ETA_MAX: the remaining relief
-    # decays like 1 / eta
-    r_inf = 1.0 / (1.0 - nu**2)
-    return np.where(e > _ETA_MAX, r_inf - (r_inf - r[-1]) * _ETA_MAX / np.maximum(e, _ETA_MAX),
-                    out)
-
 
 def _mesh(beam: Beam, n_per_span: int) -> np.ndarray:
     # Nodes at every vertex, where EI(s) has a kink.
@@ -105,10 +53,8 @@ _MAX_INITIAL_NODES = 2001
 
 
 def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
-    """Return the nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES``.
-
-    Unchanged when there are that few, else only those at least L / (that number) apart.
-    """
+    """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
+    unchanged when there are that few, else only those at least L / (that number) apart."""
     if s.size <= _MAX_INITIAL_NODES:
         return s
     gap = length_m / (_MAX_INITIAL_NODES - 1)
@@ -121,11 +67,9 @@ def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
 
 
 def _near_step_hint(beam: Beam) -> str:
-    """Return a hint naming the narrowest section or the shortest vertex interval.
-
-    Given when it is the likely cause: a section of almost no stiffness is a hinge, a width
-    change over a tiny interval a step, and the C1 collocation follows neither.
-    """
+    """A hint naming the narrowest section or the shortest vertex interval when it is the likely
+    cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
+    step, and the C1 collocation follows neither."""
     w = beam.half_width_m
     k = int(np.argmin(w))
     if w[k] < 1e-4 * w.max():
@@ -141,14 +85,11 @@ def _near_step_hint(beam: Beam) -> str:
 
 
 class ElasticaPrimal(NamedTuple):
-    """The converged elastica for its design sensitivities.
-
-    Segment i (cut at the width steps) is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in
-    [0, L]; ``sol.sol(tau)`` rows
+    """The converged elastica for its design sensitivities: segment i (cut at the width steps)
+    is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
     4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
     vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
-    half-width).
-    """
+    half-width); ``anticlastic``: whether each section carries Ashwell's restraint."""
 
     static: StaticSolution
     sol: object
@@ -157,6 +98,7 @@ class ElasticaPrimal(NamedTuple):
     seg_w: tuple[np.ndarray, ...]
     ei_per_width: float
     m_scale: float
+    anticlastic: bool
 
 
 def elastica_static(
@@ -182,7 +124,8 @@ def elastica_static(
     ei_scale : float
         Factor on EI(x) (> 0; 1 is the plain Euler-Bernoulli section).
     anticlastic : bool
-        Stiffen each section by the anticlastic restraint r(eta) of its curvature.
+        Stiffen each section by the anticlastic restraint r(eta) of its curvature
+        (``anticlastic.anticlastic_factor``).
 
     Returns
     -------
@@ -242,23 +185,10 @@ def elastica_primal(
         seg_w.append(wv[lo:hi])
     EI_factor = E * 2.0 * t**3 / 12.0
 
-    eta_per_root_kappa = (3.0 * (1.0 - nu**2)) ** 0.25 / np.sqrt(t)
-
     def curvature(half_width: np.ndarray, m: np.ndarray) -> np.ndarray:
-        ei = EI_factor * half_width
-        kappa = m / ei
         if not anticlastic:
-            return kappa
-        # M = EI kappa r(eta(kappa)); r varies by < 9 % over all kappa, so the fixed point
-        # kappa = m / (EI r) contracts fast
-        for _ in range(40):
-            eta = half_width * eta_per_root_kappa * np.sqrt(np.abs(kappa))
-            new = m / (ei * anticlastic_factor(eta, nu))
-            done = np.max(np.abs(new - kappa)) <= 1e-13 * max(np.max(np.abs(new)), 1e-300)
-            kappa = new
-            if done:
-                break
-        return kappa
+            return m / (EI_factor * half_width)
+        return section_curvature(m, EI_factor * half_width, half_width, t, nu)
 
     def make(fx: float, fz: float):
         def rhs(tau, y):
@@ -313,4 +243,5 @@ def elastica_primal(
         load_steps=load_steps,
         timings=Timings(solve_s=t1 - t0),
     )
-    return ElasticaPrimal(static, sol, cuts, tuple(seg_x), tuple(seg_w), EI_factor, m_scale)
+    return ElasticaPrimal(static, sol, cuts, tuple(seg_x), tuple(seg_w), EI_factor, m_scale,
+                          bool(anticlastic))
