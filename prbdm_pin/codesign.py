@@ -4,7 +4,7 @@
 default, or the plate), fits the ``unique="nearest"`` nR model to them (one smooth model per
 design) and reads from the PRBDM what a design problem constrains: its natural frequencies and
 its large-deflection tip deflection under the beam's tip force; the panel's mass beside them.
-With ``gradient=True`` each comes with its derivative in the design variables:
+With ``gradient=True`` each comes with its derivative in the design variables::
 
     d(model output)/dp = d out/d theta . d theta/dp + d out/dp |_theta
 
@@ -43,24 +43,26 @@ class CodesignPoint:
     Attributes
     ----------
     names, units : tuple of str
+        The design variables' names and SI units, in vector order (as in ``Design``).
     values : ndarray, shape (nv,)
         The design (SI units).
     mass_kg : float
-        Panel mass.
+        Panel mass (kg).
     omega_rad_s : ndarray, shape (n,)
-        The PRBDM's natural frequencies (straight pose).
+        The PRBDM's natural frequencies (rad/s, straight pose).
     tip_deflection_m : float
-        The absolute z of the PRBDM's large-deflection tip under the beam's tip force (0
+        The absolute z of the PRBDM's large-deflection tip under the beam's tip force (m; 0
         without a load).
     truth_omega_rad_s : ndarray, shape (n,)
-        The truth frequencies the model was fitted to.
+        The truth frequencies the model was fitted to (rad/s).
     lengths_m, stiffness_Nm_per_rad : ndarray
-        The fitted model.
+        The fitted model: link lengths (m), shape (n + 1,), and joint springs (N m/rad),
+        shape (n,).
     d_mass_kg, d_omega_rad_s, d_tip_deflection_m : ndarray or None
-        Derivatives per unit of each variable, shapes (nv,), (n, nv), (nv,); None without
-        ``gradient``.
+        Derivatives per unit (SI) of each variable, shapes (nv,), (n, nv), (nv,), in kg,
+        rad/s and m per unit; None without ``gradient``.
     truth_s, fit_s, gradient_s : float
-        Wall time of the truth (with its gradient when asked), the fit, and the chain rule.
+        Wall time (s) of the truth (with its gradient when asked), the fit, and the chain rule.
     """
 
     names: tuple[str, ...]
@@ -81,11 +83,25 @@ class CodesignPoint:
 
 
 def panel_mass(design: Design, p: np.ndarray) -> tuple[float, np.ndarray]:
-    """The panel's mass (kg) at ``p`` and its exact gradient (kg per unit of each variable).
+    """Return the panel's mass (kg) at ``p`` and its exact gradient (kg per unit of each variable).
 
     m = rho t A with A = sum_k (x_(k+1) - x_k)(w_k + w_(k+1)) (full width 2w, trapezoids):
     dA/dw_i is the length of the intervals next to vertex i; moving a station (with its step
     partner, vertices i..j) changes A by (w_(i-1) + w_i) - (w_j + w_(j+1)) per metre.
+
+    Parameters
+    ----------
+    design : Design
+        The design variables.
+    p : numpy.ndarray
+        Design values (SI units), shape (nv,), strictly inside ``design.bounds``.
+
+    Returns
+    -------
+    mass_kg : float
+        Panel mass (kg).
+    d_mass_kg : numpy.ndarray
+        Its derivative (kg per SI unit of each variable), shape (nv,).
     """
     beam = design.beam_at(p)
     x, w = beam.x_m, beam.half_width_m
@@ -127,11 +143,12 @@ def _truth(design: Design, beam: Beam, model: str, joints: int, mesh_level: int 
 
 def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_model: str = "beam",
                    mesh_level: int | None = None, gradient: bool = True) -> CodesignPoint:
-    """The design ``p`` through truth -> ``unique="nearest"`` fit -> PRBDM.
+    """Evaluate the design ``p`` through truth -> ``unique="nearest"`` fit -> PRBDM.
 
     Parameters
     ----------
     design : Design
+        The design variables and the beam they act on.
     p : array_like, shape (nv,)
         Design values (SI units), strictly inside ``design.bounds``.
     joints : int
@@ -139,13 +156,15 @@ def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_mode
     truth_model : {"beam", "plate"}
         The truth of ``truth_gradient``: 1D Euler-Bernoulli beam (fast) or Kirchhoff plate.
     mesh_level : int, optional
-        Plate mesh level.
+        Plate mesh level (the truth's default when None).
     gradient : bool
         Chain the derivatives too.
 
     Returns
     -------
     CodesignPoint
+        The model's frequencies (rad/s), tip deflection (m) and the panel mass (kg), with
+        their derivatives when ``gradient``.
 
     Raises
     ------

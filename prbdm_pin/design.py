@@ -68,7 +68,7 @@ def _parse(beam: Beam, name: object) -> tuple[str, int]:
 
 
 def step_partner(beam: Beam, i: int) -> int | None:
-    """The other vertex of the width step vertex i belongs to, or None."""
+    """Return the other vertex of the width step vertex ``i`` belongs to, or None."""
     x = beam.x_m
     if i + 1 < x.size and x[i + 1] == x[i]:
         return i + 1
@@ -94,6 +94,7 @@ class Design:
     variables: tuple[str, ...]
 
     def __post_init__(self) -> None:
+        """Check the beam and the names, and parse every name once."""
         if not isinstance(self.beam, Beam):
             raise BeamInputError(f"beam = {self.beam!r}: must be a prbdm_pin.Beam")
         if isinstance(self.variables, str) or not hasattr(self.variables, "__iter__"):
@@ -148,11 +149,13 @@ class Design:
 
     @property
     def scales(self) -> np.ndarray:
-        """A scale of every variable (SI units), for finite-difference steps: the value itself
-        for thickness, E and rho; 0.1 for nu; for a half-width the smallest of the half-width,
-        the adjacent vertex intervals and, at a width step, the step's jump; for a station the
-        shorter adjacent vertex interval (the distances over which the planform, and the mesh
-        that follows it, change character)."""
+        """A scale of every variable (SI units), shape (size,), for finite-difference steps.
+
+        The value itself for thickness, E and rho; 0.1 for nu; for a half-width the smallest of
+        the half-width, the adjacent vertex intervals and, at a width step, the step's jump; for a
+        station the shorter adjacent vertex interval (the distances over which the planform, and
+        the mesh that follows it, change character).
+        """
         b = self.beam
         x, w = b.x_m, b.half_width_m
         gaps = np.diff(x)
@@ -176,8 +179,11 @@ class Design:
 
     @property
     def bounds(self) -> np.ndarray:
-        """Open bounds (size, 2): lower and upper value of every variable (see the module
-        docstring); a sequence of pairs, as ``scipy.optimize.minimize(bounds=...)`` takes."""
+        """Open bounds (SI units), shape (size, 2): lower and upper value of every variable.
+
+        See the module docstring for how they are set. The array is a sequence of pairs, as
+        ``scipy.optimize.minimize(bounds=...)`` takes.
+        """
         b = self.beam
         x, w = b.x_m, b.half_width_m
         varied_x = {i for k, i in self._parsed if k == "x"}
@@ -210,8 +216,23 @@ class Design:
 
     # ------------------------------------------------------------------------------------------
     def check(self, p: np.ndarray) -> np.ndarray:
-        """``p`` as a float vector; BeamInputError naming the variable when it is not finite or
-        not strictly inside ``bounds``."""
+        """Return ``p`` as a float vector after checking it against the bounds.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            Design vector (SI units, see ``units``), shape (size,).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``p`` as floats, shape (size,).
+
+        Raises
+        ------
+        BeamInputError
+            Wrong length, or a value not finite or not strictly inside ``bounds`` (named).
+        """
         a = np.asarray(p, dtype=float) if not isinstance(p, (str, bytes)) else None
         if a is None or a.shape != (self.size,):
             raise BeamInputError(f"design vector {p!r}: must be {self.size} numbers "
@@ -226,8 +247,17 @@ class Design:
         return a
 
     def beam_at(self, p: np.ndarray) -> Beam:
-        """The beam with the design variables set to ``p`` (SI units), everything else as in
-        ``beam``.
+        """Return the beam with the design variables set to ``p``, everything else as in ``beam``.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            Design vector (SI units, see ``units``), shape (size,).
+
+        Returns
+        -------
+        Beam
+            A new beam; ``beam`` itself is not changed.
 
         Raises
         ------

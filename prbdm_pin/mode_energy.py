@@ -1,5 +1,7 @@
-"""The planar chain's modes as motions of its links, and the change of their kinetic energy when
-the link sections change: what every frequency derivative of the chain is made of.
+"""The planar chain's modes as motions of its links, and their kinetic energy's change.
+
+The change of that energy when the link sections change is what every frequency derivative of
+the chain is made of.
 
 With mass-normalised modes phi_k (phi^T M phi = 1) and distinct eigenvalues lam_k = omega_k^2,
 ``d lam_k = phi_k^T (dK - lam_k dM) phi_k``. The mass term is the derivative of the mode's kinetic
@@ -29,7 +31,7 @@ def _link_axes(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.ndarray,
                 Phi: np.ndarray) -> tuple[np.ndarray, ...]:
-    """The links' motion in each mode.
+    """Return the links' motion in each mode.
 
     Parameters
     ----------
@@ -66,10 +68,13 @@ def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.n
 def kinetic_energy_change(motion: tuple[np.ndarray, ...], mass_kg: np.ndarray,
                           d_mass: np.ndarray, d_inertia: np.ndarray, d_offset: np.ndarray
                           ) -> np.ndarray:
-    """d(phi^T M phi) of every mode at fixed link lengths, for the section changes in the
-    columns of ``d_mass`` (kg), ``d_inertia`` (kg m^2) and ``d_offset`` (m), each (n+1, cols)
-    (row 0, the clamped link, does not move). ``motion``: :func:`mode_motion`; ``mass_kg``: the
-    masses of links 1..n, (n,). Shape (m, mode, cols), kg m^2 per unit of each column."""
+    """Return d(phi^T M phi) of every mode at fixed link lengths for the given section changes.
+
+    The section changes are the columns of ``d_mass`` (kg), ``d_inertia`` (kg m^2) and
+    ``d_offset`` (m), each (n+1, cols) (row 0, the clamped link, does not move). ``motion``:
+    :func:`mode_motion`; ``mass_kg``: the masses of links 1..n, (n,). Shape (m, mode, cols),
+    kg m^2 per unit of each column.
+    """
     w, vx, vz, ux, uz = motion
     e_mass = vx * vx + vz * vz
     e_inertia = w * w
@@ -82,8 +87,9 @@ def section_frequency_gradients(lengths_m: np.ndarray, mass_kg: np.ndarray,
                                 stiffness_Nm_per_rad: np.ndarray, poses_rad: np.ndarray,
                                 d_mass: np.ndarray, d_com_offset: np.ndarray,
                                 d_inertia_yy: np.ndarray):
-    """Squared frequencies and their derivatives for given changes of the link sections at
-    fixed link lengths and springs: ``d lam_k = -lam_k d(phi_k^T M phi_k)``.
+    """Return squared frequencies and their derivatives for given changes of the link sections.
+
+    The lengths and springs are held fixed: ``d lam_k = -lam_k d(phi_k^T M phi_k)``.
 
     Parameters
     ----------

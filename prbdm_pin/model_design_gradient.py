@@ -1,5 +1,6 @@
-"""The PRBDM's natural frequencies and their derivatives with respect to a design's variables at
-fixed link lengths: the model's direct dependence on the planform, thickness and material.
+"""The PRBDM's natural frequencies and their design derivatives at fixed link lengths.
+
+They are the model's direct dependence on the planform, thickness and material.
 
 The links' sections move with the design (:mod:`.section_design_gradients`) and change the
 modes' kinetic energy (:func:`mode_energy.section_frequency_gradients`); springs that follow the
@@ -28,14 +29,17 @@ def frequency_design_gradient(beam: Beam, design: Design, lengths_m: np.ndarray,
                               min_fraction: float = MIN_FRACTION,
                               sections: SectionDesignGradient | None = None
                               ) -> tuple[np.ndarray, np.ndarray]:
-    """Straight-pose frequencies of the chain cut from ``beam`` at ``lengths_m`` and their
-    derivatives with respect to the variables of ``design`` at fixed lengths.
+    """Return the chain's straight-pose frequencies and their design derivatives at fixed lengths.
+
+    The chain is cut from ``beam`` at ``lengths_m``; the derivatives are with respect to the
+    variables of ``design``.
 
     Parameters
     ----------
     beam : Beam
         ``design.beam_at(p)``.
     design : Design
+        The design variables.
     lengths_m : array_like, shape (n+1,)
         Valid link lengths, m (held fixed).
     stiffness_Nm_per_rad : array_like, shape (n,)

@@ -1,6 +1,7 @@
-"""Derivatives of the link sections and of the finite-segment springs with respect to the
-variables of a :class:`~prbdm_pin.design.Design` (thickness, half_width[i], x[i], E, rho, nu), at
-fixed link lengths.
+"""Derivatives of the link sections and finite-segment springs in a design's variables.
+
+The variables are those of a :class:`~prbdm_pin.design.Design` (thickness, half_width[i], x[i], E,
+rho, nu); the link lengths are held fixed.
 
 Thickness and the material enter in closed form: the masses and inertias are rho t times
 planform integrals plus the thickness term m t^2 / 12, the mean area moment is A t^3 / (12 h) and
@@ -47,15 +48,18 @@ class SectionDesignGradient:
     ----------
     names, units : tuple of str
         The design variables and their SI units (``Design.names``, ``Design.units``).
-    mass_kg, com_offset_m, inertia_xx_kg_m2, inertia_yy_kg_m2, inertia_zz_kg_m2,
-    area_moment_m4 : ndarray, shape (n+1,)
-        Link mass (kg), centre-of-mass distance from the link's start (m), inertia about the
-        centre of mass around x, y and z (kg m^2) and mean bending area moment (m^4), as
+    mass_kg, com_offset_m : ndarray, shape (n+1,)
+        Link mass (kg) and centre-of-mass distance from the link's start (m), as
         :func:`sections.link_sections` computes them.
-    d_mass_kg, d_com_offset_m, d_inertia_xx_kg_m2, d_inertia_yy_kg_m2, d_inertia_zz_kg_m2,
-    d_area_moment_m4 : ndarray, shape (n+1, nv)
+    inertia_xx_kg_m2, inertia_yy_kg_m2, inertia_zz_kg_m2 : ndarray, shape (n+1,)
+        Inertia about the centre of mass around x, y and z (kg m^2).
+    area_moment_m4 : ndarray, shape (n+1,)
+        Mean bending area moment (m^4).
+    d_mass_kg, d_com_offset_m, d_area_moment_m4 : ndarray, shape (n+1, nv)
         Entry [i, j]: derivative of link i's quantity per unit of variable j (its unit per the
         variable's unit).
+    d_inertia_xx_kg_m2, d_inertia_yy_kg_m2, d_inertia_zz_kg_m2 : ndarray, shape (n+1, nv)
+        The same for the inertias (kg m^2 per the variable's unit).
     """
 
     names: tuple[str, ...]
@@ -84,8 +88,11 @@ def _check_design(beam: Beam, design: Design) -> None:
 
 
 def _pieces(beam: Beam, bounds: np.ndarray):
-    """The non-empty pieces of [0, L] between the span bounds (n_spans + 1,) and the planform
-    vertices: their ends u, v (m), the span and the vertex interval k holding each."""
+    """Cut [0, L] at the span bounds (n_spans + 1,) and the planform vertices.
+
+    Returns the non-empty pieces: their ends u, v (m), the span and the vertex interval k holding
+    each.
+    """
     x = beam.x_m
     cuts = np.sort(np.r_[x, bounds])
     u, v = cuts[:-1], cuts[1:]
@@ -98,8 +105,11 @@ def _pieces(beam: Beam, bounds: np.ndarray):
 
 
 def _width_variations(beam: Beam, design: Design, k: np.ndarray, xs: np.ndarray) -> np.ndarray:
-    """dw/dp_j (m per unit of p_j) at the points ``xs`` (P, G) of the vertex intervals ``k`` (P,)
-    for every variable j: shape (nv, P, G), zero for thickness and the material."""
+    """Return dw/dp_j (m per unit of p_j) at the points ``xs`` (P, G) for every variable j.
+
+    The points lie in the vertex intervals ``k`` (P,). Shape (nv, P, G), zero for thickness and
+    the material.
+    """
     x, w = beam.x_m, beam.half_width_m
     x0, H = x[k][:, None], (x[k + 1] - x[k])[:, None]
     s = (xs - x0) / H
@@ -119,8 +129,11 @@ def _width_variations(beam: Beam, design: Design, k: np.ndarray, xs: np.ndarray)
 
 
 def _steps(beam: Beam, design: Design, bounds: np.ndarray):
-    """The moving width steps: (variable row, station X (m), w_L, w_R (m), [(span, weight)])
-    with weight 1 inside a span and 1/2 to each side of a span end."""
+    """List the moving width steps as (variable row, station X (m), w_L, w_R (m), spans).
+
+    ``spans`` is a list of (span, weight) with weight 1 inside a span and 1/2 to each side of a
+    span end.
+    """
     out = []
     for row, (kind, i) in enumerate(design.kinds):
         j = step_partner(beam, i) if kind == "x" else None
@@ -138,8 +151,11 @@ def _steps(beam: Beam, design: Design, bounds: np.ndarray):
 
 
 def _outline_integrals(beam: Beam, design: Design, bounds: np.ndarray) -> np.ndarray:
-    """Derivatives of the span integrals of 2 w, 2 w (x - m), 2 w (x - m)^2 and 2 w^3 / 3
-    (m the span's mid-point) with respect to the outline variables: shape (4, spans, nv)."""
+    """Differentiate the span integrals of the outline with respect to the outline variables.
+
+    The integrals are those of 2 w, 2 w (x - m), 2 w (x - m)^2 and 2 w^3 / 3 (m the span's
+    mid-point); shape (4, spans, nv).
+    """
     u, v, span, k = _pieces(beam, bounds)
     mids = 0.5 * (bounds[:-1] + bounds[1:])
     h = v - u
@@ -162,14 +178,17 @@ def _outline_integrals(beam: Beam, design: Design, bounds: np.ndarray) -> np.nda
 
 def section_design_gradient(beam: Beam, design: Design, lengths_m: np.ndarray,
                             min_fraction: float = MIN_FRACTION) -> SectionDesignGradient:
-    """The exact sections of ``beam`` cut at ``lengths_m`` and their derivatives with respect to
-    the variables of ``design`` at fixed lengths (see the module docstring).
+    """Return the exact sections of ``beam`` cut at ``lengths_m`` and their design derivatives.
+
+    The derivatives are with respect to the variables of ``design`` at fixed lengths (see the
+    module docstring).
 
     Parameters
     ----------
     beam : Beam
         ``design.beam_at(p)``: the design at which the derivatives are taken.
     design : Design
+        The design variables.
     lengths_m : array_like, shape (n+1,)
         Valid link lengths, m.
     min_fraction : float
@@ -178,6 +197,7 @@ def section_design_gradient(beam: Beam, design: Design, lengths_m: np.ndarray,
     Returns
     -------
     SectionDesignGradient
+        The sections (kg, m, kg m^2, m^4) and their derivatives per SI unit of each variable.
     """
     _check_design(beam, design)
     lengths = validate_lengths(beam, lengths_m, min_fraction)
@@ -230,9 +250,11 @@ def _psi(r: np.ndarray) -> np.ndarray:
 def finite_segment_design_gradient(beam: Beam, design: Design, lengths_m: np.ndarray,
                                    min_fraction: float = MIN_FRACTION
                                    ) -> tuple[np.ndarray, np.ndarray]:
-    """The finite-segment springs K_j = E (2 t^3 / 12) / ∫_(c_j)^(c_(j+1)) dx / w (N m/rad,
-    (n,), ``stiffness.finite_segment_stiffness``) and their derivatives with respect to the
-    variables of ``design`` at fixed lengths, shape (n, nv), N m/rad per unit of each variable.
+    """Return the finite-segment springs and their derivatives in the design variables.
+
+    The springs are K_j = E (2 t^3 / 12) / ∫_(c_j)^(c_(j+1)) dx / w (N m/rad, (n,),
+    ``stiffness.finite_segment_stiffness``); their derivatives with respect to the variables of
+    ``design`` are taken at fixed lengths, shape (n, nv), N m/rad per unit of each variable.
 
     On a piece [u, v] where w is linear, ∫ (dw/dp) / w^2 is exact from dw/dp at its ends:
     ``(v - u) (dw_u psi(r) / w_u^2 + dw_v psi(-r / (1 + r)) / w_v^2)``, r = w_v / w_u - 1,
@@ -243,10 +265,18 @@ def finite_segment_design_gradient(beam: Beam, design: Design, lengths_m: np.nda
     beam : Beam
         ``design.beam_at(p)``.
     design : Design
+        The design variables.
     lengths_m : array_like, shape (n+1,)
         Valid link lengths, m.
     min_fraction : float
         Eq. 15's bound the lengths are checked against.
+
+    Returns
+    -------
+    K : ndarray, shape (n,)
+        The springs, N m/rad.
+    dK : ndarray, shape (n, nv)
+        Their derivatives, N m/rad per SI unit of each variable.
     """
     _check_design(beam, design)
     lengths = validate_lengths(beam, lengths_m, min_fraction)

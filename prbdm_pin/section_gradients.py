@@ -1,5 +1,4 @@
-"""Derivatives of the link sections and of the finite-segment springs with respect to the joint
-stations.
+"""Derivatives of the link sections and of the finite-segment springs in the joint stations.
 
 A chain of n joints on a beam of length L is cut at the stations x_1 < ... < x_n (joint j sits at
 x_j = L_0 + ... + L_(j-1)); x_0 = 0 and x_(n+1) = L are fixed, so the stations are the n free
@@ -30,8 +29,9 @@ __all__ = ["SectionGradient", "stations_from_lengths", "planar_sections_gradient
 
 @dataclass(frozen=True, eq=False)
 class SectionGradient:
-    """The planar sections of n + 1 links (``sections.planar_sections``) and their derivatives
-    with respect to the n joint stations.
+    """The planar sections of n + 1 links and their derivatives in the n joint stations.
+
+    The sections are those of ``sections.planar_sections``.
 
     Attributes
     ----------
@@ -59,8 +59,10 @@ def stations_from_lengths(lengths_m: np.ndarray) -> np.ndarray:
 
 
 def _mean_sides(beam: Beam, x: np.ndarray, powers: tuple[int, ...]) -> list[np.ndarray]:
-    """w(x)^p (w in m) for each p of ``powers``, the mean of the one-sided limits at a width
-    step."""
+    """Return w(x)^p (w in m) for each p of ``powers``.
+
+    At a width step the value is the mean of the one-sided limits.
+    """
     if not beam.step_index.size:  # called in the fit's inner loop: one interpolation
         w = np.interp(x, beam.x_m, beam.half_width_m)
         return [w**p for p in powers]
@@ -70,9 +72,12 @@ def _mean_sides(beam: Beam, x: np.ndarray, powers: tuple[int, ...]) -> list[np.n
 
 def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
                              sections: tuple | None = None) -> SectionGradient:
-    """:func:`sections.planar_sections` of ``lengths_m`` (m, (n+1,), valid) and its exact
-    derivatives with respect to the joint stations (see the module docstring).
-    ``sections``: ``planar_sections(beam, lengths_m)`` when already computed."""
+    """Return the planar sections of ``lengths_m`` and their exact derivatives in the stations.
+
+    The sections are :func:`sections.planar_sections` of ``lengths_m`` (m, (n+1,), valid); the
+    derivatives are with respect to the joint stations (see the module docstring).
+    ``sections``: ``planar_sections(beam, lengths_m)`` when already computed.
+    """
     lengths = np.asarray(lengths_m, dtype=float)
     if sections is None:
         sections = planar_sections(beam, lengths)
@@ -114,9 +119,11 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
 def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
                                       K: np.ndarray | None = None
                                       ) -> tuple[np.ndarray, np.ndarray]:
-    """The finite-segment springs K_j = E (2 t^3 / 12) / ∫_(c_j)^(c_(j+1)) dx / w (N m/rad,
-    (n,), ``stiffness.finite_segment_stiffness``) and their derivatives with respect to the
-    joint stations, N m/rad per m, shape (n, n) (entry [j, l]: spring j, station l + 1).
+    """Return the finite-segment springs and their derivatives in the joint stations.
+
+    The springs are K_j = E (2 t^3 / 12) / ∫_(c_j)^(c_(j+1)) dx / w (N m/rad, (n,),
+    ``stiffness.finite_segment_stiffness``); their derivatives with respect to the joint
+    stations are in N m/rad per m, shape (n, n) (entry [j, l]: spring j, station l + 1).
 
     The span ends c_j are the links' mid-spans (x_j + x_(j+1)) / 2, except c_0 = 0 and c_n = L,
     which do not move; d/dc of the integral is -+1 / w(c) at its ends. ``K``: the springs of

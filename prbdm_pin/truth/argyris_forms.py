@@ -104,8 +104,10 @@ def _fields(a: np.ndarray, table: np.ndarray) -> np.ndarray:
 
 def argyris_plate_forms(v: np.ndarray, a: np.ndarray, centre: np.ndarray, size: np.ndarray,
                         left: np.ndarray, right: np.ndarray, X: np.ndarray, W: np.ndarray):
-    """Per element and vector pair (left[k], right[k]): the integrals of k : k, tr k tr k and
-    the product of the fields (k the Hessian), as ``shape_forms.plate_element_forms``.
+    """Integrate the plate forms per element and vector pair (left[k], right[k]).
+
+    The integrals are those of k : k, tr k tr k and the product of the fields (k the Hessian), as
+    ``shape_forms.plate_element_forms``.
 
     Parameters
     ----------
@@ -140,7 +142,7 @@ def argyris_plate_forms(v: np.ndarray, a: np.ndarray, centre: np.ndarray, size: 
 
 def argyris_edge_integrals(v: np.ndarray, a: np.ndarray, centre: np.ndarray, size: np.ndarray,
                            ends: np.ndarray) -> np.ndarray:
-    """Integrals of the fields along one edge of every element, m per unit DOF.
+    """Integrate the fields along one edge of every element, m per unit DOF.
 
     Parameters
     ----------

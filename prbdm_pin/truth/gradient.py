@@ -51,10 +51,12 @@ class TruthGradient:
     d_tip_z_m : ndarray, shape (n,), or None
         d tip_z / d p_j, m per unit of variable j (adjoint).
     solve_s, gradient_s : float
-        Wall time of the truth's solve (modes, selection, static) and of all gradients after it.
+        Wall time (s) of the truth's solve (modes, selection, static) and of all gradients after
+        it.
     solve_cpu_s, gradient_cpu_s : float
-        The same in CPU time of this process (less disturbed by other processes).
+        The same in CPU time (s) of this process (less disturbed by other processes).
     dofs : int
+        Number of degrees of freedom of the truth's finite-element model.
     """
 
     model: str
@@ -102,7 +104,7 @@ def truth_gradient(
     static: bool = True,
     n_computed: int = DEFAULT_COMPUTED_MODES,
 ) -> TruthGradient:
-    """The truth's bending frequencies and linear tip deflection with their design gradients.
+    """Compute the truth's bending frequencies, linear tip deflection and their design gradients.
 
     Parameters
     ----------
@@ -118,6 +120,8 @@ def truth_gradient(
     mesh_level : int, optional
         Plate mesh level (default: the truth's default); ignored for the 1D beam.
     selection : {"paper", "shape"}
+        Mode selection, as in ``compute_truth``: ``paper``, the modes of largest z mass
+        participation; ``shape``, the lowest symmetric modes matching a 1D beam bending mode.
     static : bool
         Also the linear tip deflection under ``beam.tip_force_N`` (z) and its gradient.
     n_computed : int
@@ -126,6 +130,8 @@ def truth_gradient(
     Returns
     -------
     TruthGradient
+        Frequencies (rad/s) and tip deflection (m) with their derivatives per SI unit of each
+        design variable.
 
     Raises
     ------

@@ -23,8 +23,14 @@ __all__ = ["check_same_structure", "morph_x", "morph_plane"]
 
 
 def check_same_structure(ref: Beam, new: Beam) -> None:
-    """BeamInputError unless ``new`` has ``ref``'s vertex count and width steps (same indices,
-    same direction): the two planforms can share one mesh topology."""
+    """Check that the two planforms can share one mesh topology.
+
+    Raises
+    ------
+    BeamInputError
+        Unless ``new`` has ``ref``'s vertex count and width steps (same indices, same
+        direction).
+    """
     if new.x_m.size != ref.x_m.size:
         raise BeamInputError(f"x has {new.x_m.size} vertices: the mesh's planform has "
                              f"{ref.x_m.size}")
@@ -53,7 +59,7 @@ def _locate(ref: Beam, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def morph_x(ref: Beam, new: Beam, X: np.ndarray) -> np.ndarray:
-    """Stations X (m) along ``ref`` mapped piecewise linearly onto ``new`` (m)."""
+    """Map stations X (m) along ``ref`` piecewise linearly onto ``new`` (m)."""
     check_same_structure(ref, new)
     X = np.asarray(X, dtype=float)
     i, s = _locate(ref, X)
@@ -61,8 +67,10 @@ def morph_x(ref: Beam, new: Beam, X: np.ndarray) -> np.ndarray:
 
 
 def morph_plane(ref: Beam, new: Beam, p: np.ndarray) -> np.ndarray:
-    """Planform points p (2, n) of ``ref`` mapped onto ``new`` (2, n), m (see the module
-    docstring)."""
+    """Map planform points p (2, n) of ``ref`` onto ``new``: shape (2, n), m.
+
+    See the module docstring for the map.
+    """
     check_same_structure(ref, new)
     X, Y = np.asarray(p, dtype=float)
     i, s = _locate(ref, X)

@@ -53,8 +53,10 @@ class PlateFormDerivatives:
 
 
 def node_velocities(design: Design, row: int, p: np.ndarray) -> tuple[np.ndarray, float]:
-    """dP/dp_row of nodes ``p`` (2, N) of ``design.beam``'s mesh moving with the planform, and
-    d w(L) / dp_row (m per unit of the variable)."""
+    """Return the node velocities dP/dp_row and d w(L) / dp_row (m per unit of the variable).
+
+    The nodes ``p`` (2, N) are those of ``design.beam``'s mesh, moving with the planform.
+    """
     beam = design.beam
     h = VELOCITY_STEP * design.scales[row]
     e = np.zeros(design.size)

@@ -38,8 +38,11 @@ def _quadrature_x(xa, xb):
 
 
 def _forms(beam, xa, xb, w, a, b):
-    """Element forms (k, mass), each (nel, m), of the Hermite fields a, b on [xa, xb] with the
-    half-width w (nel, 4) at the quadrature points (m; all may be complex)."""
+    """Return the element forms (k, mass), each (nel, m), of the Hermite fields a, b.
+
+    The elements are [xa, xb], the half-width w (nel, 4) is given at the quadrature points (m;
+    all may be complex).
+    """
     t = beam.thickness_m
     return hermite_forms(xa, xb, beam.material.E_Pa * 2.0 * w * t**3 / 12.0,
                          beam.material.rho_kg_m3 * 2.0 * w * t, a, b)
@@ -47,8 +50,10 @@ def _forms(beam, xa, xb, w, a, b):
 
 def beam_sensitivity(design: Design, modes: int, selection: str, n_computed: int,
                      static: bool, n_elements: int = 200) -> dict:
-    """Frequencies, tip deflection and their design derivatives of the 1D beam truth (the dict
-    of ``plate_sensitivity``)."""
+    """Compute the 1D beam truth's frequencies, tip deflection and their design derivatives.
+
+    Returns the dict of ``plate_sensitivity`` (``mesh_level`` None).
+    """
     beam = design.beam
     t0, c0 = time.perf_counter(), time.process_time()
     xs = beam_stations(beam, n_elements)

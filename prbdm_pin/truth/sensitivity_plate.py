@@ -37,8 +37,10 @@ __all__ = ["plate_sensitivity"]
 
 def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
                       n_computed: int, static: bool, mesh: MeshTri | None = None) -> dict:
-    """Frequencies, tip deflection and their design derivatives of the plate truth (on its own
-    mesh of ``level``, or on ``mesh``, a mesh of ``design.beam``'s planform).
+    """Compute the plate truth's frequencies, tip deflection and their design derivatives.
+
+    The truth is solved on its own mesh of ``level``, or on ``mesh``, a mesh of
+    ``design.beam``'s planform.
 
     Returns a dict of plain arrays (``truth_gradient`` wraps it): ``mode_index``,
     ``omega_rad_s``, ``d_omega_rad_s`` (modes, n), ``tip_z_m``, ``d_tip_z_m`` (n,),

@@ -37,7 +37,7 @@ GAP_TOL = 1e-6
 
 
 def check_gaps(name: str, lam_all: np.ndarray, index: np.ndarray, mode_offset: int = 1) -> None:
-    """TruthError when a selected eigenvalue ``lam_all[index]`` is (nearly) repeated."""
+    """Raise TruthError when a selected eigenvalue ``lam_all[index]`` is (nearly) repeated."""
     lam_all = np.asarray(lam_all, dtype=float)
     for rank, i in enumerate(index, start=mode_offset):
         others = np.delete(lam_all, i)
@@ -54,8 +54,9 @@ def check_gaps(name: str, lam_all: np.ndarray, index: np.ndarray, mode_offset: i
 
 def material_forms(kind: str, beam: Beam, plate: bool, qk: np.ndarray, qm: np.ndarray,
                    qk1: np.ndarray | None = None, qk2: np.ndarray | None = None):
-    """Derivatives (d(v^T K w), d(v^T M w)) of the forms ``qk``, ``qm`` with respect to a
-    thickness or material variable ``kind``.
+    """Return the derivatives (d(v^T K w), d(v^T M w)) of the forms ``qk``, ``qm``.
+
+    The derivatives are with respect to a thickness or material variable ``kind``.
 
     Both models have K proportional to E t^3 and M to rho t. The plate's K is
     D [(1 - nu) K1 + nu K2] with D = E t^3 / (12 (1 - nu^2)): its nu derivative needs the
@@ -81,7 +82,7 @@ def material_forms(kind: str, beam: Beam, plate: bool, qk: np.ndarray, qm: np.nd
 
 def omega_derivative(omega: np.ndarray, dqk: np.ndarray, dqm: np.ndarray, qk: np.ndarray,
                      qm: np.ndarray) -> np.ndarray:
-    """d omega = omega / 2 (dqk / qk - dqm / qm), rad/s per unit of the variable.
+    """Return d omega = omega / 2 (dqk / qk - dqm / qm), rad/s per unit of the variable.
 
     The derivative of the Rayleigh quotient R = qk / qm at the fixed mode, written relative to
     its own forms: the same as (dqk - lam dqm) / (2 omega qm) at an exact eigenpair (qk = lam qm),
@@ -91,7 +92,7 @@ def omega_derivative(omega: np.ndarray, dqk: np.ndarray, dqm: np.ndarray, qk: np
 
 
 def tip_derivative(tip_z: float, d_load: float, dqk: float, qk: float) -> float:
-    """d delta = delta (a^T df - a^T dK u) / (a^T K u), m per unit of the variable.
+    """Return d delta = delta (a^T df - a^T dK u) / (a^T K u), m per unit of the variable.
 
     The adjoint rule a^T (df - dK u) scaled by delta / (a^T K u), which is 1 at an exact solution
     (K u = f, K a = c: a^T K u = c^T u = delta), for the reason of ``omega_derivative``.

@@ -56,8 +56,9 @@ def plate_element_forms(basis: Basis, a: np.ndarray, b: np.ndarray | None = None
 
 def hermite_forms(xa: np.ndarray, xb: np.ndarray, ei_q: np.ndarray, rhoa_q: np.ndarray,
                   a: np.ndarray, b: np.ndarray | None = None):
-    """Per element and vector pair: the integrals of EI a'' b'' and rho A a b of cubic Hermite
-    fields on elements [xa, xb] (m).
+    """Integrate EI a'' b'' and rho A a b per element and vector pair.
+
+    The fields are cubic Hermite fields on the elements [xa, xb] (m).
 
     Parameters
     ----------
