@@ -102,7 +102,6 @@ class PaperScalarLoss:
         self.spec = spec
         self.p = spec.problem
         self.scales = tip_scales_m(self.p, spec.deflection_norm)
-        self._warm = None  # the equilibria of the last gradient, where the next one starts
         self.nfev = 0
 
     def design(self, x):
@@ -134,9 +133,7 @@ class PaperScalarLoss:
         p, n = self.p, self.p.n_joints
         try:
             g = unit_chain_gradient(p, x[:n])
-            _, grad, self._warm = scalar_loss_gradient(p, self.spec.objective, self.scales, g,
-                                                       np.exp(x[n:]), self._warm)
-            return grad
+            return scalar_loss_gradient(p, self.spec.objective, self.scales, g,
+                                        np.exp(x[n:]))[1]
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
-            self._warm = None
             return np.zeros(x.size)

@@ -23,7 +23,7 @@ from ..objectives import eigen_weights
 from ..planar import planar_mass_matrices, planar_tips
 from ..problem import FitProblem, lengths_from_unit
 from ..section_gradients import planar_sections_gradient
-from ..statics import static_deflection_planar, static_deflection_planar_batch
+from ..statics import static_deflection_planar_batch
 from ..stiffness import paper_unit_stiffness
 from .joint_jacobian import unit_lengths_jacobian
 
@@ -108,16 +108,13 @@ def projected_residual_jacobian(problem: FitProblem, g: UnitChainGradient) -> np
 
 
 def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.ndarray,
-                         g: UnitChainGradient, scf: np.ndarray, warm: list | None = None
-                         ) -> tuple[float, np.ndarray, list]:
+                         g: UnitChainGradient, scf: np.ndarray) -> tuple[float, np.ndarray]:
     """The ``paper`` loss with a deflection term (fraction) and its gradient over
     x = [u (n), ln k (m)].
 
     loss = D (``deflection``) or hypot(E, D) (``combined``), E = mean_i e_i the per-pose eigen
     errors ``||d (sqrt(k_i) w_i - f)||`` (omega^2: ``k_i w_i``), D = mean_i of the per-pose tip
-    errors averaged over the load cases, each divided by ``tip_scales`` (m). ``warm``: the
-    equilibria of a previous call (per load case, (m, n) rad) to start the static solves from;
-    the equilibria of this call are returned as the third item.
+    errors averaged over the load cases, each divided by ``tip_scales`` (m).
 
     Raises SolveError where a static solve does not converge.
     """
@@ -141,16 +138,10 @@ def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.nda
     dt_du = np.zeros((m, n))
     dt_dlnk = np.zeros(m)
     cases = p.target.load_cases
-    equilibria = []
-    for c, (case, scale) in enumerate(zip(cases, tip_scales, strict=True)):
-        if warm is None:
-            q, ok = static_deflection_planar_batch(Lr, K, case.tip_force_N)
-            if not np.all(ok):
-                raise SolveError("a pose's static solve did not converge")
-        else:  # a few Newton steps from a nearby design's equilibria
-            q = np.array([static_deflection_planar(L, K[i], case.tip_force_N, q0=warm[c][i])
-                          for i in range(m)])
-        equilibria.append(q)
+    for case, scale in zip(cases, tip_scales, strict=True):
+        q, ok = static_deflection_planar_batch(Lr, K, case.tip_force_N)
+        if not np.all(ok):
+            raise SolveError("a pose's static solve did not converge")
         tips = planar_tips(Lr, q)
         for i in range(m):
             diff = tips[i] - case.tip_position_m
@@ -169,10 +160,10 @@ def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.nda
     if objective == "deflection":
         grad[:n] = dt_du.mean(axis=0)
         grad[n:] = dt_dlnk / m
-        return float(D), grad, equilibria
+        return float(D), grad
     E = e.mean()
     loss = float(np.hypot(E, D))
     s = max(loss, 1e-300)
     grad[:n] = (E * de_du.mean(axis=0) + D * dt_du.mean(axis=0)) / s
     grad[n:] = (E * de_dlnk + D * dt_dlnk) / (m * s)
-    return loss, grad, equilibria
+    return loss, grad
