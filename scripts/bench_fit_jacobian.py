@@ -1,5 +1,5 @@
-"""Benchmark of the fits' analytic Jacobians: CPU time and optimum of joint fits, this source
-tree against a baseline tree (the code before, with finite-difference Jacobians).
+"""Benchmark of the fits' analytic Jacobians: CPU time and optimum of joint and paper fits, this
+source tree against a baseline tree (the code before, with finite-difference Jacobians).
 
 Each case runs in its own process for each tree (BLAS pinned to one thread, one worker), and the
 CPU time of the ``fit`` call alone is measured (the machine is shared: CPU time, not wall time,
@@ -12,7 +12,7 @@ Truths (computed before the timer, identical in both trees):
 - tapered, reference-random: the 1D beam truth (``compute_truth(model="beam", modes=6)``, its
   frequencies and calibrated-elastica tip under the beam's load).
 
-usage: python scripts/bench_fit_jacobian.py --baseline TREE [--starts 16]
+usage: python scripts/bench_fit_jacobian.py --baseline TREE [--starts 16] [--only TEXT]
        [--out results/bench_fit_jacobian.md]
 TREE is a checkout of the code to compare against (e.g. ``git worktree add TREE main``).
 """
@@ -44,6 +44,10 @@ CASES = [
     ("reference-random", "beam", 4, "deflection", "joint"),
     ("uniform-narrow", "table", 3, "eigen", "joint"),
     ("reference-random", "beam", 4, "eigen", "joint"),
+    ("reference-random", "beam", 4, "eigen", "paper"),
+    ("uniform-narrow", "table", 3, "eigen", "paper"),
+    ("tapered", "beam", 4, "combined", "paper"),
+    ("uniform-narrow", "table", 3, "combined", "paper"),
 ]
 
 # run in a child process with the tree to measure first on sys.path; prints one JSON line
@@ -118,6 +122,8 @@ def main() -> None:
     ap.add_argument("--baseline", required=True, help="source tree of the code before")
     ap.add_argument("--starts", type=int, default=16)
     ap.add_argument("--repeat", type=int, default=3, help="runs per case and tree (least CPU)")
+    ap.add_argument("--only", default="", help="run only the cases whose row contains TEXT "
+                    "(e.g. 'paper', 'reference-random')")
     ap.add_argument("--out", default=str(ROOT / "results" / "bench_fit_jacobian.md"))
     args = ap.parse_args()
     base = Path(args.baseline).resolve()
@@ -130,8 +136,9 @@ def main() -> None:
         f"{os.getloadavg()[0]:.1f}.",
         "",
         "CPU: process time of the `fit` call (user + system), each case in a fresh process; "
-        "of it, the time in the residuals and in the Jacobian (`JointResiduals`; the rest is "
-        "the solver's own linear algebra and the final evaluation through Pinocchio). "
+        "of it, the time in the residuals and in the Jacobian (`JointResiduals`, joint rows "
+        "only; the rest is the solver's own linear algebra and the final evaluation through "
+        "Pinocchio). "
         "Evaluations: model evaluations as the fit counts them (before: every finite-difference "
         "stencil row; after: one per analytic Jacobian). Same optimum: the best loss of each "
         "code and the largest differences of the fitted link lengths (relative to L) and "
@@ -144,16 +151,19 @@ def main() -> None:
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for case in CASES:
+        if args.only and args.only not in " ".join(map(str, case)):
+            continue
         b, a = run(base, case, args.starts, args.repeat), run(ROOT, case, args.starts,
                                                               args.repeat)
         dL = np.max(np.abs(np.subtract(a["lengths_m"], b["lengths_m"]))) / np.sum(b["lengths_m"])
         dk = np.max(np.abs(np.divide(a["stiffness"], b["stiffness"]) - 1.0))
-        name, truth, n, objective, _ = case
+        name, truth, n, objective, stiffness = case
+        split = [f"{r['residuals_s']:.2f} / {r['jac_s']:.2f}" if stiffness == "joint" else "-"
+                 for r in (b, a)]
         lines.append(
-            f"| {name} | {'1D beam' if truth == 'beam' else 'EB + elastica'} | {n}R | "
+            f"| {name} | {'1D beam' if truth == 'beam' else 'EB + elastica'} | {n}R {stiffness} | "
             f"{objective} | {b['cpu_s']:.2f} | {a['cpu_s']:.2f} | {b['cpu_s'] / a['cpu_s']:.2f} | "
-            f"{b['residuals_s']:.2f} / {b['jac_s']:.2f} | {a['residuals_s']:.2f} / "
-            f"{a['jac_s']:.2f} | {b['nfev']} / {a['nfev']} | {b['loss_pct']:.8g} | "
+            f"{split[0]} | {split[1]} | {b['nfev']} / {a['nfev']} | {b['loss_pct']:.8g} | "
             f"{a['loss_pct']:.8g} | "
             f"{dL:.2g} | {dk:.2g} |")
         print(lines[-1], flush=True)

@@ -16,8 +16,7 @@ from .spec import LN_S_BOUNDS, FitSpec, StartResult
 __all__ = ["solve_start", "polish_paper_eigen"]
 
 
-def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0,
-        workers=None):
+def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0):
     from scipy.optimize import least_squares
 
     # measured: dogbox needs ~3x fewer evaluations than trf on the zero-residual joint eigen
@@ -25,16 +24,14 @@ def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_
     # paper eigen, combined): dogbox stalled at 0.13-0.34 % where trf reached 0.04-0.05 %
     x0 = np.clip(x0, lb, ub)
     return least_squares(fun, x0, jac=jac, bounds=(lb, ub), method=method, x_scale=x_scale,
-                         ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev, workers=workers)
+                         ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev)
 
 
-def _slsqp(fun, x0, lb, ub, max_iter=200, workers=None, jac=None):
+def _slsqp(fun, x0, lb, ub, max_iter=200, jac=None):
     from scipy.optimize import Bounds, minimize
 
     x0 = np.clip(x0, lb, ub)
     opts = {"ftol": 1e-14, "maxiter": max_iter, "eps": 1e-8}
-    if workers is not None:
-        opts["workers"] = workers
     return minimize(fun, x0, method="SLSQP", jac=jac, bounds=Bounds(lb, ub), options=opts)
 
 
@@ -64,8 +61,8 @@ def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.nd
     if spec.objective == "eigen":
         P = PaperEigenResiduals(spec)
         # a loose stage-1 tolerance: the best few starts are polished on the true loss
-        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, method="trf", tol=1e-8,
-                workers=P.map)
+        r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, jac=P.jac,
+                method="trf", tol=1e-8)
         return StartResult(index, P.lengths(r.x), P.factors(r.x), 100.0 * P.loss(r.x),
                            P.nfev, bool(r.success), str(r.message))
     S = PaperScalarLoss(spec)
@@ -82,7 +79,7 @@ def polish_paper_eigen(spec: FitSpec, start: StartResult) -> StartResult:
     P = PaperEigenResiduals(spec)
     p = spec.problem
     u0 = unit_from_lengths(start.lengths_m, p.length_m, p.min_fraction)
-    r = _slsqp(P.loss, u0, np.zeros(p.n_joints), np.ones(p.n_joints), workers=P.loss_map)
+    r = _slsqp(P.loss, u0, np.zeros(p.n_joints), np.ones(p.n_joints), jac=P.loss_grad)
     loss = 100.0 * P.loss(r.x)
     if not loss < start.loss_pct:
         return replace(start, nfev=start.nfev + P.nfev)

@@ -16,7 +16,8 @@ from ..errors import BeamInputError, SolveError
 from ..evaluate import batch_losses, fast_unit_frequencies
 from ..objectives import best_scale, projected_eigen_residuals
 from ..problem import lengths_from_unit
-from .spec import BAD_LOSS, FitSpec
+from .paper_jacobian import projected_residual_jacobian, scalar_loss_gradient, unit_chain_gradient
+from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
 __all__ = ["PaperEigenResiduals", "PaperScalarLoss"]
 
@@ -53,24 +54,36 @@ class PaperEigenResiduals:
         return projected_eigen_residuals(W, p.target.omega_truth_rad_s, p.squared,
                                          p.eigen_norm)
 
-    def map(self, fun, xs):
-        """A ``workers`` map for scipy's finite differences: the stencil in one batch
-        (``fun`` is :meth:`residuals` wrapped by scipy, whose rows these are)."""
-        U = np.array(list(xs), dtype=float)
-        self.nfev += U.shape[0]
-        return list(self.batch(U).reshape(U.shape[0], -1) / math.sqrt(self.p.n_poses))
-
     def residuals(self, u):
         return self.pose_residuals(u).ravel() / math.sqrt(self.p.n_poses)
+
+    def _pose_jacobian(self, u):
+        """Projected residuals (m, N) and their analytic Jacobian (m, N, n) at u (zero where
+        the model cannot be solved, as its residuals are then); one evaluation."""
+        self.nfev += 1
+        p = self.p
+        try:
+            g = unit_chain_gradient(p, np.asarray(u, dtype=float))
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            return (np.full((p.n_poses, p.n_freq), BAD_LOSS),
+                    np.zeros((p.n_poses, p.n_freq, p.n_joints)))
+        r = projected_eigen_residuals(g.omega_rad_s, p.target.omega_truth_rad_s, p.squared,
+                                      p.eigen_norm)
+        return r, projected_residual_jacobian(p, g)
+
+    def jac(self, u):
+        """Analytic Jacobian of :meth:`residuals` (:mod:`.paper_jacobian`), (m N, n)."""
+        return self._pose_jacobian(u)[1].reshape(-1, self.p.n_joints) / math.sqrt(
+            self.p.n_poses)
 
     def loss(self, u):
         return float(np.mean(np.linalg.norm(self.pose_residuals(u), axis=1)))
 
-    def loss_map(self, fun, xs):
-        """A ``workers`` map for scipy's finite differences of :meth:`loss`, in one batch."""
-        U = np.array(list(xs), dtype=float)
-        self.nfev += U.shape[0]
-        return list(np.linalg.norm(self.batch(U), axis=2).mean(axis=1))
+    def loss_grad(self, u):
+        """Analytic gradient of :meth:`loss`, shape (n,)."""
+        r, dr = self._pose_jacobian(u)
+        e = np.maximum(np.linalg.norm(r, axis=1), 1e-300)
+        return np.einsum("ik,ikl->l", r / e[:, None], dr) / self.p.n_poses
 
     def factors(self, u):
         _, W = fast_unit_frequencies(self.p, self.lengths(u))
@@ -82,17 +95,13 @@ class PaperScalarLoss:
     """Scalar loss of the ``paper`` parametrisation with a deflection term, x = [u, ln k].
 
     Evaluated through ``evaluate.batch_losses`` (closed-form kinematics, every pose's static
-    solve in one vectorised Newton). The gradient uses the problem's structure: pose i's eigen
-    and tip errors depend on its own SCF k_i only, so one central difference that moves every
-    ln k_i at once gives all m partial derivatives in ln k; the n length coordinates take
-    forward differences. The whole stencil (n + 3 designs) is one batch.
+    solve in one vectorised Newton); its gradient is analytic (:mod:`.paper_jacobian`).
     """
-
-    _H_U, _H_K = 1e-7, 1e-6
 
     def __init__(self, spec: FitSpec):
         self.spec = spec
         self.p = spec.problem
+        self.scales = tip_scales_m(self.p, spec.deflection_norm)
         self.nfev = 0
 
     def design(self, x):
@@ -117,26 +126,14 @@ class PaperScalarLoss:
         return float(self._loss(*self._parts(np.asarray(x, dtype=float)[None]))[0])
 
     def jac(self, x):
+        """Analytic gradient of :meth:`loss` over x = [u, ln k] (zero where the model cannot
+        be solved); counted as one evaluation."""
+        self.nfev += 1
         x = np.asarray(x, dtype=float)
-        n, m = self.p.n_joints, self.p.n_poses
-        hu = np.where(x[:n] + self._H_U <= 1.0, self._H_U, -self._H_U)
-        X = np.tile(x, (n + 3, 1))
-        X[np.arange(1, n + 1), np.arange(n)] += hu
-        X[n + 1, n:] += self._H_K
-        X[n + 2, n:] -= self._H_K
-        self.nfev += n + 3
-        e, d = self._parts(X)
-        f = self._loss(e, d)
-        g = np.empty(n + m)
-        g[:n] = (f[1:n + 1] - f[0]) / hu
-        de = (e[n + 1] - e[n + 2]) / (2 * self._H_K)
-        dd = (d[n + 1] - d[n + 2]) / (2 * self._H_K)
-        E, D = e[0].mean(), d[0].mean()
-        if not (np.all(np.isfinite(de)) and np.all(np.isfinite(dd)) and f[0] < BAD_LOSS):
-            g[n:] = 0.0  # an unsolvable neighbour: no information on the SCFs here
-        elif self.spec.objective == "deflection":
-            g[n:] = dd / m
-        else:
-            g[n:] = (E * de + D * dd) / (m * max(f[0], 1e-300))
-        return g
-
+        p, n = self.p, self.p.n_joints
+        try:
+            g = unit_chain_gradient(p, x[:n])
+            return scalar_loss_gradient(p, self.spec.objective, self.scales, g,
+                                        np.exp(x[n:]))[1]
+        except (SolveError, BeamInputError, np.linalg.LinAlgError):
+            return np.zeros(x.size)
