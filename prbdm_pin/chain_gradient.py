@@ -1,10 +1,10 @@
-"""Analytic derivatives of the planar chain's natural frequencies and large-deflection static tip
-with respect to the joint stations and the joint springs.
+"""Analytic derivatives of the planar chain's frequencies and static tip in stations and springs.
 
-Variables: the n joint stations x_j = L_0 + ... + L_(j-1) (m; the free coordinates of the link
-lengths on their simplex, L_i = x_(i+1) - x_i with x_0 = 0, x_(n+1) = L) and the n springs k_j
-(N m/rad). Each link's mass, centre of mass and inertia move with the stations through the exact
-section integrals (:mod:`.section_gradients`).
+The outputs are the natural frequencies and the large-deflection static tip. Variables: the n
+joint stations x_j = L_0 + ... + L_(j-1) (m; the free coordinates of the link lengths on their
+simplex, L_i = x_(i+1) - x_i with x_0 = 0, x_(n+1) = L) and the n springs k_j (N m/rad). Each
+link's mass, centre of mass and inertia move with the stations through the exact section integrals
+(:mod:`.section_gradients`).
 
 Frequencies: with mass-normalised modes phi_k (phi^T M phi = 1) and distinct eigenvalues
 lam_k = omega_k^2, ``d lam_k = phi_k^T (dK - lam_k dM) phi_k``. The mass term is the derivative of
@@ -96,13 +96,17 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
 
 def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
                         tip_force_N: np.ndarray, q_rad: np.ndarray):
-    """Derivatives of the equilibrium pose and tip at fixed sections (the statics do not see the
-    masses), by implicit differentiation of K q = J(q)^T F.
+    """Differentiate the equilibrium pose and tip in the stations and springs.
+
+    The sections are held fixed (the statics do not see the masses); the derivatives come from
+    implicit differentiation of K q = J(q)^T F.
 
     Parameters
     ----------
     lengths_m : ndarray, shape (n+1,)
+        Valid link lengths, m.
     stiffness_Nm_per_rad : ndarray, shape (n,)
+        Joint springs, N m/rad.
     tip_force_N : ndarray, shape (3,)
         Dead tip force, N (world).
     q_rad : ndarray, shape (n,)
@@ -111,6 +115,7 @@ def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
     Returns
     -------
     tip_m : ndarray, shape (3,)
+        The tip position at the equilibrium, m (world).
     d_q : ndarray, shape (n, 2n)
         dq / d(x, k): rad per m (first n columns), rad per N m/rad (last n).
     d_tip : ndarray, shape (3, 2n)
@@ -155,14 +160,24 @@ class ModelGradient:
 
     Attributes
     ----------
+    variables : tuple of str
+        The variables' names, in column order of the derivatives.
+    variable_units : tuple of str
+        Each variable's unit, "m" or "N m/rad".
+    pose_rad : ndarray, shape (n,)
+        The joint angles where the frequencies are taken, rad.
     omega_rad_s : ndarray, shape (n,)
         Natural frequencies at ``pose_rad``, ascending.
     d_omega_rad_s : ndarray, shape (n, 2n)
         d omega_k / d variable (rad/s per the variable's unit).
+    tip_force_N : ndarray, shape (3,), or None
+        The dead tip force of the static part, N (world); None without a load.
     tip_position_m, static_pose_rad : ndarray, shape (3,), (n,), or None
-        The tip and the joint angles under ``tip_force_N``; None without a load.
+        The tip (m) and the joint angles (rad) under ``tip_force_N``; None without a load.
     d_tip_position_m : ndarray, shape (3, 2n), or None
+        d p_tip / d variable (m per the variable's unit); None without a load.
     d_static_pose_rad : ndarray, shape (n, 2n), or None
+        d q / d variable (rad per the variable's unit); None without a load.
     """
 
     variables: tuple[str, ...]
@@ -188,12 +203,14 @@ def _frozen(a):
 def model_gradient(beam: Beam, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
                    pose_rad: np.ndarray | None = None,
                    tip_force_N: np.ndarray | None = None) -> ModelGradient:
-    """Frequencies and static tip of the chain cut from ``beam`` and their analytic derivatives
-    with respect to the joint stations and springs.
+    """Return the frequencies and static tip of the chain cut from ``beam``, with derivatives.
+
+    The derivatives are analytic, with respect to the joint stations and springs.
 
     Parameters
     ----------
     beam : Beam
+        The beam the links are cut from.
     lengths_m : array_like, shape (n+1,)
         Link lengths, m (validated as for ``build_model``).
     stiffness_Nm_per_rad : array_like, shape (n,)
@@ -208,6 +225,8 @@ def model_gradient(beam: Beam, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.n
     Returns
     -------
     ModelGradient
+        The frequencies (rad/s) at ``pose_rad``, the static tip (m) and pose (rad) under the
+        load, and their derivatives per m of each station and per N m/rad of each spring.
     """
     lengths = validate_lengths(beam, lengths_m)
     n = lengths.size - 1

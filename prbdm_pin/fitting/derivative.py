@@ -1,5 +1,6 @@
-"""Derivatives of a fit's parameters with respect to one design parameter p, by the
-implicit-function theorem on the fit's optimality conditions G(z, p) = 0:
+"""Derivatives of a fit's parameters with respect to one design parameter p.
+
+They come from the implicit-function theorem on the fit's optimality conditions G(z, p) = 0:
 dz/dp = -G_z^-1 G_p.
 
 - ``unique="nearest"``: the KKT conditions of the rule's last step, z = [x, lambda],
@@ -40,21 +41,22 @@ COND_MAX = 1e10
 
 @dataclass(frozen=True, eq=False)
 class FitDerivative:
-    """d(fitted parameters)/dp at one design.
+    """The derivatives d(fitted parameters)/dp at one design.
 
     Attributes
     ----------
     parameter : float
+        The design parameter p where the derivatives are taken (its own unit).
     d_lengths_m : ndarray, shape (n+1,)
         dL_j/dp, m per unit of p.
     d_stiffness_Nm_per_rad : ndarray, shape (n,)
         dK_j/dp, N m/rad per unit of p.
     dx_dp : ndarray, shape (2n,)
-        In the fit coordinates x = [u, ln s].
+        In the fit coordinates x = [u, ln s] (both dimensionless), per unit of p.
     conditions : str
         ``"kkt"`` (unique='nearest') or ``"normal"`` (least squares).
     cond : float
-        Condition number of G_z.
+        Condition number of G_z (dimensionless).
     """
 
     parameter: float
@@ -66,7 +68,7 @@ class FitDerivative:
 
 
 def fit_problem_of(result: FitResult, beam: Beam, target: FitTarget) -> FitProblem:
-    """The fit problem ``result``'s recorded options pose for ``beam`` and ``target``."""
+    """Return the fit problem ``result``'s recorded options pose for ``beam`` and ``target``."""
     o = result.options
     return make_problem(beam, target, result.joints, o.frequencies, o.stiffness.value,
                         o.xi_rad, o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
@@ -74,15 +76,19 @@ def fit_problem_of(result: FitResult, beam: Beam, target: FitTarget) -> FitProbl
 
 
 def fit_coordinates(result: FitResult, problem: FitProblem) -> np.ndarray:
-    """``result``'s parameters in the joint fit's coordinates: link-length units and log
-    spring factors, shape (2n,)."""
+    """Return ``result``'s parameters in the joint fit's coordinates, shape (2n,).
+
+    The coordinates are the link-length units and the log spring factors (dimensionless).
+    """
     u = unit_from_lengths(result.lengths_m, problem.length_m, problem.min_fraction)
     return np.r_[u, np.log(result.factors)]
 
 
 def kkt_residuals(problem: FitProblem, z: np.ndarray) -> np.ndarray:
-    """The optimality conditions of the ``unique="nearest"`` fit at z = (x, multipliers):
-    stationarity, then the n log-frequency matches (zero at the fit)."""
+    """Return the optimality conditions of the ``unique="nearest"`` fit at z = (x, multipliers).
+
+    They are the stationarity conditions, then the n log-frequency matches (zero at the fit).
+    """
     n = problem.n_joints
     x, lam = z[: 2 * n], z[2 * n :]
     w, J = log_frequency_jacobian(problem, x)
@@ -113,7 +119,7 @@ def physical_parameters(problem: FitProblem, x: np.ndarray) -> tuple[np.ndarray,
 def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], parameter: float,
                    target_at: Callable[[Beam], FitTarget], *,
                    step: float | None = None) -> FitDerivative:
-    """dtheta/dp of ``result``, the fit of ``beam_at(parameter)`` to ``target_at`` of it.
+    """Return dtheta/dp of ``result``, the fit of ``beam_at(parameter)`` to ``target_at`` of it.
 
     Parameters
     ----------
@@ -126,7 +132,19 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     target_at : callable Beam -> FitTarget
         The truth of a design (called at p, p + h, p - h).
     step : float, optional
-        h of G_p's central difference (default 5e-3 max(abs(p), 1e-12)).
+        h of G_p's central difference, in p's unit (default 5e-3 max(abs(p), 1e-12)).
+
+    Returns
+    -------
+    FitDerivative
+        The derivatives of the link lengths (m) and the joint springs (N m/rad) per unit of p.
+
+    Raises
+    ------
+    BeamInputError
+        When ``result`` is not a ``joint`` fit that recorded its options.
+    SolveError
+        When the optimality conditions are singular (a fit that is not unique).
     """
     if result.stiffness != "joint" or result.options is None:
         raise BeamInputError("result: needs a joint fit that recorded its options")

@@ -1,10 +1,11 @@
-"""d(fitted parameters)/dp of a ``unique="nearest"`` fit for every design variable at once, with
-the truth's frequency gradient supplied (``truth_gradient``) instead of re-solving the truth at
-p +- h.
+"""Derivatives of a ``unique="nearest"`` fit's parameters for every design variable at once.
 
-The rule's model is the KKT point z = [x, lambda] of min |x - x_ref|^2 s.t. F = 0 with
+The truth's frequency gradient is supplied (``truth_gradient``) instead of re-solving the truth
+at p +- h.
+
+The rule's model is the KKT point z = [x, lambda] of ``min |x - x_ref|^2`` s.t. F = 0 with
 ``G(z, p, omega) = [x - x_ref + J(x, p)^T lambda, ln w(x, p) - ln omega]``, omega the truth's
-frequencies, themselves a function of the design. The implicit-function theorem gives
+frequencies, themselves a function of the design. The implicit-function theorem gives::
 
     dz/dp = -G_z^-1 (G_p + G_omega d omega/dp),   G_omega = [0; -diag(1 / omega)].
 
@@ -54,7 +55,7 @@ MATCH_RTOL = 1e-6  # the fit must reproduce the truth frequencies it is differen
 
 @dataclass(frozen=True, eq=False)
 class FitDesignGradient:
-    """d(fitted parameters)/dp of a ``unique="nearest"`` fit, one column per design variable.
+    """Derivatives d(fitted parameters)/dp of a ``unique="nearest"`` fit, a column per variable.
 
     Attributes
     ----------
@@ -65,9 +66,9 @@ class FitDesignGradient:
     d_stiffness_Nm_per_rad : ndarray, shape (n, nv)
         dK_i/dp_j, N m/rad per unit of p_j.
     dx_dp : ndarray, shape (2n, nv)
-        In the fit coordinates x = [u, ln s].
+        In the fit coordinates x = [u, ln s] (both dimensionless), per unit of p_j.
     cond : float
-        Condition number of G_z.
+        Condition number of G_z (dimensionless).
     """
 
     names: tuple[str, ...]
@@ -80,10 +81,13 @@ class FitDesignGradient:
 
 def log_frequency_design_gradient(problem: FitProblem, design: Design, x: np.ndarray,
                                   cache: dict | None = None) -> np.ndarray:
-    """d ln w/dp of the ``joint`` fit problem's model at fixed fit coordinates x (the lengths
-    fixed, the springs s K0(L, p)), shape (n, nv), per unit of each variable of ``design``;
-    ``problem.beam`` is the design's beam at p. ``cache``: a dict that keeps the sections and
-    springs of the lengths already seen (points that differ in the spring factors only)."""
+    """Return d ln w/dp of the ``joint`` fit problem's model at fixed fit coordinates x.
+
+    The lengths are fixed and the springs are s K0(L, p); the result has shape (n, nv), per unit
+    of each variable of ``design``; ``problem.beam`` is the design's beam at p. ``cache``: a dict
+    that keeps the sections and springs of the lengths already seen (points that differ in the
+    spring factors only).
+    """
     n = problem.n_joints
     key = x[:n].tobytes()
     if cache is None or key not in cache:
@@ -101,10 +105,12 @@ def log_frequency_design_gradient(problem: FitProblem, design: Design, x: np.nda
 
 
 def kkt_design_jacobian(problem: FitProblem, design: Design, z: np.ndarray) -> np.ndarray:
-    """dG/dp of the ``unique="nearest"`` fit's KKT conditions (``derivative.kkt_residuals``) at
-    fixed z = [x, lambda] and fixed truth frequencies, shape (3n, nv): the stationarity rows
-    d/dx (lambda . d ln w/dp) (one central difference in x), then the constraint rows
-    d ln w/dp; ``problem.beam`` is the design's beam at p."""
+    """Return dG/dp of the ``unique="nearest"`` fit's KKT conditions, shape (3n, nv).
+
+    G is ``derivative.kkt_residuals``, at fixed z = [x, lambda] and fixed truth frequencies: the
+    stationarity rows d/dx (lambda . d ln w/dp) (one central difference in x), then the
+    constraint rows d ln w/dp; ``problem.beam`` is the design's beam at p.
+    """
     n = problem.n_joints
     x, lam = z[: 2 * n], z[2 * n:]
     cache: dict = {}  # the spring-factor steps keep the lengths: their sections are reused
@@ -118,8 +124,10 @@ def kkt_design_jacobian(problem: FitProblem, design: Design, z: np.ndarray) -> n
 
 def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
                         truth: TruthGradient) -> FitDesignGradient:
-    """dtheta/dp of ``result``, the ``unique="nearest"`` fit of ``design.beam_at(p)`` to the
-    truth frequencies ``truth.omega_rad_s``, with their gradient ``truth.d_omega_rad_s``.
+    """Return dtheta/dp of ``result`` for every variable of ``design``.
+
+    ``result`` is the ``unique="nearest"`` fit of ``design.beam_at(p)`` to the truth frequencies
+    ``truth.omega_rad_s``, whose gradient is ``truth.d_omega_rad_s``.
 
     Parameters
     ----------
@@ -127,10 +135,17 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
         ``fit(design.beam_at(p), target, n, stiffness="joint", unique="nearest")`` of a target
         with the frequencies of ``truth``.
     design : Design
+        The design variables and the beam they act on.
     p : array_like, shape (nv,)
         The design (SI units).
     truth : TruthGradient
         ``truth_gradient(design.beam_at(p), design, ...)``: at least n modes, the same variables.
+
+    Returns
+    -------
+    FitDesignGradient
+        The derivatives of the link lengths (m) and joint springs (N m/rad) per SI unit of each
+        design variable.
 
     Raises
     ------

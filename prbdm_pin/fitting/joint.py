@@ -1,5 +1,7 @@
-"""Residuals of the ``joint`` parametrisation: one pose-independent factor s_j per joint on the
-finite-segment springs, over x = [u (n), ln s (n)] (u the stick-breaking length coordinates).
+"""Residuals of the ``joint`` parametrisation.
+
+It has one pose-independent factor s_j per joint on the finite-segment springs, over
+x = [u (n), ln s (n)] (u the stick-breaking length coordinates).
 
 Like every parametrisation it has ``nfev``, ``design(x) -> (lengths m, factors)`` and
 ``loss(x)`` (fraction); the local solvers use its residuals and analytic Jacobians
@@ -27,7 +29,13 @@ __all__ = ["JointResiduals"]
 
 
 class JointResiduals:
-    """Residuals of the ``joint`` parametrisation over x = [u (n), ln s (n)]."""
+    """Residuals of the ``joint`` parametrisation over x = [u (n), ln s (n)].
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The fit problem, its objective, deflection norm and evaluation budget.
+    """
 
     def __init__(self, spec: FitSpec):
         self.spec = spec
@@ -43,11 +51,37 @@ class JointResiduals:
         self._last = None  # (x, equilibria of the load cases) of the last residuals
 
     def design(self, x):
-        """Lengths (m) and joint factors of x."""
+        """Return the link lengths and the joint spring factors of x.
+
+        Parameters
+        ----------
+        x : ndarray, shape (2n,)
+            Fit coordinates [u, ln s] (dimensionless).
+
+        Returns
+        -------
+        lengths_m : ndarray, shape (n+1,)
+            Link lengths, m.
+        factors : ndarray, shape (n,)
+            Factors s on the finite-segment springs (dimensionless).
+        """
         n = self.p.n_joints
         return lengths_from_unit(x[:n], self.p.length_m, self.p.min_fraction), np.exp(x[n:])
 
     def residuals(self, x):
+        """Return the residual vector at x (all ``BAD_LOSS`` where the model cannot be solved).
+
+        Parameters
+        ----------
+        x : ndarray, shape (2n,)
+            Fit coordinates [u, ln s] (dimensionless).
+
+        Returns
+        -------
+        ndarray, shape (size(),)
+            The frequency residuals over the poses, scaled by ``1/sqrt(m)`` (fractions), then
+            each load case's tip error over its tip scale (dimensionless).
+        """
         self.nfev += 1
         p, spec = self.p, self.spec
         lengths, s = self.design(x)
@@ -77,12 +111,26 @@ class JointResiduals:
         return np.concatenate(parts)
 
     def size(self):
+        """Return the length of the residual vector."""
         p, o = self.p, self.spec.objective
         return (p.n_poses * p.n_freq if o != "deflection" else 0) + 3 * len(self.cases)
 
     def jac(self, x):
-        """Analytic Jacobian of :meth:`residuals` (:mod:`.joint_jacobian`), counted as one
-        evaluation; zero where the model cannot be solved (as its residuals are then)."""
+        """Return the analytic Jacobian of :meth:`residuals` (:mod:`.joint_jacobian`).
+
+        It counts as one evaluation; it is zero where the model cannot be solved (as its
+        residuals are then).
+
+        Parameters
+        ----------
+        x : ndarray, shape (2n,)
+            Fit coordinates [u, ln s] (dimensionless).
+
+        Returns
+        -------
+        ndarray, shape (size(), 2n)
+            d residual / d x (per unit of each coordinate).
+        """
         x = np.asarray(x, dtype=float)
         if self._last is None or not np.array_equal(self._last[0], x):
             # scipy asks at the last residuals' x; elsewhere evaluate there first
@@ -97,15 +145,26 @@ class JointResiduals:
             return np.zeros((self.size(), x.size))
 
     def eigen_residuals(self, x):
-        """Residuals of the eigen objective (:meth:`residuals` with no load case)."""
+        """Return the residuals of the eigen objective (:meth:`residuals` with no load case)."""
         return self.residuals(x)
 
     def eigen_jac(self, x):
-        """Analytic Jacobian of :meth:`eigen_residuals`."""
+        """Return the analytic Jacobian of :meth:`eigen_residuals`."""
         return self.jac(x)
 
     def loss(self, x):
-        """The true loss (fraction): mean of per-pose eigen norms, hypot with the tip term."""
+        """Return the true loss at x: mean of per-pose eigen norms, hypot with the tip term.
+
+        Parameters
+        ----------
+        x : ndarray, shape (2n,)
+            Fit coordinates [u, ln s] (dimensionless).
+
+        Returns
+        -------
+        float
+            The loss (fraction).
+        """
         r = self.residuals(x)
         p, o = self.p, self.spec.objective
         e = d = 0.0

@@ -1,7 +1,7 @@
 """The analytic Jacobian of the ``joint`` residuals over x = [u (n), ln s (n)].
 
 The residuals depend on u through the joint stations (stick-breaking lengths, their cumulative
-sums) and through the finite-segment springs K0(x), and on ln s through the springs k = s K0:
+sums) and through the finite-segment springs K0(x), and on ln s through the springs k = s K0::
 
     dr/du = (dr/dx + dr/dk diag(s) dK0/dx) dx/du,   dr/d ln s = dr/dk diag(k),
 
@@ -22,7 +22,7 @@ __all__ = ["unit_lengths_jacobian", "joint_residual_jacobian"]
 
 
 def unit_lengths_jacobian(u: np.ndarray, length_m: float, min_fraction: float) -> np.ndarray:
-    """d lengths / d u of ``problem.lengths_from_unit``, m, shape (n+1, n).
+    """Return d lengths / d u of ``problem.lengths_from_unit``, m, shape (n+1, n).
 
     Link j takes ``e_j = u_j r_j`` of the excess r_j still unassigned (r_(j+1) = r_j - e_j), the
     last link the rest; u is clipped to [0, 1] there, so the derivative is the one inside.
@@ -44,10 +44,11 @@ def unit_lengths_jacobian(u: np.ndarray, length_m: float, min_fraction: float) -
 
 def joint_residual_jacobian(res, x: np.ndarray, chain: tuple, static_poses: list
                             ) -> np.ndarray:
-    """Jacobian (size, 2n) of ``res.residuals`` (a :class:`JointResiduals`) at x, given what its
-    residuals computed there: ``chain`` = (``planar_sections``, unit springs K0 (N m/rad), mass
-    matrices at the poses (kg m^2)) and the equilibrium of each load case (rad,
-    ``static_poses``).
+    """Return the Jacobian (size, 2n) of ``res.residuals`` (a :class:`JointResiduals`) at x.
+
+    It reuses what the residuals computed there: ``chain`` = (``planar_sections``, unit springs
+    K0 (N m/rad), mass matrices at the poses (kg m^2)) and the equilibrium of each load case
+    (rad, ``static_poses``).
 
     Raises SolveError or LinAlgError where the model cannot be solved (the caller decides).
     """

@@ -1,5 +1,8 @@
-"""The local solver of one fit start, per parametrisation, and the polish of a ``paper`` eigen
-optimum (solvers chosen for accuracy per model evaluation; see ``scripts/bench_fit.py``)."""
+"""The local solver of one fit start, per parametrisation, and the polish of a ``paper`` optimum.
+
+The polish is that of a ``paper`` eigen optimum; the solvers are chosen for accuracy per model
+evaluation (see ``scripts/bench_fit.py``).
+"""
 
 from __future__ import annotations
 
@@ -36,7 +39,26 @@ def _slsqp(fun, x0, lb, ub, max_iter=200, jac=None):
 
 
 def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.ndarray):
-    """Run the local solver from one start; returns a :class:`StartResult`."""
+    """Run the local solver of the parametrisation from one start.
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The fit problem, objective, deflection norm and evaluation cap.
+    index : int
+        The start's index, recorded in the result.
+    lengths0 : ndarray, shape (n+1,)
+        Start link lengths, m.
+    factors0 : ndarray
+        Start spring factors: the ``joint`` factors on the finite-segment springs, shape (n,),
+        or the ``paper`` SCFs, one per pose (both dimensionless multipliers; the eigen
+        ``paper`` fit projects the SCFs out and ignores them).
+
+    Returns
+    -------
+    StartResult
+        The local optimum: link lengths (m), factors, loss (%), evaluations and solver message.
+    """
     p = spec.problem
     n = p.n_joints
     u0 = unit_from_lengths(lengths0, p.length_m, p.min_fraction)
@@ -75,7 +97,21 @@ def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.nd
 
 
 def polish_paper_eigen(spec: FitSpec, start: StartResult) -> StartResult:
-    """Polish a variable-projected ``paper`` eigen optimum on the paper's loss with SLSQP."""
+    """Polish a variable-projected ``paper`` eigen optimum on the paper's loss with SLSQP.
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The fit problem of a ``paper`` eigen fit.
+    start : StartResult
+        The optimum of the projected least-squares stage.
+
+    Returns
+    -------
+    StartResult
+        The polished optimum when its loss (%) is lower, otherwise ``start``; its evaluation
+        count includes the polish's.
+    """
     P = PaperEigenResiduals(spec)
     p = spec.problem
     u0 = unit_from_lengths(start.lengths_m, p.length_m, p.min_fraction)

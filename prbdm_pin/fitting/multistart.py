@@ -1,6 +1,8 @@
-"""The multistart fit: start points drawn up front, solved in order (in processes when
-``workers > 1``), the best chosen by (loss, start index), so the same seed gives the same result
-whatever the number of workers."""
+"""The multistart fit: start points drawn up front, solved in order, the best one chosen.
+
+The starts run in processes when ``workers > 1``; the best is chosen by (loss, start index), so
+the same seed gives the same result whatever the number of workers.
+"""
 
 from __future__ import annotations
 
@@ -33,8 +35,26 @@ __all__ = ["fit", "run_starts", "draw_starts", "resolve_options"]
 
 def run_starts(spec: FitSpec, tasks: list, workers: int = 1, progress: bool = True,
                loss_tol: float | None = None) -> list[StartResult]:
-    """Solve the starts in order, in ``workers`` processes; stop after the first (in start
-    order) whose loss is <= ``loss_tol`` (%). Returns the results of the starts run, in order."""
+    """Solve the starts in order, in ``workers`` processes.
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The fit problem, objective, deflection norm and evaluation cap.
+    tasks : list of tuple
+        The starts (index, lengths m, factors), as from :func:`draw_starts`.
+    workers : int
+        Processes to spread the starts over (1: in this process).
+    progress : bool
+        Show a tqdm progress bar.
+    loss_tol : float, optional
+        Stop after the first start (in start order) whose loss is <= ``loss_tol`` (%).
+
+    Returns
+    -------
+    list of StartResult
+        The results of the starts run, in start order.
+    """
     out: list[StartResult] = []
     bar = start_bar(len(tasks), progress)
     try:
@@ -77,7 +97,7 @@ def _check_fit_args(options: FitOptions, workers, target: FitTarget) -> None:
 
 
 def resolve_options(options: Any, cls: type, changes: dict[str, Any]):
-    """``options`` (default ``cls()``) with keyword ``changes`` applied, validated."""
+    """Return ``options`` (default ``cls()``) with keyword ``changes`` applied, validated."""
     if options is None:
         options = cls()
     elif not isinstance(options, cls):
@@ -86,8 +106,23 @@ def resolve_options(options: Any, cls: type, changes: dict[str, Any]):
 
 
 def draw_starts(problem: FitProblem, starts: int, seed: int) -> list:
-    """``starts`` tasks (index, lengths m, factors) from ``default_rng(seed)``: lengths uniform
-    on the bounded simplex (Eq. 23), factors log-uniform within a factor 2 of 1."""
+    """Draw ``starts`` start tasks from ``default_rng(seed)``.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem (beam length, joints, minimum link fraction, number of factors).
+    starts : int
+        How many starts to draw.
+    seed : int
+        Seed of ``numpy.random.default_rng``.
+
+    Returns
+    -------
+    list of tuple
+        (index, lengths m, factors): lengths uniform on the bounded simplex (Eq. 23), factors
+        (dimensionless) log-uniform within a factor 2 of 1.
+    """
     rng = np.random.default_rng(seed)
     L0 = sample_lengths(rng, problem.length_m, problem.n_joints + 1, starts,
                         min_fraction=problem.min_fraction)
@@ -133,6 +168,7 @@ def fit(
     Parameters
     ----------
     beam : Beam
+        The planform, thickness, material and tip load.
     target : FitTarget
         Truth frequencies (rad/s) and, for deflection terms, the truth tip under the load.
     joints : int
@@ -157,6 +193,12 @@ def fit(
         For ``paper`` its exported springs (``stiffness_Nm_per_rad``) are those of the sweep's
         first pose, the one nearest straight (``export_pose_rad``); the whole per-pose table is
         ``stiffness_per_pose_Nm_per_rad`` (``FitResult.stiffness_schedule``).
+
+    Raises
+    ------
+    BeamInputError
+        On invalid options, workers or warm start, or a deflection objective without a truth
+        tip or a tip load.
     """
     t0 = time.perf_counter()
     o = resolve_options(options, FitOptions, changes)

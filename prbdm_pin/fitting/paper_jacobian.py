@@ -1,6 +1,7 @@
-"""Analytic derivatives of the ``paper`` parametrisation's losses (Eq. 14 springs
-``K_j(i) = k_i sqrt(E I_(j+1) / m_(j+1))``) over the stick-breaking length coordinates u and the
-SCFs' logarithms ln k.
+"""Analytic derivatives of the ``paper`` parametrisation's losses over u and ln k.
+
+The springs are Eq. 14's ``K_j(i) = k_i sqrt(E I_(j+1) / m_(j+1))``; the variables are the
+stick-breaking length coordinates u and the SCFs' logarithms ln k.
 
 The unit springs K0 move with the joint stations through the links' area moments and masses
 (``section_gradients.planar_sections_gradient``), the frequencies through the mass matrix and K0
@@ -38,6 +39,7 @@ class UnitChainGradient:
     Attributes
     ----------
     lengths_m : ndarray, shape (n+1,)
+        Link lengths of u, m.
     unit_springs_Nm_per_rad : ndarray, shape (n,)
         sqrt(E I / m) of links 1..n, N m/rad.
     d_unit_springs : ndarray, shape (n, n)
@@ -49,7 +51,7 @@ class UnitChainGradient:
     w : ndarray, shape (m, N)
         Unit-SCF frequencies compared (omega in rad/s, or omega^2 when ``squared``).
     d_w : ndarray, shape (m, N, n)
-        d w / d u at unit SCF.
+        d w / d u at unit SCF (rad/s, or rad^2/s^2 when ``squared``, per unit of u).
     """
 
     lengths_m: np.ndarray
@@ -62,9 +64,21 @@ class UnitChainGradient:
 
 
 def unit_chain_gradient(problem: FitProblem, u: np.ndarray) -> UnitChainGradient:
-    """The unit-SCF frequencies of the design u and their analytic derivatives.
+    """Return the unit-SCF frequencies of the design u and their analytic derivatives.
 
     Raises SolveError or LinAlgError where the model cannot be solved (the caller decides).
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem (beam, poses, target and frequency form).
+    u : ndarray, shape (n,)
+        Stick-breaking length coordinates in [0, 1] (dimensionless).
+
+    Returns
+    -------
+    UnitChainGradient
+        The lengths (m), unit springs (N m/rad), frequencies (rad/s) and their derivatives in u.
     """
     p = problem
     lengths = lengths_from_unit(u, p.length_m, p.min_fraction)
@@ -89,8 +103,10 @@ def unit_chain_gradient(problem: FitProblem, u: np.ndarray) -> UnitChainGradient
 
 
 def projected_residual_jacobian(problem: FitProblem, g: UnitChainGradient) -> np.ndarray:
-    """d/du of the variable-projected eigen residuals ``d (c_i w_i - f)`` (pose i's optimal
-    amplitude c_i, ``objectives.best_amplitude``), shape (m, N, n), dimensionless.
+    """Return d/du of the variable-projected eigen residuals, shape (m, N, n), dimensionless.
+
+    The residuals are ``d (c_i w_i - f)``, with pose i's optimal amplitude c_i
+    (``objectives.best_amplitude``).
 
     c_i = sum d^2 f w_i / sum d^2 w_i^2 moves with u too: dc_i = (sum d^2 f dw_i
     - 2 c_i sum d^2 w_i dw_i) / sum d^2 w_i^2.
@@ -109,14 +125,33 @@ def projected_residual_jacobian(problem: FitProblem, g: UnitChainGradient) -> np
 
 def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.ndarray,
                          g: UnitChainGradient, scf: np.ndarray) -> tuple[float, np.ndarray]:
-    """The ``paper`` loss with a deflection term (fraction) and its gradient over
-    x = [u (n), ln k (m)].
+    """Return the ``paper`` loss with a deflection term and its gradient over [u (n), ln k (m)].
 
     loss = D (``deflection``) or hypot(E, D) (``combined``), E = mean_i e_i the per-pose eigen
     errors ``||d (sqrt(k_i) w_i - f)||`` (omega^2: ``k_i w_i``), D = mean_i of the per-pose tip
     errors averaged over the load cases, each divided by ``tip_scales`` (m).
 
     Raises SolveError where a static solve does not converge.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem (beam, poses, target with its load cases).
+    objective : str
+        ``"deflection"`` or ``"combined"``.
+    tip_scales : ndarray, shape (cases,)
+        What each load case's tip error is divided by, m.
+    g : UnitChainGradient
+        ``unit_chain_gradient`` of the lengths' coordinates u.
+    scf : ndarray, shape (m,)
+        Each pose's SCF (the factor on ``sqrt(E I / m)``).
+
+    Returns
+    -------
+    loss : float
+        The loss (fraction).
+    gradient : ndarray, shape (n + m,)
+        d loss / d [u, ln k] (fraction per unit of each coordinate).
     """
     p = problem
     m, n = p.n_poses, p.n_joints

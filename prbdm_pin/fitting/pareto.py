@@ -1,6 +1,9 @@
-"""The NSGA-II Pareto fit over (eigen loss, deflection loss): the initial population seeded
-with single-objective fits, the generations evaluated in one batch (or over a process pool),
-and the knee of Eq. 27 polished by the single-objective local solver."""
+"""The NSGA-II Pareto fit over (eigen loss, deflection loss).
+
+The initial population is seeded with single-objective fits, the generations are evaluated in
+one batch (or over a process pool), and the knee of Eq. 27 is polished by the single-objective
+local solver.
+"""
 
 from __future__ import annotations
 
@@ -47,7 +50,7 @@ def fit_pareto(
     progress: bool = True,
     **changes: Any,
 ) -> ParetoResult:
-    """NSGA-II Pareto fit over (eigen loss, deflection loss), with the knee of Eq. 27.
+    """Fit an nR PRBDM's Pareto front over (eigen loss, deflection loss) by NSGA-II.
 
     Design vector [gamma (n+1), log10 factors]; a Repair projects gamma onto the bounded
     simplex; termination after ``options.generations`` generations. ``workers > 1`` evaluates
@@ -66,6 +69,35 @@ def fit_pareto(
     batch (``pareto_problem.pareto_objectives_batch``: every design's and pose's static solve
     in one vectorised Newton), so a ``paper`` front with a static solve per pose costs
     seconds, not minutes.
+
+    Parameters
+    ----------
+    beam : Beam
+        The planform, thickness, material and tip load.
+    target : FitTarget
+        Truth frequencies (rad/s) and the truth tip under the beam's tip load.
+    joints : int
+        n, the number of revolute joints.
+    options : ParetoOptions, optional
+        What determines the fit (population, generations, seed, parametrisation, norms,
+        bounds, seeding and knee polish); default ``ParetoOptions()``.
+    workers : int
+        Processes to evaluate each generation in (results do not depend on it).
+    progress : bool
+        Show a tqdm progress bar over the generations.
+    **changes
+        Options by name, applied to ``options``.
+
+    Returns
+    -------
+    ParetoResult
+        The front (losses in %, designs with lengths in m and factors) and its knee (Eq. 27) as
+        a FitResult.
+
+    Raises
+    ------
+    BeamInputError
+        On invalid options or workers, or a target without a truth tip or a tip load.
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
@@ -164,14 +196,17 @@ def fit_pareto(
 
 
 def _design_row(problem: FitProblem, lengths_m, factors, log10_bounds) -> np.ndarray:
-    """[gamma, log10 factors] of a design, the factors clipped to the Pareto bounds."""
+    """Return [gamma, log10 factors] of a design, the factors clipped to the Pareto bounds."""
     lf = np.clip(np.log10(np.asarray(factors, dtype=float)), *log10_bounds)
     return np.r_[np.asarray(lengths_m, dtype=float) / problem.length_m, lf]
 
 
 def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log10_bounds,
                         workers: int) -> tuple[np.ndarray, int]:
-    """NSGA-II's initial population: single-objective optima (optional) then uniform draws."""
+    """Return NSGA-II's initial population and the model evaluations it took.
+
+    The population holds single-objective optima (optional), then uniform draws.
+    """
     pop = o.pop
     rng = np.random.default_rng(o.seed)
     n1 = problem.n_joints + 1
@@ -205,7 +240,10 @@ def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log
 
 
 def _polish_knee(problem: FitProblem, x: np.ndarray, deflection_norm: str, log10_bounds):
-    """The Eq. 27 local solver from a front design: (design row, (eigen %, deflection %), nfev)."""
+    """Run the Eq. 27 local solver from a front design.
+
+    Returns (design row, (eigen %, deflection %), nfev).
+    """
     n1 = problem.n_joints + 1
     spec = FitSpec(problem, "combined", deflection_norm, 400)
     r = solve_start(spec, 0, x[:n1] * problem.length_m, 10.0 ** x[n1:])
@@ -220,9 +258,12 @@ def _pareto_rows(X: np.ndarray, problem: FitProblem, deflection_norm: str) -> np
 
 
 class PoolRows:
-    """A ``ParetoProblem`` runner: a generation's rows split into ``workers`` chunks, each sent
-    with the problem to ``pool`` (a worker must not unpickle arrays before it has pinned BLAS,
-    so nothing travels in its initializer), stacked back in order."""
+    """A ``ParetoProblem`` runner that spreads a generation's rows over a process pool.
+
+    The rows are split into ``workers`` chunks, each sent with the problem to ``pool`` (a worker
+    must not unpickle arrays before it has pinned BLAS, so nothing travels in its initializer),
+    and stacked back in order.
+    """
 
     def __init__(self, pool, workers: int, problem: FitProblem, deflection_norm: str) -> None:
         self.pool = pool
@@ -231,6 +272,7 @@ class PoolRows:
         self.deflection_norm = deflection_norm
 
     def __call__(self, X: np.ndarray) -> np.ndarray:
+        """Return the objectives (eigen %, deflection %) of the design rows of X, shape (B, 2)."""
         chunks = np.array_split(X, self.workers)
         n = len(chunks)
         return np.vstack(list(self.pool.map(_pareto_rows, chunks, [self.problem] * n,

@@ -1,5 +1,7 @@
-"""The Pareto fit's pymoo pieces: the problem over [gamma (n+1), log10 factors], the repair that
-keeps the link lengths on the bounded simplex, and the two objectives of a design.
+"""The Pareto fit's pymoo pieces: the problem, the length repair and a design's two objectives.
+
+The problem is over [gamma (n+1), log10 factors]; the repair keeps the link lengths on the
+bounded simplex.
 
 Both pymoo classes are module-level, so a problem pickles (to a worker, a checkpoint); how a
 generation's rows are evaluated is injected as ``runner`` (in-process by default, a process pool
@@ -28,8 +30,18 @@ PENALTY_PCT = 1e3
 
 
 class LengthRepair(Repair):
-    """A pymoo Repair projecting the first ``n_links`` variables (length fractions gamma) onto
-    the bounded simplex (Euclidean projection, ``layout.repair_lengths``)."""
+    """A pymoo Repair projecting the length fractions gamma onto the bounded simplex.
+
+    The first ``n_links`` variables are projected (Euclidean projection,
+    ``layout.repair_lengths``).
+
+    Parameters
+    ----------
+    n_links : int
+        n + 1, the number of length fractions at the start of each row.
+    min_fraction : float
+        The smallest link length, as a fraction of the beam length.
+    """
 
     def __init__(self, n_links: int, min_fraction: float = MIN_FRACTION) -> None:
         super().__init__()
@@ -50,6 +62,19 @@ class ParetoProblem(Problem):
     Designs whose static solve fails get ``penalty`` (%) in both objectives. ``runner``, when
     given, maps the rows X (B, n_var) of a generation to F (B, 2) (e.g. over a process pool);
     it is not pickled with the problem, whose copy evaluates in its own process.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem; its target needs a truth tip.
+    log10_bounds : tuple of float
+        Bounds of the log10 factors (dimensionless).
+    penalty : float
+        Both objectives (%) of a design whose model cannot be solved.
+    deflection_norm : str
+        ``"position"`` or ``"displacement"``.
+    runner : callable, optional
+        Maps a generation's rows X (B, n_var) to F (B, 2), %.
     """
 
     def __init__(self, problem: FitProblem, log10_bounds: tuple[float, float],
@@ -78,7 +103,26 @@ class ParetoProblem(Problem):
 
 def pareto_objectives(problem: FitProblem, lengths_m, factors, penalty: float = PENALTY_PCT,
                       deflection_norm: str = "position") -> np.ndarray:
-    """(eigen loss %, deflection loss %) of a design; ``penalty`` for both if a solve fails."""
+    """Return (eigen loss %, deflection loss %) of a design; ``penalty`` for both if a solve fails.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem (beam, target with its truth tip, poses).
+    lengths_m : array_like, shape (n+1,)
+        Link lengths, m.
+    factors : array_like
+        The spring factors of the parametrisation (dimensionless).
+    penalty : float
+        Both objectives (%) when a solve fails.
+    deflection_norm : str
+        ``"position"`` or ``"displacement"``.
+
+    Returns
+    -------
+    ndarray, shape (2,)
+        The eigen and deflection losses, %.
+    """
     try:
         ev = evaluate(problem, lengths_m, factors, deflection=True)
     except (SolveError, BeamInputError):
@@ -91,9 +135,27 @@ def pareto_objectives(problem: FitProblem, lengths_m, factors, penalty: float = 
 
 def pareto_objectives_batch(problem: FitProblem, X: np.ndarray, penalty: float = PENALTY_PCT,
                             deflection_norm: str = "position") -> np.ndarray:
-    """(eigen loss %, deflection loss %) of the rows x = [gamma (n+1), log10 factors] of X, in
-    one batch (``evaluate.batch_losses``); ``penalty`` for both where a design cannot be
-    solved."""
+    """Return (eigen loss %, deflection loss %) of the design rows of X, in one batch.
+
+    The batch is ``evaluate.batch_losses``; ``penalty`` goes to both where a design cannot be
+    solved.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem (beam, target with its truth tip, poses).
+    X : array_like, shape (B, n_var)
+        Rows x = [gamma (n+1), log10 factors] (dimensionless).
+    penalty : float
+        Both objectives (%) where a design cannot be solved.
+    deflection_norm : str
+        ``"position"`` or ``"displacement"``.
+
+    Returns
+    -------
+    ndarray, shape (B, 2)
+        The eigen and deflection losses, %.
+    """
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n1 = problem.n_joints + 1
     r = batch_losses(problem, X[:, :n1] * problem.length_m, 10.0 ** X[:, n1:])

@@ -1,5 +1,7 @@
-"""The process pool of a fit's starts and of a Pareto fit's generations: BLAS pinned to one
-thread in each worker, the caller's environment left as it is."""
+"""The process pool of a fit's starts and of a Pareto fit's generations.
+
+BLAS is pinned to one thread in each worker, the caller's environment left as it is.
+"""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ __all__ = ["fit_pool"]
 
 
 def fit_pool(workers: int) -> cf.ProcessPoolExecutor:
-    """A pool of ``workers`` processes with one BLAS thread each; tasks carry their data.
+    """Return a pool of ``workers`` processes with one BLAS thread each; tasks carry their data.
 
     Forked from a caller whose BLAS is already pinned (the CLI's, a pinned script's), else
     spawned: a worker then sets the thread variables before it loads numpy

@@ -6,7 +6,7 @@ __all__ = ["start_bar", "PymooBar"]
 
 
 def start_bar(total: int, enabled: bool = True):
-    """A tqdm bar over a fit's ``total`` starts (a silent one when not ``enabled``)."""
+    """Return a tqdm bar over a fit's ``total`` starts (a silent one when not ``enabled``)."""
     from tqdm.auto import tqdm
 
     return tqdm(total=total, disable=not enabled, desc="fit starts", unit="start")
@@ -21,7 +21,9 @@ class PymooBar:
         self.bar = tqdm(total=total, desc="NSGA-II", unit="gen")
 
     def __call__(self, algorithm) -> None:
+        """Tick the bar once: pymoo calls this after each generation."""
         self.bar.update()
 
     def close(self) -> None:
+        """Close the bar."""
         self.bar.close()

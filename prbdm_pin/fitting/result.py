@@ -1,6 +1,8 @@
-"""A chosen design evaluated in full through the Pinocchio model and packaged as a FitResult,
-with the notes a user needs (modes a chain cannot follow, an exported model that misses, links
-on their length bound)."""
+"""A chosen design evaluated in full through the Pinocchio model and packaged as a FitResult.
+
+The result carries the notes a user needs (modes a chain cannot follow, an exported model that
+misses, links on their length bound).
+"""
 
 from __future__ import annotations
 
@@ -31,8 +33,44 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
                        wall_time_s: float, success: bool, message: str,
                        deflection_norm: str = "position",
                        options: FitOptions | ParetoOptions | None = None) -> FitResult:
-    """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult
-    that records the ``options`` it came from."""
+    """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        The fit problem the design solves.
+    lengths_m : array_like, shape (n+1,)
+        Link lengths, m.
+    factors : array_like
+        Spring factors (dimensionless): the ``joint`` factors on the finite-segment springs,
+        shape (n,), or the ``paper`` SCFs, one per pose.
+    objective : str
+        The objective the design was fitted to.
+    seed : int
+        The seed of the starts.
+    starts, starts_run : int
+        The starts asked for and the starts run.
+    nfev : int
+        Model evaluations of the whole fit.
+    start_losses_pct : array_like
+        Each start's loss, %.
+    wall_time_s : float
+        The fit's wall time, s.
+    success : bool
+        The chosen start's solver success flag.
+    message : str
+        The fit's message (a failed static deflection is appended to it).
+    deflection_norm : str
+        ``"position"`` or ``"displacement"``.
+    options : FitOptions or ParetoOptions, optional
+        The options the fit came from, recorded in the result.
+
+    Returns
+    -------
+    FitResult
+        The design with its model's frequencies (rad/s), tip (m), springs (N m/rad), per-mode
+        errors (%) and notes.
+    """
     t = problem.target
     try:
         ev = evaluate(problem, lengths_m, factors, deflection=t.has_static)

@@ -20,7 +20,26 @@ LN_S_BOUNDS = (math.log(1e-3), math.log(1e3))
 
 @dataclass(frozen=True)
 class StartResult:
-    """Local optimum of one start: lengths (m), factors, loss (%), evaluations, solver message."""
+    """Local optimum of one start: lengths (m), factors, loss (%), evaluations, solver message.
+
+    Attributes
+    ----------
+    index : int
+        The start's index (the tie-break of equal losses).
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    factors : ndarray
+        Spring factors (dimensionless): the ``joint`` factors on the finite-segment springs,
+        shape (n,), or the ``paper`` SCFs, one per pose.
+    loss_pct : float
+        The fit loss, %.
+    nfev : int
+        Model evaluations of the start.
+    success : bool
+        The local solver's success flag.
+    message : str
+        The local solver's message.
+    """
 
     index: int
     lengths_m: np.ndarray
@@ -33,8 +52,19 @@ class StartResult:
 
 @dataclass(frozen=True, eq=False)
 class FitSpec:
-    """A fit's problem, objective (one of :data:`OBJECTIVES`), tip-error normalisation
-    (``"position"`` or ``"displacement"``) and evaluation cap of each least-squares start."""
+    """What one local solve of a fit is given.
+
+    Attributes
+    ----------
+    problem : FitProblem
+        The fit problem (beam, target, joints, poses).
+    objective : str
+        One of :data:`OBJECTIVES`.
+    deflection_norm : str
+        The tip-error normalisation, ``"position"`` or ``"displacement"``.
+    max_nfev : int
+        Evaluation cap of each least-squares start.
+    """
 
     problem: FitProblem
     objective: str
@@ -43,6 +73,6 @@ class FitSpec:
 
 
 def tip_scales_m(problem: FitProblem, norm: str) -> np.ndarray:
-    """What each load case's tip error is divided by (``objectives.tip_scale_m``), m."""
+    """Return what each load case's tip error is divided by (``objectives.tip_scale_m``), m."""
     return np.array([tip_scale_m(c.tip_position_m, c.tip_displacement_m, norm)
                      for c in problem.target.load_cases])

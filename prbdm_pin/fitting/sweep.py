@@ -1,5 +1,8 @@
-"""Fits along a path of designs (:func:`fit_sweep`): each step warm-started from the one before,
-or, with ``unique="nearest"``, each the rule's model of its design (one model per design)."""
+"""Fits along a path of designs (:func:`fit_sweep`).
+
+Each step is warm-started from the one before, or, with ``unique="nearest"``, each is the rule's
+model of its design (one model per design).
+"""
 
 from __future__ import annotations
 
@@ -27,10 +30,13 @@ class SweepResult:
     Attributes
     ----------
     fits : tuple of FitResult
+        Each step's fit.
     parameter : ndarray, shape (S,)
         The design parameter of each step (the step index when none was given).
     lengths_m : ndarray, shape (S, n+1)
+        Each fit's link lengths, m.
     stiffness_Nm_per_rad : ndarray, shape (S, n)
+        Each fit's exported joint springs, N m/rad.
     loss_pct : ndarray, shape (S,)
         Each fit's loss in its objective, %.
     wall_time_s : ndarray, shape (S,)
@@ -48,17 +54,32 @@ class SweepResult:
     warm: np.ndarray
 
     def max_relative_step(self) -> np.ndarray:
-        """Per parameter (the n+1 lengths, then the n springs): the largest step-to-step
-        change relative to the parameter's mean along the path, divided by the design's
-        relative step: max_i (abs(dtheta_i) / mean abs(theta)) / (abs(dp_i) / mean abs(p)).
-        A jump shows as a value far above the smooth map's elasticity."""
+        """Return each fitted parameter's largest relative step per relative design step.
+
+        Per parameter (the n+1 lengths, then the n springs): the largest step-to-step change
+        relative to the parameter's mean along the path, divided by the design's relative step:
+        max_i (abs(dtheta_i) / mean abs(theta)) / (abs(dp_i) / mean abs(p)) (dimensionless),
+        shape (2n+1,). A jump shows as a value far above the smooth map's elasticity.
+        """
         return max_relative_step(np.hstack([self.lengths_m, self.stiffness_Nm_per_rad]),
                                  self.parameter)
 
 
 def max_relative_step(theta: np.ndarray, parameter: np.ndarray) -> np.ndarray:
-    """:meth:`SweepResult.max_relative_step` of parameters ``theta`` (S, k) along ``parameter``
-    (S,)."""
+    """Return :meth:`SweepResult.max_relative_step` of ``theta`` (S, k) along ``parameter`` (S,).
+
+    Parameters
+    ----------
+    theta : ndarray, shape (S, k)
+        The fitted parameters of each step (any units; each column is scaled by its mean).
+    parameter : ndarray, shape (S,)
+        The design parameter of each step (its own unit).
+
+    Returns
+    -------
+    ndarray, shape (k,)
+        The largest relative step of each column per relative design step (dimensionless).
+    """
     theta = np.asarray(theta, dtype=float)
     p = np.asarray(parameter, dtype=float)
     rel = np.abs(np.diff(theta, axis=0)) / np.mean(np.abs(theta), axis=0)
@@ -67,8 +88,21 @@ def max_relative_step(theta: np.ndarray, parameter: np.ndarray) -> np.ndarray:
 
 
 def check_path(designs: Sequence[Beam]) -> None:
-    """Refuse a path that cannot be continuous: fewer than two designs, or planforms whose
-    vertex count or width steps change (a vertex appearing is a jump, not a step)."""
+    """Refuse a path that cannot be continuous.
+
+    That is fewer than two designs, or planforms whose vertex count or width steps change (a
+    vertex appearing is a jump, not a step).
+
+    Parameters
+    ----------
+    designs : sequence of Beam
+        The path.
+
+    Raises
+    ------
+    BeamInputError
+        Naming the first design that breaks the path.
+    """
     if len(designs) < 2:
         raise BeamInputError(f"designs: {len(designs)} given: a sweep needs at least 2")
     first = designs[0]
@@ -105,6 +139,7 @@ def fit_sweep(
     targets : sequence of FitTarget, or callable Beam -> FitTarget
         The truth of each design, or a function computing it.
     joints : int
+        n, the number of revolute joints.
     options : FitOptions, optional
         The first step runs as these say (a multistart, or from ``start``); each later step
         is warm-started from the one before. With ``unique="nearest"`` every step is the
@@ -118,6 +153,16 @@ def fit_sweep(
         Show a tqdm bar over the steps.
     **changes
         Options by name, as for :func:`prbdm_pin.fit`.
+
+    Returns
+    -------
+    SweepResult
+        Each step's fit, link lengths (m), springs (N m/rad), loss (%) and time (s).
+
+    Raises
+    ------
+    BeamInputError
+        On a path that cannot be continuous, or parameters or targets that do not match it.
     """
     from tqdm.auto import tqdm
 

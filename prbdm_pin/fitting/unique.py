@@ -1,5 +1,6 @@
-"""The ``unique="nearest"`` fit: a ``joint`` model matching n frequencies exactly, chosen by a
-rule so that it is one model per design and smooth in the design.
+"""The ``unique="nearest"`` fit: a ``joint`` model matching n frequencies exactly, by a rule.
+
+The rule makes it one model per design, smooth in the design.
 
 n frequencies do not determine the 2n lengths and springs of an nR ``joint`` model, and with
 the lengths fixed the n springs that match them are not unique either (several exact
@@ -13,7 +14,7 @@ The rule, in the fit coordinates x = [u (stick-breaking lengths), ln s (joint fa
    the truth's. J is n x 2n: it loses rank only on a set of codimension n + 1, which a
    one-parameter path generically misses, so the flow is defined, unique and smooth in the
    design (a square n x n Jacobian, springs only, turns singular on a fold on some panels).
-3. Model: from the flow's end, the exact match nearest x_ref: min |x - x_ref|^2 subject to
+3. Model: from the flow's end, the exact match nearest x_ref: ``min |x - x_ref|^2`` subject to
    ln w(x) = ln w_truth, whose KKT conditions are the optimality conditions that
    ``fitting.derivative`` differentiates.
 
@@ -42,20 +43,33 @@ NEAREST_ITERS = 300
 
 
 def rule_lengths(length_m: float, joints: int) -> np.ndarray:
-    """The reference links [h/2, h, ..., h, h/2], h = L/n, m."""
+    """Return the reference links [h/2, h, ..., h, h/2], h = L/n.
+
+    Parameters
+    ----------
+    length_m : float
+        The beam length L, m.
+    joints : int
+        n, the number of revolute joints.
+
+    Returns
+    -------
+    ndarray, shape (n+1,)
+        The link lengths, m.
+    """
     h = length_m / joints
     return np.r_[h / 2, np.full(joints - 1, h), h / 2]
 
 
 def reference_x(problem: FitProblem) -> np.ndarray:
-    """x_ref = [u of :func:`rule_lengths`, ln s = 0]."""
+    """Return x_ref = [u of :func:`rule_lengths`, ln s = 0]."""
     u = unit_from_lengths(rule_lengths(problem.length_m, problem.n_joints), problem.length_m,
                           problem.min_fraction)
     return np.r_[u, np.zeros(problem.n_joints)]
 
 
 def log_frequencies(problem: FitProblem, X: np.ndarray) -> np.ndarray:
-    """ln omega (rad/s) at the straight pose of the designs in the rows of X, (B, n)."""
+    """Return ln omega (rad/s) at the straight pose of the designs in the rows of X, (B, n)."""
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n = problem.n_joints
     lengths = np.array([lengths_from_unit(x[:n], problem.length_m, problem.min_fraction)
@@ -65,8 +79,10 @@ def log_frequencies(problem: FitProblem, X: np.ndarray) -> np.ndarray:
 
 
 def log_frequency_jacobian(problem: FitProblem, x: np.ndarray, h: float = JAC_STEP):
-    """ln omega at x, (n,), and its Jacobian in x, (n, 2n), by central differences (the whole
-    stencil in one batch; analytic model derivatives can replace it)."""
+    """Return ln omega at x, (n,), and its Jacobian in x, (n, 2n), by central differences.
+
+    The whole stencil is evaluated in one batch; analytic model derivatives can replace it.
+    """
     x = np.asarray(x, dtype=float)
     E = h * np.eye(x.size)
     W = log_frequencies(problem, np.vstack([x, x + E, x - E]))
@@ -74,7 +90,10 @@ def log_frequency_jacobian(problem: FitProblem, x: np.ndarray, h: float = JAC_ST
 
 
 def check_unique_problem(problem: FitProblem, objective: str) -> None:
-    """The rule needs a ``joint`` eigen fit of n frequencies at the straight pose."""
+    """Check that the problem is a ``joint`` eigen fit of n frequencies at the straight pose.
+
+    The rule needs one; anything else is a BeamInputError naming the field.
+    """
     if problem.stiffness != "joint":
         raise BeamInputError(f"unique = 'nearest': stiffness = {problem.stiffness!r}: needs "
                              "'joint'")
@@ -103,7 +122,7 @@ def _check_box(problem: FitProblem, x: np.ndarray, what: str) -> None:
 
 
 def homotopy_flow(problem: FitProblem, x_ref: np.ndarray, steps: int = FLOW_STEPS):
-    """The end of the minimum-norm flow (rule step 2) and the evaluations it took."""
+    """Return the end of the minimum-norm flow (rule step 2) and the evaluations it took."""
     n = problem.n_joints
     lw_ref = log_frequencies(problem, x_ref)[0]
     D = np.log(problem.target.omega_truth_rad_s) - lw_ref
@@ -137,9 +156,11 @@ def homotopy_flow(problem: FitProblem, x_ref: np.ndarray, steps: int = FLOW_STEP
 
 
 def nearest_exact(problem: FitProblem, x_ref: np.ndarray, x0: np.ndarray):
-    """The exact match nearest x_ref from x0 (rule step 3): the iteration
-    x <- x_ref + J^T (J J^T)^-1 (J (x - x_ref) - F(x)), whose fixed points are the KKT points
-    of min |x - x_ref|^2 s.t. F = 0. Returns x, the multipliers, evaluations."""
+    """Return the exact match nearest x_ref from x0 (rule step 3), its multipliers, evaluations.
+
+    The iteration is x <- x_ref + J^T (J J^T)^-1 (J (x - x_ref) - F(x)), whose fixed points are
+    the KKT points of ``min |x - x_ref|^2`` s.t. F = 0.
+    """
     lwt = np.log(problem.target.omega_truth_rad_s)
     x, nfev = np.array(x0, dtype=float), 0
     for _ in range(NEAREST_ITERS):
@@ -157,7 +178,27 @@ def nearest_exact(problem: FitProblem, x_ref: np.ndarray, x0: np.ndarray):
 
 
 def solve_unique(problem: FitProblem) -> tuple[StartResult, np.ndarray]:
-    """The rule's model as a :class:`StartResult` (index 0) and its KKT multipliers."""
+    """Return the rule's model as a :class:`StartResult` (index 0) and its KKT multipliers.
+
+    Parameters
+    ----------
+    problem : FitProblem
+        A ``joint`` eigen fit problem of n frequencies at the straight pose.
+
+    Returns
+    -------
+    result : StartResult
+        The model: link lengths (m), joint factors (dimensionless), loss (%, the rms of the
+        per-mode relative errors), evaluations.
+    multipliers : ndarray, shape (n,)
+        The KKT multipliers of the nearest-point problem (dimensionless).
+
+    Raises
+    ------
+    SolveError
+        When the frequency Jacobian loses rank on the path, a link reaches its length bound,
+        or the nearest-point iteration does not converge.
+    """
     x_ref = reference_x(problem)
     xf, n1 = homotopy_flow(problem, x_ref)
     x, lam, n2 = nearest_exact(problem, x_ref, xf)

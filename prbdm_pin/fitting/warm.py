@@ -37,13 +37,32 @@ def _lengths(v: Any, beam: Beam, joints: int) -> np.ndarray:
 
 
 def start_changes(start: Any, beam: Beam, joints: int, options: FitOptions) -> dict[str, Any]:
-    """The option changes of a warm start from ``start``: a FitResult, or a pair
-    (lengths m (n+1,), springs N m/rad (n,)) for a ``joint`` fit.
+    """Return the option changes of a warm start from ``start``.
+
+    ``start`` is a FitResult, or a pair (lengths m (n+1,), springs N m/rad (n,)) for a
+    ``joint`` fit.
 
     ``joint``: the start keeps the previous springs (N m/rad), as factors on this beam's
     finite-segment springs. ``paper``: a FitResult's SCFs, one per pose. Lengths are rescaled to
     this beam's span. A start with another number of joints, stiffness kind or number of poses
     is a BeamInputError naming it.
+
+    Parameters
+    ----------
+    start : FitResult or tuple
+        The previous fit, or (lengths m, springs N m/rad).
+    beam : Beam
+        The beam of the fit to start.
+    joints : int
+        n, the number of revolute joints of the fit to start.
+    options : FitOptions
+        The fit's options (its stiffness kind and minimum link fraction).
+
+    Returns
+    -------
+    dict
+        ``start_lengths_m`` (m, rescaled to this beam's span) and ``start_factors``
+        (dimensionless), as tuples of float.
     """
     stiffness = options.stiffness.value
     if isinstance(start, FitResult):

@@ -1,16 +1,17 @@
-"""Ashwell's anticlastic restraint of a bent plate strip in closed form, its derivatives, and the
-curvature a section takes under a bending moment.
+"""Ashwell's anticlastic restraint of a bent plate strip in closed form, with its derivatives.
+
+The module also gives the curvature a section takes under a bending moment.
 
 A free-edged strip of half-width a and thickness t bent to curvature kappa deflects across its
 width by f(y) = nu kappa a^2 g(y / a), with g'''' + 4 eta^4 g = 0, g''(+-1) = -1, g'''(+-1) = 0 and
-eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) (see ``elastica``'s module docstring). Its even
-solution gives, with x = 2 eta,
+``eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)`` (see ``elastica``'s module docstring). Its
+even solution gives, with x = 2 eta::
 
     g'(1) = -rho / eta,   rho(eta) = (cosh x - cos x) / (sinh x + sin x),
 
 and the strain energy per unit length at the optimal f is D a kappa^2 (1 + nu^2 g'(1)) with
-D = E t^3 / (12 (1 - nu^2)). Its derivative in kappa (eta grows as sqrt(|kappa|)) is the moment
-M = EI kappa r with EI = E 2 a t^3 / 12 and
+D = E t^3 / (12 (1 - nu^2)). Its derivative in kappa (eta grows as ``sqrt(|kappa|)``) is the
+moment M = EI kappa r with EI = E 2 a t^3 / 12 and::
 
     r(eta, nu) = (1 + nu^2 Phi(eta)) / (1 - nu^2),   Phi = -3 rho / (4 eta) - rho' / 4,
     rho' = 4 sinh x sin x / (sinh x + sin x)^2.
@@ -36,7 +37,7 @@ _SERIES_ETA = 1e-2
 
 
 def _phi(eta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """1 + Phi(eta) and eta Phi'(eta) for eta > 0 (closed form; see the module docstring)."""
+    """Return 1 + Phi(eta) and eta Phi'(eta) for eta > 0 (closed form; see the module docstring)."""
     x = 2.0 * eta
     q = np.exp(-x)
     s, c = np.sin(x), np.cos(x)
@@ -55,12 +56,12 @@ def _phi(eta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def anticlastic_terms(eta: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The anticlastic factor r(eta, nu) and its derivatives eta dr/deta and dr/dnu.
+    """Return the anticlastic factor r(eta, nu) and its derivatives eta dr/deta and dr/dnu.
 
     Parameters
     ----------
     eta : array_like
-        a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t), dimensionless (its sign is ignored).
+        ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)``, dimensionless (its sign is ignored).
     nu : float
         Poisson's ratio.
 
@@ -83,13 +84,15 @@ def anticlastic_terms(eta: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarra
 
 
 def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
-    """Moment ratio r = M / (EI kappa) of a bent free-edged plate strip (Ashwell's anticlastic
-    restraint): 1 at eta = 0, rising to 1 / (1 - nu^2) as eta grows.
+    """Return the moment ratio r = M / (EI kappa) of a bent free-edged plate strip.
+
+    This is Ashwell's anticlastic restraint: 1 at eta = 0, rising to 1 / (1 - nu^2) as eta
+    grows.
 
     Parameters
     ----------
     eta : array_like
-        a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) with a the half-width (m), kappa the curvature
+        ``a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)`` with a the half-width (m), kappa the curvature
         (1/m), t the thickness (m); dimensionless.
     nu : float
         Poisson's ratio.
@@ -104,13 +107,13 @@ def anticlastic_factor(eta: np.ndarray, nu: float) -> np.ndarray:
 
 def eta_per_root_curvature(half_width_m: np.ndarray, thickness_m: float,
                            nu: float) -> np.ndarray:
-    """eta / sqrt(|kappa|) = a (3 (1 - nu^2))^(1/4) / sqrt(t), in sqrt(m)."""
+    """Return ``eta / sqrt(|kappa|) = a (3 (1 - nu^2))^(1/4) / sqrt(t)``, in sqrt(m)."""
     return np.asarray(half_width_m) * (3.0 * (1.0 - nu * nu)) ** 0.25 / np.sqrt(thickness_m)
 
 
 def section_curvature(moment_Nm: np.ndarray, ei_Nm2: np.ndarray, half_width_m: np.ndarray,
                       thickness_m: float, nu: float) -> np.ndarray:
-    """The curvature kappa (1/m) with M = EI kappa r(eta(kappa)) for each section.
+    """Return the curvature kappa (1/m) with M = EI kappa r(eta(kappa)) for each section.
 
     Parameters
     ----------
@@ -143,7 +146,7 @@ def section_curvature(moment_Nm: np.ndarray, ei_Nm2: np.ndarray, half_width_m: n
 def section_state(moment_Nm: np.ndarray, ei_Nm2: np.ndarray, half_width_m: np.ndarray,
                   thickness_m: float, nu: float, anticlastic: bool
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The curvature of each section under its moment and the anticlastic terms there.
+    """Return the curvature of each section under its moment and the anticlastic terms there.
 
     Parameters
     ----------

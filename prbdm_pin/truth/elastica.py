@@ -1,7 +1,9 @@
 """Large deflection of the inextensible elastica with varying EI(x), clamped root, dead tip load.
 
-The centreline angle phi(s) (from +x towards +z) minimises
+The centreline angle phi(s) (from +x towards +z) minimises::
+
     1/2 int EI(s) phi'^2 ds - F . r(L),   r(L) = int (cos phi, sin phi) ds,
+
 which gives (EI phi')' = F_x sin phi - F_z cos phi with phi(0) = 0 and EI phi'(L) = 0. The
 boundary-value problem is solved with scipy's collocation solver, continuing in the load from the
 straight beam so the stable (continuously loaded) branch is followed.
@@ -15,11 +17,11 @@ scripts/target_consistency.py):
   (strain kappa f), which the energy per unit length
   ``1/2 int D (kappa^2 + f_yy^2 + 2 nu kappa f_yy) + E t kappa^2 f^2 dy`` resists. Minimising over
   f gives a beam on an elastic foundation across the width, D f_yyyy + E t kappa^2 f = 0 with free
-  edges, and the moment ``M = EI kappa r(eta)``, eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t):
-  r = 1 for a narrow or slightly bent strip (the beam) and 1 / (1 - nu^2) for a wide or strongly
-  bent one (the plate's cylindrical bending), in closed form in ``anticlastic``. This is
-  geometric nonlinearity of the section that a 1D elastica lacks and a linear plate solve cannot
-  see.
+  edges, and the moment ``M = EI kappa r(eta)``,
+  ``eta = a (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)``: r = 1 for a narrow or slightly bent strip
+  (the beam) and 1 / (1 - nu^2) for a wide or strongly bent one (the plate's cylindrical
+  bending), in closed form in ``anticlastic``. This is geometric nonlinearity of the section that
+  a 1D elastica lacks and a linear plate solve cannot see.
 * ``ei_scale``: a factor on EI(x), set from the ratio of the 1D and the plate linear tip
   deflections (clamped-root Poisson restraint, 2D load paths of a jagged planform).
 """
@@ -53,8 +55,11 @@ _MAX_INITIAL_NODES = 2001
 
 
 def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
-    """The nodes ``s`` (m, ascending, from 0 to L), at most ``_MAX_INITIAL_NODES`` of them:
-    unchanged when there are that few, else only those at least L / (that number) apart."""
+    """Return at most ``_MAX_INITIAL_NODES`` of the nodes ``s`` (m, ascending, from 0 to L).
+
+    They are unchanged when there are that few, else only those at least L / (that number)
+    apart are kept.
+    """
     if s.size <= _MAX_INITIAL_NODES:
         return s
     gap = length_m / (_MAX_INITIAL_NODES - 1)
@@ -67,9 +72,12 @@ def _thin(s: np.ndarray, length_m: float) -> np.ndarray:
 
 
 def _near_step_hint(beam: Beam) -> str:
-    """A hint naming the narrowest section or the shortest vertex interval when it is the likely
-    cause: a section of almost no stiffness is a hinge, a width change over a tiny interval a
-    step, and the C1 collocation follows neither."""
+    """Return a hint naming the narrowest section or the shortest vertex interval, or "".
+
+    It names them when they are the likely cause of a failed solve: a section of almost no
+    stiffness is a hinge, a width change over a tiny interval a step, and the C1 collocation
+    follows neither.
+    """
     w = beam.half_width_m
     k = int(np.argmin(w))
     if w[k] < 1e-4 * w.max():
@@ -85,11 +93,14 @@ def _near_step_hint(beam: Beam) -> str:
 
 
 class ElasticaPrimal(NamedTuple):
-    """The converged elastica for its design sensitivities: segment i (cut at the width steps)
-    is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in [0, L]; ``sol.sol(tau)`` rows
-    4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m); ``seg_x``, ``seg_w`` the segment's
-    vertex stations and half-widths (m); EI(s) = ``ei_per_width`` w(s) (N m, per m of
-    half-width); ``anticlastic``: whether each section carries Ashwell's restraint."""
+    """The converged elastica, kept for its design sensitivities.
+
+    Segment i (cut at the width steps) is s = cuts[i] + (cuts[i + 1] - cuts[i]) tau / L, tau in
+    [0, L]; ``sol.sol(tau)`` rows 4 i .. 4 i + 3 are phi (rad), M / m_scale, x (m), z (m);
+    ``seg_x``, ``seg_w`` the segment's vertex stations and half-widths (m); EI(s) =
+    ``ei_per_width`` w(s) (N m, per m of half-width); ``anticlastic``: whether each section
+    carries Ashwell's restraint.
+    """
 
     static: StaticSolution
     sol: object
@@ -115,6 +126,7 @@ def elastica_static(
     Parameters
     ----------
     beam : Beam
+        The planform, thickness and material (its width steps cut the solve into segments).
     tip_force_N : array_like, shape (3,), optional
         Tip force in N (default: ``beam.tip_force_N``); F_y must be 0 (bending is in x-z).
     load_steps : int, optional

@@ -1,6 +1,9 @@
-"""The adjoint of the elastica's tangent equation (see ``elastica_gradient``) and the section
-law it linearises: the curvature kappa(M) of each section, whose slope d kappa / d M is the
-tangent compliance 1 / (EI (r + eta r_eta / 2)) (1 / EI without the anticlastic restraint)."""
+"""The adjoint of the elastica's tangent equation (see ``elastica_gradient``) and its section law.
+
+The section law it linearises is the curvature kappa(M) of each section, whose slope
+d kappa / d M is the tangent compliance 1 / (EI (r + eta r_eta / 2)) (1 / EI without the
+anticlastic restraint).
+"""
 
 from __future__ import annotations
 
@@ -17,16 +20,20 @@ __all__ = ["adjoint", "section_at"]
 
 def section_at(pr: ElasticaPrimal, beam: Beam, w: np.ndarray,
                m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``anticlastic.section_state`` (kappa in 1/m, r, eta r_eta, r_nu) of the primal's sections
-    of half-widths ``w`` (m) under moments ``m`` (N m)."""
+    """Return ``anticlastic.section_state`` (kappa in 1/m, r, eta r_eta, r_nu) of sections.
+
+    The sections are the primal's, of half-widths ``w`` (m) under moments ``m`` (N m).
+    """
     return section_state(m, pr.ei_per_width * w, w, beam.thickness_m, beam.material.nu,
                          pr.anticlastic)
 
 
 def _compliance(pr: ElasticaPrimal, beam: Beam, i: int, s: np.ndarray,
                 m: np.ndarray) -> np.ndarray:
-    """The tangent compliance d kappa / d M (1/(N m^2)) of segment i at stations s (m) under
-    moments m (N m)."""
+    """Return the tangent compliance d kappa / d M (1/(N m^2)) of segment i at stations s (m).
+
+    The sections are under moments m (N m).
+    """
     w = np.interp(s, pr.seg_x[i], pr.seg_w[i])
     _, r, eta_dr, _ = section_at(pr, beam, w, m)
     return 1.0 / (pr.ei_per_width * w * (r + 0.5 * eta_dr))
@@ -34,13 +41,14 @@ def _compliance(pr: ElasticaPrimal, beam: Beam, i: int, s: np.ndarray,
 
 def adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray,
             tol: float) -> tuple[object, float, float]:
-    """The adjoints (lam, mom) of the tip's x and z, solved on the primal's mesh.
+    """Solve the adjoints (lam, mom) of the tip's x and z on the primal's mesh.
 
     Parameters
     ----------
     pr : ElasticaPrimal
         The converged elastica.
     beam : Beam
+        The beam the elastica was solved for.
     F : ndarray, shape (3,)
         Its tip force, N.
     tol : float

@@ -4,20 +4,20 @@ The elastica ``elastica_static`` solves, in the undeformed arc length s (= x, in
 phi' = kappa(M; s) and M' = F_x sin phi - F_z cos phi with phi(0) = 0, M(L) = 0, and the tip is
 r(L) = int (cos phi, sin phi) ds. The section law M = EI kappa r(eta) gives kappa = M / EI(s)
 for the plain elastica (r = 1) and, with ``anticlastic=True``, the root of it with Ashwell's
-factor r(eta, nu), eta = w (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t) (``anticlastic``). Its
+factor r(eta, nu), ``eta = w (3 (1 - nu^2))^(1/4) sqrt(|kappa| / t)`` (``anticlastic``). Its
 tangent compliance is C = d kappa / d M = 1 / (EI (r + eta r_eta / 2)) (eta grows as
-sqrt(|kappa|)), and a design change moves kappa at fixed M by
+``sqrt(|kappa|)``), and a design change moves kappa at fixed M by::
 
     dk = -kappa (dEI / EI r + eta r_eta d ln eta + r_nu d nu) / (r + eta r_eta / 2),
 
 d ln eta = dw / w - dt / (2 t) - nu d nu / (2 (1 - nu^2)). It perturbs the elastica by
 psi = d phi, mu = d M: psi' = C mu + dk, mu' = g psi + (dF_x sin phi - dF_z cos phi),
 g = F_x cos phi + F_z sin phi, psi(0) = 0, mu(L) = 0, and d r_e = int c_e psi ds with
-c_x = -sin phi, c_z = cos phi. With the adjoint (lam, mom) of each tip coordinate,
+c_x = -sin phi, c_z = cos phi. With the adjoint (lam, mom) of each tip coordinate::
 
     lam' = C mom,  mom' = g lam + c_e,  lam(0) = 0,  mom(L) = 0,
 
-(the tangent operator is self-adjoint) integration by parts gives
+(the tangent operator is self-adjoint) integration by parts gives::
 
     d r_e = -int dk mom ds + int lam (dF_x sin phi - dF_z cos phi) ds,
 
@@ -67,6 +67,7 @@ class ElasticaGradient:
     values : ndarray, shape (n,)
         The design variables' values (SI units).
     tip_force_N : ndarray, shape (3,)
+        The dead tip force, N (world; F_y = 0).
     ei_scale : float
         The factor on EI.
     anticlastic : bool
@@ -107,9 +108,12 @@ class ElasticaGradient:
 
 
 def _plate_scale(d: Design, mesh_level: int | None) -> tuple[float, np.ndarray, float, float]:
-    """u_1D / u_plate of the linear tips under the beam's tip force and its design gradient
-    (1 and zeros without a vertical load, as ``compute_truth`` sets it), and the wall times of
-    the two truths' solves and of their gradients (s)."""
+    """Return the EI scale of the linear tips, its design gradient and the truths' wall times.
+
+    The scale is u_1D / u_plate of the linear tips under the beam's tip force (1, with zero
+    gradient, without a vertical load, as ``compute_truth`` sets it); the wall times (s) are
+    those of the two truths' solves and of their gradients.
+    """
     from .gradient import truth_gradient
 
     if d.beam.tip_force_N[2] == 0.0:
@@ -131,8 +135,10 @@ def elastica_gradient(
     mesh_level: int | None = None,
     anticlastic: bool = False,
 ) -> ElasticaGradient:
-    """The elastica's large-deflection tip and its derivatives with respect to the design
-    variables (and the tip load), by the adjoint of the tangent equation.
+    """Return the elastica's large-deflection tip and its derivatives in the design and load.
+
+    The derivatives with respect to the design variables (and the tip load) come from the
+    adjoint of the tangent equation.
 
     Parameters
     ----------
@@ -160,6 +166,8 @@ def elastica_gradient(
     Returns
     -------
     ElasticaGradient
+        The tip position (m) with its derivatives per SI unit of each design variable (m per
+        unit) and per N of the tip load (m/N), the EI scale and the wall times (s).
 
     Raises
     ------
