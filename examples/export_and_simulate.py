@@ -34,7 +34,7 @@ DAMPING_RATIO = 0.02  # mode 1; the files carry C = beta K
 
 
 def fitted_model(quick: bool, cache_dir: Path) -> tuple[pp.Beam, pp.PrbdmModel]:
-    """A joint-spring PRBDM of a shipped beam (see the module notes for the two modes)."""
+    """Fit a joint-spring PRBDM of a shipped beam (see the module notes for the two modes)."""
     if quick:
         beam = pp.load_beam(ROOT / "examples" / "beams" / "uniform-narrow.json")
         truth = pp.compute_truth(beam, model="beam", modes=3)
@@ -72,8 +72,10 @@ def run_pinocchio(urdf: Path, q0: np.ndarray, t_s: np.ndarray) -> np.ndarray:
 
 
 def run_mujoco(mjcf: Path, q0: np.ndarray, duration_s: float, every: int):
-    """Sample times (s) and tip z (m) of a release from ``q0`` in MuJoCo, every ``every``
-    steps of the file's own step and integrator."""
+    """Release the MJCF from ``q0`` in MuJoCo and return the sample times (s) and tip z (m).
+
+    One sample every ``every`` steps of the file's own step and integrator.
+    """
     m = mujoco.MjModel.from_xml_path(str(mjcf))
     d = mujoco.MjData(m)
     d.qpos[:] = q0

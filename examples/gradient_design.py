@@ -46,6 +46,7 @@ class Chain:
         self.history: list[tuple[float, float, float]] = []  # mass, omega_1, delta
 
     def point(self, y: np.ndarray) -> pp.CodesignPoint:
+        """Return the chain's point at y (one truth, fit and model per new design)."""
         key = np.asarray(y, dtype=float).tobytes()
         if key not in self.points:
             p = np.clip(y * self.scale, LOWER, UPPER)  # SLSQP may step a rounding past a bound
@@ -56,24 +57,28 @@ class Chain:
 
     # mass and relative constraint margins (>= 0 feasible) with their gradients in y
     def mass(self, y):
+        """Return the panel mass (kg)."""
         return self.point(y).mass_kg
 
     def mass_jac(self, y):
+        """Return the mass gradient in y (kg)."""
         return self.point(y).d_mass_kg * self.scale
 
     def margins(self, y):
+        """Return the relative constraint margins (>= 0 feasible)."""
         c = self.point(y)
         return np.array([c.omega_rad_s[0] / OMEGA_MIN - 1.0,
                          1.0 - c.tip_deflection_m / DELTA_MAX])
 
     def margins_jac(self, y):
+        """Return the margins' gradients in y."""
         c = self.point(y)
         return np.vstack([c.d_omega_rad_s[0] / OMEGA_MIN,
                           -c.d_tip_deflection_m / DELTA_MAX]) * self.scale
 
 
 def truth_at(beam: pp.Beam, model: str) -> tuple[float, float]:
-    """The truth's first frequency (rad/s) and large-deflection tip |z| (m) of ``beam``."""
+    """Return the truth's first frequency (rad/s) and large-deflection tip ``|z|`` (m)."""
     truth = pp.compute_truth(beam, model=model, modes=3)
     target = pp.target_from_truth(truth, beam.tip_force_N)
     return float(target.omega_truth_rad_s[0]), abs(float(target.tip_displacement_m[2]))
