@@ -188,6 +188,7 @@ def test_unknown_scale_is_named():
         pp.elastica_gradient(beam, ("thickness",), ei_scale="solid")
 
 
+@pytest.mark.slow
 def test_strongly_bent_strip_against_differences():
     """P L^2 / EI = 5, far beyond the linear range: the tip is lowered by about 0.7 L and
     retreats by about 0.4 L."""

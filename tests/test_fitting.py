@@ -358,6 +358,7 @@ def test_paper_pareto_knee_beats_the_papers(reference, reference_truth_target, n
     assert p.knee_index == int(np.argmin(np.hypot(F[:, 0], F[:, 1])))
 
 
+@pytest.mark.slow
 def test_pareto_same_seed_same_front_any_workers(narrow):
     from prbdm_pin.fitting import fit_pareto
 

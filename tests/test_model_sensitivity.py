@@ -251,7 +251,8 @@ def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_narrow_3r(
 
 @pytest.mark.parametrize("name,objective", [("reference-random", "eigen"),
                                             ("reference-random", "deflection"),
-                                            ("tapered", "combined")])
+                                            pytest.param("tapered", "combined",
+                                                         marks=pytest.mark.slow)])
 def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_4r(
         monkeypatch, name, objective):
     # 1D beam truths. (reference-random's combined 4R fit is left out: its best starts stop

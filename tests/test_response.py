@@ -80,6 +80,7 @@ def test_finer_prbdm_approaches_euler_bernoulli(beam):
     assert frf[0] > frf[1] > frf[2]
 
 
+@pytest.mark.slow
 def test_plate_modal_superposition_static_limit_matches_the_static_solve():
     """The exact (modal-mass) plate superposition's static compliance sum(gain / omega^2) equals
     an independent solve, the plate's linear static tip deflection (truncation < 0.1 %)."""
