@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from terminal_signals import sigint_default
 
 from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
@@ -341,7 +342,8 @@ def test_cli_killed_part_way_then_resumed(signame, two_workers, tmp_path):
 
     out = tmp_path / "out"
     proc = subprocess.Popen(_cli(out, N_CLI_BEAMS), cwd=tmp_path, env=_env(),
-                            start_new_session=True, stderr=subprocess.PIPE)
+                            start_new_session=True, stderr=subprocess.PIPE,
+                            preexec_fn=sigint_default)
     jsonl = out / batch.RESULTS_JSONL
     deadline = time.monotonic() + 300
     while time.monotonic() < deadline and proc.poll() is None:

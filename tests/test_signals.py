@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 import pytest
+from terminal_signals import sigint_default
 
 psutil = pytest.importorskip("psutil")
 
@@ -31,7 +32,7 @@ def _start(args: list[str], tmp_path: Path) -> subprocess.Popen:
     # a session of its own: SIGINT goes to the whole group, like Ctrl-C in a terminal
     return subprocess.Popen([sys.executable, "-m", "prbdm_pin.cli", *args, "-q"], cwd=ROOT,
                             env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=sigint_default)
 
 
 def _busy_children(proc: subprocess.Popen, n: int, timeout_s: float = 60.0) -> list:
