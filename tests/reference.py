@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BETA_L", "ELASTICA", "REF_OMEGA", "SQUARE_PLATE", "cantilever_modes"]
+__all__ = ["BETA_L", "ELASTICA", "REF_OMEGA", "SQUARE_PLATE", "cantilever_modes", "strip_target"]
 
 # clamped-free Euler-Bernoulli roots beta_k L of cos(beta L) cosh(beta L) = -1
 BETA_L = np.array([1.8751040687120, 4.6940911329742, 7.8547574382376, 10.995540734875,
@@ -57,3 +57,20 @@ def cantilever_modes(EI_Nm2: float, mass_per_length_kg_m: float, length_m: float
         return -sign * a * beta * (np.sinh(b) + np.sin(b) - sigma * (np.cosh(b) - np.cos(b)))
 
     return omega, sign * shape(L), psi
+
+
+def strip_target(beam):
+    """Euler-Bernoulli frequencies and the elastica tip at P L^2 / EI = 1 of the uniform strip
+    of ``beam``'s root width, as a ``FitTarget`` (for a tapered or stepped beam a target the
+    model cannot match exactly)."""
+    import math
+
+    from prbdm_pin.target import FitTarget
+
+    b = 2 * beam.half_width_m[0]
+    EI = beam.material.E_Pa * b * beam.thickness_m**3 / 12
+    omega = BETA_L**2 * math.sqrt(EI / (beam.material.rho_kg_m3 * b * beam.thickness_m))
+    L = beam.length_m
+    retreat, defl = ELASTICA[1.0]
+    return FitTarget(omega, beam.tip_force_N, [L * (1 - retreat), 0.0, -defl * L],
+                     [-retreat * L, 0.0, -defl * L], source="Euler-Bernoulli + elastica")

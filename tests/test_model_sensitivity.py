@@ -12,12 +12,11 @@ variables, each column scaled by its step (a station and a spring compare on one
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import pytest
-from reference import BETA_L, ELASTICA
+from reference import strip_target
 
 from prbdm_pin.beam_file import load_beam
 from prbdm_pin.chain_gradient import model_gradient
@@ -35,7 +34,7 @@ from prbdm_pin.section_gradients import (
 )
 from prbdm_pin.sections import planar_sections
 from prbdm_pin.stiffness import finite_segment_stiffness_unchecked
-from prbdm_pin.target import FitTarget, target_from_truth
+from prbdm_pin.target import target_from_truth
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
@@ -176,21 +175,11 @@ def test_unit_lengths_jacobian_equals_central_differences():
         np.testing.assert_allclose(unit_lengths_jacobian(u, 2.0, 0.02), D, rtol=0, atol=1e-9)
 
 
-def _narrow_target(beam):
-    b = 2 * beam.half_width_m[0]
-    EI = beam.material.E_Pa * b * beam.thickness_m**3 / 12
-    omega = BETA_L**2 * math.sqrt(EI / (beam.material.rho_kg_m3 * b * beam.thickness_m))
-    L = beam.length_m
-    retreat, defl = ELASTICA[1.0]
-    return FitTarget(omega, beam.tip_force_N, [L * (1 - retreat), 0.0, -defl * L],
-                     [-retreat * L, 0.0, -defl * L], source="Euler-Bernoulli + elastica")
-
-
 @pytest.mark.parametrize("objective", ["eigen", "deflection", "combined"])
 @pytest.mark.parametrize("sweep,squared", [(False, False), (True, True)])
 def test_joint_residual_jacobian_equals_central_differences(objective, sweep, squared):
     beam = _beam("uniform-narrow")
-    p = make_problem(beam, _narrow_target(beam), 4, stiffness="joint", joint_sweep=sweep,
+    p = make_problem(beam, strip_target(beam), 4, stiffness="joint", joint_sweep=sweep,
                      squared=squared)
     J = JointResiduals(FitSpec(p, objective, "position", 1000))
     rng = np.random.default_rng(3)
@@ -236,7 +225,7 @@ def _fits(monkeypatch, beam, target, n, objective, starts):
 def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_narrow_3r(
         monkeypatch, objective):
     beam = _beam("uniform-narrow")
-    r_an, r_fd = _fits(monkeypatch, beam, _narrow_target(beam), 3, objective, 4)
+    r_an, r_fd = _fits(monkeypatch, beam, strip_target(beam), 3, objective, 4)
     loss = {"eigen": "eigen_loss_pct", "deflection": "deflection_loss_pct",
             "combined": "combined_loss_pct"}[objective]
     a, b = getattr(r_an, loss), getattr(r_fd, loss)

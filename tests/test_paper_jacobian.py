@@ -15,28 +15,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from reference import BETA_L, ELASTICA
+from reference import strip_target
 
 from prbdm_pin.beam_file import load_beam
 from prbdm_pin.fitting.paper import PaperEigenResiduals, PaperScalarLoss
 from prbdm_pin.fitting.spec import FitSpec
 from prbdm_pin.problem import make_problem
-from prbdm_pin.target import FitTarget
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
-
-
-def _target(beam):
-    """Euler-Bernoulli frequencies and the elastica tip of the strip of the beam's root width
-    (for the tapered and stepped beams a target the model cannot match exactly: the losses
-    and their derivatives are then far from zero)."""
-    b = 2 * beam.half_width_m[0]
-    EI = beam.material.E_Pa * b * beam.thickness_m**3 / 12
-    omega = BETA_L**2 * math.sqrt(EI / (beam.material.rho_kg_m3 * b * beam.thickness_m))
-    L = beam.length_m
-    retreat, defl = ELASTICA[1.0]
-    return FitTarget(omega, beam.tip_force_N, [L * (1 - retreat), 0.0, -defl * L],
-                     [-retreat * L, 0.0, -defl * L], source="Euler-Bernoulli + elastica")
 
 
 def _central(f, x, h):
@@ -50,7 +36,7 @@ def _central(f, x, h):
 
 def _problem(name, n, squared, eps=0.1):
     beam = load_beam(BEAMS / f"{name}.json")
-    return make_problem(beam, _target(beam), n, stiffness="paper", squared=squared, eps=eps)
+    return make_problem(beam, strip_target(beam), n, stiffness="paper", squared=squared, eps=eps)
 
 
 @pytest.mark.parametrize("name", ["uniform-narrow", "tapered", "stepped-narrow"])
@@ -109,7 +95,7 @@ def test_paper_eigen_fit_reaches_the_optimum_of_the_finite_difference_fit(monkey
     from prbdm_pin.fitting import fit
 
     beam = load_beam(BEAMS / "uniform-narrow.json")
-    target = _target(beam)
+    target = strip_target(beam)
     objective = "eigen"
     kw = dict(objective=objective, stiffness="paper", starts=2, seed=0, progress=False)
     r_an = fit(beam, target, 3, **kw)

@@ -14,35 +14,24 @@ joint angle has moved by more than ``refresh_rad`` (0.01 rad) since the last one
 the Jacobian's change enters as a linearly growing forcing). Output at ``output_dt`` uses the
 method's own continuous extension (exact for the linear part).
 Step control: the remainder's quadratic model holds only while the remainder varies slowly
-over a step. When the motion carries higher modes at a finite amplitude (a release from a
-bent pose that is not a mode-1 shape: q0 = 0.1 rad on every joint puts 15-20 % of the tip
-motion into modes 2 and up), the remainder oscillates at their frequencies, h omega_k is
-5-50 at the nominal step, and the fixed-step result was 4-45 % of the peak off DOP853 over
-1 s (3R, 5R chains; third order only once h omega_max < ~1). The correction term
+over a step. When the motion carries higher modes at a finite amplitude (a release from a bent
+pose that is not a mode-1 shape), the remainder oscillates at their frequencies, h omega_k is
+well above 1 at the nominal step, and a fixed step would be far off. The correction term
 2 h phi_3(h J) D (exprb32 minus its embedded second-order scheme), measured mode by mode as
 the joint-angle amplitude it would oscillate with (a stiff mode's velocity error shows in q
-only later), is kept below ``_STEP_RTOL`` = 3e-4 of the motion's scale (the largest joint
-angle so far): a step over three times that is redone shorter, the next step follows the
-usual (tol / err)^(1/3) rule, never longer than the nominal step (nor shorter than 1e-3 of
-it). Motion the nominal step resolves (linear, or mode-1-like) keeps the equal nominal steps.
-Measured against DOP853 at rtol 1e-10 (``scripts/bench_exponential_release.py``): releases
-from 0.1 rad on every joint, 1 s, 3R / 5R chains: 0.03-0.08 % of the peak (undamped: 2000-
-5000 steps per second, as many as the highest mode needs, 0.5-1.5 s CPU per simulated
-second, about half DOP853's; modal damping 0.02: 190-300 steps, the high modes decay);
-2500 N step loads with damping 0.02 (the ``scripts/bench_simulate.py`` rows): 0.01-0.06 %
-at about 1.35 times the nominal steps. A step whose correction
-exceeds 5 % of the larger of the motion's scale and the step's travel (or is not finite) is
-halved, up to 6 times in a row (a guard against divergence).
-Limits: it is not symplectic. Linear motion keeps its energy exactly (free vibration of
-amplitude 1e-4 rad: drift 2e-7 over 100 periods) but undamped nonlinear motion drifts
-(2e-6 at 0.01 rad, 2e-3 at 0.1 rad over 100 periods of mode 1): use ``"gauss"`` for long
-undamped runs at large amplitude. A kinked start (0.1 rad on the last joint only, undamped)
-is resolved by the step control (tip within 0.07 % of DOP853 over 0.2 s, energy within
-0.3 %) at about 5000 steps per second.
-With a ``stiffness_schedule`` the Jacobian leaves out dK/dq (the remainder carries it).
-A time-varying force needs ``dt`` well below its shortest period (1/8 of it for 0.5 %, 1/17
-for 0.07 %, harmonic load at 1.2 omega_1): the step control does not see the force's
-variation ahead of the step.
+only later), is kept below ``_STEP_RTOL`` of the motion's scale (the largest joint angle so
+far): a step over three times that is redone shorter, the next step follows the usual
+(tol / err)^(1/3) rule, never longer than the nominal step (nor shorter than 1e-3 of it).
+Motion the nominal step resolves (linear, or mode-1-like) keeps the equal nominal steps. A
+step whose correction exceeds 5 % of the larger of the motion's scale and the step's travel
+(or is not finite) is halved, up to 6 times in a row (a guard against divergence). Its
+accuracy against DOP853, steps and cost are measured by ``scripts/bench_exponential_release.py``
+and ``scripts/bench_simulate.py`` (the benchmarks page).
+Limits: it is not symplectic. Linear motion keeps its energy exactly, but undamped nonlinear
+motion drifts, the more the larger the amplitude: use ``"gauss"`` for long undamped runs at
+large amplitude. With a ``stiffness_schedule`` the Jacobian leaves out dK/dq (the remainder
+carries it). A time-varying force needs ``dt`` well below its shortest period: the step
+control does not see the force's variation ahead of the step.
 """
 
 from __future__ import annotations
