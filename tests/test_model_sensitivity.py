@@ -221,7 +221,8 @@ def _fits(monkeypatch, beam, target, n, objective, starts):
     return r_an, r_fd
 
 
-@pytest.mark.parametrize("objective", ["eigen", "deflection", "combined"])
+@pytest.mark.parametrize("objective", ["eigen", "deflection",
+                                       pytest.param("combined", marks=pytest.mark.slow)])
 def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_narrow_3r(
         monkeypatch, objective):
     beam = _beam("uniform-narrow")

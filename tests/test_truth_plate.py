@@ -75,7 +75,8 @@ def test_argyris_translation_invariant():
     np.testing.assert_allclose(w1, w0, rtol=1e-6)
 
 
-@pytest.mark.parametrize("seed", [None, pytest.param(3, marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [None, 3])
 def test_random_panel_argyris_and_morley_bracket_and_converge(seed):
     if seed is None:
         beam = load_beam(BEAMS / "reference-random.json")
