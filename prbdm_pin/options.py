@@ -148,7 +148,14 @@ class FitOptions(_ProblemOptions):
     polish : int
         ``paper`` eigen: polish up to this many distinct best starts on the paper's loss.
     max_nfev : int
-        Evaluation cap of each least-squares start.
+        Evaluation cap of each least-squares start (residual evaluations; the analytic
+        Jacobians apart).
+    explore_nfev : int
+        ``joint`` deflection and combined fits: residual evaluations every start runs before
+        the best continue (``fitting/explore.py``).
+    refine_starts : int
+        ``joint`` deflection and combined fits: how many of the best explored starts continue
+        to convergence; 0 runs every start to convergence.
     unique : str
         ``"none"``: the best of the starts; ``"nearest"``: one model per design, smooth in it
         (``joint`` eigen fits of n frequencies; ``fitting/unique.py`` states the rule).
@@ -165,6 +172,8 @@ class FitOptions(_ProblemOptions):
     joint_sweep: bool = False
     polish: int = 4
     max_nfev: int = 400
+    explore_nfev: int = 64
+    refine_starts: int = 3
     unique: str = "none"
     start_lengths_m: tuple[float, ...] | None = None
     start_factors: tuple[float, ...] | None = None
@@ -180,6 +189,8 @@ class FitOptions(_ProblemOptions):
         s(self, "joint_sweep", _bool("joint_sweep", self.joint_sweep))
         s(self, "polish", _int("polish", self.polish, 0))
         s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1))
+        s(self, "explore_nfev", _int("explore_nfev", self.explore_nfev, 1))
+        s(self, "refine_starts", _int("refine_starts", self.refine_starts, 0))
         s(self, "unique", _choice("unique", self.unique, UNIQUE_RULES))
         for name in ("start_lengths_m", "start_factors"):
             v = getattr(self, name)

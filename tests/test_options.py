@@ -63,6 +63,9 @@ def test_options_survive_json(options):
     (FitOptions, {"min_fraction": 0.5}, "min_fraction = 0.5"),
     (FitOptions, {"polish": -1}, "polish = -1"),
     (FitOptions, {"max_nfev": 0}, "max_nfev = 0"),
+    (FitOptions, {"explore_nfev": 0}, "explore_nfev = 0"),
+    (FitOptions, {"refine_starts": -1}, "refine_starts = -1"),
+    (FitOptions, {"refine_starts": 1.5}, "refine_starts = 1.5"),
     (FitOptions, {"joint_sweep": "yes"}, "joint_sweep = 'yes'"),
     (FitOptions, {"pop": 10}, "pop = 10: not an option of FitOptions"),
     (ParetoOptions, {"log10_bounds": (1.0, 0.0)}, "log10_bounds"),
@@ -121,13 +124,15 @@ def test_the_cli_carries_every_fit_option_into_fit_json(tmp_path, capsys):
             "--truth-model", "beam", "--starts", "2", "--seed", "5", "--joint-sweep",
             "--eps", "0.2", "--deflection-norm", "displacement", "--polish", "1",
             "--max-nfev", "150", "--loss-tol", "0.5", "--eigen-norm", "paper",
-            "--min-link", "0.05", "--cache-dir", str(tmp_path / "cache"),
+            "--explore-nfev", "20", "--refine-starts", "1", "--min-link", "0.05",
+            "--cache-dir", str(tmp_path / "cache"),
             "--out", str(tmp_path / "fit"), "-q"]
     assert main(args) == 0
     d = json.loads((tmp_path / "fit" / "fit.json").read_text())
     want = FitOptions(objective="combined", stiffness="joint", starts=2, seed=5,
                       joint_sweep=True, eps_rad=0.2, deflection_norm="displacement", polish=1,
-                      max_nfev=150, loss_tol_pct=0.5, eigen_norm="paper", min_fraction=0.05)
+                      max_nfev=150, loss_tol_pct=0.5, eigen_norm="paper", min_fraction=0.05,
+                      explore_nfev=20, refine_starts=1)
     assert d["options"] == want.to_dict()
     # the sweep was used (one straight pose without it) and the combined loss is in the
     # displacement norm

@@ -179,8 +179,11 @@ def test_on_a_hub_the_fitted_map_follows_the_truths_hybrid_model(truth, fits):
     h = hybrid_model(truth, BEAM, 5.0, 0.1, actuators=SHORT, damping_ratio=ZETA,
                      damping="modal")
     fitted = pp.fit_strain_actuators(hub, truth, BEAM, SHORT)
-    assert [a.joint_weights for a in fitted] == [
-        a.joint_weights for a in pp.fit_strain_actuators(model, truth, BEAM, SHORT)]
+    # the hub model's clamped block comes from another CRBA of the same chain: equal to rounding
+    np.testing.assert_allclose(
+        [a.joint_weights for a in fitted],
+        [a.joint_weights for a in pp.fit_strain_actuators(model, truth, BEAM, SHORT)],
+        rtol=1e-12, atol=1e-14)
     names = tuple(f"strain[{i}]" for i in range(4))
     outs = ("hub_angle", "tip_z")
     w = np.linspace(0.1 * h.frequencies_rad_s[1], 1.2 * h.frequencies_rad_s[3], 8001)

@@ -260,6 +260,8 @@ def check_options(args) -> None:
     in_range("--loss-tol", args.loss_tol, 0.0, unit="%")
     in_range("--polish", args.polish, 0, MAX_STARTS, integer=True)
     in_range("--max-nfev", args.max_nfev, 1, MAX_NFEV, integer=True)
+    in_range("--explore-nfev", args.explore_nfev, 1, MAX_NFEV, integer=True)
+    in_range("--refine-starts", args.refine_starts, 0, MAX_STARTS, integer=True)
     check_sweep(args)
 
 

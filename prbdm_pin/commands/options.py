@@ -60,6 +60,12 @@ def add_fit_options(p: argparse.ArgumentParser) -> None:
                         "starts on the paper's loss (0: none; default 4)")
     p.add_argument("--max-nfev", type=int, default=400,
                    help="evaluation cap of each least-squares start (default 400)")
+    p.add_argument("--explore-nfev", type=int, default=64, metavar="N",
+                   help="--stiffness joint, deflection or combined: residual evaluations of "
+                        "every start before the best continue (default 64)")
+    p.add_argument("--refine-starts", type=int, default=3, metavar="K",
+                   help="--stiffness joint, deflection or combined: how many of the best "
+                        "explored starts continue to convergence (0: every start; default 3)")
 
 
 def add_pareto_options(p: argparse.ArgumentParser) -> None:
@@ -89,6 +95,7 @@ def fit_options(args: argparse.Namespace, min_fraction: float) -> FitOptions:
         starts=args.starts, seed=args.seed, xi_rad=args.xi, eps_rad=args.eps,
         squared=args.squared, loss_tol_pct=args.loss_tol, joint_sweep=args.joint_sweep,
         deflection_norm=args.deflection_norm, polish=args.polish, max_nfev=args.max_nfev,
+        explore_nfev=args.explore_nfev, refine_starts=args.refine_starts,
         eigen_norm=args.eigen_norm, min_fraction=min_fraction)
 
 

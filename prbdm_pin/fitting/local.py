@@ -1,7 +1,10 @@
 """The local solver of one fit start, per parametrisation, and the polish of a ``paper`` optimum.
 
 The polish is that of a ``paper`` eigen optimum; the solvers are chosen for accuracy per model
-evaluation (see ``scripts/bench_fit.py``).
+evaluation (see ``scripts/bench_fit.py`` and ``scripts/bench_fit_jacobian.py``). The joint
+deflection and combined fits run the resumable geodesic Levenberg-Marquardt solver
+(``geodesic_lm.py``) in two calls, :func:`explore_start` and :func:`refine_start`, so that a
+multistart can continue only its best starts (``explore.py``).
 """
 
 from __future__ import annotations
@@ -12,11 +15,12 @@ from dataclasses import replace
 import numpy as np
 
 from ..problem import unit_from_lengths
+from .geodesic_lm import LMState, lm_advance, lm_start
 from .joint import JointResiduals
 from .paper import PaperEigenResiduals, PaperScalarLoss
 from .spec import LN_S_BOUNDS, FitSpec, StartResult
 
-__all__ = ["solve_start", "polish_paper_eigen"]
+__all__ = ["solve_start", "explore_start", "refine_start", "polish_paper_eigen"]
 
 
 def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0):
@@ -36,6 +40,84 @@ def _slsqp(fun, x0, lb, ub, max_iter=200, jac=None):
     x0 = np.clip(x0, lb, ub)
     opts = {"ftol": 1e-14, "maxiter": max_iter, "eps": 1e-8}
     return minimize(fun, x0, method="SLSQP", jac=jac, bounds=Bounds(lb, ub), options=opts)
+
+
+def _joint_box(n: int) -> tuple[np.ndarray, np.ndarray]:
+    return (np.r_[np.zeros(n), np.full(n, LN_S_BOUNDS[0])],
+            np.r_[np.ones(n), np.full(n, LN_S_BOUNDS[1])])
+
+
+def explore_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.ndarray,
+                  max_nfev: int) -> tuple[StartResult, LMState]:
+    """Run a joint deflection or combined start for at most ``max_nfev`` residual evaluations.
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The fit problem (``joint`` parametrisation, objective not ``eigen``).
+    index : int
+        The start's index, recorded in the result.
+    lengths0 : ndarray, shape (n+1,)
+        Start link lengths, m.
+    factors0 : ndarray, shape (n,)
+        Start factors on the finite-segment springs (dimensionless).
+    max_nfev : int
+        Residual evaluations of this call.
+
+    Returns
+    -------
+    StartResult
+        Where the start stands: lengths (m), factors, loss (%), evaluations, solver message.
+    LMState
+        The solver's state, for :func:`refine_start`.
+    """
+    p = spec.problem
+    n = p.n_joints
+    J = JointResiduals(spec)
+    lb, ub = _joint_box(n)
+    x0 = np.r_[unit_from_lengths(lengths0, p.length_m, p.min_fraction), np.log(factors0)]
+    state = lm_advance(lm_start(J.residuals, J.jac, x0, lb, ub), J.residuals, J.jac, lb, ub,
+                       max_nfev)
+    return _joint_result(J, index, state), state
+
+
+def refine_start(spec: FitSpec, explored: StartResult, state: LMState) -> StartResult:
+    """Continue an explored joint start to convergence or to ``spec.max_nfev`` evaluations.
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The fit problem the start was explored on.
+    explored : StartResult
+        The explored start (its index and evaluations).
+    state : LMState
+        The solver's state at the end of the exploration.
+
+    Returns
+    -------
+    StartResult
+        The local optimum; with several poses, polished on the true loss by SLSQP.
+    """
+    J = JointResiduals(spec)
+    lb, ub = _joint_box(spec.problem.n_joints)
+    state = lm_advance(state, J.residuals, J.jac, lb, ub, spec.max_nfev)
+    return _joint_result(J, explored.index, state, polish=True)
+
+
+def _joint_result(J: JointResiduals, index: int, state: LMState,
+                  polish: bool = False) -> StartResult:
+    x, msg = state.x, state.message
+    n0 = J.nfev
+    if polish and J.p.n_poses > 1:
+        lb, ub = _joint_box(J.p.n_joints)
+        r2 = _slsqp(J.loss, x, lb, ub)
+        if r2.fun <= J.loss(x):
+            x, msg = r2.x, f"{msg}; polished: {r2.message}"
+    lengths, s = J.design(x)
+    loss = 100.0 * J.loss(x)
+    # the solve's residuals and Jacobians (exploration included), the polish and the loss
+    nfev = state.nfev + state.njev + J.nfev - n0
+    return StartResult(index, lengths, s, loss, nfev, state.status > 0, str(msg))
 
 
 def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.ndarray):
@@ -67,12 +149,11 @@ def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.nd
         lb = np.r_[np.zeros(n), np.full(n, LN_S_BOUNDS[0])]
         ub = np.r_[np.ones(n), np.full(n, LN_S_BOUNDS[1])]
         x0 = np.r_[u0, np.log(factors0)]
-        if spec.objective == "eigen":
-            r = _ls(J.eigen_residuals, x0, lb, ub, spec.max_nfev, jac=J.eigen_jac,
-                    method="dogbox" if p.n_poses == 1 else "trf")
-        else:
-            r = _ls(J.residuals, x0, lb, ub, spec.max_nfev, jac=J.jac, method="trf",
-                    x_scale="jac")
+        if spec.objective != "eigen":
+            explored, state = explore_start(spec, index, lengths0, factors0, spec.max_nfev)
+            return refine_start(spec, explored, state)
+        r = _ls(J.eigen_residuals, x0, lb, ub, spec.max_nfev, jac=J.eigen_jac,
+                method="dogbox" if p.n_poses == 1 else "trf")
         x, msg, ok = r.x, r.message, bool(r.success)
         if p.n_poses > 1:
             r2 = _slsqp(J.loss, x, lb, ub)

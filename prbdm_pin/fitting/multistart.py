@@ -21,6 +21,7 @@ from ..problem import FitProblem, make_problem, unit_from_lengths
 from ..results import FitResult
 from ..target import FitTarget
 from ..workers import pool_scope
+from .explore import run_explored
 from .local import polish_paper_eigen, solve_start
 from .paper import PaperEigenResiduals
 from .pool import fit_pool
@@ -29,8 +30,6 @@ from .result import result_from_design
 from .spec import FitSpec, StartResult
 
 __all__ = ["fit", "run_starts", "draw_starts", "resolve_options"]
-
-
 
 
 def run_starts(spec: FitSpec, tasks: list, workers: int = 1, progress: bool = True,
@@ -223,7 +222,12 @@ def fit(
         tasks = [(i, L, F * P.factors(unit_from_lengths(L, problem.length_m,
                                                         problem.min_fraction)))
                  for i, L, F in tasks]
-    runs = run_starts(spec, tasks, workers, progress, o.loss_tol_pct)
+    if (problem.stiffness == "joint" and objective != "eigen" and o.refine_starts > 0
+            and len(tasks) > o.refine_starts):
+        runs = run_explored(spec, tasks, o.explore_nfev, o.refine_starts, workers, progress,
+                            o.loss_tol_pct)
+    else:
+        runs = run_starts(spec, tasks, workers, progress, o.loss_tol_pct)
     order = sorted(range(len(runs)), key=lambda i: (runs[i].loss_pct, i))
     best = runs[order[0]]
     if problem.stiffness == "paper" and objective == "eigen" and o.polish > 0:
