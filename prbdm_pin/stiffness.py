@@ -129,20 +129,28 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     b = np.asarray(b, dtype=float)
     x = beam.x_m
     a2, b2 = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
-    cuts = np.concatenate((a2, b2, np.broadcast_to(x, (a2.shape[0], x.size))), axis=1)
+    B, k = a2.shape
+    cuts = np.empty((B, 2 * k + x.size))
+    cuts[:, :k] = a2
+    cuts[:, k:2 * k] = b2
+    cuts[:, 2 * k:] = x
     cuts.sort(axis=1)
     u, v = cuts[:, :-1], cuts[:, 1:]  # empty sub-intervals add exact zeros
     mid = (0.5 * (u + v))[:, :, None]
     inside = (mid > a2[:, None, :]) & (mid < b2[:, None, :])  # (B, s, k)
     # w on [u, v] from its ends' one-sided limits (they differ at a width step)
-    wu = beam.half_width_at(u, "right")
-    wv = beam.half_width_at(v, "left")
+    if beam.step_index.size:
+        wu = beam.half_width_at(u, "right")
+        wv = beam.half_width_at(v, "left")
+    else:  # no step (the common case, in the fit's inner loop): one interpolation
+        w = np.interp(cuts, x, beam.half_width_m)
+        wu, wv = w[:, :-1], w[:, 1:]
     d = (wv - wu) / wu
     # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
     small = np.abs(d) < 1e-8
     ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
     part = (v - u) * ratio / wu
-    return np.where(inside, part[:, :, None], 0.0).sum(axis=1).reshape(a.shape)
+    return np.add.reduce(np.where(inside, part[:, :, None], 0.0), axis=1).reshape(a.shape)
 
 
 def finite_segment_stiffness(
@@ -183,7 +191,7 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
 
     Shape (n,), or (B, n) for a stack of designs (B, n+1) (the fit's inner loop).
     """
-    ends = lengths.cumsum(axis=-1)
+    ends = np.add.accumulate(lengths, axis=-1)
     centres = ends - 0.5 * lengths
     centres[..., 0] = 0.0
     centres[..., -1] = ends[..., -1]
