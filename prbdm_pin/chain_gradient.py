@@ -34,7 +34,8 @@ from .errors import BeamInputError
 from .geometry import Beam
 from .layout import validate_lengths
 from .mode_energy import kinetic_energy_change, mode_motion
-from .planar import planar_mass_matrices, tip_terms
+from .planar import tip_terms
+from .planar_mass import chain_points, planar_mass_matrices
 from .section_gradients import SectionGradient, planar_sections_gradient
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
@@ -44,7 +45,7 @@ __all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "static_tip
 
 def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
                         stiffness_Nm_per_rad: np.ndarray, poses_rad: np.ndarray,
-                        mass_matrices: np.ndarray | None = None):
+                        mass_matrices: np.ndarray | None = None, points: tuple | None = None):
     """Squared frequencies and their derivatives at each pose, from the closed-form chain.
 
     Parameters
@@ -59,6 +60,9 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
         Joint angles where the frequencies are taken, rad.
     mass_matrices : ndarray, shape (m, n, n), optional
         ``planar_mass_matrices`` at the poses when already computed, kg m^2.
+    points : tuple, optional
+        ``planar_mass.chain_points`` of the chain (as a stack of one) at the poses when already
+        computed.
 
     Returns
     -------
@@ -74,11 +78,13 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     s = sections
     n = k.size
+    if points is None:
+        points = chain_points(L[None], s.com_offset_m[None], Q)
     M = mass_matrices if mass_matrices is not None else planar_mass_matrices(
-        L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q)
+        L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q, points)
     omega, Phi = modes_from_mass(M, k)  # Phi[pose, joint, mode]
     lam = omega**2
-    w, v, u = motion = mode_motion(L, s.com_offset_m, Q, Phi)
+    w, v, u = motion = mode_motion(L, s.com_offset_m, Q, Phi, points)
     m1 = s.mass_kg[1:]
     dE = kinetic_energy_change(motion, m1, s.d_mass_kg_per_m, s.d_inertia_yy_kg_m,
                                s.d_com_offset)

@@ -23,7 +23,8 @@ __all__ = ["mode_motion", "kinetic_energy_change", "section_frequency_gradients"
 
 
 def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.ndarray,
-                Phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                Phi: np.ndarray, points: tuple | None = None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return the links' motion in each mode.
 
     Parameters
@@ -34,6 +35,9 @@ def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.n
         Joint angles, rad.
     Phi : ndarray, shape (m, n, n)
         Mode shapes (rad per unit modal coordinate), Phi[pose, joint, mode].
+    points : tuple, optional
+        ``planar_mass.chain_points`` of the same chain (stacked as one design) and poses when
+        already computed.
 
     Returns
     -------
@@ -45,10 +49,12 @@ def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.n
     u : ndarray, shape (m, 2, 1, link)
         x and z of the links' axes.
     """
-    L = np.asarray(lengths_m, dtype=float)
-    off = np.asarray(com_offset_m, dtype=float)
+    if points is None:
+        L = np.asarray(lengths_m, dtype=float)
+        off = np.asarray(com_offset_m, dtype=float)
+        points = chain_points(L[None], off[None], np.asarray(poses_rad, dtype=float))
     # the sign of z does not matter in a quadratic form
-    axes, joints, coms = chain_points(L[None], off[None], np.asarray(poses_rad, dtype=float))
+    axes, joints, coms = points
     joints, coms = joints[0, :, :, None, :], coms[0, :, :, None, :]  # (m, 2, 1, link)
     P = Phi.swapaxes(1, 2)
     w = np.add.accumulate(P, axis=2)

@@ -41,6 +41,7 @@ def planar_mass_matrices(
     com_offset_m: np.ndarray,
     inertia_yy_kg_m2: np.ndarray,
     Q: np.ndarray,
+    points: tuple | None = None,
 ) -> np.ndarray:
     """Closed-form mass matrices of the planar chain at the poses in the rows of ``Q``.
 
@@ -64,6 +65,8 @@ def planar_mass_matrices(
         not used.
     Q : ndarray, shape (m, n)
         Joint angles, rad.
+    points : tuple, optional
+        :func:`chain_points` of the same lengths, offsets and poses when already computed.
 
     Returns
     -------
@@ -75,7 +78,7 @@ def planar_mass_matrices(
     L, mass, off, Iyy = (np.asarray(v, dtype=float).reshape(-1, n + 1)
                          for v in (lengths_m, mass_kg, com_offset_m, inertia_yy_kg_m2))
     B = L.shape[0]
-    _, joints, coms = chain_points(L, off, Q)
+    _, joints, coms = chain_points(L, off, Q) if points is None else points
     # rows (x or z, i) of R hold sqrt(m_i) r_ij; link i moves with joint j only when j <= i
     w = (np.sqrt(mass[:, 1:])[:, :, None] * _lower(n))[:, None, None]
     R = ((coms[..., :, None] - joints[..., None, :]) * w).reshape(B, m, 2 * n, n)

@@ -118,14 +118,15 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     np.negative(A[1:], out=d[1, n:])
     np.multiply(d[1, :n], he, out=d[2, :n])
     np.multiply(-2.0, P1[1:], out=d[2, n:])
-    dA, dP1, dP2 = d
+    dA, dP1, dP2 = d[0], d[1], d[2]
     Al, hl = A[links], h[links]
     off, r = offset[links], P1[links] / Al
-    # Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12
+    # rows: mass, offset, Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12 (row 0 holds
+    # rho t dA), mean area moment
     v = np.empty((4, 2 * n))
     np.multiply(rho_t, dA, out=v[0])
     np.divide(dP1 - off * dA, Al, out=v[1])
-    np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), rho_t * dA * t * t / 12.0, out=v[2])
+    np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), v[0] * t * t / 12.0, out=v[2])
     np.multiply(t**3 / 12.0, dA / hl - Al / hl**2 * dh, out=v[3])
     out = np.zeros((4, nl, n))
     out[:, links, cols] = v

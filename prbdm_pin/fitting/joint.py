@@ -17,7 +17,8 @@ import numpy as np
 from ..errors import BeamInputError, SolveError
 from ..evaluate import chain_frequencies
 from ..objectives import eigen_residuals, eigen_weights
-from ..planar import planar_mass_matrices, tip_positions
+from ..planar import tip_positions
+from ..planar_mass import chain_points, planar_mass_matrices
 from ..problem import lengths_from_unit
 from ..sections import planar_sections
 from ..statics import static_deflection_planar_unchecked
@@ -94,10 +95,12 @@ class JointResiduals:
         out = np.empty(self.size())
         row = 0
         try:
-            # evaluate.chain_mass_matrices, keeping the sections for the Jacobian at x
+            # evaluate.chain_mass_matrices, keeping the sections and the chain's points for
+            # the Jacobian at x
             sec = planar_sections(p.beam, lengths)
             K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
-            M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad)
+            points = chain_points(lengths[None], sec[1][None], p.poses_rad)
+            M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad, points)
             K = s * K0
             if spec.objective != "deflection":
                 w = chain_frequencies(M, K)[:, : p.n_freq]
@@ -114,8 +117,8 @@ class JointResiduals:
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
             self._last = None
             return np.full(self.size(), BAD_LOSS)
-        self._last = (tuple(np.asarray(x, dtype=float).tolist()), (lengths, s, sec, K0, M),
-                      list(self.q0))
+        self._last = (tuple(np.asarray(x, dtype=float).tolist()),
+                      (lengths, s, sec, K0, M, points), list(self.q0))
         return out
 
     def size(self):

@@ -48,13 +48,14 @@ def joint_residual_jacobian(res, x: np.ndarray, chain: tuple, static_poses: list
 
     It reuses what the residuals computed there: ``chain`` = (link lengths (m) and spring
     factors of x, ``planar_sections``, unit springs K0 (N m/rad), mass matrices at the poses
-    (kg m^2)) and the equilibrium of each load case (rad, ``static_poses``).
+    (kg m^2), ``chain_points`` at the poses) and the equilibrium of each load case (rad,
+    ``static_poses``).
 
     Raises SolveError or LinAlgError where the model cannot be solved (the caller decides).
     """
     p, spec = res.p, res.spec
     n = p.n_joints
-    lengths, s, sections, K0, M = chain
+    lengths, s, sections, K0, M, points = chain
     sec = planar_sections_gradient(p.beam, lengths, sections)
     K0, dK0 = finite_segment_stiffness_gradient(p.beam, lengths, K0)
     k = s * K0
@@ -69,7 +70,7 @@ def joint_residual_jacobian(res, x: np.ndarray, chain: tuple, static_poses: list
 
     row = 0
     if spec.objective != "deflection":
-        lam, d_x, d_k = frequency_gradients(lengths, sec, k, p.poses_rad, M)
+        lam, d_x, d_k = frequency_gradients(lengths, sec, k, p.poses_rad, M, points)
         N = p.n_freq
         lam, d_x, d_k = lam[:, :N], d_x[:, :N], d_k[:, :N]
         if not p.squared:  # d omega = d lam / (2 omega)
