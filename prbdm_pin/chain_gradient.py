@@ -24,15 +24,18 @@ potential's Hessian ``K - d(J^T F)/dq`` (positive definite at a stable equilibri
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
+from scipy.linalg.lapack import dgesv as _gesv
 
 from .eigen import modes_from_mass
 from .errors import BeamInputError
 from .geometry import Beam
 from .layout import validate_lengths
 from .mode_energy import kinetic_energy_change, mode_motion
-from .planar import load_stiffness, planar_mass_matrices, planar_tip
+from .planar import tip_terms
+from .planar_mass import chain_points, planar_mass_matrices
 from .section_gradients import SectionGradient, planar_sections_gradient
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
@@ -42,7 +45,7 @@ __all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "static_tip
 
 def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
                         stiffness_Nm_per_rad: np.ndarray, poses_rad: np.ndarray,
-                        mass_matrices: np.ndarray | None = None):
+                        mass_matrices: np.ndarray | None = None, points: tuple | None = None):
     """Squared frequencies and their derivatives at each pose, from the closed-form chain.
 
     Parameters
@@ -57,6 +60,9 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
         Joint angles where the frequencies are taken, rad.
     mass_matrices : ndarray, shape (m, n, n), optional
         ``planar_mass_matrices`` at the poses when already computed, kg m^2.
+    points : tuple, optional
+        ``planar_mass.chain_points`` of the chain (as a stack of one) at the poses when already
+        computed.
 
     Returns
     -------
@@ -72,20 +78,22 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     s = sections
     n = k.size
+    if points is None:
+        points = chain_points(L[None], s.com_offset_m[None], Q)
     M = mass_matrices if mass_matrices is not None else planar_mass_matrices(
-        L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q)
+        L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q, points)
     omega, Phi = modes_from_mass(M, k)  # Phi[pose, joint, mode]
     lam = omega**2
-    w, vx, vz, ux, uz = motion = mode_motion(L, s.com_offset_m, Q, Phi)
+    w, v, u = motion = mode_motion(L, s.com_offset_m, Q, Phi, points)
     m1 = s.mass_kg[1:]
     dE = kinetic_energy_change(motion, m1, s.d_mass_kg_per_m, s.d_inertia_yy_kg_m,
                                s.d_com_offset)
     # the chain's geometry at fixed sections: link l's length moves every centre of mass
     # beyond it, G_l = 2 w_l u_l . sum_(i > l) m_i v_i (l = 1..n-1; L_0 and L_n do not enter r)
     if n > 1:
-        tx = (m1 * vx)[..., ::-1].cumsum(axis=2)[..., ::-1]  # sum over i >= l
-        tz = (m1 * vz)[..., ::-1].cumsum(axis=2)[..., ::-1]
-        G = 2.0 * w[..., :-1] * (ux[..., :-1] * tx[..., 1:] + uz[..., :-1] * tz[..., 1:])
+        # x and z of the sum over i >= l (np.add.accumulate: cumsum without its wrapper)
+        t = np.add.accumulate((m1 * v)[..., ::-1], axis=3)[..., ::-1]
+        G = 2.0 * w[..., :-1] * np.add.reduce(u[..., :-1] * t[..., 1:], axis=1)
         # L_l = x_(l+1) - x_l: station j (index j - 1) lengthens link j - 1, shortens link j
         dE[..., 1:] += G
         dE[..., :-1] -= G
@@ -126,28 +134,38 @@ def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
     F = np.asarray(tip_force_N, dtype=float)
     q = np.asarray(q_rad, dtype=float)
     n = k.size
-    tip, J = planar_tip(L, q)
-    H = -load_stiffness(L, q, F)
+    tip, J, T, c, sn = tip_terms(L, q, F)
+    H = -T
     H.flat[:: n + 1] += k
-    phi = q.cumsum()
-    c, sn = np.cos(phi), np.sin(phi)
     # d(J^T F)_m / dL_i = -F_x sin phi_i - F_z cos phi_i for links i >= m (links 1..n; link 0
     # does not enter), and the tip's d p / dL_i = (cos phi_i, 0, -sin phi_i) (link 0: e_x)
     dJtF = np.zeros((n, n + 1))
-    dJtF[:, 1:] = np.triu(np.broadcast_to(-F[0] * sn - F[2] * c, (n, n)))
+    dJtF[:, 1:] = np.where(_upper_mask(n), -float(F[0]) * sn - float(F[2]) * c, 0.0)
     dtip_dL = np.zeros((3, n + 1))
     dtip_dL[0, 0] = 1.0
     dtip_dL[0, 1:] = c
     dtip_dL[2, 1:] = -sn
     # station j (column j - 1) lengthens link j - 1 and shortens link j: d/dx = d/dL_(j-1) -
     # d/dL_j
-    dg = np.empty((n, 2 * n))
-    dg[:, :n] = dJtF[:, 1:] - dJtF[:, :-1]  # -(d(J^T F)/dx)
-    dg[:, n:] = np.diag(q)
-    dq = -np.linalg.solve(H, dg)
+    dg = np.zeros((n, 2 * n))
+    np.subtract(dJtF[:, 1:], dJtF[:, :-1], out=dg[:, :n])  # -(d(J^T F)/dx)
+    dg.flat[n:: 2 * n + 1] = q  # d(K q)/dk = diag(q)
+    # LAPACK's LU solve directly (np.linalg.solve's, without its batched wrapper)
+    _, _, dq, info = _gesv(H, dg)
+    if info != 0:
+        raise np.linalg.LinAlgError("static tip gradient: singular Hessian at the equilibrium")
+    dq = -dq
     dtip = J @ dq
     dtip[:, :n] += dtip_dL[:, :-1] - dtip_dL[:, 1:]
     return tip, dq, dtip
+
+
+@lru_cache(maxsize=64)
+def _upper_mask(n: int) -> np.ndarray:
+    """Return np.triu's mask, k >= m for m, k < n: link k + 1 lies beyond joint m + 1."""
+    out = np.triu(np.ones((n, n), dtype=bool))
+    out.setflags(write=False)
+    return out
 
 
 @dataclass(frozen=True, eq=False)

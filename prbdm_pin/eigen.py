@@ -11,6 +11,8 @@ through :func:`generalized_eigh`, and a plain symmetric matrix through :func:`sy
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.linalg as sla
 from scipy.linalg.lapack import dsyevd as _syevd
@@ -26,6 +28,10 @@ __all__ = ["FREQUENCY_RTOL", "COND_LIMIT", "check_spectrum", "eig_scaled", "mode
 # could be off by more than FREQUENCY_RTOL, so the solvers raise instead of answering.
 FREQUENCY_RTOL = 1e-6
 COND_LIMIT = FREQUENCY_RTOL / np.finfo(float).eps
+# above these the overflow checks cannot fail and are skipped: 1 / mu < max double / 2, and
+# (1 / s)^2 / mu <= 1e300
+_SAFE_INVERSE = 2.0 / np.finfo(float).max
+_SAFE_SCALE = 1e-100
 
 
 def check_spectrum(mu: np.ndarray) -> None:
@@ -33,9 +39,14 @@ def check_spectrum(mu: np.ndarray) -> None:
 
     Each row of ascending eigenvalues must be positive, finite and within ``COND_LIMIT``.
     """
-    lo, hi = mu[..., 0], mu[..., -1]
     # the common case in one pass (NaN fails every comparison): the full checks below only
-    # run to find what is wrong
+    # run to find what is wrong; one row (the fits' inner loop) in Python floats, cheaper
+    # than numpy's calls on a few numbers
+    if mu.ndim == 1 or mu.shape[0] == 1:
+        v = mu.reshape(-1).tolist()
+        if v[0] > 0.0 and v[-1] / v[0] <= COND_LIMIT and all(map(math.isfinite, v)):
+            return
+    lo, hi = mu[..., 0], mu[..., -1]
     if (lo > 0.0).all() and np.isfinite(mu).all() and (hi / lo).max() <= COND_LIMIT:
         return
     if not np.all(np.isfinite(mu)):
@@ -58,6 +69,18 @@ def check_spectrum(mu: np.ndarray) -> None:
         )
 
 
+def _eigvalsh(A: np.ndarray, lower: int) -> np.ndarray:
+    """Eigenvalues (ascending) of one small symmetric matrix from one triangle, by LAPACK directly.
+
+    ``lower=1`` reads the triangle ``np.linalg.eigvalsh`` reads, so the two agree; this skips
+    numpy's batched wrapper, which costs more than the solve for a small matrix.
+    """
+    mu, _, info = _syevd(A, compute_v=0, lower=lower)
+    if info != 0:
+        raise SolveError(f"symmetric eigensolver failed (LAPACK info {info})")
+    return mu
+
+
 def _check_finite(w2: np.ndarray) -> np.ndarray:
     if not np.all(np.isfinite(w2)):
         raise SolveError("omega^2 overflows double precision: the stiffness is too large for "
@@ -75,18 +98,22 @@ def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarra
     (:func:`check_spectrum`) refuses the spectrum or omega^2 overflows.
     """
     # S normalised to max 1 keeps S M S as large as M: no underflow for stiff springs
-    smax = s.max(axis=-1, keepdims=True)
+    smax = np.maximum.reduce(s, axis=-1, keepdims=True)
     sn = s / smax
     A = M * sn[..., :, None] * sn[..., None, :]
     if A.ndim == 2:
-        mu, _, info = _syevd(A, compute_v=0, lower=0)  # one small matrix: LAPACK directly
-        if info != 0:
-            raise SolveError(f"symmetric eigensolver failed (LAPACK info {info})")
+        mu = _eigvalsh(A, lower=0)
+    elif A.shape[0] == 1:  # a stack of one (the fits' inner loop): the same as eigvalsh's
+        mu = _eigvalsh(A[0], lower=1)[None]
     else:
         mu = np.linalg.eigvalsh(A)  # ascending, batched over the stack
     check_spectrum(mu)
-    with np.errstate(over="ignore"):
-        w2 = _check_finite((1.0 / smax) ** 2 / mu[..., ::-1])
+    if np.minimum.reduce(smax, axis=None) >= _SAFE_SCALE and np.minimum.reduce(
+            mu[..., 0], axis=None) >= _SAFE_SCALE:
+        w2 = (1.0 / smax) ** 2 / mu[..., ::-1]  # at most 1e300: finite, no check needed
+    else:
+        with np.errstate(over="ignore"):
+            w2 = _check_finite((1.0 / smax) ** 2 / mu[..., ::-1])
     return w2 if squared else np.sqrt(w2)
 
 
@@ -99,7 +126,8 @@ def modes_from_mass(
     returns omega (m, n) and Phi (m, n, n) with Phi[i]^T M[i] Phi[i] = I and
     Phi[i]^T K Phi[i] = diag(omega[i]^2), under the guard of :func:`eig_scaled`.
     """
-    s = np.broadcast_to(1.0 / np.sqrt(stiffness_Nm_per_rad), M.shape[:2])
+    s = np.empty(M.shape[:2])  # broadcast_to costs more than this copy for small n
+    s[...] = 1.0 / np.sqrt(stiffness_Nm_per_rad)
     A = M * s[:, :, None] * s[:, None, :]
     if A.shape[0] == 1:  # one small matrix (the fits' Jacobians): LAPACK directly
         mu, V, info = _syevd(A[0], compute_v=1, lower=0)
@@ -109,8 +137,9 @@ def modes_from_mass(
     else:
         mu, V = np.linalg.eigh(A)
     check_spectrum(mu)
-    with np.errstate(over="ignore", divide="ignore"):
-        _check_finite(1.0 / mu)
+    if not np.minimum.reduce(mu[:, 0]) >= _SAFE_INVERSE:  # 1 / mu may overflow: check it
+        with np.errstate(over="ignore", divide="ignore"):
+            _check_finite(1.0 / mu)
     mu, V = mu[:, ::-1], V[:, :, ::-1]
     # K^(1/2) phi = V/sqrt(mu) makes phi^T M phi = v^T (S M S) v / mu = 1
     Phi = s[:, :, None] * V / np.sqrt(mu)[:, None, :]

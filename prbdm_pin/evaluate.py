@@ -151,7 +151,8 @@ def chain_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
         Natural frequencies at each pose, ascending, rad/s.
     """
     n = M.shape[-1]
-    s = np.broadcast_to((1.0 / np.sqrt(K))[..., None, :], M.shape[:-1])
+    s = np.empty(M.shape[:-1])  # broadcast_to costs more than this copy for small n
+    s[...] = (1.0 / np.sqrt(K))[..., None, :]
     return eig_scaled(M.reshape(-1, n, n), s.reshape(-1, n)).reshape(M.shape[:-1])
 
 

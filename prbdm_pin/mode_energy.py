@@ -17,20 +17,14 @@ from __future__ import annotations
 import numpy as np
 
 from .eigen import modes_from_mass
-from .planar import planar_mass_matrices
+from .planar_mass import chain_points, planar_mass_matrices
 
 __all__ = ["mode_motion", "kinetic_energy_change", "section_frequency_gradients"]
 
 
-def _link_axes(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cosines and sines of the world angles of links 0..n at the poses Q (m, n): (m, n+1)."""
-    phi = np.zeros(Q.shape[:-1] + (Q.shape[-1] + 1,))
-    phi[..., 1:] = Q.cumsum(axis=-1)
-    return np.cos(phi), np.sin(phi)
-
-
 def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.ndarray,
-                Phi: np.ndarray) -> tuple[np.ndarray, ...]:
+                Phi: np.ndarray, points: tuple | None = None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return the links' motion in each mode.
 
     Parameters
@@ -41,28 +35,31 @@ def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.n
         Joint angles, rad.
     Phi : ndarray, shape (m, n, n)
         Mode shapes (rad per unit modal coordinate), Phi[pose, joint, mode].
+    points : tuple, optional
+        ``planar_mass.chain_points`` of the same chain (stacked as one design) and poses when
+        already computed.
 
     Returns
     -------
-    w, vx, vz : ndarray, shape (m, mode, link)
-        Angular rate of links 1..n (the sum of their joints' rates, rad) and velocity of their
-        centres of mass ``v_i = w_i C_i - sum_(j <= i) phi_j J_j`` (m).
-    ux, uz : ndarray, shape (m, 1, link)
-        The links' axes.
+    w : ndarray, shape (m, mode, link)
+        Angular rate of links 1..n (the sum of their joints' rates, rad).
+    v : ndarray, shape (m, 2, mode, link)
+        x and z of the velocity of their centres of mass ``v_i = w_i C_i - sum_(j <= i) phi_j
+        J_j`` (m).
+    u : ndarray, shape (m, 2, 1, link)
+        x and z of the links' axes.
     """
-    L = np.asarray(lengths_m, dtype=float)
-    off = np.asarray(com_offset_m, dtype=float)
-    c, sn = _link_axes(poses_rad)  # (m, n+1); the sign of z does not matter in a quadratic form
-    # joints 1..n at the ends of links 0..n-1 and the centres of mass of links 1..n
-    jx = (L[None, :-1] * c[:, :-1]).cumsum(axis=1)
-    jz = (L[None, :-1] * sn[:, :-1]).cumsum(axis=1)
-    cx = jx + off[1:] * c[:, 1:]
-    cz = jz + off[1:] * sn[:, 1:]
+    if points is None:
+        L = np.asarray(lengths_m, dtype=float)
+        off = np.asarray(com_offset_m, dtype=float)
+        points = chain_points(L[None], off[None], np.asarray(poses_rad, dtype=float))
+    # the sign of z does not matter in a quadratic form
+    axes, joints, coms = points
+    joints, coms = joints[0, :, :, None, :], coms[0, :, :, None, :]  # (m, 2, 1, link)
     P = Phi.swapaxes(1, 2)
-    w = P.cumsum(axis=2)
-    vx = w * cx[:, None, :] - (P * jx[:, None, :]).cumsum(axis=2)
-    vz = w * cz[:, None, :] - (P * jz[:, None, :]).cumsum(axis=2)
-    return w, vx, vz, c[:, None, 1:], sn[:, None, 1:]
+    w = np.add.accumulate(P, axis=2)
+    v = w[:, None] * coms - np.add.accumulate(P[:, None] * joints, axis=3)
+    return w, v, axes[:, :, None, 1:]
 
 
 def kinetic_energy_change(motion: tuple[np.ndarray, ...], mass_kg: np.ndarray,
@@ -75,10 +72,10 @@ def kinetic_energy_change(motion: tuple[np.ndarray, ...], mass_kg: np.ndarray,
     :func:`mode_motion`; ``mass_kg``: the masses of links 1..n, (n,). Shape (m, mode, cols),
     kg m^2 per unit of each column.
     """
-    w, vx, vz, ux, uz = motion
-    e_mass = vx * vx + vz * vz
+    w, v, u = motion
+    e_mass = np.add.reduce(v * v, axis=1)  # |v|^2
     e_inertia = w * w
-    e_offset = 2.0 * mass_kg * w * (ux * vx + uz * vz)
+    e_offset = 2.0 * mass_kg * w * np.add.reduce(u * v, axis=1)
     return e_mass @ d_mass[1:] + e_inertia @ d_inertia[1:] + e_offset @ d_offset[1:]
 
 

@@ -125,16 +125,19 @@ def worst_mode_error_pct(errors_pct: np.ndarray) -> float:
 
 def eigen_residuals(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper",
+    norm: str = "paper", weights: np.ndarray | None = None,
 ) -> np.ndarray:
     """Compute the weighted per-mode residuals ``d (w - f)`` of every pose, dimensionless.
 
     Shape (..., m, N) for model frequencies (rad/s) of shape (..., m, >= N); their norm over
-    the modes is :func:`eigen_errors`.
+    the modes is :func:`eigen_errors`. ``weights``: ``eigen_weights(omega_truth_rad_s,
+    squared, norm)`` when already computed (a fit's inner loop).
     """
     f = _truth(omega_truth_rad_s, squared)
     w = _model(omega_model_rad_s, f.size, squared)
-    return (w - f) * eigen_weights(omega_truth_rad_s, squared, norm)
+    if weights is None:
+        weights = eigen_weights(omega_truth_rad_s, squared, norm)
+    return (w - f) * weights
 
 
 def eigen_errors(

@@ -1,5 +1,7 @@
 """The planar chain in closed form: tip, Jacobian, J^T F, load stiffness, M(q) and the potential.
 
+M(q) is computed in :mod:`prbdm_pin.planar_mass` and exported here too.
+
 The chain is a clamped link of length L_0 along x followed by n links on revolute joints about
 +y. Link i >= 1 has the world angle phi_i = q_1 + ... + q_i, so its axis is
 (cos phi_i, 0, -sin phi_i) and
@@ -19,9 +21,11 @@ loop and the simulation's force terms; tests/test_planar.py checks them against 
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 import numpy as np
+
+# M(q) lives in its own module (:mod:`.planar_mass`); importers of the planar chain find it here
+from .planar_mass import chain_points, max_index, planar_mass_matrices
 
 __all__ = [
     "tip_positions",
@@ -32,6 +36,8 @@ __all__ = [
     "load_stiffness",
     "force_and_load_stiffness",
     "planar_mass_matrices",
+    "chain_points",
+    "tip_terms",
     "ChainPotential",
 ]
 
@@ -44,41 +50,42 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray | float:
     rounding).
     """
     if a.ndim == 1:
-        return (a * b).sum()
+        return np.add.reduce(a * b)  # ndarray.sum's pairwise sum without its Python wrapper
     return np.einsum("bi,bi->b", a.reshape(-1, a.shape[-1]),
                      b.reshape(-1, b.shape[-1])).reshape(a.shape[:-1])
 
 
-def _angles(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cosines and sines of the link angles phi_i = q_1 + ... + q_i, shape of ``Q``."""
-    phi = Q.cumsum(axis=-1)
-    return np.cos(phi), np.sin(phi)
+def _angles(Q: np.ndarray) -> np.ndarray:
+    """Cosines and sines of the link angles phi_i = q_1 + ... + q_i, stacked: (2,) + Q.shape.
+
+    Cosines and sines side by side, so the callers treat both in one numpy call (a call costs
+    as much as the arithmetic of a short chain; np.add.accumulate is cumsum without its
+    wrapper).
+    """
+    phi = np.add.accumulate(Q, axis=-1)
+    cs = np.empty((2,) + phi.shape)
+    np.cos(phi, out=cs[0])
+    np.sin(phi, out=cs[1])
+    return cs
 
 
-def _tip_xz(L0, links: np.ndarray, c: np.ndarray, s: np.ndarray):
+def _tip_xz(L0, links: np.ndarray, cs: np.ndarray):
     """Return the tip's x and z (m).
 
     From the clamped length ``L0``, the links (..., n) and the cosines and sines of their
-    angles.
+    angles (:func:`_angles`).
     """
-    return L0 + _dot(links, c), -_dot(links, s)
+    if links.ndim == 1:  # both rows' pairwise sums in one reduction, as _dot sums one row
+        x, z = np.add.reduce(links * cs, axis=-1).tolist()
+    else:
+        x, z = _dot(links, cs[0]), _dot(links, cs[1])
+    return L0 + x, -z
 
 
-def _lever_arms(links: np.ndarray, c: np.ndarray, s: np.ndarray
-                ) -> tuple[np.ndarray, np.ndarray]:
+def _lever_arms(links: np.ndarray, cs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(c_m, s_m) = sums over i >= m of L_i cos phi_i and L_i sin phi_i, shape (..., n)."""
-    # both in one pass: a numpy call costs as much as the arithmetic of a short chain
-    rc, rs = (np.array([c, s]) * links)[..., ::-1].cumsum(axis=-1)[..., ::-1]
-    return rc, rs
-
-
-@lru_cache(maxsize=64)
-def _upper(n: int) -> np.ndarray:
-    """max(j, k) for j, k < n: the lever arm an entry of the load stiffness takes."""
-    idx = np.arange(n)
-    out = np.maximum(idx[:, None], idx[None, :])
-    out.setflags(write=False)
-    return out
+    r = np.add.accumulate((cs * links)[..., ::-1], axis=-1)[..., ::-1]
+    return r[0], r[1]
 
 
 def _force_terms(rc: np.ndarray, rs: np.ndarray, fx: float, fz: float, stiffness: bool):
@@ -86,7 +93,10 @@ def _force_terms(rc: np.ndarray, rs: np.ndarray, fx: float, fz: float, stiffness
     jtf = -fx * rs - fz * rc
     if not stiffness:
         return jtf, None
-    return jtf, (-fx * rc + fz * rs)[..., _upper(rc.shape[-1])]
+    T = -fx * rc + fz * rs
+    idx = max_index(T.shape[-1])
+    # T[idx] for one chain: indexing after an Ellipsis costs more than the arithmetic here
+    return jtf, T[idx] if T.ndim == 1 else T[..., idx]
 
 
 def _chain(lengths_m: np.ndarray, Q: np.ndarray):
@@ -96,7 +106,8 @@ def _chain(lengths_m: np.ndarray, Q: np.ndarray):
     shape = Q.shape[:-1] + (Q.shape[-1] + 1,)
     if L.shape != shape:  # broadcast_to costs as much as the kinematics of a short chain
         L = np.broadcast_to(L, shape)
-    return Q, L[..., 0], L[..., 1:]
+    # L[0] for one chain: a scalar, cheaper to compute with than the 0-d array of L[..., 0]
+    return Q, L[0] if L.ndim == 1 else L[..., 0], L[..., 1:]
 
 
 def _jacobians(rc: np.ndarray, rs: np.ndarray) -> np.ndarray:
@@ -113,7 +124,7 @@ def tip_positions(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """
     Q, L0, links = _chain(lengths_m, Q)
     out = np.zeros(Q.shape[:-1] + (3,))
-    out[..., 0], out[..., 2] = _tip_xz(L0, links, *_angles(Q))
+    out[..., 0], out[..., 2] = _tip_xz(L0, links, _angles(Q))
     return out
 
 
@@ -124,16 +135,48 @@ planar_tips = tip_positions
 def tip_jacobians(lengths_m: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """World-aligned linear tip Jacobians (m/rad) at ``Q`` (rad, (..., n)), shape (..., 3, n)."""
     Q, _, links = _chain(lengths_m, Q)
-    return _jacobians(*_lever_arms(links, *_angles(Q)))
+    return _jacobians(*_lever_arms(links, _angles(Q)))
 
 
 def planar_tip(lengths_m: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Tip position (m, (3,)) and linear tip Jacobian (m/rad, (3, n)) of one pose ``q`` (rad)."""
     q, L0, links = _chain(lengths_m, q)
-    c, s = _angles(q)
+    cs = _angles(q)
     p = np.zeros(q.shape[:-1] + (3,))
-    p[..., 0], p[..., 2] = _tip_xz(L0, links, c, s)
-    return p, _jacobians(*_lever_arms(links, c, s))
+    p[..., 0], p[..., 2] = _tip_xz(L0, links, cs)
+    return p, _jacobians(*_lever_arms(links, cs))
+
+
+def tip_terms(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray):
+    """Return what the derivatives of an equilibrium need at one pose, from one angle evaluation.
+
+    Parameters
+    ----------
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    q : ndarray, shape (n,)
+        Joint angles, rad.
+    force_N : ndarray, shape (3,)
+        Dead tip force in the world frame, N.
+
+    Returns
+    -------
+    tip_m : ndarray, shape (3,)
+        Tip position, m.
+    jacobian : ndarray, shape (3, n)
+        Linear tip Jacobian, m/rad.
+    load_stiffness : ndarray, shape (n, n)
+        d(J^T F)/dq (:func:`load_stiffness`), N m/rad.
+    cos_phi, sin_phi : ndarray, shape (n,)
+        Cosines and sines of the link angles phi_i = q_1 + ... + q_i.
+    """
+    q, L0, links = _chain(lengths_m, q)
+    cs = _angles(q)
+    rc, rs = _lever_arms(links, cs)
+    p = np.zeros(3)
+    p[0], p[2] = _tip_xz(L0, links, cs)
+    T = _force_terms(rc, rs, float(force_N[0]), float(force_N[2]), True)[1]
+    return p, _jacobians(rc, rs), T, cs[0], cs[1]
 
 
 def generalised_force(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) -> np.ndarray:
@@ -174,69 +217,8 @@ def force_and_load_stiffness(
     The load stiffness is None unless ``stiffness``.
     """
     q, _, links = _chain(lengths_m, q)
-    rc, rs = _lever_arms(links, *_angles(q))
+    rc, rs = _lever_arms(links, _angles(q))
     return _force_terms(rc, rs, float(force_N[0]), float(force_N[2]), stiffness)
-
-
-def planar_mass_matrices(
-    lengths_m: np.ndarray,
-    mass_kg: np.ndarray,
-    com_offset_m: np.ndarray,
-    inertia_yy_kg_m2: np.ndarray,
-    Q: np.ndarray,
-) -> np.ndarray:
-    """Closed-form mass matrices of the planar chain at the poses in the rows of ``Q``.
-
-    The fit's inner loop uses this instead of building a ``pinocchio.Model`` for every trial
-    design (the model build cost ~10x the rest of an evaluation); the product, and every fit
-    result, use Pinocchio's CRBA. tests/test_planar.py checks it against ``pin.crba``.
-    No input checks: the caller passes valid arrays.
-
-    Link i >= 1 (mass m_i, centre of mass d_i from its joint along its axis, inertia I_i about
-    the centre of mass and the y axis) swings about joints 1..i, so
-    ``M_jk = sum_(i >= max(j, k)) m_i r_ij . r_ik + I_i`` with ``r_ij`` the vector from joint j
-    to the centre of mass of link i in the xz-plane (link 0 is clamped and adds nothing).
-
-    Parameters
-    ----------
-    lengths_m : ndarray, shape (n+1,)
-        Link lengths, m.
-    mass_kg, com_offset_m, inertia_yy_kg_m2 : ndarray, shape (n+1,)
-        Link masses (kg), centre-of-mass distances from the link's start along its axis (m),
-        and inertias about the centre of mass around y (kg m^2); entry 0 (the clamped link) is
-        not used.
-    Q : ndarray, shape (m, n)
-        Joint angles, rad.
-
-    Returns
-    -------
-    ndarray, shape (m, n, n), kg m^2; (B, m, n, n) when the link arrays are stacks (B, n+1)
-    of designs.
-    """
-    Q = np.asarray(Q, dtype=float)
-    m, n = Q.shape
-    L, mass, off, Iyy = (np.asarray(v, dtype=float).reshape(-1, n + 1)
-                         for v in (lengths_m, mass_kg, com_offset_m, inertia_yy_kg_m2))
-    B = L.shape[0]
-    phi = np.zeros((m, n + 1))
-    Q.cumsum(axis=1, out=phi[:, 1:])
-    c, sn = np.cos(phi), np.sin(phi)  # link axes (the sign of z does not matter here)
-    jx = (L[:, None, :-1] * c[:, :-1]).cumsum(axis=2)  # (B, m, n): joint j + 1
-    jz = (L[:, None, :-1] * sn[:, :-1]).cumsum(axis=2)
-    cx = jx + off[:, None, 1:] * c[:, 1:]  # (B, m, n): centre of mass of link i + 1
-    cz = jz + off[:, None, 1:] * sn[:, 1:]
-    # rows (i, x) of R hold sqrt(m_i) r_ij; link i moves with joint j only when j <= i
-    w = (np.sqrt(mass[:, 1:])[:, :, None] * np.tri(n))[:, None]
-    R = np.empty((B, m, 2 * n, n))
-    np.multiply(cx[..., :, None] - jx[..., None, :], w, out=R[:, :, :n])
-    np.multiply(cz[..., :, None] - jz[..., None, :], w, out=R[:, :, n:])
-    M = R.swapaxes(-1, -2) @ R
-    tail = Iyy[:, :0:-1].cumsum(axis=1)[:, ::-1]  # sum over links i >= j of I_i
-    idx = np.arange(n)
-    M += tail[:, None, np.maximum.outer(idx, idx)]
-    if np.ndim(lengths_m) == 1:
-        return M[0]
-    return M
 
 
 class ChainPotential:
@@ -252,7 +234,8 @@ class ChainPotential:
     def __init__(self, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
                  force_N: np.ndarray) -> None:
         lengths = np.asarray(lengths_m, dtype=float)
-        self.L0, self.links = lengths[..., 0], lengths[..., 1:]
+        self.L0 = lengths[0] if lengths.ndim == 1 else lengths[..., 0]  # as in _chain
+        self.links = lengths[..., 1:]
         self.k = np.asarray(stiffness_Nm_per_rad, dtype=float)
         self.fx, self.fz = float(force_N[0]), float(force_N[2])
         self.K = np.diag(self.k) if self.k.ndim == 1 else None
@@ -268,7 +251,7 @@ class ChainPotential:
         A float for one chain, shape (r,) for the chains ``rows``.
         """
         L0, links, k = self._rows(rows)
-        x, z = _tip_xz(L0, links, *_angles(q))
+        x, z = _tip_xz(L0, links, _angles(q))
         work = self.fx * x + self.fz * z
         if q.ndim == 1:
             return 0.5 * float(q @ (k * q)) - lam * float(work)
@@ -282,7 +265,7 @@ class ChainPotential:
         residual scale max(||K q||, ||lam J^T F||) of the convergence test in N m.
         """
         _, links, k = self._rows(rows)
-        rc, rs = _lever_arms(links, *_angles(q))
+        rc, rs = _lever_arms(links, _angles(q))
         jtf, T = _force_terms(rc, rs, lam * self.fx, lam * self.fz, hessian)
         kq = k * q
         g = kq - jtf

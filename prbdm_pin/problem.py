@@ -58,13 +58,13 @@ def lengths_from_unit(u: np.ndarray, length_m: float,
     excess length ``L - (n+1) a`` still unassigned, the last link takes the rest. Smooth, onto,
     and every boundary point of the simplex is reached at a finite u.
     """
-    u = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
-    n1 = u.size + 1
+    u = np.asarray(u, dtype=float).tolist()
+    n1 = len(u) + 1
     a = min_fraction * length_m
     rest = length_m - n1 * a
     e = []
-    for uj in u.tolist():  # Python floats: the same IEEE arithmetic, without numpy scalars
-        ej = uj * rest
+    for uj in u:  # Python floats: the same IEEE arithmetic as numpy's, without numpy scalars
+        ej = min(max(uj, 0.0), 1.0) * rest  # u clipped to [0, 1]
         e.append(ej)
         rest -= ej
     e.append(max(rest, 0.0))

@@ -16,6 +16,7 @@ and the derivative returned is their mean (the limit of a central difference).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -55,19 +56,28 @@ class SectionGradient:
 
 def stations_from_lengths(lengths_m: np.ndarray) -> np.ndarray:
     """Joint stations x_j = L_0 + ... + L_(j-1), m, shape (n,) for lengths (n+1,)."""
-    return np.cumsum(np.asarray(lengths_m, dtype=float))[:-1]
+    return np.add.accumulate(np.asarray(lengths_m, dtype=float))[:-1]
 
 
-def _mean_sides(beam: Beam, x: np.ndarray, powers: tuple[int, ...]) -> list[np.ndarray]:
-    """Return w(x)^p (w in m) for each p of ``powers``.
-
-    At a width step the value is the mean of the one-sided limits.
-    """
+def _mean_width(beam: Beam, x: np.ndarray) -> np.ndarray:
+    """Return w(x), m; at a width step the mean of the one-sided limits."""
     if not beam.step_index.size:  # called in the fit's inner loop: one interpolation
-        w = np.interp(x, beam.x_m, beam.half_width_m)
-        return [w**p for p in powers]
-    wl, wr = beam.half_width_at(x, "left"), beam.half_width_at(x, "right")
-    return [0.5 * (wl**p + wr**p) for p in powers]
+        return np.interp(x, beam.x_m, beam.half_width_m)
+    return 0.5 * (beam.half_width_at(x, "left") + beam.half_width_at(x, "right"))
+
+
+@lru_cache(maxsize=64)
+def _bands(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return the entries (link, station) the n stations move and the sign of each span's change.
+
+    Station j + 1 ends link j (first n entries, +1) and starts link j + 1 (last n, -1).
+    """
+    links = np.r_[np.arange(n), np.arange(1, n + 1)]
+    cols = np.r_[np.arange(n), np.arange(n)]
+    sign = np.r_[np.ones(n), -np.ones(n)]
+    for a in (links, cols, sign):
+        a.setflags(write=False)
+    return links, cols, sign
 
 
 def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
@@ -91,28 +101,35 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     A = mass / rho_t
     P1 = A * offset
     x = stations_from_lengths(lengths)
-    h = np.diff(np.r_[0.0, x, beam.length_m])  # the spans the sections integrated over
-    w2 = 2.0 * _mean_sides(beam, x, (1,))[0]
-    # each link moves with two stations only: its end (station j + 1 ends link j) and its
-    # start (station j + 1 starts link j + 1); the derivatives of both bands, then the matrices
-    e, b = np.arange(n), np.arange(1, nl)  # links ended, links started by station j + 1
+    h = np.empty(nl)  # the spans the sections integrated over
+    h[0] = x[0]
+    np.subtract(x[1:], x[:-1], out=h[1:-1])
+    h[-1] = beam.length_m - x[-1]
+    w2 = 2.0 * _mean_width(beam, x)
+    # each link moves with two stations only: its end (station j + 1 ends link j, the first n
+    # entries) and its start (station j + 1 starts link j + 1, the last n), both bands at once
+    links, cols, dh = _bands(n)
     # ends: d/db of A, P1, P2 is the integrand at b; starts: (x - a)^p vanishes at a for p > 0
-    he = h[e]
-    bands = (
-        (e, w2, w2 * he, w2 * he * he, 1.0),
-        (b, -w2, -A[b], -2.0 * P1[b], -1.0),
-    )
-    c3 = t**3 / 12.0
-    out = [np.zeros((nl, n)) for _ in range(4)]
-    cols = np.arange(n)
-    for links, dA, dP1, dP2, dh in bands:
-        off, r = offset[links], P1[links] / A[links]
-        d_off = (dP1 - off * dA) / A[links]
-        # Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12
-        dIyy = rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA) + rho_t * dA * t * t / 12.0
-        d_area = c3 * (dA / h[links] - A[links] / h[links] ** 2 * dh)
-        for o, v in zip(out, (rho_t * dA, d_off, dIyy, d_area), strict=True):
-            o[links, cols] = v
+    he = h[:n]
+    d = np.empty((3, 2 * n))  # dA, dP1, dP2
+    d[0, :n] = w2
+    np.negative(w2, out=d[0, n:])
+    np.multiply(w2, he, out=d[1, :n])
+    np.negative(A[1:], out=d[1, n:])
+    np.multiply(d[1, :n], he, out=d[2, :n])
+    np.multiply(-2.0, P1[1:], out=d[2, n:])
+    dA, dP1, dP2 = d[0], d[1], d[2]
+    Al, hl = A[links], h[links]
+    off, r = offset[links], P1[links] / Al
+    # rows: mass, offset, Iyy = rho t (P2 - P1^2 / A) + rho t A t^2 / 12 (row 0 holds
+    # rho t dA), mean area moment
+    v = np.empty((4, 2 * n))
+    np.multiply(rho_t, dA, out=v[0])
+    np.divide(dP1 - off * dA, Al, out=v[1])
+    np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), v[0] * t * t / 12.0, out=v[2])
+    np.multiply(t**3 / 12.0, dA / hl - Al / hl**2 * dh, out=v[3])
+    out = np.zeros((4, nl, n))
+    out[:, links, cols] = v
     return SectionGradient(mass, offset, Iyy, area_moment, *out)
 
 
@@ -134,19 +151,20 @@ def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
         K = finite_segment_stiffness_unchecked(beam, lengths)
     n = K.size
     C = beam.material.E_Pa * 2.0 * beam.thickness_m**3 / 12.0
-    ends = lengths.cumsum()
+    ends = np.add.accumulate(lengths)
     centres = ends - 0.5 * lengths
-    dK = np.zeros((n, n))
     if n == 1:
-        return K, dK
+        return K, np.zeros((1, 1))
     inner = centres[1:n]  # c_1 .. c_(n-1), each the mean of stations j and j + 1
-    dI_dc = 0.5 / _mean_sides(beam, inner, (1,))[0]  # (n-1,): 1 / w(c) times dc/dx = 1/2
-    r = np.arange(n - 1)
-    # spring j's integral ends at c_(j+1) (+) and spring j + 1's starts there (-)
+    dI_dc = 0.5 / _mean_width(beam, inner)  # (n-1,): 1 / w(c) times dc/dx = 1/2
+    # spring j's integral ends at c_(j+1) (+) and spring j + 1's starts there (-): dI is
+    # tridiagonal, written through views of its diagonals
     dI = np.zeros((n, n))
-    dI[r, r] += dI_dc
-    dI[r, r + 1] += dI_dc
-    dI[r + 1, r] -= dI_dc
-    dI[r + 1, r + 1] -= dI_dc
+    flat = dI.reshape(-1)
+    diag = flat[:: n + 1]
+    diag[:-1] = dI_dc
+    diag[1:] -= dI_dc
+    flat[1:: n + 1] = dI_dc
+    np.negative(dI_dc, out=flat[n:: n + 1])
     dK = -(K * K / C)[:, None] * dI
     return K, dK

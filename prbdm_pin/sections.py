@@ -22,6 +22,7 @@ __all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_s
 
 # two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
 _GAUSS_T = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
+_ROWS = np.arange(4)
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,25 +105,39 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     ``lengths`` is (n+1,) or a stack (B, n+1) of designs (the fit's finite differences); every
     output then has the same leading shape. Each design's numbers do not depend on the stack.
     """
-    # called inside optimisation loops: ndarray methods rather than numpy's wrapper functions
-    L = lengths.reshape(-1, lengths.shape[-1])
-    B, nl = L.shape
-    ends = L.cumsum(axis=1)
-    ends[:, -1] = beam.length_m  # the tip is the beam's end, not a rounded sum
-    starts = np.zeros((B, nl))
-    starts[:, 1:] = ends[:, :-1]
+    # called inside optimisation loops on a single design: ndarray methods and preallocated
+    # arrays rather than numpy's wrapper functions, each of which costs as much as the
+    # arithmetic of a short chain
+    shape = lengths.shape
+    nl = shape[-1]
+    L = lengths.reshape(-1, nl)
+    B = L.shape[0]
+    xv = beam.x_m
+    nv = xv.size
+    se = np.zeros((B, nl + 1))  # link boundaries: link i spans [se[i], se[i + 1]]
+    np.add.accumulate(L, axis=1, out=se[:, 1:])
+    se[:, -1] = beam.length_m  # the tip is the beam's end, not a rounded sum
+    starts, ends = se[:, :-1], se[:, 1:]
     mids = 0.5 * (starts + ends)
     # sub-intervals between all planform vertices and link boundaries (an empty one where a
     # boundary meets a vertex adds exact zeros)
-    cuts = np.concatenate((np.broadcast_to(beam.x_m, (B, beam.x_m.size)), ends), axis=1)
+    cuts = np.empty((B, nv + nl))
+    cuts[:, :nv] = xv
+    cuts[:, nv:] = ends
     cuts.sort(axis=1)
     u, v = cuts[:, :-1], cuts[:, 1:]
-    link = (0.5 * (u + v))[:, :, None].__gt__(ends[:, None, :]).sum(axis=2)
-    np.minimum(link, nl - 1, out=link)
+    # the link of each sub-interval: how many link ends lie below its middle (at most nl - 1,
+    # as no middle lies beyond the tip)
+    centre = 0.5 * (u + v)
+    if B == 1:
+        link = ends[0].searchsorted(centre)
+    else:
+        link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
+        link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
     h = v - u
     xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
-    wg = np.interp(xg, beam.x_m, beam.half_width_m)
-    xl = xg - np.take_along_axis(mids, link, axis=1)[..., None]  # about the mid-span
+    wg = np.interp(xg, xv, beam.half_width_m)
+    xl = xg - mids.ravel()[link][..., None]  # about the mid-span
     w2 = 2.0 * wg
     # rows: area, first and second moment in x, y^2 moment (2 w^3 / 3); Gauss weights h / 2
     f = np.empty((4,) + xg.shape)
@@ -130,10 +145,10 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     np.multiply(w2, xl, out=f[1])
     np.multiply(f[1], xl, out=f[2])
     f[3] = w2 * wg * wg / 3.0
-    f = f.sum(axis=3) * (0.5 * h)
-    flat = (link + nl * np.arange(B)[:, None]).ravel()
-    out = [np.bincount(flat, f[r].ravel(), B * nl).reshape(lengths.shape) for r in range(4)]
-    shape = lengths.shape
+    f = np.add.reduce(f, axis=3) * (0.5 * h)
+    # all four rows in one bincount: row r's bins are offset by r B nl
+    bins = (link.ravel() + (B * nl) * _ROWS[:, None]).ravel()
+    out = np.bincount(bins, f.ravel(), 4 * B * nl).reshape((4,) + shape)
     return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
 
 

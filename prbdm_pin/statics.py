@@ -24,7 +24,8 @@ from .statics_guard import check_load, load_ok_rows, off_saddle, require_finite
 if TYPE_CHECKING:
     import pinocchio as pin
 
-__all__ = ["static_deflection", "static_deflection_planar", "static_deflection_planar_batch"]
+__all__ = ["static_deflection", "static_deflection_planar", "static_deflection_planar_unchecked",
+           "static_deflection_planar_batch"]
 
 
 def _newton(pot: ChainPotential, q: np.ndarray, lam: float, rtol: float, max_iter: int,
@@ -49,7 +50,7 @@ def _newton(pot: ChainPotential, q: np.ndarray, lam: float, rtol: float, max_ite
             w, V = np.linalg.eigh(H)
             floor = 1e-8 * max(float(np.max(np.abs(w))), 1e-300)
             d = -V @ ((V.T @ g) / np.maximum(np.abs(w), floor))
-        step = float(np.max(np.abs(d)))
+        step = float(np.maximum.reduce(np.abs(d)))
         if step > max_step:
             d *= max_step / step
         # backtracking (Armijo) on the potential; near the solution V stops resolving the
@@ -100,10 +101,31 @@ def static_deflection_planar(
     q = np.zeros(n) if q0 is None else np.array(q0, dtype=float)
     if q.shape != (n,) or not np.all(np.isfinite(q)):
         raise BeamInputError(f"q0 = {q.tolist()}: must be {n} finite joint angles (rad)")
+    return static_deflection_planar_unchecked(np.asarray(lengths_m, dtype=float), k, F, q, rtol,
+                                              max_iter, max_step_rad)
+
+
+def static_deflection_planar_unchecked(
+    lengths_m: np.ndarray,
+    stiffness_Nm_per_rad: np.ndarray,
+    tip_force_N: np.ndarray,
+    q0: np.ndarray,
+    rtol: float = 1e-10,
+    max_iter: int = 60,
+    max_step_rad: float = 0.5,
+) -> np.ndarray:
+    """Compute :func:`static_deflection_planar` for inputs already checked (the fit's inner loop).
+
+    ``lengths_m`` (n+1,), m, ``stiffness_Nm_per_rad`` (n,), N m/rad, ``tip_force_N`` (3,), N,
+    finite, and a finite start ``q0`` (n,), rad, all float arrays; ``q0`` is not modified.
+    The load is still checked against what double precision resolves (it depends on the
+    springs).
+    """
+    F, q = tip_force_N, q0
     if F[0] == 0.0 and F[2] == 0.0:
-        return np.zeros(n)  # no in-plane load: V = 1/2 q^T K q has its only minimum at 0
-    check_load(lengths_m, k, F, rtol)
-    pot = ChainPotential(np.asarray(lengths_m, dtype=float), k, F)
+        return np.zeros(q.size)  # no in-plane load: V = 1/2 q^T K q has its only minimum at 0
+    check_load(lengths_m, stiffness_Nm_per_rad, F, rtol)
+    pot = ChainPotential(lengths_m, stiffness_Nm_per_rad, F)
     q1, ok = _newton(pot, q, 1.0, rtol, max_iter, max_step_rad)
     if ok:
         return q1

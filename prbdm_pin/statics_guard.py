@@ -26,6 +26,7 @@ __all__ = ["load_index", "max_load_index", "check_load", "load_ok_rows", "requir
            "off_saddle"]
 
 _EPS = float(np.finfo(float).eps)
+_MAX = float(np.finfo(float).max)
 
 
 def max_load_index(rtol: float) -> float:
@@ -38,7 +39,7 @@ def max_load_index(rtol: float) -> float:
 
 def _magnitude_cap(n: int) -> float:
     # the solver squares and sums n + 1 terms of this size
-    return math.sqrt(float(np.finfo(float).max) / (n + 1))
+    return math.sqrt(_MAX / (n + 1))
 
 
 def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarray:
@@ -48,7 +49,12 @@ def load_index(arm_m: np.ndarray, k_max: np.ndarray, force_N: float) -> np.ndarr
     stiffest springs ``k_max`` (N m/rad), under ``|F| = force_N`` (N).
     """
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        return force_N * np.asarray(arm_m, dtype=float) / np.asarray(k_max, dtype=float)
+        return _index(np.asarray(arm_m, dtype=float), np.asarray(k_max, dtype=float), force_N)
+
+
+def _index(arm_m, k_max, force_N):
+    # without load_index's floating-point guard: the caller holds one
+    return force_N * arm_m / k_max
 
 
 def load_ok_rows(lengths_m: np.ndarray, k: np.ndarray, force: np.ndarray,
@@ -60,18 +66,28 @@ def load_ok_rows(lengths_m: np.ndarray, k: np.ndarray, force: np.ndarray,
     f = math.hypot(float(force[0]), float(force[2]))
     arm = np.sum(lengths_m[:, 1:], axis=1)
     kmax = np.max(k, axis=1)
-    cap = _magnitude_cap(k.shape[1])
-    with np.errstate(over="ignore", invalid="ignore"):
-        ok = (load_index(arm, kmax, f) <= max_load_index(rtol)) & (f * arm <= cap)
-        return ok & (kmax * math.pi <= cap)
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        return _resolvable(arm, kmax, f, rtol, k.shape[1])
+
+
+def _resolvable(arm, kmax, f: float, rtol: float, n: int):
+    """Run the test of :func:`load_ok_rows` on arrays, or on floats (with ``kmax`` > 0)."""
+    cap = _magnitude_cap(n)
+    return ((_index(arm, kmax, f) <= max_load_index(rtol)) & (f * arm <= cap)
+            & (kmax * math.pi <= cap))
 
 
 def check_load(lengths_m: np.ndarray, k: np.ndarray, force: np.ndarray, rtol: float) -> None:
     """Raise SolveError naming the load when it is beyond what double precision resolves."""
     L = np.asarray(lengths_m, dtype=float)
-    if load_ok_rows(L[None, :], np.asarray(k, dtype=float)[None, :], force, rtol)[0]:
-        return
+    k = np.asarray(k, dtype=float)
     f = math.hypot(float(force[0]), float(force[2]))
+    # one chain (every static solve of a fit) in Python floats, unless k_max <= 0 or NaN
+    # (where numpy's division rules decide)
+    arm, kmax = float(np.add.reduce(L[1:])), float(np.maximum.reduce(k))
+    if (_resolvable(arm, kmax, f, rtol, k.size) if kmax > 0.0
+            else load_ok_rows(L[None, :], k[None, :], force, rtol)[0]):
+        return
     alpha = float(load_index(np.sum(L[1:]), np.max(k), f))
     raise SolveError(
         f"tip_force = {np.asarray(force).tolist()} N: load index |F| L / k_max = {alpha:.3g} "

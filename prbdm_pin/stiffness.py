@@ -129,20 +129,37 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     b = np.asarray(b, dtype=float)
     x = beam.x_m
     a2, b2 = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
-    cuts = np.concatenate((a2, b2, np.broadcast_to(x, (a2.shape[0], x.size))), axis=1)
+    B, k = a2.shape
+    cuts = np.empty((B, 2 * k + x.size))
+    cuts[:, :k] = a2
+    cuts[:, k:2 * k] = b2
+    cuts[:, 2 * k:] = x
     cuts.sort(axis=1)
-    u, v = cuts[:, :-1], cuts[:, 1:]  # empty sub-intervals add exact zeros
+    u, v, part = _sub_integrals(beam, cuts)
     mid = (0.5 * (u + v))[:, :, None]
     inside = (mid > a2[:, None, :]) & (mid < b2[:, None, :])  # (B, s, k)
+    return np.add.reduce(np.where(inside, part[:, :, None], 0.0), axis=1).reshape(a.shape)
+
+
+def _sub_integrals(beam: Beam, cuts: np.ndarray):
+    """∫ dx / w over each sub-interval [u, v] between the sorted ``cuts`` (B, c), m; (u, v, ∫).
+
+    The cuts include the planform vertices, so w is linear on each sub-interval; empty
+    sub-intervals give exact zeros.
+    """
+    u, v = cuts[:, :-1], cuts[:, 1:]
     # w on [u, v] from its ends' one-sided limits (they differ at a width step)
-    wu = beam.half_width_at(u, "right")
-    wv = beam.half_width_at(v, "left")
+    if beam.step_index.size:
+        wu = beam.half_width_at(u, "right")
+        wv = beam.half_width_at(v, "left")
+    else:  # no step (the common case, in the fit's inner loop): one interpolation
+        w = np.interp(cuts, beam.x_m, beam.half_width_m)
+        wu, wv = w[:, :-1], w[:, 1:]
     d = (wv - wu) / wu
     # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
     small = np.abs(d) < 1e-8
     ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
-    part = (v - u) * ratio / wu
-    return np.where(inside, part[:, :, None], 0.0).sum(axis=1).reshape(a.shape)
+    return u, v, (v - u) * ratio / wu
 
 
 def finite_segment_stiffness(
@@ -183,11 +200,27 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
 
     Shape (n,), or (B, n) for a stack of designs (B, n+1) (the fit's inner loop).
     """
-    ends = lengths.cumsum(axis=-1)
+    ends = np.add.accumulate(lengths, axis=-1)
     centres = ends - 0.5 * lengths
     centres[..., 0] = 0.0
     centres[..., -1] = ends[..., -1]
-    integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
+    n = lengths.shape[-1] - 1
+    if lengths.ndim > 1 or n < 2:
+        integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
+    else:
+        # one design of two springs or more (the fit's inner loop): the springs' spans tile
+        # the beam, so each sub-interval adds to the span its middle lies strictly inside, in
+        # order (as inv_width_integral adds them); one whose middle is a span end, or beyond
+        # the last span, to none (bin n)
+        cuts = np.empty((1, n + 1 + beam.x_m.size))
+        cuts[0, :n + 1] = centres
+        cuts[0, n + 1:] = beam.x_m
+        cuts.sort(axis=1)
+        u, v, part = _sub_integrals(beam, cuts)
+        mid = 0.5 * (u[0] + v[0])
+        above = centres.searchsorted(mid)
+        span = np.where(above == centres.searchsorted(mid, "right"), above - 1, n)
+        integral = np.bincount(span, part[0], n + 1)[:n]
     t = beam.thickness_m
     return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
 

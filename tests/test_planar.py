@@ -1,6 +1,7 @@
 """The closed-form planar chain (prbdm_pin.planar) against Pinocchio on the same chain, in one
 place: tip, linear Jacobian, J^T F against the frame Jacobian, the load stiffness against central
-differences, M(q) against CRBA, and stacks of designs and poses against one case at a time."""
+differences, M(q) against CRBA, the joints and centres of mass against Pinocchio's placements, and
+stacks of designs and poses against one case at a time."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from prbdm_pin.layout import sample_lengths
 from prbdm_pin.model import build_model
 from prbdm_pin.planar import (
     ChainPotential,
+    chain_points,
     force_and_load_stiffness,
     generalised_force,
     load_stiffness,
@@ -24,6 +26,7 @@ from prbdm_pin.planar import (
     planar_tips,
     tip_jacobians,
     tip_positions,
+    tip_terms,
 )
 from prbdm_pin.random_beams import random_beam
 
@@ -127,6 +130,46 @@ def test_load_stiffness_equals_central_differences_of_pinocchio(n):
             tau, S2 = force_and_load_stiffness(lengths, q, F)
             np.testing.assert_array_equal(tau, generalised_force(lengths, q, F))
             np.testing.assert_array_equal(S2, S)
+
+
+@pytest.mark.parametrize("n", [1, 3, 6])
+def test_tip_terms_equal_pinocchio_and_central_differences(n):
+    # the one-pass terms of the equilibrium's derivatives: tip and Jacobian against Pinocchio,
+    # the load stiffness against central differences of Pinocchio's J^T F
+    rng = np.random.default_rng(400 + n)
+    h = 1e-6
+    for _, lengths, _, model in _designs(rng, n):
+        q, F = rng.uniform(-2.0, 2.0, n), _force(rng)
+        p, J, T, c, s = tip_terms(lengths, q, F)
+        scale = lengths.sum()
+        np.testing.assert_allclose(p, model.tip_position(q), rtol=0, atol=1e-14 * scale)
+        np.testing.assert_allclose(J, model.tip_jacobian(q), rtol=0, atol=1e-14 * scale)
+        fd = np.column_stack([
+            (model.tip_jacobian(q + h * e).T @ F - model.tip_jacobian(q - h * e).T @ F)
+            / (2 * h) for e in np.eye(n)])
+        np.testing.assert_allclose(T, fd, rtol=0, atol=1e-7 * scale * np.abs(F).max())
+        np.testing.assert_allclose(c + 1j * s, np.exp(1j * np.cumsum(q)), rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("n", [1, 2, 5])
+def test_chain_points_equal_pinocchio_placements(n):
+    # joints and centres of mass of the links (x and -z) against Pinocchio's forward kinematics
+    rng = np.random.default_rng(500 + n)
+    for _, lengths, _, model in _designs(rng, n):
+        s = model.sections
+        off = s.com_m[:, 0] - s.start_m
+        Q = rng.uniform(-2.0, 2.0, (3, n))
+        axes, joints, coms = chain_points(lengths[None], off[None], Q)
+        assert axes.shape == (3, 2, n + 1) and joints.shape == coms.shape == (1, 3, 2, n)
+        data, pm = model.new_data(), model.pin_model
+        tol = 1e-14 * lengths.sum()
+        for i, q in enumerate(Q):
+            pin.forwardKinematics(pm, data, q)
+            for j in range(1, n + 1):
+                pj = data.oMi[j].translation
+                pc = data.oMi[j].act(pm.inertias[j].lever)
+                np.testing.assert_allclose(joints[0, i, :, j - 1], [pj[0], -pj[2]], atol=tol)
+                np.testing.assert_allclose(coms[0, i, :, j - 1], [pc[0], -pc[2]], atol=tol)
 
 
 @pytest.mark.parametrize("n", [1, 3, 8])

@@ -126,3 +126,25 @@ def test_axial_compression_past_buckling_finds_the_buckled_equilibrium(n, alpha)
         P = -F[0]
         ref = brentq(lambda x: k[0] * x - P * lengths[1] * math.sin(x), 1e-6, math.pi)
         assert abs(q[0]) == pytest.approx(ref, rel=1e-8)
+
+
+def test_a_chain_without_stiffness_is_refused_naming_the_load():
+    # k_max = 0: the load index is infinite (the guard's numpy path, not its float one)
+    with pytest.raises(SolveError, match=r"tip_force = .*load index"):
+        statics.static_deflection_planar(np.array([L0, L1]), np.array([0.0]), [0.0, 0.0, -1.0])
+
+
+def test_the_unchecked_solver_goes_on_from_a_warm_start_to_the_moment_balance():
+    # a fit's next design: stiffer springs, from the last equilibrium (left unmodified)
+    lengths = np.array([0.05, 0.3, 0.25, 0.2, 0.2])
+    k = np.array([4.0, 3.0, 2.0, 1.0])
+    F = np.array([0.3, 0.0, -1.0]) * 100.0 * k.max() / lengths[1:].sum()
+    q_last = statics.static_deflection_planar(lengths, k, F)
+    start = q_last.copy()
+    q = statics.static_deflection_planar_unchecked(lengths, 1.1 * k, F, q_last)
+    np.testing.assert_array_equal(q_last, start)
+    np.testing.assert_allclose(1.1 * k * q, joint_torques(lengths, q, F), rtol=1e-7,
+                               atol=1e-9 * np.abs(k * q).max())
+    assert np.abs(q - q_last).max() > 1e-3  # it moved to the new equilibrium
+    with pytest.raises(SolveError, match="load index"):
+        statics.static_deflection_planar_unchecked(lengths, 1e-20 * k, F, q_last)

@@ -17,10 +17,11 @@ import numpy as np
 from ..errors import BeamInputError, SolveError
 from ..evaluate import chain_frequencies
 from ..objectives import eigen_residuals, eigen_weights
-from ..planar import planar_mass_matrices, planar_tip
+from ..planar import tip_positions
+from ..planar_mass import chain_points, planar_mass_matrices
 from ..problem import lengths_from_unit
 from ..sections import planar_sections
-from ..statics import static_deflection_planar
+from ..statics import static_deflection_planar_unchecked
 from ..stiffness import finite_segment_stiffness_unchecked
 from .joint_jacobian import joint_residual_jacobian
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
@@ -46,9 +47,15 @@ class JointResiduals:
         self.d = eigen_weights(p.target.omega_truth_rad_s, p.squared, p.eigen_norm)
         self.cases = p.target.load_cases if spec.objective != "eigen" else ()
         self.norms = tip_scales_m(p, spec.deflection_norm) if self.cases else np.zeros(0)
+        # what scales each residual row: the eigen rows by their weights over sqrt(m); the
+        # squared residuals of k load cases sum to the mean squared tip error
+        self.eigen_row_scale = (np.tile(self.d, p.n_poses) / math.sqrt(p.n_poses))[:, None]
+        wc = 1.0 / math.sqrt(max(len(self.cases), 1))
+        self.tip_scale = [wc / norm for norm in self.norms]
         self.q0 = [None] * len(self.cases)  # warm starts, one per load case
         self.nfev = 0
-        self._last = None  # (x, equilibria of the load cases) of the last residuals
+        # (x as a tuple, what the Jacobian at the same x reuses) of the last residuals
+        self._last = None
 
     def design(self, x):
         """Return the link lengths and the joint spring factors of x.
@@ -85,30 +92,34 @@ class JointResiduals:
         self.nfev += 1
         p, spec = self.p, self.spec
         lengths, s = self.design(x)
-        parts = []
+        out = np.empty(self.size())
+        row = 0
         try:
-            # evaluate.chain_mass_matrices, keeping the sections for the Jacobian at x
+            # evaluate.chain_mass_matrices, keeping the sections and the chain's points for
+            # the Jacobian at x
             sec = planar_sections(p.beam, lengths)
             K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
-            M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad)
+            points = chain_points(lengths[None], sec[1][None], p.poses_rad)
+            M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad, points)
             K = s * K0
             if spec.objective != "deflection":
                 w = chain_frequencies(M, K)[:, : p.n_freq]
-                parts.append(eigen_residuals(w, p.target.omega_truth_rad_s, p.squared,
-                                             p.eigen_norm).ravel() / math.sqrt(p.n_poses))
-            # the squared residuals of k load cases sum to the mean squared tip error
-            wc = 1.0 / math.sqrt(max(len(self.cases), 1))
+                row = w.size
+                out[:row] = eigen_residuals(w, p.target.omega_truth_rad_s, p.squared,
+                                            weights=self.d).ravel() / math.sqrt(p.n_poses)
             for c, case in enumerate(self.cases):
-                q = static_deflection_planar(lengths, K, case.tip_force_N, q0=self.q0[c])
-                tip = planar_tip(lengths, q)[0]
+                q0 = np.zeros(p.n_joints) if self.q0[c] is None else self.q0[c]
+                q = static_deflection_planar_unchecked(lengths, K, case.tip_force_N, q0)
                 self.q0[c] = q
-                parts.append((tip - case.tip_position_m) * (wc / self.norms[c]))
+                out[row:row + 3] = (tip_positions(lengths, q) - case.tip_position_m) \
+                    * self.tip_scale[c]
+                row += 3
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
             self._last = None
             return np.full(self.size(), BAD_LOSS)
-        # what the Jacobian at the same x reuses: the chain and the equilibria
-        self._last = (np.array(x, dtype=float), (sec, K0, M), list(self.q0))
-        return np.concatenate(parts)
+        self._last = (tuple(np.asarray(x, dtype=float).tolist()),
+                      (lengths, s, sec, K0, M, points), list(self.q0))
+        return out
 
     def size(self):
         """Return the length of the residual vector."""
@@ -132,7 +143,8 @@ class JointResiduals:
             d residual / d x (per unit of each coordinate).
         """
         x = np.asarray(x, dtype=float)
-        if self._last is None or not np.array_equal(self._last[0], x):
+        # a tuple's == on Python floats: np.array_equal's wrapper costs more than a short x
+        if self._last is None or self._last[0] != tuple(x.tolist()):
             # scipy asks at the last residuals' x; elsewhere evaluate there first
             self.residuals(x)
             self.nfev -= 1
