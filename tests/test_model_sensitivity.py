@@ -221,6 +221,17 @@ def _fits(monkeypatch, beam, target, n, objective, starts):
     return r_an, r_fd
 
 
+def _same_model_outputs(r_an, r_fd, beam):
+    """The two fits' models give the same frequencies and tip. Their parameters need not agree:
+    the combined optimum lies on a fold (fewer independent residuals than parameters), where the
+    loss rises only quartically along its null directions (scripts/fit_valley.py), so where a
+    converged solve stops along them depends on its path (here up to 2e-4 L apart, with
+    frequencies and tips within 4e-9)."""
+    np.testing.assert_allclose(r_an.omega_model_rad_s, r_fd.omega_model_rad_s, rtol=1e-7)
+    np.testing.assert_allclose(r_an.tip_position_model_m, r_fd.tip_position_model_m,
+                               atol=1e-7 * beam.length_m)
+
+
 @pytest.mark.parametrize("objective", ["eigen", "deflection",
                                        pytest.param("combined", marks=pytest.mark.slow)])
 def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_narrow_3r(
@@ -233,10 +244,8 @@ def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_narrow_3r(
     # same loss: 1e-6 relative, or both exact fits (a zero-residual fit ends anywhere below
     # 1e-6 %, the residuals' tolerance 1e-10 being met well before)
     assert abs(a - b) <= max(1e-6 * b, 1e-6), (a, b)
-    if objective == "combined":  # 3 frequencies and a tip determine the 6 parameters
-        np.testing.assert_allclose(r_an.lengths_m, r_fd.lengths_m, atol=1e-5 * beam.length_m)
-        np.testing.assert_allclose(r_an.stiffness_Nm_per_rad, r_fd.stiffness_Nm_per_rad,
-                                   rtol=1e-4)
+    if objective == "combined":
+        _same_model_outputs(r_an, r_fd, beam)
 
 
 @pytest.mark.parametrize("name,objective", [("reference-random", "eigen"),
@@ -256,6 +265,4 @@ def test_joint_fit_reaches_the_optimum_of_the_finite_difference_fit_4r(
     a, b = getattr(r_an, loss), getattr(r_fd, loss)
     assert abs(a - b) <= max(1e-6 * b, 1e-6), (a, b)
     if objective == "combined":
-        np.testing.assert_allclose(r_an.lengths_m, r_fd.lengths_m, atol=1e-4 * beam.length_m)
-        np.testing.assert_allclose(r_an.stiffness_Nm_per_rad, r_fd.stiffness_Nm_per_rad,
-                                   rtol=1e-3)
+        _same_model_outputs(r_an, r_fd, beam)
