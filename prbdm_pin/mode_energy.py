@@ -44,8 +44,8 @@ def mode_motion(lengths_m: np.ndarray, com_offset_m: np.ndarray, poses_rad: np.n
     w : ndarray, shape (m, mode, link)
         Angular rate of links 1..n (the sum of their joints' rates, rad).
     v : ndarray, shape (m, 2, mode, link)
-        x and z of the velocity of their centres of mass ``v_i = w_i C_i - sum_(j <= i) phi_j
-        J_j`` (m).
+        x and z of the velocity of their centres of mass,
+        ``v_i = w_i C_i - sum_(j <= i) phi_j J_j`` (m).
     u : ndarray, shape (m, 2, 1, link)
         x and z of the links' axes.
     """

@@ -245,27 +245,37 @@ class ChainPotential:
             return self.L0, self.links, self.k
         return self.L0[rows], self.links[rows], self.k[rows]
 
-    def value(self, q: np.ndarray, lam: float = 1.0, rows: np.ndarray | None = None):
+    def angles(self, q: np.ndarray) -> np.ndarray:
+        """Return the cosines and sines of the link angles at ``q`` (rad), shape (2,) + q.shape.
+
+        What :meth:`value` and :meth:`derivatives` at the same ``q`` share (``cs``).
+        """
+        return _angles(q)
+
+    def value(self, q: np.ndarray, lam: float = 1.0, rows: np.ndarray | None = None,
+              cs: np.ndarray | None = None):
         """Return V at ``q`` (rad) under the load fraction ``lam``, J.
 
-        A float for one chain, shape (r,) for the chains ``rows``.
+        A float for one chain, shape (r,) for the chains ``rows``. ``cs``: :meth:`angles` of
+        ``q`` when already computed.
         """
         L0, links, k = self._rows(rows)
-        x, z = _tip_xz(L0, links, _angles(q))
+        x, z = _tip_xz(L0, links, _angles(q) if cs is None else cs)
         work = self.fx * x + self.fz * z
         if q.ndim == 1:
             return 0.5 * float(q @ (k * q)) - lam * float(work)
         return 0.5 * _dot(k * q, q) - lam * work
 
     def derivatives(self, q: np.ndarray, lam: float = 1.0, rows: np.ndarray | None = None,
-                    hessian: bool = True):
+                    hessian: bool = True, cs: np.ndarray | None = None):
         """Return the gradient, the Hessian and the residual scale at ``q`` (rad).
 
         The gradient is in N m, the Hessian in N m/rad (None unless ``hessian``), and the
-        residual scale max(||K q||, ||lam J^T F||) of the convergence test in N m.
+        residual scale max(||K q||, ||lam J^T F||) of the convergence test in N m. ``cs``:
+        :meth:`angles` of ``q`` when already computed.
         """
         _, links, k = self._rows(rows)
-        rc, rs = _lever_arms(links, _angles(q))
+        rc, rs = _lever_arms(links, _angles(q) if cs is None else cs)
         jtf, T = _force_terms(rc, rs, lam * self.fx, lam * self.fz, hessian)
         kq = k * q
         g = kq - jtf

@@ -31,8 +31,9 @@ __all__ = ["static_deflection", "static_deflection_planar", "static_deflection_p
 def _newton(pot: ChainPotential, q: np.ndarray, lam: float, rtol: float, max_iter: int,
             max_step: float) -> tuple[np.ndarray, bool]:
     """Damped Newton descent on V from ``q``; returns (q, converged)."""
+    cs = pot.angles(q)  # each point's angles serve its potential and its derivatives
     for _ in range(max_iter):
-        g, H, scale = pot.derivatives(q, lam)
+        g, H, scale = pot.derivatives(q, lam, cs=cs)
         gn = math.sqrt(g @ g)
         require_finite((pot.fx, 0.0, pot.fz), gn, scale)
         C, info = _potrf(H, lower=1)  # LAPACK Cholesky: thin wrapper, cheap for small n
@@ -55,20 +56,21 @@ def _newton(pot: ChainPotential, q: np.ndarray, lam: float, rtol: float, max_ite
             d *= max_step / step
         # backtracking (Armijo) on the potential; near the solution V stops resolving the
         # decrease, so a step that shrinks the gradient is accepted as well
-        v0, slope = pot.value(q, lam), float(g @ d)
+        v0, slope = pot.value(q, lam, cs=cs), float(g @ d)
         alpha = 1.0
         for _ in range(40):
-            qn = q + alpha * d
-            if pot.value(qn, lam) <= v0 + 1e-4 * alpha * min(slope, 0.0):
+            qn = q + d if alpha == 1.0 else q + alpha * d  # 1.0 d is d: one call less
+            csn = pot.angles(qn)
+            if pot.value(qn, lam, cs=csn) <= v0 + 1e-4 * alpha * min(slope, 0.0):
                 break
-            gnew = pot.derivatives(qn, lam, hessian=False)[0]
+            gnew = pot.derivatives(qn, lam, hessian=False, cs=csn)[0]
             if math.sqrt(gnew @ gnew) < 0.5 * gn:
                 break
             alpha *= 0.5
         else:
             return q, False
-        q = qn
-    g, H, scale = pot.derivatives(q, lam)
+        q, cs = qn, csn
+    g, H, scale = pot.derivatives(q, lam, cs=cs)
     return q, bool(math.sqrt(g @ g) <= rtol * scale and _potrf(H, lower=1)[1] == 0)
 
 

@@ -142,10 +142,10 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _sub_integrals(beam: Beam, cuts: np.ndarray):
-    """∫ dx / w over each sub-interval [u, v] between the sorted ``cuts`` (B, c), m; (u, v, ∫).
+    """Return u, v (m) and the exact ∫_u^v dx / w (dimensionless) of each sub-interval.
 
-    The cuts include the planform vertices, so w is linear on each sub-interval; empty
-    sub-intervals give exact zeros.
+    The sub-intervals [u, v] lie between consecutive sorted ``cuts`` (B, c), m, which include
+    the planform vertices, so w is linear on each; empty sub-intervals give exact zeros.
     """
     u, v = cuts[:, :-1], cuts[:, 1:]
     # w on [u, v] from its ends' one-sided limits (they differ at a width step)
@@ -208,10 +208,11 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
     if lengths.ndim > 1 or n < 2:
         integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     else:
-        # one design of two springs or more (the fit's inner loop): the springs' spans tile
-        # the beam, so each sub-interval adds to the span its middle lies strictly inside, in
-        # order (as inv_width_integral adds them); one whose middle is a span end, or beyond
-        # the last span, to none (bin n)
+        # one design (the fit's inner loop): the springs' spans tile the beam, so one
+        # bincount adds each sub-interval to the span its middle lies strictly inside, in
+        # order, where inv_width_integral masks every sub-interval against every span (the
+        # same sums: for one spring its reduction runs in another order, so it keeps that
+        # path); a middle on a span end, or beyond the last span, goes to none (bin n)
         cuts = np.empty((1, n + 1 + beam.x_m.size))
         cuts[0, :n + 1] = centres
         cuts[0, n + 1:] = beam.x_m
