@@ -86,3 +86,13 @@ def test_a_start_that_cannot_be_evaluated_stops_at_once():
     s = _solve(lambda x: np.full(3, 1e3), lambda x: np.zeros((3, 2)), [0.1, 0.2], [-1, -1],
                [1, 1])
     assert s.status == -1 and s.nfev == 1
+
+
+def test_a_corner_optimum_stops_on_the_projected_gradient():
+    """Both variables held on their bounds by the gradient: converged at once, no steps."""
+    def fun(x):
+        return np.array([x[0] - 2.0, x[1] + 1.0])
+
+    s = _solve(fun, lambda x: np.eye(2), [1.0, 0.0], [-3.0, 0.0], [1.0, 3.0])
+    assert s.status == 2 and s.nfev == 1
+    np.testing.assert_allclose(s.x, [1.0, 0.0])

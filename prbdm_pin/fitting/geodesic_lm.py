@@ -142,11 +142,12 @@ def lm_advance(state: LMState, fun: Callable, jac: Callable, lb: np.ndarray, ub:
     while nfev + 2 <= max_nfev:  # an iteration evaluates the residuals twice
         scale = np.maximum(scale, np.linalg.norm(J, axis=0))
         g = J.T @ r
-        # the largest cosine between a scaled column of J and r (MINPACK's gtol test)
-        if np.max(np.abs(g) / scale) <= tol * np.linalg.norm(r):
+        free = ~(((x <= lb + 1e-12 * span) & (g > 0)) | ((x >= ub - 1e-12 * span) & (g < 0)))
+        # the largest cosine between a free scaled column of J and r (MINPACK's gtol test; a
+        # variable held on its bound by the gradient is at its optimum)
+        if np.max(np.abs(g * free) / scale) <= tol * np.linalg.norm(r):
             status = 2
             break
-        free = ~(((x <= lb + 1e-12 * span) & (g > 0)) | ((x >= ub - 1e-12 * span) & (g < 0)))
         try:
             solve = _damped_solver(J.T @ J, mu, scale, free)
         except np.linalg.LinAlgError:
