@@ -29,8 +29,9 @@ from scipy.optimize import least_squares  # noqa: E402
 import prbdm_pin as pp  # noqa: E402
 from prbdm_pin.fitting.geodesic_lm import lm_advance, lm_start  # noqa: E402
 from prbdm_pin.fitting.joint import JointResiduals  # noqa: E402
+from prbdm_pin.fitting.local import joint_box  # noqa: E402
 from prbdm_pin.fitting.multistart import draw_starts  # noqa: E402
-from prbdm_pin.fitting.spec import LN_S_BOUNDS, FitSpec  # noqa: E402
+from prbdm_pin.fitting.spec import FitSpec  # noqa: E402
 from prbdm_pin.io import atomic_write_text  # noqa: E402
 from prbdm_pin.options import FitOptions  # noqa: E402
 from prbdm_pin.problem import make_problem, unit_from_lengths  # noqa: E402
@@ -38,16 +39,10 @@ from prbdm_pin.problem import make_problem, unit_from_lengths  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def box(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """The bounds of the joint fit's coordinates [u (n), ln s (n)]."""
-    return (np.r_[np.zeros(n), np.full(n, LN_S_BOUNDS[0])],
-            np.r_[np.ones(n), np.full(n, LN_S_BOUNDS[1])])
-
-
 def solve(spec: FitSpec, x0: np.ndarray, cap: int):
     """The trf least-squares solve of one start (the fit's before) with evaluation cap ``cap``."""
     J = JointResiduals(spec)
-    lb, ub = box(spec.problem.n_joints)
+    lb, ub = joint_box(spec.problem.n_joints)
     c = time.process_time()
     r = least_squares(J.residuals, x0, jac=J.jac, bounds=(lb, ub), method="trf", x_scale="jac",
                       ftol=1e-10, xtol=1e-10, gtol=1e-10, max_nfev=cap)
@@ -57,7 +52,7 @@ def solve(spec: FitSpec, x0: np.ndarray, cap: int):
 def solve_geodesic(spec: FitSpec, x0: np.ndarray, cap: int):
     """The geodesic Levenberg-Marquardt solve of one start, run to convergence."""
     J = JointResiduals(spec)
-    lb, ub = box(spec.problem.n_joints)
+    lb, ub = joint_box(spec.problem.n_joints)
     c = time.process_time()
     state = lm_advance(lm_start(J.residuals, J.jac, x0, lb, ub), J.residuals, J.jac, lb, ub, cap)
     return J, state, time.process_time() - c

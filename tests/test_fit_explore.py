@@ -11,9 +11,9 @@ from scipy.optimize import least_squares
 import prbdm_pin as pp
 from prbdm_pin.fitting.explore import run_explored
 from prbdm_pin.fitting.joint import JointResiduals
-from prbdm_pin.fitting.local import explore_start, refine_start
+from prbdm_pin.fitting.local import explore_start, joint_box, refine_start
 from prbdm_pin.fitting.multistart import draw_starts
-from prbdm_pin.fitting.spec import LN_S_BOUNDS, FitSpec
+from prbdm_pin.fitting.spec import FitSpec
 from prbdm_pin.problem import make_problem, unit_from_lengths
 
 TAPERED = pp.load_beam("examples/beams/tapered.json")
@@ -43,8 +43,7 @@ def test_a_start_reaches_the_optimum_scipys_trf_reaches(target):
     n = spec.problem.n_joints
     x0 = np.r_[unit_from_lengths(L0, TAPERED.length_m, spec.problem.min_fraction), np.log(F0)]
     r = least_squares(J.residuals, x0, jac=J.jac, method="trf", x_scale="jac", max_nfev=20000,
-                      bounds=(np.r_[np.zeros(n), np.full(n, LN_S_BOUNDS[0])],
-                              np.r_[np.ones(n), np.full(n, LN_S_BOUNDS[1])]),
+                      bounds=joint_box(n),
                       ftol=1e-13, xtol=1e-13, gtol=1e-13)
     assert ours.success
     assert ours.loss_pct == pytest.approx(100 * J.loss(r.x), rel=1e-8)

@@ -20,7 +20,7 @@ from .joint import JointResiduals
 from .paper import PaperEigenResiduals, PaperScalarLoss
 from .spec import LN_S_BOUNDS, FitSpec, StartResult
 
-__all__ = ["solve_start", "explore_start", "refine_start", "polish_paper_eigen"]
+__all__ = ["solve_start", "explore_start", "refine_start", "joint_box", "polish_paper_eigen"]
 
 
 def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0):
@@ -42,7 +42,8 @@ def _slsqp(fun, x0, lb, ub, max_iter=200, jac=None):
     return minimize(fun, x0, method="SLSQP", jac=jac, bounds=Bounds(lb, ub), options=opts)
 
 
-def _joint_box(n: int) -> tuple[np.ndarray, np.ndarray]:
+def joint_box(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Return the bounds (lower, upper) of the joint fit's coordinates [u (n), ln s (n)]."""
     return (np.r_[np.zeros(n), np.full(n, LN_S_BOUNDS[0])],
             np.r_[np.ones(n), np.full(n, LN_S_BOUNDS[1])])
 
@@ -74,7 +75,7 @@ def explore_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.
     p = spec.problem
     n = p.n_joints
     J = JointResiduals(spec)
-    lb, ub = _joint_box(n)
+    lb, ub = joint_box(n)
     x0 = np.r_[unit_from_lengths(lengths0, p.length_m, p.min_fraction), np.log(factors0)]
     state = lm_advance(lm_start(J.residuals, J.jac, x0, lb, ub), J.residuals, J.jac, lb, ub,
                        max_nfev)
@@ -99,7 +100,7 @@ def refine_start(spec: FitSpec, explored: StartResult, state: LMState) -> StartR
         The local optimum; with several poses, polished on the true loss by SLSQP.
     """
     J = JointResiduals(spec)
-    lb, ub = _joint_box(spec.problem.n_joints)
+    lb, ub = joint_box(spec.problem.n_joints)
     state = lm_advance(state, J.residuals, J.jac, lb, ub, spec.max_nfev)
     return _joint_result(J, explored.index, state, polish=True)
 
@@ -109,7 +110,7 @@ def _joint_result(J: JointResiduals, index: int, state: LMState,
     x, msg = state.x, state.message
     n0 = J.nfev
     if polish and J.p.n_poses > 1:
-        lb, ub = _joint_box(J.p.n_joints)
+        lb, ub = joint_box(J.p.n_joints)
         r2 = _slsqp(J.loss, x, lb, ub)
         if r2.fun <= J.loss(x):
             x, msg = r2.x, f"{msg}; polished: {r2.message}"
@@ -146,8 +147,7 @@ def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.nd
     u0 = unit_from_lengths(lengths0, p.length_m, p.min_fraction)
     if p.stiffness == "joint":
         J = JointResiduals(spec)
-        lb = np.r_[np.zeros(n), np.full(n, LN_S_BOUNDS[0])]
-        ub = np.r_[np.ones(n), np.full(n, LN_S_BOUNDS[1])]
+        lb, ub = joint_box(n)
         x0 = np.r_[u0, np.log(factors0)]
         if spec.objective != "eigen":
             explored, state = explore_start(spec, index, lengths0, factors0, spec.max_nfev)
