@@ -26,8 +26,8 @@ import numpy as np
 import prbdm_pin as pp
 from prbdm_pin.plant import slew
 from prbdm_pin.plant.slew_study import hub_inertia_for_stiffening
-from prbdm_pin.plots import new_figure, save_png
 from prbdm_pin.truth.plant import hybrid_model, truth_modal_gains
+from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
 FIGURE = ROOT / "docs" / "examples" / "figures" / "ccd_slew.png"

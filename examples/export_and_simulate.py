@@ -25,8 +25,8 @@ import pinocchio as pin
 from scipy.integrate import solve_ivp
 
 import prbdm_pin as pp
-from prbdm_pin.plots import new_figure, save_png
-from prbdm_pin.urdf import read_springs
+from prbdm_pin.model.urdf import read_springs
+from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
 FIGURE = ROOT / "docs" / "examples" / "figures" / "export_and_simulate.png"

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import prbdm_pin as pp
-from prbdm_pin.plots import plot_planform
+from prbdm_pin.views.plots import plot_planform
 
 ROOT = Path(__file__).resolve().parents[1]
 FIGURE = ROOT / "docs" / "examples" / "figures" / "first_fit.png"

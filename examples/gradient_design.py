@@ -27,7 +27,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 import prbdm_pin as pp
-from prbdm_pin.plots import new_figure, save_png
+from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
 FIGURE = ROOT / "docs" / "examples" / "figures" / "gradient_design.png"

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 import prbdm_pin as pp
-from prbdm_pin.plots import new_figure, save_png
+from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
 FIGURE = ROOT / "docs" / "examples" / "figures" / "pareto_run.png"

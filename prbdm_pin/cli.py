@@ -12,9 +12,9 @@ import importlib
 import os
 import sys
 
-from . import __version__
 from .commands.checks import CliParser, one_line
 from .errors import BeamInputError, SolveError, TruthError
+from .version import __version__
 
 # Order is the order of `prbdm --help`.
 COMMANDS = ("truth", "sensitivity", "fit", "pareto", "simulate", "linearize", "export", "batch",

@@ -33,8 +33,8 @@ from prbdm_pin.batch import (  # noqa: E402
     read_records,
     run_batch,
 )
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.options import FitOptions  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.options.objects import FitOptions  # noqa: E402
 
 PAPER_BEAMS = 50_000
 PAPER_CORES = 100

@@ -34,11 +34,11 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 import prbdm_pin as pp  # noqa: E402
-from prbdm_pin.chain_gradient import model_gradient  # noqa: E402
-from prbdm_pin.codesign import codesign_point  # noqa: E402
-from prbdm_pin.fitting.design_gradient import fit_design_gradient  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model_design_gradient import frequency_design_gradient  # noqa: E402
+from prbdm_pin.chain.chain_derivatives import model_gradient  # noqa: E402
+from prbdm_pin.fitting.codesign import codesign_point  # noqa: E402
+from prbdm_pin.fitting.design_derivatives import fit_design_gradient  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model_derivatives import frequency_design_gradient  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 JOINTS = 3

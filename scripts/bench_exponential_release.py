@@ -26,13 +26,13 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.bench.run import finite_segment_chain  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
 from prbdm_pin.errors import SolveError  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 from prbdm_pin.simulation import simulate  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUTPUT_DT_S = 1e-3

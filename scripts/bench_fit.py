@@ -32,13 +32,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit, fit_pareto  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
 from docs_tables import write_table  # noqa: E402
 
-from prbdm_pin.target import FitTarget  # noqa: E402
+from prbdm_pin.fitting.target import FitTarget  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 REF_OMEGA = [39.65, 333.8, 1018.0, 1974.0, 2800.0]

@@ -88,21 +88,21 @@ def measure(tree: str, name: str, target: dict, calls: int, runs: int) -> dict:
     import numpy as np
 
     import prbdm_pin as pp
-    from prbdm_pin.chain_gradient import frequency_gradients, static_tip_gradient
-    from prbdm_pin.evaluate import chain_frequencies
-    from prbdm_pin.fitting.joint import JointResiduals
-    from prbdm_pin.fitting.multistart import draw_starts
-    from prbdm_pin.fitting.spec import FitSpec
-    from prbdm_pin.options import FitOptions
-    from prbdm_pin.planar import planar_mass_matrices, planar_tip
-    from prbdm_pin.problem import make_problem, unit_from_lengths
-    from prbdm_pin.section_gradients import (
+    from prbdm_pin.chain.chain_derivatives import frequency_gradients, static_tip_gradient
+    from prbdm_pin.chain.planar import planar_mass_matrices, planar_tip
+    from prbdm_pin.chain.sections import planar_sections
+    from prbdm_pin.chain.sections_derivatives import (
         finite_segment_stiffness_gradient,
         planar_sections_gradient,
     )
-    from prbdm_pin.sections import planar_sections
-    from prbdm_pin.statics import static_deflection_planar
-    from prbdm_pin.stiffness import finite_segment_stiffness_unchecked
+    from prbdm_pin.chain.statics import static_deflection_planar
+    from prbdm_pin.chain.stiffness import finite_segment_stiffness_unchecked
+    from prbdm_pin.fitting.evaluate import chain_frequencies
+    from prbdm_pin.fitting.joint import JointResiduals
+    from prbdm_pin.fitting.multistart import draw_starts
+    from prbdm_pin.fitting.problem import make_problem, unit_from_lengths
+    from prbdm_pin.fitting.spec import FitSpec
+    from prbdm_pin.options.objects import FitOptions
 
     beam = pp.load_beam(Path(tree) / "examples" / "beams" / f"{name}.json")
     o = FitOptions(objective="combined", stiffness="joint")

@@ -171,7 +171,7 @@ def main() -> None:
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     sys.path.insert(0, str(ROOT))
-    from prbdm_pin.io import atomic_write_text
+    from prbdm_pin.io.atomic import atomic_write_text
 
     atomic_write_text(out, "\n".join(lines))
     print(f"wrote {out}")

@@ -26,8 +26,8 @@ def main() -> None:
     a = ap.parse_args()
     from skfem import Basis
 
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.random_beams import random_beam
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.member.random_beams import random_beam
     from prbdm_pin.truth import solid
     from prbdm_pin.truth.feature_mesh import planform_quad_mesh
     from prbdm_pin.truth.mesh import element_size, planform_tri_mesh

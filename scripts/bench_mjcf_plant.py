@@ -30,14 +30,14 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.export import mjcf_text  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.plant.damping import plant_damping  # noqa: E402
-from prbdm_pin.plant.hub import Hub  # noqa: E402
-from prbdm_pin.plant.inputs import StrainActuator, input_map  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.files.export import mjcf_text  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.hub import Hub  # noqa: E402
+from prbdm_pin.model.inputs import StrainActuator, input_map  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
+from prbdm_pin.simulation.hub_damping import plant_damping  # noqa: E402
 
 LENGTHS = {3: [0.15, 0.3, 0.3, 0.25], 5: [0.1, 0.2, 0.2, 0.2, 0.15, 0.15]}
 HUB = Hub(2.0, 0.1)

@@ -23,11 +23,11 @@ import pinocchio as pin  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
-from prbdm_pin.urdf import render_urdf  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
+from prbdm_pin.model.urdf import render_urdf  # noqa: E402
 
 BATCH = 32
 REPEATS = 5

@@ -35,13 +35,13 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.plant.hub import Hub  # noqa: E402
-from prbdm_pin.plant.inputs import StrainActuator  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.hub import Hub  # noqa: E402
+from prbdm_pin.model.inputs import StrainActuator  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 from prbdm_pin.plant.linearize import linearize  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
 
 REPEATS = 5
 HUB = Hub(2.0, 0.1)

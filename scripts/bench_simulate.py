@@ -37,19 +37,19 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.bench.run import finite_segment_chain  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.response import (  # noqa: E402
+from prbdm_pin.fitting.target import target_from_truth  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
+from prbdm_pin.simulation import simulate  # noqa: E402
+from prbdm_pin.simulation.response import (  # noqa: E402
     centerline_modal_tip,
     modal_step_response,
     truth_modal_tip,
 )
-from prbdm_pin.simulation import simulate  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
-from prbdm_pin.target import target_from_truth  # noqa: E402
 from prbdm_pin.truth import compute_truth  # noqa: E402
 from prbdm_pin.truth.beam import beam_modal  # noqa: E402
 

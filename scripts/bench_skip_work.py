@@ -32,11 +32,11 @@ import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
 from scipy.linalg import cho_factor, cho_solve, eigh  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.bench.run import finite_segment_chain  # noqa: E402
-from prbdm_pin.damping import modal_damping  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 from prbdm_pin.simulation import simulate  # noqa: E402
+from prbdm_pin.simulation.damping import modal_damping  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED

@@ -32,10 +32,10 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.geometry import Beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.random_beams import random_beam  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.member.geometry import Beam  # noqa: E402
+from prbdm_pin.member.random_beams import random_beam  # noqa: E402
 from prbdm_pin.truth import DEFAULT_PLATE_LEVEL, compute_modal  # noqa: E402
 from prbdm_pin.truth.modes import label_modes, mac_matrix, select_modes  # noqa: E402
 

@@ -29,14 +29,14 @@ import platform  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.geometry import Beam  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.member.geometry import Beam  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
 from docs_tables import write_table  # noqa: E402
 
-from prbdm_pin.truth.elastica_gradient import elastica_gradient  # noqa: E402
-from prbdm_pin.truth.gradient import truth_gradient  # noqa: E402
+from prbdm_pin.truth.compute_derivatives import truth_gradient  # noqa: E402
+from prbdm_pin.truth.elastica_derivatives import elastica_gradient  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PANELS = ("reference-random", "tapered", "stepped-narrow")

@@ -13,11 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.geometry import Beam
-from prbdm_pin.io import atomic_write_text
-from prbdm_pin.model import build_model
-from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.io.atomic import atomic_write_text
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.truth import compute_truth
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))

@@ -36,13 +36,14 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
+from prbdm_pin.fitting.target import target_from_truth  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.hub import Hub  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 from prbdm_pin.plant import slew  # noqa: E402
 from prbdm_pin.plant.actuator_fit import profile_stations  # noqa: E402
-from prbdm_pin.plant.hub import Hub  # noqa: E402
 from prbdm_pin.plant.linearize import linearize  # noqa: E402
 from prbdm_pin.plant.slew_study import (  # noqa: E402
     MAPS,
@@ -52,8 +53,7 @@ from prbdm_pin.plant.slew_study import (  # noqa: E402
     patch_actuators,
     slew_metrics,
 )
-from prbdm_pin.response import relative_l2  # noqa: E402
-from prbdm_pin.target import target_from_truth  # noqa: E402
+from prbdm_pin.simulation.response import relative_l2  # noqa: E402
 from prbdm_pin.truth import compute_truth  # noqa: E402
 from prbdm_pin.truth.plant import hybrid_from_gains, truth_modal_gains  # noqa: E402
 
@@ -243,7 +243,7 @@ def tables(res: dict, case: Case, beam, truth) -> tuple[str, dict[str, str]]:
 
 def figure(res: dict, case: Case, path: Path) -> Path:
     """Hub angle and tip vibration of every plant; the co-design cost against position."""
-    from prbdm_pin.plots import new_figure, save_png
+    from prbdm_pin.views.plots import new_figure, save_png
 
     fig = new_figure((12.0, 4.0))
     ax = fig.subplots(1, 3)

@@ -9,7 +9,7 @@ The design problem (defaults: the tapered steel panel of examples/beams/tapered.
                                          beam's tip force (geometrically nonlinear statics)
                 p in a box               sheet thickness and half-widths a workshop can make
 
-Each design goes truth -> fit -> model (``prbdm_pin.codesign.codesign_point``): the truth's
+Each design goes truth -> fit -> model (``prbdm_pin.fitting.codesign.codesign_point``): the truth's
 frequencies (1D Euler-Bernoulli beam by default: fast; ``--truth plate`` for the Kirchhoff
 plate), the ``unique="nearest"`` 3R fit that matches them exactly (one smooth model per design)
 and the PRBDM's frequencies and large-deflection tip. SLSQP uses the chained gradients; COBYLA
@@ -44,8 +44,8 @@ import numpy as np  # noqa: E402
 from scipy.optimize import minimize  # noqa: E402
 
 import prbdm_pin as pp  # noqa: E402
-from prbdm_pin.codesign import CodesignPoint, codesign_point  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.fitting.codesign import CodesignPoint, codesign_point  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
 from docs_tables import write_table  # noqa: E402
@@ -280,7 +280,7 @@ def table(problem: CodesignProblem, runs: dict, checks: dict) -> str:
 
 def convergence_figure(runs: dict, path: Path) -> None:
     """Objective and constraint violation against truth evaluations, both optimisers."""
-    from prbdm_pin.plots import new_figure, save_png
+    from prbdm_pin.views.plots import new_figure, save_png
 
     fig = new_figure((9.0, 3.6))
     ax1, ax2 = fig.add_subplot(121), fig.add_subplot(122)

@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from prbdm_pin.cli import build_parser  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 
 DEFAULT_OUT = ROOT / "docs" / "cli.md"
 # usage lines wrap at a fixed width, not at the terminal's, so the page does not depend on it

@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from prbdm_pin.io import atomic_write_text
+from prbdm_pin.io.atomic import atomic_write_text
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS_TABLES = ROOT / "docs" / "benchmarks"

@@ -29,19 +29,19 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
 from docs_tables import write_table  # noqa: E402
 
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.response import (  # noqa: E402
+from prbdm_pin.fitting.target import target_from_truth  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
+from prbdm_pin.simulation.response import (  # noqa: E402
     centerline_modal_tip,
     dynamic_accuracy,
     truth_modal_tip,
 )
-from prbdm_pin.target import target_from_truth  # noqa: E402
 from prbdm_pin.truth import compute_truth  # noqa: E402
 
 BEAMS = ("examples/beams/reference-random.json", "examples/beams/tapered.json")

@@ -40,13 +40,13 @@ import scipy.linalg as sla  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.damping import modal_damping  # noqa: E402
-from prbdm_pin.export import mjcf_text, urdf_text  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.files.export import mjcf_text, urdf_text  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 from prbdm_pin.simulation import simulate  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.simulation.damping import modal_damping  # noqa: E402
 
 LENGTHS = {3: [0.15, 0.3, 0.3, 0.25], 5: [0.1, 0.2, 0.2, 0.2, 0.15, 0.15]}
 OUTPUT_DT_S = 1e-3

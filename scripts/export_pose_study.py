@@ -34,12 +34,12 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.objectives import best_scale, mode_errors_pct  # noqa: E402
-from prbdm_pin.target import target_from_truth  # noqa: E402
+from prbdm_pin.fitting.objectives import best_scale, mode_errors_pct  # noqa: E402
+from prbdm_pin.fitting.target import target_from_truth  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 from prbdm_pin.truth import TruthRequest  # noqa: E402
 
 BEAMS = ("examples/beams/reference-random.json", "examples/beams/tapered.json")

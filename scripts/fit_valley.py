@@ -31,10 +31,10 @@ from prbdm_pin.fitting.geodesic_lm import lm_advance, lm_start  # noqa: E402
 from prbdm_pin.fitting.joint import JointResiduals  # noqa: E402
 from prbdm_pin.fitting.local import joint_box  # noqa: E402
 from prbdm_pin.fitting.multistart import draw_starts  # noqa: E402
+from prbdm_pin.fitting.problem import make_problem, unit_from_lengths  # noqa: E402
 from prbdm_pin.fitting.spec import FitSpec  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.options import FitOptions  # noqa: E402
-from prbdm_pin.problem import make_problem, unit_from_lengths  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.options.objects import FitOptions  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 

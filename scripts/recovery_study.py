@@ -28,13 +28,13 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
+from prbdm_pin.chain.layout import sample_lengths  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.layout import sample_lengths  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
-from prbdm_pin.target import model_target  # noqa: E402
+from prbdm_pin.fitting.target import model_target  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 
 
 def _floats(text: str) -> list[float]:

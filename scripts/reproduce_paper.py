@@ -35,15 +35,15 @@ from pathlib import Path  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
 from prbdm_pin.commands.fit import write_fit_outputs  # noqa: E402
 from prbdm_pin.commands.pareto import write_pareto_outputs  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
 from docs_tables import write_table  # noqa: E402
 
-from prbdm_pin.target import FitTarget, target_from_truth  # noqa: E402
+from prbdm_pin.fitting.target import FitTarget, target_from_truth  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PROTOTYPE_OMEGA = [39.65, 333.8, 1018.0, 1974.0, 2800.0]
@@ -65,7 +65,7 @@ def narrow_study(out: Path, joints: list[int], starts: int, workers: int) -> lis
 
     import numpy as np
 
-    from prbdm_pin.model import build_model
+    from prbdm_pin.model.prbdm_model import build_model
 
     beam = load_beam(ROOT / "examples/beams/uniform-narrow.json")
     L = beam.length_m
@@ -119,7 +119,7 @@ def load_sweep(beam, results) -> list[str]:
     small-load gap to 1D theory (the calibrated elastica of ``compute_truth``)."""
     import numpy as np
 
-    from prbdm_pin.model import build_model
+    from prbdm_pin.model.prbdm_model import build_model
     from prbdm_pin.truth.elastica import elastica_static
 
     L, EI = beam.length_m, beam.root_EI_Nm2
@@ -153,7 +153,7 @@ def pareto_study(beam, target, out: Path, joints: list[int], pop: int, generatio
     """Table 5 and Fig. 11: NSGA-II fronts of the paper parametrisation at the paper's Pareto
     setting (eps = 0.01), their knees (Eq. 27), and one figure with every front."""
     from prbdm_pin.fitting import fit_pareto
-    from prbdm_pin.plots import plot_pareto
+    from prbdm_pin.views.plots import plot_pareto
 
     md = ["", f"### Pareto fronts (Table 5, Fig. 11), paper parametrisation, truth {source}", "",
           f"NSGA-II, population {pop}, {generations} generations, seed 0, eps = 0.01 rad, "

@@ -16,13 +16,13 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.eigen import COND_LIMIT, FREQUENCY_RTOL  # noqa: E402
+from prbdm_pin.chain.eigen import COND_LIMIT, FREQUENCY_RTOL  # noqa: E402
+from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
 from prbdm_pin.errors import SolveError  # noqa: E402
-from prbdm_pin.geometry import Beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
-from prbdm_pin.material import Material  # noqa: E402
-from prbdm_pin.model import build_model  # noqa: E402
-from prbdm_pin.stiffness import finite_segment_stiffness  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
+from prbdm_pin.member.geometry import Beam  # noqa: E402
+from prbdm_pin.member.material import Material  # noqa: E402
+from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 
 LAYOUTS = {
     "0.02 L root link, 0.98 L": [0.02, 0.98],

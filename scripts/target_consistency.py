@@ -33,8 +33,8 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 from prbdm_pin.truth.beam import beam_static  # noqa: E402
 from prbdm_pin.truth.elastica import elastica_static  # noqa: E402
 from prbdm_pin.truth.plate_static import plate_static  # noqa: E402

@@ -28,8 +28,8 @@ from unittest import mock  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.beam_file import load_beam  # noqa: E402
-from prbdm_pin.io import atomic_write_text  # noqa: E402
+from prbdm_pin.files.beam_file import load_beam  # noqa: E402
+from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 from prbdm_pin.truth import compute_modal, compute_truth, estimate  # noqa: E402
 from prbdm_pin.truth.modes import mac_matrix  # noqa: E402
 

@@ -65,7 +65,7 @@ def strip_target(beam):
     model cannot match exactly)."""
     import math
 
-    from prbdm_pin.target import FitTarget
+    from prbdm_pin.fitting.target import FitTarget
 
     b = 2 * beam.half_width_m[0]
     EI = beam.material.E_Pa * b * beam.thickness_m**3 / 12

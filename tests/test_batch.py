@@ -16,8 +16,8 @@ from terminal_signals import sigint_default
 from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.options import FitOptions
-from prbdm_pin.random_beams import random_beam
+from prbdm_pin.member.random_beams import random_beam
+from prbdm_pin.options.objects import FitOptions
 
 N_BEAMS = 20
 SEED = 2024

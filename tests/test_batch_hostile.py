@@ -22,7 +22,7 @@ from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.options import FitOptions
+from prbdm_pin.options.objects import FitOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 REAL = FitSettings(joints=2, options=FitOptions(frequencies=2, objective="eigen",

@@ -151,8 +151,8 @@ def test_mujoco_peer_row_against_euler_bernoulli():
     # the MuJoCo peer (the exported MJCF chain): its frequencies from MuJoCo's own mass matrix and
     # joint stiffness; a 16-joint equal-segment chain of the strip is within 0.6 % of
     # Euler-Bernoulli on its first three modes (second-order convergence of the chain)
-    from prbdm_pin.beam_file import load_beam
     from prbdm_pin.bench.run import finite_segment_chain, mujoco_row
+    from prbdm_pin.files.beam_file import load_beam
 
     beam = load_beam("examples/beams/uniform-narrow.json")
     model = finite_segment_chain(beam, 16)

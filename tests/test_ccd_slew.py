@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import compute_truth
 
 ROOT = Path(__file__).resolve().parents[1]

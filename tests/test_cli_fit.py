@@ -13,7 +13,7 @@ from reference import BETA_L as REF_BETA_L
 from reference import ELASTICA
 
 from prbdm_pin.cli import main
-from prbdm_pin.model import load_urdf
+from prbdm_pin.model.prbdm_model import load_urdf
 
 BEAM = "examples/beams/uniform-narrow.json"
 BETA_L = REF_BETA_L[:3]
@@ -119,8 +119,8 @@ def test_missing_truth_file_is_an_input_error(tmp_path, capsys):
 def test_fit_json_alone_drives_export_and_simulate(truth_file, tmp_path):
     """fit.json carries its beam: export and simulate need no --beam, and the exported model has
     the Euler-Bernoulli frequencies the fit matched."""
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.fit_file import fit_beam
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.files.fit_file import fit_beam
 
     path, omega, _ = truth_file
     out = tmp_path / "fit"

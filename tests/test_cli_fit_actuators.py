@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.export import read_export_record
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.export import read_export_record
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.plant import truth_modal_gains
 

@@ -13,12 +13,12 @@ from reference import BETA_L as REF_BETA_L
 from reference import ELASTICA
 
 from prbdm_pin.batch import BeamTask, FitSettings, evaluate_beam
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.fitting import fit
-from prbdm_pin.options import FitOptions
-from prbdm_pin.target import FitTarget
+from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.options.objects import FitOptions
 
 BEAM = "examples/beams/uniform-narrow.json"
 BETA_L = REF_BETA_L[:3]
@@ -148,13 +148,13 @@ def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_fil
     import dataclasses
 
     from prbdm_pin.commands.fit import write_fit_outputs
-    from prbdm_pin.model import load_urdf
+    from prbdm_pin.model.prbdm_model import load_urdf
 
     out = tmp_path / "fit"
     assert main(["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "2",
                  "--min-link", "0.005", "--truth", str(truth_file), "--out", str(out),
                  "-q"]) == 0
-    from prbdm_pin.fit_file import load_fit
+    from prbdm_pin.files.fit_file import load_fit
 
     beam = load_beam(BEAM)
     res = dataclasses.replace(load_fit(out / "fit.json"),
@@ -169,8 +169,8 @@ def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_fil
 def test_a_design_below_the_default_bound_is_evaluated():
     # a fit with min_fraction 0.005 evaluates designs with a link of 0.01 L: the finite-segment
     # springs and the model of that design, not a refusal at Eq. 15's default 0.02 L
-    from prbdm_pin.evaluate import evaluate
-    from prbdm_pin.problem import make_problem
+    from prbdm_pin.fitting.evaluate import evaluate
+    from prbdm_pin.fitting.problem import make_problem
 
     beam = load_beam(BEAM)
     target = FitTarget(np.array([10.0, 60.0]), beam.tip_force_N)
@@ -186,7 +186,7 @@ def test_a_design_below_the_default_bound_is_evaluated():
 def test_a_long_chain_fits_with_a_smaller_min_link(tmp_path, truth_file):
     # 50 links of at least 0.02 L do not fit; with --min-link 0.015 the 49R fit runs end to end
     # and its URDF has the Euler-Bernoulli frequencies of the truth file
-    from prbdm_pin.model import load_urdf
+    from prbdm_pin.model.prbdm_model import load_urdf
 
     out = tmp_path / "long"
     assert main(["fit", BEAM, "--joints", "49", "--min-link", "0.015", "--frequencies", "3",

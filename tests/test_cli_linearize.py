@@ -10,7 +10,7 @@ import pytest
 
 from prbdm_pin import Hub, StrainActuator, build_model, linearize
 from prbdm_pin.cli import main
-from prbdm_pin.fit_file import load_fit
+from prbdm_pin.files.fit_file import load_fit
 
 BEAM = "examples/beams/uniform-narrow.json"
 
@@ -27,8 +27,8 @@ def fit_json(tmp_path_factory):
 
 
 def _model(fit_json, hub=None):
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.model_files import LINK_FLOOR_FRACTION
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.io.record_checks import LINK_FLOOR_FRACTION
 
     fit = load_fit(fit_json, beam=load_beam(BEAM))
     return build_model(load_beam(BEAM), fit.lengths_m, fit.stiffness_Nm_per_rad,

@@ -13,11 +13,15 @@ import numpy as np
 import pytest
 from reference import BETA_L as REF_BETA_L
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.fit_file import load_fit
-from prbdm_pin.model import build_model
-from prbdm_pin.response import dynamic_accuracy, euler_bernoulli_modal_tip, truth_modal_tip
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.fit_file import load_fit
+from prbdm_pin.model.prbdm_model import build_model
+from prbdm_pin.simulation.response import (
+    dynamic_accuracy,
+    euler_bernoulli_modal_tip,
+    truth_modal_tip,
+)
 
 BEAM = "examples/beams/uniform-narrow.json"
 # roots of cos(x) cosh(x) = -1: the clamped-free beam's first three modes
@@ -197,7 +201,7 @@ def test_asking_for_another_truth_model_overrides_the_fits(level1):
 
 def test_truth_request_round_trips_and_old_fits_read_without_one(level1, tmp_path):
     from prbdm_pin.errors import BeamInputError
-    from prbdm_pin.results import FitResult
+    from prbdm_pin.fitting.results import FitResult
 
     d = json.loads((level1 / "fit" / "fit.json").read_text())
     assert d["truth_request"] == {"model": "plate", "modes": 2, "mesh_level": 1,

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from prbdm_pin import Hub, build_model
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.fit_file import load_fit
-from prbdm_pin.model_files import LINK_FLOOR_FRACTION
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.fit_file import load_fit
+from prbdm_pin.io.record_checks import LINK_FLOOR_FRACTION
 
 BEAM = "examples/beams/uniform-narrow.json"
 
@@ -112,7 +112,7 @@ def test_a_model_json_brings_its_hub_and_actuators(fit_json, tmp_path):
                  "--output-dt", "0.01", "--out", str(out), "-q"]) == 0
     head, rows = _csv(out / "trajectory.csv")
     assert head[1] == "hub_angle_rad" and "u:strain[0]" in head
-    from prbdm_pin.export import read_plant_json
+    from prbdm_pin.files.export import read_plant_json
 
     model, acts = read_plant_json(plant)
     assert model.hub == Hub(5.0, 0.1) and len(acts) == 1

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import prbdm_pin as pp
-from prbdm_pin.codesign import codesign_point, panel_mass
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.fitting.design_gradient import fit_design_gradient
+from prbdm_pin.fitting.codesign import codesign_point, panel_mass
+from prbdm_pin.fitting.design_derivatives import fit_design_gradient
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -4,17 +4,17 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.damping import (
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
+from prbdm_pin.errors import BeamInputError
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
+from prbdm_pin.simulation.damping import (
     damping_matrix,
     eq5c_damping,
     modal_damping,
     modal_ratios,
     stiffness_damping,
 )
-from prbdm_pin.errors import BeamInputError
-from prbdm_pin.model import build_model
-from prbdm_pin.stiffness import finite_segment_stiffness
 
 
 @pytest.fixture(scope="module")

@@ -19,21 +19,21 @@ import numpy as np
 import pytest
 
 import prbdm_pin as pp
-from prbdm_pin.eigen import modes_from_mass
-from prbdm_pin.errors import BeamInputError
-from prbdm_pin.fitting.derivative import fit_coordinates, fit_problem_of
-from prbdm_pin.fitting.design_gradient import kkt_design_jacobian
-from prbdm_pin.fitting.joint import JointResiduals
-from prbdm_pin.fitting.spec import FitSpec
-from prbdm_pin.fitting.unique import log_frequency_jacobian, reference_x
-from prbdm_pin.model_design_gradient import frequency_design_gradient
-from prbdm_pin.planar import planar_mass_matrices
-from prbdm_pin.section_design_gradients import (
+from prbdm_pin.chain.eigen import modes_from_mass
+from prbdm_pin.chain.planar import planar_mass_matrices
+from prbdm_pin.chain.sections import link_sections
+from prbdm_pin.chain.sections_design_derivatives import (
     finite_segment_design_gradient,
     section_design_gradient,
 )
-from prbdm_pin.sections import link_sections
-from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
+from prbdm_pin.errors import BeamInputError
+from prbdm_pin.fitting.design_derivatives import kkt_design_jacobian
+from prbdm_pin.fitting.joint import JointResiduals
+from prbdm_pin.fitting.multistart_derivatives import fit_coordinates, fit_problem_of
+from prbdm_pin.fitting.spec import FitSpec
+from prbdm_pin.fitting.unique import log_frequency_jacobian, reference_x
+from prbdm_pin.model.prbdm_model_derivatives import frequency_design_gradient
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 

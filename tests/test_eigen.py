@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from prbdm_pin.eigen import COND_LIMIT, check_spectrum, modes_from_mass
+from prbdm_pin.chain.eigen import COND_LIMIT, check_spectrum, modes_from_mass
 from prbdm_pin.errors import SolveError
-from prbdm_pin.evaluate import chain_frequencies
+from prbdm_pin.fitting.evaluate import chain_frequencies
 
 
 def _spd(rng, n):

@@ -11,7 +11,7 @@ from elastica_differences import REL, TOL, check, fd_design, fd_force
 from scipy.integrate import quad
 
 import prbdm_pin as pp
-from prbdm_pin.geometry import Beam
+from prbdm_pin.member.geometry import Beam
 from prbdm_pin.truth.anticlastic import (
     anticlastic_factor,
     anticlastic_terms,

@@ -9,7 +9,7 @@ from elastica_differences import REL, TOL, check, fd_design, fd_force
 
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
+from prbdm_pin.member.geometry import Beam
 from prbdm_pin.truth.elastica import elastica_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"

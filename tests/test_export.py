@@ -7,18 +7,18 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.export import (
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.export import (
     export_model,
     export_record,
     mjcf_text,
     read_export_record,
     read_model_json,
 )
-from prbdm_pin.model import build_model, load_urdf
+from prbdm_pin.model.prbdm_model import build_model, load_urdf
 from prbdm_pin.simulation import simulate
-from prbdm_pin.stiffness import finite_segment_stiffness
 
 mujoco = pytest.importorskip("mujoco")
 
@@ -372,7 +372,7 @@ def test_fit_model_urdf_records_its_frequencies_and_errors(tmp_path, capsys):
     import pinocchio as pin
 
     from prbdm_pin.cli import main
-    from prbdm_pin.urdf import read_springs
+    from prbdm_pin.model.urdf import read_springs
 
     out = tmp_path / "fit"
     assert main(["fit", "examples/beams/uniform-narrow.json", "--joints", "2", "--objective",

@@ -14,9 +14,10 @@ import scipy.linalg as sla
 from scipy.integrate import solve_ivp
 
 from prbdm_pin import BeamInputError, Hub, StrainActuator, build_model, linearize, load_urdf
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.cli import main
-from prbdm_pin.export import (
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.export import (
     export_model,
     export_record,
     mjcf_text,
@@ -24,9 +25,8 @@ from prbdm_pin.export import (
     read_model_json,
     read_plant_json,
 )
-from prbdm_pin.plant.damping import plant_damping
-from prbdm_pin.plant.inputs import input_map
-from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.model.inputs import input_map
+from prbdm_pin.simulation.hub_damping import plant_damping
 
 mujoco = pytest.importorskip("mujoco")
 

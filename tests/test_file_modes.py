@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
-from prbdm_pin.io import atomic_write_text
-from prbdm_pin.output_folder import output_folder
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.io.atomic import atomic_write_text
+from prbdm_pin.io.output_folder import output_folder
 
 ROOT = Path(__file__).resolve().parent.parent
 BEAM_FILE = ROOT / "examples" / "beams" / "uniform-narrow.json"
@@ -40,9 +40,9 @@ def write_every_kind(folder: Path) -> list[Path]:
     matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
 
-    from prbdm_pin.plots import plot_planform, save_png
     from prbdm_pin.truth import compute_truth
     from prbdm_pin.truth.vtu import write_modes_vtu
+    from prbdm_pin.views.plots import plot_planform, save_png
 
     beam = load_beam(BEAM_FILE)
     paths = [atomic_write_text(folder / "results.csv", "a,b\n1,2\n"),

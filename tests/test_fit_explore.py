@@ -13,8 +13,8 @@ from prbdm_pin.fitting.explore import run_explored
 from prbdm_pin.fitting.joint import JointResiduals
 from prbdm_pin.fitting.local import explore_start, joint_box, refine_start
 from prbdm_pin.fitting.multistart import draw_starts
+from prbdm_pin.fitting.problem import make_problem, unit_from_lengths
 from prbdm_pin.fitting.spec import FitSpec
-from prbdm_pin.problem import make_problem, unit_from_lengths
 
 TAPERED = pp.load_beam("examples/beams/tapered.json")
 

@@ -15,14 +15,14 @@ import numpy as np
 import pytest
 from reference import REF_OMEGA
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.evaluate import batch_losses, evaluate
-from prbdm_pin.fit_file import load_fit, save_fit
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
-from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.problem import make_problem
-from prbdm_pin.results import FitResult
-from prbdm_pin.target import FitTarget, target_from_truth
+from prbdm_pin.fitting.evaluate import batch_losses, evaluate
+from prbdm_pin.fitting.problem import make_problem
+from prbdm_pin.fitting.results import FitResult
+from prbdm_pin.fitting.target import FitTarget, target_from_truth
+from prbdm_pin.model.prbdm_model import build_model, load_urdf
 
 BEAMS = "examples/beams"
 # prototype truth for reference-random.json (rad/s)
@@ -176,7 +176,7 @@ def _loss(prob, lengths, factors, objective):
     """The fitted objective (%) of a design through the Pinocchio model; paper eigen designs
     get each pose's optimal SCF again (the variable projection), from the numpy formula."""
     if prob.stiffness == "paper" and objective == "eigen":
-        from prbdm_pin.problem import unit_frequencies
+        from prbdm_pin.fitting.problem import unit_frequencies
 
         _, _, W = unit_frequencies(prob, lengths)
         t = prob.target.omega_truth_rad_s
@@ -230,7 +230,7 @@ def test_paper_relative_2r_fit_reaches_the_grid_optimum(reference):
     # Nelder-Mead
     from scipy.optimize import minimize
 
-    from prbdm_pin.problem import lengths_from_unit, unit_frequencies
+    from prbdm_pin.fitting.problem import lengths_from_unit, unit_frequencies
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     prob = make_problem(reference, target, 2, 2, "paper", eigen_norm="relative")

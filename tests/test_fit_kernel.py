@@ -12,15 +12,15 @@ import pytest
 from reference import ELASTICA, REF_OMEGA
 from scipy.integrate import quad
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.evaluate import chain_mass_matrices, fast_unit_frequencies
-from prbdm_pin.layout import sample_lengths
-from prbdm_pin.model import build_model
-from prbdm_pin.problem import make_problem, unit_frequencies
-from prbdm_pin.random_beams import random_beam
-from prbdm_pin.sections import link_sections_unchecked, planar_sections
-from prbdm_pin.stiffness import finite_segment_stiffness, inv_width_integral
-from prbdm_pin.target import FitTarget
+from prbdm_pin.chain.layout import sample_lengths
+from prbdm_pin.chain.sections import link_sections_unchecked, planar_sections
+from prbdm_pin.chain.stiffness import finite_segment_stiffness, inv_width_integral
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.fitting.evaluate import chain_mass_matrices, fast_unit_frequencies
+from prbdm_pin.fitting.problem import make_problem, unit_frequencies
+from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.member.random_beams import random_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 
@@ -87,8 +87,8 @@ def _pin_residual(model, q, F) -> float:
 
 @pytest.mark.parametrize("n", [1, 2, 4, 8])
 def test_batched_statics_satisfy_pinocchio_equilibrium(n):
-    from prbdm_pin.planar import planar_tips
-    from prbdm_pin.statics import static_deflection_planar_batch
+    from prbdm_pin.chain.planar import planar_tips
+    from prbdm_pin.chain.statics import static_deflection_planar_batch
 
     rng = np.random.default_rng(n)
     beam = load_beam(BEAMS / "reference-random.json")
@@ -114,8 +114,8 @@ def test_batched_statics_satisfy_pinocchio_equilibrium(n):
 
 
 def test_batched_statics_match_the_elastica_table():
-    from prbdm_pin.planar import planar_tips
-    from prbdm_pin.statics import static_deflection_planar_batch
+    from prbdm_pin.chain.planar import planar_tips
+    from prbdm_pin.chain.statics import static_deflection_planar_batch
 
     # inextensible elastica under a dead tip load (Mattiasson 1981, Table 1): P L^2/EI,
     # retreat (L - x)/L, deflection -z/L; 32 equal segments, springs EI/h, half links at the ends
@@ -135,8 +135,8 @@ def test_batched_statics_match_the_elastica_table():
 
 @pytest.mark.parametrize("stiffness", ["paper", "joint"])
 def test_batch_losses_equal_the_pinocchio_path(stiffness):
-    from prbdm_pin.evaluate import batch_losses, evaluate
-    from prbdm_pin.objectives import best_scale
+    from prbdm_pin.fitting.evaluate import batch_losses, evaluate
+    from prbdm_pin.fitting.objectives import best_scale
 
     rng = np.random.default_rng(11)
     beam = load_beam(BEAMS / "reference-random.json")

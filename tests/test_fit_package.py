@@ -11,11 +11,11 @@ import pickle
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.fitting import LengthRepair, ParetoProblem, pareto_objectives_batch
 from prbdm_pin.fitting.pool import fit_pool
-from prbdm_pin.problem import make_problem
-from prbdm_pin.target import FitTarget
+from prbdm_pin.fitting.problem import make_problem
+from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.workers import BLAS_THREAD_VARS, pool_scope
 
 BEAMS = "examples/beams"

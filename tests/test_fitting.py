@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 from reference import BETA_L, ELASTICA, REF_OMEGA
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.evaluate import evaluate
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.fitting import fit
-from prbdm_pin.model import build_model
-from prbdm_pin.problem import make_problem
-from prbdm_pin.results import FitResult
-from prbdm_pin.stiffness import finite_segment_stiffness
-from prbdm_pin.target import FitTarget, model_target
+from prbdm_pin.fitting.evaluate import evaluate
+from prbdm_pin.fitting.problem import make_problem
+from prbdm_pin.fitting.results import FitResult
+from prbdm_pin.fitting.target import FitTarget, model_target
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = "examples/beams"
 
@@ -80,7 +80,7 @@ def test_recovery_2r_lengths_with_two_load_cases(narrow, seed):
     # n frequencies and one planar tip give n + 2 equations for the 2n lengths and springs;
     # a second load (P L^2/EI = 1 and 3) makes the lengths identifiable, and the multistart
     # recovers them from random starts
-    from prbdm_pin.layout import sample_lengths
+    from prbdm_pin.chain.layout import sample_lengths
 
     rng = np.random.default_rng(seed)
     lengths = sample_lengths(rng, narrow.length_m, 3, 1)[0]
@@ -104,7 +104,7 @@ def test_recovery_3r_lengths_with_three_load_cases(narrow, seed):
     # than that to its neighbour or to the tip is barely seen by the data (a draw with links of
     # 0.031 L and 0.021 L at the tip stalled at 2e-4 % loss, none of 32 starts reaching it).
     # Measured (scripts/recovery_study.py): lengths within 3e-8 m in 2-24 starts on seeds 0-5.
-    from prbdm_pin.layout import sample_lengths
+    from prbdm_pin.chain.layout import sample_lengths
 
     rng = np.random.default_rng(seed)
     L = narrow.length_m
@@ -210,7 +210,7 @@ def test_paper_reference_random_prototype_truth(reference, n, N, limit):
 
 
 def test_stick_breaking_map_round_trip_and_bounds():
-    from prbdm_pin.problem import lengths_from_unit, unit_from_lengths
+    from prbdm_pin.fitting.problem import lengths_from_unit, unit_from_lengths
 
     rng = np.random.default_rng(5)
     for _ in range(50):
@@ -255,8 +255,8 @@ def test_joint_combined_3r_against_euler_bernoulli_and_elastica(narrow):
 
 def _projected_loss_pct(prob, lengths):
     """The paper's eigen loss at each pose's optimal SCF, through the Pinocchio model."""
-    from prbdm_pin.objectives import projected_eigen_errors
-    from prbdm_pin.problem import unit_frequencies
+    from prbdm_pin.fitting.objectives import projected_eigen_errors
+    from prbdm_pin.fitting.problem import unit_frequencies
 
     _, _, W = unit_frequencies(prob, lengths)
     return 100.0 * float(np.mean(projected_eigen_errors(W, prob.target.omega_truth_rad_s,
@@ -269,7 +269,7 @@ def test_paper_2r_fit_reaches_the_grid_optimum(reference, squared):
     # Pinocchio model, its best points refined by Nelder-Mead
     from scipy.optimize import minimize
 
-    from prbdm_pin.problem import lengths_from_unit
+    from prbdm_pin.fitting.problem import lengths_from_unit
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     prob = make_problem(reference, target, 2, 2, "paper", squared=squared)
@@ -331,7 +331,7 @@ def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
 
 @pytest.fixture(scope="module")
 def reference_truth_target(reference):
-    from prbdm_pin.target import target_from_truth
+    from prbdm_pin.fitting.target import target_from_truth
     from prbdm_pin.truth import compute_truth
 
     return target_from_truth(compute_truth(reference), reference.tip_force_N)
@@ -382,7 +382,7 @@ def test_paper_3r_fit_reaches_the_grid_optimum(reference):
     from scipy.optimize import minimize
 
     from prbdm_pin.fitting import FitSpec, PaperEigenResiduals
-    from prbdm_pin.problem import lengths_from_unit
+    from prbdm_pin.fitting.problem import lengths_from_unit
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
     prob = make_problem(reference, target, 3, 3, "paper", squared=True)
@@ -418,7 +418,7 @@ def test_five_seeds_reach_the_same_paper_optimum(reference, n, N):
 
 
 def test_warnings_name_modes_a_chain_cannot_represent(reference, tmp_path):
-    from prbdm_pin.fit_file import load_fit, save_fit
+    from prbdm_pin.files.fit_file import load_fit, save_fit
 
     target = FitTarget(REF_OMEGA[:3], reference.tip_force_N, mac=[1.0, 0.99, 0.62],
                        labels=("bending", "bending", "chordwise"))

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from reference import BETA_L as REF_BETA_L
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.model import build_model
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAM = load_beam(Path(__file__).resolve().parent.parent / "examples" / "beams" /
                  "uniform-narrow.json")

@@ -171,11 +171,11 @@ def stubs(monkeypatch, tmp_path):
     import prbdm_pin.commands.pareto
     import prbdm_pin.commands.simulate
     import prbdm_pin.truth
-    import prbdm_pin.truth.gradient
+    import prbdm_pin.truth.compute_derivatives
 
     monkeypatch.setenv("PRBDM_CACHE", str(tmp_path / "cache"))
     for mod, name in [(prbdm_pin.truth, "compute_truth"),
-                      (prbdm_pin.truth.gradient, "truth_gradient"),
+                      (prbdm_pin.truth.compute_derivatives, "truth_gradient"),
                       (prbdm_pin.commands.fit, "load_target"),
                       (prbdm_pin.commands.pareto, "load_target"),
                       (prbdm_pin.commands.simulate, "load_model_and_fit"),

@@ -23,15 +23,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from prbdm_pin.beam_file import beam_from_dict, load_beam
 from prbdm_pin.commands.simulate import load_model_and_fit
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.export import read_model_json, write_json
-from prbdm_pin.fit_file import load_fit, save_fit
+from prbdm_pin.files.beam_file import beam_from_dict, load_beam
+from prbdm_pin.files.export import read_model_json, write_json
+from prbdm_pin.files.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
-from prbdm_pin.geometry import beam_to_dict
-from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.target import FitTarget
+from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.member.geometry import beam_to_dict
+from prbdm_pin.model.prbdm_model import build_model, load_urdf
 
 BEAMS = Path("examples/beams")
 # what a message may name when the file as a whole is wrong, not one field

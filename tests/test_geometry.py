@@ -7,11 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import beam_from_dict, load_beam, save_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, beam_to_dict
-from prbdm_pin.model import build_model
-from prbdm_pin.random_beams import random_beam
+from prbdm_pin.files.beam_file import beam_from_dict, load_beam, save_beam
+from prbdm_pin.member.geometry import Beam, beam_to_dict
+from prbdm_pin.member.random_beams import random_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 

@@ -7,7 +7,7 @@ import os
 
 import pytest
 
-from prbdm_pin.io import AtomicFile, atomic_path, atomic_write_bytes, atomic_write_json
+from prbdm_pin.io.atomic import AtomicFile, atomic_path, atomic_write_bytes, atomic_write_json
 
 
 def test_text_bytes_and_json_land_whole(tmp_path):

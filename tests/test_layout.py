@@ -4,15 +4,15 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.layout import (
+from prbdm_pin.chain.layout import (
     joint_positions,
     length_bounds,
     repair_lengths,
     sample_lengths,
     validate_lengths,
 )
+from prbdm_pin.errors import BeamInputError
+from prbdm_pin.member.geometry import Beam
 
 BEAM = Beam([0.0, 2.0], [0.05, 0.05], 0.01)
 

@@ -7,9 +7,9 @@ import pinocchio as pin
 import pytest
 import scipy.linalg
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.model import build_model
-from prbdm_pin.stiffness import pose_sweep
+from prbdm_pin.chain.stiffness import pose_sweep
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 RANDOM = load_beam(BEAMS / "reference-random.json")
@@ -149,7 +149,7 @@ def test_with_stiffness_shares_the_chain(model6):
 
 
 def test_modal_damping_gives_each_mode_its_ratio(model6):
-    from prbdm_pin.dynamics import modal_damping
+    from prbdm_pin.chain.pin_dynamics import modal_damping
 
     q = np.full(6, 0.1)
     w, Phi = model6.modes(q)

@@ -18,23 +18,23 @@ import numpy as np
 import pytest
 from reference import strip_target
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.chain_gradient import model_gradient
-from prbdm_pin.fitting import fit
-from prbdm_pin.fitting.joint import JointResiduals
-from prbdm_pin.fitting.joint_jacobian import unit_lengths_jacobian
-from prbdm_pin.fitting.spec import FitSpec
-from prbdm_pin.layout import sample_lengths
-from prbdm_pin.problem import lengths_from_unit, make_problem
-from prbdm_pin.random_beams import random_beam
-from prbdm_pin.section_gradients import (
+from prbdm_pin.chain.chain_derivatives import model_gradient
+from prbdm_pin.chain.layout import sample_lengths
+from prbdm_pin.chain.sections import planar_sections
+from prbdm_pin.chain.sections_derivatives import (
     finite_segment_stiffness_gradient,
     planar_sections_gradient,
     stations_from_lengths,
 )
-from prbdm_pin.sections import planar_sections
-from prbdm_pin.stiffness import finite_segment_stiffness_unchecked
-from prbdm_pin.target import target_from_truth
+from prbdm_pin.chain.stiffness import finite_segment_stiffness_unchecked
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.fitting import fit
+from prbdm_pin.fitting.joint import JointResiduals
+from prbdm_pin.fitting.joint_jacobian import unit_lengths_jacobian
+from prbdm_pin.fitting.problem import lengths_from_unit, make_problem
+from prbdm_pin.fitting.spec import FitSpec
+from prbdm_pin.fitting.target import target_from_truth
+from prbdm_pin.member.random_beams import random_beam
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"

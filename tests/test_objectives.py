@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbdm_pin import objectives as ob
-from prbdm_pin.evaluate import evaluate
-from prbdm_pin.geometry import Beam
-from prbdm_pin.material import Material
-from prbdm_pin.problem import make_problem
-from prbdm_pin.target import FitTarget
+from prbdm_pin.fitting import objectives as ob
+from prbdm_pin.fitting.evaluate import evaluate
+from prbdm_pin.fitting.problem import make_problem
+from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.member.material import Material
 
 
 def test_eigen_errors_hand_values():

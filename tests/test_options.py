@@ -11,13 +11,18 @@ import numpy as np
 import pytest
 from reference import BETA_L
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.fit_file import load_fit, save_fit
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.fit_file import load_fit, save_fit
 from prbdm_pin.fitting import fit
-from prbdm_pin.options import FitOptions, ParetoOptions, SimulationOptions, options_from_dict
-from prbdm_pin.target import FitTarget
+from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.options.objects import (
+    FitOptions,
+    ParetoOptions,
+    SimulationOptions,
+    options_from_dict,
+)
 
 NARROW = "examples/beams/uniform-narrow.json"
 

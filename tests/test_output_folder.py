@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from prbdm_pin import output_folder as of
-from prbdm_pin.output_folder import output_folder
+from prbdm_pin.io import output_folder as of
+from prbdm_pin.io.output_folder import output_folder
 
 ROOT = Path(__file__).resolve().parent.parent
 BEAMS = ROOT / "examples" / "beams"

@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 from reference import strip_target
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.fitting.paper import PaperEigenResiduals, PaperScalarLoss
+from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.spec import FitSpec
-from prbdm_pin.problem import make_problem
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 

@@ -1,4 +1,4 @@
-"""The closed-form planar chain (prbdm_pin.planar) against Pinocchio on the same chain, in one
+"""The closed-form planar chain (prbdm_pin.chain.planar) against Pinocchio on the same chain, in one
 place: tip, linear Jacobian, J^T F against the frame Jacobian, the load stiffness against central
 differences, M(q) against CRBA, the joints and centres of mass against Pinocchio's placements, and
 stacks of designs and poses against one case at a time."""
@@ -11,11 +11,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.dynamics import mass_matrices
-from prbdm_pin.layout import sample_lengths
-from prbdm_pin.model import build_model
-from prbdm_pin.planar import (
+from prbdm_pin.chain.layout import sample_lengths
+from prbdm_pin.chain.pin_dynamics import mass_matrices
+from prbdm_pin.chain.planar import (
     ChainPotential,
     chain_points,
     force_and_load_stiffness,
@@ -28,7 +26,9 @@ from prbdm_pin.planar import (
     tip_positions,
     tip_terms,
 )
-from prbdm_pin.random_beams import random_beam
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.member.random_beams import random_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 

@@ -17,7 +17,7 @@ import prbdm_pin as pp
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.plant.comparison import compare_plant
-from prbdm_pin.response import (
+from prbdm_pin.simulation.response import (
     ModalTip,
     euler_bernoulli_modal_tip,
     modal_frf,

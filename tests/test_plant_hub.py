@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from prbdm_pin import BeamInputError, Hub, build_model, linearize
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.files.beam_file import load_beam
 
 BEAM = load_beam(Path(__file__).resolve().parent.parent / "examples/beams/reference-random.json")
 L = BEAM.length_m

@@ -7,8 +7,8 @@ import pinocchio as pin
 import pytest
 
 from prbdm_pin import BeamInputError, Hub, StrainActuator, build_model, linearize
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.plant.inputs import joint_stations, strain_map
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.inputs import joint_stations, strain_map
 
 BEAM = load_beam(Path(__file__).resolve().parent.parent / "examples/beams/reference-random.json")
 L = BEAM.length_m

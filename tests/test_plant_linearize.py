@@ -9,8 +9,8 @@ import pinocchio as pin
 import pytest
 
 from prbdm_pin import Hub, StrainActuator, build_model, linearize
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.response import modal_frf, prbdm_modal_tip
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.simulation.response import modal_frf, prbdm_modal_tip
 
 BEAM = load_beam(Path(__file__).resolve().parent.parent / "examples/beams/reference-random.json")
 FRACTIONS = np.array([0.15, 0.3, 0.2, 0.35])

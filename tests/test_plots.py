@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from prbdm_pin.plots import DPI, new_figure, save_figure
+from prbdm_pin.views.plots import DPI, new_figure, save_figure
 
 ROOT = Path(__file__).resolve().parents[1]
 BEAM = ROOT / "examples" / "beams" / "tapered.json"
@@ -37,8 +37,8 @@ def test_save_figure_crops_as_savefig_tight_does(tmp_path):
 def test_the_figures_load_no_pyplot(tmp_path):
     code = (
         "import sys\n"
-        "from prbdm_pin.beam_file import load_beam\n"
-        "from prbdm_pin.plots import plot_planform\n"
+        "from prbdm_pin.files.beam_file import load_beam\n"
+        "from prbdm_pin.views.plots import plot_planform\n"
         f"plot_planform(load_beam({str(BEAM)!r}), [0.3, 0.2, 0.1], sys.argv[1])\n"
         "assert 'matplotlib.pyplot' not in sys.modules\n"
     )

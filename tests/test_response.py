@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.model import build_model
-from prbdm_pin.response import (
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
+from prbdm_pin.simulation.response import (
     centerline_modal_tip,
     dynamic_accuracy,
     euler_bernoulli_modal_tip,
@@ -13,7 +14,6 @@ from prbdm_pin.response import (
     modal_step_response,
     prbdm_modal_tip,
 )
-from prbdm_pin.stiffness import finite_segment_stiffness
 from prbdm_pin.truth.beam import beam_modal
 
 
@@ -86,8 +86,8 @@ def test_plate_modal_superposition_static_limit_matches_the_static_solve():
     an independent solve, the plate's linear static tip deflection (truncation < 0.1 %)."""
     from pathlib import Path
 
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.response import centerline_modal_tip
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.simulation.response import centerline_modal_tip
     from prbdm_pin.truth import compute_truth
 
     beam = load_beam(Path(__file__).resolve().parents[1] / "examples/beams/reference-random.json")
@@ -102,7 +102,7 @@ def test_truth_modal_tip_superposes_every_mode_below_the_last_selected(beam):
     """uniform-narrow's plate truth selects bending modes 1-5, which skip a torsion mode: the
     superposition keeps it (no tip gain: its node line is the axis), and its static limit is
     an independent linear solve of the plate less the Euler-Bernoulli share of modes 6, 7, ..."""
-    from prbdm_pin.response import truth_modal_tip
+    from prbdm_pin.simulation.response import truth_modal_tip
     from prbdm_pin.truth import compute_truth
     from prbdm_pin.truth.plate_static import plate_static
 

@@ -8,10 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.chain.sections import link_sections
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.sections import link_sections
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.member.geometry import Beam
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 

@@ -7,16 +7,16 @@ import pytest
 import prbdm_pin.simulation.exponential as exponential
 import prbdm_pin.simulation.gauss as gauss
 import prbdm_pin.simulation.system as system
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.model import build_model
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.simulation import (
     StiffnessSchedule,
     gauss_frequency_ratio,
     mechanical_energy,
     simulate,
 )
-from prbdm_pin.stiffness import finite_segment_stiffness
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,7 @@ import pytest
 import scipy.linalg
 
 import prbdm_pin as pp
-from prbdm_pin.plant.inputs import StrainActuator
+from prbdm_pin.model.inputs import StrainActuator
 
 BEAM = pp.load_beam("examples/beams/uniform-narrow.json")
 LENGTHS = np.full(4, 0.25)

@@ -9,10 +9,10 @@ from reference import ELASTICA
 from scipy.optimize import brentq
 from scipy.special import ellipk
 
-from prbdm_pin import statics
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.chain import statics
 from prbdm_pin.errors import SolveError
-from prbdm_pin.model import build_model
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 BEAM = load_beam(BEAMS / "uniform-narrow.json")
@@ -69,7 +69,7 @@ def test_elastica_table(chain32, alpha):
 def test_residual_on_a_tapered_beam():
     beam = load_beam(BEAMS / "reference-random.json")
     lengths = [0.1, 0.25, 0.2, 0.3, 0.15]
-    from prbdm_pin.stiffness import finite_segment_stiffness
+    from prbdm_pin.chain.stiffness import finite_segment_stiffness
 
     m = build_model(beam, lengths, finite_segment_stiffness(beam, lengths))
     for F in ([0.0, 0.0, -2500.0], [300.0, 0.0, -8000.0], [-2000.0, 50.0, -20000.0]):

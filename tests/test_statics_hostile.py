@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbdm_pin import statics
+from prbdm_pin.chain import statics
+from prbdm_pin.chain.statics_guard import max_load_index
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.statics_guard import max_load_index
 
 L0, L1, K1 = 0.1, 0.4, 2.0  # a 1R chain: clamp offset, link (m), spring (N m/rad)
 

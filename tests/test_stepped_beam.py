@@ -10,12 +10,12 @@ from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 from stepped_eb import stepped_frequencies, stepped_tip_compliance
 
-from prbdm_pin.beam_file import beam_from_dict, load_beam
+from prbdm_pin.chain.sections import link_sections
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, beam_to_dict
-from prbdm_pin.model import build_model
-from prbdm_pin.sections import link_sections
-from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.files.beam_file import beam_from_dict, load_beam
+from prbdm_pin.member.geometry import Beam, beam_to_dict
+from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.truth.beam import beam_modal, beam_static
 from prbdm_pin.truth.elastica import elastica_static
 

@@ -14,13 +14,13 @@ from test_stress_poses import (
     reference_omega2,
 )
 
-from prbdm_pin import dynamics as dyn
-from prbdm_pin import eigen
+from prbdm_pin.chain import eigen
+from prbdm_pin.chain import pin_dynamics as dyn
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError, SolveError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.material import Material
-from prbdm_pin.model import build_model
-from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.member.material import Material
+from prbdm_pin.model.prbdm_model import build_model
 
 EPS = np.finfo(float).eps
 

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from prbdm_pin.fitting import fit
-from prbdm_pin.random_beams import random_beam
-from prbdm_pin.target import target_from_truth
+from prbdm_pin.fitting.target import target_from_truth
+from prbdm_pin.member.random_beams import random_beam
 from prbdm_pin.truth import compute_truth
 
 pytestmark = [pytest.mark.slow, pytest.mark.stress]

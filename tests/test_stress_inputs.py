@@ -11,11 +11,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from prbdm_pin import io as atomic_io
-from prbdm_pin.beam_file import beam_from_dict, load_beam, save_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam, beam_to_dict
-from prbdm_pin.model import build_model
+from prbdm_pin.files.beam_file import beam_from_dict, load_beam, save_beam
+from prbdm_pin.io import atomic as atomic_io
+from prbdm_pin.member.geometry import Beam, beam_to_dict
+from prbdm_pin.model.prbdm_model import build_model
 
 FIELDS = ("x", "half_width", "thickness", "material", "tip_force", "length", "name",
           "description", "beam", "key", "E", "rho", "nu")

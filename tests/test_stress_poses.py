@@ -11,9 +11,9 @@ import mpmath
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.model import build_model
-from prbdm_pin.stiffness import finite_segment_stiffness
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 RANDOM = load_beam(BEAMS / "reference-random.json")

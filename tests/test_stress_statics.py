@@ -12,8 +12,8 @@ import pytest
 from scipy.integrate import solve_bvp
 
 from prbdm_pin.errors import SolveError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.model import build_model
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAM = Beam(np.array([0.0, 1.0]), np.array([0.025, 0.025]), 0.01)
 EI, L = BEAM.root_EI_Nm2, BEAM.length_m
@@ -165,7 +165,7 @@ def test_postbuckled_column_matches_elastica():
 @pytest.mark.slow
 @pytest.mark.parametrize("w", [(0.5, 0.0005), (0.0005, 0.5)], ids=["narrowing", "widening"])
 def test_tapered_1000_to_1_load_sweep_converges_or_raises(w):
-    from prbdm_pin.stiffness import finite_segment_stiffness
+    from prbdm_pin.chain.stiffness import finite_segment_stiffness
 
     beam = Beam(np.array([0.0, 1.0]), np.array(w), 0.01)
     n = 32

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from reference import ELASTICA
 
-from prbdm_pin.beam_file import load_beam
-from prbdm_pin.target import target_from_truth
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.fitting.target import target_from_truth
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.elastica import anticlastic_factor, elastica_static
 
@@ -95,7 +95,7 @@ def test_fit_json_records_the_theory_gap(tmp_path):
     recomputed here by quadrature of the Euler-Bernoulli compliance int (L - x)^2 / EI(x) dx."""
     from scipy.integrate import quad
 
-    from prbdm_pin.fit_file import load_fit, save_fit
+    from prbdm_pin.files.fit_file import load_fit, save_fit
     from prbdm_pin.fitting import fit
 
     beam = load_beam(BEAMS / "tapered-linear.json")

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam, save_beam
 from prbdm_pin.cli import main
-from prbdm_pin.geometry import Beam
+from prbdm_pin.files.beam_file import load_beam, save_beam
+from prbdm_pin.member.geometry import Beam
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"

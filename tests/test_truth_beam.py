@@ -7,10 +7,10 @@ import pytest
 from reference import BETA_L as REF_BETA_L
 from scipy.integrate import quad
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.material import Material
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.member.material import Material
 from prbdm_pin.truth.beam import beam_bending_modes, beam_modal, beam_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"

@@ -8,10 +8,10 @@ import pytest
 from reference import BETA_L as REF_BETA_L
 from skfem import Basis
 
-from prbdm_pin.beam_file import load_beam, save_beam
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
+from prbdm_pin.files.beam_file import load_beam, save_beam
+from prbdm_pin.member.geometry import Beam
 from prbdm_pin.truth import compute_truth, mesh, solid, solid_fe
 from prbdm_pin.truth.beam import beam_modal, beam_static
 from prbdm_pin.truth.feature_mesh import planform_quad_mesh

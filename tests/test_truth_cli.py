@@ -7,8 +7,8 @@ import meshio
 import numpy as np
 from reference import BETA_L as REF_BETA_L
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"

@@ -8,10 +8,10 @@ from reference import ELASTICA
 from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.material import Material
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.member.material import Material
 from prbdm_pin.truth.elastica import elastica_static
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"

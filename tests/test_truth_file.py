@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.truth.truth_file import read_truth_file, truth_file_from_dict
+from prbdm_pin.files.truth_file import read_truth_file, truth_file_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 BEAM = str(ROOT / "examples" / "beams" / "uniform-narrow.json")

@@ -13,12 +13,12 @@ from skfem import MeshTri
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError, TruthError
 from prbdm_pin.truth.beam import beam_modes, beam_static, beam_stations
+from prbdm_pin.truth.derivative_rules import check_gaps
 from prbdm_pin.truth.mesh import planform_tri_mesh
 from prbdm_pin.truth.morph import morph_plane, morph_x
 from prbdm_pin.truth.plate import plate_modes
+from prbdm_pin.truth.plate_derivatives import plate_sensitivity
 from prbdm_pin.truth.plate_static import plate_static
-from prbdm_pin.truth.sensitivity_plate import plate_sensitivity
-from prbdm_pin.truth.sensitivity_rules import check_gaps
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 # finite differences of the truth: sixth-order central stencil, step FD_REL x the variable's

@@ -13,8 +13,8 @@ import pytest
 from reference import BETA_L as REF_BETA_L
 from reference import SQUARE_PLATE
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.cli import main
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import CoarseTruthError, compute_modal, compute_truth
 from prbdm_pin.truth.modes import mac_matrix
 

@@ -5,8 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.modes import label_modes, mac_matrix, select_modes
 from prbdm_pin.truth.plate import plate_modal

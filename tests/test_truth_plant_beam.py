@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from reference import BETA_L
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.plant import truth_modal_gains
 

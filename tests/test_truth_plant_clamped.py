@@ -6,9 +6,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.response import euler_bernoulli_modal_tip, modal_frf
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.simulation.response import euler_bernoulli_modal_tip, modal_frf
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.plant import clamped_model, hybrid_model
 

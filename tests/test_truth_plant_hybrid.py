@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.digest import truth_modules
 from prbdm_pin.truth.plant import OUTPUT_NAMES, hybrid_model

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from prbdm_pin.beam_file import load_beam
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.plant import truth_modal_gains
 from prbdm_pin.truth.plant.plate_fields import line_average_matrix, probe_matrix

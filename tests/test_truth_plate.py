@@ -8,9 +8,9 @@ from reference import BETA_L as REF_BETA_L
 from reference import SQUARE_PLATE
 from skfem import MeshTri
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import TruthError
-from prbdm_pin.random_beams import random_beam
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.member.random_beams import random_beam
 from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.mesh import CORNER_PASSES, planform_tri_mesh, reentrant_vertices
 from prbdm_pin.truth.plate import plate_modes
@@ -221,7 +221,7 @@ def test_plate_and_solid_beam_like_modes(seed):
 
 
 def _thinner(beam, t):
-    from prbdm_pin.geometry import Beam
+    from prbdm_pin.member.geometry import Beam
 
     return Beam(beam.x_m, beam.half_width_m, t, beam.material, beam.tip_force_N, name=beam.name)
 

@@ -8,10 +8,10 @@ import scipy.sparse.linalg
 from reference import BETA_L as REF_BETA_L
 from reference import ELASTICA, SQUARE_PLATE
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.geometry import Beam
-from prbdm_pin.material import Material
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.member.geometry import Beam
+from prbdm_pin.member.material import Material
 from prbdm_pin.truth import compute_truth, solid_fe, solid_nonlinear
 from prbdm_pin.truth.modes import label_modes
 from prbdm_pin.truth.solid import default_solid_level, solid_modal, solid_static

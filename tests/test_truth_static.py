@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from skfem import Basis, FacetBasis
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.truth.mesh import planform_tri_mesh
 from prbdm_pin.truth.plate_elements import ElementTriArgyrisLocal
 from prbdm_pin.truth.plate_static import plate_static, tip_edge_load
@@ -106,7 +106,7 @@ def test_bad_input(narrow):
     ("reference-random", 0.0025, -1e-3, 1e-3),
 ])
 def test_plate_agrees_with_the_linear_3d_solid(name, thickness_m, low, high):
-    from prbdm_pin.geometry import Beam
+    from prbdm_pin.member.geometry import Beam
     from prbdm_pin.truth.solid import solid_static
 
     beam = load_beam(BEAMS / f"{name}.json")

@@ -11,11 +11,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from prbdm_pin.beam_file import load_beam
 from prbdm_pin.errors import BeamInputError
-from prbdm_pin.export import read_export_record, urdf_text
-from prbdm_pin.model import build_model, load_urdf
-from prbdm_pin.urdf import read_springs
+from prbdm_pin.files.beam_file import load_beam
+from prbdm_pin.files.export import read_export_record, urdf_text
+from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.model.urdf import read_springs
 
 ROOT = Path(__file__).resolve().parent.parent
 BEAM = load_beam(ROOT / "examples" / "beams" / "reference-random.json")
@@ -121,8 +121,8 @@ def test_installed_package_finds_templates(tmp_path):
     assert r.returncode == 0, r.stderr
     code = (
         "import importlib.resources as r, prbdm_pin, numpy as np\n"
-        "from prbdm_pin.model import build_model\n"
-        "from prbdm_pin.geometry import Beam\n"
+        "from prbdm_pin.model.prbdm_model import build_model\n"
+        "from prbdm_pin.member.geometry import Beam\n"
         "files = r.files('prbdm_pin.urdf_templates')\n"
         "names = sorted(p.name for p in files.iterdir() if p.name.endswith('.tmpl'))\n"
         "print(prbdm_pin.__file__)\n"

@@ -15,7 +15,7 @@ import os
 from typing import Any
 
 from ..errors import BeamInputError
-from ..option_checks import check_choice, check_int
+from ..options.checks import check_choice, check_int
 
 __all__ = ["LocalPool", "DaskCluster"]
 

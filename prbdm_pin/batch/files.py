@@ -16,9 +16,9 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from ..choices import MIN_FRACTION
 from ..errors import BeamInputError
-from ..jsonfile import field_int, field_str, parse_json, read_json, require_mapping
+from ..io.jsonfile import field_int, field_str, parse_json, read_json, require_mapping
+from ..options.choices import MIN_FRACTION
 
 __all__ = [
     "read_manifest", "parse_record", "check_records_match", "missing_shards", "output_mode",
@@ -200,7 +200,7 @@ def write_output(path: str | os.PathLike, text: str) -> Path:
     A file that already holds exactly ``text`` is left alone (a resume with nothing to do
     changes nothing).
     """
-    from ..io import atomic_write_text
+    from ..io.atomic import atomic_write_text
 
     p = Path(path)
     data = text.encode("utf-8")

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import BeamInputError
-from ..options import FitOptions
+from ..options.objects import FitOptions
 from .files import check_records_match, read_manifest, write_output
 from .records import read_records
 from .spec import BatchSpec, BeamTask
@@ -24,7 +24,7 @@ MANIFEST = "batch.json"
 
 def build_manifest(spec: BatchSpec, tasks: Sequence[BeamTask]) -> dict[str, Any]:
     """Return what ``batch.json`` records for ``spec`` (``tasks``: from :func:`plan_tasks`)."""
-    from .. import __version__
+    from ..version import __version__
 
     s = spec.settings
     o = s.options

@@ -29,7 +29,7 @@ def write_plots(records: list[dict[str, Any]], rep: BatchReport, out: Path) -> l
         return paths
 
     def save(fig, name: str) -> None:
-        from ..io import atomic_path
+        from ..io.atomic import atomic_path
 
         path = out / name
         try:  # a killed report never leaves a half-written plot

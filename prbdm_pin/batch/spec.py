@@ -13,13 +13,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..choices import TRUTH_MODELS
 from ..errors import BeamInputError
-from ..option_checks import check_choice, check_int
-from ..options import FitOptions
+from ..options.checks import check_choice, check_int
+from ..options.choices import TRUTH_MODELS
+from ..options.objects import FitOptions
 
 if TYPE_CHECKING:
-    from ..geometry import Beam
+    from ..member.geometry import Beam
 
 __all__ = ["FitSettings", "BeamTask", "BatchSpec", "parse_shard", "plan_tasks", "check_int",
            "check_choice"]
@@ -50,7 +50,7 @@ class FitSettings:
 
     def __post_init__(self) -> None:
         """Check the joints, the options and the truth model (BeamInputError naming the field)."""
-        from ..layout import check_min_fraction
+        from ..chain.layout import check_min_fraction
 
         check_int("joints", self.joints, 1)
         if not isinstance(self.options, FitOptions):
@@ -165,7 +165,7 @@ def plan_tasks(spec: BatchSpec) -> list[BeamTask]:
     if spec.n_beams is not None:
         return [BeamTask(i, spec.seed, spec.settings, f"beam-{i}")
                 for i in range(i_shard, spec.n_beams, n_shard)]
-    from ..beam_file import load_beam
+    from ..files.beam_file import load_beam
 
     folder = Path(spec.beams_dir)
     if not folder.is_dir():

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 from .spec import BeamTask
 
 if TYPE_CHECKING:
-    from ..geometry import Beam
+    from ..member.geometry import Beam
 
 __all__ = ["beam_of", "fit_seed_of", "beam_features", "record_header", "evaluate_beam"]
 
@@ -34,7 +34,7 @@ def beam_of(task: BeamTask) -> Beam:
         return task.beam
     import numpy as np
 
-    from ..random_beams import random_beam
+    from ..member.random_beams import random_beam
 
     rng = np.random.default_rng(_beam_seed_sequence(task.seed, task.index))
     return random_beam(rng, name=task.name)
@@ -90,7 +90,7 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
     ``error`` and ``stage``); only interrupts and process deaths escape.
     """
     from ..fitting import fit
-    from ..target import target_from_truth
+    from ..fitting.target import target_from_truth
     from ..truth import TruthRequest
 
     t0 = time.perf_counter()

@@ -11,7 +11,8 @@ For every beam of a :class:`BenchConfig` this measures
   inextensible elastica (``truth.elastica.elastica_static``: exact for slender strips, a few
   per cent off for wide plates, whose plate-bending stiffness it ignores), relative to the elastica
   tip displacement; the dynamic error (tip step response over 1 s and tip FRF, both by modal
-  superposition, :mod:`prbdm_pin.response`, against the truth's modes with 2 % modal damping); the
+  superposition, :mod:`prbdm_pin.simulation.response`, against the truth's modes with 2 % modal
+  damping); the
   simulation cost (process CPU time of ``simulate`` per simulated second, step tip load, default
   integrator and step);
 - **the FE truth** at several plate mesh levels: CPU time of the modal solve and frequency error

@@ -1,4 +1,4 @@
-"""The error-against-cost figure of a benchmark run (matplotlib through :mod:`prbdm_pin.plots`)."""
+"""The error-against-cost figure of a benchmark run, drawn with :mod:`prbdm_pin.views.plots`."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ def plot_error_vs_cost(result: BenchResult, path: str | Path) -> Path:
     One panel per k (first k modes), frontier marked; a last panel shows the FE truth levels
     (modal-solve CPU against error vs the finest level).
     """
-    from ..plots import pyplot, save_figure
+    from ..views.plots import pyplot, save_figure
 
     plt = pyplot()
     ks = plot_modes(result)

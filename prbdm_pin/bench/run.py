@@ -12,10 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..beam_file import load_beam
 from ..errors import BeamInputError, SolveError
-from ..geometry import Beam
-from ..random_beams import random_beam
+from ..files.beam_file import load_beam
+from ..member.geometry import Beam
+from ..member.random_beams import random_beam
 from .config import DAMPING_RATIO, QUICK, BenchConfig, BenchResult, Comparison, ModelRow, TruthRow
 
 __all__ = ["bench_beams", "chain_lengths", "finite_segment_chain", "mujoco_row",
@@ -29,8 +29,8 @@ def chain_lengths(length_m: float, n_joints: int) -> np.ndarray:
 
 def finite_segment_chain(beam: Beam, n_joints: int):
     """Build the hand-built chain: equal segments, springs at the segment centres, K = E / ∫dx/I."""
-    from ..model import build_model
-    from ..stiffness import finite_segment_stiffness
+    from ..chain.stiffness import finite_segment_stiffness
+    from ..model.prbdm_model import build_model
 
     lengths = chain_lengths(beam.length_m, n_joints)
     frac = min(0.02, 0.25 / n_joints)  # the end half-links are 1/(2N) of L
@@ -104,7 +104,7 @@ def _tip_errors(model, forces: list[np.ndarray], ref: list) -> tuple[np.ndarray,
 
 def _dynamic_errors(model, truth_tip, n_band: int) -> tuple[float, float]:
     """Step (1 s) and FRF (band [0, 1.2 omega_truth[n_band-1]]) errors, %; truth: all its modes."""
-    from ..response import modal_frf, modal_step_response, prbdm_modal_tip, relative_l2
+    from ..simulation.response import modal_frf, modal_step_response, prbdm_modal_tip, relative_l2
 
     mine = prbdm_modal_tip(model)
     t = np.linspace(0.0, 1.0, 2001)
@@ -159,8 +159,8 @@ def mujoco_row(beam: Beam, model, omega_truth, duration_s: float) -> ModelRow | 
         import mujoco
     except ImportError:
         return None
-    from ..eigen import generalized_eigh
-    from ..export import mjcf_text
+    from ..chain.eigen import generalized_eigh
+    from ..files.export import mjcf_text
 
     m = mujoco.MjModel.from_xml_string(mjcf_text(model, DAMPING_RATIO))
     # the peer's cost is measured with MuJoCo's default (semi-implicit Euler) step, as a MuJoCo
@@ -240,8 +240,8 @@ def run_benchmark(
     BenchResult
     """
     from ..fitting import fit
-    from ..response import centerline_modal_tip
-    from ..target import target_from_truth
+    from ..fitting.target import target_from_truth
+    from ..simulation.response import centerline_modal_tip
     from ..truth import compute_truth
     from ..truth.elastica import elastica_static
 
@@ -275,7 +275,7 @@ def run_benchmark(
                     loss_tol_pct=config.fit_loss_tol_pct,
                     # Eq. 16: the norm the published error-vs-cost figures were measured in
                     eigen_norm="paper")
-            from ..model import build_model
+            from ..model.prbdm_model import build_model
 
             model = build_model(beam, r.lengths_m, r.stiffness_Nm_per_rad)
             note = "" if r.eigen_loss_pct <= 1e-3 else f"fit stopped at {r.eigen_loss_pct:.3g} %"

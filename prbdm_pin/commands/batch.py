@@ -22,7 +22,7 @@ Beam i is random_beam(default_rng(SeedSequence(SEED, spawn_key=(i,)))).
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``batch`` subparser."""
-    from ..choices import (
+    from ..options.choices import (
         DEFAULT_EIGEN_NORM,
         EIGEN_NORMS,
         OBJECTIVES,
@@ -79,9 +79,9 @@ MAX_SHARD_BEAMS = 1_000_000
 def check_options(args: argparse.Namespace) -> None:
     """Refuse bad ``prbdm batch`` options before ``--out`` is created or a beam is read."""
     from ..batch import parse_shard
+    from ..chain.layout import check_min_fraction
     from ..errors import BeamInputError
-    from ..layout import check_min_fraction
-    from ..limits import check_cap
+    from ..options.limits import check_cap
     from .checks import MAX_SEED, MAX_WORKERS, existing_dir, in_range, writable_dir
     from .fit_checks import MAX_STARTS
 
@@ -121,7 +121,7 @@ def batch_fit_options(args: argparse.Namespace):
 
     Each beam's fit seed replaces ``seed``.
     """
-    from ..options import FitOptions
+    from ..options.objects import FitOptions
 
     return FitOptions(frequencies=args.frequencies, objective=args.objective,
                       stiffness=args.stiffness, starts=args.starts, eigen_norm=args.eigen_norm,

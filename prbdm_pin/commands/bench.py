@@ -58,8 +58,8 @@ def run(args) -> int:
     from ..bench.plot import plot_error_vs_cost
     from ..bench.report import markdown_report, result_dict
     from ..bench.run import run_benchmark, work_units
-    from ..io import atomic_write_json, atomic_write_text
-    from ..output_folder import output_folder
+    from ..io.atomic import atomic_write_json, atomic_write_text
+    from ..io.output_folder import output_folder
 
     check_options(args)
     config = QUICK if args.quick else FULL

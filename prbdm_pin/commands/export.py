@@ -58,13 +58,13 @@ errors 100 (omega_model/omega_truth - 1); a worst mode off by more than 1 % is w
 Load them with prbdm_pin.load_urdf (URDF, springs in the gazebo tags, gravity zero),
 pinocchio.buildModelFromUrdf (then set model.gravity = pinocchio.Motion.Zero()),
 pybullet.loadURDF(..., useFixedBase=True, flags=pybullet.URDF_USE_INERTIA_FROM_FILE),
-mujoco.MjModel.from_xml_path (MJCF) or prbdm_pin.export.read_model_json (JSON).
+mujoco.MjModel.from_xml_path (MJCF) or prbdm_pin.files.export.read_model_json (JSON).
 """
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Create the ``export`` subparser."""
-    from ..choices import EXPORT_DAMPING_FORMS, FORMATS
+    from ..options.choices import EXPORT_DAMPING_FORMS, FORMATS
 
     p = subparsers.add_parser(
         "export",
@@ -103,7 +103,7 @@ def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
     """
     import numpy as np
 
-    from ..export import read_export_record
+    from ..files.export import read_export_record
 
     if fitted is not None:
         return np.asarray(fitted.omega_truth_rad_s, dtype=float)
@@ -144,7 +144,7 @@ def check_options(args: argparse.Namespace) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm export``."""
-    from ..export import export_model, export_record
+    from ..files.export import export_model, export_record
     from .model_source import file_actuators, load_model_and_fit
 
     opts = check_options(args)

@@ -115,7 +115,7 @@ def extra_load_cases(beam, factors: list[float], large_deflection: str,
     ``calibrated-elastica`` scales EI(x) by 1 + gap / 100 with the primary truth's
     ``static_theory_gap_pct`` (the linear ratio does not depend on the load).
     """
-    from ..target import LoadCase
+    from ..fitting.target import LoadCase
 
     cases = []
     for f in factors:
@@ -157,10 +157,10 @@ def load_target(args, beam):
 
 def _base_target(args, beam):
     from ..errors import BeamInputError
-    from ..target import FitTarget, target_from_truth
+    from ..fitting.target import FitTarget, target_from_truth
 
     if args.truth:
-        from ..truth.truth_file import read_truth_file
+        from ..files.truth_file import read_truth_file
 
         t = read_truth_file(args.truth)
         fingerprint = t.beam_fingerprint
@@ -213,7 +213,7 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
     ``stiffness_Nm_per_rad``, 2 % stiffness-proportional joint damping, and the record comment
     (its frequencies at the straight pose, its per-mode errors against ``omega_truth_rad_s``).
     """
-    from ..output_folder import output_folder
+    from ..io.output_folder import output_folder
 
     out = Path(out)
     with output_folder(out, FIT_FILES, marker="fit.json") as stage:
@@ -223,9 +223,9 @@ def write_fit_outputs(result, beam, out: Path, plots: bool = True) -> list[Path]
 
 def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path]:
     """Write the files of :func:`write_fit_outputs` into ``folder`` (each atomically)."""
-    from ..choices import MIN_FRACTION
-    from ..export import write_urdf
-    from ..model import build_model
+    from ..files.export import write_urdf
+    from ..model.prbdm_model import build_model
+    from ..options.choices import MIN_FRACTION
 
     out = folder
     out.mkdir(parents=True, exist_ok=True)
@@ -236,7 +236,7 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
     written = [write_urdf(model, out / "model.urdf",
                           omega_truth_rad_s=result.omega_truth_rad_s)]
     if plots:
-        from ..plots import plot_planform, plot_scf
+        from ..views.plots import plot_planform, plot_scf
 
         written.append(plot_planform(beam, result.lengths_m, out / "planform.png",
                                      title=f"{beam.name}: {result.joints}R, {result.stiffness}, "
@@ -244,7 +244,7 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
         if result.stiffness == "paper":
             written.append(plot_scf(result, out / "scf.png"))
     # fit.json last: its presence marks a complete output folder
-    from ..fit_file import save_fit
+    from ..files.fit_file import save_fit
 
     written.append(save_fit(result, out / "fit.json", beam))
     return written
@@ -267,7 +267,7 @@ def check_options(args) -> None:
 
 def run(args) -> int:
     """Run ``prbdm fit`` (exit code 0 on success)."""
-    from ..beam_file import load_beam
+    from ..files.beam_file import load_beam
     from ..fitting import fit
 
     check_options(args)

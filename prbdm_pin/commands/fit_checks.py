@@ -52,9 +52,9 @@ def check_truth_options(args) -> None:
     Ranges, the joint cap, the extra loads, a writable ``--out`` and cache folder; nothing is
     read or computed yet.
     """
+    from ..chain.layout import check_min_fraction
     from ..errors import BeamInputError
-    from ..layout import check_min_fraction
-    from ..limits import check_cap
+    from ..options.limits import check_cap
     from .checks import MAX_SEED, in_range, writable_dir
 
     in_range("--joints", args.joints, 1, integer=True)
@@ -96,7 +96,7 @@ def check_sweep(args) -> None:
 
     in_range("--eps", args.eps, 0.0, lo_open=True, unit="rad")
     if args.stiffness == "paper":
-        from ..stiffness import MAX_POSES
+        from ..chain.stiffness import MAX_POSES
 
         in_range("--xi", args.xi, 0.0, math.pi / 2 / args.joints, unit="rad",
                  why="the sweep's first pose turns the tip by joints * xi <= pi/2")
@@ -116,8 +116,8 @@ def check_inputs(args, beam, objective: str) -> float:
     That is a ``--min-link`` that leaves no room for n + 1 links, and a deflection term without
     a tip load. Returns the min_fraction.
     """
+    from ..chain.layout import check_min_fraction
     from ..errors import BeamInputError
-    from ..layout import check_min_fraction
 
     f = check_min_fraction(args.min_link, args.joints, "--min-link")
     if objective != "eigen" and not any(beam.tip_force_N):

@@ -47,7 +47,7 @@ class InputSignal:
 
 def parse_input(text: str) -> InputSignal:
     """``NAME=SIGNAL`` (see the module notes) as an :class:`InputSignal`."""
-    from ..plant.names import split_name
+    from ..model.names import split_name
 
     where = f"--input = {text!r}"
     name, sep, signal = text.partition("=")

@@ -141,7 +141,7 @@ def check_options(args: argparse.Namespace) -> dict:
 def _bode(lin, path: Path) -> None:
     import numpy as np
 
-    from ..plots import new_figure, save_png
+    from ..views.plots import new_figure, save_png
 
     md = lin.modal()
     flex = md.omega_rad_s[md.omega_rad_s > 0.0]
@@ -172,7 +172,7 @@ def actuator_weights_record(model, actuators) -> dict:
     ``actuator_weights``: each actuator's joint weights, N m per N m, as used;
     ``actuator_maps``: ``"fitted"`` or ``"virtual-work"`` each.
     """
-    from ..plant.inputs import strain_map
+    from ..model.inputs import strain_map
 
     return {"actuator_weights": [[float(v) for v in strain_map(model.lengths_m, a,
                                                                 f"actuators[{i}]")]
@@ -186,8 +186,8 @@ def run(args: argparse.Namespace) -> int:
 
     import numpy as np
 
-    from ..io import atomic_write_bytes, atomic_write_text
-    from ..output_folder import output_folder
+    from ..io.atomic import atomic_write_bytes, atomic_write_text
+    from ..io.output_folder import output_folder
     from ..plant.linearize import linearize
     from .model_source import file_actuators, load_model_and_fit
 

@@ -18,10 +18,10 @@ def load_model(path: str, beam_path: str | None = None):
 
 def load_model_and_fit(path: str, beam_path: str | None = None):
     """:func:`load_model`, and the ``FitResult`` when ``path`` is a fit.json (else None)."""
-    from ..beam_file import load_beam
-    from ..jsonfile import read_json
-    from ..model import build_model, load_urdf
-    from ..model_files import LINK_FLOOR_FRACTION, file_kind
+    from ..files.beam_file import load_beam
+    from ..io.jsonfile import read_json
+    from ..io.record_checks import LINK_FLOOR_FRACTION, file_kind
+    from ..model.prbdm_model import build_model, load_urdf
 
     p = Path(path)
     if not p.is_file():
@@ -31,7 +31,7 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
     d = read_json(p, "MODEL")
     kind = file_kind(d)
     if kind == "model":
-        from ..export import read_model_json
+        from ..files.export import read_model_json
 
         return read_model_json(p), None
     if kind == "beam":
@@ -44,8 +44,8 @@ def load_model_and_fit(path: str, beam_path: str | None = None):
             else f"a JSON {type(d).__name__}")
         raise BeamInputError(f"MODEL {path!r}: is {what}, not a fit.json, a model JSON "
                              "(prbdm export --format json) or a URDF")
-    from ..fit_file import fit_beam
-    from ..results import FitResult
+    from ..files.fit_file import fit_beam
+    from ..fitting.results import FitResult
 
     what = f"MODEL {path!r}"
     beam = load_beam(beam_path) if beam_path is not None else fit_beam(d, what)
@@ -70,9 +70,9 @@ def file_actuators(path: str | Path) -> tuple:
 
     These are a model JSON's ``actuators`` or the record of a URDF export; none for a fit.json.
     """
-    from ..export import read_export_record, read_plant_json
-    from ..jsonfile import read_json
-    from ..model_files import file_kind
+    from ..files.export import read_export_record, read_plant_json
+    from ..io.jsonfile import read_json
+    from ..io.record_checks import file_kind
 
     p = Path(path)
     if p.suffix.lower() == ".urdf":

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..choices import (
+from ..options.choices import (
     DEFAULT_EIGEN_NORM,
     DEFLECTION_NORMS,
     EIGEN_NORMS,
@@ -19,7 +19,7 @@ from ..choices import (
     STIFFNESS_KINDS,
     XI_RAD,
 )
-from ..options import FitOptions, ParetoOptions
+from ..options.objects import FitOptions, ParetoOptions
 
 __all__ = ["add_problem_options", "add_fit_options", "add_pareto_options", "fit_options",
            "pareto_options"]

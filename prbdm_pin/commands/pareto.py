@@ -53,9 +53,9 @@ def write_pareto_outputs(res, beam, out: Path) -> None:
     pareto.csv (the whole front), pareto.json, pareto.png and the knee's fit.json, model.urdf
     and plots.
     """
-    from ..io import atomic_write_text
-    from ..output_folder import output_folder
-    from ..plots import plot_pareto
+    from ..io.atomic import atomic_write_text
+    from ..io.output_folder import output_folder
+    from ..views.plots import plot_pareto
 
     with output_folder(out, FIT_FILES + PARETO_FILES, marker="fit.json") as stage:
         atomic_write_text(stage / "pareto.csv", res.to_csv())
@@ -85,7 +85,7 @@ def check_options(args) -> None:
 
 def run(args) -> int:
     """Run ``prbdm pareto`` (exit code 0 on success)."""
-    from ..beam_file import load_beam
+    from ..files.beam_file import load_beam
     from ..fitting import fit_pareto
 
     check_options(args)

@@ -26,7 +26,7 @@ def add_plant_options(p: argparse.ArgumentParser) -> None:
 
 def names_option(text: str, option: str) -> tuple[str, ...]:
     """Split a comma-separated list of input or output names (each ``base`` or ``base[i]``)."""
-    from ..plant.names import split_name
+    from ..model.names import split_name
 
     names = tuple(s.strip() for s in text.split(","))
     for i, name in enumerate(names):
@@ -51,7 +51,7 @@ def actuators_option(texts: list[str]) -> list:
 
     The beam is checked later by :func:`actuators_on_beam`.
     """
-    from ..plant.inputs import StrainActuator
+    from ..model.inputs import StrainActuator
 
     acts = []
     for text in texts:
@@ -65,7 +65,7 @@ def actuators_option(texts: list[str]) -> list:
 
 def hub_option(text: str | None):
     """Return the ``--hub INERTIA:RADIUS`` value as a Hub (None without the option)."""
-    from ..plant.hub import Hub
+    from ..model.hub import Hub
 
     if text is None:
         return None
@@ -78,8 +78,8 @@ def hub_option(text: str | None):
 
 def with_hub(model, hub):
     """``model`` rebuilt on ``hub`` (needs the beam: a URDF does not carry it)."""
-    from ..model import build_model
-    from ..model_files import LINK_FLOOR_FRACTION
+    from ..io.record_checks import LINK_FLOOR_FRACTION
+    from ..model.prbdm_model import build_model
 
     if model.beam is None:
         raise BeamInputError("--hub: needs the beam (give a fit.json or a model JSON; a "
@@ -90,7 +90,7 @@ def with_hub(model, hub):
 
 def actuators_on_beam(model, actuators, texts: list[str]) -> None:
     """Refuse an ``--actuator`` that leaves the beam of ``model``."""
-    from ..plant.inputs import strain_map
+    from ..model.inputs import strain_map
 
     for a, text in zip(actuators, texts, strict=True):
         strain_map(model.lengths_m, a, f"--actuator = {text!r}:")

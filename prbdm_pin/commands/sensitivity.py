@@ -52,13 +52,13 @@ def parse_design(spec: str) -> tuple[str, ...]:
 
 def run(args) -> int:
     """Run ``prbdm sensitivity`` (exit code 0 on success)."""
-    from ..beam_file import load_beam
-    from ..design import Design
     from ..errors import BeamInputError
-    from ..io import atomic_write_text
-    from ..limits import check_cap
-    from ..output_folder import output_folder
-    from ..truth.gradient import truth_gradient
+    from ..files.beam_file import load_beam
+    from ..io.atomic import atomic_write_text
+    from ..io.output_folder import output_folder
+    from ..member.design import Design
+    from ..options.limits import check_cap
+    from ..truth.compute_derivatives import truth_gradient
     from .checks import in_range, writable_dir
 
     in_range("--modes", args.modes, 1, integer=True)
@@ -125,7 +125,7 @@ def _summary(g) -> str:
 def _bar_plot(g, path: Path, title: str) -> None:
     import numpy as np
 
-    from ..plots import new_figure, save_png
+    from ..views.plots import new_figure, save_png
 
     rel = g.relative_d_omega
     n_modes, n_vars = rel.shape

@@ -162,7 +162,7 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     """
     import math
 
-    from ..limits import check_cap
+    from ..options.limits import check_cap
     from ..simulation import FIXED_STEP_METHODS, IVP_METHODS
     from .checks import in_range, writable_dir
 
@@ -198,7 +198,7 @@ def simulation_options(args, output_dt_s: float):
 
     ``output_dt_s`` is the sample interval, s: ``--output-dt`` or its default.
     """
-    from ..options import SimulationOptions
+    from ..options.objects import SimulationOptions
 
     return SimulationOptions(method=args.method, dt_s=args.dt, output_dt_s=output_dt_s,
                              damping_ratio=args.damping, damping=args.damping_form)
@@ -206,7 +206,7 @@ def simulation_options(args, output_dt_s: float):
 
 def _response_figure(model, tr, force, args):
     """Tip displacement, the plant's inputs and outputs (when any), joint angles."""
-    from ..plots import new_figure
+    from ..views.plots import new_figure
 
     rows = 2 + len(tr.output_names) + int(bool(tr.input_names))
     fig = new_figure((7.0, 2.2 + 1.6 * rows))
@@ -242,10 +242,10 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
 
-    from ..io import atomic_write_text
-    from ..output_folder import output_folder
-    from ..plots import save_png
+    from ..io.atomic import atomic_write_text
+    from ..io.output_folder import output_folder
     from ..simulation import simulate
+    from ..views.plots import save_png
     from .plant_options import actuators_on_beam, with_hub
 
     force = check_options(args)

@@ -49,7 +49,7 @@ TRUTH_FILES = ("truth.json", "modes.vtu")
 
 def check_options(args) -> None:
     """Refuse bad ``prbdm truth`` options before the beam is read."""
-    from ..limits import check_cap
+    from ..options.limits import check_cap
     from .checks import in_range, writable_dir
 
     # a truth serves fits of up to max_joints joints: as many modes at most
@@ -62,10 +62,10 @@ def check_options(args) -> None:
 
 def run(args) -> int:
     """Run ``prbdm truth`` (exit code 0 on success)."""
-    from ..beam_file import load_beam
     from ..errors import BeamInputError
-    from ..io import atomic_write_text
-    from ..output_folder import output_folder
+    from ..files.beam_file import load_beam
+    from ..io.atomic import atomic_write_text
+    from ..io.output_folder import output_folder
     from ..truth import CoarseTruthError, compute_truth
     from ..truth.vtu import write_modes_vtu
 

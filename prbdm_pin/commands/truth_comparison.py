@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from ..errors import BeamInputError
 
 if TYPE_CHECKING:
-    from ..response import DynamicAccuracy, ModalTip
+    from ..simulation.response import DynamicAccuracy, ModalTip
     from ..truth import TruthRequest, TruthResult
 
 TRUTH_MODELS = ("plate", "beam")
@@ -133,7 +133,7 @@ def compare_truth(model, request: TruthRequest, damping_ratio: float, cache_dir,
     :func:`dynamic_accuracy` over the first ``STEP_DURATION_S`` (s) and the band
     [0, BAND_FACTOR * omega_n] (rad/s).
     """
-    from ..response import dynamic_accuracy, prbdm_modal_tip, truth_modal_tip
+    from ..simulation.response import dynamic_accuracy, prbdm_modal_tip, truth_modal_tip
 
     if request.model not in TRUTH_MODELS:
         raise BeamInputError(f"--truth-model = {request.model!r}: must be one of {TRUTH_MODELS}")

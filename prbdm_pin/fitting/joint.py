@@ -14,16 +14,16 @@ import math
 
 import numpy as np
 
+from ..chain.planar import tip_positions
+from ..chain.planar_mass import chain_points, planar_mass_matrices
+from ..chain.sections import planar_sections
+from ..chain.statics import static_deflection_planar_unchecked
+from ..chain.stiffness import finite_segment_stiffness_unchecked
 from ..errors import BeamInputError, SolveError
-from ..evaluate import chain_frequencies
-from ..objectives import eigen_residuals, eigen_weights
-from ..planar import tip_positions
-from ..planar_mass import chain_points, planar_mass_matrices
-from ..problem import lengths_from_unit
-from ..sections import planar_sections
-from ..statics import static_deflection_planar_unchecked
-from ..stiffness import finite_segment_stiffness_unchecked
+from .evaluate import chain_frequencies
 from .joint_jacobian import joint_residual_jacobian
+from .objectives import eigen_residuals, eigen_weights
+from .problem import lengths_from_unit
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
 __all__ = ["JointResiduals"]

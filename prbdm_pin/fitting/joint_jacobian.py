@@ -5,7 +5,8 @@ sums) and through the finite-segment springs K0(x), and on ln s through the spri
 
     dr/du = (dr/dx + dr/dk diag(s) dK0/dx) dx/du,   dr/d ln s = dr/dk diag(k),
 
-with dr/dx and dr/dk from :mod:`prbdm_pin.chain_gradient` (eigen residuals: mode derivatives at
+with dr/dx and dr/dk from :mod:`prbdm_pin.chain.chain_derivatives` (eigen residuals: mode
+derivatives at
 each pose; tip residuals: implicit differentiation of each load case's equilibrium).
 """
 
@@ -13,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..chain_gradient import frequency_gradients, static_tip_gradient
-from ..section_gradients import finite_segment_stiffness_gradient, planar_sections_gradient
+from ..chain.chain_derivatives import frequency_gradients, static_tip_gradient
+from ..chain.sections_derivatives import finite_segment_stiffness_gradient, planar_sections_gradient
 
 __all__ = ["unit_lengths_jacobian", "joint_residual_jacobian"]
 

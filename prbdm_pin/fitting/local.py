@@ -14,10 +14,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..problem import unit_from_lengths
 from .geodesic_lm import LMState, lm_advance, lm_start
 from .joint import JointResiduals
 from .paper import PaperEigenResiduals, PaperScalarLoss
+from .problem import unit_from_lengths
 from .spec import LN_S_BOUNDS, FitSpec, StartResult
 
 __all__ = ["solve_start", "explore_start", "refine_start", "joint_box", "polish_paper_eigen"]

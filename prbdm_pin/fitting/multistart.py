@@ -13,21 +13,21 @@ from typing import Any
 
 import numpy as np
 
+from ..chain.layout import sample_lengths
 from ..errors import BeamInputError
-from ..geometry import Beam
-from ..layout import sample_lengths
-from ..options import FitOptions
-from ..problem import FitProblem, make_problem, unit_from_lengths
-from ..results import FitResult
-from ..target import FitTarget
+from ..member.geometry import Beam
+from ..options.objects import FitOptions
 from ..workers import pool_scope
 from .explore import run_explored
 from .local import polish_paper_eigen, solve_start
 from .paper import PaperEigenResiduals
 from .pool import fit_pool
+from .problem import FitProblem, make_problem, unit_from_lengths
 from .progress import start_bar
 from .result import result_from_design
+from .results import FitResult
 from .spec import FitSpec, StartResult
+from .target import FitTarget
 
 __all__ = ["fit", "run_starts", "draw_starts", "resolve_options"]
 

@@ -14,10 +14,10 @@ import math
 import numpy as np
 
 from ..errors import BeamInputError, SolveError
-from ..evaluate import batch_losses, fast_unit_frequencies
-from ..objectives import best_scale, projected_eigen_residuals
-from ..problem import lengths_from_unit
+from .evaluate import batch_losses, fast_unit_frequencies
+from .objectives import best_scale, projected_eigen_residuals
 from .paper_jacobian import projected_residual_jacobian, scalar_loss_gradient, unit_chain_gradient
+from .problem import lengths_from_unit
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
 __all__ = ["PaperEigenResiduals", "PaperScalarLoss"]

@@ -17,16 +17,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain_gradient import frequency_gradients, static_tip_gradient
+from ..chain.chain_derivatives import frequency_gradients, static_tip_gradient
+from ..chain.planar import planar_mass_matrices, planar_tips
+from ..chain.sections_derivatives import planar_sections_gradient
+from ..chain.statics import static_deflection_planar_batch
+from ..chain.stiffness import paper_unit_stiffness
 from ..errors import SolveError
-from ..evaluate import chain_frequencies
-from ..objectives import eigen_weights
-from ..planar import planar_mass_matrices, planar_tips
-from ..problem import FitProblem, lengths_from_unit
-from ..section_gradients import planar_sections_gradient
-from ..statics import static_deflection_planar_batch
-from ..stiffness import paper_unit_stiffness
+from .evaluate import chain_frequencies
 from .joint_jacobian import unit_lengths_jacobian
+from .objectives import eigen_weights
+from .problem import FitProblem, lengths_from_unit
 
 __all__ = ["UnitChainGradient", "unit_chain_gradient", "projected_residual_jacobian",
            "scalar_loss_gradient"]

@@ -13,27 +13,27 @@ from typing import Any
 
 import numpy as np
 
+from ..chain.layout import sample_lengths
 from ..errors import BeamInputError
-from ..geometry import Beam
-from ..layout import sample_lengths
-from ..objectives import best_scale, knee_index
-from ..options import FitOptions, ParetoOptions
-from ..pareto_result import ParetoResult
-from ..problem import FitProblem, make_problem, unit_frequencies
-from ..target import FitTarget
+from ..member.geometry import Beam
+from ..options.objects import FitOptions, ParetoOptions
 from ..workers import stop_pool
 from .local import solve_start
 from .multistart import fit, resolve_options
+from .objectives import best_scale, knee_index
 from .pareto_problem import (
     LengthRepair,
     ParetoProblem,
     pareto_objectives,
     pareto_objectives_batch,
 )
+from .pareto_result import ParetoResult
 from .pool import fit_pool
+from .problem import FitProblem, make_problem, unit_frequencies
 from .progress import PymooBar
 from .result import result_from_design
 from .spec import FitSpec
+from .target import FitTarget
 
 __all__ = ["fit_pareto", "PoolRows"]
 
@@ -55,7 +55,7 @@ def fit_pareto(
     Design vector [gamma (n+1), log10 factors]; a Repair projects gamma onto the bounded
     simplex; termination after ``options.generations`` generations. ``workers > 1`` evaluates
     each generation's designs in that many processes (results do not depend on it); ``changes``
-    are options by name applied to ``options`` (a :class:`~prbdm_pin.options.ParetoOptions`,
+    are options by name applied to ``options`` (a :class:`~prbdm_pin.options.objects.ParetoOptions`,
     whose docstring says what each does; the result records it whole).
 
     With ``seed_with_fits`` the initial population holds the single-objective optima

@@ -17,11 +17,11 @@ import numpy as np
 from pymoo.core.problem import Problem
 from pymoo.core.repair import Repair
 
-from ..choices import MIN_FRACTION
+from ..chain.layout import repair_lengths
 from ..errors import BeamInputError, SolveError
-from ..evaluate import batch_losses, evaluate
-from ..layout import repair_lengths
-from ..problem import FitProblem
+from ..options.choices import MIN_FRACTION
+from .evaluate import batch_losses, evaluate
+from .problem import FitProblem
 
 __all__ = ["LengthRepair", "ParetoProblem", "pareto_objectives", "pareto_objectives_batch"]
 

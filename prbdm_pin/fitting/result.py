@@ -11,11 +11,11 @@ import math
 import numpy as np
 
 from ..errors import SolveError
-from ..evaluate import evaluate
-from ..objectives import mode_errors_pct, scf_deviation_pct, scf_mean, worst_mode_error_pct
-from ..options import FitOptions, ParetoOptions
-from ..problem import FitProblem, build
-from ..results import FitResult
+from ..options.objects import FitOptions, ParetoOptions
+from .evaluate import evaluate
+from .objectives import mode_errors_pct, scf_deviation_pct, scf_mean, worst_mode_error_pct
+from .problem import FitProblem, build
+from .results import FitResult
 
 __all__ = ["EXACT_MATCH_PCT", "EXPORT_WARN_PCT", "BOUND_TOL", "result_from_design"]
 

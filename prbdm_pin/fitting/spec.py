@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..choices import OBJECTIVES
-from ..objectives import tip_scale_m
-from ..problem import FitProblem
+from ..options.choices import OBJECTIVES
+from .objectives import tip_scale_m
+from .problem import FitProblem
 
 __all__ = ["OBJECTIVES", "BAD_LOSS", "LN_S_BOUNDS", "FitSpec", "StartResult", "tip_scales_m"]
 

@@ -14,11 +14,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import BeamInputError
-from ..geometry import Beam
-from ..options import FitOptions
-from ..results import FitResult
-from ..target import FitTarget
+from ..member.geometry import Beam
+from ..options.objects import FitOptions
 from .multistart import fit, resolve_options
+from .results import FitResult
+from .target import FitTarget
 
 __all__ = ["SweepResult", "fit_sweep", "check_path", "max_relative_step"]
 

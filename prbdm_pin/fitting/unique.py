@@ -27,9 +27,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import BeamInputError, SolveError
-from ..evaluate import chain_frequencies, chain_mass_matrices
-from ..options import UNIQUE_RULES
-from ..problem import FitProblem, lengths_from_unit, unit_from_lengths
+from ..options.objects import UNIQUE_RULES
+from .evaluate import chain_frequencies, chain_mass_matrices
+from .problem import FitProblem, lengths_from_unit, unit_from_lengths
 from .spec import StartResult
 
 __all__ = ["UNIQUE_RULES", "rule_lengths", "reference_x", "log_frequencies",

@@ -13,11 +13,11 @@ from typing import Any
 
 import numpy as np
 
+from ..chain.stiffness import finite_segment_stiffness
 from ..errors import BeamInputError
-from ..geometry import Beam
-from ..options import FitOptions
-from ..results import FitResult
-from ..stiffness import finite_segment_stiffness
+from ..member.geometry import Beam
+from ..options.objects import FitOptions
+from .results import FitResult
 
 __all__ = ["start_changes"]
 

@@ -32,9 +32,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..eigen import modes_from_mass
+from ..chain.eigen import modes_from_mass
 from ..errors import BeamInputError
-from .inputs import StrainActuator, strain_map
+from ..model.inputs import StrainActuator, strain_map
 
 __all__ = ["MATCHES", "PROFILE_POINTS", "SEPARATION_MIN_RTOL", "STILL_RTOL", "WEIGHT_LIMIT",
            "clamped_modes", "fit_strain_actuators", "fitted_weights", "mode_signs",

@@ -1,7 +1,7 @@
 """The Bode figure of a plant comparison.
 
 Magnitude and phase of the PRBDM and the truth for every compared (input, output) pair (drawn
-without pyplot, see :mod:`prbdm_pin.plots`).
+without pyplot, see :mod:`prbdm_pin.views.plots`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ def plot_plant_comparison(cmp: PlantComparison, path: str | os.PathLike,
     One column per input and a magnitude and a phase row per output (PNG, written atomically).
     Dotted lines mark the truth's flexible frequencies.
     """
-    from ..plots import new_figure, save_png
+    from ..views.plots import new_figure, save_png
 
     ins = list(dict.fromkeys(p.input_name for p in cmp.pairs))
     outs = list(dict.fromkeys(p.output_name for p in cmp.pairs))

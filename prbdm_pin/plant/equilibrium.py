@@ -3,7 +3,8 @@
 Static balance: K q + g(q) - J(q)^T F = tau_u, with g the generalized gravity (Pinocchio's
 ``computeGeneralizedGravity`` of the model with the given gravity) and F the dead tip force.
 Linearised: the effective stiffness is K + dg/dq - d(J^T F)/dq. The dead-load term comes from
-the closed-form planar chain (:func:`prbdm_pin.planar.load_stiffness`); a hub model is the planar
+the closed-form planar chain (:func:`prbdm_pin.chain.planar.load_stiffness`); a hub model is the
+planar
 chain whose first joint is the hub at the origin, reaching the first beam joint over
 radius + L_0, so the same formula covers it.
 
@@ -18,9 +19,9 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from ..chain.planar import force_and_load_stiffness
+from ..chain.statics import static_deflection_planar
 from ..errors import BeamInputError, SolveError
-from ..planar import force_and_load_stiffness
-from ..statics import static_deflection_planar
 
 __all__ = ["check_vector", "planar_lengths_with_hub", "gravity_model", "static_terms",
            "equilibrium"]

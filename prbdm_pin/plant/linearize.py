@@ -10,10 +10,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..errors import BeamInputError, SolveError
-from .damping import plant_damping
+from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
+from ..model.outputs import output_maps, output_unit, output_values, parse_outputs
+from ..simulation.hub_damping import plant_damping
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
-from .inputs import StrainActuator, input_map, input_unit, parse_inputs
-from .outputs import output_maps, output_unit, output_values, parse_outputs
 from .state_space import LinearModel
 
 __all__ = ["linearize"]
@@ -63,7 +63,7 @@ def linearize(
         (N m, hub models).
     outputs : sequence of str
         ``tip_z``, ``tip_z_rate``, ``tip_x``, ``q[j]``, ``q_rate[j]``, ``spring_torque[j]``,
-        ``hub_angle``, ``hub_rate`` (see :mod:`prbdm_pin.plant.outputs`).
+        ``hub_angle``, ``hub_rate`` (see :mod:`prbdm_pin.model.outputs`).
     q_eq : array_like (nv,), optional
         Pose to linearise about, rad, taken as given; default: the equilibrium under
         ``load_N`` and gravity (a hub held at angle 0 by a trim torque).
@@ -73,7 +73,7 @@ def linearize(
         Damping ratio of each flexible mode (``"modal"``), of the lowest (``"stiffness"``), or
         per joint (``"eq5c"``, no hub); dimensionless.
     damping : str
-        Damping form, see :mod:`prbdm_pin.plant.damping`.
+        Damping form, see :mod:`prbdm_pin.simulation.hub_damping`.
     actuators : sequence of StrainActuator
         The strain actuators ``strain[i]`` refers to.
     gravity_m_s2 : array_like (3,), optional
@@ -88,7 +88,7 @@ def linearize(
     BeamInputError
         Naming a bad argument. SolveError when no equilibrium is found or M is singular.
     """
-    from ..model import PrbdmModel
+    from ..model.prbdm_model import PrbdmModel
 
     if not isinstance(model, PrbdmModel):
         raise BeamInputError(f"model = {model!r}: must be a PrbdmModel")

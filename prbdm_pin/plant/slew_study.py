@@ -12,10 +12,10 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from ..response import relative_l2
+from ..model.inputs import StrainActuator
+from ..simulation.response import relative_l2
 from . import slew
 from .actuator_fit import fitted_weights
-from .inputs import StrainActuator
 
 __all__ = ["MAPS", "PAIRS", "PAIR_NAMES", "hub_inertia_for_stiffening", "patch_actuators",
            "frf_errors", "slew_metrics"]

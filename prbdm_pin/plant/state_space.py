@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from ..eigen import generalized_eigh
-from .hub import schur_mass
+from ..chain.eigen import generalized_eigh
+from ..model.hub import schur_mass
 
 __all__ = ["LinearModel", "ModalData"]
 

@@ -8,7 +8,8 @@ Equations of motion (relative joint angles q, rad; the hub angle first on a hub 
     M(q) a + h(q, v) + K q + C v = J(q)^T F(t) + B(q) u(t, q, v)
 
 with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness (zero for the
-hub), C a damping matrix (``prbdm_pin.damping``; ``prbdm_pin.plant.damping`` with a hub), J the
+hub), C a damping matrix (``prbdm_pin.simulation.damping``; ``prbdm_pin.simulation.hub_damping``
+with a hub), J the
 world-aligned linear Jacobian of the tip point and B the inputs' map (``inputs``: torques, strain
 actuators, hub torque, tip forces, driven by a constant, a function of time, a controller or a
 state-feedback gain).
@@ -30,7 +31,7 @@ Each module's docstring gives the scheme, its accuracy as measured and its limit
 ``Trajectory`` (``trajectory``) holds the samples and the tip positions.
 """
 
-from ..choices import FIXED_STEP_METHODS, IVP_METHODS
+from ..options.choices import FIXED_STEP_METHODS, IVP_METHODS
 from .driver import simulate
 from .gauss import gauss_frequency_ratio
 from .inputs import Controller, StateFeedback

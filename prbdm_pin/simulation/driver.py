@@ -13,16 +13,16 @@ from typing import Any
 
 import numpy as np
 
-from ..choices import FIXED_STEP_METHODS
-from ..damping import damping_ratios
-from ..eigen import generalized_eigh
+from ..chain.eigen import generalized_eigh
 from ..errors import BeamInputError
-from ..limits import check_cap
-from ..options import SimulationOptions
-from ..plant.hub import hub_frequencies
-from ..plant.inputs import StrainActuator, parse_inputs, strain_map
-from ..plant.outputs import output_samples, output_unit, parse_outputs
+from ..model.hub import hub_frequencies
+from ..model.inputs import StrainActuator, parse_inputs, strain_map
+from ..model.outputs import output_samples, output_unit, parse_outputs
+from ..options.choices import FIXED_STEP_METHODS
+from ..options.limits import check_cap
+from ..options.objects import SimulationOptions
 from . import exponential, gauss, ivp, newmark
+from .damping import damping_ratios
 from .inputs import input_force
 from .schedule import StiffnessSchedule
 from .steps import StepSettings
@@ -67,7 +67,8 @@ def simulate(
         World-frame force at the tip point, N (a constant array is a step load applied at t = 0).
     options : SimulationOptions, optional
         The integrator, its step and tolerances, and the damping (ratio and form); see
-        :class:`prbdm_pin.options.SimulationOptions` and ``prbdm_pin.simulation`` for when to
+        :class:`prbdm_pin.options.objects.SimulationOptions` and ``prbdm_pin.simulation`` for when
+        to
         use which integrator.
     stiffness_schedule : StiffnessSchedule, optional
         Pose-dependent stiffness (paper parametrisation); default: the model's constant stiffness.
@@ -82,7 +83,7 @@ def simulate(
         The strain actuators ``strain[i]`` refers to.
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
-        ...: see :mod:`prbdm_pin.plant.outputs`); the trajectory records them and the inputs.
+        ...: see :mod:`prbdm_pin.model.outputs`); the trajectory records them and the inputs.
     **changes
         Options by name, applied to ``options`` (``simulate(model, 1.0, method="gauss")``).
 

@@ -5,7 +5,7 @@ state-feedback gain.
 
 The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
 ``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch moments and the hub torque
-act through a constant map B_0 (:func:`prbdm_pin.plant.inputs.input_map`); tip forces act through
+act through a constant map B_0 (:func:`prbdm_pin.model.inputs.input_map`); tip forces act through
 the tip Jacobian, J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does.
 
 The signal ``u`` is one of
@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import BeamInputError
-from ..plant.inputs import StrainActuator, input_map, input_unit, parse_inputs
+from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
 
 __all__ = ["Controller", "StateFeedback", "InputForce", "input_force"]
 

@@ -3,7 +3,8 @@
     M(q) a + h(q, v) + K q + C v = J(q)^T F(t)
 
 with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness (constant or
-a ``StiffnessSchedule``), C a damping matrix (``prbdm_pin.damping``) and J the world-aligned
+a ``StiffnessSchedule``), C a damping matrix (``prbdm_pin.simulation.damping``) and J the
+world-aligned
 linear Jacobian of the tip point.
 
 Damping: ``damping="modal"`` (default), ``"eq5c"`` (the paper's Eq. 5c) or ``"stiffness"``
@@ -30,11 +31,11 @@ from functools import partial
 import numpy as np
 import pinocchio as pin
 
-from .. import planar
-from ..damping import damping_matrix
-from ..dynamics import planar_lengths
+from ..chain import planar
+from ..chain.pin_dynamics import planar_lengths
 from ..errors import BeamInputError
-from ..plant.damping import plant_damping
+from .damping import damping_matrix
+from .hub_damping import plant_damping
 from .inputs import InputForce
 from .schedule import StiffnessSchedule
 

@@ -15,8 +15,8 @@ from skfem import Basis, BilinearForm, ElementLineHermite, MeshLine, asm
 from skfem.helpers import dd
 
 from ..errors import BeamInputError, SolveError
-from ..geometry import Beam
-from ..limits import check_cap
+from ..member.geometry import Beam
+from ..options.limits import check_cap
 from .result import ModalSolution, StaticSolution, Timings
 
 __all__ = ["beam_stations", "beam_modal", "beam_modes", "beam_modal_solution",

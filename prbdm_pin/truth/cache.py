@@ -27,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..geometry import Beam
-from ..io import AtomicFile
+from ..io.atomic import AtomicFile
+from ..member.geometry import Beam
 from .digest import code_digest
 from .entry import EntryError, check_truth, decode, encode
 from .result import TruthResult

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import __version__
 from ..errors import BeamInputError, TruthError
-from ..geometry import Beam
+from ..member.geometry import Beam
+from ..version import __version__
 from .cache import cache_key, load_cached, store_cached
 from .estimate import (
     ERROR_TOL_PCT,

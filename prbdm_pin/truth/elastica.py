@@ -35,7 +35,7 @@ import numpy as np
 from scipy.integrate import solve_bvp
 
 from ..errors import BeamInputError, SolveError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .anticlastic import anticlastic_factor, section_curvature
 from .result import StaticSolution, Timings
 

@@ -11,7 +11,7 @@ import numpy as np
 from scipy.integrate import solve_bvp
 
 from ..errors import SolveError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .anticlastic import section_state
 from .elastica import ElasticaPrimal
 

@@ -26,8 +26,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import TruthError
-from ..geometry import Beam
-from ..limits import limits
+from ..member.geometry import Beam
+from ..options.limits import limits
 from .modal import compute_modal
 from .modes import mac_matrix
 from .result import ModalSolution

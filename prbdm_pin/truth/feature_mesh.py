@@ -18,7 +18,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 from skfem import MeshQuad, MeshTri
 
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .mesh import (
     CORNER_FLOOR,
     delaunay_with_outline,

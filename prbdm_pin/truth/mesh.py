@@ -13,7 +13,7 @@ import numpy as np
 from scipy.spatial import Delaunay
 from skfem import MeshTri
 
-from ..geometry import Beam
+from ..member.geometry import Beam
 
 # elements touching a re-entrant corner are refined to h / 2**CORNER_PASSES (h the level's base
 # element size); measured with scripts/bench_truth.py

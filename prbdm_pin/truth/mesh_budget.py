@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import BeamInputError
-from ..geometry import Beam
-from ..limits import check_cap, limits
+from ..member.geometry import Beam
+from ..options.limits import check_cap, limits
 from .mesh import element_size, local_size, station_count, x_stations
 
 __all__ = ["PLATE_DOFS_PER_EDGE", "PLATE_DOFS_PER_NODE", "check_dofs", "check_plate_budget",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import BeamInputError, TruthError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .result import ModalSolution
 from .settings import DEFAULT_COMPUTED_MODES, DEFAULT_PLATE_LEVEL, MODELS, check_mesh_level
 

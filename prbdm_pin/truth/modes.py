@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import BeamInputError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .result import ModalSolution
 
 __all__ = [

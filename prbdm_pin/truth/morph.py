@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import BeamInputError
-from ..geometry import Beam
+from ..member.geometry import Beam
 
 __all__ = ["check_same_structure", "morph_x", "morph_plane"]
 

@@ -14,7 +14,7 @@ import numpy as np
 from skfem import Basis, BilinearForm, MeshTri
 from skfem.helpers import dd, ddot, eye, trace
 
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .plate_elements import PLATE_ELEMENTS
 from .result import ModalSolution, Timings
 

@@ -16,10 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 from skfem import Basis
 
-from ..design import Design
+from ..member.design import Design
 from .argyris_forms import argyris_coefficients, argyris_edge_integrals, argyris_plate_forms
+from .derivative_rules import COMPLEX_STEP, VELOCITY_STEP
 from .morph import morph_plane
-from .sensitivity_rules import COMPLEX_STEP, VELOCITY_STEP
 
 __all__ = ["PlateFormDerivatives", "node_velocities", "plate_form_derivatives"]
 

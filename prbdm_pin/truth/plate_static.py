@@ -17,7 +17,7 @@ from scipy.sparse.linalg import splu
 from skfem import Basis, FacetBasis, LinearForm, MeshTri, asm
 
 from ..errors import BeamInputError, TruthError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .mesh_budget import PLATE_DOFS_PER_EDGE, PLATE_DOFS_PER_NODE, check_dofs, check_plate_budget
 from .plate import ROOT_CLAMP_DOFS, assemble_plate, plate_rigidity_Nm
 from .plate_elements import ElementTriArgyrisLocal

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..choices import TRUTH_MODELS
 from ..errors import BeamInputError
+from ..options.choices import TRUTH_MODELS
 
 __all__ = [
     "MODELS",

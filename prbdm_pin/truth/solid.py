@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..errors import BeamInputError, SolveError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .modes import beam_mac
 from .result import ModalSolution, StaticSolution, Timings
 from .solid_fe import (

@@ -23,7 +23,7 @@ from scipy.spatial import cKDTree
 from skfem import Basis, ElementHex2, FacetBasis, LinearForm, MeshHex, asm
 
 from ..errors import SolveError
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .feature_mesh import planform_quad_mesh
 from .mesh import element_size
 from .mesh_budget import check_dofs, check_solid_budget

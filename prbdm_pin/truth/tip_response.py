@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from ..geometry import Beam
+from ..member.geometry import Beam
 from .result import StaticSolution
 
 __all__ = ["ELASTICA_PLATE_TOL", "tip_response", "elastica_warnings"]

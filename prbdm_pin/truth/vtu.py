@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import atomic_path
+from ..io.atomic import atomic_path
 from .result import ModalSolution
 
 __all__ = ["write_modes_vtu"]

@@ -35,7 +35,7 @@ def _scratch() -> Path:
 
 
 def _beam(name="tapered.json"):
-    from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.files.beam_file import load_beam
 
     return load_beam(BEAMS / name)
 
@@ -289,7 +289,7 @@ def _unwritable(kind):
 _DIGEST_RUN = textwrap.dedent("""
     import json, sys, warnings
     warnings.simplefilter("error")
-    from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.files.beam_file import load_beam
     from prbdm_pin.truth import compute_truth
     beam = load_beam(sys.argv[1])
     a = compute_truth(beam, model="beam", modes=3, static=False, cache_dir=sys.argv[2])
@@ -312,7 +312,7 @@ def _edited_dependency():
         return json.loads(p.stdout)
 
     before = run()
-    geo = root / "prbdm_pin" / "geometry.py"
+    geo = root / "prbdm_pin" / "member" / "geometry.py"
     anchor = '    def half_width_at(self, x_m: np.ndarray | float, side: str = "right")'
     text = geo.read_text()
     assert anchor in text, "geometry.half_width_at not found"
@@ -494,7 +494,7 @@ def _one_d(x, w, static, t=0.01):
 
 
 def _one_d_limit():
-    from prbdm_pin.geometry import Beam
+    from prbdm_pin.member.geometry import Beam
     from prbdm_pin.truth import compute_truth
 
     step = Beam(np.array([0.0, 0.5, 0.5, 1.0]), np.array([0.1, 0.1, 0.12, 0.1]), 0.01)
@@ -507,7 +507,7 @@ def _one_d_limit():
 
 def _many_vertices(n, static):
     def fn():
-        from prbdm_pin.geometry import Beam
+        from prbdm_pin.member.geometry import Beam
         from prbdm_pin.truth import compute_truth
 
         x = np.linspace(0.0, 1.0, n)

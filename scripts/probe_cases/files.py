@@ -86,10 +86,10 @@ def _beam_doc() -> dict:
 
 @functools.cache
 def _fit_doc() -> dict:
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.fit_file import save_fit
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.files.fit_file import save_fit
     from prbdm_pin.fitting import fit
-    from prbdm_pin.target import FitTarget
+    from prbdm_pin.fitting.target import FitTarget
 
     beam = load_beam(TAPERED)
     r = fit(beam, FitTarget(np.array([87.0, 520.0]), beam.tip_force_N), 2, frequencies=2, starts=1,
@@ -112,15 +112,15 @@ def _fit(**changes) -> dict:
 
 @functools.cache
 def _model():
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.model import build_model
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.model.prbdm_model import build_model
 
     return build_model(load_beam(TAPERED), [0.2, 0.25, 0.15], [1200.0, 1100.0])
 
 
 @functools.cache
 def _model_doc() -> dict:
-    from prbdm_pin.export import write_json
+    from prbdm_pin.files.export import write_json
 
     p = _tmp() / "valid-model.json"
     write_json(_model(), p)
@@ -140,7 +140,7 @@ def _urdf(root) -> Path:
 
 
 def _load_fit(d):
-    from prbdm_pin.fit_file import load_fit
+    from prbdm_pin.files.fit_file import load_fit
 
     return lambda: load_fit(_file(d))
 
@@ -152,7 +152,7 @@ def _load_model(d):
 
 
 def _load_urdf(p):
-    from prbdm_pin.model import load_urdf
+    from prbdm_pin.model.prbdm_model import load_urdf
 
     return lambda: load_urdf(p)
 
@@ -217,7 +217,7 @@ def _fit_cases():
                     lambda k=key, b=bad: _refused(_load_fit(_fit(**{k: b})), k)))
     from dataclasses import MISSING, fields
 
-    from prbdm_pin.results import FitResult
+    from prbdm_pin.fitting.results import FitResult
 
     for f in fields(FitResult):
         if f.default is MISSING and f.default_factory is MISSING:
@@ -234,7 +234,7 @@ def _valid_fit_loads():
 
 
 def _model_json_cases():
-    from prbdm_pin.export import read_model_json
+    from prbdm_pin.files.export import read_model_json
 
     def rd(d):
         return lambda: read_model_json(_file(d))
@@ -261,7 +261,7 @@ def _model_json_cases():
 
 
 def _model_json_round_trip():
-    from prbdm_pin.export import read_model_json
+    from prbdm_pin.files.export import read_model_json
 
     m = read_model_json(_file(_model_doc()))
     np.testing.assert_allclose(m.natural_frequencies(), _model().natural_frequencies(),
@@ -344,8 +344,8 @@ def _zero_masses():
 
 
 def _own_urdfs_load():
-    from prbdm_pin.export import urdf_text
-    from prbdm_pin.model import load_urdf
+    from prbdm_pin.files.export import urdf_text
+    from prbdm_pin.model.prbdm_model import load_urdf
 
     m = _model()
     w = m.natural_frequencies()
@@ -413,13 +413,13 @@ def _work_cases():
 
 
 def _read_model_json(d):
-    from prbdm_pin.export import read_model_json
+    from prbdm_pin.files.export import read_model_json
 
     return lambda: read_model_json(_file(d))
 
 
 def _load_beam(content):
-    from prbdm_pin.beam_file import load_beam
+    from prbdm_pin.files.beam_file import load_beam
 
     return lambda: load_beam(_file(content))
 
@@ -434,8 +434,8 @@ def _digits(n):
 
 
 def _long_urdf(n):
-    from prbdm_pin.beam_file import load_beam
-    from prbdm_pin.model import build_model
+    from prbdm_pin.files.beam_file import load_beam
+    from prbdm_pin.model.prbdm_model import build_model
 
     beam = load_beam(TAPERED)
     m = build_model(beam, np.full(n + 1, beam.length_m / (n + 1)), np.full(n, 100.0),
@@ -448,7 +448,7 @@ def _raised_cap():
     old = os.environ.get("PRBDM_MAX_JOINTS")
     os.environ["PRBDM_MAX_JOINTS"] = "100"
     try:
-        from prbdm_pin.model import load_urdf
+        from prbdm_pin.model.prbdm_model import load_urdf
 
         assert load_urdf(p).n_joints == 100
     finally:
@@ -518,9 +518,9 @@ def _fingerprint_mismatch():
 def _special_name():
     import mujoco
 
-    from prbdm_pin.beam_file import beam_from_dict
-    from prbdm_pin.export import mjcf_text, urdf_text
-    from prbdm_pin.model import build_model
+    from prbdm_pin.files.beam_file import beam_from_dict
+    from prbdm_pin.files.export import mjcf_text, urdf_text
+    from prbdm_pin.model.prbdm_model import build_model
 
     name = 'a<b>&"c\'d'
     beam = beam_from_dict({**_beam_doc(), "name": name})

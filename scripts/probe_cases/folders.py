@@ -101,7 +101,7 @@ def _balanced(lengths, k, q, F) -> None:
 
 def _statics_case(n: int, exp: float, angle_deg: float):
     def fn():
-        from prbdm_pin import statics
+        from prbdm_pin.chain import statics
         from prbdm_pin.errors import SolveError
 
         rng = np.random.default_rng(int(1000 * n + 10 * exp + angle_deg))
@@ -128,7 +128,7 @@ def _statics_case(n: int, exp: float, angle_deg: float):
 
 def _nonfinite_case(bad: float, where: int):
     def fn():
-        from prbdm_pin import statics
+        from prbdm_pin.chain import statics
         from prbdm_pin.errors import BeamInputError
 
         F = [0.0, 0.0, -1.0]
@@ -146,9 +146,9 @@ def _nonfinite_case(bad: float, where: int):
 
 def _model_case(force_N: float):
     def fn():
-        from prbdm_pin.beam_file import load_beam
         from prbdm_pin.errors import SolveError
-        from prbdm_pin.model import build_model
+        from prbdm_pin.files.beam_file import load_beam
+        from prbdm_pin.model.prbdm_model import build_model
 
         m = build_model(load_beam(BEAM), [0.1, 0.3, 0.3, 0.3], [50.0, 30.0, 10.0])
         try:
@@ -307,7 +307,7 @@ def _simulate_kill_case(k: int):
 
 def _exception_case():
     def fn():
-        from prbdm_pin.output_folder import output_folder
+        from prbdm_pin.io.output_folder import output_folder
 
         work = Path(tempfile.mkdtemp(dir=_Scratch.get()))
         out = work / "fit"

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...geometry import Beam
+from ...member.geometry import Beam
 from ..beam import beam_modes, beam_stations
 from .fields import ModeFields, section_rotation_sign
 

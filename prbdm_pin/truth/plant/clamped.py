@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import BeamInputError
-from ...geometry import Beam
-from ...json_record import readonly_array as _ro
+from ...io.records import readonly_array as _ro
+from ...member.geometry import Beam
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 

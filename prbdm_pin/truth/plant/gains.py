@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import BeamInputError, TruthError
-from ...geometry import Beam
+from ...member.geometry import Beam
 from ..modes import mac_matrix
 from ..result import TruthResult
 from .fields import ModeFields

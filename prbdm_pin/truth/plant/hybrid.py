@@ -29,8 +29,8 @@ import numpy as np
 import scipy.linalg
 
 from ...errors import BeamInputError
-from ...geometry import Beam
-from ...json_record import readonly_array as _ro
+from ...io.records import readonly_array as _ro
+from ...member.geometry import Beam
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 
@@ -208,7 +208,7 @@ def hub_modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.
     ndarray (N + 1, N + 1)
         The damping matrix in the same coordinates (N m s/rad on the hub).
     """
-    from ...plant.hub import hub_modes
+    from ...model.hub import hub_modes
 
     omega, Phi = hub_modes(M, np.diag(K)[1:])
     MP = M @ Phi[:, 1:]

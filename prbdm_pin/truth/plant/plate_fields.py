@@ -15,7 +15,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from skfem import Basis, Functional, LinearForm, asm
 
-from ...geometry import Beam
+from ...member.geometry import Beam
 from ..plate import plate_modes
 from .fields import ModeFields, section_rotation_sign
 

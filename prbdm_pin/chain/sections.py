@@ -1,0 +1,194 @@
+"""Exact per-link mass, centre of mass, inertia about the centre of mass and bending area moment.
+
+The planform half-width w(x) is piecewise linear, so over any span every integrand needed here
+(the area 2 w, its first and second moments in x, and the y^2 moment 2 w^3 / 3) is a polynomial of
+degree <= 3 on each vertex interval. Two-point Gauss-Legendre quadrature is exact for cubics, so
+splitting the link spans at the planform vertices and summing gives the exact integrals (to
+rounding) without sampling or polygon clipping. A width step (two vertices at one station) splits
+the axis there too, so a link that straddles or ends on a step integrates each side exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..member.geometry import Beam
+from ..options.choices import MIN_FRACTION
+from .layout import validate_lengths
+
+__all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_sections"]
+
+# two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
+_GAUSS_T = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
+_ROWS = np.arange(4)
+
+
+@dataclass(frozen=True, eq=False)
+class LinkSections:
+    """Rigid-body properties of the n + 1 links of a beam cut at given lengths.
+
+    Attributes
+    ----------
+    start_m, end_m : ndarray, shape (n+1,)
+        Span [start, end] of each link along the beam axis, m.
+    mass_kg : ndarray, shape (n+1,)
+        Link masses, kg.
+    com_m : ndarray, shape (n+1, 3)
+        Centres of mass in the beam frame (root at the origin, axis along x), m.
+    inertia_com_kg_m2 : ndarray, shape (n+1, 3, 3)
+        Inertia tensors about the centres of mass, beam axes, kg m^2 (thickness term included).
+    area_moment_m4 : ndarray, shape (n+1,)
+        Mean bending area moment I_yy = 2 w t^3 / 12 over each link's span, m^4.
+    """
+
+    start_m: np.ndarray
+    end_m: np.ndarray
+    mass_kg: np.ndarray
+    com_m: np.ndarray
+    inertia_com_kg_m2: np.ndarray
+    area_moment_m4: np.ndarray
+
+    @property
+    def n_links(self) -> int:
+        """Number of links n + 1."""
+        return int(self.mass_kg.size)
+
+    @property
+    def length_m(self) -> np.ndarray:
+        """Link lengths, m."""
+        return self.end_m - self.start_m
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    a = np.ascontiguousarray(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def link_sections(beam: Beam, lengths_m: np.ndarray,
+                  min_fraction: float = MIN_FRACTION) -> LinkSections:
+    """Exact sections of the links of ``beam`` cut at ``lengths_m``.
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : array_like, shape (n+1,)
+        Link lengths in m; they must sum to the beam length and each lie in
+        [min_fraction L, (1 - min_fraction) L].
+    min_fraction : float
+        Eq. 15's bound, 0.02 by default.
+
+    Returns
+    -------
+    LinkSections
+        Masses (kg), centres of mass (m, beam frame), inertia about the COM (kg m^2) and mean
+        bending area moment (m^4) of each link.
+
+    Notes
+    -----
+    For a plate of density rho and thickness t spanning z in [-t/2, t/2]:
+    Ixx = rho t ∫∫ y^2 dA + m t^2/12, Iyy = rho t ∫∫ (x - xc)^2 dA + m t^2/12,
+    Izz = rho t ∫∫ ((x - xc)^2 + y^2) dA; products of inertia vanish by symmetry.
+    """
+    lengths = validate_lengths(beam, lengths_m, min_fraction)
+    return link_sections_unchecked(beam, lengths)
+
+
+def _integrals(beam: Beam, lengths: np.ndarray):
+    """Link spans, mid-spans and the exact planform integrals of every link, all at once.
+
+    The integrals are the area, the first and second moment in x about the mid-span, and the
+    y^2 moment.
+
+    ``lengths`` is (n+1,) or a stack (B, n+1) of designs (the fit's finite differences); every
+    output then has the same leading shape. Each design's numbers do not depend on the stack.
+    """
+    # called inside optimisation loops on a single design: ndarray methods and preallocated
+    # arrays rather than numpy's wrapper functions, each of which costs as much as the
+    # arithmetic of a short chain
+    shape = lengths.shape
+    nl = shape[-1]
+    L = lengths.reshape(-1, nl)
+    B = L.shape[0]
+    xv = beam.x_m
+    nv = xv.size
+    se = np.zeros((B, nl + 1))  # link boundaries: link i spans [se[i], se[i + 1]]
+    np.add.accumulate(L, axis=1, out=se[:, 1:])
+    se[:, -1] = beam.length_m  # the tip is the beam's end, not a rounded sum
+    starts, ends = se[:, :-1], se[:, 1:]
+    mids = 0.5 * (starts + ends)
+    # sub-intervals between all planform vertices and link boundaries (an empty one where a
+    # boundary meets a vertex adds exact zeros)
+    cuts = np.empty((B, nv + nl))
+    cuts[:, :nv] = xv
+    cuts[:, nv:] = ends
+    cuts.sort(axis=1)
+    u, v = cuts[:, :-1], cuts[:, 1:]
+    # the link of each sub-interval: how many link ends lie below its middle (at most nl - 1,
+    # as no middle lies beyond the tip)
+    centre = 0.5 * (u + v)
+    if B == 1:
+        link = ends[0].searchsorted(centre)
+    else:
+        link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
+        link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
+    h = v - u
+    xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
+    wg = np.interp(xg, xv, beam.half_width_m)
+    xl = xg - mids.ravel()[link][..., None]  # about the mid-span
+    w2 = 2.0 * wg
+    # rows: area, first and second moment in x, y^2 moment (2 w^3 / 3); Gauss weights h / 2
+    f = np.empty((4,) + xg.shape)
+    f[0] = w2
+    np.multiply(w2, xl, out=f[1])
+    np.multiply(f[1], xl, out=f[2])
+    f[3] = w2 * wg * wg / 3.0
+    f = np.add.reduce(f, axis=3) * (0.5 * h)
+    # all four rows in one bincount: row r's bins are offset by r B nl
+    bins = (link.ravel() + (B * nl) * _ROWS[:, None]).ravel()
+    out = np.bincount(bins, f.ravel(), 4 * B * nl).reshape((4,) + shape)
+    return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
+
+
+def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
+    """:func:`link_sections` for lengths (m, shape (n+1,)) already validated."""
+    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
+    nl = lengths.size
+    t = beam.thickness_m
+    rho_t = beam.material.rho_kg_m3 * t
+    mass = rho_t * A
+    dx = S1 / A  # COM offset from mid-span
+    com = np.zeros((nl, 3))
+    com[:, 0] = mids + dx
+    Sxx_c = S2 - A * dx * dx  # second moment about the COM
+    thick = mass * (t * t / 12.0)
+    inertia = np.zeros((nl, 3, 3))
+    inertia[:, 0, 0] = rho_t * Syy + thick
+    inertia[:, 1, 1] = rho_t * Sxx_c + thick
+    inertia[:, 2, 2] = rho_t * (Sxx_c + Syy)
+    area_moment = A * (t**3 / 12.0) / (ends - starts)  # mean of 2 w t^3 / 12 over the span
+    return LinkSections(
+        start_m=_ro(starts), end_m=_ro(ends), mass_kg=_ro(mass), com_m=_ro(com),
+        inertia_com_kg_m2=_ro(inertia), area_moment_m4=_ro(area_moment),
+    )
+
+
+def planar_sections(
+    beam: Beam, lengths: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Compute what the planar bending dynamics needs, as :func:`link_sections_unchecked` does.
+
+    With the same arithmetic: mass (kg), centre-of-mass distance from the link's start (m),
+    inertia about the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,).
+    """
+    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
+    t = beam.thickness_m
+    rho_t = beam.material.rho_kg_m3 * t
+    mass = rho_t * A
+    dx = S1 / A
+    offset = (mids + dx) - starts
+    Iyy = rho_t * (S2 - A * dx * dx) + mass * (t * t / 12.0)
+    area_moment = A * (t**3 / 12.0) / (ends - starts)
+    return mass, offset, Iyy, area_moment

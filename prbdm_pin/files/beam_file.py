@@ -1,0 +1,124 @@
+"""Beam JSON: the mapping read into a validated :class:`~prbdm_pin.member.geometry.Beam`.
+
+And the beam written back as a file.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+from ..errors import BeamInputError
+from ..io.atomic import atomic_write_json
+from ..io.jsonfile import field_str, read_json
+from ..member.checks import finite_positive
+from ..member.geometry import Beam, beam_to_dict
+from ..member.material import STEEL_4340, Material
+from ..options.limits import check_cap
+
+__all__ = ["beam_from_dict", "load_beam", "save_beam"]
+
+_KEYS_REQUIRED = {"x", "half_width", "thickness"}
+_KEYS_OPTIONAL = {"length", "material", "tip_force", "name", "description"}
+_MATERIAL_KEYS = {"name", "E", "rho", "nu"}
+
+
+
+def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
+    """Build a :class:`Beam` from the beam-JSON mapping (SI units), validating every field.
+
+    Keys and defaults are as in :func:`load_beam`: no ``tip_force`` means no load.
+
+    ``check_caps`` (the readers of beam, fit.json and model files set it) also refuses more
+    than ``limits().max_vertices`` vertices; a mapping built in code is not capped.
+    """
+    if not isinstance(d, dict):
+        raise BeamInputError(f"beam = {type(d).__name__}: must be a JSON object")
+    unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
+    if unknown:
+        raise BeamInputError(f"unknown key(s) {sorted(unknown)}: allowed are "
+                             f"{sorted(_KEYS_REQUIRED | _KEYS_OPTIONAL)}")
+    missing = _KEYS_REQUIRED - set(d)
+    if missing:
+        raise BeamInputError(f"missing key(s) {sorted(missing)}")
+    # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
+    for key in ("x", "half_width") if check_caps else ():
+        if isinstance(d[key], list):
+            check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
+    mat_d = d.get("material", {})
+    if not isinstance(mat_d, dict):
+        raise BeamInputError(f"material = {mat_d!r}: must be an object with E, rho, nu")
+    unknown = set(mat_d) - _MATERIAL_KEYS
+    if unknown:
+        raise BeamInputError(f"unknown key(s) in material {sorted(unknown)}: allowed are "
+                             f"{sorted(_MATERIAL_KEYS)}")
+    name = field_str("material.name", mat_d.get("name", STEEL_4340.name))
+    material = Material(
+        name=name,
+        E_Pa=mat_d.get("E", STEEL_4340.E_Pa),
+        rho_kg_m3=mat_d.get("rho", STEEL_4340.rho_kg_m3),
+        nu=mat_d.get("nu", STEEL_4340.nu),
+    )
+    for key in ("name", "description"):
+        if key in d:
+            field_str(key, d[key])
+    beam = Beam(
+        x_m=d["x"],
+        half_width_m=d["half_width"],
+        thickness_m=d["thickness"],
+        material=material,
+        tip_force_N=d.get("tip_force", [0.0, 0.0, 0.0]),
+        name=d.get("name", "beam"),
+        description=d.get("description", ""),
+    )
+    if "length" in d:
+        length = finite_positive("length", d["length"])
+        if not math.isclose(length, beam.length_m, rel_tol=1e-12, abs_tol=0.0):
+            raise BeamInputError(
+                f"length = {length} m: must equal the last x vertex ({beam.length_m} m)"
+            )
+    return beam
+
+
+def load_beam(path: str | os.PathLike) -> Beam:
+    """Read a beam JSON file; any defect raises :class:`BeamInputError` naming the field.
+
+    Required keys: ``x``, ``half_width`` (m), ``thickness`` (m). Optional: ``length`` (m, checked
+    against the last x), ``material`` (default steel AISI 4340), ``name``, ``description`` and
+    ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
+    enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
+    The file is read by :func:`prbdm_pin.io.jsonfile.read_json` (size, UTF-8, depth, integer
+    length, finiteness); at most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
+    names hold no control characters.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The beam JSON file.
+
+    Returns
+    -------
+    Beam
+        The validated beam (SI units).
+    """
+    return beam_from_dict(read_json(path, "beam file"), check_caps=True)
+
+
+def save_beam(beam: Beam, path: str | os.PathLike) -> Path:
+    """Write ``beam`` as beam JSON (atomically).
+
+    Parameters
+    ----------
+    beam : Beam
+        The beam; the file holds it in SI units (m, Pa, kg/m^3, N).
+    path : str or path-like
+        The file to write; its folder is created when missing.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    return atomic_write_json(path, beam_to_dict(beam))

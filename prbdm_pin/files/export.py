@@ -1,0 +1,216 @@
+"""Write a PRBDM as URDF, MJCF (MuJoCo) or JSON; every file is written atomically.
+
+Every export records the exported model itself (:class:`ExportRecord`): its natural frequencies at
+the straight pose, and, when the truth it was fitted to is known, its signed per-mode errors
+100 (omega_model / omega_truth - 1) and the worst of them; and the damping it carries with the
+modal ratios that damping gives. URDF and MJCF hold the record as an XML comment
+(:func:`read_export_record` reads it back), JSON as fields.
+
+The plant: a model with a hub (``build_model(..., hub=Hub(J_h, r))``) is exported with its hub
+(MJCF body and hinge, URDF revolute joint, JSON fields), and strain actuators
+(``actuators=(StrainActuator(x_a, x_b), ...)``) go with it: MJCF tendons and motors, the URDF's
+record comment (URDF has no tendons), JSON fields. With a hub the record's frequencies and
+per-mode errors stay the clamped model's (the model that was fitted, to a clamped truth) and
+``hub_frequencies_rad_s`` adds the hub model's flexible frequencies (the rigid mode at 0 left
+out); the damping is the hub model's: beta = 2 xi_1 / omega_1 with omega_1 its lowest flexible
+frequency (:func:`prbdm_pin.simulation.hub_damping.plant_damping`'s stiffness form, what
+``linearize(..., damping="stiffness")`` uses), on the beam joints only: the hub joint is
+undamped.
+
+Gravity: the PRBDM has none. The MJCF sets ``<option gravity="0 0 0">``; URDF has no gravity
+element, and ``pinocchio.buildModelFromUrdf`` and MuJoCo's URDF import turn on -9.81 m/s^2 along
+z, so zero it there (``prbdm_pin.load_urdf`` does).
+
+Damping: a diagonal joint damping (MJCF ``damping``, URDF ``<dynamics damping>``) carries the
+stiffness-proportional form C = beta K exactly (K is diagonal), beta = 2 xi_1 / omega_1 at the
+straight pose, so mode 1 gets the asked ratio xi_1 and mode k gets xi_1 omega_k / omega_1; it is
+the default (``damping_form="stiffness"``) of those two formats. The modal form (every mode xi)
+is not diagonal and no joint damping carries it: asked for a URDF or MJCF, the stiffness form with
+mode 1's ratio is written instead and the record's ``warnings`` say so, with the modal ratios that
+result. ``prbdm_pin.simulate(..., damping="stiffness")`` simulates the damping these files carry.
+
+Loading the files
+-----------------
+URDF (``prbdm export fit.json --format urdf --out beam.urdf``)
+    Pinocchio: ``prbdm_pin.load_urdf("beam.urdf")`` (springs included, gravity zero, the hub
+    too), or plain ``model = pinocchio.buildModelFromUrdf("beam.urdf")`` followed by
+    ``model.gravity = pinocchio.Motion.Zero()``; the springs are not part of ``pinocchio.Model``
+    (read them with ``prbdm_pin.model.urdf.read_springs``), the joint damping is ``model.damping``.
+    pybullet: ``p.loadURDF("beam.urdf", useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE)``
+    (without the flag pybullet replaces the inertia tensors by its own estimate); its mass matrix
+    (``p.calculateMassMatrix``) is ours. It reads ``<dynamics damping>`` as the joint damping
+    (``p.getJointInfo``), not the springs (apply -K q as joint torques), and its default
+    velocity motors hold the joints until released
+    (``p.setJointMotorControlArray(body, joints, p.VELOCITY_CONTROL, forces=[0] * n)``).
+    yourdfpy reads the same masses, inertias and joint origins; MuJoCo compiles the URDF
+    (``mujoco.MjModel.from_xml_path("beam.urdf")``: same mass matrix and joint damping, gravity
+    -9.81 m/s^2, no springs: use the MJCF for MuJoCo). ROS tooling: the file is a standard URDF
+    (``world`` -> fixed ``clamp`` -> ``link_0`` -> revolute ``joint_1`` ... ``joint_n`` about y
+    -> fixed ``tip_joint`` -> ``tip``), so ``check_urdf beam.urdf``, ``robot_state_publisher``
+    and RViz display it; Gazebo-classic reads ``<springStiffness>``/``<springReference>`` from
+    the ``<gazebo reference="joint_j">`` tags (N m/rad, rad).
+    With a hub (``--hub J:R``): ``world`` -> revolute ``hub`` about y (no spring, damping 0, a
+    limit of 1e6 rad that never binds: a ``continuous`` joint would give Pinocchio a (cos, sin)
+    coordinate) -> massless link ``hub_body`` with inertia J_h about every axis -> fixed
+    ``clamp`` at x = R -> ``link_0`` ...; the hub is the first coordinate in every consumer
+    (Pinocchio, pybullet, yourdfpy, MuJoCo), and ``load_urdf`` returns a hub model. URDF cannot
+    carry tendons or actuators: the strain actuators are only recorded in the comment
+    (``strain_actuators_m``); apply ``strain[i]``'s moment as joint torques
+    ``prbdm_pin.model.inputs.strain_map(lengths, actuator) * M`` and the hub torque on ``hub``.
+MJCF (``--format mjcf --out beam.xml``)
+    MuJoCo: ``mujoco.MjModel.from_xml_path("beam.xml")``. A body chain ``link_1`` ... ``link_n``
+    with hinge joints about y carrying ``stiffness`` (N m/rad), ``springref="0"`` and ``damping``
+    (N m s/rad, the stiffness form above), each body's ``inertial`` (mass, centre of mass,
+    ``fullinertia`` about the centre of mass), a ``tip`` site at the free end, and
+    ``<option gravity="0 0 0" integrator="RK4">`` with a step of a twentieth of the shortest
+    period. With a hub, ``link_0`` sits at x = R in body ``hub_body``, which turns on the hinge
+    ``hub`` about y (no stiffness, no damping; mass 0, ``diaginertia`` J_h as the Pinocchio hub
+    model holds it); ``qpos[0]`` is the hub angle. Inputs are ``<actuator>`` motors with unit
+    gear and ``ctrllimited="false"``, so ``data.ctrl[i]`` is the input in the package's units
+    (:mod:`prbdm_pin.files.export_mjcf`); the MuJoCo names replace ``[i]`` by ``_i``:
+    ``hub_torque`` -> ``hub_torque`` (N m, hinge ``hub``), ``joint_torque[j]`` ->
+    ``joint_torque_j`` (N m, hinge ``joint_{j+1}``), ``strain[i]`` -> ``strain_i`` (N m, a motor
+    on the fixed tendon ``strain_i`` whose coefficients are the patch's map: 1 on a joint inside
+    it, 1/2 on a joint an end sits on), ``tip_force_z``/``tip_force_x`` (N, a site
+    transmission at ``tip`` with ``refsite="world_ref"``, a site at the world origin: the force
+    is along world z/x, a dead load). Default inputs: ``hub_torque`` with a hub and
+    ``strain[i]`` for every actuator; the record's ``inputs`` line lists them in actuator order.
+    Without a tip force actuator apply a tip force through ``data.xfrc_applied`` on ``link_n``
+    (the force at the body's centre of mass plus the moment (tip - com) x F), refreshed every
+    step as the pose changes. For a time-varying input, set ``data.ctrl`` to its value at the
+    middle of each step: RK4 holds it over the step.
+JSON (``--format json --out model.json``)
+    The model parameters (beam, link lengths, springs, link inertias, natural frequencies), the
+    plant (``hub``: null or inertia_kg_m2 and radius_m; ``actuators``: x_start_m and x_end_m
+    each) and the record's fields: ``prbdm_pin.files.export.read_model_json("model.json")`` rebuilds
+    the model (on its hub) with ``build_model``; ``read_plant_json`` also returns the
+    actuators.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..io.atomic import atomic_write_text
+from .export_mjcf import mjcf_text
+from .export_plant import mujoco_name
+from .export_record import (
+    EXPORT_DAMPING_FORMS,
+    FORMATS,
+    WORST_MODE_WARN_PCT,
+    ExportRecord,
+    export_record,
+    read_export_record,
+)
+from .model_json import JSON_FORMAT, model_dict, read_model_json, read_plant_json
+
+__all__ = [
+    "FORMATS",
+    "EXPORT_DAMPING_FORMS",
+    "WORST_MODE_WARN_PCT",
+    "JSON_FORMAT",
+    "ExportRecord",
+    "export_record",
+    "read_export_record",
+    "mjcf_text",
+    "mujoco_name",
+    "urdf_text",
+    "model_dict",
+    "write_urdf",
+    "write_mjcf",
+    "write_json",
+    "export_model",
+    "read_model_json",
+    "read_plant_json",
+]
+
+
+def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
+              damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
+              actuators=()) -> str:
+    """Return the model's URDF with ``<dynamics damping>`` (stiffness form) and record comment.
+
+    Parameters as :func:`export_record`; a hub model gets the revolute joint ``hub`` (see the
+    module notes). URDF has no tendons: ``actuators`` are recorded in the comment only. With
+    ``damping_ratio=0``, no actuators and no comment this is :attr:`PrbdmModel.urdf`.
+    """
+    from ..model.urdf import render_urdf
+
+    rec = export_record(model, "urdf", damping_ratio, damping_form, omega_truth_rad_s,
+                        actuators=actuators)
+    name = "prbdm" if model.beam is None else f"prbdm_{model.beam.name}"
+    return render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
+                       damping_Nms_per_rad=rec.joint_damping_Nms_per_rad,
+                       comment=rec.comment_text(), hub=model.hub)
+
+
+def write_urdf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
+               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
+               actuators=()) -> Path:
+    """Write :func:`urdf_text` atomically."""
+    return atomic_write_text(path, urdf_text(model, damping_ratio, damping_form=damping_form,
+                                             omega_truth_rad_s=omega_truth_rad_s,
+                                             actuators=actuators))
+
+
+def write_mjcf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
+               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
+               actuators=(), inputs=None) -> Path:
+    """Write :func:`mjcf_text` atomically."""
+    return atomic_write_text(path, mjcf_text(model, damping_ratio, damping_form=damping_form,
+                                             omega_truth_rad_s=omega_truth_rad_s,
+                                             actuators=actuators, inputs=inputs))
+
+
+def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
+               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
+               actuators=()) -> Path:
+    """Write :func:`model_dict` as JSON atomically."""
+    d = model_dict(model, damping_ratio, damping_form=damping_form,
+                   omega_truth_rad_s=omega_truth_rad_s, actuators=actuators)
+    return atomic_write_text(path, json.dumps(d, indent=2) + "\n")
+
+
+def export_model(model, path: str | os.PathLike, fmt: str,
+                 damping_ratio: float | np.ndarray = 0.02, *, damping_form: str | None = None,
+                 omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None
+                 ) -> Path:
+    """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt``.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        The model to export.
+    path : str or path-like
+        The file to write (atomically).
+    fmt : {"urdf", "mjcf", "json"}
+        The file format.
+    damping_ratio : float or ndarray (n,)
+        Mode 1's damping ratio (stiffness form) or each mode's (modal form), dimensionless; 0
+        writes no damping.
+    damping_form, omega_truth_rad_s, actuators, inputs
+        As :func:`~prbdm_pin.files.export_record.export_record` (which gives what the file records,
+        for a command to print): the damping form, the truth frequencies (rad/s), the strain
+        actuators and the inputs (MJCF only).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    if fmt not in FORMATS:
+        raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
+    kw = {"damping_form": damping_form, "omega_truth_rad_s": omega_truth_rad_s,
+          "actuators": actuators}
+    if fmt == "mjcf":
+        return write_mjcf(model, path, damping_ratio, inputs=inputs, **kw)
+    if inputs is not None and len(inputs):
+        raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
+                             "(only the MJCF does)")
+    writer = write_urdf if fmt == "urdf" else write_json
+    return writer(model, path, damping_ratio, **kw)

@@ -1,0 +1,87 @@
+"""``fit.json``: a :class:`~prbdm_pin.fitting.results.FitResult` with the beam it was fitted to.
+
+The file is written atomically and read back validated.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from ..fitting.results import FitResult
+from ..io.atomic import atomic_write_json
+
+__all__ = ["fit_beam", "load_fit", "save_fit"]
+
+
+def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
+    """Write ``fit.json`` atomically.
+
+    Parameters
+    ----------
+    result : FitResult
+        The fit (lengths in m, springs in N m/rad, losses in %).
+    path : str or path-like
+        The file to write.
+    beam : Beam, optional
+        The beam it was fitted to; with it the file alone rebuilds the model
+        (``prbdm simulate fit.json``, ``prbdm export fit.json``).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    from ..member.geometry import beam_to_dict
+
+    d = result.to_dict()
+    if beam is not None:
+        d["beam"] = beam_to_dict(beam)
+    return atomic_write_json(path, d)
+
+
+def fit_beam(d: dict[str, Any], what: str = "fit.json"):
+    """Return the Beam embedded in a fit.json mapping, or None when it has none."""
+    from ..errors import BeamInputError
+    from .beam_file import beam_from_dict
+
+    b = d.get("beam") if isinstance(d, dict) else None
+    if b is None:
+        return None
+    try:
+        return beam_from_dict(b, check_caps=True)
+    except BeamInputError as exc:
+        raise BeamInputError(f"{what}: beam: {exc}") from None
+
+
+def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
+    """Read a ``fit.json`` written by :meth:`FitResult.save` or :func:`save_fit`.
+
+    Every field is validated (:func:`prbdm_pin.io.record_checks.fit_kwargs`); the link lengths must
+    sum to the length of ``beam`` (a Beam), else of the beam embedded in the file, when there
+    is one.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The ``fit.json`` file.
+    beam : Beam, optional
+        The beam the fit was made for; its length L (m) checks the link lengths.
+
+    Returns
+    -------
+    FitResult
+        The fit (lengths in m, springs in N m/rad, losses in %).
+
+    Raises
+    ------
+    BeamInputError
+        Naming the file, the field and the value.
+    """
+    from ..io.jsonfile import read_json
+
+    what = f"fit.json {str(path)!r}"
+    d = read_json(path, "fit.json")
+    if beam is None:
+        beam = fit_beam(d, what)
+    return FitResult.from_dict(d, beam=beam, what=what)

@@ -1,0 +1,259 @@
+"""The fit problem.
+
+Everything fixed during a fit (FitProblem), the length parametrisation, and how a design
+(lengths, stiffness factors) becomes a model.
+
+Two stiffness parametrisations:
+
+- ``paper`` (Eq. 14): pose i uses the springs ``K_j(i) = k_i sqrt(E I_{j+1} / m_{j+1})``, one
+  stiffness correction factor (SCF) k_i per pose; design vector [gamma, k] (Eq. 22). Frequencies
+  are compared over the pose sweep of Eqs. 10-11.
+- ``joint``: one pose-independent factor s_j per joint on the finite-segment physical stiffness
+  (``stiffness.finite_segment_stiffness``), ``K_j = s_j E / integral(dx / I)``; design vector
+  [gamma, s]; frequencies at the straight pose unless a sweep is asked for. One spring per joint,
+  valid in every pose: the model a simulation exports as it is.
+
+Link lengths live on the bounded simplex ``sum L_j = L, L_j >= f L`` (f = 0.02, Eq. 15); the
+upper bound (1 - f) L of Eq. 15d is implied by the others. The single-objective local solvers
+use the stick-breaking map :func:`lengths_from_unit` from the box [0, 1]^n onto that simplex, so
+box-bounded solvers (least_squares, L-BFGS-B) handle the equality exactly; NSGA-II uses
+``fitting.pareto_problem.LengthRepair`` instead.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..chain.stiffness import finite_segment_stiffness, paper_stiffness, pose_sweep
+from ..errors import BeamInputError
+from ..member.geometry import Beam
+from ..options.choices import EPS_RAD, MIN_FRACTION, STIFFNESS_KINDS, XI_RAD
+from .objectives import check_eigen_norm
+from .target import FitTarget, read_only
+
+__all__ = [
+    "STIFFNESS_KINDS",
+    "FitProblem",
+    "make_problem",
+    "lengths_from_unit",
+    "unit_from_lengths",
+    "base_stiffness",
+    "build",
+    "unit_frequencies",
+    "pose_stiffness",
+    "static_tips",
+]
+
+
+
+# --- the length parametrisation -------------------------------------------------------------
+def lengths_from_unit(u: np.ndarray, length_m: float,
+                      min_fraction: float = MIN_FRACTION) -> np.ndarray:
+    """Stick-breaking map from the box [0, 1]^n onto the bounded length simplex (m).
+
+    ``L_j = a + e_j`` with ``a = min_fraction * L``; link j takes the fraction ``u_j`` of the
+    excess length ``L - (n+1) a`` still unassigned, the last link takes the rest. Smooth, onto,
+    and every boundary point of the simplex is reached at a finite u.
+    """
+    u = np.asarray(u, dtype=float).tolist()
+    n1 = len(u) + 1
+    a = min_fraction * length_m
+    rest = length_m - n1 * a
+    e = []
+    for uj in u:  # Python floats: the same IEEE arithmetic as numpy's, without numpy scalars
+        ej = min(max(uj, 0.0), 1.0) * rest  # u clipped to [0, 1]
+        e.append(ej)
+        rest -= ej
+    e.append(max(rest, 0.0))
+    return a + np.array(e)
+
+
+def unit_from_lengths(lengths_m: np.ndarray, length_m: float, min_fraction: float = MIN_FRACTION):
+    """Inverse of :func:`lengths_from_unit` (u_j = 0.5 where the remaining excess is zero)."""
+    lengths = np.asarray(lengths_m, dtype=float)
+    a = min_fraction * length_m
+    e = np.maximum(lengths - a, 0.0)
+    rest = length_m - lengths.size * a
+    u = np.empty(lengths.size - 1)
+    for j in range(u.size):
+        u[j] = e[j] / rest if rest > 1e-15 * length_m else 0.5
+        rest -= e[j]
+    return np.clip(u, 0.0, 1.0)
+
+
+# --- the problem --------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class FitProblem:
+    """Everything fixed during a fit.
+
+    Attributes
+    ----------
+    beam : Beam
+    target : FitTarget
+        Already cut to the N frequencies to match.
+    n_joints : int
+    stiffness : str
+        ``"paper"`` or ``"joint"``.
+    poses_rad : ndarray, shape (m, n)
+        Joint angles of the poses where frequencies are compared.
+    squared : bool
+        Compare omega^2 instead of omega.
+    min_fraction : float
+        Lower bound of a link length as a fraction of L (Eq. 15c).
+    xi, eps : float
+        The pose sweep's offset and step (Eqs. 10-11), rad (recorded for provenance).
+    eigen_norm : str
+        The per-pose eigen error: ``"paper"`` (Eq. 16) or ``"relative"`` (rms of the per-mode
+        relative errors; ``objectives.eigen_weights``).
+    """
+
+    beam: Beam
+    target: FitTarget
+    n_joints: int
+    stiffness: str
+    poses_rad: np.ndarray
+    squared: bool = False
+    min_fraction: float = MIN_FRACTION
+    xi: float = XI_RAD
+    eps: float = EPS_RAD
+    eigen_norm: str = "paper"
+
+    @property
+    def n_freq(self) -> int:
+        """Number of truth frequencies fitted, N."""
+        return int(self.target.omega_truth_rad_s.size)
+
+    @property
+    def n_poses(self) -> int:
+        """Number of poses where frequencies are compared, m."""
+        return int(self.poses_rad.shape[0])
+
+    @property
+    def length_m(self) -> float:
+        """Beam length L, m."""
+        return self.beam.length_m
+
+    @property
+    def n_factors(self) -> int:
+        """Number of stiffness factors: m SCFs (paper) or n joint factors (joint)."""
+        return self.n_poses if self.stiffness == "paper" else self.n_joints
+
+
+def make_problem(
+    beam: Beam,
+    target: FitTarget,
+    joints: int,
+    frequencies: int | None = None,
+    stiffness: str = "paper",
+    xi: float = XI_RAD,
+    eps: float = EPS_RAD,
+    squared: bool = False,
+    joint_sweep: bool = False,
+    min_fraction: float = MIN_FRACTION,
+    eigen_norm: str = "paper",
+) -> FitProblem:
+    """Validate the fit settings and build a :class:`FitProblem`.
+
+    ``frequencies`` defaults to ``min(joints, available truth frequencies)``; the ``paper``
+    parametrisation compares frequencies over ``pose_sweep(joints, xi, eps)``, ``joint`` at the
+    straight pose (over the sweep when ``joint_sweep``). ``eigen_norm`` is ``"paper"`` (Eq. 16)
+    or ``"relative"``.
+    """
+    if isinstance(joints, bool) or not isinstance(joints, (int, np.integer)) or joints < 1:
+        raise BeamInputError(f"joints = {joints!r}: must be an integer >= 1")
+    if stiffness not in STIFFNESS_KINDS:
+        raise BeamInputError(f"stiffness = {stiffness!r}: must be one of {STIFFNESS_KINDS}")
+    check_eigen_norm(eigen_norm)
+    if not (0.0 < min_fraction and (joints + 1) * min_fraction < 1.0):
+        raise BeamInputError(
+            f"min_fraction = {min_fraction}: needs 0 < min_fraction < 1/(joints+1)"
+        )
+    n_avail = target.omega_truth_rad_s.size
+    if frequencies is None:
+        frequencies = min(int(joints), n_avail)
+    if isinstance(frequencies, bool) or not isinstance(frequencies, (int, np.integer)):
+        raise BeamInputError(f"frequencies = {frequencies!r}: must be an integer")
+    if not 1 <= frequencies <= joints:
+        raise BeamInputError(
+            f"frequencies = {frequencies}: must be in 1..{joints} (an {joints}R model has "
+            f"{joints} frequencies)"
+        )
+    target = target.first(int(frequencies))
+    for name, v in (("xi", xi), ("eps", eps)):
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+            raise BeamInputError(f"{name} = {v!r}: must be a finite angle >= 0 (rad)")
+    if stiffness == "paper" or joint_sweep:
+        if eps <= 0:
+            raise BeamInputError(f"eps = {eps}: must be > 0 rad for a pose sweep")
+        poses = np.asarray(pose_sweep(int(joints), xi=xi, eps=eps), dtype=float)
+        if poses.shape[0] == 0:
+            raise BeamInputError(f"xi = {xi}, eps = {eps}: the pose sweep is empty")
+    else:
+        poses = np.zeros((1, int(joints)))
+    return FitProblem(beam, target, int(joints), stiffness, read_only(poses), bool(squared),
+                      float(min_fraction), float(xi), float(eps), eigen_norm)
+
+
+def base_stiffness(problem: FitProblem, model_or_lengths) -> np.ndarray:
+    """Springs at unit factor, N m/rad: ``sqrt(E I/m)`` of Eq. 14 (paper) or finite-segment."""
+    if problem.stiffness == "paper":
+        return np.asarray(paper_stiffness(model_or_lengths.sections,
+                                          problem.beam.material.E_Pa, 1.0), dtype=float)
+    return np.asarray(finite_segment_stiffness(problem.beam, model_or_lengths,
+                                               problem.min_fraction), dtype=float)
+
+
+def build(problem: FitProblem, lengths_m: np.ndarray):
+    """Build the model with unit-factor springs; return it and the springs ``K0`` (n,), N m/rad."""
+    from ..model.prbdm_model import build_model
+
+    lengths = np.asarray(lengths_m, dtype=float)
+    f = problem.min_fraction  # the fit's own bound (below 0.02 for long chains)
+    if problem.stiffness == "paper":
+        model = build_model(problem.beam, lengths, np.ones(problem.n_joints), min_fraction=f)
+        K0 = base_stiffness(problem, model)
+        return model.with_stiffness(K0), K0
+    K0 = base_stiffness(problem, lengths)
+    return build_model(problem.beam, lengths, K0, min_fraction=f), K0
+
+
+def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
+    """Build the model at unit stiffness factor; compute its frequencies over the poses.
+
+    Returns
+    -------
+    model : PrbdmModel
+        Built with the unit-factor springs.
+    K0 : ndarray, shape (n,)
+        Unit-factor springs, N m/rad.
+    omega : ndarray, shape (m, N)
+        Frequencies at each pose with ``K0`` (rad/s); with factor k on every spring each one
+        scales by sqrt(k) (the variable projection of the ``paper`` fit uses this).
+    """
+    model, K0 = build(problem, lengths_m)
+    omega = model.natural_frequencies_batch(problem.poses_rad, stiffness=K0)
+    return model, K0, np.asarray(omega)[:, : problem.n_freq]
+
+
+def pose_stiffness(problem: FitProblem, K0: np.ndarray, factors: np.ndarray) -> np.ndarray:
+    """Springs of every pose, shape (m, n), N m/rad."""
+    f = np.asarray(factors, dtype=float)
+    if problem.stiffness == "paper":
+        return f[:, None] * K0[None, :]
+    return np.broadcast_to(f * K0, (problem.n_poses, problem.n_joints)).copy()
+
+
+def static_tips(model, tip_force_N: np.ndarray, stiffness_rows: np.ndarray) -> np.ndarray:
+    """Tip positions (m) under the load for each row of springs, stiffest first with warm starts."""
+    rows = np.atleast_2d(stiffness_rows)
+    order = np.argsort(-rows.sum(axis=1), kind="stable")
+    tips = np.empty((rows.shape[0], 3))
+    q0 = None
+    for r in order:
+        q, tip = model.with_stiffness(rows[r]).static_deflection(tip_force_N, q0=q0)
+        tips[r] = tip
+        q0 = q
+    return tips

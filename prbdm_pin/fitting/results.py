@@ -1,0 +1,288 @@
+"""A single-objective fit's result with provenance.
+
+Its JSON form is in :mod:`prbdm_pin.io.records`, the file in :mod:`prbdm_pin.files.fit_file`, and a
+Pareto front's result in :mod:`prbdm_pin.fitting.pareto_result`.
+
+:class:`FitResult` is a frozen dataclass following the conventions of
+``scipy.optimize.OptimizeResult`` (``success``, ``message``, ``x``, ``fun``, ``nfev``); use
+:meth:`FitResult.to_optimize_result` for a real ``OptimizeResult``. Losses are in %.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import MISSING, dataclass, field, fields
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from ..io.records import JsonRecord, readonly_array
+from ..options.choices import MIN_FRACTION
+
+if TYPE_CHECKING:
+    from ..options.objects import FitOptions, ParetoOptions
+    from ..truth.request import TruthRequest
+
+__all__ = ["ARRAY_FIELDS", "FitResult", "package_versions"]
+
+# fields read back from JSON as float arrays
+ARRAY_FIELDS = frozenset({
+    "lengths_m", "stiffness_Nm_per_rad", "stiffness_per_pose_Nm_per_rad", "factors",
+    "scf_deviation_pct", "poses_rad", "omega_truth_rad_s", "omega_model_rad_s",
+    "eigen_errors_pct", "tip_position_model_m", "tip_position_truth_m",
+    "tip_displacement_truth_m", "tip_force_N", "mac", "start_losses_pct",
+    "F_pct", "X", "front_lengths_m", "front_factors", "extra_tip_force_N",
+    "extra_tip_position_truth_m", "extra_tip_position_model_m", "omega_errors_pct",
+    "export_pose_rad", "omega_export_rad_s", "omega_export_errors_pct",
+})
+# what an old paper fit.json (one without ``stiffness_pose``) exported
+_OLD_PAPER_EXPORT = ("paper: SCF_mean times Eq. 14 (a fit.json written before fits recorded "
+                     "their export pose; no pose was fitted with these springs)")
+
+
+def package_versions() -> tuple[tuple[str, str], ...]:
+    """(name, version) of the packages a fit depends on."""
+    from importlib import metadata
+
+    out = []
+    for name in ("prbdm_pin", "pin", "numpy", "scipy", "pymoo", "scikit-fem"):
+        try:
+            out.append((name, metadata.version(name)))
+        except metadata.PackageNotFoundError:
+            out.append((name, "unknown"))
+    return tuple(out)
+
+
+def result_readers() -> dict[str, Any]:
+    """Return the readers of the nested fields of a fit's and a Pareto front's JSON form.
+
+    ``truth_request`` reads back as a :class:`~prbdm_pin.truth.request.TruthRequest` and
+    ``options`` as the options object it was (:func:`~prbdm_pin.options.objects.options_from_dict`).
+    """
+    from ..options.objects import options_from_dict
+    from ..truth.request import TruthRequest
+
+    return {"truth_request": TruthRequest.from_dict,
+            "options": lambda v: options_from_dict(v, "options")}
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult(JsonRecord):
+    """The best design of a single-objective fit, evaluated against its target.
+
+    Attributes
+    ----------
+    beam_name, beam_fingerprint : str
+    joints, frequencies : int
+        n (joints) and N (frequencies matched).
+    objective : str
+        ``"eigen"``, ``"deflection"`` or ``"combined"``.
+    stiffness : str
+        ``"paper"`` (one SCF per pose, Eq. 14) or ``"joint"`` (one factor per joint).
+    lengths_m : ndarray, shape (n+1,)
+    stiffness_Nm_per_rad : ndarray, shape (n,)
+        The exported springs (model.urdf and every export): the fitted springs (joint), or the
+        springs fitted at one pose of the sweep, ``export_pose_rad`` (paper: pose 0, the one
+        nearest straight). Never SCF_mean springs, which no pose was fitted with.
+    stiffness_per_pose_Nm_per_rad : ndarray, shape (m, n)
+        The springs of every pose of the sweep (:meth:`stiffness_schedule`).
+    factors : ndarray
+        SCFs k_i, shape (m,) (paper), or joint factors s_j, shape (n,) (joint).
+    scf_mean : float
+        Eq. 25 (paper; a diagnostic, not an exported spring set); mean joint factor (joint).
+    scf_deviation_pct : ndarray, shape (m,)
+        P_i of Eq. 26 (paper; zeros for joint).
+    poses_rad : ndarray, shape (m, n)
+    omega_truth_rad_s : ndarray, shape (N,)
+    omega_model_rad_s : ndarray, shape (m, N)
+    eigen_errors_pct : ndarray, shape (m,)
+        Per-pose eigen error in the fit's ``eigen_norm`` (Eq. 16 for ``"paper"``), %.
+    eigen_loss_pct, deflection_loss_pct, displacement_loss_pct, combined_loss_pct : float
+        Eq. 17, Eq. 19 (normalised by the truth tip position), the same normalised by the truth
+        tip displacement, Eq. 27 (eigen and position); NaN when no static truth. With extra
+        load cases the tip errors are averaged over all cases.
+    tip_position_model_m : ndarray, shape (m', 3) or None
+    tip_position_truth_m, tip_displacement_truth_m, tip_force_N : ndarray, shape (3,)
+    mac : ndarray, shape (N,) or None
+        MAC of every mapped truth mode with a beam bending mode.
+    truth_source : str
+    truth_request : TruthRequest or None
+        The ``compute_truth`` call the target came from (None for a truth file or a hand-made
+        target): ``prbdm simulate --compare-truth`` asks for the same truth.
+    min_fraction : float
+        The fit's lower bound on every link, a fraction of L (Eq. 15; ``--min-link``).
+    static_theory_gap_pct : float
+        The gap between the truth model and 1D beam theory at small load, 100 (u_1D / u_truth
+        - 1), % (the frequencies and the default large-deflection tip are both the truth
+        model's; NaN when unknown).
+    squared : bool
+    xi, eps : float
+    seed, starts, starts_run, nfev : int
+    start_losses_pct : ndarray, shape (starts_run,)
+        The local optimum's loss of every start run (in start order), %.
+    wall_time_s : float
+    success : bool
+    message : str
+    extra_tip_force_N, extra_tip_position_truth_m : ndarray, shape (k, 3), or None
+        The target's extra load cases (N) and the truth tip under each (m).
+    extra_tip_position_model_m : ndarray, shape (k, m', 3), or None
+        The model's tip under each extra load case, per distinct stiffness, m.
+    warnings : tuple of str
+        What makes the model less than it looks: truth modes that are not beam-like, or n
+        frequencies a ``joint`` fit should match and did not.
+    eigen_norm : str
+        ``"paper"`` (Eq. 16's l2 norm) or ``"relative"`` (rms of the per-mode relative errors):
+        the norm of ``eigen_errors_pct`` and ``eigen_loss_pct``.
+    omega_errors_pct : ndarray, shape (m, N)
+        Signed per-mode errors 100 (omega_model / omega_truth - 1) at every fitted pose, %.
+    worst_mode_error_pct : float
+        ``max |omega_errors_pct|`` over the fitted poses and modes, %.
+    export_pose_rad : ndarray, shape (n,), or None
+        The pose whose springs are exported (paper: sweep pose 0; joint: the straight pose;
+        None in a fit.json written before it was recorded).
+    stiffness_pose : str
+        What the exported springs are, in words.
+    omega_export_rad_s, omega_export_errors_pct : ndarray, shape (N,), or None
+        The exported model's own frequencies at the straight pose q = 0 (rad/s) and their signed
+        errors against the truth (%).
+    worst_export_error_pct : float
+        ``max |omega_export_errors_pct|``, %.
+    options : FitOptions or ParetoOptions or None
+        Every option the fit was run with (a Pareto knee: the Pareto fit's); None in a
+        fit.json written before options were recorded.
+    versions : tuple of (name, version)
+    """
+
+    array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS
+
+    @classmethod
+    def nested_readers(cls) -> dict[str, Any]:
+        """Return the readers of ``truth_request`` and ``options`` (see :func:`result_readers`)."""
+        return result_readers()
+
+    beam_name: str
+    beam_fingerprint: str
+    joints: int
+    frequencies: int
+    objective: str
+    stiffness: str
+    lengths_m: np.ndarray
+    stiffness_Nm_per_rad: np.ndarray
+    stiffness_per_pose_Nm_per_rad: np.ndarray
+    factors: np.ndarray
+    scf_mean: float
+    scf_deviation_pct: np.ndarray
+    poses_rad: np.ndarray
+    omega_truth_rad_s: np.ndarray
+    omega_model_rad_s: np.ndarray
+    eigen_errors_pct: np.ndarray
+    eigen_loss_pct: float
+    deflection_loss_pct: float
+    displacement_loss_pct: float
+    combined_loss_pct: float
+    tip_position_model_m: np.ndarray | None
+    tip_position_truth_m: np.ndarray | None
+    tip_displacement_truth_m: np.ndarray | None
+    tip_force_N: np.ndarray
+    mac: np.ndarray | None
+    truth_source: str
+    squared: bool
+    xi: float
+    eps: float
+    seed: int
+    starts: int
+    starts_run: int
+    nfev: int
+    start_losses_pct: np.ndarray
+    wall_time_s: float
+    success: bool
+    message: str
+    extra_tip_force_N: np.ndarray | None = None
+    extra_tip_position_truth_m: np.ndarray | None = None
+    extra_tip_position_model_m: np.ndarray | None = None
+    warnings: tuple = ()
+    truth_request: TruthRequest | None = None
+    eigen_norm: str = "paper"
+    omega_errors_pct: np.ndarray | None = None
+    worst_mode_error_pct: float = math.nan
+    export_pose_rad: np.ndarray | None = None
+    stiffness_pose: str = ""
+    omega_export_rad_s: np.ndarray | None = None
+    omega_export_errors_pct: np.ndarray | None = None
+    worst_export_error_pct: float = math.nan
+    static_theory_gap_pct: float = math.nan
+    min_fraction: float = MIN_FRACTION
+    options: FitOptions | ParetoOptions | None = None
+    versions: tuple = field(default_factory=package_versions)
+
+    def __post_init__(self) -> None:
+        """Freeze the arrays; derive what an older fit.json did not record."""
+        for name in self.array_fields & {f.name for f in fields(self)}:
+            object.__setattr__(self, name, readonly_array(getattr(self, name)))
+        # a fit.json written before the per-mode errors were recorded: derive them
+        if self.omega_errors_pct is None and self.omega_model_rad_s is not None:
+            from .objectives import mode_errors_pct
+
+            object.__setattr__(self, "omega_errors_pct", readonly_array(mode_errors_pct(
+                self.omega_model_rad_s, self.omega_truth_rad_s)))
+        if not math.isfinite(self.worst_mode_error_pct) and self.omega_errors_pct is not None:
+            object.__setattr__(self, "worst_mode_error_pct",
+                               float(np.max(np.abs(self.omega_errors_pct))))
+        if not self.stiffness_pose:
+            object.__setattr__(self, "stiffness_pose", _OLD_PAPER_EXPORT
+                               if self.stiffness == "paper" else "joint: pose-independent springs")
+
+    @classmethod
+    def from_dict(cls, d: Any, beam=None, what: str = "fit.json") -> FitResult:
+        """Rebuild from the JSON form, validated (:func:`prbdm_pin.io.record_checks.fit_kwargs`).
+
+        With ``beam`` the link lengths must sum to its length (m). BeamInputError names the
+        field.
+        """
+        from ..errors import BeamInputError
+        from ..io.jsonfile import require_mapping
+        from ..io.record_checks import fit_kwargs
+
+        d = require_mapping(d, what)
+        missing = [f.name for f in fields(cls) if f.name not in d
+                   and f.default is MISSING and f.default_factory is MISSING]
+        if missing:
+            raise BeamInputError(f"{what}: missing field(s) {missing}: not a fit.json")
+        fit_kwargs(d, what, None if beam is None else beam.length_m)
+        return super().from_dict(d)
+
+    def stiffness_schedule(self):
+        """Return the per-pose springs as a ``simulation.StiffnessSchedule`` for ``simulate``.
+
+        Row i of ``stiffness_per_pose_Nm_per_rad`` belongs to the sweep angle
+        ``poses_rad[i, 0]`` (every joint at the same angle); a pose q is mapped to the mean
+        ``|q_j|`` and the springs are interpolated linearly between the sweep poses, held at the
+        first (last) pose's below (above) the sweep. At the straight pose it gives pose 0's
+        springs, the exported ones.
+        """
+        from ..simulation import StiffnessSchedule
+
+        return StiffnessSchedule(self.poses_rad[:, 0], self.stiffness_per_pose_Nm_per_rad)
+
+    @property
+    def loss_pct(self) -> float:
+        """The loss of the fitted objective, %."""
+        return {"eigen": self.eigen_loss_pct, "deflection": self.deflection_loss_pct,
+                "combined": self.combined_loss_pct}[self.objective]
+
+    @property
+    def x(self) -> np.ndarray:
+        """Design vector [gamma (n+1), factors], as the optimiser saw it."""
+        return np.r_[self.lengths_m / np.sum(self.lengths_m), self.factors]
+
+    @property
+    def fun(self) -> float:
+        """The loss of the fitted objective, %, under ``OptimizeResult``'s name."""
+        return self.loss_pct
+
+    def to_optimize_result(self):
+        """Return a ``scipy.optimize.OptimizeResult`` view (x, fun, success, message, nfev, ...)."""
+        from scipy.optimize import OptimizeResult
+
+        return OptimizeResult(x=self.x, fun=self.fun, success=self.success,
+                              message=self.message, nfev=self.nfev, result=self)

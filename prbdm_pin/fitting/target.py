@@ -1,0 +1,225 @@
+"""What a fit matches: the truth's frequencies and static load cases (FitTarget).
+
+The target comes from a truth computation or from a PRBDM taken as its own truth.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import BeamInputError
+
+if TYPE_CHECKING:
+    from ..truth.request import TruthRequest
+
+__all__ = ["LoadCase", "FitTarget", "target_from_truth", "model_target", "read_only"]
+
+
+def read_only(a, shape: tuple | None = None) -> np.ndarray:
+    """Return a read-only float copy of ``a``, reshaped to ``shape`` when given.
+
+    Frozen dataclasses hold arrays nobody can change under them.
+    """
+    a = np.array(a, dtype=float)
+    if shape is not None:
+        a = a.reshape(shape)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class LoadCase:
+    """A static load case of the truth: a dead tip force and the truth's tip under it.
+
+    Attributes
+    ----------
+    tip_force_N : ndarray, shape (3,)
+        Force at the tip, N (world).
+    tip_position_m, tip_displacement_m : ndarray, shape (3,)
+        Truth large-deflection tip position and displacement under it, m.
+    """
+
+    tip_force_N: np.ndarray
+    tip_position_m: np.ndarray
+    tip_displacement_m: np.ndarray
+
+    def __post_init__(self) -> None:
+        """Check the three vectors are finite and the deflection nonzero; freeze them."""
+        for name in ("tip_force_N", "tip_position_m", "tip_displacement_m"):
+            v = np.asarray(getattr(self, name), dtype=float)
+            if v.size != 3 or not np.all(np.isfinite(v)):
+                raise BeamInputError(f"{name} = {v.tolist()}: must be 3 finite numbers")
+            object.__setattr__(self, name, read_only(v, (3,)))
+        if not np.linalg.norm(self.tip_displacement_m) > 0.0:
+            raise BeamInputError("tip_displacement_m = 0: a load case needs a deflection")
+
+
+@dataclass(frozen=True, eq=False)
+class FitTarget:
+    """What a fit needs from a truth.
+
+    Attributes
+    ----------
+    omega_truth_rad_s : ndarray, shape (N,)
+        Truth bending frequencies, ascending, rad/s.
+    tip_force_N : ndarray, shape (3,)
+        The static load case: a force at the tip, N.
+    tip_position_m, tip_displacement_m : ndarray, shape (3,), or None
+        Truth large-deflection tip position and displacement under ``tip_force_N``, m.
+    mac : ndarray, shape (N,), or None
+        MAC of each truth mode with a beam bending mode (recorded, not fitted).
+    source : str
+        Where the numbers come from (e.g. ``"plate, level 3, selection paper"``).
+    labels : tuple of str, or None
+        Each truth mode's shape label (``"bending"``, ``"chordwise"``, ``"mixed"``, ...).
+    extra_loads : tuple of LoadCase
+        Further load cases (e.g. a load sweep). The deflection objective averages the tip error
+        of every case, each normalised by its own truth tip position or displacement; with none,
+        it is the paper's single-load Eq. 19. n frequencies and one planar tip cannot fix the
+        2n lengths and springs of a ``joint`` model for n >= 2; more load cases can.
+    truth_request : TruthRequest or None
+        The ``compute_truth`` call the numbers came from, when they came from one.
+    static_theory_gap_pct : float or None
+        100 (u_1D / u_truth - 1): the 1D beam's linear tip deflection against the truth model's
+        under the same small load, in % (the gap between the two theories; None when unknown).
+    """
+
+    omega_truth_rad_s: np.ndarray
+    tip_force_N: np.ndarray
+    tip_position_m: np.ndarray | None = None
+    tip_displacement_m: np.ndarray | None = None
+    mac: np.ndarray | None = None
+    source: str = ""
+    extra_loads: tuple[LoadCase, ...] = ()
+    labels: tuple[str, ...] | None = None
+    truth_request: TruthRequest | None = None
+    static_theory_gap_pct: float | None = None
+
+    def __post_init__(self) -> None:
+        """Check the frequencies, load cases and labels; freeze the arrays."""
+        w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
+        if w.size == 0 or not np.all(np.isfinite(w)) or np.any(w <= 0):
+            raise BeamInputError(f"omega_truth_rad_s = {w.tolist()}: must be finite and > 0")
+        if np.any(np.diff(w) < 0):
+            raise BeamInputError(f"omega_truth_rad_s = {w.tolist()}: must be ascending")
+        object.__setattr__(self, "omega_truth_rad_s", read_only(w))
+        object.__setattr__(self, "tip_force_N", read_only(self.tip_force_N, (3,)))
+        for name in ("tip_position_m", "tip_displacement_m"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, read_only(v, (3,)))
+        if self.mac is not None:
+            object.__setattr__(self, "mac", read_only(self.mac, (-1,)))
+        extra = tuple(self.extra_loads)
+        if extra and not self.has_static:
+            raise BeamInputError("extra_loads: need the primary load case's truth tip position "
+                                 "and displacement too")
+        for i, c in enumerate(extra):
+            if not isinstance(c, LoadCase):
+                raise BeamInputError(f"extra_loads[{i}] = {c!r}: must be a LoadCase")
+        object.__setattr__(self, "extra_loads", extra)
+        if self.labels is not None:
+            labels = tuple(str(v) for v in self.labels)
+            if len(labels) != w.size:
+                raise BeamInputError(f"labels has {len(labels)} entries: one per truth "
+                                     f"frequency ({w.size}) needed")
+            object.__setattr__(self, "labels", labels)
+
+    @property
+    def has_static(self) -> bool:
+        """Whether a truth tip position (and displacement) is available."""
+        return self.tip_position_m is not None and self.tip_displacement_m is not None
+
+    @property
+    def load_cases(self) -> tuple[LoadCase, ...]:
+        """Every static load case, the primary one (``tip_force_N``) first; () without one."""
+        if not self.has_static:
+            return ()
+        return (LoadCase(self.tip_force_N, self.tip_position_m, self.tip_displacement_m),
+                *self.extra_loads)
+
+    def first(self, n_freq: int) -> FitTarget:
+        """Return the same target keeping only the first ``n_freq`` frequencies."""
+        if not 1 <= n_freq <= self.omega_truth_rad_s.size:
+            raise BeamInputError(
+                f"frequencies = {n_freq}: must be in 1..{self.omega_truth_rad_s.size} "
+                "(truth frequencies available)"
+            )
+        mac = None if self.mac is None else self.mac[:n_freq]
+        labels = None if self.labels is None else self.labels[:n_freq]
+        return replace(self, omega_truth_rad_s=self.omega_truth_rad_s[:n_freq], mac=mac,
+                       labels=labels)
+
+    def shape_notes(self) -> list[str]:
+        """List why a chain may miss this target, one line per truth mode that is not beam-like.
+
+        A mode is not beam-like when labelled other than bending, or when its MAC with a beam
+        bending mode is below 0.8.
+        """
+        out = []
+        for k in range(self.omega_truth_rad_s.size):
+            label = None if self.labels is None else self.labels[k]
+            mac = None if self.mac is None else float(self.mac[k])
+            if (label is not None and label != "bending") or (mac is not None and mac < 0.8):
+                what = f"{label}, " if label is not None else ""
+                out.append(f"truth mode {k + 1} ({self.omega_truth_rad_s[k]:.6g} rad/s; {what}"
+                           f"MAC {mac:.2f} with a beam bending mode) is not beam-like: a chain "
+                           "of rigid links has no mode of its shape")
+        return out
+
+
+def target_from_truth(truth, tip_force_N: np.ndarray,
+                      request: TruthRequest | None = None) -> FitTarget:
+    """Build a :class:`FitTarget` from a truth result.
+
+    Parameters
+    ----------
+    truth : TruthResult
+        The truth computation (frequencies in rad/s, tip position and displacement in m).
+    tip_force_N : ndarray, shape (3,)
+        The tip force the truth's statics were computed under, N.
+    request : TruthRequest or None
+        The ``compute_truth`` request that produced ``truth``, recorded in the target.
+
+    Returns
+    -------
+    FitTarget
+        The target, with the truth's frequencies, tip, MAC and mode labels.
+    """
+    mac = getattr(truth, "mac_beam", None)
+    src = f"{truth.model}, mesh level {truth.mesh_level}, selection {truth.selection}"
+    labels = tuple(truth.labels[int(i)] for i in truth.mode_index)
+    return FitTarget(
+        omega_truth_rad_s=truth.omega_rad_s,
+        tip_force_N=tip_force_N,
+        tip_position_m=truth.tip_position_m,
+        tip_displacement_m=truth.tip_displacement_m,
+        mac=mac,
+        source=src,
+        labels=labels,
+        truth_request=request,
+        static_theory_gap_pct=getattr(truth, "static_theory_gap_pct", None),
+    )
+
+
+def model_target(model, tip_forces_N) -> FitTarget:
+    """Take a PRBDM as its own truth.
+
+    The target holds the model's frequencies (rad/s) and its large-deflection tip (m) under
+    each force of ``tip_forces_N`` (k, 3), N; the first is the primary load case, the others
+    ``extra_loads``. A fit to it should recover the model (identifiability checks).
+    """
+    forces = np.asarray(tip_forces_N, dtype=float).reshape(-1, 3)
+    rest = model.tip_position()
+    cases = []
+    for F in forces:
+        tip = model.static_deflection(F)[1]
+        cases.append(LoadCase(F, tip, tip - rest))
+    first = cases[0]
+    return FitTarget(model.natural_frequencies(), first.tip_force_N, first.tip_position_m,
+                     first.tip_displacement_m, extra_loads=tuple(cases[1:]),
+                     source=f"a {model.n_joints}R PRBDM")
+

@@ -1,0 +1,237 @@
+"""The beam: planform and thickness of a clamped-free member, and its beam-JSON mapping.
+
+Conventions: the beam axis is x with the clamped root at x = 0 and the tip at x = L; the
+planform is symmetric about the x axis with a piecewise-linear half-width w(x) through the
+vertices (x_k, w_k); the thickness t is uniform and bending is out of plane (deflection along z).
+Two vertices may share a station x_k (never more, and never at the root or the tip): a width step,
+where the half-width jumps; w(x) is right-continuous there (the tip-side value).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..io.jsonfile import field_str
+from .checks import check_representable, check_stations, finite_positive, float_array
+from .material import Material
+
+__all__ = ["Beam", "beam_to_dict"]
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Beam:
+    """A clamped-free compliant member of uniform thickness and symmetric planform.
+
+    Attributes
+    ----------
+    x_m : ndarray, shape (k,)
+        Planform vertex stations in m; x_m[0] = 0 (the clamp), non-decreasing, x_m[-1] = L. Two
+        equal stations x_k = x_(k+1) inside (0, L) are a width step: the half-width jumps from
+        w_k to w_(k+1) there.
+    half_width_m : ndarray, shape (k,)
+        Half-width w(x_k) in m (> 0); the width is 2 w, linear between vertices.
+    thickness_m : float
+        Uniform thickness t in m.
+    material : Material
+    tip_force_N : ndarray, shape (3,)
+        The load case: a force at the tip in world axes, N.
+    name, description : str
+    """
+
+    x_m: np.ndarray
+    half_width_m: np.ndarray
+    thickness_m: float
+    material: Material = field(default_factory=Material)
+    tip_force_N: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    name: str = "beam"
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        """Validate the fields (errors name the field and the value); freeze the arrays."""
+        field_str("name", self.name)
+        field_str("description", self.description)
+        x = float_array("x", self.x_m, "m")
+        w = float_array("half_width", self.half_width_m, "m")
+        if x.size < 2:
+            raise BeamInputError(f"x has {x.size} entries: needs at least 2 (root and tip)")
+        if w.size != x.size:
+            raise BeamInputError(
+                f"half_width has {w.size} entries: must match x ({x.size} entries)"
+            )
+        if x[0] != 0.0:
+            raise BeamInputError(f"x[0] = {x[0]} m: must be 0 (the clamped root)")
+        check_stations(x, w)
+        bad = np.flatnonzero(w <= 0.0)
+        if bad.size:
+            i = int(bad[0])
+            raise BeamInputError(f"half_width[{i}] = {w[i]} m: must be > 0")
+        t = finite_positive("thickness", self.thickness_m)
+        if not isinstance(self.material, Material):
+            raise BeamInputError(f"material = {self.material!r}: must be a Material")
+        f = float_array("tip_force", self.tip_force_N, "N")
+        if f.size != 3:
+            raise BeamInputError(f"tip_force has {f.size} entries: must be [Fx, Fy, Fz] in N")
+        check_representable(x, w, t, self.material)
+        object.__setattr__(self, "x_m", _readonly(x))
+        object.__setattr__(self, "half_width_m", _readonly(w))
+        object.__setattr__(self, "thickness_m", t)
+        object.__setattr__(self, "tip_force_N", _readonly(f))
+        steps = np.flatnonzero(np.diff(x) == 0.0)
+        steps.setflags(write=False)
+        object.__setattr__(self, "_steps", steps)  # read in the fit's inner loop
+
+    # Derived geometry -------------------------------------------------------------------------
+    @property
+    def length_m(self) -> float:
+        """Beam length L in m."""
+        return float(self.x_m[-1])
+
+    @property
+    def step_index(self) -> np.ndarray:
+        """Indices k of the width steps, x_m[k] == x_m[k + 1] (int, possibly empty)."""
+        return self._steps
+
+    @property
+    def intervals_m(self) -> tuple[np.ndarray, np.ndarray]:
+        """Starts and ends (m) of the vertex intervals of positive length, where w is linear.
+
+        The zero-length "intervals" of width steps are left out.
+        """
+        keep = np.diff(self.x_m) > 0.0
+        return self.x_m[:-1][keep], self.x_m[1:][keep]
+
+    def half_width_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
+        """Half-width w(x) in m at stations ``x_m`` (m), linear between vertices.
+
+        At a width step w is right-continuous (``side="right"``, the tip-side value); ``"left"``
+        gives the root-side limit there. Elsewhere both are the same.
+        """
+        if side not in ("left", "right"):
+            raise ValueError(f"side = {side!r}: must be 'left' or 'right'")
+        w = np.interp(x_m, self.x_m, self.half_width_m)
+        k = self.step_index
+        if not k.size:
+            return w
+        # np.interp leaves a repeated abscissa to its implementation: set it explicitly
+        x = np.asarray(x_m, dtype=float)
+        w = np.array(w, dtype=float)
+        for xs, ws in zip(self.x_m[k], self.half_width_m[k + 1 if side == "right" else k],
+                          strict=True):
+            w[x == xs] = ws
+        return w[()] if w.ndim == 0 else w
+
+    def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
+        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4.
+
+        ``x_m`` in m; ``side`` as in :meth:`half_width_at`.
+        """
+        return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
+
+    @property
+    def planform_area_m2(self) -> float:
+        """Planform area in m^2.
+
+        Exact for the piecewise-linear outline; a step's zero-length interval adds nothing.
+        """
+        return float(2.0 * np.trapezoid(self.half_width_m, self.x_m))
+
+    @property
+    def mass_kg(self) -> float:
+        """Total mass in kg."""
+        return self.planform_area_m2 * self.thickness_m * self.material.rho_kg_m3
+
+    @property
+    def root_EI_Nm2(self) -> float:
+        """Bending stiffness E I at the root section, N m^2 (the load index uses it)."""
+        return float(self.material.E_Pa * self.area_moment_at(0.0))
+
+    def load_index(self, force_N: float | None = None) -> float:
+        """Load index P L^2 / (E I_root) of a tip force magnitude (default: this beam's load)."""
+        P = float(np.linalg.norm(self.tip_force_N)) if force_N is None else float(force_N)
+        return P * self.length_m**2 / self.root_EI_Nm2
+
+    def kirchhoff_warnings(self, modes: int = 5, tol_pct: float = 1.0) -> tuple[str, ...]:
+        """Where a Kirchhoff plate (the ``plate`` truths) misrepresents this beam, as warnings.
+
+        Kirchhoff theory neglects transverse shear and rotary inertia. By Timoshenko (and
+        Mindlin) theory they lower bending mode m of wavenumber k_m = beta_m / L by about
+        (k_m r)^2 (1 + E / (kappa G)) / 2 (r^2 = t^2 / 12, kappa = 5/6): 0.60 (t/L)^2 for
+        mode 1 and a factor beta_m^2 / beta_1^2 more for mode m (about 0.6 % at t = L/10 on
+        mode 1, 1 % at t = L/45 on mode 4). A warning when that exceeds ``tol_pct`` (%) for the
+        highest of ``modes`` modes. Across the width a Kirchhoff plate needs the width to exceed
+        the thickness: a section thicker than wide is a bar whose softer, lateral bending in the
+        plane of the planform a plate cannot have (at t/width = 0.2, the shipped narrow
+        strips, the plate stays within a few tenths of a percent of Euler-Bernoulli theory).
+
+        Parameters
+        ----------
+        modes : int
+            Bending modes the truth selects.
+        tol_pct : float
+            Estimated shear and rotary-inertia error that triggers a warning, %.
+        """
+        m = max(int(modes), 1)
+        roots = (1.8751040687, 4.6940911330, 7.8547574382, 10.9955407349)
+        beta = roots[m - 1] if m <= 4 else (m - 0.5) * np.pi
+        t, L = self.thickness_m, self.length_m
+        shear = 1.0 + self.material.E_Pa / (5.0 / 6.0 * self.material.G_Pa)
+        est = 100.0 * 0.5 * (beta * t / L) ** 2 / 12.0 * shear
+        out = []
+        advice = "use the 3D solid (prbdm truth --model solid, prbdm fit --truth-model solid)"
+        if est > tol_pct:
+            out.append(
+                f"thickness = {t:g} m is {t / L:.3g} L: past Kirchhoff plate theory for "
+                f"{m} mode{'s' if m > 1 else ''} (transverse shear and rotary inertia, which "
+                f"it neglects, lower mode {m} by "
+                f"{f'about {est:.2g} %' if est < 10 else 'far more than 10 %'}); {advice}"
+            )
+        b = 2.0 * float(self.half_width_m.min())
+        if t > b:
+            out.append(
+                f"thickness = {t:g} m exceeds the narrowest width {b:g} m: that section is a bar, "
+                f"not a plate (Kirchhoff theory needs t << width; its lateral, in-plane bending "
+                f"is softer than the plate's and absent from it); {advice}"
+            )
+        return tuple(out)
+
+    def with_tip_force(self, tip_force_N: np.ndarray) -> Beam:
+        """Return a copy with another tip force (N)."""
+        return Beam(
+            self.x_m, self.half_width_m, self.thickness_m, self.material,
+            np.asarray(tip_force_N, dtype=float), self.name, self.description,
+        )
+
+    def fingerprint(self) -> str:
+        """Return a stable SHA-256 hex digest of the beam's physical content (for caches)."""
+        import hashlib
+
+        d = beam_to_dict(self)
+        d.pop("name", None)
+        d.pop("description", None)
+        return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()
+
+
+def beam_to_dict(beam: Beam) -> dict[str, Any]:
+    """Return the beam-JSON mapping of ``beam`` (SI units)."""
+    m = beam.material
+    return {
+        "name": beam.name,
+        "description": beam.description,
+        "length": beam.length_m,
+        "x": [float(v) for v in beam.x_m],
+        "half_width": [float(v) for v in beam.half_width_m],
+        "thickness": beam.thickness_m,
+        "material": {"name": m.name, "E": m.E_Pa, "rho": m.rho_kg_m3, "nu": m.nu},
+        "tip_force": [float(v) for v in beam.tip_force_N],
+    }

@@ -1,0 +1,54 @@
+"""The beam material: linear elastic and isotropic, and the default steel AISI 4340."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..io.jsonfile import field_str
+from .checks import finite_positive
+
+__all__ = ["Material", "STEEL_4340"]
+
+
+@dataclass(frozen=True)
+class Material:
+    """Linear elastic isotropic material.
+
+    Attributes
+    ----------
+    name : str
+    E_Pa : float
+        Young's modulus in Pa.
+    rho_kg_m3 : float
+        Density in kg/m^3.
+    nu : float
+        Poisson's ratio (dimensionless, in (-1, 0.5)).
+    """
+
+    name: str = "steel AISI 4340"
+    E_Pa: float = 205e9
+    rho_kg_m3: float = 7850.0
+    nu: float = 0.28
+
+    def __post_init__(self) -> None:
+        """Validate the name and the constants; an error names the field and the value."""
+        # a control character makes the URDF/MJCF that carry the name unreadable XML
+        field_str("material.name", self.name)
+        finite_positive("material.E", self.E_Pa)
+        finite_positive("material.rho", self.rho_kg_m3)
+        if isinstance(self.nu, bool) or not isinstance(self.nu, (int, float, np.floating)):
+            raise BeamInputError(f"material.nu = {self.nu!r}: must be a number")
+        if not (math.isfinite(self.nu) and -1.0 < self.nu < 0.5):
+            raise BeamInputError(f"material.nu = {self.nu}: must be in (-1, 0.5)")
+
+    @property
+    def G_Pa(self) -> float:
+        """Shear modulus in Pa."""
+        return self.E_Pa / (2.0 * (1.0 + self.nu))
+
+
+STEEL_4340 = Material()

@@ -1,0 +1,148 @@
+"""A rotating rigid hub at the beam's root.
+
+Its description, its Pinocchio chain, and the frequencies and modes of a chain whose first
+joint has no spring.
+
+The hub turns about the bending axis y through its centre (the world origin); the beam root is
+clamped to it at ``radius_m`` along x. In the Pinocchio model the hub joint comes first
+(velocity index 0, no spring) and joint j + 1 of the beam follows as velocity index j + 1.
+
+The hub's rigid mode is taken out exactly rather than left to the eigensolver: with
+K = diag(0, K_f) the hub row of K phi = omega^2 M phi reads omega^2 (m_hh phi_h + m_hf phi_f) = 0,
+so the rigid mode is e_hub (omega = 0) and every flexible mode has phi_h = -m_hf phi_f / m_hh
+with K_f phi_f = omega^2 S phi_f, S = M_ff - m_fh m_hf / m_hh (the Schur complement, positive
+definite). The flexible problem keeps a diagonal K, so it goes through the package's scaled
+eigensolver and its guard; the rigid frequency is exactly 0, not a rounding of it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..chain.eigen import eig_scaled, modes_from_mass
+from ..errors import BeamInputError
+
+__all__ = ["Hub", "hub_chain", "hub_frequencies", "hub_modes", "schur_mass"]
+
+HUB_JOINT = "hub"
+
+
+def _number(field: str, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) \
+            or not math.isfinite(float(value)):
+        raise BeamInputError(f"{field} = {value!r}: must be a finite number")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class Hub:
+    """A rigid hub turning about y at the root of the beam.
+
+    Attributes
+    ----------
+    inertia_kg_m2 : float
+        Rotational inertia of the hub about its axis, kg m^2 (> 0; the beam's own inertia is
+        added by the chain).
+    radius_m : float
+        Distance from the hub axis to the beam's root along x, m (>= 0).
+    """
+
+    inertia_kg_m2: float
+    radius_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        """Check the inertia and the radius (BeamInputError naming the field)."""
+        J = _number("Hub inertia_kg_m2", self.inertia_kg_m2)
+        r = _number("Hub radius_m", self.radius_m)
+        if not J > 0.0:
+            raise BeamInputError(f"Hub inertia_kg_m2 = {self.inertia_kg_m2!r}: must be > 0 "
+                                 "(kg m^2)")
+        if r < 0.0:
+            raise BeamInputError(f"Hub radius_m = {self.radius_m!r}: must be >= 0 (m)")
+        object.__setattr__(self, "inertia_kg_m2", J)
+        object.__setattr__(self, "radius_m", r)
+
+
+def hub_chain(sections, lengths: np.ndarray, hub: Hub, name: str) -> tuple[pin.Model, int]:
+    """Build the link chain of ``sections`` (cut at ``lengths``, m) on a hub joint at the origin.
+
+    Returns the ``pinocchio.Model`` (gravity zero) and the tip frame id.
+    """
+    from .pin_chain import TIP_FRAME
+
+    n = lengths.size - 1
+    model = pin.Model()
+    model.name = name
+    eye = np.eye(3)
+    ident = pin.SE3.Identity()
+
+    def inertia(i: int) -> pin.Inertia:
+        c = sections.com_m[i] - np.array([sections.start_m[i], 0.0, 0.0])
+        return pin.Inertia(float(sections.mass_kg[i]), c, sections.inertia_com_kg_m2[i])
+
+    world = model.addBodyFrame("world", 0, ident, 0)
+    hid = model.addJoint(0, pin.JointModelRY(), ident, HUB_JOINT)
+    prev = model.addJointFrame(hid, world)
+    model.appendBodyToJoint(hid, pin.Inertia(0.0, np.zeros(3), hub.inertia_kg_m2 * eye), ident)
+    prev = model.addBodyFrame("hub_body", hid, ident, prev)
+    root = pin.SE3(eye, np.array([hub.radius_m, 0.0, 0.0]))
+    model.appendBodyToJoint(hid, inertia(0), root)
+    prev = model.addBodyFrame("link_0", hid, root, prev)
+    offset = hub.radius_m  # the first beam joint sits at radius + L_0 from the hub axis
+    for j in range(1, n + 1):
+        placement = pin.SE3(eye, np.array([offset + float(lengths[j - 1]), 0.0, 0.0]))
+        offset = 0.0
+        jid = model.addJoint(j, pin.JointModelRY(), placement, f"joint_{j}")
+        jf = model.addJointFrame(jid, prev)
+        model.appendBodyToJoint(jid, inertia(j), ident)
+        prev = model.addBodyFrame(f"link_{j}", jid, ident, jf)
+    tip_place = pin.SE3(eye, np.array([float(lengths[n]), 0.0, 0.0]))
+    tip = model.addBodyFrame(TIP_FRAME, n + 1, tip_place, prev)
+    model.gravity = pin.Motion.Zero()
+    return model, tip
+
+
+def schur_mass(M: np.ndarray) -> np.ndarray:
+    """Return S = M_ff - m_fh m_hf / m_hh: the flexible joints' mass with the hub free.
+
+    Of mass matrices (..., n+1, n+1) whose first coordinate is the hub, kg m^2; shape
+    (..., n, n).
+    """
+    m_hh = M[..., 0, 0]
+    m_fh = M[..., 1:, 0]
+    S = M[..., 1:, 1:] - m_fh[..., :, None] * m_fh[..., None, :] / m_hh[..., None, None]
+    return 0.5 * (S + np.swapaxes(S, -1, -2))
+
+
+def hub_frequencies(M: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
+                    squared: bool = False) -> np.ndarray:
+    """Return the frequencies of hub chains, rad/s ascending (omega^2 if ``squared``).
+
+    The rigid mode's exact 0 first, then the n flexible ones; ``M`` (n+1, n+1) or
+    (m, n+1, n+1), kg m^2; springs (n,) or (m, n), N m/rad.
+    """
+    s = 1.0 / np.sqrt(np.asarray(stiffness_Nm_per_rad, dtype=float))
+    flex = eig_scaled(schur_mass(M), s, squared)
+    return np.concatenate([np.zeros(flex.shape[:-1] + (1,)), flex], axis=-1)
+
+
+def hub_modes(M: np.ndarray, stiffness_Nm_per_rad: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Return the frequencies and mass-normalised modes of one hub chain.
+
+    Frequencies in rad/s, the rigid 0 first; modes as columns, shape (n+1, n+1); the chain has
+    mass matrix ``M`` (kg m^2) and springs (n,), N m/rad.
+    """
+    M = np.asarray(M, dtype=float)
+    omega_f, Phi_f = modes_from_mass(schur_mass(M)[None], stiffness_Nm_per_rad)
+    omega_f, Phi_f = omega_f[0], Phi_f[0]
+    n1 = M.shape[0]
+    Phi = np.zeros((n1, n1))
+    Phi[0, 0] = 1.0 / math.sqrt(M[0, 0])
+    Phi[1:, 1:] = Phi_f
+    Phi[0, 1:] = -(M[0, 1:] @ Phi_f) / M[0, 0]
+    return np.concatenate([[0.0], omega_f]), Phi

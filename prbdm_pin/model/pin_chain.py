@@ -1,0 +1,86 @@
+"""The Pinocchio side of a link chain.
+
+The ``pinocchio.Model`` built by hand from the links' sections, and the sections read back from
+a model (one parsed from a URDF file).
+
+Building through the API rather than rendering and parsing a URDF keeps ``build_model`` cheap
+inside optimisation loops; the model equals the one Pinocchio's URDF parser makes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..chain.sections import LinkSections
+from .urdf import JOINT_EFFORT_LIMIT_NM, JOINT_LIMIT_RAD, JOINT_VELOCITY_LIMIT_RAD_S
+
+__all__ = ["TIP_FRAME", "pin_chain", "sections_from_pin"]
+
+TIP_FRAME = "tip"
+
+
+def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
+    """Build the chain of links ``sections`` cut at ``lengths`` (m) through the Pinocchio API.
+
+    It is built frame for frame as Pinocchio's URDF parser builds it; returns the model and the
+    tip frame id.
+    """
+    n = lengths.size - 1
+    model = pin.Model()
+    model.name = name
+    eye = np.eye(3)
+
+    def inertia(i: int) -> pin.Inertia:
+        c = sections.com_m[i] - np.array([sections.start_m[i], 0.0, 0.0])
+        return pin.Inertia(float(sections.mass_kg[i]), c, sections.inertia_com_kg_m2[i])
+
+    ident = pin.SE3.Identity()
+    world = model.addBodyFrame("world", 0, ident, 0)
+    # a fixed-joint frame carrying an inertia adds it to its joint (here the universe)
+    clamp = model.addFrame(pin.Frame("clamp", 0, world, ident, pin.FrameType.FIXED_JOINT,
+                                     inertia(0)))
+    prev = model.addBodyFrame("link_0", 0, ident, clamp)
+    big = np.array([JOINT_EFFORT_LIMIT_NM])
+    vel = np.array([JOINT_VELOCITY_LIMIT_RAD_S])
+    lim = np.array([JOINT_LIMIT_RAD])
+    zero = np.zeros(1)
+    for j in range(1, n + 1):
+        placement = pin.SE3(eye, np.array([float(lengths[j - 1]), 0.0, 0.0]))
+        jid = model.addJoint(j - 1, pin.JointModelRY(), placement, f"joint_{j}",
+                             -big, big, -vel, vel, -lim, lim, zero, zero, zero)
+        jf = model.addJointFrame(jid, prev)
+        model.appendBodyToJoint(jid, inertia(j), ident)
+        prev = model.addBodyFrame(f"link_{j}", jid, ident, jf)
+    tip_place = pin.SE3(eye, np.array([float(lengths[n]), 0.0, 0.0]))
+    tf = model.addFrame(pin.Frame("tip_joint", n, prev, tip_place, pin.FrameType.FIXED_JOINT))
+    tip = model.addBodyFrame(TIP_FRAME, n, tip_place, tf)
+    model.gravity = pin.Motion.Zero()
+    return model, tip
+
+
+def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False
+                      ) -> LinkSections:
+    """Read the links' sections back from a Pinocchio model.
+
+    Mass (kg), COM (m, beam frame) and inertia (kg m^2) as the model holds them, for lengths
+    ``lengths`` (m); ``area_moment_m4`` is NaN (a URDF does not carry it).
+
+    On a hub model (``hub``) link 0 is the inertia of the ``clamp`` frame (the parser keeps a
+    fixed joint's child there) and link j that of Pinocchio joint j + 1.
+    """
+    n1 = lengths.size
+    ends = np.cumsum(lengths)
+    starts = ends - lengths
+    if hub:
+        links = [model.frames[model.getFrameId("clamp")].inertia,
+                 *(model.inertias[i + 1] for i in range(1, n1))]
+    else:
+        links = [model.inertias[i] for i in range(n1)]
+    mass = np.array([b.mass for b in links])
+    com = np.array([b.lever for b in links]) + starts[:, None] * [1, 0, 0]
+    inertia = np.array([b.inertia for b in links])
+    arrs = [starts, ends, mass, com, inertia, np.full(n1, np.nan)]
+    for a in arrs:
+        a.setflags(write=False)
+    return LinkSections(*arrs)

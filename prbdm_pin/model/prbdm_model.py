@@ -1,0 +1,309 @@
+"""PrbdmModel: a Pinocchio model of the link chain plus the joint springs it cannot hold.
+
+``build_model`` is called inside optimisation loops, so it builds the ``pinocchio.Model`` by hand
+through the Pinocchio API (:mod:`prbdm_pin.model.pin_chain`, no URDF rendering or parsing); the
+hand-built model equals the one Pinocchio's URDF parser makes from ``model.urdf``, which is
+rendered lazily on first access.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from ..chain import pin_dynamics as dyn
+from ..chain.eigen import eig_scaled
+from ..chain.layout import validate_lengths
+from ..chain.sections import LinkSections, link_sections_unchecked
+from ..chain.statics import static_deflection_planar
+from ..chain.stiffness import validate_stiffness
+from ..errors import BeamInputError
+from ..io.atomic import atomic_write_text
+from ..member.geometry import Beam
+from ..options.choices import MIN_FRACTION
+from .hub import HUB_JOINT, Hub, hub_chain, hub_frequencies, hub_modes
+from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
+from .urdf import read_springs, render_urdf
+
+__all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
+
+
+@dataclass(frozen=True, eq=False)
+class PrbdmModel:
+    """A pseudo-rigid-body dynamic model: n + 1 rigid links, n revolute joints about y with springs.
+
+    Attributes
+    ----------
+    beam : Beam or None
+        The source beam (None for a model read from a URDF file).
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    stiffness_Nm_per_rad : ndarray, shape (n,)
+        Joint spring stiffness, N m/rad.
+    sections : LinkSections
+        Link rigid-body properties (from a URDF file: mass, COM and inertia as written there;
+        ``area_moment_m4`` is NaN because a URDF does not carry it).
+    pin_model : pinocchio.Model
+        The chain; joint j + 1 of Pinocchio is our joint j. Gravity is zero (no gravity unless
+        a user sets ``pin_model.gravity``).
+    tip_frame_id : int
+        The frame at the free end of link n.
+    hub : Hub or None
+        A rotating rigid hub at the root (:class:`prbdm_pin.model.hub.Hub`), or None for the
+        clamped beam. With a hub, Pinocchio's velocity index 0 is the hub joint (no spring) and
+        beam joint j is index j + 1: ``pin_model.nv == n_joints + 1``; :meth:`mass_matrix`,
+        :meth:`stiffness_matrix`, the tip kinematics and the frequencies and modes cover all
+        ``nv`` coordinates (frequencies: the hub's rigid mode, exactly 0, first). A hub model
+        has no static equilibrium under a tip force (the hub would turn); its URDF carries
+        the hub as the revolute joint ``hub``.
+
+    As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
+    method that computes takes ``data``. Without one it uses a built-in workspace made on first
+    use, which is for one thread only; a thread or process of its own makes its workspace with
+    :meth:`new_data` and passes it in (the fit and batch workers are processes that build their
+    own models, so they share none).
+    """
+
+    beam: Beam | None
+    lengths_m: np.ndarray
+    stiffness_Nm_per_rad: np.ndarray
+    sections: LinkSections
+    pin_model: pin.Model
+    tip_frame_id: int
+    hub: Hub | None = None
+    _cache: dict = field(default_factory=dict, init=False, repr=False)
+
+    @property
+    def n_joints(self) -> int:
+        """Number of spring joints n (``pin_model.nv`` less the hub joint, if any)."""
+        return int(self.pin_model.nv) - (self.hub is not None)
+
+    @property
+    def urdf(self) -> str:
+        """The URDF string (rendered from ``urdf_templates/`` on first access, then cached)."""
+        text = self._cache.get("urdf")
+        if text is None:
+            name = "prbdm" if self.beam is None else f"prbdm_{self.beam.name}"
+            text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name,
+                               hub=self.hub)
+            self._cache["urdf"] = text
+        return text
+
+    def write_urdf(self, path: str | os.PathLike) -> Path:
+        """Write :attr:`urdf` to ``path`` atomically."""
+        return atomic_write_text(path, self.urdf)
+
+    def new_data(self) -> pin.Data:
+        """Return a fresh Pinocchio workspace for this model."""
+        return self.pin_model.createData()
+
+    @property
+    def default_data(self) -> pin.Data:
+        """The built-in workspace the methods use when given no ``data`` (one thread only)."""
+        d = self._cache.get("data")
+        if d is None:
+            d = self._cache["data"] = self.pin_model.createData()
+        return d
+
+    def _workspace(self, data: pin.Data | None) -> pin.Data:
+        return self.default_data if data is None else data
+
+    def _no_hub(self, what: str) -> None:
+        if self.hub is not None:
+            raise BeamInputError(f"hub = {self.hub!r}: {what} is not defined for a model with "
+                                 "a hub; build it without the hub")
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """Return K = diag(stiffness), N m/rad, shape (nv, nv).
+
+        With a hub the first row and column are zero: the hub joint has no spring.
+        """
+        if self.hub is None:
+            return np.diag(self.stiffness_Nm_per_rad)
+        return np.diag(np.concatenate([[0.0], self.stiffness_Nm_per_rad]))
+
+    def mass_matrix(self, q: np.ndarray | None = None, data: pin.Data | None = None) -> np.ndarray:
+        """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
+        return dyn.mass_matrix(self.pin_model, self._workspace(data), q)
+
+    @property
+    def _s(self) -> np.ndarray:
+        s = self._cache.get("s")
+        if s is None:
+            s = self._cache["s"] = 1.0 / np.sqrt(self.stiffness_Nm_per_rad)
+        return s
+
+    def natural_frequencies(
+        self, q: np.ndarray | None = None, squared: bool = False, data: pin.Data | None = None
+    ) -> np.ndarray:
+        """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
+        if self.hub is not None:
+            return hub_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
+        return eig_scaled(self.mass_matrix(q, data), self._s, squared)
+
+    def natural_frequencies_batch(
+        self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False,
+        data: pin.Data | None = None,
+    ) -> np.ndarray:
+        """Frequencies at the poses in the rows of ``Q`` (rad), rad/s, shape (m, n).
+
+        ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
+        """
+        d = self._workspace(data)
+        if self.hub is not None:
+            k = self.stiffness_Nm_per_rad if stiffness is None else \
+                dyn.checked_stiffness(stiffness, self.n_joints, np.shape(Q)[0])
+            return hub_frequencies(dyn.mass_matrices(self.pin_model, d, Q), k, squared)
+        if stiffness is not None:
+            return dyn.natural_frequencies_batch(self.pin_model, d, Q, stiffness, squared)
+        return eig_scaled(dyn.mass_matrices(self.pin_model, d, Q), self._s, squared)
+
+    def modes(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
+        if self.hub is not None:
+            return hub_modes(self.mass_matrix(q, data), self.stiffness_Nm_per_rad)
+        return dyn.modes(self.pin_model, self._workspace(data), self.stiffness_Nm_per_rad, q)
+
+    def tip_position(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
+        """World position of the tip, m, shape (3,)."""
+        return dyn.tip_position(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def tip_jacobian(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
+        """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
+        return dyn.tip_jacobian(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def tip_kinematics(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Tip position (m, (3,)) and its linear Jacobian (m/rad, (3, n)), one kinematics pass."""
+        return dyn.tip_kinematics(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def static_deflection(
+        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Equilibrium under a dead tip force (N, world): joint angles (rad), tip position (m).
+
+        Raises SolveError when no equilibrium is found, BeamInputError for a hub model (the hub
+        would turn; :func:`prbdm_pin.linearize` holds it with a trim torque).
+        """
+        self._no_hub("a static equilibrium under a tip force alone")
+        q = static_deflection_planar(
+            self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
+        )
+        return q, self.tip_position(q, data)
+
+    def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
+        """Return the same chain with other springs (shares ``pin_model``)."""
+        k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
+        return PrbdmModel(
+            self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
+            self.hub,
+        )
+
+
+def build_model(
+    beam: Beam,
+    lengths_m: np.ndarray,
+    stiffness_Nm_per_rad: np.ndarray,
+    *,
+    min_fraction: float = MIN_FRACTION,
+    hub: Hub | None = None,
+) -> PrbdmModel:
+    """Build a PRBDM of ``beam`` with the given link lengths and joint springs.
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : array_like, shape (n+1,)
+        Link lengths in m, n >= 1: summing to the beam length (relative 1e-9), each in
+        [0.02 L, 0.98 L].
+    stiffness_Nm_per_rad : array_like, shape (n,)
+        Joint spring stiffness, N m/rad (finite, > 0).
+    min_fraction : float
+        Lower bound on each link as a fraction of L (Eq. 15's 0.02). Fine reference chains
+        (e.g. 32 equal segments with half segments at the ends) need a smaller value.
+    hub : Hub, optional
+        A rotating rigid hub the root is clamped to (see :class:`PrbdmModel`); default None,
+        the beam clamped to the world.
+
+    Raises
+    ------
+    BeamInputError
+        Naming the offending field and value.
+    """
+    if not isinstance(beam, Beam):
+        raise BeamInputError(f"beam = {beam!r}: must be a Beam")
+    lengths = validate_lengths(beam, lengths_m, min_fraction)
+    lengths.setflags(write=False)
+    k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
+    sections = link_sections_unchecked(beam, lengths)
+    if hub is None:
+        model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
+        return PrbdmModel(beam, lengths, k, sections, model, tip)
+    if not isinstance(hub, Hub):
+        raise BeamInputError(f"hub = {hub!r}: must be a prbdm_pin.Hub or None")
+    model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
+    return PrbdmModel(beam, lengths, k, sections, model, tip, hub)
+
+
+def load_urdf(path: str | os.PathLike) -> PrbdmModel:
+    """Read a PRBDM URDF file, springs included.
+
+    The file is one written by :attr:`PrbdmModel.urdf` or the URDF export; ``path`` is a str or
+    path-like. A file with the revolute joint ``hub`` reads as a hub model (``hub`` set: the
+    inertia of link ``hub_body``, the radius of the ``clamp`` offset).
+
+    The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
+    ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'
+    ``<dynamics damping>`` (N m s/rad; :func:`prbdm_pin.simulate` takes its damping from its own
+    arguments, not from there).
+
+    Gravity: URDF carries none and Pinocchio's parser gives every model its default gravity,
+    -9.81 m/s^2 along z (so does ``pinocchio.buildModelFromUrdf``). The PRBDM has no gravity, so
+    this loader sets ``pin_model.gravity`` to zero, as :func:`build_model` does; set it back
+    (``pin_model.gravity = pinocchio.Motion(np.array([0, 0, -9.81, 0, 0, 0]))``) to simulate
+    with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
+    ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
+    """
+    from .urdf_checks import check_sections, check_urdf, hub_inertia, read_urdf_text
+
+    p = Path(path)
+    what = f"urdf file {str(p)!r}"
+    text = read_urdf_text(p)
+    n = check_urdf(text, what)
+    try:
+        model = pin.buildModelFromXML(text)
+    except (RuntimeError, ValueError) as exc:
+        raise BeamInputError(f"{what}: Pinocchio cannot parse it ({exc})") from None
+    model.gravity = pin.Motion.Zero()
+    if not model.existFrame(TIP_FRAME):
+        raise BeamInputError(f"{what}: has no {TIP_FRAME!r} link")
+    if model.nv != n:
+        raise BeamInputError(f"{what}: {n} revolute joints but a chain of {model.nv} "
+                             "(every revolute joint must be on the chain to the tip)")
+    tip = model.getFrameId(TIP_FRAME)
+    lengths = dyn.planar_lengths(model, tip)
+    hub = None
+    if model.njoints > 2 and model.names[1] == HUB_JOINT:
+        # the first offset is the hub's (0); the second is the radius plus link 0
+        if not model.existFrame("clamp"):
+            raise BeamInputError(f"{what}: a joint 'hub' but no fixed joint 'clamp' to link_0")
+        radius = float(model.frames[model.getFrameId("clamp")].placement.translation[0])
+        hub = Hub(hub_inertia(text, what), radius)
+        lengths = np.concatenate([[lengths[1] - hub.radius_m], lengths[2:]])
+    lengths.setflags(write=False)
+    names = [model.names[j] for j in range(1 + (hub is not None), model.njoints)]
+    k = validate_stiffness(read_springs(text, names), len(names))
+    sections = sections_from_pin(model, lengths, hub is not None)
+    check_sections(what, lengths, sections.mass_kg)
+    out = PrbdmModel(None, lengths, k, sections, model, tip, hub)
+    out._cache["urdf"] = text
+    return out

@@ -1,0 +1,110 @@
+"""Enumerated choices of the fit, the truth and the exports, and the defaults of the fit.
+
+Each set is written here once, as a ``str`` enumeration free of numpy and the numerics, so that
+the command line lists them in ``prbdm COMMAND --help`` without loading either; the modules that
+act on a choice import it from here. A member equals its string (``Objective.EIGEN == "eigen"``),
+so a user may pass either.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+__all__ = [
+    "Choice",
+    "Objective",
+    "StiffnessKind",
+    "EigenNorm",
+    "DeflectionNorm",
+    "OBJECTIVES",
+    "STIFFNESS_KINDS",
+    "EIGEN_NORMS",
+    "DEFLECTION_NORMS",
+    "DEFAULT_EIGEN_NORM",
+    "TRUTH_MODELS",
+    "FORMATS",
+    "EXPORT_DAMPING_FORMS",
+    "DAMPING_FORMS",
+    "FIXED_STEP_METHODS",
+    "IVP_METHODS",
+    "XI_RAD",
+    "EPS_RAD",
+    "PARETO_EPS_RAD",
+    "MIN_FRACTION",
+    "LINK_FLOOR_FRACTION",
+]
+
+
+class Choice(str, Enum):
+    """A named choice that is also its string (JSON and f-strings see the value)."""
+
+    def __str__(self) -> str:
+        """Return the choice's string, as the command line and the JSON files spell it."""
+        return str(self.value)
+
+    @classmethod
+    def values(cls) -> tuple[str, ...]:
+        """Return the allowed strings, in declaration order."""
+        return tuple(m.value for m in cls)
+
+
+class Objective(Choice):
+    """What a fit minimises: Eq. 17, Eq. 19 or Eq. 27."""
+
+    EIGEN = "eigen"
+    DEFLECTION = "deflection"
+    COMBINED = "combined"
+
+
+class StiffnessKind(Choice):
+    """One SCF per pose on Eq. 14 (``paper``), or one factor per joint (``joint``)."""
+
+    PAPER = "paper"
+    JOINT = "joint"
+
+
+class EigenNorm(Choice):
+    """The eigen error per pose: Eq. 16's l2 norm, or the rms of the per-mode relative errors."""
+
+    PAPER = "paper"
+    RELATIVE = "relative"
+
+
+class DeflectionNorm(Choice):
+    """What a tip error is divided by: the truth tip position (Eq. 19) or its displacement."""
+
+    POSITION = "position"
+    DISPLACEMENT = "displacement"
+
+
+OBJECTIVES = Objective.values()
+STIFFNESS_KINDS = StiffnessKind.values()
+EIGEN_NORMS = EigenNorm.values()
+DEFLECTION_NORMS = DeflectionNorm.values()
+# the eigen norm of fit and fit_pareto: the relative norm keeps every mode in view and gives
+# the better model for dynamics (scripts/dynamic_accuracy.py compares the two; README)
+DEFAULT_EIGEN_NORM = EigenNorm.RELATIVE.value
+# finite-element truth models (``truth.compute_truth``)
+TRUTH_MODELS = ("plate", "plate-morley", "solid", "beam")
+# files ``export_model`` writes
+FORMATS = ("urdf", "mjcf", "json")
+# joint damping an export carries: C = beta K, or every mode the same ratio (JSON only)
+EXPORT_DAMPING_FORMS = ("stiffness", "modal")
+
+# joint damping forms of a simulation (``prbdm_pin.simulation.damping``)
+DAMPING_FORMS = ("modal", "eq5c", "stiffness")
+# time integrators: fixed-step schemes of our own, and scipy's solve_ivp methods
+FIXED_STEP_METHODS = ("gauss", "exponential", "trapezoidal")
+IVP_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+# the pose sweep of Eqs. 10-11: first pose offset and step, rad (the Pareto fit takes the
+# paper's finer Pareto step)
+XI_RAD = 0.05
+EPS_RAD = 0.1
+PARETO_EPS_RAD = 0.01
+# Eq. 15's lower bound on every link length, a fraction of the beam length
+MIN_FRACTION = 0.02
+
+# Shortest link a file may hold, a fraction of the beam length: at 1e-5 L the frequencies of a
+# 2R chain still solve to 1e-6 relative; at 1e-6 L cond(K^-1/2 M K^-1/2) passes 1e10.
+LINK_FLOOR_FRACTION = 1e-5

@@ -1,0 +1,52 @@
+"""Damping of the plant: the package's damping forms, and their hub-model versions.
+
+The damping matrix is built from M at the linearisation pose and the joint springs, as
+:func:`prbdm_pin.simulate` builds it (the load and gravity stiffness do not enter it). Without a
+hub it is :func:`prbdm_pin.simulation.damping.damping_matrix` itself. With a hub, the hub joint has
+no spring
+and the chain has a rigid mode at omega = 0; the ratios ``damping_ratio`` (one, or one per
+flexible mode) go to the n flexible modes only and the rigid mode stays undamped:
+
+- ``"modal"``: C = M Phi_f diag(2 xi_k omega_k) Phi_f^T M over the flexible modes Phi_f (the
+  rigid mode is taken out exactly, :mod:`.hub`, so nothing divides by its zero frequency);
+- ``"stiffness"``: C = beta K with beta = 2 xi_1 / omega_1, omega_1 the lowest flexible
+  frequency; K's hub row is zero, so the rigid mode is undamped here too;
+- ``"eq5c"`` is per beam joint and has no hub version: refused.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..model.hub import hub_modes
+from .damping import DAMPING_FORMS, damping_matrix, damping_ratios
+
+__all__ = ["plant_damping"]
+
+
+def plant_damping(model, M: np.ndarray, damping_ratio: float | np.ndarray, kind: str
+                  ) -> np.ndarray:
+    """Return the damping matrix (N m s/rad, (nv, nv)) of ``model``.
+
+    ``M`` is the mass matrix (kg m^2) at the linearisation pose; ``kind`` the form ("modal",
+    "stiffness", "eq5c").
+    """
+    if kind not in DAMPING_FORMS:
+        raise BeamInputError(f"damping = {kind!r}: must be one of {', '.join(DAMPING_FORMS)}")
+    if model.hub is None:
+        return damping_matrix(M, model.stiffness_matrix(), damping_ratio, kind)
+    if kind == "eq5c":
+        raise BeamInputError("damping = 'eq5c': the paper's per-joint form has no hub version; "
+                             "use 'modal' or 'stiffness' with a hub")
+    n = model.n_joints
+    xi = damping_ratios(damping_ratio, n)
+    omega, Phi = hub_modes(M, model.stiffness_Nm_per_rad)
+    if kind == "stiffness":
+        if np.any(xi != xi[0]):
+            raise BeamInputError(f"damping_ratio = {xi.tolist()}: the stiffness form takes one "
+                                 "ratio (the lowest flexible mode's)")
+        return (2.0 * xi[0] / omega[1]) * model.stiffness_matrix()
+    MP = M @ Phi[:, 1:]
+    C = (MP * (2.0 * xi * omega[1:])) @ MP.T
+    return 0.5 * (C + C.T)

@@ -1,0 +1,1 @@
+"""Figures of members, chains and fits (matplotlib, written atomically)."""

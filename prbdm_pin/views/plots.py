@@ -1,0 +1,173 @@
+"""Figures of a fit.
+
+The planform with its links and joints (paper Figs. 5, 7, 9, 12), SCF against joint angle
+(Figs. 8, 10), the Pareto front with its knee (Fig. 11). Every function writes a PNG atomically
+and returns its path.
+
+matplotlib is imported lazily and without pyplot: each figure is a ``Figure`` on its own Agg
+canvas, so no backend is chosen and no figure manager holds it.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..io.atomic import atomic_path
+from ..options.choices import MIN_FRACTION
+
+__all__ = ["plot_planform", "plot_scf", "plot_pareto", "new_figure", "pyplot", "save_figure",
+           "save_png"]
+
+DPI = 120
+
+
+def pyplot():
+    """``matplotlib.pyplot`` on the Agg backend (no display needed)."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def new_figure(figsize_in: tuple[float, float]):
+    """Make a matplotlib Figure of ``figsize_in`` (width, height; inches) on its own Agg canvas.
+
+    Neither pyplot nor a backend is loaded: the figure is not managed by any window manager,
+    so nothing needs closing and no display is looked for.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize_in, dpi=DPI)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def save_png(fig, path: str | os.PathLike, bbox_inches: str | None = None) -> Path:
+    """Write ``fig`` as a PNG (``DPI``) to ``path`` atomically; the figure stays open.
+
+    ``bbox_inches="tight"`` trims the margins; the default keeps the figure's own size.
+    """
+    p = Path(path)
+    with atomic_path(p) as tmp:
+        fig.savefig(tmp, format="png", dpi=DPI, bbox_inches=bbox_inches)
+    return p
+
+
+def save_figure(fig, path: str | os.PathLike) -> Path:
+    """Write ``fig`` as a PNG (``DPI``) cropped to its artists to ``path`` atomically.
+
+    The crop is that of ``bbox_inches="tight"``; a pyplot figure is closed.
+    """
+    import matplotlib
+
+    p = Path(path)
+    try:
+        # "tight" lays the figure out in a dry-run draw before the real one; the tight box
+        # measured with the canvas's renderer, without that draw, is the same box
+        fig.set_dpi(DPI)
+        bbox = fig.get_tightbbox(fig.canvas.get_renderer())
+        bbox = bbox.padded(matplotlib.rcParams["savefig.pad_inches"])
+        with atomic_path(p) as tmp:
+            fig.savefig(tmp, format="png", dpi=DPI, bbox_inches=bbox)
+    finally:
+        plt = sys.modules.get("matplotlib.pyplot")
+        if plt is not None:
+            plt.close(fig)
+    return p
+
+
+def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
+    """Plot the planform (m) with joint lines, link spans and centres of mass.
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : ndarray, shape (n+1,)
+        Link lengths, m.
+    path : path-like
+        PNG to write.
+    """
+    from ..chain.sections import link_sections
+
+    lengths = np.asarray(lengths_m, dtype=float)
+    # any fitted layout, also one with links below Eq. 15's default 0.02 L (--min-link)
+    sec = link_sections(beam, lengths,
+                        min_fraction=min(MIN_FRACTION, 0.5 * float(lengths.min()) / beam.length_m))
+    fig = new_figure((7, 4))
+    ax = fig.subplots()
+    x, w = beam.x_m, beam.half_width_m
+    # a width step is two vertices at one x: fill_between and the outline draw it as a jump
+    ax.fill_between(x, -w, w, color="0.85", label="planform")
+    ax.plot(np.r_[x, x[::-1], x[:1]], np.r_[w, -w[::-1], w[:1]], color="0.3", lw=1)
+    joints = np.cumsum(lengths)[:-1]
+    wmax = float(np.max(w))
+    for j, xj in enumerate(joints):
+        ax.axvline(xj, color="tab:red", lw=1.2, ls="--")
+        ax.annotate(f"J{j + 1}", (xj, 1.05 * wmax), ha="center", color="tab:red")
+    ax.plot(sec.com_m[:, 0], sec.com_m[:, 1], "o", color="tab:blue", label="link centre of mass")
+    for i in range(lengths.size):
+        ax.annotate(f"{lengths[i]:.3f} m\n{sec.mass_kg[i]:.2f} kg",
+                    (0.5 * (sec.start_m[i] + sec.end_m[i]), -1.25 * wmax), ha="center",
+                    fontsize=7)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_ylim(-1.5 * wmax, 1.2 * wmax)
+    ax.set_title(title or f"{beam.name}: {lengths.size - 1}R PRBDM")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+    return save_figure(fig, path)
+
+
+def plot_scf(result, path) -> Path:
+    """Plot SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis.
+
+    The exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted.
+    """
+    ang = np.degrees(np.asarray(result.poses_rad)[:, 0])
+    k = np.asarray(result.factors)
+    fig = new_figure((6, 4))
+    ax = fig.subplots()
+    ax.plot(ang, k, "o-", color="tab:blue")
+    ax.axhline(result.scf_mean, color="0.5", ls=":", lw=1, label="SCF_mean (not exported)")
+    pose = result.export_pose_rad
+    if pose is not None:
+        i = int(np.argmin(np.abs(np.asarray(result.poses_rad)[:, 0] - pose[0])))
+        ax.plot(ang[i], k[i], "o", ms=12, mfc="none", color="tab:red",
+                label=f"exported: pose {i}, k = {k[i]:.4g}")
+    ax.legend(loc="best", fontsize=7)
+    ax.set_xlabel("joint angle (deg)")
+    ax.set_ylabel("stiffness correction factor k_i")
+    ax2 = ax.twinx()
+    ax2.plot(ang, np.asarray(result.scf_deviation_pct), "s--", color="tab:orange", ms=3)
+    ax2.set_ylabel("P_i: change from mean (%)")
+    ax.set_title(f"{result.joints}R, SCF_mean = {result.scf_mean:.4g}")
+    return save_figure(fig, path)
+
+
+def plot_pareto(pareto, path) -> Path:
+    """Plot the front (eigen %, deflection %) with the knee of Eq. 27 starred.
+
+    ``pareto`` may be a list of ParetoResults, drawn together (as the paper's Fig. 11).
+    """
+    fronts = list(pareto) if isinstance(pareto, (list, tuple)) else [pareto]
+    fig = new_figure((6, 4.5))
+    ax = fig.subplots()
+    for i, p in enumerate(fronts):
+        F = np.asarray(p.F_pct)
+        color = f"C{i}"
+        ax.plot(F[:, 0], F[:, 1], ".", color=color, label=f"{p.joints}R front")
+        k = p.knee_index
+        ax.plot(F[k, 0], F[k, 1], "*", ms=14, color=color, markeredgecolor="k",
+                label=f"{p.joints}R knee: {np.hypot(*F[k]):.3g} %")
+    ax.set_xlabel("eigen loss (%)")
+    ax.set_ylabel(f"deflection loss (%, {fronts[0].deflection_norm})")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.legend()
+    return save_figure(fig, path)
