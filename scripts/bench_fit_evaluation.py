@@ -106,12 +106,10 @@ def measure(tree: str, name: str, target: dict, calls: int, runs: int) -> dict:
 
     beam = pp.load_beam(Path(tree) / "examples" / "beams" / f"{name}.json")
     o = FitOptions(objective="combined", stiffness="joint")
-    p = make_problem(beam, pp.FitTarget(**target), JOINTS, o.frequencies, o.stiffness.value,
-                     o.xi_rad, o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
-                     o.eigen_norm.value)
+    p = make_problem(beam, pp.FitTarget(**target), JOINTS, o)
     _, lengths, factors = draw_starts(p, 1, 0)[0]
     x = np.r_[unit_from_lengths(lengths, p.length_m, p.min_fraction), np.log(factors)]
-    R = JointResiduals(FitSpec(p, "combined", o.deflection_norm.value, o.max_nfev))
+    R = JointResiduals(FitSpec(p, o.objective, o.max_nfev))
     lengths, s = R.design(x)
     sec = planar_sections(beam, lengths)
     K0 = finite_segment_stiffness_unchecked(beam, lengths)

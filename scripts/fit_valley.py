@@ -69,10 +69,8 @@ def main() -> None:
     truth = pp.compute_truth(beam, model="beam", modes=6, error_tol_pct=None)
     target = pp.target_from_truth(truth, beam.tip_force_N)
     o = FitOptions().replace(objective="combined", stiffness="joint")
-    problem = make_problem(beam, target, args.joints, o.frequencies, "joint", o.xi_rad,
-                           o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
-                           o.eigen_norm.value)
-    spec = FitSpec(problem, "combined", o.deflection_norm.value, args.cap)
+    problem = make_problem(beam, target, args.joints, o)
+    spec = FitSpec(problem, o.objective, args.cap)
     L = beam.length_m
     lines = [f"# The combined {args.joints}R joint fit of `{args.beam}` (1D beam truth)", "",
              f"Each start of `fit(..., starts=16, seed=0)`: trf at the cap of {args.cap} "

@@ -174,7 +174,8 @@ def test_a_design_below_the_default_bound_is_evaluated():
 
     beam = load_beam(BEAM)
     target = FitTarget(np.array([10.0, 60.0]), beam.tip_force_N)
-    problem = make_problem(beam, target, 2, stiffness="joint", min_fraction=0.005)
+    problem = make_problem(beam, target, 2, FitOptions(stiffness="joint", min_fraction=0.005,
+                                                       eigen_norm="paper"))
     lengths = np.array([0.01, 0.5, 0.49])
     ev = evaluate(problem, lengths, np.ones(2), deflection=False)
     EI = 205e9 * 0.05 * 0.01**3 / 12

@@ -207,7 +207,7 @@ def _kkt_rows_by_joint_jacobian(problem, z):
     """[J^T lambda, ln w] with J = d ln w/dx from the fit's analytic residual Jacobian."""
     n = problem.n_joints
     x, lam = z[: 2 * n], z[2 * n:]
-    R = JointResiduals(FitSpec(problem, "eigen", "position", 100))
+    R = JointResiduals(FitSpec(problem, "eigen", 100))
     r, Jr = R.residuals(x), R.jac(x)  # r = d (w - f): weights d per mode
     w = r / R.d + R.f
     return np.r_[(Jr / (R.d * w)[:, None]).T @ lam, np.log(w)]

@@ -28,9 +28,7 @@ def target():
 
 def _spec(target, n=3, max_nfev=400):
     o = pp.FitOptions(objective="combined", stiffness="joint")
-    problem = make_problem(TAPERED, target, n, o.frequencies, "joint", o.xi_rad, o.eps_rad,
-                           o.squared, o.joint_sweep, o.min_fraction, o.eigen_norm.value)
-    return FitSpec(problem, "combined", o.deflection_norm.value, max_nfev)
+    return FitSpec(make_problem(TAPERED, target, n, o), o.objective, max_nfev)
 
 
 def test_a_start_reaches_the_optimum_scipys_trf_reaches(target):

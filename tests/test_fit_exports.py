@@ -23,6 +23,7 @@ from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.results import FitResult
 from prbdm_pin.fitting.target import FitTarget, target_from_truth
 from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.options.objects import FitOptions
 
 BEAMS = "examples/beams"
 # prototype truth for reference-random.json (rad/s)
@@ -219,7 +220,8 @@ def test_each_solver_path_minimises_the_relative_norm(reference, stiffness, obje
     assert b.eigen_loss_pct == pytest.approx(hand, rel=1e-10)
     l2 = np.linalg.norm(a.omega_model_rad_s - t, axis=1) / np.linalg.norm(t)
     assert a.eigen_loss_pct == pytest.approx(100 * np.mean(l2), rel=1e-10)
-    prob = make_problem(reference, target, 3, 3, stiffness, eps=0.25, eigen_norm="relative")
+    prob = make_problem(reference, target, 3,
+                        FitOptions(frequencies=3, stiffness=stiffness, eps_rad=0.25))
     assert _descent(prob, b.lengths_m, b.factors, objective, h=2e-4) < 1e-5
     assert _descent(prob, a.lengths_m, a.factors, objective, h=2e-4) > 1e-3
 
@@ -233,7 +235,7 @@ def test_paper_relative_2r_fit_reaches_the_grid_optimum(reference):
     from prbdm_pin.fitting.problem import lengths_from_unit, unit_frequencies
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    prob = make_problem(reference, target, 2, 2, "paper", eigen_norm="relative")
+    prob = make_problem(reference, target, 2, FitOptions(frequencies=2, stiffness="paper"))
     t = REF_OMEGA[:2]
 
     def loss(u):
@@ -266,7 +268,7 @@ def test_paper_relative_2r_fit_reaches_the_grid_optimum(reference):
 
 def test_batch_losses_honour_the_relative_norm(reference):
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    prob = make_problem(reference, target, 3, 3, "paper", eigen_norm="relative")
+    prob = make_problem(reference, target, 3, FitOptions(frequencies=3, stiffness="paper"))
     L = np.array([[0.2, 0.3, 0.25, 0.25], [0.1, 0.2, 0.3, 0.4]])
     k = np.exp(np.random.default_rng(0).uniform(4, 6, (2, prob.n_poses)))
     e = batch_losses(prob, L, k, deflection=False).eigen_errors

@@ -21,6 +21,7 @@ from prbdm_pin.fitting.problem import make_problem, unit_frequencies
 from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.member.random_beams import random_beam
 from prbdm_pin.model.prbdm_model import build_model
+from prbdm_pin.options.objects import FitOptions
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
 
@@ -55,7 +56,8 @@ def test_stacked_designs_equal_single_designs_and_the_pinocchio_path(stiffness):
     rng = np.random.default_rng(5)
     for beam in _beams()[:3]:
         target = FitTarget(REF_OMEGA, beam.tip_force_N)
-        prob = make_problem(beam, target, 4, 4, stiffness, joint_sweep=True)
+        prob = make_problem(beam, target, 4, FitOptions(frequencies=4, stiffness=stiffness,
+                                                       joint_sweep=True, eigen_norm="paper"))
         L = sample_lengths(rng, beam.length_m, 5, 6)
         M, K0 = chain_mass_matrices(prob, L)
         _, W = fast_unit_frequencies(prob, L)
@@ -144,7 +146,8 @@ def test_batch_losses_equal_the_pinocchio_path(stiffness):
     tip = np.array([0.98 * L, 0.0, -0.14 * L])
     target = FitTarget(REF_OMEGA, beam.tip_force_N, tip, tip - [L, 0.0, 0.0])
     for n in (2, 4):
-        prob = make_problem(beam, target, n, n, stiffness, eps=0.05)
+        prob = make_problem(beam, target, n, FitOptions(frequencies=n, stiffness=stiffness,
+                                                       eps_rad=0.05, eigen_norm="paper"))
         lengths = sample_lengths(rng, L, n + 1, 12)
         if stiffness == "paper":
             _, _, W = unit_frequencies(prob, np.full(n + 1, L / (n + 1)))

@@ -16,6 +16,7 @@ from prbdm_pin.fitting import LengthRepair, ParetoProblem, pareto_objectives_bat
 from prbdm_pin.fitting.pool import fit_pool
 from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.options.objects import FitOptions
 from prbdm_pin.workers import BLAS_THREAD_VARS, pool_scope
 
 BEAMS = "examples/beams"
@@ -32,7 +33,8 @@ def problem():
     L = beam.length_m
     tip = np.array([L * (1 - 0.056433), 0.0, -0.301721 * L])
     target = FitTarget(omega, beam.tip_force_N, tip, tip - np.array([L, 0.0, 0.0]))
-    return make_problem(beam, target, 2, 2, "paper", eps=0.1)
+    return make_problem(beam, target, 2, FitOptions(frequencies=2, stiffness="paper", eps_rad=0.1,
+                                                   eigen_norm="paper"))
 
 
 def _rows(problem, bounds, k=5):
@@ -44,12 +46,14 @@ def _rows(problem, bounds, k=5):
 
 def test_the_pareto_problem_pickles_and_evaluates_the_same(problem):
     bounds = (-1.0, 1.0)
-    pp = ParetoProblem(problem, bounds, deflection_norm="displacement")
+    problem = make_problem(problem.beam, problem.target, 2,
+                           problem.options.replace(deflection_norm="displacement"))
+    pp = ParetoProblem(problem, bounds)
     copy = pickle.loads(pickle.dumps(pp))
     X = _rows(problem, bounds)
     F = pp.evaluate(X, return_as_dictionary=True)["F"]
     assert np.array_equal(copy.evaluate(X, return_as_dictionary=True)["F"], F)
-    assert np.array_equal(F, pareto_objectives_batch(problem, X, deflection_norm="displacement"))
+    assert np.array_equal(F, pareto_objectives_batch(problem, X))
     assert np.array_equal(copy.xl, pp.xl) and np.array_equal(copy.xu, pp.xu)
 
 

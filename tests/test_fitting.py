@@ -18,6 +18,7 @@ from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.results import FitResult
 from prbdm_pin.fitting.target import FitTarget, model_target
 from prbdm_pin.model.prbdm_model import build_model
+from prbdm_pin.options.objects import FitOptions
 
 BEAMS = "examples/beams"
 
@@ -146,7 +147,8 @@ def test_paper_scfs_are_each_poses_optimum(reference):
     r = fit(reference, target, 2, frequencies=2, stiffness="paper", starts=2, seed=0,
             progress=False,
             eigen_norm="paper", polish=1)
-    prob = make_problem(reference, target, 2, 2, "paper")
+    prob = make_problem(reference, target, 2,
+                        FitOptions(frequencies=2, stiffness="paper", eigen_norm="paper"))
     base = evaluate(prob, r.lengths_m, r.factors, deflection=False).eigen_errors
     assert 100 * np.mean(base) == pytest.approx(r.eigen_loss_pct, rel=1e-12)
     for i in range(prob.n_poses):
@@ -272,7 +274,8 @@ def test_paper_2r_fit_reaches_the_grid_optimum(reference, squared):
     from prbdm_pin.fitting.problem import lengths_from_unit
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    prob = make_problem(reference, target, 2, 2, "paper", squared=squared)
+    prob = make_problem(reference, target, 2, FitOptions(frequencies=2, stiffness="paper",
+                                                         squared=squared, eigen_norm="paper"))
 
     def loss(u):
         return _projected_loss_pct(prob, lengths_from_unit(np.clip(u, 0, 1), reference.length_m))
@@ -302,7 +305,8 @@ def test_paper_omega_fit_beats_the_omega_squared_design_in_omega(reference):
     kw = dict(stiffness="paper", eigen_norm="paper", starts=16, seed=0, progress=False)
     r_w = fit(reference, target, 3, frequencies=3, squared=False, **kw)
     r_w2 = fit(reference, target, 3, frequencies=3, squared=True, **kw)
-    prob_w = make_problem(reference, target, 3, 3, "paper", squared=False)
+    prob_w = make_problem(reference, target, 3, FitOptions(frequencies=3, stiffness="paper",
+                                                           eigen_norm="paper"))
     at_w2 = _projected_loss_pct(prob_w, r_w2.lengths_m)
     assert r_w.eigen_loss_pct <= at_w2
     assert at_w2 > 0.5 * r_w2.eigen_loss_pct
@@ -385,8 +389,9 @@ def test_paper_3r_fit_reaches_the_grid_optimum(reference):
     from prbdm_pin.fitting.problem import lengths_from_unit
 
     target = FitTarget(REF_OMEGA, reference.tip_force_N)
-    prob = make_problem(reference, target, 3, 3, "paper", squared=True)
-    kernel = PaperEigenResiduals(FitSpec(prob, "eigen", "position", 400))
+    prob = make_problem(reference, target, 3, FitOptions(frequencies=3, stiffness="paper",
+                                                         squared=True, eigen_norm="paper"))
+    kernel = PaperEigenResiduals(FitSpec(prob, "eigen", 400))
     g = (np.arange(60) + 0.5) / 60
     U = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
     vals = np.concatenate([100 * np.linalg.norm(kernel.batch(U[i:i + 6000]), axis=2).mean(1)

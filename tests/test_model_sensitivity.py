@@ -35,6 +35,7 @@ from prbdm_pin.fitting.problem import lengths_from_unit, make_problem
 from prbdm_pin.fitting.spec import FitSpec
 from prbdm_pin.fitting.target import target_from_truth
 from prbdm_pin.member.random_beams import random_beam
+from prbdm_pin.options.objects import FitOptions
 from prbdm_pin.truth import compute_truth
 
 BEAMS = Path(__file__).resolve().parent.parent / "examples" / "beams"
@@ -179,9 +180,9 @@ def test_unit_lengths_jacobian_equals_central_differences():
 @pytest.mark.parametrize("sweep,squared", [(False, False), (True, True)])
 def test_joint_residual_jacobian_equals_central_differences(objective, sweep, squared):
     beam = _beam("uniform-narrow")
-    p = make_problem(beam, strip_target(beam), 4, stiffness="joint", joint_sweep=sweep,
-                     squared=squared)
-    J = JointResiduals(FitSpec(p, objective, "position", 1000))
+    p = make_problem(beam, strip_target(beam), 4, FitOptions(
+        stiffness="joint", joint_sweep=sweep, squared=squared, eigen_norm="paper"))
+    J = JointResiduals(FitSpec(p, objective, 1000))
     rng = np.random.default_rng(3)
     for _ in range(3):
         x = np.r_[rng.uniform(0.1, 0.9, 4), rng.uniform(-0.5, 0.5, 4)]

@@ -14,6 +14,7 @@ from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.member.geometry import Beam
 from prbdm_pin.member.material import Material
+from prbdm_pin.options.objects import FitOptions
 
 
 def test_eigen_errors_hand_values():
@@ -136,7 +137,7 @@ def test_1r_frequency_closed_form(a):
     K = EI / L_M
     omega = math.sqrt(K / _link_inertia_about_joint(ell))
     truth = FitTarget([1.1 * omega], beam.tip_force_N)
-    prob = make_problem(beam, truth, 1, stiffness="joint")
+    prob = make_problem(beam, truth, 1, FitOptions(stiffness="joint", eigen_norm="paper"))
     for s in (1.0, 2.5):
         ev = evaluate(prob, np.array([a, ell]), np.array([s]), deflection=False)
         assert ev.omega_model_rad_s[0, 0] == pytest.approx(math.sqrt(s) * omega, rel=1e-10)
@@ -156,7 +157,7 @@ def test_1r_deflection_closed_form(P):
     truth_tip = tip + np.array([0.01, 0.0, -0.02])
     disp = truth_tip - np.array([L_M, 0.0, 0.0])
     target = FitTarget([10.0], beam.tip_force_N, truth_tip, disp)
-    prob = make_problem(beam, target, 1, stiffness="joint")
+    prob = make_problem(beam, target, 1, FitOptions(stiffness="joint", eigen_norm="paper"))
     ev = evaluate(prob, np.array([a, ell]), np.array([0.3]), deflection=True)
     assert ev.tip_position_m[0] == pytest.approx(tip, abs=1e-9)
     assert ev.deflection_loss_pct == pytest.approx(

@@ -21,6 +21,7 @@ from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.fitting.paper import PaperEigenResiduals, PaperScalarLoss
 from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.spec import FitSpec
+from prbdm_pin.options.objects import FitOptions
 
 BEAMS = Path(__file__).resolve().parents[1] / "examples" / "beams"
 
@@ -34,16 +35,18 @@ def _central(f, x, h):
     return np.column_stack(cols)
 
 
-def _problem(name, n, squared, eps=0.1):
+def _problem(name, n, squared, eps=0.1, deflection_norm="position"):
     beam = load_beam(BEAMS / f"{name}.json")
-    return make_problem(beam, strip_target(beam), n, stiffness="paper", squared=squared, eps=eps)
+    return make_problem(beam, strip_target(beam), n, FitOptions(
+        stiffness="paper", squared=squared, eps_rad=eps, deflection_norm=deflection_norm,
+        eigen_norm="paper"))
 
 
 @pytest.mark.parametrize("name", ["uniform-narrow", "tapered", "stepped-narrow"])
 @pytest.mark.parametrize("n,squared", [(2, False), (3, True), (4, False)])
 def test_projected_eigen_jacobian_equals_central_differences(name, n, squared):
     p = _problem(name, n, squared)
-    P = PaperEigenResiduals(FitSpec(p, "eigen", "position", 100))
+    P = PaperEigenResiduals(FitSpec(p, "eigen", 100))
     rng = np.random.default_rng(n)
     for _ in range(2):
         u = rng.uniform(0.1, 0.9, n)
@@ -59,8 +62,8 @@ def test_projected_eigen_jacobian_equals_central_differences(name, n, squared):
                                                     ("combined", "displacement", True)])
 def test_scalar_loss_gradient_equals_central_differences(name, objective, norm, squared):
     n = 3
-    p = _problem(name, n, squared, eps=0.2)
-    S = PaperScalarLoss(FitSpec(p, objective, norm, 100))
+    p = _problem(name, n, squared, eps=0.2, deflection_norm=norm)
+    S = PaperScalarLoss(FitSpec(p, objective, 100))
     rng = np.random.default_rng(7)
     for _ in range(2):
         x = np.r_[rng.uniform(0.1, 0.9, n), rng.uniform(-0.7, 0.7, p.n_poses)]
@@ -71,7 +74,7 @@ def test_scalar_loss_gradient_equals_central_differences(name, objective, norm, 
 def test_scalar_loss_gradient_is_zero_where_the_model_cannot_be_solved():
     # SCFs so small that the load exceeds what the statics accept: the loss is BAD_LOSS there
     p = _problem("uniform-narrow", 2, False)
-    S = PaperScalarLoss(FitSpec(p, "combined", "position", 100))
+    S = PaperScalarLoss(FitSpec(p, "combined", 100))
     x = np.r_[0.5, 0.5, np.full(p.n_poses, math.log(1e-9))]
     assert S.loss(x) == 1e3
     assert not np.any(S.jac(x))

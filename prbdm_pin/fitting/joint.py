@@ -46,7 +46,7 @@ class JointResiduals:
         # the eigen norm's weights (Eq. 16: 1/||f||; relative: 1/(f_k sqrt(N)))
         self.d = eigen_weights(p.target.omega_truth_rad_s, p.squared, p.eigen_norm)
         self.cases = p.target.load_cases if spec.objective != "eigen" else ()
-        self.norms = tip_scales_m(p, spec.deflection_norm) if self.cases else np.zeros(0)
+        self.norms = tip_scales_m(p) if self.cases else np.zeros(0)
         # what scales each residual row: the eigen rows by their weights over sqrt(m); the
         # squared residuals of k load cases sum to the mean squared tip error
         self.eigen_row_scale = (np.tile(self.d, p.n_poses) / math.sqrt(p.n_poses))[:, None]

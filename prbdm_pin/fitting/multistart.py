@@ -16,6 +16,7 @@ import numpy as np
 from ..chain.layout import sample_lengths
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.choices import Objective
 from ..options.objects import FitOptions
 from ..workers import pool_scope
 from .explore import run_explored
@@ -147,8 +148,7 @@ def _fit_unique(problem: FitProblem, o: FitOptions, t0: float) -> FitResult:
     return result_from_design(
         problem, best.lengths_m, best.factors, objective=o.objective.value, seed=o.seed,
         starts=1, starts_run=1, nfev=best.nfev, start_losses_pct=np.array([best.loss_pct]),
-        wall_time_s=time.perf_counter() - t0, success=True, message=best.message,
-        deflection_norm=o.deflection_norm.value, options=o)
+        wall_time_s=time.perf_counter() - t0, success=True, message=best.message)
 
 
 def fit(
@@ -205,12 +205,10 @@ def fit(
         from .warm import start_changes
 
         o = o.replace(**start_changes(start, beam, joints, o))
-    problem = make_problem(beam, target, joints, o.frequencies, o.stiffness.value, o.xi_rad,
-                           o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
-                           o.eigen_norm.value)
+    problem = make_problem(beam, target, joints, o)
     _check_fit_args(o, workers, target)
-    objective, norm = o.objective.value, o.deflection_norm.value
-    spec = FitSpec(problem, objective, norm, o.max_nfev)
+    objective = o.objective.value
+    spec = FitSpec(problem, o.objective, o.max_nfev)
     if o.unique != "none":
         return _fit_unique(problem, o, t0)
     tasks = draw_starts(problem, o.starts, o.seed)
@@ -218,7 +216,7 @@ def fit(
         tasks = [_warm_task(problem, o)]
     elif problem.stiffness == "paper" and objective != "eigen":
         # random SCFs around each start's projected eigen optimum (the SCF scale is beam-specific)
-        P = PaperEigenResiduals(FitSpec(problem, "eigen", norm, o.max_nfev))
+        P = PaperEigenResiduals(FitSpec(problem, Objective.EIGEN, o.max_nfev))
         tasks = [(i, L, F * P.factors(unit_from_lengths(L, problem.length_m,
                                                         problem.min_fraction)))
                  for i, L, F in tasks]
@@ -250,5 +248,4 @@ def fit(
         start_losses_pct=np.array([r.loss_pct for r in runs]),
         wall_time_s=time.perf_counter() - t0, success=bool(best.success),
         message=f"best of {len(runs)} starts (start {best.index}): {best.message}",
-        deflection_norm=norm, options=o,
     )

@@ -69,10 +69,7 @@ class FitDerivative:
 
 def fit_problem_of(result: FitResult, beam: Beam, target: FitTarget) -> FitProblem:
     """Return the fit problem ``result``'s recorded options pose for ``beam`` and ``target``."""
-    o = result.options
-    return make_problem(beam, target, result.joints, o.frequencies, o.stiffness.value,
-                        o.xi_rad, o.eps_rad, o.squared, o.joint_sweep, o.min_fraction,
-                        o.eigen_norm.value)
+    return make_problem(beam, target, result.joints, result.options)
 
 
 def fit_coordinates(result: FitResult, problem: FitProblem) -> np.ndarray:
@@ -164,8 +161,8 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
         Gp = (kkt_residuals(probs[1], z) - kkt_residuals(probs[-1], z)) / (2 * h)
         kind = "kkt"
     else:
-        specs = {s: FitSpec(q, result.objective, result.options.deflection_norm.value,
-                            result.options.max_nfev) for s, q in probs.items()}
+        specs = {s: FitSpec(q, result.objective, result.options.max_nfev)
+                 for s, q in probs.items()}
         z = x
         Gz = central_jacobian(lambda v: _normal(specs[0], v), z, H_X)
         Gp = (_normal(specs[1], z) - _normal(specs[-1], z)) / (2 * h)

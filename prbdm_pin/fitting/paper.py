@@ -156,7 +156,7 @@ class PaperScalarLoss:
     def __init__(self, spec: FitSpec):
         self.spec = spec
         self.p = spec.problem
-        self.scales = tip_scales_m(self.p, spec.deflection_norm)
+        self.scales = tip_scales_m(self.p)
         self.nfev = 0
 
     def design(self, x):
@@ -182,7 +182,7 @@ class PaperScalarLoss:
         p, n = self.p, self.p.n_joints
         lengths = np.array([lengths_from_unit(x[:n], p.length_m, p.min_fraction) for x in X])
         r = batch_losses(p, lengths, np.exp(X[:, n:]))
-        return r.eigen_errors, r.tip_errors(self.spec.deflection_norm)
+        return r.eigen_errors, r.tip_errors(p.deflection_norm)
 
     def _loss(self, e: np.ndarray, d: np.ndarray) -> np.ndarray:
         loss = d.mean(axis=-1) if self.spec.objective == "deflection" \

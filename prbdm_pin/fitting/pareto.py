@@ -16,6 +16,7 @@ import numpy as np
 from ..chain.layout import sample_lengths
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.choices import Objective
 from ..options.objects import FitOptions, ParetoOptions
 from ..workers import stop_pool
 from .local import solve_start
@@ -107,11 +108,9 @@ def fit_pareto(
     o = resolve_options(options, ParetoOptions, changes)
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
-    stiffness, deflection_norm = o.stiffness.value, o.deflection_norm.value
+    stiffness = o.stiffness.value
     pop, generations, seed = o.pop, o.generations, o.seed
-    problem = make_problem(beam, target, joints, o.frequencies, stiffness, o.xi_rad, o.eps_rad,
-                           o.squared, min_fraction=o.min_fraction,
-                           eigen_norm=o.eigen_norm.value)
+    problem = make_problem(beam, target, joints, o)
     if not target.has_static:
         raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
     if not np.any(target.tip_force_N):
@@ -137,9 +136,8 @@ def fit_pareto(
     pool = None
     if workers > 1:
         pool = fit_pool(workers)
-    pp = ParetoProblem(problem, log10_bounds, deflection_norm=deflection_norm,
-                       runner=None if pool is None else PoolRows(pool, int(workers), problem,
-                                                                 deflection_norm))
+    pp = ParetoProblem(problem, log10_bounds,
+                       runner=None if pool is None else PoolRows(pool, int(workers), problem))
     try:
         res = minimize(pp, algo, get_termination("n_gen", int(generations)), seed=int(seed),
                        verbose=False, **kw)
@@ -161,7 +159,7 @@ def fit_pareto(
     note = (f"raw NSGA-II knee: eigen {raw[0]:.6g} %, deflection {raw[1]:.6g} %, "
             f"combined {math.hypot(raw[0], raw[1]):.6g} %")
     if o.polish_knee:
-        x_p, f_p, nfev_p = _polish_knee(problem, X[ki], deflection_norm, log10_bounds)
+        x_p, f_p, nfev_p = _polish_knee(problem, X[ki], log10_bounds)
         n_evals += nfev_p
         dominated = np.any(np.all(F <= f_p, axis=1) & np.any(F < f_p, axis=1))
         if np.all(np.isfinite(f_p)) and not dominated:
@@ -181,15 +179,14 @@ def fit_pareto(
         problem, lengths[ki], factors[ki], objective="combined", seed=int(seed), starts=int(pop),
         starts_run=int(pop), nfev=n_evals,
         start_losses_pct=np.hypot(F[:, 0], F[:, 1]), wall_time_s=wall, success=True,
-        message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs; {note}",
-        deflection_norm=deflection_norm, options=o)
+        message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs; {note}")
     return ParetoResult(
         beam_name=beam.name, joints=problem.n_joints, frequencies=problem.n_freq,
-        stiffness=stiffness, deflection_norm=deflection_norm, F_pct=F, X=X,
+        stiffness=stiffness, deflection_norm=o.deflection_norm.value, F_pct=F, X=X,
         front_lengths_m=lengths, front_factors=factors, knee_index=ki, pop=int(pop),
         generations=int(generations), n_evals=n_evals,
-        seed=int(seed), xi=problem.xi, eps=problem.eps, wall_time_s=wall, success=True,
-        eigen_norm=problem.eigen_norm,
+        seed=int(seed), xi=o.xi_rad, eps=o.eps_rad, wall_time_s=wall, success=True,
+        eigen_norm=o.eigen_norm.value,
         message=f"NSGA-II, {generations} generations of {pop}"
                 f"{', seeded with single-objective fits' if o.seed_with_fits else ''}; {note}",
         knee=knee, options=o)
@@ -218,10 +215,10 @@ def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log
     if o.seed_with_fits:
         rows = []
         seeding = FitOptions(
-            frequencies=problem.n_freq, stiffness=problem.stiffness, starts=o.seed_starts,
-            seed=o.seed, xi_rad=problem.xi, eps_rad=problem.eps, squared=problem.squared,
-            deflection_norm=o.deflection_norm, eigen_norm=problem.eigen_norm,
-            min_fraction=problem.min_fraction)
+            frequencies=problem.n_freq, stiffness=o.stiffness, starts=o.seed_starts,
+            seed=o.seed, xi_rad=o.xi_rad, eps_rad=o.eps_rad, squared=o.squared,
+            deflection_norm=o.deflection_norm, eigen_norm=o.eigen_norm,
+            min_fraction=o.min_fraction)
         for objective in ("combined", "eigen", "deflection")[:pop]:
             r = fit(beam, target, problem.n_joints, seeding.replace(objective=objective),
                     workers=workers, progress=False)
@@ -239,22 +236,22 @@ def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log
     return X, nfev
 
 
-def _polish_knee(problem: FitProblem, x: np.ndarray, deflection_norm: str, log10_bounds):
+def _polish_knee(problem: FitProblem, x: np.ndarray, log10_bounds):
     """Run the Eq. 27 local solver from a front design.
 
     Returns (design row, (eigen %, deflection %), nfev).
     """
     n1 = problem.n_joints + 1
-    spec = FitSpec(problem, "combined", deflection_norm, 400)
+    # the evaluation cap of a single-objective fit's start (ParetoOptions has none of its own)
+    spec = FitSpec(problem, Objective.COMBINED, FitOptions.max_nfev)
     r = solve_start(spec, 0, x[:n1] * problem.length_m, 10.0 ** x[n1:])
     x_p = _design_row(problem, r.lengths_m, r.factors, log10_bounds)
-    f_p = pareto_objectives(problem, x_p[:n1] * problem.length_m, 10.0 ** x_p[n1:],
-                            deflection_norm=deflection_norm)
+    f_p = pareto_objectives(problem, x_p[:n1] * problem.length_m, 10.0 ** x_p[n1:])
     return x_p, f_p, int(r.nfev) + 1
 
 
-def _pareto_rows(X: np.ndarray, problem: FitProblem, deflection_norm: str) -> np.ndarray:
-    return pareto_objectives_batch(problem, X, deflection_norm=deflection_norm)
+def _pareto_rows(X: np.ndarray, problem: FitProblem) -> np.ndarray:
+    return pareto_objectives_batch(problem, X)
 
 
 class PoolRows:
@@ -265,15 +262,13 @@ class PoolRows:
     and stacked back in order.
     """
 
-    def __init__(self, pool, workers: int, problem: FitProblem, deflection_norm: str) -> None:
+    def __init__(self, pool, workers: int, problem: FitProblem) -> None:
         self.pool = pool
         self.workers = int(workers)
         self.problem = problem
-        self.deflection_norm = deflection_norm
 
     def __call__(self, X: np.ndarray) -> np.ndarray:
         """Return the objectives (eigen %, deflection %) of the design rows of X, shape (B, 2)."""
         chunks = np.array_split(X, self.workers)
         n = len(chunks)
-        return np.vstack(list(self.pool.map(_pareto_rows, chunks, [self.problem] * n,
-                                            [self.deflection_norm] * n)))
+        return np.vstack(list(self.pool.map(_pareto_rows, chunks, [self.problem] * n)))

@@ -58,7 +58,8 @@ class LengthRepair(Repair):
 class ParetoProblem(Problem):
     """A pymoo Problem over x = [gamma (n+1), log10 factors]: F = (eigen %, deflection %).
 
-    ``deflection_norm`` selects Eq. 19 (``"position"``) or the displacement normalisation.
+    The deflection loss is in the problem's normalisation (``problem.deflection_norm``: Eq. 19
+    or the tip displacement).
     Designs whose static solve fails get ``penalty`` (%) in both objectives. ``runner``, when
     given, maps the rows X (B, n_var) of a generation to F (B, 2) (e.g. over a process pool);
     it is not pickled with the problem, whose copy evaluates in its own process.
@@ -71,14 +72,12 @@ class ParetoProblem(Problem):
         Bounds of the log10 factors (dimensionless).
     penalty : float
         Both objectives (%) of a design whose model cannot be solved.
-    deflection_norm : str
-        ``"position"`` or ``"displacement"``.
     runner : callable, optional
         Maps a generation's rows X (B, n_var) to F (B, 2), %.
     """
 
     def __init__(self, problem: FitProblem, log10_bounds: tuple[float, float],
-                 penalty: float = PENALTY_PCT, deflection_norm: str = "position",
+                 penalty: float = PENALTY_PCT,
                  runner: Callable[[np.ndarray], np.ndarray] | None = None) -> None:
         if not problem.target.has_static:
             raise BeamInputError("target has no truth tip position: a Pareto fit needs one")
@@ -90,19 +89,17 @@ class ParetoProblem(Problem):
                          exclude_from_serialization=["runner"])
         self.fit_problem = problem
         self.penalty = float(penalty)
-        self.deflection_norm = deflection_norm
         self.runner = runner
 
     def _evaluate(self, X, out, *args, **kwargs):
         if self.runner is not None:
             out["F"] = np.asarray(self.runner(X), dtype=float).reshape(-1, 2)
             return
-        out["F"] = pareto_objectives_batch(self.fit_problem, X, self.penalty,
-                                           self.deflection_norm)
+        out["F"] = pareto_objectives_batch(self.fit_problem, X, self.penalty)
 
 
-def pareto_objectives(problem: FitProblem, lengths_m, factors, penalty: float = PENALTY_PCT,
-                      deflection_norm: str = "position") -> np.ndarray:
+def pareto_objectives(problem: FitProblem, lengths_m, factors,
+                      penalty: float = PENALTY_PCT) -> np.ndarray:
     """Return (eigen loss %, deflection loss %) of a design; ``penalty`` for both if a solve fails.
 
     Parameters
@@ -115,26 +112,24 @@ def pareto_objectives(problem: FitProblem, lengths_m, factors, penalty: float = 
         The spring factors of the parametrisation (dimensionless).
     penalty : float
         Both objectives (%) when a solve fails.
-    deflection_norm : str
-        ``"position"`` or ``"displacement"``.
 
     Returns
     -------
     ndarray, shape (2,)
-        The eigen and deflection losses, %.
+        The eigen and deflection losses (the problem's ``deflection_norm``), %.
     """
     try:
         ev = evaluate(problem, lengths_m, factors, deflection=True)
     except (SolveError, BeamInputError):
         return np.array([penalty, penalty])
-    d = ev.tip_loss_pct(deflection_norm)
+    d = ev.tip_loss_pct(problem.deflection_norm)
     if not (math.isfinite(ev.eigen_loss_pct) and math.isfinite(d)):
         return np.array([penalty, penalty])
     return np.array([ev.eigen_loss_pct, d])
 
 
-def pareto_objectives_batch(problem: FitProblem, X: np.ndarray, penalty: float = PENALTY_PCT,
-                            deflection_norm: str = "position") -> np.ndarray:
+def pareto_objectives_batch(problem: FitProblem, X: np.ndarray,
+                            penalty: float = PENALTY_PCT) -> np.ndarray:
     """Return (eigen loss %, deflection loss %) of the design rows of X, in one batch.
 
     The batch is ``evaluate.batch_losses``; ``penalty`` goes to both where a design cannot be
@@ -148,18 +143,16 @@ def pareto_objectives_batch(problem: FitProblem, X: np.ndarray, penalty: float =
         Rows x = [gamma (n+1), log10 factors] (dimensionless).
     penalty : float
         Both objectives (%) where a design cannot be solved.
-    deflection_norm : str
-        ``"position"`` or ``"displacement"``.
 
     Returns
     -------
     ndarray, shape (B, 2)
-        The eigen and deflection losses, %.
+        The eigen and deflection losses (the problem's ``deflection_norm``), %.
     """
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n1 = problem.n_joints + 1
     r = batch_losses(problem, X[:, :n1] * problem.length_m, 10.0 ** X[:, n1:])
-    d = 100.0 * r.tip_errors(deflection_norm).mean(axis=1)
+    d = 100.0 * r.tip_errors(problem.deflection_norm).mean(axis=1)
     F = np.column_stack([r.eigen_pct, d])
     F[~np.all(np.isfinite(F), axis=1)] = penalty
     return F

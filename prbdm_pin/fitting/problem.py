@@ -22,7 +22,6 @@ box-bounded solvers (least_squares, L-BFGS-B) handle the equality exactly; NSGA-
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,12 +29,11 @@ import numpy as np
 from ..chain.stiffness import finite_segment_stiffness, paper_stiffness, pose_sweep
 from ..errors import BeamInputError
 from ..member.geometry import Beam
-from ..options.choices import EPS_RAD, MIN_FRACTION, STIFFNESS_KINDS, XI_RAD
-from .objectives import check_eigen_norm
+from ..options.choices import MIN_FRACTION, DeflectionNorm, EigenNorm, StiffnessKind
+from ..options.objects import FitOptions, ParetoOptions
 from .target import FitTarget, read_only
 
 __all__ = [
-    "STIFFNESS_KINDS",
     "FitProblem",
     "make_problem",
     "lengths_from_unit",
@@ -95,31 +93,43 @@ class FitProblem:
     target : FitTarget
         Already cut to the N frequencies to match.
     n_joints : int
-    stiffness : str
-        ``"paper"`` or ``"joint"``.
+    options : FitOptions or ParetoOptions
+        The validated options the problem was made from, carried whole: the parametrisation,
+        the pose sweep, the frequency form and the norms are read from them.
     poses_rad : ndarray, shape (m, n)
         Joint angles of the poses where frequencies are compared.
-    squared : bool
-        Compare omega^2 instead of omega.
-    min_fraction : float
-        Lower bound of a link length as a fraction of L (Eq. 15c).
-    xi, eps : float
-        The pose sweep's offset and step (Eqs. 10-11), rad (recorded for provenance).
-    eigen_norm : str
-        The per-pose eigen error: ``"paper"`` (Eq. 16) or ``"relative"`` (rms of the per-mode
-        relative errors; ``objectives.eigen_weights``).
     """
 
     beam: Beam
     target: FitTarget
     n_joints: int
-    stiffness: str
+    options: FitOptions | ParetoOptions
     poses_rad: np.ndarray
-    squared: bool = False
-    min_fraction: float = MIN_FRACTION
-    xi: float = XI_RAD
-    eps: float = EPS_RAD
-    eigen_norm: str = "paper"
+
+    @property
+    def stiffness(self) -> StiffnessKind:
+        """The spring parametrisation (``options.stiffness``)."""
+        return self.options.stiffness
+
+    @property
+    def squared(self) -> bool:
+        """Compare omega^2 instead of omega (``options.squared``)."""
+        return self.options.squared
+
+    @property
+    def min_fraction(self) -> float:
+        """Lower bound of a link length as a fraction of L, Eq. 15c (``options.min_fraction``)."""
+        return self.options.min_fraction
+
+    @property
+    def eigen_norm(self) -> EigenNorm:
+        """The per-pose eigen error's norm: ``options.eigen_norm`` (``eigen_weights``)."""
+        return self.options.eigen_norm
+
+    @property
+    def deflection_norm(self) -> DeflectionNorm:
+        """What a tip error is divided by: ``options.deflection_norm`` (``tip_scale_m``)."""
+        return self.options.deflection_norm
 
     @property
     def n_freq(self) -> int:
@@ -142,59 +152,62 @@ class FitProblem:
         return self.n_poses if self.stiffness == "paper" else self.n_joints
 
 
-def make_problem(
-    beam: Beam,
-    target: FitTarget,
-    joints: int,
-    frequencies: int | None = None,
-    stiffness: str = "paper",
-    xi: float = XI_RAD,
-    eps: float = EPS_RAD,
-    squared: bool = False,
-    joint_sweep: bool = False,
-    min_fraction: float = MIN_FRACTION,
-    eigen_norm: str = "paper",
-) -> FitProblem:
-    """Validate the fit settings and build a :class:`FitProblem`.
+def make_problem(beam: Beam, target: FitTarget, joints: int,
+                 options: FitOptions | ParetoOptions | None = None) -> FitProblem:
+    """Check the settings that depend on the beam, the target and n; build a :class:`FitProblem`.
 
-    ``frequencies`` defaults to ``min(joints, available truth frequencies)``; the ``paper``
-    parametrisation compares frequencies over ``pose_sweep(joints, xi, eps)``, ``joint`` at the
-    straight pose (over the sweep when ``joint_sweep``). ``eigen_norm`` is ``"paper"`` (Eq. 16)
-    or ``"relative"``.
+    Parameters
+    ----------
+    beam : Beam
+        The planform, thickness, material and tip load.
+    target : FitTarget
+        Truth frequencies (rad/s) and load cases; cut to the N frequencies the fit matches.
+    joints : int
+        n, the number of revolute joints.
+    options : FitOptions or ParetoOptions, optional
+        The validated options (default ``FitOptions()``), held whole by the problem.
+        ``frequencies`` None matches ``min(joints, available truth frequencies)``; the
+        ``paper`` parametrisation compares frequencies over ``pose_sweep(joints, xi_rad,
+        eps_rad)``, ``joint`` at the straight pose (over the sweep with ``joint_sweep``).
+
+    Returns
+    -------
+    FitProblem
+
+    Raises
+    ------
+    BeamInputError
+        On a joint count, frequency count or minimum link fraction this beam and target cannot
+        have, or an empty pose sweep.
     """
+    if options is None:
+        options = FitOptions()
+    elif not isinstance(options, (FitOptions, ParetoOptions)):
+        raise BeamInputError(f"options = {options!r:.80}: must be a FitOptions or ParetoOptions")
     if isinstance(joints, bool) or not isinstance(joints, (int, np.integer)) or joints < 1:
         raise BeamInputError(f"joints = {joints!r}: must be an integer >= 1")
-    if stiffness not in STIFFNESS_KINDS:
-        raise BeamInputError(f"stiffness = {stiffness!r}: must be one of {STIFFNESS_KINDS}")
-    check_eigen_norm(eigen_norm)
-    if not (0.0 < min_fraction and (joints + 1) * min_fraction < 1.0):
+    joints = int(joints)
+    min_fraction = options.min_fraction
+    if not (joints + 1) * min_fraction < 1.0:
         raise BeamInputError(
             f"min_fraction = {min_fraction}: needs 0 < min_fraction < 1/(joints+1)"
         )
     n_avail = target.omega_truth_rad_s.size
-    if frequencies is None:
-        frequencies = min(int(joints), n_avail)
-    if isinstance(frequencies, bool) or not isinstance(frequencies, (int, np.integer)):
-        raise BeamInputError(f"frequencies = {frequencies!r}: must be an integer")
+    frequencies = min(joints, n_avail) if options.frequencies is None else options.frequencies
     if not 1 <= frequencies <= joints:
         raise BeamInputError(
             f"frequencies = {frequencies}: must be in 1..{joints} (an {joints}R model has "
             f"{joints} frequencies)"
         )
     target = target.first(int(frequencies))
-    for name, v in (("xi", xi), ("eps", eps)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-            raise BeamInputError(f"{name} = {v!r}: must be a finite angle >= 0 (rad)")
-    if stiffness == "paper" or joint_sweep:
-        if eps <= 0:
-            raise BeamInputError(f"eps = {eps}: must be > 0 rad for a pose sweep")
-        poses = np.asarray(pose_sweep(int(joints), xi=xi, eps=eps), dtype=float)
+    xi, eps = options.xi_rad, options.eps_rad
+    if options.stiffness == "paper" or options.joint_sweep:
+        poses = np.asarray(pose_sweep(joints, xi=xi, eps=eps), dtype=float)
         if poses.shape[0] == 0:
             raise BeamInputError(f"xi = {xi}, eps = {eps}: the pose sweep is empty")
     else:
-        poses = np.zeros((1, int(joints)))
-    return FitProblem(beam, target, int(joints), stiffness, read_only(poses), bool(squared),
-                      float(min_fraction), float(xi), float(eps), eigen_norm)
+        poses = np.zeros((1, joints))
+    return FitProblem(beam, target, joints, options, read_only(poses))
 
 
 def base_stiffness(problem: FitProblem, model_or_lengths) -> np.ndarray:

@@ -11,7 +11,6 @@ import math
 import numpy as np
 
 from ..errors import SolveError
-from ..options.objects import FitOptions, ParetoOptions
 from .evaluate import evaluate
 from .objectives import mode_errors_pct, scf_deviation_pct, scf_mean, worst_mode_error_pct
 from .problem import FitProblem, build
@@ -30,15 +29,13 @@ BOUND_TOL = 1e-6
 
 def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: str, seed: int,
                        starts: int, starts_run: int, nfev: int, start_losses_pct,
-                       wall_time_s: float, success: bool, message: str,
-                       deflection_norm: str = "position",
-                       options: FitOptions | ParetoOptions | None = None) -> FitResult:
+                       wall_time_s: float, success: bool, message: str) -> FitResult:
     """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult.
 
     Parameters
     ----------
     problem : FitProblem
-        The fit problem the design solves.
+        The fit problem the design solves; its options are recorded in the result.
     lengths_m : array_like, shape (n+1,)
         Link lengths, m.
     factors : array_like
@@ -60,10 +57,6 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         The chosen start's solver success flag.
     message : str
         The fit's message (a failed static deflection is appended to it).
-    deflection_norm : str
-        ``"position"`` or ``"displacement"``.
-    options : FitOptions or ParetoOptions, optional
-        The options the fit came from, recorded in the result.
 
     Returns
     -------
@@ -121,21 +114,22 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
     return FitResult(
         beam_name=problem.beam.name, beam_fingerprint=problem.beam.fingerprint(),
         joints=problem.n_joints, frequencies=problem.n_freq, objective=objective,
-        stiffness=problem.stiffness, lengths_m=ev.lengths_m, stiffness_Nm_per_rad=K,
+        stiffness=problem.stiffness.value, lengths_m=ev.lengths_m, stiffness_Nm_per_rad=K,
         stiffness_per_pose_Nm_per_rad=ev.stiffness_Nm_per_rad, factors=ev.factors,
         scf_mean=k_mean, scf_deviation_pct=dev, poses_rad=problem.poses_rad,
         omega_truth_rad_s=t.omega_truth_rad_s, omega_model_rad_s=ev.omega_model_rad_s,
         eigen_errors_pct=100.0 * ev.eigen_errors, eigen_loss_pct=ev.eigen_loss_pct,
         deflection_loss_pct=ev.deflection_loss_pct,
         displacement_loss_pct=ev.displacement_loss_pct,
-        combined_loss_pct=float(math.hypot(ev.eigen_loss_pct, ev.tip_loss_pct(deflection_norm))),
+        combined_loss_pct=float(math.hypot(ev.eigen_loss_pct,
+                                           ev.tip_loss_pct(problem.deflection_norm))),
         tip_position_model_m=ev.tip_position_m, tip_position_truth_m=t.tip_position_m,
         tip_displacement_truth_m=t.tip_displacement_m, tip_force_N=t.tip_force_N, mac=t.mac,
         truth_source=t.source, truth_request=t.truth_request,
         static_theory_gap_pct=math.nan if t.static_theory_gap_pct is None
         else float(t.static_theory_gap_pct),
         squared=problem.squared,
-        xi=problem.xi, eps=problem.eps,
+        xi=problem.options.xi_rad, eps=problem.options.eps_rad,
         seed=seed, starts=starts, starts_run=starts_run, nfev=nfev,
         start_losses_pct=start_losses_pct, wall_time_s=wall_time_s, success=success,
         message=message,
@@ -144,12 +138,12 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         if extra else None,
         extra_tip_position_model_m=ev.extra_tip_position_m if extra else None,
         warnings=tuple(notes),
-        eigen_norm=problem.eigen_norm, min_fraction=problem.min_fraction,
+        eigen_norm=problem.eigen_norm.value, min_fraction=problem.min_fraction,
         omega_errors_pct=omega_errors,
         worst_mode_error_pct=worst_mode_error_pct(omega_errors), export_pose_rad=pose,
         stiffness_pose=described, omega_export_rad_s=w_export,
         omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,
-        options=options,
+        options=problem.options,
     )
 
 

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..options.choices import OBJECTIVES
+from ..options.checks import check_choice
+from ..options.choices import OBJECTIVES, Objective
 from .objectives import tip_scale_m
 from .problem import FitProblem
 
@@ -58,21 +59,30 @@ class FitSpec:
     ----------
     problem : FitProblem
         The fit problem (beam, target, joints, poses).
-    objective : str
-        One of :data:`OBJECTIVES`.
-    deflection_norm : str
-        The tip-error normalisation, ``"position"`` or ``"displacement"``.
+    objective : Objective
+        What the solve minimises (not always the options' objective: the seeding and the
+        knee polish of a Pareto fit, the projected SCFs that start a ``paper`` deflection fit).
     max_nfev : int
         Evaluation cap of each least-squares start.
+
+    The tip-error normalisation is the problem's (``problem.deflection_norm``).
     """
 
     problem: FitProblem
-    objective: str
-    deflection_norm: str
+    objective: Objective
     max_nfev: int
 
+    def __post_init__(self) -> None:
+        """Take the objective as an :class:`Objective` (its string is accepted)."""
+        object.__setattr__(self, "objective", check_choice("objective", self.objective,
+                                                           Objective))
 
-def tip_scales_m(problem: FitProblem, norm: str) -> np.ndarray:
-    """Return what each load case's tip error is divided by (``objectives.tip_scale_m``), m."""
-    return np.array([tip_scale_m(c.tip_position_m, c.tip_displacement_m, norm)
+
+def tip_scales_m(problem: FitProblem) -> np.ndarray:
+    """Return what each load case's tip error is divided by (``objectives.tip_scale_m``), m.
+
+    In the problem's normalisation (``problem.deflection_norm``).
+    """
+    return np.array([tip_scale_m(c.tip_position_m, c.tip_displacement_m,
+                                 problem.deflection_norm)
                      for c in problem.target.load_cases])

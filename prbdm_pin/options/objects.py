@@ -231,6 +231,8 @@ class ParetoOptions(_ProblemOptions):
     """
 
     kind: ClassVar[str] = "pareto"
+    # not an option: a Pareto fit compares a ``joint`` model's frequencies at the straight pose
+    joint_sweep: ClassVar[bool] = False
 
     eps_rad: float = PARETO_EPS_RAD
     pop: int = 100
