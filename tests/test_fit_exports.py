@@ -176,7 +176,7 @@ def test_stiffness_schedule_interpolates_the_per_pose_table(reference):
 def _loss(prob, lengths, factors, objective):
     """The fitted objective (%) of a design through the Pinocchio model; paper eigen designs
     get each pose's optimal SCF again (the variable projection), from the numpy formula."""
-    if prob.stiffness == "paper" and objective == "eigen":
+    if prob.options.stiffness == "paper" and objective == "eigen":
         from prbdm_pin.fitting.problem import unit_frequencies
 
         _, _, W = unit_frequencies(prob, lengths)

@@ -1,6 +1,9 @@
 """Single-objective multistart fits and the NSGA-II Pareto fit.
 
-Modules: ``spec`` (what a start is given and returns), ``joint`` and ``paper`` (the two
+Modules: ``problem`` (the fit problem: beam, target, options and parametrisation),
+``parametrisation`` with ``paper_springs`` and ``joint_springs`` (the two spring
+parametrisations as strategy objects: what the fit asks of them instead of testing a name),
+``spec`` (what a start is given and returns), ``joint`` and ``paper`` (the two
 parametrisations' residuals and losses), ``joint_jacobian`` (the ``joint`` residuals' analytic
 Jacobian), ``local`` (the local solver of a start), ``multistart``
 (:func:`fit`), ``result`` (a design evaluated in full as a FitResult), ``pareto_problem`` (the
@@ -96,6 +99,9 @@ _EXPORTS = {
     "result_from_design": "result",
     "EXPORT_WARN_PCT": "result",
     "EXACT_MATCH_PCT": "result",
+    "Parametrisation": "parametrisation",
+    "PaperSprings": "paper_springs",
+    "JointSprings": "joint_springs",
     "JointResiduals": "joint",
     "PaperEigenResiduals": "paper",
     "PaperScalarLoss": "paper",

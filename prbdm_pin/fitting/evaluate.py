@@ -16,7 +16,6 @@ from ..chain.eigen import eig_scaled
 from ..chain.planar import planar_mass_matrices, planar_tips
 from ..chain.sections import planar_sections
 from ..chain.statics import static_deflection_planar_batch
-from ..chain.stiffness import finite_segment_stiffness_unchecked, paper_unit_stiffness
 from ..errors import BeamInputError, SolveError
 from .objectives import (
     check_deflection_norm,
@@ -24,7 +23,7 @@ from .objectives import (
     tip_displacement_errors,
     tip_position_errors,
 )
-from .problem import FitProblem, build, pose_stiffness, static_tips, unit_frequencies
+from .problem import FitProblem, static_tips
 
 __all__ = [
     "Evaluation",
@@ -123,14 +122,11 @@ def chain_mass_matrices(problem: FitProblem, lengths_m: np.ndarray):
     M : ndarray, shape (m, n, n) or (B, m, n, n)
         Mass matrices at the poses, kg m^2.
     K0 : ndarray, shape (n,) or (B, n)
-        Unit-factor springs, N m/rad (as ``problem.base_stiffness``).
+        Unit-factor springs, N m/rad (as ``problem.parametrisation.build``'s).
     """
     lengths = np.asarray(lengths_m, dtype=float)
     mass, offset, Iyy, area_moment = planar_sections(problem.beam, lengths)
-    if problem.stiffness == "paper":
-        K0 = paper_unit_stiffness(problem.beam.material.E_Pa, area_moment, mass)
-    else:
-        K0 = finite_segment_stiffness_unchecked(problem.beam, lengths)
+    K0 = problem.parametrisation.chain_unit_springs(problem.beam, lengths, area_moment, mass)
     M = planar_mass_matrices(lengths, mass, offset, Iyy, problem.poses_rad)
     return M, K0
 
@@ -159,7 +155,7 @@ def chain_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
 def fast_unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
     """Return unit-factor springs ``K0`` (N m/rad) and frequencies over the poses (rad/s).
 
-    As :func:`unit_frequencies` but through :func:`chain_mass_matrices` (the fit's inner loop);
+    As ``problem.unit_frequencies`` but through :func:`chain_mass_matrices` (the fit's inner loop);
     shapes (n,), (m, N) for one design, (B, n), (B, m, N) for a stack.
     """
     M, K0 = chain_mass_matrices(problem, lengths_m)
@@ -171,7 +167,6 @@ def evaluate(
     lengths_m: np.ndarray,
     factors: np.ndarray,
     deflection: bool = True,
-    unit: tuple | None = None,
 ) -> Evaluation:
     """Evaluate a design: frequencies over the poses and (when asked) the tip under the load.
 
@@ -184,8 +179,6 @@ def evaluate(
     deflection : bool
         Also solve the static deflection (needs a target with a tip position). For ``paper``
         one static solve per pose's stiffness (Eq. 18 averages over them).
-    unit : tuple, optional
-        A precomputed :func:`unit_frequencies` result for these lengths.
 
     Raises
     ------
@@ -196,20 +189,15 @@ def evaluate(
     factors = np.asarray(factors, dtype=float).reshape(-1)
     if factors.size != problem.n_factors:
         raise BeamInputError(f"factors has {factors.size} entries: {problem.n_factors} needed")
-    if problem.stiffness == "paper":
-        model, K0, W = unit if unit is not None else unit_frequencies(problem, lengths)
-        omega = W * np.sqrt(factors)[:, None]
-    else:
-        # the joint factors change the spring ratios: a new eigen-solve per pose
-        model, K0 = build(problem, lengths) if unit is None else unit[:2]
-        omega = np.asarray(model.natural_frequencies_batch(
-            problem.poses_rad, stiffness=factors * K0))[:, : problem.n_freq]
+    P = problem.parametrisation
+    model, K0 = P.build(problem, lengths)
+    omega = P.frequencies(problem, model, K0, factors)
     err = eigen_errors(omega, problem.target.omega_truth_rad_s, problem.squared,
                        problem.eigen_norm)
-    K = pose_stiffness(problem, K0, factors)
+    K = P.pose_springs(K0, factors, problem.n_poses)
     tips = pos = disp = extra = None
     if deflection and problem.target.has_static:
-        rows = K if problem.stiffness == "paper" else K[:1]
+        rows = P.static_rows(K)
         cases = problem.target.load_cases
         all_tips = np.array([static_tips(model, c.tip_force_N, rows) for c in cases])
         pos = np.mean([tip_position_errors(t, c.tip_position_m)
@@ -289,11 +277,11 @@ def batch_losses(problem: FitProblem, lengths_m: np.ndarray, factors: np.ndarray
     f = np.atleast_2d(np.asarray(factors, dtype=float))
     B, m, n = L.shape[0], problem.n_poses, problem.n_joints
     static = deflection and problem.target.has_static
-    reps = m if problem.stiffness == "paper" else 1
+    P = problem.parametrisation
+    reps = P.n_static_rows(m)  # static solves per design
     try:
         M, K0 = chain_mass_matrices(problem, L)
-        K = f[:, :, None] * K0[:, None, :] if problem.stiffness == "paper" \
-            else np.broadcast_to((f * K0)[:, None, :], (B, m, n))
+        K = P.pose_springs(K0, f, m)
         omega = eig_scaled(M.reshape(-1, n, n), 1.0 / np.sqrt(K.reshape(-1, n)))
     except (SolveError, BeamInputError, np.linalg.LinAlgError):
         if B == 1:
@@ -312,7 +300,7 @@ def batch_losses(problem: FitProblem, lengths_m: np.ndarray, factors: np.ndarray
                        problem.squared, problem.eigen_norm).reshape(B, m)
     if not static:
         return BatchLosses(eig)
-    rows = K.reshape(B * m, n) if problem.stiffness == "paper" else K[:, 0]
+    rows = P.static_rows(K)
     Lr = np.repeat(L, reps, axis=0)
     pos = np.zeros((B, reps))
     disp = np.zeros((B, reps))

@@ -1,4 +1,4 @@
-"""The local solver of one fit start, per parametrisation, and the polish of a ``paper`` optimum.
+"""One fit start's local solvers, one per parametrisation, and the polish of a ``paper`` optimum.
 
 The polish is that of a ``paper`` eigen optimum; the solvers are chosen for accuracy per model
 evaluation (see ``scripts/bench_fit.py`` and ``scripts/bench_fit_jacobian.py``). The joint
@@ -20,7 +20,8 @@ from .paper import PaperEigenResiduals, PaperScalarLoss
 from .problem import unit_from_lengths
 from .spec import LN_S_BOUNDS, FitSpec, StartResult
 
-__all__ = ["solve_start", "explore_start", "refine_start", "joint_box", "polish_paper_eigen"]
+__all__ = ["solve_start", "solve_joint_start", "solve_paper_start", "explore_start",
+           "refine_start", "joint_box", "polish_paper_eigen"]
 
 
 def _ls(fun, x0, lb, ub, max_nfev, jac="2-point", tol=1e-10, method="dogbox", x_scale=1.0):
@@ -122,12 +123,12 @@ def _joint_result(J: JointResiduals, index: int, state: LMState,
 
 
 def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.ndarray):
-    """Run the local solver of the parametrisation from one start.
+    """Run the local solver of the problem's parametrisation from one start.
 
     Parameters
     ----------
     spec : FitSpec
-        The fit problem, objective, deflection norm and evaluation cap.
+        The fit problem, objective and evaluation cap.
     index : int
         The start's index, recorded in the result.
     lengths0 : ndarray, shape (n+1,)
@@ -142,26 +143,47 @@ def solve_start(spec: FitSpec, index: int, lengths0: np.ndarray, factors0: np.nd
     StartResult
         The local optimum: link lengths (m), factors, loss (%), evaluations and solver message.
     """
+    # the parametrisation picks its solver (solve_joint_start or solve_paper_start)
+    return spec.problem.parametrisation.solve_start(spec, index, lengths0, factors0)
+
+
+def solve_joint_start(spec: FitSpec, index: int, lengths0: np.ndarray,
+                      factors0: np.ndarray) -> StartResult:
+    """Run the ``joint`` local solver from one start (:func:`solve_start`'s arguments).
+
+    Eigen: least squares over [u, ln s] (polished on the true loss by SLSQP over a sweep);
+    with a deflection term: :func:`explore_start` then :func:`refine_start` to the cap.
+    """
+    p = spec.problem
+    n = p.n_joints
+    if spec.objective.has_deflection_term:
+        explored, state = explore_start(spec, index, lengths0, factors0, spec.max_nfev)
+        return refine_start(spec, explored, state)
+    J = JointResiduals(spec)
+    lb, ub = joint_box(n)
+    x0 = np.r_[unit_from_lengths(lengths0, p.length_m, p.min_fraction), np.log(factors0)]
+    r = _ls(J.eigen_residuals, x0, lb, ub, spec.max_nfev, jac=J.eigen_jac,
+            method="dogbox" if p.n_poses == 1 else "trf")
+    x, msg, ok = r.x, r.message, bool(r.success)
+    if p.n_poses > 1:
+        r2 = _slsqp(J.loss, x, lb, ub)
+        if r2.fun <= J.loss(x):
+            x, msg = r2.x, f"{msg}; polished: {r2.message}"
+    lengths, s = J.design(x)
+    return StartResult(index, lengths, s, 100.0 * J.loss(x), J.nfev, ok, str(msg))
+
+
+def solve_paper_start(spec: FitSpec, index: int, lengths0: np.ndarray,
+                      factors0: np.ndarray) -> StartResult:
+    """Run the ``paper`` local solver from one start (:func:`solve_start`'s arguments).
+
+    Eigen: least squares on the variable-projected residuals over u (the SCFs in closed
+    form); with a deflection term: SLSQP on the scalar loss over [u, ln k].
+    """
     p = spec.problem
     n = p.n_joints
     u0 = unit_from_lengths(lengths0, p.length_m, p.min_fraction)
-    if p.stiffness == "joint":
-        J = JointResiduals(spec)
-        lb, ub = joint_box(n)
-        x0 = np.r_[u0, np.log(factors0)]
-        if spec.objective != "eigen":
-            explored, state = explore_start(spec, index, lengths0, factors0, spec.max_nfev)
-            return refine_start(spec, explored, state)
-        r = _ls(J.eigen_residuals, x0, lb, ub, spec.max_nfev, jac=J.eigen_jac,
-                method="dogbox" if p.n_poses == 1 else "trf")
-        x, msg, ok = r.x, r.message, bool(r.success)
-        if p.n_poses > 1:
-            r2 = _slsqp(J.loss, x, lb, ub)
-            if r2.fun <= J.loss(x):
-                x, msg = r2.x, f"{msg}; polished: {r2.message}"
-        lengths, s = J.design(x)
-        return StartResult(index, lengths, s, 100.0 * J.loss(x), J.nfev, ok, str(msg))
-    if spec.objective == "eigen":
+    if not spec.objective.has_deflection_term:
         P = PaperEigenResiduals(spec)
         # a loose stage-1 tolerance: the best few starts are polished on the true loss
         r = _ls(P.residuals, u0, np.zeros(n), np.ones(n), spec.max_nfev, jac=P.jac,

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -16,14 +15,12 @@ import numpy as np
 from ..chain.layout import sample_lengths
 from ..errors import BeamInputError
 from ..member.geometry import Beam
-from ..options.choices import Objective
 from ..options.objects import FitOptions
 from ..workers import pool_scope
 from .explore import run_explored
-from .local import polish_paper_eigen, solve_start
-from .paper import PaperEigenResiduals
+from .local import solve_start
 from .pool import fit_pool
-from .problem import FitProblem, make_problem, unit_from_lengths
+from .problem import FitProblem, make_problem
 from .progress import start_bar
 from .result import result_from_design
 from .results import FitResult
@@ -207,43 +204,25 @@ def fit(
         o = o.replace(**start_changes(start, beam, joints, o))
     problem = make_problem(beam, target, joints, o)
     _check_fit_args(o, workers, target)
-    objective = o.objective.value
     spec = FitSpec(problem, o.objective, o.max_nfev)
     if o.unique != "none":
         return _fit_unique(problem, o, t0)
+    P = problem.parametrisation
     tasks = draw_starts(problem, o.starts, o.seed)
     if o.start_lengths_m is not None:
         tasks = [_warm_task(problem, o)]
-    elif problem.stiffness == "paper" and objective != "eigen":
-        # random SCFs around each start's projected eigen optimum (the SCF scale is beam-specific)
-        P = PaperEigenResiduals(FitSpec(problem, Objective.EIGEN, o.max_nfev))
-        tasks = [(i, L, F * P.factors(unit_from_lengths(L, problem.length_m,
-                                                        problem.min_fraction)))
-                 for i, L, F in tasks]
-    if (problem.stiffness == "joint" and objective != "eigen" and o.refine_starts > 0
-            and len(tasks) > o.refine_starts):
+    else:
+        tasks = P.start_tasks(spec, tasks)
+    if P.explores(spec, o, len(tasks)):
         runs = run_explored(spec, tasks, o.explore_nfev, o.refine_starts, workers, progress,
                             o.loss_tol_pct)
     else:
         runs = run_starts(spec, tasks, workers, progress, o.loss_tol_pct)
     order = sorted(range(len(runs)), key=lambda i: (runs[i].loss_pct, i))
-    best = runs[order[0]]
-    if problem.stiffness == "paper" and objective == "eigen" and o.polish > 0:
-        # starts that ended in the same local optimum polish to the same design: polish
-        # only distinct ones among the best ``polish``
-        chosen: list[int] = []
-        for i in order[:o.polish]:
-            if all(np.max(np.abs(runs[i].lengths_m - runs[j].lengths_m)) > 1e-3 * beam.length_m
-                   for j in chosen):
-                chosen.append(i)
-        polished = [polish_paper_eigen(spec, runs[i]) for i in chosen]
-        best = min(polished, key=lambda r: (r.loss_pct, r.index))
-        runs = [*runs]
-        for q, i in zip(polished, chosen, strict=True):
-            runs[i] = replace(runs[i], nfev=q.nfev)  # count the polishing evaluations too
+    best, runs = P.polish(spec, runs, order, o)
     nfev = sum(r.nfev for r in runs)
     return result_from_design(
-        problem, best.lengths_m, best.factors, objective=objective, seed=o.seed,
+        problem, best.lengths_m, best.factors, objective=o.objective, seed=o.seed,
         starts=o.starts, starts_run=len(runs), nfev=nfev,
         start_losses_pct=np.array([r.loss_pct for r in runs]),
         wall_time_s=time.perf_counter() - t0, success=bool(best.success),

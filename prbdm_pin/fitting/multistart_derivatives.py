@@ -24,6 +24,7 @@ from ..chain.stiffness import finite_segment_stiffness
 from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
 from .joint import JointResiduals
+from .parametrisation import parametrisation
 from .problem import FitProblem, lengths_from_unit, make_problem, unit_from_lengths
 from .results import FitResult
 from .spec import FitSpec
@@ -143,7 +144,7 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     SolveError
         When the optimality conditions are singular (a fit that is not unique).
     """
-    if result.stiffness != "joint" or result.options is None:
+    if result.options is None or not parametrisation(result.stiffness).pose_independent:
         raise BeamInputError("result: needs a joint fit that recorded its options")
     p = float(parameter)
     h = H_P_REL * max(abs(p), 1e-12) if step is None else float(step)

@@ -21,7 +21,7 @@ from ..options.objects import FitOptions, ParetoOptions
 from ..workers import stop_pool
 from .local import solve_start
 from .multistart import fit, resolve_options
-from .objectives import best_scale, knee_index
+from .objectives import knee_index
 from .pareto_problem import (
     LengthRepair,
     ParetoProblem,
@@ -30,7 +30,7 @@ from .pareto_problem import (
 )
 from .pareto_result import ParetoResult
 from .pool import fit_pool
-from .problem import FitProblem, make_problem, unit_frequencies
+from .problem import FitProblem, make_problem
 from .progress import PymooBar
 from .result import result_from_design
 from .spec import FitSpec
@@ -108,7 +108,6 @@ def fit_pareto(
     o = resolve_options(options, ParetoOptions, changes)
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
-    stiffness = o.stiffness.value
     pop, generations, seed = o.pop, o.generations, o.seed
     problem = make_problem(beam, target, joints, o)
     if not target.has_static:
@@ -119,14 +118,7 @@ def fit_pareto(
     n1 = problem.n_joints + 1
     log10_bounds = o.log10_bounds
     if log10_bounds is None:
-        if stiffness == "joint":
-            log10_bounds = (-1.0, 1.0)
-        else:
-            eq = np.full(n1, problem.length_m / n1)
-            _, _, W = unit_frequencies(problem, eq)
-            k_ref = float(np.mean(best_scale(W, problem.target.omega_truth_rad_s, o.squared,
-                                             problem.eigen_norm)))
-            log10_bounds = (math.log10(k_ref) - 1.5, math.log10(k_ref) + 1.5)
+        log10_bounds = problem.parametrisation.default_log10_bounds(problem)
     X0, n_seed_evals = _initial_population(beam, target, problem, o, log10_bounds, workers)
     algo = NSGA2(pop_size=int(pop), sampling=X0, repair=LengthRepair(n1, problem.min_fraction),
                  eliminate_duplicates=True)
@@ -176,13 +168,15 @@ def fit_pareto(
     factors = 10.0 ** X[:, n1:]
     wall = time.perf_counter() - t0
     knee = result_from_design(
-        problem, lengths[ki], factors[ki], objective="combined", seed=int(seed), starts=int(pop),
+        problem, lengths[ki], factors[ki], objective=Objective.COMBINED, seed=int(seed),
+        starts=int(pop),
         starts_run=int(pop), nfev=n_evals,
         start_losses_pct=np.hypot(F[:, 0], F[:, 1]), wall_time_s=wall, success=True,
         message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs; {note}")
     return ParetoResult(
         beam_name=beam.name, joints=problem.n_joints, frequencies=problem.n_freq,
-        stiffness=stiffness, deflection_norm=o.deflection_norm.value, F_pct=F, X=X,
+        stiffness=problem.parametrisation.name, deflection_norm=o.deflection_norm.value,
+        F_pct=F, X=X,
         front_lengths_m=lengths, front_factors=factors, knee_index=ki, pop=int(pop),
         generations=int(generations), n_evals=n_evals,
         seed=int(seed), xi=o.xi_rad, eps=o.eps_rad, wall_time_s=wall, success=True,

@@ -1,17 +1,12 @@
 """The fit problem.
 
-Everything fixed during a fit (FitProblem), the length parametrisation, and how a design
-(lengths, stiffness factors) becomes a model.
+Everything fixed during a fit (FitProblem: the beam, the target, the options and the spring
+parametrisation) and the length parametrisation.
 
-Two stiffness parametrisations:
-
-- ``paper`` (Eq. 14): pose i uses the springs ``K_j(i) = k_i sqrt(E I_{j+1} / m_{j+1})``, one
-  stiffness correction factor (SCF) k_i per pose; design vector [gamma, k] (Eq. 22). Frequencies
-  are compared over the pose sweep of Eqs. 10-11.
-- ``joint``: one pose-independent factor s_j per joint on the finite-segment physical stiffness
-  (``stiffness.finite_segment_stiffness``), ``K_j = s_j E / integral(dx / I)``; design vector
-  [gamma, s]; frequencies at the straight pose unless a sweep is asked for. One spring per joint,
-  valid in every pose: the model a simulation exports as it is.
+The spring parametrisation (how a design's stiffness factors become springs) is an object of
+``fitting.parametrisation``: ``paper`` (Eq. 14, one stiffness correction factor per pose of the
+sweep) or ``joint`` (one pose-independent factor per joint on the finite-segment springs);
+:func:`make_problem` turns the ``stiffness`` option into it.
 
 Link lengths live on the bounded simplex ``sum L_j = L, L_j >= f L`` (f = 0.02, Eq. 15); the
 upper bound (1 - f) L of Eq. 15d is implied by the others. The single-objective local solvers
@@ -23,25 +18,25 @@ box-bounded solvers (least_squares, L-BFGS-B) handle the equality exactly; NSGA-
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..chain.stiffness import finite_segment_stiffness, paper_stiffness, pose_sweep
 from ..errors import BeamInputError
 from ..member.geometry import Beam
-from ..options.choices import MIN_FRACTION, DeflectionNorm, EigenNorm, StiffnessKind
+from ..options.choices import MIN_FRACTION, DeflectionNorm, EigenNorm
 from ..options.objects import FitOptions, ParetoOptions
 from .target import FitTarget, read_only
+
+if TYPE_CHECKING:
+    from .parametrisation import Parametrisation
 
 __all__ = [
     "FitProblem",
     "make_problem",
     "lengths_from_unit",
     "unit_from_lengths",
-    "base_stiffness",
-    "build",
     "unit_frequencies",
-    "pose_stiffness",
     "static_tips",
 ]
 
@@ -94,8 +89,11 @@ class FitProblem:
         Already cut to the N frequencies to match.
     n_joints : int
     options : FitOptions or ParetoOptions
-        The validated options the problem was made from, carried whole: the parametrisation,
-        the pose sweep, the frequency form and the norms are read from them.
+        The validated options the problem was made from, carried whole: the pose sweep, the
+        frequency form and the norms are read from them.
+    parametrisation : Parametrisation
+        The object of ``options.stiffness`` (``parametrisation.parametrisation``): how a
+        design's factors become springs, and what the fit does with them.
     poses_rad : ndarray, shape (m, n)
         Joint angles of the poses where frequencies are compared.
     """
@@ -104,12 +102,8 @@ class FitProblem:
     target: FitTarget
     n_joints: int
     options: FitOptions | ParetoOptions
+    parametrisation: Parametrisation
     poses_rad: np.ndarray
-
-    @property
-    def stiffness(self) -> StiffnessKind:
-        """The spring parametrisation (``options.stiffness``)."""
-        return self.options.stiffness
 
     @property
     def squared(self) -> bool:
@@ -149,7 +143,7 @@ class FitProblem:
     @property
     def n_factors(self) -> int:
         """Number of stiffness factors: m SCFs (paper) or n joint factors (joint)."""
-        return self.n_poses if self.stiffness == "paper" else self.n_joints
+        return self.parametrisation.n_factors(self.n_poses, self.n_joints)
 
 
 def make_problem(beam: Beam, target: FitTarget, joints: int,
@@ -200,37 +194,15 @@ def make_problem(beam: Beam, target: FitTarget, joints: int,
             f"{joints} frequencies)"
         )
     target = target.first(int(frequencies))
-    xi, eps = options.xi_rad, options.eps_rad
-    if options.stiffness == "paper" or options.joint_sweep:
-        poses = np.asarray(pose_sweep(joints, xi=xi, eps=eps), dtype=float)
-        if poses.shape[0] == 0:
-            raise BeamInputError(f"xi = {xi}, eps = {eps}: the pose sweep is empty")
-    else:
-        poses = np.zeros((1, joints))
-    return FitProblem(beam, target, joints, options, read_only(poses))
+    # the parametrisations import the solvers, which import this module: looked up here
+    from .parametrisation import parametrisation
 
-
-def base_stiffness(problem: FitProblem, model_or_lengths) -> np.ndarray:
-    """Springs at unit factor, N m/rad: ``sqrt(E I/m)`` of Eq. 14 (paper) or finite-segment."""
-    if problem.stiffness == "paper":
-        return np.asarray(paper_stiffness(model_or_lengths.sections,
-                                          problem.beam.material.E_Pa, 1.0), dtype=float)
-    return np.asarray(finite_segment_stiffness(problem.beam, model_or_lengths,
-                                               problem.min_fraction), dtype=float)
-
-
-def build(problem: FitProblem, lengths_m: np.ndarray):
-    """Build the model with unit-factor springs; return it and the springs ``K0`` (n,), N m/rad."""
-    from ..model.prbdm_model import build_model
-
-    lengths = np.asarray(lengths_m, dtype=float)
-    f = problem.min_fraction  # the fit's own bound (below 0.02 for long chains)
-    if problem.stiffness == "paper":
-        model = build_model(problem.beam, lengths, np.ones(problem.n_joints), min_fraction=f)
-        K0 = base_stiffness(problem, model)
-        return model.with_stiffness(K0), K0
-    K0 = base_stiffness(problem, lengths)
-    return build_model(problem.beam, lengths, K0, min_fraction=f), K0
+    springs = parametrisation(options.stiffness)
+    poses = springs.poses(joints, options)
+    if poses.shape[0] == 0:
+        raise BeamInputError(f"xi = {options.xi_rad}, eps = {options.eps_rad}: the pose sweep "
+                             "is empty")
+    return FitProblem(beam, target, joints, options, springs, read_only(poses))
 
 
 def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
@@ -246,17 +218,9 @@ def unit_frequencies(problem: FitProblem, lengths_m: np.ndarray):
         Frequencies at each pose with ``K0`` (rad/s); with factor k on every spring each one
         scales by sqrt(k) (the variable projection of the ``paper`` fit uses this).
     """
-    model, K0 = build(problem, lengths_m)
+    model, K0 = problem.parametrisation.build(problem, lengths_m)
     omega = model.natural_frequencies_batch(problem.poses_rad, stiffness=K0)
     return model, K0, np.asarray(omega)[:, : problem.n_freq]
-
-
-def pose_stiffness(problem: FitProblem, K0: np.ndarray, factors: np.ndarray) -> np.ndarray:
-    """Springs of every pose, shape (m, n), N m/rad."""
-    f = np.asarray(factors, dtype=float)
-    if problem.stiffness == "paper":
-        return f[:, None] * K0[None, :]
-    return np.broadcast_to(f * K0, (problem.n_poses, problem.n_joints)).copy()
 
 
 def static_tips(model, tip_force_N: np.ndarray, stiffness_rows: np.ndarray) -> np.ndarray:

@@ -7,16 +7,20 @@ misses, links on their length bound).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ..errors import SolveError
+from ..options.checks import check_choice
+from ..options.choices import Objective
 from .evaluate import evaluate
-from .objectives import mode_errors_pct, scf_deviation_pct, scf_mean, worst_mode_error_pct
-from .problem import FitProblem, build
+from .objectives import mode_errors_pct, worst_mode_error_pct
+from .problem import FitProblem
 from .results import FitResult
 
-__all__ = ["EXACT_MATCH_PCT", "EXPORT_WARN_PCT", "BOUND_TOL", "result_from_design"]
+__all__ = ["EXACT_MATCH_PCT", "EXPORT_WARN_PCT", "BOUND_TOL", "ExportedSprings",
+           "result_from_design"]
 
 # eigen loss (%) above which a joint fit of n frequencies at the straight pose has not matched
 # them (reached fits end at 1e-11 % or below)
@@ -27,7 +31,32 @@ EXPORT_WARN_PCT = 1.0
 BOUND_TOL = 1e-6
 
 
-def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: str, seed: int,
+class ExportedSprings(NamedTuple):
+    """What a fitted design exports, as its parametrisation says (``Parametrisation.export``).
+
+    Attributes
+    ----------
+    springs_Nm_per_rad : ndarray, shape (n,)
+        The exported joint springs, N m/rad.
+    pose_rad : ndarray, shape (n,)
+        The pose they were fitted at, rad.
+    scf_mean : float
+        The mean stiffness factor (Eq. 25 for the SCFs), dimensionless.
+    scf_deviation_pct : ndarray, shape (m,)
+        Each pose's SCF deviation from the mean (Eq. 26; zeros for one factor per joint), %.
+    described : str
+        What the exported springs are, in words.
+    """
+
+    springs_Nm_per_rad: np.ndarray
+    pose_rad: np.ndarray
+    scf_mean: float
+    scf_deviation_pct: np.ndarray
+    described: str
+
+
+def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: Objective,
+                       seed: int,
                        starts: int, starts_run: int, nfev: int, start_losses_pct,
                        wall_time_s: float, success: bool, message: str) -> FitResult:
     """Evaluate a design in full (frequencies, tip under load) and package it as a FitResult.
@@ -41,7 +70,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
     factors : array_like
         Spring factors (dimensionless): the ``joint`` factors on the finite-segment springs,
         shape (n,), or the ``paper`` SCFs, one per pose.
-    objective : str
+    objective : Objective or str
         The objective the design was fitted to.
     seed : int
         The seed of the starts.
@@ -64,38 +93,20 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         The design with its model's frequencies (rad/s), tip (m), springs (N m/rad), per-mode
         errors (%) and notes.
     """
+    objective = check_choice("objective", objective, Objective)
     t = problem.target
     try:
         ev = evaluate(problem, lengths_m, factors, deflection=t.has_static)
     except SolveError as exc:
         ev = evaluate(problem, lengths_m, factors, deflection=False)
         message = f"{message}; static deflection failed: {exc}"
-    model, K0 = build(problem, lengths_m)
+    P = problem.parametrisation
+    model, K0 = P.build(problem, lengths_m)
     extra = bool(t.extra_loads) and ev.extra_tip_position_m is not None
-    notes = t.shape_notes()
-    if (problem.stiffness == "joint" and objective == "eigen" and problem.n_poses == 1
-            and problem.n_freq == problem.n_joints and ev.eigen_loss_pct > EXACT_MATCH_PCT):
-        notes.insert(0, f"the {problem.n_freq} truth frequencies were not matched (eigen loss "
-                        f"{ev.eigen_loss_pct:.3g} % after {starts_run} starts): a joint model "
-                        "matches n frequencies exactly when they are within a chain's reach")
+    notes = P.fit_notes(problem, objective, ev.eigen_loss_pct, starts_run) + t.shape_notes()
     n = problem.n_joints
-    if problem.stiffness == "paper":
-        k_mean = scf_mean(ev.factors)  # a diagnostic (Eq. 25): no pose was fitted with it
-        dev = scf_deviation_pct(ev.factors)
-        # the springs of one fitted pose: the sweep's first, the one nearest straight (the
-        # frequencies move by O(q^2) from there to q = 0; the straight pose is where users
-        # linearise and simulate)
-        K = ev.stiffness_Nm_per_rad[0]
-        pose = problem.poses_rad[0]
-        described = (f"paper: the springs fitted at sweep pose 0 (every joint at "
-                     f"{pose[0]:.6g} rad, the pose nearest straight; SCF {ev.factors[0]:.6g})")
-    else:
-        k_mean = float(np.mean(ev.factors))
-        K = ev.factors * K0
-        dev = np.zeros(problem.n_poses)
-        pose = np.zeros(n)
-        described = ("joint: pose-independent springs, fitted "
-                     + ("over the pose sweep" if problem.n_poses > 1 else "at the straight pose"))
+    exported = P.export(problem, ev, K0)
+    K, described = exported.springs_Nm_per_rad, exported.described
     omega_errors = mode_errors_pct(ev.omega_model_rad_s, t.omega_truth_rad_s)
     # the exported model on its own: its frequencies at the straight pose
     w_export = model.with_stiffness(K).natural_frequencies(np.zeros(n))[: problem.n_freq]
@@ -107,16 +118,15 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
                      f"truth mode {k + 1} by {export_errors[k]:+.3g} % at the straight pose "
                      f"(every mode: {_pct_list(export_errors)}); the {problem.eigen_norm}-norm "
                      f"eigen loss of {ev.eigen_loss_pct:.3g} % does not show it"
-                     + ("; Eq. 14's springs, one SCF times sqrt(E I_j / m_j), cannot follow "
-                        "every planform: joint springs (stiffness='joint') fit each joint"
-                        if problem.stiffness == "paper" else ""))
+                     + P.export_advice)
     notes.extend(_bound_notes(ev.lengths_m, problem.length_m, problem.min_fraction))
     return FitResult(
         beam_name=problem.beam.name, beam_fingerprint=problem.beam.fingerprint(),
-        joints=problem.n_joints, frequencies=problem.n_freq, objective=objective,
-        stiffness=problem.stiffness.value, lengths_m=ev.lengths_m, stiffness_Nm_per_rad=K,
+        joints=problem.n_joints, frequencies=problem.n_freq, objective=objective.value,
+        stiffness=P.name, lengths_m=ev.lengths_m, stiffness_Nm_per_rad=K,
         stiffness_per_pose_Nm_per_rad=ev.stiffness_Nm_per_rad, factors=ev.factors,
-        scf_mean=k_mean, scf_deviation_pct=dev, poses_rad=problem.poses_rad,
+        scf_mean=exported.scf_mean, scf_deviation_pct=exported.scf_deviation_pct,
+        poses_rad=problem.poses_rad,
         omega_truth_rad_s=t.omega_truth_rad_s, omega_model_rad_s=ev.omega_model_rad_s,
         eigen_errors_pct=100.0 * ev.eigen_errors, eigen_loss_pct=ev.eigen_loss_pct,
         deflection_loss_pct=ev.deflection_loss_pct,
@@ -140,7 +150,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: st
         warnings=tuple(notes),
         eigen_norm=problem.eigen_norm.value, min_fraction=problem.min_fraction,
         omega_errors_pct=omega_errors,
-        worst_mode_error_pct=worst_mode_error_pct(omega_errors), export_pose_rad=pose,
+        worst_mode_error_pct=worst_mode_error_pct(omega_errors), export_pose_rad=exported.pose_rad,
         stiffness_pose=described, omega_export_rad_s=w_export,
         omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,
         options=problem.options,

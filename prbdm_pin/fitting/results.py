@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from ..io.records import JsonRecord, readonly_array
-from ..options.choices import MIN_FRACTION
+from ..options.checks import check_choice
+from ..options.choices import MIN_FRACTION, StiffnessKind
 
 if TYPE_CHECKING:
     from ..options.objects import FitOptions, ParetoOptions
@@ -35,9 +36,12 @@ ARRAY_FIELDS = frozenset({
     "extra_tip_position_truth_m", "extra_tip_position_model_m", "omega_errors_pct",
     "export_pose_rad", "omega_export_rad_s", "omega_export_errors_pct",
 })
-# what an old paper fit.json (one without ``stiffness_pose``) exported
-_OLD_PAPER_EXPORT = ("paper: SCF_mean times Eq. 14 (a fit.json written before fits recorded "
-                     "their export pose; no pose was fitted with these springs)")
+# what an old fit.json (one without ``stiffness_pose``) exported, by its ``stiffness``
+_OLD_EXPORTS = {
+    StiffnessKind.PAPER: ("paper: SCF_mean times Eq. 14 (a fit.json written before fits "
+                          "recorded their export pose; no pose was fitted with these springs)"),
+    StiffnessKind.JOINT: "joint: pose-independent springs",
+}
 
 
 def package_versions() -> tuple[tuple[str, str], ...]:
@@ -229,8 +233,8 @@ class FitResult(JsonRecord):
             object.__setattr__(self, "worst_mode_error_pct",
                                float(np.max(np.abs(self.omega_errors_pct))))
         if not self.stiffness_pose:
-            object.__setattr__(self, "stiffness_pose", _OLD_PAPER_EXPORT
-                               if self.stiffness == "paper" else "joint: pose-independent springs")
+            object.__setattr__(self, "stiffness_pose", _OLD_EXPORTS[
+                check_choice("stiffness", self.stiffness, StiffnessKind)])
 
     @classmethod
     def from_dict(cls, d: Any, beam=None, what: str = "fit.json") -> FitResult:

@@ -94,9 +94,9 @@ def check_unique_problem(problem: FitProblem, objective: str) -> None:
 
     The rule needs one; anything else is a BeamInputError naming the field.
     """
-    if problem.stiffness != "joint":
-        raise BeamInputError(f"unique = 'nearest': stiffness = {problem.stiffness!r}: needs "
-                             "'joint'")
+    if not problem.parametrisation.pose_independent:
+        raise BeamInputError(f"unique = 'nearest': stiffness = "
+                             f"{problem.parametrisation.name!r}: needs 'joint'")
     if objective != "eigen":
         raise BeamInputError(f"unique = 'nearest': objective = {objective!r}: needs 'eigen'")
     if problem.n_poses != 1:

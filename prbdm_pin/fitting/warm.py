@@ -13,10 +13,12 @@ from typing import Any
 
 import numpy as np
 
-from ..chain.stiffness import finite_segment_stiffness
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.checks import check_choice
+from ..options.choices import StiffnessKind
 from ..options.objects import FitOptions
+from .parametrisation import parametrisation
 from .results import FitResult
 
 __all__ = ["start_changes"]
@@ -64,33 +66,28 @@ def start_changes(start: Any, beam: Beam, joints: int, options: FitOptions) -> d
         ``start_lengths_m`` (m, rescaled to this beam's span) and ``start_factors``
         (dimensionless), as tuples of float.
     """
-    stiffness = options.stiffness.value
+    springs_of = parametrisation(options.stiffness)
     if isinstance(start, FitResult):
         if start.joints != joints:
             raise BeamInputError(f"start: a {start.joints}R fit cannot start a {joints}R fit "
                                  f"(joints = {joints})")
-        if start.stiffness != stiffness:
+        if check_choice("stiffness", start.stiffness, StiffnessKind) is not options.stiffness:
             raise BeamInputError(f"start: stiffness = {start.stiffness!r}: this fit's is "
-                                 f"{stiffness!r}")
+                                 f"{springs_of.name!r}")
         lengths = _lengths(start.lengths_m, beam, joints)
         springs = np.asarray(start.stiffness_Nm_per_rad, dtype=float)
-        scf = np.asarray(start.factors, dtype=float)
+        factors = np.asarray(start.factors, dtype=float)
     elif isinstance(start, (tuple, list)) and len(start) == 2:
-        if stiffness != "joint":
+        if not springs_of.pose_independent:
             raise BeamInputError("start = (lengths, springs): needs stiffness = 'joint' (a "
                                  "'paper' fit starts from a FitResult, which has its SCFs)")
         lengths = _lengths(start[0], beam, joints)
         springs = np.asarray(start[1], dtype=float).reshape(-1)
-        scf = None
+        factors = None
     else:
         raise BeamInputError(f"start = {start!r:.60}: must be a FitResult or a pair "
                              "(lengths m, springs N m/rad)")
-    if stiffness == "joint":
-        if springs.size != joints or not np.all(np.isfinite(springs)) or np.any(springs <= 0):
-            raise BeamInputError(f"start springs = {springs.tolist()}: need {joints} finite "
-                                 "values > 0 (N m/rad)")
-        factors = springs / finite_segment_stiffness(beam, lengths, options.min_fraction)
-    else:
-        factors = scf  # fit() checks there is one per pose of this fit's sweep
+    # joint: the springs as factors on this beam's; paper: the SCFs (fit() checks their count)
+    factors = springs_of.start_factors(beam, lengths, springs, factors, options.min_fraction)
     return {"start_lengths_m": tuple(float(v) for v in lengths),
             "start_factors": tuple(float(v) for v in factors)}

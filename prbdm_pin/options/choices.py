@@ -49,11 +49,25 @@ class Choice(str, Enum):
 
 
 class Objective(Choice):
-    """What a fit minimises: Eq. 17, Eq. 19 or Eq. 27."""
+    """What a fit minimises: Eq. 17, Eq. 19 or Eq. 27.
+
+    The fit asks an objective which terms it has (:attr:`has_eigen_term`,
+    :attr:`has_deflection_term`) instead of testing its name.
+    """
 
     EIGEN = "eigen"
     DEFLECTION = "deflection"
     COMBINED = "combined"
+
+    @property
+    def has_eigen_term(self) -> bool:
+        """Whether the loss has the frequency term (Eq. 17): ``eigen`` and ``combined``."""
+        return self is not Objective.DEFLECTION
+
+    @property
+    def has_deflection_term(self) -> bool:
+        """Whether the loss has the tip term (Eq. 19): ``deflection`` and ``combined``."""
+        return self is not Objective.EIGEN
 
 
 class StiffnessKind(Choice):
