@@ -17,6 +17,7 @@ from ..chain.planar import planar_mass_matrices, planar_tips
 from ..chain.sections import planar_sections
 from ..chain.statics import static_deflection_planar_batch
 from ..errors import BeamInputError, SolveError
+from ..options.choices import DeflectionNorm
 from .objectives import (
     check_deflection_norm,
     eigen_errors,
@@ -91,12 +92,12 @@ class Evaluation:
         """Combined loss sqrt(eigen^2 + deflection^2) (Eq. 27), %."""
         return float(math.hypot(self.eigen_loss_pct, self.deflection_loss_pct))
 
-    def tip_loss_pct(self, norm: str = "position") -> float:
+    def tip_loss_pct(self, norm: DeflectionNorm | str = DeflectionNorm.POSITION) -> float:
         """Return the tip loss in the normalisation ``norm``, %.
 
         ``norm`` is one of ``objectives.DEFLECTION_NORMS``.
         """
-        if check_deflection_norm(norm) == "position":
+        if check_deflection_norm(norm) is DeflectionNorm.POSITION:
             return self.deflection_loss_pct
         return self.displacement_loss_pct
 
@@ -244,12 +245,13 @@ class BatchLosses:
         """Tip-displacement loss of each design, %."""
         return 100.0 * self.displacement_errors.mean(axis=1)
 
-    def tip_errors(self, norm: str = "position") -> np.ndarray | None:
+    def tip_errors(self, norm: DeflectionNorm | str = DeflectionNorm.POSITION
+                   ) -> np.ndarray | None:
         """Return the tip errors in the normalisation ``norm``, as fractions.
 
         ``norm`` is one of ``objectives.DEFLECTION_NORMS``.
         """
-        if check_deflection_norm(norm) == "position":
+        if check_deflection_norm(norm) is DeflectionNorm.POSITION:
             return self.position_errors
         return self.displacement_errors
 

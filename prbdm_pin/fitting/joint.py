@@ -45,7 +45,7 @@ class JointResiduals:
         self.f = p.target.omega_truth_rad_s ** (2 if p.squared else 1)
         # the eigen norm's weights (Eq. 16: 1/||f||; relative: 1/(f_k sqrt(N)))
         self.d = eigen_weights(p.target.omega_truth_rad_s, p.squared, p.eigen_norm)
-        self.cases = p.target.load_cases if spec.objective != "eigen" else ()
+        self.cases = p.target.load_cases if spec.objective.has_deflection_term else ()
         self.norms = tip_scales_m(p) if self.cases else np.zeros(0)
         # what scales each residual row: the eigen rows by their weights over sqrt(m); the
         # squared residuals of k load cases sum to the mean squared tip error
@@ -102,7 +102,7 @@ class JointResiduals:
             points = chain_points(lengths[None], sec[1][None], p.poses_rad)
             M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad, points)
             K = s * K0
-            if spec.objective != "deflection":
+            if spec.objective.has_eigen_term:
                 w = chain_frequencies(M, K)[:, : p.n_freq]
                 row = w.size
                 out[:row] = eigen_residuals(w, p.target.omega_truth_rad_s, p.squared,
@@ -123,8 +123,9 @@ class JointResiduals:
 
     def size(self):
         """Return the length of the residual vector."""
-        p, o = self.p, self.spec.objective
-        return (p.n_poses * p.n_freq if o != "deflection" else 0) + 3 * len(self.cases)
+        p = self.p
+        return (p.n_poses * p.n_freq if self.spec.objective.has_eigen_term else 0) \
+            + 3 * len(self.cases)
 
     def jac(self, x):
         """Return the analytic Jacobian of :meth:`residuals` (:mod:`.joint_jacobian`).
@@ -180,12 +181,12 @@ class JointResiduals:
         r = self.residuals(x)
         p, o = self.p, self.spec.objective
         e = d = 0.0
-        if o != "deflection":
+        if o.has_eigen_term:
             ne = p.n_poses * p.n_freq
             e = float(np.mean(np.linalg.norm(
                 r[:ne].reshape(p.n_poses, p.n_freq) * math.sqrt(p.n_poses), axis=1)))
             r = r[ne:]
-        if o != "eigen":
+        if o.has_deflection_term:
             # residuals scaled by 1/sqrt(k): the loss averages the k cases' errors (Eq. 18)
             k = len(self.cases)
             d = float(np.mean(np.linalg.norm(r.reshape(k, 3), axis=1))) * math.sqrt(k)

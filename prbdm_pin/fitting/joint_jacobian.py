@@ -70,7 +70,7 @@ def joint_residual_jacobian(res, x: np.ndarray, chain: tuple, static_poses: list
         np.multiply(scale, d_k * k, out=out[rows, n:])
 
     row = 0
-    if spec.objective != "deflection":
+    if spec.objective.has_eigen_term:
         lam, d_x, d_k = frequency_gradients(lengths, sec, k, p.poses_rad, M, points)
         N = p.n_freq
         lam, d_x, d_k = lam[:, :N], d_x[:, :N], d_k[:, :N]

@@ -84,11 +84,11 @@ def _check_fit_args(options: FitOptions, workers, target: FitTarget) -> None:
     objective = options.objective
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
-    if objective != "eigen" and not target.has_static:
+    if objective.has_deflection_term and not target.has_static:
         raise BeamInputError(
             f"objective = {objective.value!r}: the target has no truth tip position/displacement"
         )
-    if objective != "eigen" and not np.any(target.tip_force_N):
+    if objective.has_deflection_term and not np.any(target.tip_force_N):
         raise BeamInputError(f"tip_force = [0, 0, 0] N: a {objective.value} fit needs a tip "
                              "load (the beam's tip_force)")
 
@@ -140,10 +140,10 @@ def _warm_task(problem: FitProblem, o: FitOptions) -> tuple:
 def _fit_unique(problem: FitProblem, o: FitOptions, t0: float) -> FitResult:
     from .unique import check_unique_problem, solve_unique
 
-    check_unique_problem(problem, o.objective.value)
+    check_unique_problem(problem, o.objective)
     best, _ = solve_unique(problem)
     return result_from_design(
-        problem, best.lengths_m, best.factors, objective=o.objective.value, seed=o.seed,
+        problem, best.lengths_m, best.factors, objective=o.objective, seed=o.seed,
         starts=1, starts_run=1, nfev=best.nfev, start_losses_pct=np.array([best.loss_pct]),
         wall_time_s=time.perf_counter() - t0, success=True, message=best.message)
 

@@ -27,8 +27,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import BeamInputError
-from ..options.choices import DEFAULT_EIGEN_NORM, EIGEN_NORMS
+from ..options.checks import check_choice
+from ..options.choices import (
+    DEFAULT_EIGEN_NORM,
+    DEFLECTION_NORMS,
+    EIGEN_NORMS,
+    DeflectionNorm,
+    EigenNorm,
+)
 
 __all__ = [
     "EIGEN_NORMS",
@@ -57,23 +63,20 @@ __all__ = [
 ]
 
 
-# what a tip error is normalised by: the truth tip position (Eq. 19) or its displacement
-DEFLECTION_NORMS = ("position", "displacement")
+def check_eigen_norm(norm: EigenNorm | str) -> EigenNorm:
+    """Return ``norm`` as an :class:`EigenNorm` (its string is accepted).
+
+    Anything else is a BeamInputError naming it.
+    """
+    return check_choice("eigen_norm", norm, EigenNorm)
 
 
-def check_eigen_norm(norm: str) -> str:
-    """``norm`` if it is one of :data:`EIGEN_NORMS`, else a BeamInputError naming it."""
-    if norm not in EIGEN_NORMS:
-        raise BeamInputError(f"eigen_norm = {norm!r}: must be one of {EIGEN_NORMS}")
-    return norm
+def check_deflection_norm(norm: DeflectionNorm | str) -> DeflectionNorm:
+    """Return ``norm`` as a :class:`DeflectionNorm` (its string is accepted).
 
-
-def check_deflection_norm(norm: str) -> str:
-    """``norm`` if it is one of :data:`DEFLECTION_NORMS`, else a BeamInputError naming it."""
-    if norm not in DEFLECTION_NORMS:
-        raise BeamInputError(
-            f"deflection_norm = {norm!r}: must be 'position' or 'displacement'")
-    return norm
+    Anything else is a BeamInputError naming it.
+    """
+    return check_choice("deflection_norm", norm, DeflectionNorm)
 
 
 def _truth(omega_truth: np.ndarray, squared: bool) -> np.ndarray:
@@ -90,14 +93,14 @@ def _model(omega_model: np.ndarray, n_freq: int, squared: bool) -> np.ndarray:
 
 
 def eigen_weights(omega_truth_rad_s: np.ndarray, squared: bool = False,
-                  norm: str = "paper") -> np.ndarray:
+                  norm: EigenNorm | str = EigenNorm.PAPER) -> np.ndarray:
     """Weights d_k of the eigen norm ``||d (w - f)||`` (see the module docstring), shape (N,).
 
     ``"paper"``: ``1 / ||f||`` for every mode (Eq. 16); ``"relative"``: ``1 / (f_k sqrt(N))``.
     ``f`` is the truth in omega (rad/s), or omega^2 when ``squared``; d is in its inverse unit.
     """
     f = _truth(omega_truth_rad_s, squared)
-    if check_eigen_norm(norm) == "paper":
+    if check_eigen_norm(norm) is EigenNorm.PAPER:
         return np.full(f.size, 1.0 / np.linalg.norm(f))
     return 1.0 / (f * np.sqrt(f.size))
 
@@ -125,7 +128,7 @@ def worst_mode_error_pct(errors_pct: np.ndarray) -> float:
 
 def eigen_residuals(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper", weights: np.ndarray | None = None,
+    norm: EigenNorm | str = EigenNorm.PAPER, weights: np.ndarray | None = None,
 ) -> np.ndarray:
     """Compute the weighted per-mode residuals ``d (w - f)`` of every pose, dimensionless.
 
@@ -142,7 +145,7 @@ def eigen_residuals(
 
 def eigen_errors(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper",
+    norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> np.ndarray:
     """Relative eigen error of every pose (Eq. 16 or the per-mode rms), as a fraction.
 
@@ -154,7 +157,7 @@ def eigen_errors(
         Truth frequencies, ascending, rad/s.
     squared : bool
         Compare omega^2 instead of omega.
-    norm : {"paper", "relative"}
+    norm : EigenNorm or str
         Eq. 16's l2 norm, or the rms of the per-mode relative errors.
 
     Returns
@@ -167,7 +170,7 @@ def eigen_errors(
 
 def eigen_loss_pct(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper",
+    norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> float:
     """Eigen loss (Eqs. 15a, 17): the per-pose error averaged over the poses, in %."""
     return float(100.0 * np.mean(eigen_errors(omega_model_rad_s, omega_truth_rad_s, squared,
@@ -176,7 +179,7 @@ def eigen_loss_pct(
 
 def best_scale(
     omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper",
+    norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> np.ndarray:
     """Each pose's optimal stiffness factor k_i given its frequencies at k = 1 (var. projection).
 
@@ -194,7 +197,7 @@ def best_scale(
         Model frequencies with stiffness factor 1 at each pose, rad/s.
     omega_truth_rad_s : ndarray, shape (N,)
     squared : bool
-    norm : {"paper", "relative"}
+    norm : EigenNorm or str
 
     Returns
     -------
@@ -206,7 +209,7 @@ def best_scale(
 
 
 def best_amplitude(omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray,
-                   squared: bool = False, norm: str = "paper") -> np.ndarray:
+                   squared: bool = False, norm: EigenNorm | str = EigenNorm.PAPER) -> np.ndarray:
     """Compute the optimal multiplier of each pose's (squared) frequencies, dimensionless.
 
     The multiplier is sqrt(k_i) (k_i when ``squared``), shape (..., m) for
@@ -220,7 +223,7 @@ def best_amplitude(omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray,
 
 def projected_eigen_residuals(
     omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper",
+    norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> np.ndarray:
     """Compute the weighted residuals ``d (c_i w_i - f)`` at each pose's optimal factor.
 
@@ -236,7 +239,7 @@ def projected_eigen_residuals(
 
 def projected_eigen_errors(
     omega_unit_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
-    norm: str = "paper",
+    norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> np.ndarray:
     """Per-pose eigen error (fraction) at each pose's optimal factor (see :func:`best_scale`).
 
@@ -248,13 +251,16 @@ def projected_eigen_errors(
 
 
 def tip_scale_m(tip_truth_m: np.ndarray, tip_displacement_truth_m: np.ndarray,
-                norm: str = "position") -> float:
+                norm: DeflectionNorm | str = DeflectionNorm.POSITION) -> float:
     """Return what a tip error is divided by, m.
 
     The truth tip position's length (``"position"``, Eq. 19) or the truth tip displacement's
     (``"displacement"``).
     """
-    v = tip_truth_m if check_deflection_norm(norm) == "position" else tip_displacement_truth_m
+    if check_deflection_norm(norm) is DeflectionNorm.POSITION:
+        v = tip_truth_m
+    else:
+        v = tip_displacement_truth_m
     return float(np.linalg.norm(np.asarray(v, dtype=float).reshape(3)))
 
 
@@ -291,7 +297,8 @@ def tip_displacement_errors(
     ``||p_model - p_truth|| / ||d_truth||``: unlike Eq. 19 it is not diluted by the beam length.
     """
     return tip_errors(tip_model_m, tip_truth_m,
-                      tip_scale_m(tip_truth_m, tip_displacement_truth_m, "displacement"))
+                      tip_scale_m(tip_truth_m, tip_displacement_truth_m,
+                                  DeflectionNorm.DISPLACEMENT))
 
 
 def combined_loss_pct(eigen_pct: float | np.ndarray, deflection_pct: float | np.ndarray):

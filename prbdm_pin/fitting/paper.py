@@ -29,7 +29,7 @@ class PaperEigenResiduals:
     Parameters
     ----------
     spec : FitSpec
-        The fit problem; its objective is ``"eigen"``.
+        The fit problem; its objective is ``eigen``.
     """
 
     def __init__(self, spec: FitSpec):
@@ -185,8 +185,10 @@ class PaperScalarLoss:
         return r.eigen_errors, r.tip_errors(p.deflection_norm)
 
     def _loss(self, e: np.ndarray, d: np.ndarray) -> np.ndarray:
-        loss = d.mean(axis=-1) if self.spec.objective == "deflection" \
-            else np.hypot(e.mean(axis=-1), d.mean(axis=-1))
+        if self.spec.objective.has_eigen_term:
+            loss = np.hypot(e.mean(axis=-1), d.mean(axis=-1))
+        else:
+            loss = d.mean(axis=-1)
         return np.where(np.isfinite(loss), loss, BAD_LOSS)
 
     def loss(self, x):

@@ -23,6 +23,7 @@ from ..chain.sections_derivatives import planar_sections_gradient
 from ..chain.statics import static_deflection_planar_batch
 from ..chain.stiffness import paper_unit_stiffness
 from ..errors import SolveError
+from ..options.choices import Objective
 from .evaluate import chain_frequencies
 from .joint_jacobian import unit_lengths_jacobian
 from .objectives import eigen_weights
@@ -123,7 +124,7 @@ def projected_residual_jacobian(problem: FitProblem, g: UnitChainGradient) -> np
     return d[None, :, None] * (c[:, None, None] * dw + w[..., None] * dc[:, None, :])
 
 
-def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.ndarray,
+def scalar_loss_gradient(problem: FitProblem, objective: Objective, tip_scales: np.ndarray,
                          g: UnitChainGradient, scf: np.ndarray) -> tuple[float, np.ndarray]:
     """Return the ``paper`` loss with a deflection term and its gradient over [u (n), ln k (m)].
 
@@ -137,8 +138,8 @@ def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.nda
     ----------
     problem : FitProblem
         The fit problem (beam, poses, target with its load cases).
-    objective : str
-        ``"deflection"`` or ``"combined"``.
+    objective : Objective
+        ``DEFLECTION`` or ``COMBINED`` (an objective with a tip term).
     tip_scales : ndarray, shape (cases,)
         What each load case's tip error is divided by, m.
     g : UnitChainGradient
@@ -192,7 +193,7 @@ def scalar_loss_gradient(problem: FitProblem, objective: str, tip_scales: np.nda
     t, dt_du, dt_dlnk = t / nc, dt_du / nc, dt_dlnk / nc
     D = t.mean()
     grad = np.empty(n + m)
-    if objective == "deflection":
+    if not objective.has_eigen_term:
         grad[:n] = dt_du.mean(axis=0)
         grad[n:] = dt_dlnk / m
         return float(D), grad

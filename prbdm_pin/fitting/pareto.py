@@ -213,7 +213,7 @@ def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log
             seed=o.seed, xi_rad=o.xi_rad, eps_rad=o.eps_rad, squared=o.squared,
             deflection_norm=o.deflection_norm, eigen_norm=o.eigen_norm,
             min_fraction=o.min_fraction)
-        for objective in ("combined", "eigen", "deflection")[:pop]:
+        for objective in (Objective.COMBINED, Objective.EIGEN, Objective.DEFLECTION)[:pop]:
             r = fit(beam, target, problem.n_joints, seeding.replace(objective=objective),
                     workers=workers, progress=False)
             nfev += r.nfev

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..io.records import JsonRecord, readonly_array
 from ..options.checks import check_choice
-from ..options.choices import MIN_FRACTION, StiffnessKind
+from ..options.choices import MIN_FRACTION, Objective, StiffnessKind
 
 if TYPE_CHECKING:
     from ..options.objects import FitOptions, ParetoOptions
@@ -271,8 +271,10 @@ class FitResult(JsonRecord):
     @property
     def loss_pct(self) -> float:
         """The loss of the fitted objective, %."""
-        return {"eigen": self.eigen_loss_pct, "deflection": self.deflection_loss_pct,
-                "combined": self.combined_loss_pct}[self.objective]
+        return {Objective.EIGEN: self.eigen_loss_pct,
+                Objective.DEFLECTION: self.deflection_loss_pct,
+                Objective.COMBINED: self.combined_loss_pct,
+                }[check_choice("objective", self.objective, Objective)]
 
     @property
     def x(self) -> np.ndarray:

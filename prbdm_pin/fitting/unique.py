@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import BeamInputError, SolveError
+from ..options.choices import Objective
 from ..options.objects import UNIQUE_RULES
 from .evaluate import chain_frequencies, chain_mass_matrices
 from .problem import FitProblem, lengths_from_unit, unit_from_lengths
@@ -89,7 +90,7 @@ def log_frequency_jacobian(problem: FitProblem, x: np.ndarray, h: float = JAC_ST
     return W[0], ((W[1 : x.size + 1] - W[x.size + 1 :]) / (2.0 * h)).T
 
 
-def check_unique_problem(problem: FitProblem, objective: str) -> None:
+def check_unique_problem(problem: FitProblem, objective: Objective) -> None:
     """Check that the problem is a ``joint`` eigen fit of n frequencies at the straight pose.
 
     The rule needs one; anything else is a BeamInputError naming the field.
@@ -97,8 +98,9 @@ def check_unique_problem(problem: FitProblem, objective: str) -> None:
     if not problem.parametrisation.pose_independent:
         raise BeamInputError(f"unique = 'nearest': stiffness = "
                              f"{problem.parametrisation.name!r}: needs 'joint'")
-    if objective != "eigen":
-        raise BeamInputError(f"unique = 'nearest': objective = {objective!r}: needs 'eigen'")
+    if objective.has_deflection_term:  # the rule matches frequencies only
+        raise BeamInputError(f"unique = 'nearest': objective = {objective.value!r}: needs "
+                             "'eigen'")
     if problem.n_poses != 1:
         raise BeamInputError("unique = 'nearest': joint_sweep = True: needs the straight pose")
     if problem.n_freq != problem.n_joints:

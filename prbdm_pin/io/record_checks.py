@@ -17,7 +17,13 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..io.jsonfile import field_int, field_str, require_mapping
-from ..options.choices import LINK_FLOOR_FRACTION
+from ..options.choices import (
+    EIGEN_NORMS,
+    LINK_FLOOR_FRACTION,
+    OBJECTIVES,
+    STIFFNESS_KINDS,
+    StiffnessKind,
+)
 from ..options.limits import check_cap
 
 __all__ = [
@@ -30,8 +36,7 @@ __all__ = [
 _SUM_RTOL = 1e-9
 
 _FIT_STR = ("beam_name", "beam_fingerprint", "truth_source", "message", "stiffness_pose")
-_FIT_CHOICES = {"objective": ("eigen", "deflection", "combined"),
-                "stiffness": ("paper", "joint"), "eigen_norm": ("paper", "relative")}
+_FIT_CHOICES = {"objective": OBJECTIVES, "stiffness": STIFFNESS_KINDS, "eigen_norm": EIGEN_NORMS}
 _FIT_INT = {"seed": 0, "starts": 1, "starts_run": 0, "nfev": 0}
 _FIT_BOOL = ("squared", "success")
 # floats written as null when NaN (a loss that was not computed)
@@ -170,7 +175,8 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
     m = poses.shape[0]
     _array(what, "stiffness_per_pose_Nm_per_rad", d["stiffness_per_pose_Nm_per_rad"], (m, n),
            positive=True)
-    nf = m if d["stiffness"] == "paper" else n
+    # one SCF per pose (Eq. 14) or one factor per joint
+    nf = m if StiffnessKind(d["stiffness"]) is StiffnessKind.PAPER else n
     _array(what, "factors", d["factors"], (nf,), positive=True)
     w = _array(what, "omega_truth_rad_s", d["omega_truth_rad_s"], (d["frequencies"],),
                positive=True)
