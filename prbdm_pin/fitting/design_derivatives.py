@@ -32,6 +32,7 @@ from ..chain.sections_design_derivatives import (
 from ..errors import BeamInputError, SolveError
 from ..member.design import Design
 from ..model.prbdm_model_derivatives import frequency_design_gradient
+from ..options.choices import UniqueRule
 from ..truth.compute_derivatives import TruthGradient
 from .joint_jacobian import unit_lengths_jacobian
 from .multistart_derivatives import (
@@ -157,7 +158,7 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
     SolveError
         Singular KKT conditions.
     """
-    if result.options is None or result.options.unique != "nearest":
+    if result.options is None or result.options.unique is not UniqueRule.NEAREST:
         raise BeamInputError("result: needs a fit with unique = 'nearest' (its KKT conditions "
                              "define the model as a function of the design)")
     if tuple(truth.names) != tuple(design.names):

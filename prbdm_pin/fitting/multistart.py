@@ -15,6 +15,7 @@ import numpy as np
 from ..chain.layout import sample_lengths
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.choices import UniqueRule
 from ..options.objects import FitOptions
 from ..workers import pool_scope
 from .explore import run_explored
@@ -205,7 +206,7 @@ def fit(
     problem = make_problem(beam, target, joints, o)
     _check_fit_args(o, workers, target)
     spec = FitSpec(problem, o.objective, o.max_nfev)
-    if o.unique != "none":
+    if o.unique is not UniqueRule.NONE:
         return _fit_unique(problem, o, t0)
     P = problem.parametrisation
     tasks = draw_starts(problem, o.starts, o.seed)

@@ -23,6 +23,7 @@ import numpy as np
 from ..chain.stiffness import finite_segment_stiffness
 from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
+from ..options.choices import UniqueRule
 from .joint import JointResiduals
 from .parametrisation import parametrisation
 from .problem import FitProblem, lengths_from_unit, make_problem, unit_from_lengths
@@ -153,7 +154,7 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     P0 = probs[0]
     x = fit_coordinates(result, P0)
     n = P0.n_joints
-    if result.options.unique == "nearest":
+    if result.options.unique is UniqueRule.NEAREST:
         w, J = log_frequency_jacobian(P0, x)
         # the multipliers of the KKT point: x - x_ref + J^T lambda = 0
         lam = -np.linalg.lstsq(J.T, x - reference_x(P0), rcond=None)[0]

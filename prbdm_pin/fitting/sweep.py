@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.choices import UniqueRule
 from ..options.objects import FitOptions
 from .multistart import fit, resolve_options
 from .results import FitResult
@@ -182,7 +183,7 @@ def fit_sweep(
         beam = designs[i]
         target = targets(beam) if callable(targets) else targets[i]
         t0 = time.perf_counter()
-        use = None if o.unique != "none" else prev
+        use = None if o.unique is not UniqueRule.NONE else prev
         r = fit(beam, target, joints, o, progress=False, start=use)
         times[i] = time.perf_counter() - t0
         warm[i] = use is not None

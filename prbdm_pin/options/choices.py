@@ -16,6 +16,7 @@ __all__ = [
     "StiffnessKind",
     "EigenNorm",
     "DeflectionNorm",
+    "UniqueRule",
     "OBJECTIVES",
     "STIFFNESS_KINDS",
     "EIGEN_NORMS",
@@ -89,6 +90,16 @@ class DeflectionNorm(Choice):
 
     POSITION = "position"
     DISPLACEMENT = "displacement"
+
+
+class UniqueRule(Choice):
+    """Which model a fit returns: a multistart's best (``none``) or the rule's (``nearest``).
+
+    ``nearest`` is one model per design, smooth in it (``fitting/unique.py`` states the rule).
+    """
+
+    NONE = "none"
+    NEAREST = "nearest"
 
 
 OBJECTIVES = Objective.values()

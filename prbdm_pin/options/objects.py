@@ -32,13 +32,14 @@ from .choices import (
     EigenNorm,
     Objective,
     StiffnessKind,
+    UniqueRule,
 )
 
 __all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict",
            "UNIQUE_RULES"]
 
 # ``FitOptions.unique``: "none" (a multistart's best) or "nearest" (fitting/unique.py)
-UNIQUE_RULES = ("none", "nearest")
+UNIQUE_RULES = UniqueRule.values()
 
 
 @dataclass(frozen=True)
@@ -156,7 +157,7 @@ class FitOptions(_ProblemOptions):
     refine_starts : int
         ``joint`` deflection and combined fits: how many of the best explored starts continue
         to convergence; 0 runs every start to convergence.
-    unique : str
+    unique : UniqueRule or str
         ``"none"``: the best of the starts; ``"nearest"``: one model per design, smooth in it
         (``joint`` eigen fits of n frequencies; ``fitting/unique.py`` states the rule).
     start_lengths_m, start_factors : tuple of float or None
@@ -174,7 +175,7 @@ class FitOptions(_ProblemOptions):
     max_nfev: int = 400
     explore_nfev: int = 64
     refine_starts: int = 3
-    unique: str = "none"
+    unique: UniqueRule = UniqueRule.NONE
     start_lengths_m: tuple[float, ...] | None = None
     start_factors: tuple[float, ...] | None = None
 
@@ -191,7 +192,7 @@ class FitOptions(_ProblemOptions):
         s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1))
         s(self, "explore_nfev", _int("explore_nfev", self.explore_nfev, 1))
         s(self, "refine_starts", _int("refine_starts", self.refine_starts, 0))
-        s(self, "unique", _choice("unique", self.unique, UNIQUE_RULES))
+        s(self, "unique", _choice("unique", self.unique, UniqueRule))
         for name in ("start_lengths_m", "start_factors"):
             v = getattr(self, name)
             if v is not None:
@@ -202,9 +203,9 @@ class FitOptions(_ProblemOptions):
         if (self.start_lengths_m is None) != (self.start_factors is None):
             raise BeamInputError("start_lengths_m, start_factors: give both (a warm start) or "
                                  "neither")
-        if self.start_lengths_m is not None and self.unique != "none":
-            raise BeamInputError(f"unique = {self.unique!r}: the rule chooses the model itself; "
-                                 "a warm start (start_lengths_m) needs unique = 'none'")
+        if self.start_lengths_m is not None and self.unique is not UniqueRule.NONE:
+            raise BeamInputError(f"unique = {self.unique.value!r}: the rule chooses the model "
+                                 "itself; a warm start (start_lengths_m) needs unique = 'none'")
 
 
 @dataclass(frozen=True)
