@@ -169,15 +169,13 @@ def fit_pareto(
     wall = time.perf_counter() - t0
     knee = result_from_design(
         problem, lengths[ki], factors[ki], objective=Objective.COMBINED, seed=int(seed),
-        starts=int(pop),
-        starts_run=int(pop), nfev=n_evals,
+        starts=int(pop), starts_run=int(pop), nfev=n_evals,
         start_losses_pct=np.hypot(F[:, 0], F[:, 1]), wall_time_s=wall, success=True,
         message=f"knee (Eq. 27) of an NSGA-II front of {F.shape[0]} designs; {note}")
     return ParetoResult(
         beam_name=beam.name, joints=problem.n_joints, frequencies=problem.n_freq,
         stiffness=problem.parametrisation.name, deflection_norm=o.deflection_norm.value,
-        F_pct=F, X=X,
-        front_lengths_m=lengths, front_factors=factors, knee_index=ki, pop=int(pop),
+        F_pct=F, X=X, front_lengths_m=lengths, front_factors=factors, knee_index=ki, pop=int(pop),
         generations=int(generations), n_evals=n_evals,
         seed=int(seed), xi=o.xi_rad, eps=o.eps_rad, wall_time_s=wall, success=True,
         eigen_norm=o.eigen_norm.value,
