@@ -49,6 +49,7 @@ _EXPORTS = {
     "compare_plant": "plant.comparison",
     "PlantComparison": "plant.comparison",
     # truth
+    "TruthRequest": "truth",
     "TruthResult": "truth",
     "compute_truth": "truth",
     # design sensitivities
