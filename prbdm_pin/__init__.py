@@ -39,6 +39,8 @@ _EXPORTS = {
     "PrbdmModel": "model.prbdm_model",
     "build_model": "model.prbdm_model",
     "load_urdf": "model.prbdm_model",
+    "load_model": "files.model_source",
+    "ModelFile": "files.model_source",
     # the linear plant
     "Hub": "model.hub",
     "StrainActuator": "model.inputs",

@@ -186,13 +186,14 @@ def run(args: argparse.Namespace) -> int:
 
     import numpy as np
 
+    from ..files.model_source import load_model
     from ..io.atomic import atomic_write_bytes, atomic_write_text
     from ..io.output_folder import output_folder
     from ..plant.linearize import linearize
-    from .model_source import file_actuators, load_model_and_fit
 
     opts = check_options(args)
-    model, fitted = load_model_and_fit(args.model, args.beam)
+    source = load_model(args.model, args.beam)
+    model, fitted = source.model, source.fit
     if args.compare_truth:
         from .plant_comparison import truth_request_of
 
@@ -200,7 +201,7 @@ def run(args: argparse.Namespace) -> int:
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
     if not args.actuator:  # those a model JSON or URDF export records
-        opts["actuators"] = file_actuators(args.model)
+        opts["actuators"] = source.actuators
     opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],

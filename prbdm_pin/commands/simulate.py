@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING
 from ..errors import BeamInputError
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
-from .model_source import file_actuators, load_model_and_fit
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
 from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
@@ -242,6 +241,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
 
+    from ..files.model_source import load_model
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
     from ..simulation import simulate
@@ -250,7 +250,8 @@ def run(args: argparse.Namespace) -> int:
 
     force = check_options(args)
     plant = check_plant_options(args)
-    model, fitted = load_model_and_fit(args.model, args.beam)
+    source = load_model(args.model, args.beam)
+    model, fitted = source.model, source.fit
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
@@ -259,7 +260,7 @@ def run(args: argparse.Namespace) -> int:
     if args.actuator:
         actuators_on_beam(model, plant["actuators"], args.actuator)
     else:  # those a model JSON or URDF export records
-        plant["actuators"] = file_actuators(args.model)
+        plant["actuators"] = source.actuators
     plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])
     if args.fit_actuators and not args.quiet:
         for i, a in enumerate(plant["actuators"]):
