@@ -92,6 +92,8 @@ _EXPORTS = {
     "Controller": "simulation",
     "StateFeedback": "simulation",
     "dynamic_accuracy": "simulation.response",
+    "compare_truth": "plant.truth_comparison",
+    "TruthComparison": "plant.truth_comparison",
     "export_model": "files.export",
     "read_model_json": "files.export",
     "read_plant_json": "files.export",

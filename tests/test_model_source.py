@@ -1,4 +1,5 @@
-"""load_model reads a PRBDM from a fit.json, a model JSON or a URDF and says what it read."""
+"""load_model reads a PRBDM from a fit.json, a model JSON or a URDF and says what it read; the
+truth comparison the command writes is a library call returning the same record."""
 
 from __future__ import annotations
 
@@ -69,3 +70,19 @@ def test_other_files_are_refused_naming_what_they_are(files, tmp_path):
     bad.write_text(json.dumps({**d, "omega_truth_rad_s": ["a"]}))
     with pytest.raises(BeamInputError, match="omega_truth_rad_s"):
         pp.load_model(bad)
+
+
+def test_the_truth_comparison_is_the_one_the_command_writes(files):
+    fit_json = files / "fit" / "fit.json"
+    out = files / "sim"
+    assert main(["simulate", str(fit_json), "--duration", "0.01", "--compare-truth",
+                 "--cache-dir", str(files / "cache"), "--out", str(out), "-q"]) == 0
+    loaded = pp.load_model(fit_json)
+    cmp = pp.compare_truth(loaded.model, loaded.fit.truth_request, 0.02, files / "cache")
+    written = (out / "truth_comparison.json").read_text()
+    assert json.dumps(cmp.to_dict("fit.json"), indent=2) + "\n" == written
+    with pytest.raises(BeamInputError, match="no beam"):
+        pp.compare_truth(pp.load_model(files / "plant.urdf").model,
+                         pp.TruthRequest(model="beam", modes=2))
+    with pytest.raises(BeamInputError, match="request.model = 'solid'"):
+        pp.compare_truth(loaded.model, pp.TruthRequest(model="solid", modes=2))

@@ -9,11 +9,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
+from ..plant.truth_comparison import TRUTH_MODELS
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
-from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
 
 if TYPE_CHECKING:
     import numpy as np
@@ -301,19 +301,15 @@ def run(args: argparse.Namespace) -> int:
                 for line in comparison_summary(plant_cmp[0]):
                     print(line, file=sys.stderr)
         elif args.compare_truth:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-
+            from ..plant.truth_comparison import compare_truth
+            from ..plant.truth_comparison_plot import plot_truth_comparison
+            from .compare_truth import comparison_request, print_truth_warnings
             from .fit_checks import cache_dir
 
             request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
-            cmp = compare_truth(model, request, args.damping, cache_dir(args),
-                                quiet=args.quiet)
-            fig = comparison_figure(cmp, plt)
-            save_png(fig, stage / "truth_comparison.png")
-            plt.close(fig)
+            cmp = compare_truth(model, request, args.damping, cache_dir(args))
+            print_truth_warnings(cmp.truth, args.quiet)
+            plot_truth_comparison(cmp, stage / "truth_comparison.png")
             # the JSON last: its presence marks a complete comparison
             atomic_write_text(stage / "truth_comparison.json",
                               json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")

@@ -35,16 +35,18 @@ def pyplot():
     return plt
 
 
-def new_figure(figsize_in: tuple[float, float]):
+def new_figure(figsize_in: tuple[float, float], dpi: float = DPI):
     """Make a matplotlib Figure of ``figsize_in`` (width, height; inches) on its own Agg canvas.
 
     Neither pyplot nor a backend is loaded: the figure is not managed by any window manager,
-    so nothing needs closing and no display is looked for.
+    so nothing needs closing and no display is looked for. ``dpi`` is the figure's own
+    resolution (dots per inch), at which ``tight_layout`` measures its text; ``save_png``
+    writes at ``DPI`` whatever it is.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=figsize_in, dpi=DPI)
+    fig = Figure(figsize=figsize_in, dpi=dpi)
     FigureCanvasAgg(fig)
     return fig
 
