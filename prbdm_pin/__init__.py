@@ -50,6 +50,8 @@ _EXPORTS = {
     "ModalData": "plant.state_space",
     "compare_plant": "plant.comparison",
     "PlantComparison": "plant.comparison",
+    "compare_truth_plant": "plant.comparison_truth",
+    "TruthPlantComparison": "plant.comparison_truth",
     # truth
     "TruthRequest": "truth",
     "TruthResult": "truth",

@@ -1,5 +1,5 @@
 """load_model reads a PRBDM from a fit.json, a model JSON or a URDF and says what it read; the
-truth comparison the command writes is a library call returning the same record."""
+truth comparisons the commands write are library calls returning the same records."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ import pytest
 import prbdm_pin as pp
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
+from prbdm_pin.options.choices import LINK_FLOOR_FRACTION
 
 ROOT = Path(__file__).resolve().parents[1]
 BEAM = str(ROOT / "examples" / "beams" / "uniform-narrow.json")
@@ -86,3 +87,25 @@ def test_the_truth_comparison_is_the_one_the_command_writes(files):
                          pp.TruthRequest(model="beam", modes=2))
     with pytest.raises(BeamInputError, match="request.model = 'solid'"):
         pp.compare_truth(loaded.model, pp.TruthRequest(model="solid", modes=2))
+
+
+def test_the_plant_comparison_is_the_one_the_command_writes(files):
+    fit_json = files / "fit" / "fit.json"
+    out = files / "lin"
+    assert main(["linearize", str(fit_json), "--inputs", "hub_torque,strain[0]", "--outputs",
+                 "hub_angle,tip_z", "--hub", "5:0.1", "--actuator", "0:0.3", "--compare-truth",
+                 "--cache-dir", str(files / "cache"), "--out", str(out), "-q"]) == 0
+    loaded = pp.load_model(fit_json)
+    model = pp.build_model(loaded.model.beam, loaded.model.lengths_m,
+                           loaded.model.stiffness_Nm_per_rad, hub=pp.Hub(5.0, 0.1),
+                           min_fraction=LINK_FLOOR_FRACTION)
+    acts = (pp.StrainActuator(0.0, 0.3),)
+    lin = pp.linearize(model, inputs=("hub_torque", "strain[0]"),
+                       outputs=("hub_angle", "tip_z"), damping_ratio=0.02, damping="modal",
+                       actuators=acts)
+    cmp = pp.compare_truth_plant(lin, model, loaded.fit.truth_request, acts, 0.02,
+                                 files / "cache")
+    written = (out / "comparison.json").read_text()
+    assert json.dumps(cmp.to_dict("fit.json"), indent=2) + "\n" == written
+    with pytest.raises(BeamInputError, match="has no modal plant"):
+        pp.compare_truth_plant(lin, model, pp.TruthRequest(model="solid"), acts)

@@ -1,13 +1,55 @@
-"""``--compare-truth``: which truth a command compares with.
+"""``--compare-truth``: which truth a command compares with, and the options it refuses.
 
-``prbdm simulate --compare-truth`` compares the tip response (``plant.truth_comparison``). The
-comparison itself is a library function; this module only reads the options and the fit's
-record.
+``prbdm simulate --compare-truth`` compares the tip response (``plant.truth_comparison``),
+``prbdm linearize --compare-truth`` and ``prbdm simulate --compare-truth`` of a plant the plant
+(``plant.comparison_truth``); ``--fit-actuators`` fits to the same truth. The comparisons
+themselves are library functions; this module only reads the options and the fit's record.
 """
 
 from __future__ import annotations
 
 import sys
+
+from ..errors import BeamInputError
+
+
+def check_compare_options(args, opts: dict) -> None:
+    """Refuse ``--compare-truth`` with options the truth plant has no counterpart of.
+
+    This runs before any work.
+    """
+    if not args.compare_truth:
+        return
+    from .fit_checks import check_cache_dir
+
+    if any(opts["load"]) or any(opts["gravity"]):
+        raise BeamInputError("--compare-truth: the truth plant is the unloaded straight beam; "
+                             "drop --load and --gravity")
+    if args.damping_form != "modal":
+        raise BeamInputError(f"--damping-form = {args.damping_form!r}: --compare-truth damps "
+                             "every flexible mode of both plants alike; use modal")
+    if not args.damping_ratio > 0.0:
+        raise BeamInputError(f"--damping-ratio = {args.damping_ratio!r}: --compare-truth needs "
+                             "damped modes (> 0) for finite resonance peaks")
+    check_cache_dir(args)
+
+
+def truth_request_of(fitted, model_path: str, option: str = "--compare-truth"):
+    """Return the truth request a fit recorded, for the truth plant.
+
+    Raises BeamInputError naming ``option`` when the model file has none or its truth has no
+    modal plant.
+    """
+    from ..plant.comparison_truth import PLANT_TRUTH_MODELS
+
+    request = getattr(fitted, "truth_request", None)
+    if request is None:
+        raise BeamInputError(f"{option}: MODEL {model_path!r} carries no truth record "
+                             "(give the fit.json written by `prbdm fit`)")
+    if request.model not in PLANT_TRUTH_MODELS:
+        raise BeamInputError(f"{option}: the fit's truth model {request.model!r} has no "
+                             f"modal plant; fit against one of {', '.join(PLANT_TRUTH_MODELS)}")
+    return request
 
 
 def comparison_request(model, fitted, truth_model: str | None = None, quiet: bool = True):

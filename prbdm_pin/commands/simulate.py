@@ -294,11 +294,12 @@ def run(args: argparse.Namespace) -> int:
             from ..plant.comparison_plot import plot_plant_comparison
             from ..plant.comparison_record import comparison_summary
 
-            plot_plant_comparison(plant_cmp[0], stage / "comparison.png")
+            plot_plant_comparison(plant_cmp.comparison, stage / "comparison.png")
             atomic_write_text(stage / "comparison.json",
-                              json.dumps(plant_cmp[1], indent=2) + "\n")
+                              json.dumps(plant_cmp.to_dict(Path(args.model).name), indent=2)
+                              + "\n")
             if not args.quiet:
-                for line in comparison_summary(plant_cmp[0]):
+                for line in comparison_summary(plant_cmp.comparison):
                     print(line, file=sys.stderr)
         elif args.compare_truth:
             from ..plant.truth_comparison import compare_truth
