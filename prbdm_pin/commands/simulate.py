@@ -131,21 +131,6 @@ def parse_force(text: str) -> np.ndarray:
     return f
 
 
-def _csv(tr, hub: bool = False) -> str:
-    import numpy as np
-
-    n = tr.q_rad.shape[1] - int(hub)
-    coords = (["hub_angle_rad"] if hub else []) + [f"q{j + 1}_rad" for j in range(n)]
-    rates = (["hub_rate_rad_s"] if hub else []) + [f"v{j + 1}_rad_s" for j in range(n)]
-    head = (["t_s"] + coords + rates + ["tip_x_m", "tip_y_m", "tip_z_m"]
-            + [f"u:{name}" for name in tr.input_names]
-            + [f"y:{name}" for name in tr.output_names])
-    rows = np.column_stack([tr.t_s, tr.q_rad, tr.v_rad_s, tr.tip_position_m, tr.input_values,
-                            tr.output_values])
-    return ",".join(head) + "\n" + "\n".join(",".join(repr(float(v)) for v in r)
-                                             for r in rows) + "\n"
-
-
 SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
                   "truth_comparison.json", "comparison.png", "comparison.json")
 
@@ -203,49 +188,16 @@ def simulation_options(args, output_dt_s: float):
                              damping_ratio=args.damping, damping=args.damping_form)
 
 
-def _response_figure(model, tr, force, args):
-    """Tip displacement, the plant's inputs and outputs (when any), joint angles."""
-    from ..views.plots import new_figure
-
-    rows = 2 + len(tr.output_names) + int(bool(tr.input_names))
-    fig = new_figure((7.0, 2.2 + 1.6 * rows))
-    axes = [fig.add_subplot(rows, 1, k + 1) for k in range(rows)]
-    rest = model.tip_position()
-    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
-    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
-    axes[0].set_ylabel("tip displacement (mm)")
-    axes[0].legend(fontsize=7)
-    k = 1
-    for name, unit in zip(tr.output_names, tr.output_units, strict=True):
-        axes[k].plot(tr.t_s, tr.output(name))
-        axes[k].set_ylabel(f"{name} ({unit})", fontsize=8)
-        k += 1
-    if tr.input_names:
-        for name, unit in zip(tr.input_names, tr.input_units, strict=True):
-            axes[k].plot(tr.t_s, tr.input(name), label=f"{name} ({unit})")
-        axes[k].set_ylabel("inputs")
-        axes[k].legend(fontsize=7)
-        k += 1
-    axes[k].plot(tr.t_s, tr.q_rad[:, int(model.hub is not None):])
-    axes[k].set_ylabel("joint angles (rad)")
-    axes[k].set_xlabel("t (s)")
-    hub = "" if model.hub is None else (f", hub {model.hub.inertia_kg_m2:g} kg m^2 at "
-                                        f"{model.hub.radius_m:g} m")
-    fig.suptitle(f"{model.n_joints}R PRBDM{hub}, F = {force.tolist()} N, zeta = {args.damping}",
-                 fontsize=9)
-    fig.tight_layout()
-    return fig
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
 
     from ..files.model_source import load_model
+    from ..files.trajectory_csv import trajectory_csv
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
     from ..simulation import simulate
-    from ..views.plots import save_png
+    from ..views.plots import plot_response
     from .plant_options import actuators_on_beam, with_hub
 
     force = check_options(args)
@@ -285,8 +237,8 @@ def run(args: argparse.Namespace) -> int:
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
-        atomic_write_text(stage / "trajectory.csv", _csv(tr, hub))
-        save_png(_response_figure(model, tr, force, args), stage / "response.png")
+        atomic_write_text(stage / "trajectory.csv", trajectory_csv(tr, hub))
+        plot_response(model, tr, force, args.damping, stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
                   f"{args.duration} s simulated; wrote {out / 'trajectory.csv'}", file=sys.stderr)
