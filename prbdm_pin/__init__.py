@@ -39,6 +39,8 @@ _EXPORTS = {
     "PrbdmModel": "model.prbdm_model",
     "build_model": "model.prbdm_model",
     "load_urdf": "model.prbdm_model",
+    "load_model": "files.model_source",
+    "ModelFile": "files.model_source",
     # the linear plant
     "Hub": "model.hub",
     "StrainActuator": "model.inputs",
@@ -48,7 +50,10 @@ _EXPORTS = {
     "ModalData": "plant.state_space",
     "compare_plant": "plant.comparison",
     "PlantComparison": "plant.comparison",
+    "compare_truth_plant": "plant.comparison_truth",
+    "TruthPlantComparison": "plant.comparison_truth",
     # truth
+    "TruthRequest": "truth",
     "TruthResult": "truth",
     "compute_truth": "truth",
     # design sensitivities
@@ -89,6 +94,8 @@ _EXPORTS = {
     "Controller": "simulation",
     "StateFeedback": "simulation",
     "dynamic_accuracy": "simulation.response",
+    "compare_truth": "plant.truth_comparison",
+    "TruthComparison": "plant.truth_comparison",
     "export_model": "files.export",
     "read_model_json": "files.export",
     "read_plant_json": "files.export",

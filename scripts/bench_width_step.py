@@ -55,7 +55,7 @@ def main() -> None:
         ex = _exact(beam)
         for label, b in (("true step", beam), ("0.1 mm ramp", ramped(beam, 1e-4))):
             t0 = time.perf_counter()
-            tr = compute_truth(b, "plate", modes=4, static=False)
+            tr = compute_truth(b, model="plate", modes=4, static=False)
             dt = time.perf_counter() - t0
             err = "n/a" if ex is None else " ".join(
                 f"{e:+.3f}" for e in 100 * (np.asarray(tr.omega_rad_s) / ex - 1))

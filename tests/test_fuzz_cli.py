@@ -167,9 +167,8 @@ def stubs(monkeypatch, tmp_path):
     import prbdm_pin.batch
     import prbdm_pin.bench.run
     import prbdm_pin.commands.fit
-    import prbdm_pin.commands.model_source
     import prbdm_pin.commands.pareto
-    import prbdm_pin.commands.simulate
+    import prbdm_pin.files.model_source
     import prbdm_pin.truth
     import prbdm_pin.truth.compute_derivatives
 
@@ -178,8 +177,7 @@ def stubs(monkeypatch, tmp_path):
                       (prbdm_pin.truth.compute_derivatives, "truth_gradient"),
                       (prbdm_pin.commands.fit, "load_target"),
                       (prbdm_pin.commands.pareto, "load_target"),
-                      (prbdm_pin.commands.simulate, "load_model_and_fit"),
-                      (prbdm_pin.commands.model_source, "load_model_and_fit"),
+                      (prbdm_pin.files.model_source, "load_model"),
                       (prbdm_pin.batch, "run_batch"), (prbdm_pin.batch, "LocalPool"),
                       (prbdm_pin.batch, "DaskCluster"),
                       (prbdm_pin.batch, "load_study"),

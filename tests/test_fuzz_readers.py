@@ -23,11 +23,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from prbdm_pin.commands.simulate import load_model_and_fit
 from prbdm_pin.errors import BeamInputError, SolveError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam
 from prbdm_pin.files.export import read_model_json, write_json
 from prbdm_pin.files.fit_file import load_fit, save_fit
+from prbdm_pin.files.model_source import load_model
 from prbdm_pin.fitting import fit
 from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.member.geometry import beam_to_dict
@@ -204,7 +204,7 @@ def _read_beam(p: Path, names: set[str]) -> None:
 
 
 def _read_fit(p: Path, names: set[str]) -> None:
-    for reader in (load_fit, lambda q: load_model_and_fit(str(q))[0]):
+    for reader in (load_fit, lambda q: load_model(str(q)).model):
         try:
             out = reader(p)
         except BeamInputError as exc:
@@ -218,7 +218,7 @@ def _read_fit(p: Path, names: set[str]) -> None:
 
 
 def _read_model(p: Path, names: set[str]) -> None:
-    for reader in (read_model_json, lambda q: load_model_and_fit(str(q))[0]):
+    for reader in (read_model_json, lambda q: load_model(str(q)).model):
         try:
             model = reader(p)
         except BeamInputError as exc:

@@ -201,7 +201,7 @@ def test_plate_truth_of_a_narrow_stepped_strip_is_near_euler_bernoulli():
 
     beam = load_beam(__import__("pathlib").Path(__file__).parent.parent / "examples" / "beams"
                      / "stepped-narrow.json")
-    tr = compute_truth(beam, "plate", modes=4)
+    tr = compute_truth(beam, model="plate", modes=4)
     err = np.asarray(tr.omega_rad_s) / exact(4) - 1
     # the plate is stiffer by its clamped Poisson effect (a few tenths of a percent on a strip
     # 40 mm wide: 0.08 % ... 0.24 % measured), never softer beyond the discretisation
@@ -220,6 +220,6 @@ def test_solid_truth_of_a_narrow_stepped_strip_is_near_euler_bernoulli():
 
     beam = load_beam(__import__("pathlib").Path(__file__).parent.parent / "examples" / "beams"
                      / "stepped-narrow.json")
-    tr = compute_truth(beam, "solid", modes=4, static=False)
+    tr = compute_truth(beam, model="solid", modes=4, static=False)
     # measured +0.01, +0.06, -0.05, +0.16 % (50 k DOFs, 10 s)
     np.testing.assert_allclose(tr.omega_rad_s, exact(4), rtol=3e-3)

@@ -32,7 +32,7 @@ def test_thick_beam_warns_in_the_plate_truth_and_the_cli(tmp_path, capsys):
     stored = json.loads((tmp_path / "t" / "truth.json").read_text())["warnings"]
     assert any("past Kirchhoff plate theory" in w and "--model solid" in w for w in stored)
     # the 1D beam truth is no plate: no such warning there
-    beam_truth = compute_truth(beam, "beam", modes=2, static=False)
+    beam_truth = compute_truth(beam, model="beam", modes=2, static=False)
     assert not any("Kirchhoff" in w for w in beam_truth.warnings)
 
 
@@ -49,8 +49,8 @@ def test_estimate_against_the_solid():
     beam = Beam([0.0, 0.3], [0.025, 0.025], 0.02)
     notes = beam.kirchhoff_warnings(3)
     assert len(notes) == 1 and "about 4.7 %" in notes[0]
-    plate = np.asarray(compute_truth(beam, "plate", modes=3, static=False).omega_rad_s)
-    solid = np.asarray(compute_truth(beam, "solid", modes=3, static=False).omega_rad_s)
+    plate = np.asarray(compute_truth(beam, model="plate", modes=3, static=False).omega_rad_s)
+    solid = np.asarray(compute_truth(beam, model="solid", modes=3, static=False).omega_rad_s)
     gap = 100 * (solid / plate - 1)  # measured -0.58, -2.29, -5.00 %
     beta = np.array([1.8751040687, 4.6940911330, 7.8547574382])
     G = beam.material.G_Pa

@@ -105,9 +105,9 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
         stage = "truth"
         t1 = time.perf_counter()
         # the eigen objective needs no static solve
-        request = TruthRequest(model=s.truth_model, modes=s.n_frequencies)
-        truth = request.compute(beam, cache_dir=s.cache_dir,
-                                static=s.options.objective.has_deflection_term)
+        request = TruthRequest(model=s.truth_model, modes=s.n_frequencies,
+                               static=s.options.objective.has_deflection_term)
+        truth = request.compute(beam, cache_dir=s.cache_dir)
         rec["truth_s"] = time.perf_counter() - t1
         stage = "fit"
         t2 = time.perf_counter()

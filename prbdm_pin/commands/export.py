@@ -3,10 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-from pathlib import Path
-from typing import TYPE_CHECKING
 
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
@@ -18,9 +15,6 @@ from .plant_options import (
     names_option,
     with_hub,
 )
-
-if TYPE_CHECKING:
-    import numpy as np
 
 EXAMPLES = """\
 examples:
@@ -95,27 +89,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def truth_frequencies(path: str | Path, fitted) -> np.ndarray | None:
-    """Return the truth frequencies (rad/s) a model file knows; None if none.
-
-    These are a fit.json's ``omega_truth_rad_s``, or the record of an earlier export (model
-    JSON fields, URDF comment).
-    """
-    import numpy as np
-
-    from ..files.export import read_export_record
-
-    if fitted is not None:
-        return np.asarray(fitted.omega_truth_rad_s, dtype=float)
-    p = Path(path)
-    text = p.read_text(encoding="utf-8")
-    if p.suffix.lower() == ".urdf":
-        rec = read_export_record(text)
-        return None if rec is None else rec.omega_truth_rad_s
-    w = json.loads(text).get("omega_truth_rad_s")
-    return None if w is None else np.asarray(w, dtype=float)
-
-
 def check_options(args: argparse.Namespace) -> dict:
     """Refuse bad ``prbdm export`` options before the model is read.
 
@@ -145,18 +118,19 @@ def check_options(args: argparse.Namespace) -> dict:
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm export``."""
     from ..files.export import export_model, export_record
-    from .model_source import file_actuators, load_model_and_fit
+    from ..files.model_source import load_model
 
     opts = check_options(args)
-    model, fitted = load_model_and_fit(args.model, args.beam)
-    omega_truth = truth_frequencies(args.model, fitted)
+    source = load_model(args.model, args.beam)
+    model, fitted = source.model, source.fit
+    omega_truth = source.omega_truth_rad_s
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
     actuators = opts["actuators"]
     if args.actuator:
         actuators_on_beam(model, actuators, args.actuator)
     else:
-        actuators = file_actuators(args.model)
+        actuators = source.actuators
     actuators = fit_actuators(args, model, fitted, actuators)
     plant = {"actuators": actuators}
     if args.format == "mjcf":

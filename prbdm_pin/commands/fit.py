@@ -182,10 +182,11 @@ def _base_target(args, beam):
             raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
     from ..truth import CoarseTruthError, TruthRequest
 
+    # --accept-coarse drops the tolerance; without it the request's default holds
+    coarse = {"error_tol_pct": None} if getattr(args, "accept_coarse", False) else {}
     request = TruthRequest(model=args.truth_model, modes=max(args.joints, args.frequencies or 0),
                            mesh_level=args.mesh_level, selection=args.mode_selection,
-                           large_deflection=args.large_deflection,
-                           error_tol_pct=None if getattr(args, "accept_coarse", False) else 0.5)
+                           large_deflection=args.large_deflection, **coarse)
     try:
         truth = request.compute(beam, cache_dir=cache_dir(args))
     except CoarseTruthError as exc:

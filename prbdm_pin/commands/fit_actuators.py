@@ -8,7 +8,6 @@ the virtual-work map.
 from __future__ import annotations
 
 import argparse
-import sys
 
 from ..errors import BeamInputError
 
@@ -52,16 +51,14 @@ def fit_actuators(args, model, fitted, actuators) -> tuple:
     if not args.fit_actuators:
         return tuple(actuators)
     from ..plant.actuator_fit import fit_strain_actuators
+    from .compare_truth import print_truth_warnings, truth_request_of
     from .fit_checks import cache_dir
-    from .plant_comparison import truth_request_of
 
     if not actuators:
         raise BeamInputError("--fit-actuators: no strain actuator to fit; give --actuator XA:XB")
     request = truth_request_of(fitted, args.model, "--fit-actuators")
     truth = request.compute(model.beam, cache_dir=cache_dir(args))
-    if not args.quiet:
-        for note in truth.warnings:
-            print(f"truth warning: {note}", file=sys.stderr)
+    print_truth_warnings(truth, args.quiet)
     try:
         return fit_strain_actuators(model, truth, model.beam, actuators)
     except BeamInputError as exc:

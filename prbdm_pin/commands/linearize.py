@@ -131,7 +131,7 @@ def check_options(args: argparse.Namespace) -> dict:
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
     writable_dir(args.out, "--out")
-    from .plant_comparison import check_compare_options
+    from .compare_truth import check_compare_options
 
     check_compare_options(args, out)
     check_fit_actuators(args, len(out["actuators"]))
@@ -186,21 +186,22 @@ def run(args: argparse.Namespace) -> int:
 
     import numpy as np
 
+    from ..files.model_source import load_model
     from ..io.atomic import atomic_write_bytes, atomic_write_text
     from ..io.output_folder import output_folder
     from ..plant.linearize import linearize
-    from .model_source import file_actuators, load_model_and_fit
 
     opts = check_options(args)
-    model, fitted = load_model_and_fit(args.model, args.beam)
+    source = load_model(args.model, args.beam)
+    model, fitted = source.model, source.fit
     if args.compare_truth:
-        from .plant_comparison import truth_request_of
+        from .compare_truth import truth_request_of
 
         request = truth_request_of(fitted, args.model)
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
     if not args.actuator:  # those a model JSON or URDF export records
-        opts["actuators"] = file_actuators(args.model)
+        opts["actuators"] = source.actuators
     opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
@@ -221,13 +222,13 @@ def run(args: argparse.Namespace) -> int:
     }
     cmp = None
     if args.compare_truth:  # before any file is written: a refusal leaves OUT as it was
+        from ..plant.comparison_truth import compare_truth_plant
+        from .compare_truth import print_truth_warnings
         from .fit_checks import cache_dir
-        from .plant_comparison import compare_with_truth, comparison_record
 
-        cmp, truth = compare_with_truth(lin, model, request, opts, args.damping_ratio,
-                                        cache_dir(args), quiet=args.quiet)
-        cmp_record = comparison_record(cmp, truth, request, Path(args.model).name,
-                                       args.damping_ratio)
+        cmp = compare_truth_plant(lin, model, request, opts["actuators"], args.damping_ratio,
+                                  cache_dir(args))
+        print_truth_warnings(cmp.truth, args.quiet)
     buf = io.BytesIO()
     np.savez(buf, A=lin.A, B=lin.B, C=lin.C, D=lin.D)
     out = Path(args.out)
@@ -237,8 +238,9 @@ def run(args: argparse.Namespace) -> int:
         if cmp is not None:
             from ..plant.comparison_plot import plot_plant_comparison
 
-            plot_plant_comparison(cmp, stage / "comparison.png")
-            atomic_write_text(stage / "comparison.json", json.dumps(cmp_record, indent=2) + "\n")
+            plot_plant_comparison(cmp.comparison, stage / "comparison.png")
+            atomic_write_text(stage / "comparison.json",
+                              json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
         atomic_write_text(stage / "linear_model.json", json.dumps(record, indent=2) + "\n")
     if not args.quiet:
         w = ", ".join(f"{x:.4g}" for x in lin.modal().omega_rad_s)
@@ -248,8 +250,8 @@ def run(args: argparse.Namespace) -> int:
     if cmp is not None and not args.quiet:
         from ..plant.comparison_record import comparison_summary
 
-        print(f"against the {truth.model} truth plant (wrote {out / 'comparison.json'}):",
+        print(f"against the {cmp.truth.model} truth plant (wrote {out / 'comparison.json'}):",
               file=sys.stderr)
-        for line in comparison_summary(cmp):
+        for line in comparison_summary(cmp.comparison):
             print(f"  {line}", file=sys.stderr)
     return 0

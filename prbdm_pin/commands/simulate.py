@@ -9,12 +9,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
+from ..plant.truth_comparison import TRUTH_MODELS
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
-from .model_source import file_actuators, load_model_and_fit
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
-from .truth_comparison import TRUTH_MODELS, compare_truth, comparison_figure, comparison_request
 
 if TYPE_CHECKING:
     import numpy as np
@@ -132,21 +131,6 @@ def parse_force(text: str) -> np.ndarray:
     return f
 
 
-def _csv(tr, hub: bool = False) -> str:
-    import numpy as np
-
-    n = tr.q_rad.shape[1] - int(hub)
-    coords = (["hub_angle_rad"] if hub else []) + [f"q{j + 1}_rad" for j in range(n)]
-    rates = (["hub_rate_rad_s"] if hub else []) + [f"v{j + 1}_rad_s" for j in range(n)]
-    head = (["t_s"] + coords + rates + ["tip_x_m", "tip_y_m", "tip_z_m"]
-            + [f"u:{name}" for name in tr.input_names]
-            + [f"y:{name}" for name in tr.output_names])
-    rows = np.column_stack([tr.t_s, tr.q_rad, tr.v_rad_s, tr.tip_position_m, tr.input_values,
-                            tr.output_values])
-    return ",".join(head) + "\n" + "\n".join(",".join(repr(float(v)) for v in r)
-                                             for r in rows) + "\n"
-
-
 SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
                   "truth_comparison.json", "comparison.png", "comparison.json")
 
@@ -204,53 +188,22 @@ def simulation_options(args, output_dt_s: float):
                              damping_ratio=args.damping, damping=args.damping_form)
 
 
-def _response_figure(model, tr, force, args):
-    """Tip displacement, the plant's inputs and outputs (when any), joint angles."""
-    from ..views.plots import new_figure
-
-    rows = 2 + len(tr.output_names) + int(bool(tr.input_names))
-    fig = new_figure((7.0, 2.2 + 1.6 * rows))
-    axes = [fig.add_subplot(rows, 1, k + 1) for k in range(rows)]
-    rest = model.tip_position()
-    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
-    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
-    axes[0].set_ylabel("tip displacement (mm)")
-    axes[0].legend(fontsize=7)
-    k = 1
-    for name, unit in zip(tr.output_names, tr.output_units, strict=True):
-        axes[k].plot(tr.t_s, tr.output(name))
-        axes[k].set_ylabel(f"{name} ({unit})", fontsize=8)
-        k += 1
-    if tr.input_names:
-        for name, unit in zip(tr.input_names, tr.input_units, strict=True):
-            axes[k].plot(tr.t_s, tr.input(name), label=f"{name} ({unit})")
-        axes[k].set_ylabel("inputs")
-        axes[k].legend(fontsize=7)
-        k += 1
-    axes[k].plot(tr.t_s, tr.q_rad[:, int(model.hub is not None):])
-    axes[k].set_ylabel("joint angles (rad)")
-    axes[k].set_xlabel("t (s)")
-    hub = "" if model.hub is None else (f", hub {model.hub.inertia_kg_m2:g} kg m^2 at "
-                                        f"{model.hub.radius_m:g} m")
-    fig.suptitle(f"{model.n_joints}R PRBDM{hub}, F = {force.tolist()} N, zeta = {args.damping}",
-                 fontsize=9)
-    fig.tight_layout()
-    return fig
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm simulate``."""
     import numpy as np
 
+    from ..files.model_source import load_model
+    from ..files.trajectory_csv import trajectory_csv
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
     from ..simulation import simulate
-    from ..views.plots import save_png
+    from ..views.plots import plot_response
     from .plant_options import actuators_on_beam, with_hub
 
     force = check_options(args)
     plant = check_plant_options(args)
-    model, fitted = load_model_and_fit(args.model, args.beam)
+    source = load_model(args.model, args.beam)
+    model, fitted = source.model, source.fit
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
@@ -259,7 +212,7 @@ def run(args: argparse.Namespace) -> int:
     if args.actuator:
         actuators_on_beam(model, plant["actuators"], args.actuator)
     else:  # those a model JSON or URDF export records
-        plant["actuators"] = file_actuators(args.model)
+        plant["actuators"] = source.actuators
     plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])
     if args.fit_actuators and not args.quiet:
         for i, a in enumerate(plant["actuators"]):
@@ -284,8 +237,8 @@ def run(args: argparse.Namespace) -> int:
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
-        atomic_write_text(stage / "trajectory.csv", _csv(tr, hub))
-        save_png(_response_figure(model, tr, force, args), stage / "response.png")
+        atomic_write_text(stage / "trajectory.csv", trajectory_csv(tr, hub))
+        plot_response(model, tr, force, args.damping, stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
                   f"{args.duration} s simulated; wrote {out / 'trajectory.csv'}", file=sys.stderr)
@@ -293,26 +246,23 @@ def run(args: argparse.Namespace) -> int:
             from ..plant.comparison_plot import plot_plant_comparison
             from ..plant.comparison_record import comparison_summary
 
-            plot_plant_comparison(plant_cmp[0], stage / "comparison.png")
+            plot_plant_comparison(plant_cmp.comparison, stage / "comparison.png")
             atomic_write_text(stage / "comparison.json",
-                              json.dumps(plant_cmp[1], indent=2) + "\n")
+                              json.dumps(plant_cmp.to_dict(Path(args.model).name), indent=2)
+                              + "\n")
             if not args.quiet:
-                for line in comparison_summary(plant_cmp[0]):
+                for line in comparison_summary(plant_cmp.comparison):
                     print(line, file=sys.stderr)
         elif args.compare_truth:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-
+            from ..plant.truth_comparison import compare_truth
+            from ..plant.truth_comparison_plot import plot_truth_comparison
+            from .compare_truth import comparison_request, print_truth_warnings
             from .fit_checks import cache_dir
 
             request = comparison_request(model, fitted, args.truth_model, quiet=args.quiet)
-            cmp = compare_truth(model, request, args.damping, cache_dir(args),
-                                quiet=args.quiet)
-            fig = comparison_figure(cmp, plt)
-            save_png(fig, stage / "truth_comparison.png")
-            plt.close(fig)
+            cmp = compare_truth(model, request, args.damping, cache_dir(args))
+            print_truth_warnings(cmp.truth, args.quiet)
+            plot_truth_comparison(cmp, stage / "truth_comparison.png")
             # the JSON last: its presence marks a complete comparison
             atomic_write_text(stage / "truth_comparison.json",
                               json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")

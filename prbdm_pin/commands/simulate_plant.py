@@ -7,7 +7,6 @@ work; the outputs recorded by default.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from ..errors import BeamInputError
 from .fit_actuators import check_fit_actuators
@@ -48,16 +47,20 @@ def plant_outputs(plant: dict, hub: bool) -> tuple[str, ...]:
 
 
 def plant_comparison(model, fitted, plant: dict, outputs, args):
-    """Compare the linearised plant with the truth plant (``prbdm linearize --compare-truth``)."""
+    """Compare the linearised plant with the truth plant (``prbdm linearize --compare-truth``).
+
+    Returns the :class:`~prbdm_pin.plant.comparison_truth.TruthPlantComparison`.
+    """
+    from ..plant.comparison_truth import compare_truth_plant
     from ..plant.linearize import linearize
+    from .compare_truth import print_truth_warnings, truth_request_of
     from .fit_checks import cache_dir
-    from .plant_comparison import compare_with_truth, comparison_record, truth_request_of
 
     request = truth_request_of(fitted, args.model)
     lin = linearize(model, inputs=plant["inputs"], outputs=outputs or ("tip_z",),
                     damping_ratio=args.damping, damping="modal",
                     actuators=tuple(plant["actuators"]))
-    opts = {"hub": model.hub, "actuators": plant["actuators"]}
-    cmp, truth = compare_with_truth(lin, model, request, opts, args.damping, cache_dir(args),
-                                    quiet=args.quiet)
-    return cmp, comparison_record(cmp, truth, request, Path(args.model).name, args.damping)
+    cmp = compare_truth_plant(lin, model, request, plant["actuators"], args.damping,
+                              cache_dir(args))
+    print_truth_warnings(cmp.truth, args.quiet)
+    return cmp

@@ -66,7 +66,7 @@ def run(args) -> int:
     from ..files.beam_file import load_beam
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
-    from ..truth import CoarseTruthError, compute_truth
+    from ..truth import CoarseTruthError, TruthRequest, compute_truth
     from ..truth.vtu import write_modes_vtu
 
     check_options(args)
@@ -74,11 +74,12 @@ def run(args) -> int:
     beam = load_beam(args.beam)
     if not args.quiet:
         print(f"truth: {beam.name} with the {args.model} model ...", flush=True)
+    request = TruthRequest(model=args.model, modes=args.modes, mesh_level=args.mesh,
+                           selection=args.selection, static=not args.no_static,
+                           large_deflection=args.large_deflection,
+                           error_tol_pct=None if args.accept_coarse else args.error_tol)
     try:
-        r = compute_truth(beam, model=args.model, modes=args.modes, mesh_level=args.mesh,
-                          selection=args.selection, static=not args.no_static,
-                          large_deflection=args.large_deflection,
-                          error_tol_pct=None if args.accept_coarse else args.error_tol)
+        r = compute_truth(beam, request)
     except CoarseTruthError as exc:
         raise BeamInputError(str(exc)) from None
     wall = time.perf_counter() - t0

@@ -1,14 +1,15 @@
 """The finite-element truth a PRBDM is fitted against (scikit-fem).
 
-``compute_truth`` (``truth.compute``) runs a modal analysis (``truth.modal``: Kirchhoff plate by
-default, 3D solid or 1D beam on request), labels and selects the bending modes (``truth.modes``),
-solves the tip-load case (``truth.tip_response``) and refuses results it cannot trust (negative
-or complex eigenvalues, a failed convergence check, a coarse error estimate). This module only
+``compute_truth`` (``truth.compute``) computes the truth a ``TruthRequest`` (``truth.request``)
+asks for: it runs a modal analysis (``truth.modal``: Kirchhoff plate by default, 3D solid or 1D
+beam on request), labels and selects the bending modes (``truth.modes``), solves the tip-load
+case (``truth.tip_response``) and refuses results it cannot trust (negative or complex
+eigenvalues, a failed convergence check, a coarse error estimate). This module only
 re-exports the public names; the finite-element code loads when a truth is solved.
 """
 
 from .compute import compute_truth
-from .estimate import ERROR_TOL_PCT, CoarseTruthError
+from .estimate import CoarseTruthError
 from .modal import compute_modal
 from .request import TruthRequest
 from .result import ModalSolution, StaticSolution, Timings, TruthResult
@@ -16,6 +17,7 @@ from .settings import (
     DEFAULT_COMPUTED_MODES,
     DEFAULT_LARGE_DEFLECTION,
     DEFAULT_PLATE_LEVEL,
+    ERROR_TOL_PCT,
     LARGE_DEFLECTION,
     MODELS,
 )

@@ -2,7 +2,8 @@
 
 A modal analysis (Kirchhoff plate by default; 3D solid or 1D beam on request), the bending
 modes labelled and selected, the tip-load case solved, and results it cannot trust refused
-(negative or complex eigenvalues, a failed convergence check, a coarse error estimate).
+(negative or complex eigenvalues, a failed convergence check, a coarse error estimate). What is
+asked comes as one :class:`~prbdm_pin.truth.request.TruthRequest`, which holds the defaults.
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from ..member.geometry import Beam
 from ..version import __version__
 from .cache import cache_key, load_cached, store_cached
 from .estimate import (
-    ERROR_TOL_PCT,
     ESTIMATE_MAX_DOFS,
     CoarseTruthError,
     beam_theory_gap,
@@ -23,15 +23,9 @@ from .estimate import (
     next_level_modal,
 )
 from .modal import compute_modal
-from .modes import SELECTIONS, label_modes, select_modes, selection_warnings
+from .modes import label_modes, select_modes, selection_warnings
+from .request import TruthRequest, request_of
 from .result import TruthResult
-from .settings import (
-    DEFAULT_COMPUTED_MODES,
-    DEFAULT_LARGE_DEFLECTION,
-    LARGE_DEFLECTION,
-    MODELS,
-    check_mesh_level,
-)
 from .tip_response import elastica_warnings, tip_response
 
 __all__ = ["CONVERGENCE_TOL", "compute_truth"]
@@ -40,100 +34,54 @@ __all__ = ["CONVERGENCE_TOL", "compute_truth"]
 CONVERGENCE_TOL = 1e-3
 
 
-def compute_truth(
-    beam: Beam,
-    model: str = "plate",
-    modes: int = 5,
-    mesh_level: int | None = None,
-    selection: str = "paper",
-    static: bool = True,
-    cache_dir=None,
-    *,
-    n_computed: int = DEFAULT_COMPUTED_MODES,
-    large_deflection: str = DEFAULT_LARGE_DEFLECTION,
-    check_convergence: bool = False,
-    error_tol_pct: float | None = ERROR_TOL_PCT,
-) -> TruthResult:
+def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=None,
+                  **fields) -> TruthResult:
     """Compute the finite-element truth of a beam: bending frequencies and tip-load response.
 
     Parameters
     ----------
     beam : Beam
-    model : {"plate", "plate-morley", "solid", "beam"}
-        ``plate`` (default): Kirchhoff plate, Argyris elements in element-local coordinates.
-        ``plate-morley``: cheap cross-check from below. ``solid``: 3D elasticity. ``beam``: 1D
-        Euler-Bernoulli (exact for slender strips only, 2-15 % off for wide panels).
-    modes : int
-        Number N of bending modes to select.
-    mesh_level : int, optional
-        Mesh refinement; default the cheapest level meeting 0.1 %.
-    selection : {"paper", "shape"}
-        ``paper``: the N modes of largest z mass participation, ascending; ``shape``: the lowest
-        N symmetric modes with MAC >= 0.8 against a 1D beam mode.
-    static : bool
-        Also solve the tip-load case under ``beam.tip_force_N``.
+    request : TruthRequest, optional
+        What truth: the model, the number of modes and their selection, the mesh level, the
+        tip-load solve, the accepted error estimate (see :class:`TruthRequest` for each field
+        and its default).
     cache_dir : path, optional
         Reuse a result computed with the same inputs and package version (see ``truth.cache``).
-    n_computed : int
-        Modes computed before selection (20-40 so that the selection is complete).
-    large_deflection : {"calibrated-elastica", "elastica", "solid", "none"}
-        Geometrically nonlinear tip solve. ``calibrated-elastica`` (default): the 1D elastica
-        with EI(x) scaled by u_1D / u_model, the ratio of the 1D beam's and the truth model's
-        linear tip deflections, so that at small load it is the model the frequencies come from
-        (its distance to the nonlinear solid is measured by scripts/target_consistency.py).
-        ``elastica``: the plain 1D elastica (exact for slender strips).
-        ``solid``: the nonlinear 3D solid (the reference, and by far the costliest).
-    check_convergence : bool
-        Also solve one mesh level finer and raise TruthError if a selected frequency moves by
-        more than 0.1 % or increases (Argyris converges from above).
-    error_tol_pct : float or None
-        Refuse (TruthError) a truth whose error estimate for a selected mode exceeds this, in %
-        (default 0.5); None accepts any. The estimate (``error_estimate_pct``: twice the change to
-        the next mesh level, see ``truth.estimate``) is computed and cached either way.
+    **fields
+        Without ``request``, the fields of :class:`TruthRequest` as keywords
+        (``compute_truth(beam, model="beam", modes=3)``): the request they build, the others at
+        their defaults.
 
     Returns
     -------
     TruthResult
+        Frequencies in rad/s, tip position and displacement in m.
 
     Raises
     ------
     BeamInputError
-        Bad arguments.
+        Bad arguments (naming the field).
     TruthError
         Negative/complex eigenvalues, too few bending modes or a failed convergence check;
-        ``CoarseTruthError`` (a TruthError) for an error estimate above ``error_tol_pct``.
+        ``CoarseTruthError`` (a TruthError) for an error estimate above
+        ``request.error_tol_pct``.
+    TypeError
+        A keyword that is no field of TruthRequest, or a request given with fields.
     """
     if not isinstance(beam, Beam):
         raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
-    if model not in MODELS:
-        raise BeamInputError(f"model = {model!r}: must be one of {MODELS}")
-    if selection not in SELECTIONS:
-        raise BeamInputError(f"selection = {selection!r}: must be one of {SELECTIONS}")
-    if large_deflection not in LARGE_DEFLECTION:
-        raise BeamInputError(
-            f"large_deflection = {large_deflection!r}: must be one of {LARGE_DEFLECTION}"
-        )
-    if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1:
-        raise BeamInputError(f"modes = {modes!r}: must be an integer >= 1")
-    if isinstance(n_computed, bool) or not isinstance(n_computed, (int, np.integer)):
-        raise BeamInputError(f"n_computed = {n_computed!r}: must be an integer")
-    n_computed = max(int(n_computed), 2 * int(modes))
-    if mesh_level is not None:
-        check_mesh_level(mesh_level)
-    if error_tol_pct is not None and not (
-            isinstance(error_tol_pct, (int, float, np.floating))
-            and not isinstance(error_tol_pct, bool) and error_tol_pct > 0.0):
-        raise BeamInputError(f"error_tol_pct = {error_tol_pct!r}: must be a number > 0 (%) "
-                             "or None")
+    req = request_of(request, fields, "compute_truth")
+    model, modes, mesh_level, selection = req.model, req.modes, req.mesh_level, req.selection
+    n_computed = req.computed_modes
 
     key = None
     if cache_dir is not None:
         key = cache_key(beam, model=model, mesh_level=mesh_level, modes=modes,
-                        selection=selection, static=static, n_computed=n_computed,
-                        large_deflection=large_deflection, version=__version__)
+                        selection=selection, static=req.static, n_computed=n_computed,
+                        large_deflection=req.large_deflection, version=__version__)
         hit = load_cached(cache_dir, key, beam.fingerprint())
         if hit is not None:
-            return _judged(hit, beam, error_tol_pct)
+            return _judged(hit, beam, req.error_tol_pct)
 
     modal = compute_modal(beam, model, mesh_level, n_computed)
     labels = label_modes(modal)
@@ -141,13 +89,13 @@ def compute_truth(
         index = select_modes(modal, modes, selection)
     except ValueError as exc:
         raise TruthError(f"{beam.name!r}: {exc}") from exc
-    if check_convergence:
+    if req.check_convergence:
         finer = compute_modal(beam, model, modal.mesh_level + 1, n_computed)
     else:
         finer = next_level_modal(beam, model, modal, index)
     estimate = error_estimate_pct(modal, finer, index)
     gap_1d, gap_cause = beam_theory_gap(beam, modal, index, labels)
-    if check_convergence:
+    if req.check_convergence:
         try:
             index_f = select_modes(finer, modes, selection)
         except ValueError as exc:
@@ -173,10 +121,10 @@ def compute_truth(
     elif estimate is None:
         notes.append(f"no discretisation error estimate for the {model} model (its next mesh "
                      "level costs minutes): check_convergence=True compares with it")
-    if static:
+    if req.static:
         lvl = None if model in ("beam",) else mesh_level
-        linear, nonlinear, gap = tip_response(beam, model, lvl, large_deflection)
-        notes += elastica_warnings(beam, model, linear, large_deflection)
+        linear, nonlinear, gap = tip_response(beam, model, lvl, req.large_deflection)
+        notes += elastica_warnings(beam, model, linear, req.large_deflection)
     result = TruthResult(
         beam_fingerprint=beam.fingerprint(),
         model=model,
@@ -200,7 +148,7 @@ def compute_truth(
     )
     if key is not None:
         store_cached(cache_dir, key, result)
-    return _judged(result, beam, error_tol_pct)
+    return _judged(result, beam, req.error_tol_pct)
 
 
 def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> TruthResult:

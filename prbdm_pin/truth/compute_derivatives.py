@@ -17,8 +17,8 @@ from ..errors import BeamInputError
 from ..io.records import readonly_array as _ro
 from ..member.design import Design
 from ..member.geometry import Beam
-from .modes import SELECTIONS
-from .settings import DEFAULT_COMPUTED_MODES, DEFAULT_PLATE_LEVEL, check_mesh_level
+from .request import TruthRequest, request_of
+from .settings import DEFAULT_PLATE_LEVEL
 
 __all__ = ["TruthGradient", "truth_gradient", "GRADIENT_MODELS"]
 
@@ -88,22 +88,8 @@ class TruthGradient:
         return self.d_tip_z_m * self.values / self.tip_z_m
 
 
-def _count(name: str, value: object, minimum: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise BeamInputError(f"{name} = {value!r}: must be an integer >= {minimum}")
-    return int(value)
-
-
-def truth_gradient(
-    beam: Beam,
-    design: Design | tuple[str, ...] | list[str],
-    model: str = "plate",
-    modes: int = 3,
-    mesh_level: int | None = None,
-    selection: str = "paper",
-    static: bool = True,
-    n_computed: int = DEFAULT_COMPUTED_MODES,
-) -> TruthGradient:
+def truth_gradient(beam: Beam, design: Design | tuple[str, ...] | list[str],
+                   request: TruthRequest | None = None, **fields) -> TruthGradient:
     """Compute the truth's bending frequencies, linear tip deflection and their design gradients.
 
     Parameters
@@ -113,19 +99,17 @@ def truth_gradient(
     design : Design or sequence of str
         The design variables (a ``Design`` of any beam of the same vertex structure, or its
         variable names); the gradient is taken at ``beam``.
-    model : {"plate", "beam"}
-        Kirchhoff plate (Argyris, the default truth) or 1D Euler-Bernoulli beam.
-    modes : int
-        Number of bending modes, selected as ``compute_truth`` selects them.
-    mesh_level : int, optional
-        Plate mesh level (default: the truth's default); ignored for the 1D beam.
-    selection : {"paper", "shape"}
-        Mode selection, as in ``compute_truth``: ``paper``, the modes of largest z mass
-        participation; ``shape``, the lowest symmetric modes matching a 1D beam bending mode.
-    static : bool
-        Also the linear tip deflection under ``beam.tip_force_N`` (z) and its gradient.
-    n_computed : int
-        Modes computed before the selection (at least 2 * modes).
+    request : TruthRequest, optional
+        The truth, as ``compute_truth`` takes it: its ``model`` (``"plate"``, the Kirchhoff
+        plate with Argyris elements, or ``"beam"``, 1D Euler-Bernoulli), ``modes`` selected by
+        its ``selection`` among ``n_computed`` (at least 2 * modes), the plate's ``mesh_level``
+        (ignored for the 1D beam), and with ``static`` the linear tip deflection under
+        ``beam.tip_force_N`` (z) and its gradient. ``large_deflection``, ``error_tol_pct`` and
+        ``check_convergence`` do not enter: the gradient is that of the linear tip, on the
+        request's own mesh, without an error estimate.
+    **fields
+        Without ``request``, its fields as keywords (``model="beam", modes=3``), the others at
+        the defaults of :class:`TruthRequest`.
 
     Returns
     -------
@@ -136,10 +120,12 @@ def truth_gradient(
     Raises
     ------
     BeamInputError
-        Bad arguments or design variables.
+        Bad arguments or design variables, or a model other than plate and beam.
     TruthError
         A truth that cannot be trusted, or a selected eigenvalue (nearly) repeated (relative gap
         below ``sensitivity_rules.GAP_TOL``): its derivative is not defined by one mode.
+    TypeError
+        A keyword that is no field of TruthRequest, or a request given with fields.
     """
     if not isinstance(beam, Beam):
         raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
@@ -147,21 +133,20 @@ def truth_gradient(
     if isinstance(names, str):
         names = tuple(n.strip() for n in names.split(","))
     d = Design(beam, tuple(names))
-    if model not in GRADIENT_MODELS:
-        raise BeamInputError(f"model = {model!r}: must be one of {GRADIENT_MODELS}")
-    if selection not in SELECTIONS:
-        raise BeamInputError(f"selection = {selection!r}: must be one of {SELECTIONS}")
-    modes = _count("modes", modes)
-    n_computed = max(_count("n_computed", n_computed), 2 * modes)
+    req = request_of(request, fields, "truth_gradient")
+    if req.model not in GRADIENT_MODELS:
+        raise BeamInputError(f"model = {req.model!r}: must be one of {GRADIENT_MODELS}")
+    model, modes, selection, static = req.model, req.modes, req.selection, req.static
+    n_computed = req.computed_modes
     if model == "plate":
         from .plate_derivatives import plate_sensitivity
 
-        level = DEFAULT_PLATE_LEVEL if mesh_level is None else check_mesh_level(mesh_level)
-        r = plate_sensitivity(d, level, modes, selection, n_computed, bool(static))
+        level = DEFAULT_PLATE_LEVEL if req.mesh_level is None else req.mesh_level
+        r = plate_sensitivity(d, level, modes, selection, n_computed, static)
     else:
         from .beam_derivatives import beam_sensitivity
 
-        r = beam_sensitivity(d, modes, selection, n_computed, bool(static))
+        r = beam_sensitivity(d, modes, selection, n_computed, static)
     index = np.array(r["mode_index"])
     index.setflags(write=False)
     return TruthGradient(

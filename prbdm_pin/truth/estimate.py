@@ -31,6 +31,7 @@ from ..options.limits import limits
 from .modal import compute_modal
 from .modes import mac_matrix
 from .result import ModalSolution
+from .settings import ERROR_TOL_PCT
 
 __all__ = [
     "CoarseTruthError",
@@ -41,8 +42,6 @@ __all__ = [
     "error_estimate_pct",
     "beam_theory_gap",
 ]
-
-ERROR_TOL_PCT = 0.5
 
 
 class CoarseTruthError(TruthError):

@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..member.geometry import Beam
 from .result import ModalSolution
+from .settings import SELECTIONS
 
 __all__ = [
     "MAC_BEAM_LIKE",
@@ -35,7 +36,6 @@ MAC_BEAM_LIKE = 0.8
 # chordwise bending. Measured: bending modes 0.00-0.77 (second bending of the square plate 0.47),
 # chordwise modes 1.1-1.6.
 WIDTH_VARIATION_CHORDWISE = 1.0
-SELECTIONS = ("paper", "shape")
 # below this share of kinetic energy in z motion a mode moves mainly in plane (bending and torsion
 # modes of thin panels: above 0.99)
 IN_PLANE_Z_ENERGY = 0.5

@@ -13,15 +13,19 @@ from ..options.choices import TRUTH_MODELS
 
 __all__ = [
     "MODELS",
+    "SELECTIONS",
     "LARGE_DEFLECTION",
     "DEFAULT_LARGE_DEFLECTION",
     "DEFAULT_PLATE_LEVEL",
     "DEFAULT_COMPUTED_MODES",
+    "ERROR_TOL_PCT",
     "check_mesh_level",
     "check_level",
 ]
 
 MODELS = TRUTH_MODELS
+# "paper": the N modes of largest z mass participation; "shape": the lowest N beam-like modes
+SELECTIONS = ("paper", "shape")
 # "calibrated-elastica" (default): the elastica with EI(x) scaled so that its small-load tip is the
 # truth model's own linear tip (the frequencies' model); "elastica": the plain 1D elastica;
 # "solid": the nonlinear 3D solid (reference, about a minute on a wide panel)
@@ -33,6 +37,9 @@ DEFAULT_LARGE_DEFLECTION = "calibrated-elastica"
 DEFAULT_PLATE_LEVEL = 0
 # Enough modes that the z mass participation of the unseen modes cannot reorder a 5-mode selection.
 DEFAULT_COMPUTED_MODES = 25
+# Largest accepted error estimate of a selected frequency, % (``truth.estimate``): a truth above
+# it is refused unless the caller accepts it (error_tol_pct=None, --accept-coarse).
+ERROR_TOL_PCT = 0.5
 
 
 def check_mesh_level(level: object) -> int:

@@ -1,8 +1,8 @@
-"""Figures of a fit.
+"""Figures of a fit and of a simulation.
 
 The planform with its links and joints (paper Figs. 5, 7, 9, 12), SCF against joint angle
-(Figs. 8, 10), the Pareto front with its knee (Fig. 11). Every function writes a PNG atomically
-and returns its path.
+(Figs. 8, 10), the Pareto front with its knee (Fig. 11), a simulated response. Every function
+writes a PNG atomically and returns its path.
 
 matplotlib is imported lazily and without pyplot: each figure is a ``Figure`` on its own Agg
 canvas, so no backend is chosen and no figure manager holds it.
@@ -19,8 +19,8 @@ import numpy as np
 from ..io.atomic import atomic_path
 from ..options.choices import MIN_FRACTION
 
-__all__ = ["plot_planform", "plot_scf", "plot_pareto", "new_figure", "pyplot", "save_figure",
-           "save_png"]
+__all__ = ["plot_planform", "plot_scf", "plot_pareto", "plot_response", "new_figure", "pyplot",
+           "save_figure", "save_png"]
 
 DPI = 120
 
@@ -35,16 +35,18 @@ def pyplot():
     return plt
 
 
-def new_figure(figsize_in: tuple[float, float]):
+def new_figure(figsize_in: tuple[float, float], dpi: float = DPI):
     """Make a matplotlib Figure of ``figsize_in`` (width, height; inches) on its own Agg canvas.
 
     Neither pyplot nor a backend is loaded: the figure is not managed by any window manager,
-    so nothing needs closing and no display is looked for.
+    so nothing needs closing and no display is looked for. ``dpi`` is the figure's own
+    resolution (dots per inch), at which ``tight_layout`` measures its text; ``save_png``
+    writes at ``DPI`` whatever it is.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=figsize_in, dpi=DPI)
+    fig = Figure(figsize=figsize_in, dpi=dpi)
     FigureCanvasAgg(fig)
     return fig
 
@@ -171,3 +173,42 @@ def plot_pareto(pareto, path) -> Path:
     ax.set_yscale("log")
     ax.legend()
     return save_figure(fig, path)
+
+
+def plot_response(model, tr, force_N: np.ndarray, damping_ratio: float,
+                  path: str | os.PathLike) -> Path:
+    """Write the response of a simulation to ``path`` (PNG); return the path.
+
+    One row each: the tip displacement (mm, z and x from the straight pose), every output of the
+    plant in its unit, the inputs (when any) and the beam's joint angles (rad), against t (s).
+    The title names the model (and its hub), the step tip force ``force_N`` (N) and the
+    ``damping_ratio``.
+    """
+    rows = 2 + len(tr.output_names) + int(bool(tr.input_names))
+    fig = new_figure((7.0, 2.2 + 1.6 * rows))
+    axes = [fig.add_subplot(rows, 1, k + 1) for k in range(rows)]
+    rest = model.tip_position()
+    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
+    axes[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
+    axes[0].set_ylabel("tip displacement (mm)")
+    axes[0].legend(fontsize=7)
+    k = 1
+    for name, unit in zip(tr.output_names, tr.output_units, strict=True):
+        axes[k].plot(tr.t_s, tr.output(name))
+        axes[k].set_ylabel(f"{name} ({unit})", fontsize=8)
+        k += 1
+    if tr.input_names:
+        for name, unit in zip(tr.input_names, tr.input_units, strict=True):
+            axes[k].plot(tr.t_s, tr.input(name), label=f"{name} ({unit})")
+        axes[k].set_ylabel("inputs")
+        axes[k].legend(fontsize=7)
+        k += 1
+    axes[k].plot(tr.t_s, tr.q_rad[:, int(model.hub is not None):])
+    axes[k].set_ylabel("joint angles (rad)")
+    axes[k].set_xlabel("t (s)")
+    hub = "" if model.hub is None else (f", hub {model.hub.inertia_kg_m2:g} kg m^2 at "
+                                        f"{model.hub.radius_m:g} m")
+    fig.suptitle(f"{model.n_joints}R PRBDM{hub}, F = {np.asarray(force_N).tolist()} N, "
+                 f"zeta = {damping_ratio}", fontsize=9)
+    fig.tight_layout()
+    return save_png(fig, path)

@@ -146,9 +146,9 @@ def _load_fit(d):
 
 
 def _load_model(d):
-    from prbdm_pin.commands.simulate import load_model_and_fit
+    from prbdm_pin.files.model_source import load_model
 
-    return lambda: load_model_and_fit(str(_file(d)))
+    return lambda: load_model(str(_file(d)))
 
 
 def _load_urdf(p):
@@ -227,9 +227,10 @@ def _fit_cases():
 
 
 def _valid_fit_loads():
-    from prbdm_pin.commands.simulate import load_model_and_fit
+    from prbdm_pin.files.model_source import load_model
 
-    model, fit = load_model_and_fit(str(_file(_fit_doc())))
+    loaded = load_model(str(_file(_fit_doc())))
+    model, fit = loaded.model, loaded.fit
     assert fit.joints == 2 and np.all(np.isfinite(model.natural_frequencies()))
 
 

@@ -1,12 +1,13 @@
-"""``prbdm simulate --compare-truth``: a PRBDM's responses against its beam's truth.
+"""A PRBDM's tip response against its beam's finite-element truth: step and FRF.
 
-The step and frequency responses against the finite-element truth (what
-``truth_comparison.json`` and ``truth_comparison.png`` report).
+:func:`compare_truth` computes (or finds in the cache) the truth a :class:`TruthRequest` asks for,
+takes its modal superposition and measures the PRBDM linearised at the straight pose against it
+(:func:`~prbdm_pin.simulation.response.dynamic_accuracy`); ``prbdm simulate --compare-truth``
+writes what it returns (``truth_comparison.json``, ``truth_comparison.png``).
 """
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -14,10 +15,16 @@ from ..errors import BeamInputError
 
 if TYPE_CHECKING:
     from ..simulation.response import DynamicAccuracy, ModalTip
-    from ..truth import TruthRequest, TruthResult
+    from ..truth.request import TruthRequest
+    from ..truth.result import TruthResult
 
+__all__ = ["TRUTH_MODELS", "STEP_DURATION_S", "BAND_FACTOR", "TruthComparison",
+           "compare_truth"]
+
+# the truths whose modal superposition the comparison takes (truth_modal_tip)
 TRUTH_MODELS = ("plate", "beam")
-# the comparison's window and band (the dynamic-accuracy metrics of the README)
+# the comparison's window (s) and band (a multiple of omega_n): the dynamic-accuracy metrics of
+# the README
 STEP_DURATION_S = 1.0
 BAND_FACTOR = 1.2
 
@@ -63,7 +70,7 @@ class TruthComparison:
         return float(static.tip_displacement_m[2] / static.tip_force_N[2])
 
     def to_dict(self, source: str) -> dict:
-        """Return the JSON form; ``source`` names the model file."""
+        """Return the JSON form (SI units; errors as fractions); ``source`` names the model."""
         acc, truth = self.accuracy, self.truth
         return {
             "truth": {
@@ -101,78 +108,49 @@ class TruthComparison:
         }
 
 
-def comparison_request(model, fitted, truth_model: str | None = None,
-                       quiet: bool = True) -> TruthRequest:
-    """Return the truth request ``--compare-truth`` asks for.
-
-    With no ``truth_model`` (or the fit's own model), the request recorded in the fit
-    (``fitted.truth_request``: model, selection, mesh level, ...) when it is a plate or beam truth,
-    so the comparison finds the fit's truth in the cache; otherwise ``truth_model`` (default
-    plate) at ``prbdm fit``'s defaults with n = joints modes.
-    """
-    from ..truth import TruthRequest
-
-    # an unknown truth_model passes through: compare_truth refuses it
-    recorded = getattr(fitted, "truth_request", None)
-    if recorded is not None and truth_model in (None, recorded.model):
-        if recorded.model in TRUTH_MODELS:
-            return recorded
-        if not quiet:
-            print(f"note: the fit's {recorded.model} truth has no modal superposition here; "
-                  "comparing with the plate truth", file=sys.stderr)
-    return TruthRequest(model=truth_model or "plate", modes=int(model.n_joints))
-
-
-def compare_truth(model, request: TruthRequest, damping_ratio: float, cache_dir,
-                  quiet: bool = True) -> TruthComparison:
+def compare_truth(model, request: TruthRequest | None = None, damping_ratio: float = 0.02,
+                  cache_dir=None) -> TruthComparison:
     """Step and FRF comparison of ``model`` (linearised, straight pose) with its beam's truth.
 
-    The truth is ``request.compute(beam, cache_dir)`` (static solve included; see
-    :func:`comparison_request`), so a model fitted by ``prbdm fit`` finds the very truth it was
-    fitted to in the cache. Its modal superposition is :func:`truth_modal_tip`; the metrics are
-    :func:`dynamic_accuracy` over the first ``STEP_DURATION_S`` (s) and the band
-    [0, BAND_FACTOR * omega_n] (rad/s).
+    Parameters
+    ----------
+    model : PrbdmModel
+        The PRBDM; it must carry its beam (a model built on one, a fit.json's, a model JSON's).
+    request : TruthRequest, optional
+        The truth (its static solve included), a plate or beam truth; default the plate truth
+        with as many modes as the model has joints. A fit's ``truth_request`` finds the very
+        truth it was fitted to in the cache.
+    damping_ratio : float
+        Modal damping ratio of every mode on both sides (dimensionless, in (0, 1)).
+    cache_dir : path, optional
+        Truth cache folder (see ``compute_truth``).
+
+    Returns
+    -------
+    TruthComparison
+        The truth, its modal superposition (:func:`truth_modal_tip`) and the metrics of
+        :func:`dynamic_accuracy` over the first ``STEP_DURATION_S`` (s) and the band
+        [0, BAND_FACTOR * omega_n] (rad/s).
+
+    Raises
+    ------
+    BeamInputError
+        A model without its beam, or a request for another truth model.
     """
     from ..simulation.response import dynamic_accuracy, prbdm_modal_tip, truth_modal_tip
+    from ..truth.request import TruthRequest
 
+    if request is None:
+        request = TruthRequest(modes=int(model.n_joints))
     if request.model not in TRUTH_MODELS:
-        raise BeamInputError(f"--truth-model = {request.model!r}: must be one of {TRUTH_MODELS}")
+        raise BeamInputError(f"request.model = {request.model!r}: must be one of "
+                             f"{TRUTH_MODELS} (a truth with a modal superposition)")
     beam = model.beam
+    if beam is None:
+        raise BeamInputError("model: has no beam (a URDF does not carry it), so no truth")
     truth = request.compute(beam, cache_dir=cache_dir)
-    if not quiet:
-        for note in truth.warnings:
-            print(f"truth warning: {note}", file=sys.stderr)
     ref = truth_modal_tip(truth, beam)
     acc = dynamic_accuracy(model, ref, damping_ratio=damping_ratio, duration_s=STEP_DURATION_S,
                            band_factor=BAND_FACTOR)
     return TruthComparison(request, truth, ref, prbdm_modal_tip(model), acc,
                            float(damping_ratio))
-
-
-def comparison_figure(cmp: TruthComparison, plt):
-    """Draw the step response and the FRF magnitude and phase of both sides (pyplot ``plt``).
-
-    Returns the figure; the command writes and closes it.
-    """
-    import numpy as np
-
-    acc, name = cmp.accuracy, cmp.truth_model
-    mine = f"{cmp.prbdm.omega_rad_s.size}R PRBDM"
-    fig, ax = plt.subplots(3, 1, figsize=(7, 8))
-    ax[0].plot(acc.t_s, acc.step_truth_m_per_N * 1e6, label=f"{name} truth")
-    ax[0].plot(acc.t_s, acc.step_model_m_per_N * 1e6, "--", label=mine)
-    ax[0].set_xlabel("t (s)")
-    ax[0].set_ylabel("tip z / F, unit step (um/N)")
-    ax[0].legend()
-    w = acc.omega_band_rad_s
-    ax[1].semilogy(w, np.abs(acc.frf_truth_m_per_N), label=f"{name} truth")
-    ax[1].semilogy(w, np.abs(acc.frf_model_m_per_N), "--", label=mine)
-    ax[1].set_ylabel("|H| (m/N)")
-    ax[2].plot(w, np.degrees(np.angle(acc.frf_truth_m_per_N)))
-    ax[2].plot(w, np.degrees(np.angle(acc.frf_model_m_per_N)), "--")
-    ax[2].set_xlabel("omega (rad/s)")
-    ax[2].set_ylabel("phase (deg)")
-    fig.suptitle(f"{name} truth, zeta = {cmp.damping_ratio}: step error "
-                 f"{acc.step_error:.1%}, FRF error {acc.frf_error:.1%}")
-    fig.tight_layout()
-    return fig

@@ -1,0 +1,172 @@
+"""A PRBDM read from whichever file holds one: a URDF, a model JSON or a fit.json.
+
+:func:`load_model` tells the three apart (a beam file, a truth file or any other JSON is refused
+with a message naming the file and what it is) and returns a :class:`ModelFile`: the model and
+what else the file carried, the fit record, the strain actuators and the truth frequencies an
+earlier export recorded. A model JSON comes from ``prbdm export``, a fit.json with the beam it
+was fitted to (the one it carries, or one given).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..errors import BeamInputError
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..fitting.results import FitResult
+    from ..member.geometry import Beam
+    from ..model.prbdm_model import PrbdmModel
+
+__all__ = ["ModelFile", "load_model", "MODEL_KINDS"]
+
+# "urdf": a URDF export (or PrbdmModel.urdf); "model": a model JSON (prbdm export --format
+# json); "fit": a fit.json
+MODEL_KINDS = ("urdf", "model", "fit")
+
+
+@dataclass(frozen=True, eq=False)
+class ModelFile:
+    """A model file as read by :func:`load_model`.
+
+    Attributes
+    ----------
+    path : Path
+        The file.
+    kind : {"urdf", "model", "fit"}
+        A URDF, a model JSON or a fit.json.
+    model : PrbdmModel
+        The PRBDM (link lengths in m, springs in N m/rad), on its hub when a model JSON or URDF
+        records one; a URDF's has no beam.
+    fit : FitResult or None
+        The fit record of a fit.json (its ``truth_request`` names the truth it was fitted to).
+    actuators : tuple of StrainActuator
+        The strain actuators a model JSON or a URDF export records (spans in m, with the joint
+        weights they were exported with); none for a fit.json.
+    omega_truth_rad_s : ndarray or None
+        The truth frequencies the file knows, rad/s: a fit.json's ``omega_truth_rad_s``, or those
+        an export recorded (model JSON field, URDF comment); None when it knows none.
+    beam_given : bool
+        The model's beam is the one passed to :func:`load_model`, not the one the file carries.
+    """
+
+    path: Path
+    kind: str
+    model: PrbdmModel
+    fit: FitResult | None
+    actuators: tuple
+    omega_truth_rad_s: np.ndarray | None
+    beam_given: bool = False
+
+
+def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = None
+               ) -> ModelFile:
+    """Read a PRBDM from a URDF, a model JSON (export) or a fit.json (with its beam).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file; a ``.urdf`` suffix reads as URDF, anything else as JSON.
+    beam : Beam, str or path-like, optional
+        For a fit.json: the beam it was fitted to (a Beam or a beam JSON file) instead of the
+        one it carries; refused when its fingerprint is not the fit's. Ignored for the other
+        kinds, which carry their own.
+
+    Returns
+    -------
+    ModelFile
+        The model and what the file carried beside it.
+
+    Raises
+    ------
+    BeamInputError
+        A missing file, a file of another kind (a beam, a truth, ...), a fit.json without a
+        beam, a beam that is not the fit's, or a malformed file (naming the field).
+    """
+    from ..io.jsonfile import read_json
+    from ..io.record_checks import file_kind
+    from ..model.prbdm_model import load_urdf
+
+    p = Path(path)
+    if not p.is_file():
+        raise BeamInputError(f"MODEL {str(path)!r}: not found")
+    if p.suffix.lower() == ".urdf":
+        from .export import read_export_record
+
+        model = load_urdf(p)
+        rec = read_export_record(p.read_text(encoding="utf-8"))
+        return ModelFile(p, "urdf", model, None, () if rec is None else rec.actuators(),
+                         None if rec is None else rec.omega_truth_rad_s)
+    d = read_json(p, "MODEL")
+    kind = file_kind(d)
+    if kind == "model":
+        from .export import read_plant_json
+
+        model, actuators = read_plant_json(p)
+        return ModelFile(p, "model", model, None, tuple(actuators),
+                         _recorded_frequencies(str(path), d.get("omega_truth_rad_s")))
+    if kind == "beam":
+        raise BeamInputError(f"MODEL {str(path)!r}: is a beam file, not a fit.json or model: "
+                             f"run `prbdm fit {path} --joints N --out DIR` first and pass "
+                             "DIR/fit.json")
+    if kind != "fit":
+        what = f"a {kind} file" if kind != "unknown" else (
+            f"a JSON object with keys {sorted(d)[:8]}" if isinstance(d, dict)
+            else f"a JSON {type(d).__name__}")
+        raise BeamInputError(f"MODEL {str(path)!r}: is {what}, not a fit.json, a model JSON "
+                             "(prbdm export --format json) or a URDF")
+    return _fit_model(p, str(path), d, beam)
+
+
+def _recorded_frequencies(path: str, value) -> np.ndarray | None:
+    """Return a model JSON's ``omega_truth_rad_s`` as a float array (rad/s), None when null.
+
+    Its range is checked where it is used (an export's per-mode errors).
+    """
+    import numpy as np
+
+    if value is None:
+        return None
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise BeamInputError(f"MODEL {path!r}: omega_truth_rad_s = {value!r:.60}: must be a "
+                             "list of numbers (rad/s) or null") from None
+
+
+def _fit_model(p: Path, path: str, d: dict, beam) -> ModelFile:
+    """Read the model of a fit.json mapping ``d``, on ``beam`` or on the beam it carries."""
+    from ..fitting.results import FitResult
+    from ..io.record_checks import LINK_FLOOR_FRACTION
+    from ..member.geometry import Beam
+    from ..model.prbdm_model import build_model
+    from .beam_file import load_beam
+    from .fit_file import fit_beam
+
+    what = f"MODEL {path!r}"
+    if beam is None:
+        used = fit_beam(d, what)
+        label = None
+    elif isinstance(beam, Beam):
+        used, label = beam, f"beam {beam.name!r}"
+    else:
+        used, label = load_beam(beam), f"--beam {str(beam)!r}"
+    if used is None:
+        raise BeamInputError(f"{what}: this fit.json carries no beam; give --beam "
+                             "BEAM.json (the beam it was fitted to)")
+    fp = d.get("beam_fingerprint")
+    if isinstance(fp, str) and fp and fp != used.fingerprint():
+        if label is None:  # the beam stored in the file: the file itself was edited
+            raise BeamInputError(f"{what}: its beam does not match its beam_fingerprint = "
+                                 f"{fp!r} (the beam stored in it has {used.fingerprint()!r})")
+        raise BeamInputError(f"{label}: is not the beam {path!r} was fitted to "
+                             f"({d.get('beam_name')!r:.60})")
+    fit = FitResult.from_dict(d, beam=used, what=what)
+    model = build_model(used, fit.lengths_m, fit.stiffness_Nm_per_rad,
+                        min_fraction=LINK_FLOOR_FRACTION)
+    return ModelFile(p, "fit", model, fit, (), fit.omega_truth_rad_s, label is not None)

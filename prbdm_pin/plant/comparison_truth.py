@@ -1,0 +1,117 @@
+"""A linearised PRBDM plant against the truth plant of the same hub and actuators.
+
+:func:`compare_truth_plant` computes (or finds in the cache) the truth a :class:`TruthRequest`
+asks for, builds its plant on the PRBDM's support (the clamped modal plant, or Likins' hybrid
+coordinates on the PRBDM's hub) with the same strain actuators and damping, and compares the two
+with :func:`~prbdm_pin.plant.comparison.compare_plant`; ``prbdm linearize --compare-truth`` and
+``prbdm simulate --compare-truth`` of a plant write what it returns (``comparison.json``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from ..errors import BeamInputError
+
+if TYPE_CHECKING:
+    from ..truth.request import TruthRequest
+    from ..truth.result import TruthResult
+    from .comparison import PlantComparison
+
+__all__ = ["PLANT_TRUTH_MODELS", "TruthPlantComparison", "compare_truth_plant"]
+
+# truths whose modes the truth plant reads (``truth_modal_gains``)
+PLANT_TRUTH_MODELS = ("plate", "plate-morley", "beam")
+
+
+@dataclass(frozen=True, eq=False)
+class TruthPlantComparison:
+    """A PRBDM plant against its truth plant (what ``comparison.json`` reports).
+
+    Attributes
+    ----------
+    request : TruthRequest
+        The truth asked for.
+    truth : TruthResult
+        The truth the truth plant was built from.
+    comparison : PlantComparison
+        Per flexible mode and per (input, output) pair (frequencies rad/s, errors %).
+    damping_ratio : float
+        Modal damping ratio of every flexible mode of both plants.
+    """
+
+    request: TruthRequest
+    truth: TruthResult
+    comparison: PlantComparison
+    damping_ratio: float
+
+    def to_dict(self, source: str) -> dict[str, Any]:
+        """Return the JSON form: what was compared with what, and the comparison.
+
+        ``source`` names the model file; frequencies in rad/s, errors in %.
+        """
+        from .comparison_record import comparison_dict
+
+        truth = self.truth
+        return {
+            "prbdm": {"source": source, "linearised_at": "straight pose (q = 0), unloaded"},
+            "truth": {"model": truth.model, "request": self.request.to_dict(),
+                      "mesh_level": int(truth.mesh_level),
+                      "selected_omega_rad_s": [float(w) for w in truth.omega_rad_s]},
+            "damping": {"ratio": float(self.damping_ratio),
+                        "form": "modal on both sides: every flexible mode of the coupled plant "
+                                "(hub-stiffened on a hub), the rigid-body mode undamped"},
+            **comparison_dict(self.comparison),
+        }
+
+
+def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence = (),
+                        damping_ratio: float = 0.02, cache_dir=None) -> TruthPlantComparison:
+    """Compare ``lin``, the linearised plant of ``model``, with the truth plant.
+
+    Parameters
+    ----------
+    lin : LinearModel
+        The PRBDM plant (``linearize(model, ..., damping="modal")``), unloaded at the straight
+        pose.
+    model : PrbdmModel
+        The PRBDM, with its beam; on its hub (``model.hub``) the truth plant is on the same hub.
+    request : TruthRequest
+        The truth: a plate, Morley plate or beam truth (a fit's ``truth_request``).
+    actuators : sequence of StrainActuator
+        The strain actuators of ``lin``; the truth plant's patches span the same stations (m).
+    damping_ratio : float
+        Modal damping ratio of every flexible mode of the truth plant (dimensionless), as
+        ``lin``'s.
+    cache_dir : path, optional
+        Truth cache folder (see ``compute_truth``).
+
+    Returns
+    -------
+    TruthPlantComparison
+
+    Raises
+    ------
+    BeamInputError
+        A model without its beam, or a truth model with no modal plant.
+    """
+    from ..truth.plant import clamped_model, hybrid_model
+    from .comparison import compare_plant
+
+    if request.model not in PLANT_TRUTH_MODELS:
+        raise BeamInputError(f"request.model = {request.model!r}: has no modal plant; use one "
+                             f"of {', '.join(PLANT_TRUTH_MODELS)}")
+    beam = model.beam
+    if beam is None:
+        raise BeamInputError("model: has no beam (a URDF does not carry it), so no truth")
+    truth = request.compute(beam, cache_dir=cache_dir)
+    stations = [(a.x_start_m, a.x_end_m) for a in actuators]
+    hub = model.hub
+    if hub is None:
+        plant = clamped_model(truth, beam, stations, damping_ratio)
+    else:
+        plant = hybrid_model(truth, beam, hub.inertia_kg_m2, hub.radius_m, stations,
+                             damping_ratio, damping="modal")
+    return TruthPlantComparison(request, truth, compare_plant(lin, plant), float(damping_ratio))
