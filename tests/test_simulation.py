@@ -4,14 +4,14 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-import prbdm_pin.simulation.exponential as exponential
-import prbdm_pin.simulation.gauss as gauss
 import prbdm_pin.simulation.system as system
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError, SolveError
 from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.simulation import (
+    Exponential,
+    Gauss,
     StiffnessSchedule,
     gauss_frequency_ratio,
     mechanical_energy,
@@ -304,16 +304,14 @@ def test_exponential_harmonic_load_against_dop853(chain5):
         assert err < bound
 
 
-def test_gauss_halves_a_step_when_newton_fails(model, monkeypatch):
+def test_gauss_halves_a_step_when_newton_fails(model):
     """A violent start (alternating 0.05 rad kinks) stalls Newton at the default step; halving
     that step lets the run through, and once the kinks' fast modes have decayed the response
     agrees with DOP853."""
     q0 = np.array([0.05, -0.05, 0.05, -0.05, 0.05])
     kw = {"q0": q0, "damping_ratio": 0.1, "output_dt_s": 1e-3}
-    monkeypatch.setattr(gauss, "MAX_HALVINGS", 0)
     with pytest.raises(SolveError, match="Newton did not converge"):
-        simulate(model, 0.5, method="gauss", **kw)
-    monkeypatch.undo()
+        simulate(model, 0.5, integrator=Gauss(max_halvings=0), **kw)
     tr = simulate(model, 0.5, method="gauss", **kw)
     omega = model.natural_frequencies(q0)
     nominal = int(np.ceil(0.5 / (2 * np.pi / omega[0] / 40) - 1e-6))
@@ -326,17 +324,15 @@ def test_gauss_halves_a_step_when_newton_fails(model, monkeypatch):
     assert err < 1e-2
 
 
-def test_exponential_halves_a_step_instead_of_diverging(model, monkeypatch):
+def test_exponential_halves_a_step_instead_of_diverging(model):
     """A kinked last joint (0.1 rad) strongly excites the stiffest mode. With the accuracy
     control off and no halving, the exponential scheme's explicit remainder diverges at the
     nominal step; by default the step control resolves the stiff mode and the tip follows DOP853.
     Gauss-Legendre keeps the energy to a few per cent there."""
     q0 = np.array([0.0, 0.0, 0.0, 0.0, 0.1])
-    monkeypatch.setattr(exponential, "MAX_HALVINGS", 0)
-    monkeypatch.setattr(exponential, "REJECT_FACTOR", np.inf)
     with pytest.raises(SolveError, match="no acceptable step"):
-        simulate(model, 0.2, q0=q0, damping_ratio=0.0)
-    monkeypatch.undo()
+        simulate(model, 0.2, q0=q0, damping_ratio=0.0,
+                 integrator=Exponential(max_halvings=0, reject_factor=np.inf))
     tr = simulate(model, 0.2, q0=q0, damping_ratio=0.0, output_dt_s=1e-3)
     ref = simulate(model, 0.2, q0=q0, damping_ratio=0.0, method="DOP853", rtol=1e-10,
                    output_dt_s=1e-3)

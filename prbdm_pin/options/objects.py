@@ -1,4 +1,4 @@
-"""The options of a fit, of a Pareto fit and of a simulation.
+"""The options of a fit and of a Pareto fit (and, from ``simulation``, of a simulation).
 
 Frozen, validated once, carried whole from the API or the command line into the result and its
 JSON file, and read back from there.
@@ -20,10 +20,7 @@ from .checks import check_choice as _choice
 from .checks import check_float as _float
 from .checks import check_int as _int
 from .choices import (
-    DAMPING_FORMS,
     EPS_RAD,
-    FIXED_STEP_METHODS,
-    IVP_METHODS,
     MIN_FRACTION,
     PARETO_EPS_RAD,
     XI_RAD,
@@ -34,6 +31,7 @@ from .choices import (
     StiffnessKind,
     UniqueRule,
 )
+from .simulation import SimulationOptions
 
 __all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict",
            "UNIQUE_RULES"]
@@ -261,82 +259,6 @@ class ParetoOptions(_ProblemOptions):
         s(self, "seed_with_fits", _bool("seed_with_fits", self.seed_with_fits))
         s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1))
         s(self, "polish_knee", _bool("polish_knee", self.polish_knee))
-
-
-@dataclass(frozen=True)
-class SimulationOptions:
-    """How :func:`prbdm_pin.simulate` integrates and damps a run.
-
-    What it integrates (the model, the initial state and the load) is passed beside them.
-
-    Attributes
-    ----------
-    method : str
-        ``"exponential"`` (default), ``"gauss"`` (symplectic; long undamped runs) or
-        ``"trapezoidal"``, all fixed step, or a ``solve_ivp`` method (``rtol``, ``atol``).
-    dt_s : float or None
-        Step of the fixed-step schemes, s (default: the lowest natural period at the initial
-        pose divided by ``steps_per_period``); for ``"exponential"`` the nominal, largest step.
-    output_dt_s : float or None
-        Sample interval of the trajectory, s (None: every step).
-    rtol, atol : float
-        ``solve_ivp`` tolerances (``atol`` None: rtol times a joint-angle scale).
-    max_steps : int
-        Refuse runs that would take more fixed steps.
-    steps_per_period : float or None
-        Default-step rule: steps per lowest natural period (``"exponential"`` 10,
-        ``"gauss"`` 40, ``"trapezoidal"`` 100).
-    refresh_rad : float
-        ``"exponential"``: rebuild the linearisation when a joint angle has moved by more than
-        this since the last one, rad (0: every step).
-    damping_ratio : float or tuple of float
-        Modal ratios (``"modal"``), per-joint factors (``"eq5c"``) or mode 1's ratio
-        (``"stiffness"``); 0 disables damping.
-    damping : str
-        Damping form: ``"modal"``, ``"eq5c"`` or ``"stiffness"`` (``prbdm_pin.simulation.damping``).
-    """
-
-    method: str = "exponential"
-    dt_s: float | None = None
-    output_dt_s: float | None = None
-    rtol: float = 1e-9
-    atol: float | None = None
-    max_steps: int = 10_000_000
-    steps_per_period: float | None = None
-    refresh_rad: float = 0.01
-    damping_ratio: float | tuple[float, ...] = 0.02
-    damping: str = "modal"
-
-    def __post_init__(self) -> None:
-        """Validate every field; an error names the field and the value."""
-        s = object.__setattr__
-        if self.method not in FIXED_STEP_METHODS + IVP_METHODS:
-            raise BeamInputError(f"method = {self.method!r}: must be one of "
-                                 f"{FIXED_STEP_METHODS + IVP_METHODS}")
-        s(self, "dt_s", _float("dt", self.dt_s, low=0.0, low_open=True, optional=True,
-                               unit="s"))
-        s(self, "output_dt_s", _float("output_dt", self.output_dt_s, low=0.0, low_open=True,
-                                      optional=True, unit="s"))
-        s(self, "rtol", _float("rtol", self.rtol, low=0.0, low_open=True))
-        s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
-        s(self, "max_steps", _int("max_steps", self.max_steps, 1))
-        s(self, "steps_per_period", _float("steps_per_period", self.steps_per_period, low=1.0,
-                                           optional=True))
-        s(self, "refresh_rad", _float("refresh_rad", self.refresh_rad, low=0.0, unit="rad"))
-        if self.damping not in DAMPING_FORMS:
-            raise BeamInputError(f"damping = {self.damping!r}: must be one of "
-                                 f"{', '.join(DAMPING_FORMS)}")
-        r = self.damping_ratio
-        if isinstance(r, (list, tuple)):
-            s(self, "damping_ratio", tuple(_float(f"damping_ratio[{i}]", v, low=0.0)
-                                           for i, v in enumerate(r)))
-        elif not (isinstance(r, (int, float)) or hasattr(r, "__len__")):
-            raise BeamInputError(f"damping_ratio = {r!r}: must be a number >= 0 or one per "
-                                 "mode (joint)")
-
-    replace = _ProblemOptions.replace
-    to_dict = _ProblemOptions.to_dict
-    kind: ClassVar[str] = "simulation"
 
 
 def options_from_dict(d: Any, what: str = "options") -> FitOptions | ParetoOptions:

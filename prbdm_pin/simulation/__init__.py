@@ -15,23 +15,27 @@ actuators, hub torque, tip forces, driven by a constant, a function of time, a c
 state-feedback gain).
 
 ``simulate`` (``driver``) checks the inputs, assembles the system (``system``: mass, springs,
-damping frozen at one pose, tip force; ``schedule``: pose-dependent springs) and hands it, with
-the ``StepSettings`` (``steps``), to one integrator, each ``integrate(system, q0, v0, settings)``:
+damping frozen at one pose, tip force; ``schedule``: pose-dependent springs), starts the
+integrator's stepper on it and runs that under the one shared loop (``loop``: steps, samples,
+the step cap, progress). The integrators are values (``prbdm_pin.options.integrators``),
+``simulate(model, 1.0, integrator=Gauss(dt_s=1e-3))``, or spelled by name,
+``simulate(model, 1.0, method="gauss", dt_s=1e-3)``; one stepper module each:
 
-- ``"exponential"`` (default, ``exponential``): the exponential Rosenbrock method exprb32 with
-  step-size control; every linear mode, however stiff, keeps its exact frequency and damping.
-  Nominal step: lowest natural period at ``q0`` / 10. Not symplectic.
-- ``"gauss"`` (``gauss``): 2-stage Gauss-Legendre, fixed step (period / 40), fourth order,
-  symplectic: long undamped runs at large amplitude.
-- ``"trapezoidal"`` (``newmark``): Newmark's average-acceleration rule, fixed step
-  (period / 100), second order.
-- any ``scipy.integrate.solve_ivp`` method (``ivp``): ``"DOP853"``, ``"RK45"``, ``"Radau"``, ...
+- ``Exponential`` (default, ``"exponential"``, ``exponential``): the exponential Rosenbrock
+  method exprb32 with step-size control; every linear mode, however stiff, keeps its exact
+  frequency and damping. Nominal step: lowest natural period at ``q0`` / 10. Not symplectic.
+- ``Gauss`` (``"gauss"``, ``gauss``): 2-stage Gauss-Legendre, fixed step (period / 40), fourth
+  order, symplectic: long undamped runs at large amplitude.
+- ``Trapezoidal`` (``"trapezoidal"``, ``newmark``): Newmark's average-acceleration rule, fixed
+  step (period / 100), second order.
+- ``ScipyIVP`` (``ivp``): a ``scipy.integrate`` solver, ``"DOP853"``, ``"RK45"``, ``"Radau"``, ...
 
 Each module's docstring gives the scheme, its accuracy as measured and its limits; the
-``Trajectory`` (``trajectory``) holds the samples and the tip positions.
+``Trajectory`` (``trajectory``) holds the samples, the tip positions and the integrator.
 """
 
 from ..options.choices import FIXED_STEP_METHODS, IVP_METHODS
+from ..options.integrators import Exponential, Gauss, Integrator, ScipyIVP, Trapezoidal
 from .driver import simulate
 from .gauss import gauss_frequency_ratio
 from .inputs import Controller, StateFeedback
@@ -45,6 +49,11 @@ __all__ = [
     "Controller",
     "StateFeedback",
     "simulate",
+    "Integrator",
+    "Exponential",
+    "Gauss",
+    "Trapezoidal",
+    "ScipyIVP",
     "mechanical_energy",
     "gauss_frequency_ratio",
     "FIXED_STEP_METHODS",

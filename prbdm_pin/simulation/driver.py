@@ -1,7 +1,7 @@
 """The public entry of a time response: ``simulate``.
 
-It checks its inputs, assembles the system, picks the default step and runs the chosen
-integrator.
+It checks its inputs, assembles the system, picks the default step, starts the chosen
+integrator's stepper and runs it under the shared loop (``loop``).
 """
 
 from __future__ import annotations
@@ -18,21 +18,14 @@ from ..errors import BeamInputError
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, parse_inputs, strain_map
 from ..model.outputs import output_samples, output_unit, parse_outputs
-from ..options.choices import FIXED_STEP_METHODS
-from ..options.limits import check_cap
-from ..options.objects import SimulationOptions
-from . import exponential, gauss, ivp, newmark
+from ..options.integrators import Integrator
+from ..options.simulation import SimulationOptions
 from .damping import damping_ratios
 from .inputs import input_force
+from .loop import check_grid, integrate, progress_bar, start
 from .schedule import StiffnessSchedule
-from .steps import StepSettings
 from .system import assemble_system, force_function, mass_matrix, tip_positions, vector
 from .trajectory import Trajectory
-
-_FIXED_STEP = {"gauss": gauss.integrate, "exponential": exponential.integrate,
-               "trapezoidal": newmark.integrate}
-# default steps per lowest natural period
-_DEFAULT_SPP = {"gauss": 40.0, "exponential": 10.0, "trapezoidal": 100.0}
 
 
 def simulate(
@@ -49,6 +42,8 @@ def simulate(
     u: Any = None,
     actuators: Sequence[StrainActuator] = (),
     outputs: Sequence[str] = (),
+    integrator: Integrator | None = None,
+    progress: bool = False,
     **changes: Any,
 ) -> Trajectory:
     """Integrate the PRBDM's equations of motion from (q0, v0) over ``duration_s``.
@@ -66,10 +61,9 @@ def simulate(
     tip_force : ndarray (3,) or callable t -> (3,), optional
         World-frame force at the tip point, N (a constant array is a step load applied at t = 0).
     options : SimulationOptions, optional
-        The integrator, its step and tolerances, and the damping (ratio and form); see
-        :class:`prbdm_pin.options.objects.SimulationOptions` and ``prbdm_pin.simulation`` for when
-        to
-        use which integrator.
+        The integrator, the sampling, the step cap and the damping (ratio and form); see
+        :class:`prbdm_pin.SimulationOptions` and ``prbdm_pin.simulation`` for when to use which
+        integrator.
     stiffness_schedule : StiffnessSchedule, optional
         Pose-dependent stiffness (paper parametrisation); default: the model's constant stiffness.
     damping_pose : ndarray (nv,), optional
@@ -84,6 +78,12 @@ def simulate(
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
         ...: see :mod:`prbdm_pin.model.outputs`); the trajectory records them and the inputs.
+    integrator : Integrator, optional
+        The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
+        ``Trapezoidal(...)``, ``ScipyIVP(...)`` from :mod:`prbdm_pin.options.integrators`),
+        applied to ``options``; ``method="gauss"`` with ``dt_s``, ``rtol`` ... spells the same.
+    progress : bool
+        Show a progress bar over the simulated time.
     **changes
         Options by name, applied to ``options`` (``simulate(model, 1.0, method="gauss")``).
 
@@ -92,8 +92,10 @@ def simulate(
     Trajectory
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
+    if integrator is not None:
+        changes["integrator"] = integrator
     o = _options(options, changes)
-    method, dt, output_dt = o.method, o.dt_s, o.output_dt_s
+    integ, dt, output_dt = o.integrator, o.dt_s, o.output_dt_s
     hub = getattr(model, "hub", None) is not None
     n = int(model.pin_model.nv)
     if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float, np.number)) \
@@ -110,37 +112,34 @@ def simulate(
     if stiffness_schedule is not None and hub:
         raise BeamInputError("stiffness_schedule: not with a hub (the schedule holds the beam "
                              "joints' springs of a clamped chain)")
-    plant = _plant(model, inputs, u, actuators, outputs, method)
+    plant = _plant(model, inputs, u, actuators, outputs, integ)
     if stiffness_schedule is not None and stiffness_schedule.stiffness_Nm_per_rad.shape[1] != n:
         raise BeamInputError(f"stiffness_schedule: needs {n} joint stiffnesses per pose")
-    for name, val in (("dt", dt), ("output_dt", output_dt)):
-        if val is not None and not (math.isfinite(val) and 0.0 < val <= duration_s):
-            raise BeamInputError(f"{name} = {val!r} s: must be in (0, duration]")
-    # counted before anything is allocated (a subnormal step gives an infinite count)
-    if dt is not None and not duration_s / dt <= o.max_steps:
-        raise BeamInputError(f"dt = {dt!r} s: {duration_s / dt:.3g} steps exceed max_steps = "
-                             f"{o.max_steps}")
-    if output_dt is not None:
-        check_cap(f"output_dt = {output_dt!r} s: output samples", duration_s / output_dt,
-                  "max_output_samples")
+    # the options' dt_s, whether or not the integrator has a step (as always)
+    check_grid(duration_s, dt, output_dt, o.max_steps)
     system = assemble_system(model, q0, damping_ratios=xi, damping=o.damping,
                              schedule=stiffness_schedule, tip_force_N=force,
                              constant_force=constant_force, damping_pose=damping_pose,
                              inputs=plant[0])
-    if method in FIXED_STEP_METHODS and dt is None:
-        spp = o.steps_per_period or _DEFAULT_SPP[method]
+    if integ.default_steps_per_period is not None and dt is None:
+        spp = integ.steps_per_period or integ.default_steps_per_period
         dt = min(2.0 * math.pi / _lowest_frequency(system, q0, hub) / spp, duration_s)
-    settings = StepSettings(duration_s, dt, output_dt, o.max_steps, o.refresh_rad, method,
-                            o.rtol, o.atol)
-    samples = _FIXED_STEP.get(method, ivp.integrate)(system, q0, v0, settings)
+    stepper = start(integ, system, 0.0, np.concatenate((q0, v0)), duration_s, dt_s=dt,
+                    output_dt_s=output_dt, max_steps=o.max_steps)
+    report, close = progress_bar(duration_s, progress)
+    try:
+        samples = integrate(stepper, output_dt, o.max_steps, report)
+    finally:
+        close()
     tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
     t, Q, V = samples.t_s, samples.q_rad, samples.v_rad_s
     recorded = _recorded(model, system, plant[1], t, Q, V, tip)
     for arr in (t, Q, V, tip, recorded[2], recorded[5]):
         arr.setflags(write=False)
-    return Trajectory(t, Q, V, tip, int(samples.steps), method, time.perf_counter() - wall0,
-                      int(samples.rhs_evaluations), int(samples.jacobian_updates),
-                      time.process_time() - cpu0, *recorded)
+    return Trajectory(t, Q, V, tip, int(samples.steps), integ.method,
+                      time.perf_counter() - wall0, int(samples.rhs_evaluations),
+                      int(samples.jacobian_updates), time.process_time() - cpu0, *recorded,
+                      integrator=integ)
 
 
 def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
@@ -152,7 +151,7 @@ def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
     return math.sqrt(max(w2[0], 1e-300))
 
 
-def _plant(model, inputs, u, actuators, outputs, method: str):
+def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
     """Check the plant inputs and outputs before any work.
 
     Returns (a maker of the system's InputForce or None, the output names).
@@ -170,9 +169,9 @@ def _plant(model, inputs, u, actuators, outputs, method: str):
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
     names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_joints, len(acts), hub))
-    if method == "gauss":
-        raise BeamInputError("inputs: method 'gauss' takes a tip force only; use "
-                             "'exponential' (default), 'trapezoidal' or a solve_ivp method")
+    if not integrator.takes_inputs:
+        raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
+                             "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
     for i, a in enumerate(acts):
         strain_map(model.lengths_m, a, f"actuators[{i}]")
     return (lambda tip_terms: input_force(model, names, u, acts, tip_terms)), out_names

@@ -1,7 +1,7 @@
-"""2-stage Gauss-Legendre integrator, fixed step, symplectic (``method="gauss"``).
+"""2-stage Gauss-Legendre integrator, fixed step, symplectic (``Gauss``).
 
-``"gauss"``: the 2-stage Gauss-Legendre collocation method, fixed step ``dt``
-(default: lowest natural period at ``q0`` / 40). Fourth order, symplectic, A-stable, no
+``Gauss()`` (``method="gauss"``): the 2-stage Gauss-Legendre collocation method, fixed step
+``dt_s`` (default: lowest natural period at ``q0`` / 40). Fourth order, symplectic, A-stable, no
 numerical damping: a linear mode is integrated at the frequency ratio
 :func:`gauss_frequency_ratio` = 1 - (omega dt)^4/720 + ... (period error 3.4e-6 at 40
 steps per period, 1.35e-5 at 20); the energy of undamped linear motion is conserved exactly
@@ -20,22 +20,22 @@ against DOP853 (rtol 1e-10), 5R chain, 2500 N step, 1 s: 3.2 % of the peak at T1
 1.35 % at T1/30, 0.7 % at T1/40 (measured; ``scripts/bench_simulate.py`` tabulates it).
 Modes with omega dt >> 1 stay bounded and barely damped by the scheme, at a wrong frequency.
 Violent initial conditions that excite them strongly can stall the simplified Newton at the
-default step: such a step is redone as two half steps, up to 3 times (then SolveError asks
-for a smaller ``dt``).
+default step: such a step is redone as two half steps, recursively up to ``max_halvings`` (3)
+times (then SolveError asks for a smaller ``dt``).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
 
 from ..errors import SolveError
-from .steps import Samples, StepSettings, equal_steps
+from ..options.integrators import Gauss
+from .steps import equal_steps
 from .system import System, static_angle_rad, symmetrised
-from .trajectory import hermite_output
+from .trajectory import hermite_step
 
 # 2-stage Gauss-Legendre tableau (c, A, b = (1/2, 1/2)); for q'' = a the stage positions use
 # A @ A and the end position b^T A
@@ -47,8 +47,7 @@ _GL_BA = 0.5 * _GL_A.sum(axis=0)
 _NEWTON_RTOL = 1e-8
 _REFRESH_RATE = 0.03
 _PREDICTOR_SLOPE = 0.5
-# a step whose Newton iteration fails is redone as two half steps, at most this many times over
-MAX_HALVINGS = 3
+_SYSTEM_FORCE = object()  # GaussStepper's default force: the system's, from t0 on
 
 
 def gauss_frequency_ratio(omega_dt: float | np.ndarray) -> float | np.ndarray:
@@ -74,212 +73,247 @@ def gauss_frequency_ratio(omega_dt: float | np.ndarray) -> float | np.ndarray:
     return 2.0 * np.arctan2(0.5 * x, 1.0 - x * x / 12.0) / x
 
 
-def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
-              ) -> Samples:
-    """Integrate with fixed Gauss-Legendre steps of at most ``settings.dt_s`` (s).
+class GaussStepper:
+    """Equal 2-stage Gauss-Legendre steps, simplified Newton on the two stage accelerations.
 
-    From (q0 rad, v0 rad/s) over ``settings.duration_s``; samples every step, or quintic
-    Hermite samples every ``output_dt_s``.
+    The stepper of ``Gauss``. A step whose Newton iteration fails (with a fresh iteration
+    matrix) is redone as two half steps by a stepper of its own, recursively up to
+    ``settings.max_halvings`` times. With ``dense`` it evaluates the acceleration at every
+    step's end (one ABA) for the quintic Hermite output between the steps.
+
+    Parameters
+    ----------
+    settings : Gauss
+    system : System
+    t0, t_bound : float
+        Start and end time, s.
+    y0 : ndarray, shape (2n,)
+        Initial joint angles (rad) and velocities (rad/s).
+    dt_s : float
+        Step, s; shortened to divide the run into equal steps.
+    max_steps : int
+        Refuse a step that would take more steps (BeamInputError).
+    dense : bool
+        Whether ``dense_output`` will be asked for.
+    force : callable or None
+        The tip force (N) of the time since ``t0`` (s) (default: the system's, from ``t0`` on);
+        a halved step passes its own.
+    depth : int
+        Halvings above this stepper.
     """
-    interpolate = settings.output_dt_s is not None
-    # a diverging trial step is detected and halved: no overflow warnings for it
-    with np.errstate(over="ignore", invalid="ignore"):
-        t, Q, V, Acc, steps, nfev, nfact = _steps(
-            system, system.tip_force_N, q0, v0, settings.duration_s, settings.dt_s,
-            interpolate, settings.max_steps)
-    if interpolate:
-        t, Q, V = hermite_output(t, Q, V, Acc, settings.duration_s, settings.output_dt_s)
-    return Samples(t, Q, V, steps, nfev, nfact)
 
-
-def _steps(system: System, force: Callable[[float], np.ndarray] | None, q0: np.ndarray,
-           v0: np.ndarray, duration: float, dt: float, need_accel: bool, max_steps: int,
-           depth: int = 0):
-    """Fixed-step 2-stage Gauss-Legendre, simplified Newton on the two stage accelerations.
-
-    ``force`` is the system's tip force shifted to this call's start. A step whose Newton
-    iteration fails (with a fresh iteration matrix) is redone as two half steps, recursively up
-    to ``MAX_HALVINGS`` times (``depth`` counts them). Returns the node times, q, v, a (None
-    unless ``need_accel``), steps, residual evaluations and iteration-matrix builds.
-    """
-    pm, data, fid = system.pin_model, system.data, system.tip_frame_id
-    k_const, stiffness = system.stiffness_Nm_per_rad, system.schedule
-    C, constant_force = system.damping_Nms_per_rad, system.constant_force
-    n = q0.size
-    nsteps = equal_steps(duration, dt, max_steps)
-    h = duration / nsteps
-    hA, hhAA, hc, hhba = h * _GL_A, h * h * _GL_AA, h * _GL_C, h * h * _GL_BA
-    half_h, hh2 = 0.5 * h, 0.5 * h * h
-    hc_col = hc[:, None]
-    Q = np.empty((nsteps + 1, n))
-    V = np.empty((nsteps + 1, n))
-    Acc = np.empty((nsteps + 1, n)) if need_accel else None
-    Q[0], V[0] = q0, v0
-    rnea, jac, lwa = pin.rnea, pin.computeFrameJacobian, pin.LOCAL_WORLD_ALIGNED
-    Ct = None if C is None else np.ascontiguousarray(C.T)
-    F6 = np.zeros((2, 6))  # stage forces as spatial forces (torque part zero) for J^T f
-    springs = system.springs
-
-    def ext_torque(q, f6):
-        return jac(pm, data, q, fid, lwa).T @ f6
-
-    f6_end = np.zeros(6)
-
-    def accel(q, v, t):
-        tau = -springs(q) * q
+    def __init__(self, settings: Gauss, system: System, t0: float, y0: np.ndarray,
+                 t_bound: float, *, dt_s: float, max_steps: int, dense: bool,
+                 force=_SYSTEM_FORCE, depth: int = 0):
+        if force is _SYSTEM_FORCE:
+            f = system.tip_force_N
+            force = f if t0 == 0.0 or f is None else (lambda t: f(t0 + t))
+        self.settings, self.system, self.force = settings, system, force
+        self.depth, self.max_steps, self.need_accel = depth, max_steps, dense
+        self.t0_s, self.t_bound, self.n = t0, t_bound, y0.size // 2
+        n, duration = self.n, t_bound - t0
+        self.nsteps = equal_steps(duration, dt_s, max_steps)
+        self.h = h = duration / self.nsteps
+        self.hA, self.hhAA, self.hc = h * _GL_A, h * h * _GL_AA, h * _GL_C
+        self.hhba = h * h * _GL_BA
+        self.hc_col = self.hc[:, None]
+        C = system.damping_Nms_per_rad
+        self.Ct = None if C is None else np.ascontiguousarray(C.T)
+        self.f6_end = np.zeros(6)
+        self.q, self.v = y0[:n].copy(), y0[n:].copy()
+        self.a = self._accel(self.q, self.v, 0.0)
+        # flat stage accelerations X = (A_1, A_2), the stacked stage states Z = (Q_1, Q_2, V_1,
+        # V_2) = base + G X
+        self.Xf = np.concatenate((self.a, self.a))
+        self.X = self.Xf.reshape(2, n)
+        self.G = np.vstack((self.hhAA, self.hA))
+        self.base = np.empty((4, n))
+        # linear forces K Q_i + C V_i of the stages as lin0 + L @ Xf (one matvec per iteration)
+        self.L = np.zeros((2 * n, 2 * n))
+        if system.schedule is None:
+            self.L += np.kron(self.hhAA, np.diag(system.stiffness_Nm_per_rad))
         if C is not None:
-            tau -= C @ v
+            self.L += np.kron(self.hA, C)
+        # maps an update of Xf to the updates of q1 and dt * v1, which carry on to the next step
+        eye = np.eye(n)
+        self.E = np.vstack((np.kron(self.hhba[None, :], eye),
+                            np.kron(np.full((1, 2), 0.5 * h * h), eye)))
+        self.B, self.r = None, np.empty(2 * n)
+        # the counts: residuals (two RNEA per iteration) and accelerations (ABA), iteration
+        # matrices, steps (a halved one as the half steps it took)
+        self.rhs_evaluations, self.jacobian_updates, self.steps, self.k = 1, 0, 0, 0
+        # Newton stops when the update moves (q1, dt v1) by less than rtol * this scale
+        # (a nanoradian floor: a run from rest under a force that starts at zero has no scale)
+        q0, v0 = self.q, self.v
+        scale = max(float(np.abs(q0).max()), float(np.abs(v0).max()) * h, 1e-9)
         if force is not None:
-            f6_end[:3] = force(t)
-            tau += ext_torque(q, f6_end)
-        return pin.aba(pm, data, q, v, tau)
+            f6 = np.zeros(6)
+            f6[:3] = force(0.0)
+            scale = max(scale, static_angle_rad(self._ext_torque(q0, f6), system.springs(q0)))
+        self.scale = scale
+        self.tol2 = (_NEWTON_RTOL * scale) ** 2
+        self.rho = 1.0  # contraction rate of the last iterations, carried across steps
+        self.constant_force = system.constant_force and force is not None
+        # stage forces as spatial forces (torque part zero) for J^T f
+        self.F6 = np.zeros((2, 6))
+        if self.constant_force:
+            self.F6[:, :3] = force(0.0)
+        self.t = self.t_old = t0
+        self.y, self.done = y0.copy(), False
 
-    def iteration_matrix(q, v, a, t):
-        # dR_i/dA_j = delta_ij M + h A_ij (dh/dv + C) + h^2 (A^2)_ij (dh/dq + K - d(J^T F)/dq)
-        dq, dv, M = pin.computeRNEADerivatives(pm, data, q, v, a)
+    def _ext_torque(self, q, f6):
+        sy = self.system
+        return pin.computeFrameJacobian(sy.pin_model, sy.data, q, sy.tip_frame_id,
+                                        pin.LOCAL_WORLD_ALIGNED).T @ f6
+
+    def _accel(self, q, v, t):
+        sy = self.system
+        tau = -sy.springs(q) * q
+        if sy.damping_Nms_per_rad is not None:
+            tau -= sy.damping_Nms_per_rad @ v
+        if self.force is not None:
+            self.f6_end[:3] = self.force(t)
+            tau += self._ext_torque(q, self.f6_end)
+        return pin.aba(sy.pin_model, sy.data, q, v, tau)
+
+    def _iteration_matrix(self, q, v, a, t):
+        """dR_i/dA_j = delta_ij M + h A_ij (dh/dv + C) + h^2 (A^2)_ij (dh/dq + K - d(J^T F)/dq)."""
+        sy, n = self.system, self.n
+        dq, dv, M = pin.computeRNEADerivatives(sy.pin_model, sy.data, q, v, a)
         M = symmetrised(M)
-        Kt = dq + np.diag(springs(q))
-        if C is not None:
-            dv = dv + C
-        if force is not None:
+        Kt = dq + np.diag(sy.springs(q))
+        if sy.damping_Nms_per_rad is not None:
+            dv = dv + sy.damping_Nms_per_rad
+        if self.force is not None:
             # load stiffness by forward differences: it only sets the convergence rate
             f6 = np.zeros(6)
-            f6[:3] = force(t)
-            base = ext_torque(q, f6)
+            f6[:3] = self.force(t)
+            base = self._ext_torque(q, f6)
             eps = 1e-7 * max(1.0, float(np.abs(q).max()))
             for j in range(n):
                 qj = q.copy()
                 qj[j] += eps
-                Kt[:, j] -= (ext_torque(qj, f6) - base) / eps
-        S = np.kron(np.eye(2), M) + np.kron(hA, dv) + np.kron(hhAA, Kt)
+                Kt[:, j] -= (self._ext_torque(qj, f6) - base) / eps
+        S = np.kron(np.eye(2), M) + np.kron(self.hA, dv) + np.kron(self.hhAA, Kt)
         try:
             # one matvec per iteration is the cheapest solve of 2n <= ~20 unknowns from Python
             return np.linalg.inv(S)
         except np.linalg.LinAlgError:
             raise SolveError("Gauss-Legendre: singular iteration matrix") from None
 
-    q, v = q0.copy(), v0.copy()
-    a = accel(q, v, 0.0)
-    if need_accel:
-        Acc[0] = a
-    # flat stage accelerations X = (A_1, A_2) and the stacked stage states Z = (Q_1, Q_2, V_1, V_2)
-    Xf = np.concatenate((a, a))
-    X = Xf.reshape(2, n)
-    G = np.vstack((hhAA, hA))
-    base = np.empty((4, n))
-    # linear forces K Q_i + C V_i of the stages as lin0 + L @ Xf (one matvec per iteration)
-    L = np.zeros((2 * n, 2 * n))
-    if stiffness is None:
-        L += np.kron(hhAA, np.diag(k_const))
-    if C is not None:
-        L += np.kron(hA, C)
-    # maps an update of Xf to the updates of q1 and dt * v1, which carry on to the next step
-    E = np.vstack((np.kron(hhba[None, :], np.eye(n)), np.kron(np.full((1, 2), hh2), np.eye(n))))
-    B = None
-    r = np.empty(2 * n)
-    nfev, nfact = 1, 0
-    # Newton stops when the update moves (q1, dt v1) by less than rtol * this scale
-    # (a nanoradian floor: a run from rest under a force that starts at zero has no scale yet)
-    scale = max(float(np.abs(q0).max()), float(np.abs(v0).max()) * h, 1e-9)
-    if force is not None:
-        f6 = np.zeros(6)
-        f6[:3] = force(0.0)
-        scale = max(scale, static_angle_rad(ext_torque(q0, f6), springs(q0)))
-    tol2 = (_NEWTON_RTOL * scale) ** 2
-    rho = 1.0  # contraction rate of the last iterations, carried across steps
-    constant_force = constant_force and force is not None
-    if constant_force:
-        F6[:, :3] = force(0.0)
-    F6a, F6b = F6[0], F6[1]
-    n2 = 2 * n
-    halved_steps = 0
-    for step in range(1, nsteps + 1):
-        t0 = (step - 1) * h
-        if force is not None and not constant_force:
-            F6a[:3] = force(t0 + hc[0])
-            F6b[:3] = force(t0 + hc[1])
-        base[:2] = q + hc_col * v
+    def _newton(self, q, v, t0) -> bool:
+        """Solve the stage accelerations of the step from (q, v) at t0; whether it converged."""
+        sy, n, X, Xf, r = self.system, self.n, self.X, self.Xf, self.r
+        pm, data, stiffness = sy.pin_model, sy.data, sy.schedule
+        n2 = 2 * n
+        F6a, F6b = self.F6  # views: the forces of the two stages
+        if self.force is not None and not self.constant_force:
+            F6a[:3] = self.force(t0 + self.hc[0])
+            F6b[:3] = self.force(t0 + self.hc[1])
+        base = self.base
+        base[:2] = q + self.hc_col * v
         base[2:] = v
         lin0 = np.zeros(n2)
         if stiffness is None:
-            lin0 += (base[:2] * k_const).reshape(-1)
-        if Ct is not None:
-            lin0 += np.concatenate((v @ Ct, v @ Ct))
-        converged = False
+            lin0 += (base[:2] * sy.stiffness_Nm_per_rad).reshape(-1)
+        if self.Ct is not None:
+            lin0 += np.concatenate((v @ self.Ct, v @ self.Ct))
         for _attempt in range(2):
-            if B is None:
-                W = iteration_matrix(q, v, a, t0)
-                B = np.vstack((W, E @ W))
-                nfact += 1
+            if self.B is None:
+                W = self._iteration_matrix(q, v, self.a, t0)
+                self.B = np.vstack((W, self.E @ W))
+                self.jacobian_updates += 1
             prev = math.inf
             for it in range(10):
-                Z = base + G @ X
-                np.add(lin0, L @ Xf, out=r)
-                r[:n] += rnea(pm, data, Z[0], Z[2], X[0])
-                r[n:] += rnea(pm, data, Z[1], Z[3], X[1])
+                Z = base + self.G @ X
+                np.add(lin0, self.L @ Xf, out=r)
+                r[:n] += pin.rnea(pm, data, Z[0], Z[2], X[0])
+                r[n:] += pin.rnea(pm, data, Z[1], Z[3], X[1])
                 if stiffness is not None:
                     r[:n] += stiffness(Z[0]) * Z[0]
                     r[n:] += stiffness(Z[1]) * Z[1]
-                if force is not None:
-                    r[:n] -= ext_torque(Z[0], F6a)
-                    r[n:] -= ext_torque(Z[1], F6b)
-                nfev += 2
-                out = B @ r
+                if self.force is not None:
+                    r[:n] -= self._ext_torque(Z[0], F6a)
+                    r[n:] -= self._ext_torque(Z[1], F6b)
+                self.rhs_evaluations += 2
+                out = self.B @ r
                 Xf -= out[:n2]
                 e = out[n2:]
                 size2 = float(e @ e)
                 if it:
-                    rho = math.sqrt(size2 / prev)
+                    self.rho = math.sqrt(size2 / prev)
+                rho = self.rho
                 # Hairer & Wanner's stopping rule: a contraction of rate rho leaves at most
                 # rho / (1 - rho) times the last update
-                if size2 <= tol2 or (rho < 1.0 and (rho / (1.0 - rho)) ** 2 * size2 <= tol2):
-                    converged = True
-                    break
+                if size2 <= self.tol2 or (rho < 1.0 and (rho / (1.0 - rho)) ** 2 * size2
+                                          <= self.tol2):
+                    if rho > _REFRESH_RATE:
+                        self.B = None  # slow convergence: rebuild the iteration matrix next step
+                    return True
                 prev = size2
-            if converged:
-                if rho > _REFRESH_RATE:
-                    B = None  # slow convergence: rebuild the iteration matrix next step
-                break
-            B = None
-            X[0] = X[1] = a
-        if not converged:  # a NaN or inf update never passes the size test
-            if depth >= MAX_HALVINGS:
-                raise SolveError(f"Gauss-Legendre: Newton did not converge at t = {t0 + h:.6g} "
-                                 f"s (dt = {h:.3g} s after {depth} halvings); try a smaller dt")
-            # a violent stretch: redo this step as two half steps (recursively)
-            sub_force = None if force is None else (lambda t, t0=t0: force(t0 + t))
-            _, Qs, Vs, As, sub_steps, sub_fev, sub_fact = _steps(
-                system, sub_force, q, v, h, 0.5 * h, need_accel, max_steps, depth + 1)
-            q, v = Qs[-1].copy(), Vs[-1].copy()
-            Q[step] = q
-            V[step] = v
-            nfev += sub_fev
-            nfact += sub_fact
-            halved_steps += sub_steps - 1
-            if need_accel:
-                a = As[-1].copy()
-                Acc[step] = a
+            self.B = None
+            X[0] = X[1] = self.a
+        return False  # a NaN or inf update never passes the size test
+
+    def step(self) -> None:
+        """Take the next equal step (as half steps when Newton fails on it)."""
+        h, X = self.h, self.X
+        self.k += 1
+        t0 = (self.k - 1) * h
+        q, v = self.q, self.v
+        self._start = (q, v, self.a)
+        # a diverging trial step is detected and halved: no overflow warnings for it
+        with np.errstate(over="ignore", invalid="ignore"):
+            converged = self._newton(q, v, t0)
+            if not converged:
+                self._halve(q, v, t0)
             else:
-                a = accel(q, v, t0 + h)
-                nfev += 1
-            X[0] = X[1] = a
-            B = None
-            continue
-        q = q + h * v + hhba @ X
-        v = v + half_h * (X[0] + X[1])
-        Q[step] = q
-        V[step] = v
-        # the linear stage-acceleration polynomial, extrapolated: end value and next predictor
-        slope = _R3 * (X[1] - X[0])
-        if need_accel:
-            a = accel(q, v, t0 + h)
-            Acc[step] = a
-            nfev += 1
+                self.q = q = q + h * v + self.hhba @ X
+                self.v = v = v + 0.5 * h * (X[0] + X[1])
+                # the linear stage-acceleration polynomial, extrapolated: end value and next
+                # predictor
+                slope = _R3 * (X[1] - X[0])
+                if self.need_accel:
+                    self.a = self._accel(q, v, t0 + h)
+                    self.rhs_evaluations += 1
+                else:
+                    self.a = X[1] + (1.0 - _GL_C[1]) * slope
+                X += _PREDICTOR_SLOPE * slope
+                self.scale = max(self.scale, float(np.abs(q).max()))
+                self.tol2 = (_NEWTON_RTOL * self.scale) ** 2
+        self.steps += 1
+        self.t_old = self.t0_s + (self.k - 1) * h
+        self.done = self.k == self.nsteps
+        self.t = self.t_bound if self.done else self.t0_s + self.k * h
+        self.y = np.concatenate((self.q, self.v))
+
+    def _halve(self, q, v, t0) -> None:
+        """Redo the step from (q, v) at t0 as two half steps (recursively)."""
+        h, st = self.h, self.settings
+        if self.depth >= st.max_halvings:
+            raise SolveError(f"Gauss-Legendre: Newton did not converge at t = {t0 + h:.6g} "
+                             f"s (dt = {h:.3g} s after {self.depth} halvings); try a smaller dt")
+        force = self.force
+        sub_force = None if force is None else (lambda t, t0=t0: force(t0 + t))
+        sub = GaussStepper(st, self.system, 0.0, np.concatenate((q, v)), h, dt_s=0.5 * h,
+                           max_steps=self.max_steps, dense=self.need_accel, force=sub_force,
+                           depth=self.depth + 1)
+        while not sub.done:
+            sub.step()
+        self.q, self.v = sub.q.copy(), sub.v.copy()
+        self.rhs_evaluations += sub.rhs_evaluations
+        self.jacobian_updates += sub.jacobian_updates
+        self.steps += sub.steps - 1
+        if self.need_accel:
+            self.a = sub.a.copy()
         else:
-            a = X[1] + (1.0 - _GL_C[1]) * slope
-        X += _PREDICTOR_SLOPE * slope
-        scale = max(scale, float(np.abs(q).max()))
-        tol2 = (_NEWTON_RTOL * scale) ** 2
-    t = np.arange(nsteps + 1) * h
-    t[-1] = duration
-    return t, Q, V, Acc, nsteps + halved_steps, nfev, nfact
+            self.a = self._accel(self.q, self.v, t0 + h)
+            self.rhs_evaluations += 1
+        self.X[0] = self.X[1] = self.a
+        self.B = None
+
+    def dense_output(self):
+        """Return the last step's quintic Hermite interpolant: times (m,) s -> states (m, 2n)."""
+        start, end = self._start, (self.q, self.v, self.a)
+        t_start, h = self.t_old, self.h
+        return lambda t_s: hermite_step(t_start, h, start, end, t_s)

@@ -1,9 +1,11 @@
-"""The ``scipy.integrate.solve_ivp`` path (``method="DOP853"``, ``"Radau"``, ...).
+"""The ``scipy.integrate`` solvers as steppers (``ScipyIVP``; ``method="DOP853"``, ...).
 
-Any ``scipy.integrate.solve_ivp`` method (``"DOP853"``, ``"RK45"``, ``"Radau"``, ``"BDF"``,
-``"LSODA"``) with ``rtol``/``atol``; the accelerations come from Pinocchio's ABA and the implicit
-methods get the analytic Jacobian from ``pin.computeABADerivatives`` (the derivative of the
-tip force's generalised torque with q is left out; it only slows Newton down).
+Any of ``scipy.integrate``'s ``RK45``, ``RK23``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA`` with
+``rtol``/``atol``, stepped one accepted step at a time through its ``step()`` and sampled through
+its ``dense_output()``, as ``scipy.integrate.solve_ivp`` steps it (the same solver, arguments and
+sampling, so the same trajectory). The accelerations come from Pinocchio's ABA and the implicit
+methods get the analytic Jacobian from ``pin.computeABADerivatives`` (the derivative of the tip
+force's generalised torque with q is left out; it only slows Newton down).
 """
 
 from __future__ import annotations
@@ -12,62 +14,89 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import SolveError
-from .steps import Samples, StepSettings, output_times
+from ..options.integrators import ScipyIVP
 from .system import System, symmetrised
 
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 
 
-def integrate(system: System, q0: np.ndarray, v0: np.ndarray, settings: StepSettings
-              ) -> Samples:
-    """Integrate with ``solve_ivp``, method ``settings.method`` and its tolerances.
+class ScipyStepper:
+    """A ``scipy.integrate.OdeSolver`` on the system (the stepper of ``ScipyIVP``).
 
-    From (q0 rad, v0 rad/s) over ``settings.duration_s``; samples at its own steps, or dense
-    output every ``output_dt_s``.
+    Parameters
+    ----------
+    settings : ScipyIVP
+    system : System
+    t0, t_bound : float
+        Start and end time, s.
+    y0 : ndarray, shape (2n,)
+        Initial joint angles (rad) and velocities (rad/s).
     """
-    # scipy.integrate is imported only by the runs that use it
-    from scipy.integrate import solve_ivp
 
-    pm, data = system.pin_model, system.data
-    stiffness, C, tau_external = system.springs, system.damping_Nms_per_rad, system.tau_external
-    duration, method, output_dt = settings.duration_s, settings.method, settings.output_dt_s
-    rtol, atol = settings.rtol, settings.atol
-    n = q0.size
-    if atol is None:
-        atol = rtol * max(float(np.max(np.abs(q0))), 1e-6)
+    def __init__(self, settings: ScipyIVP, system: System, t0: float, y0: np.ndarray,
+                 t_bound: float):
+        # scipy.integrate is imported only by the runs that use it
+        import scipy.integrate
 
-    def torque(t, q, v):
-        tau = -stiffness(q) * q
-        if C is not None:
-            tau -= C @ v
-        te = tau_external(q, t, v)
-        return tau if te is None else tau + te
+        self.settings, self.t_bound = settings, t_bound
+        pm, data = system.pin_model, system.data
+        stiffness, C = system.springs, system.damping_Nms_per_rad
+        tau_external = system.tau_external
+        n = y0.size // 2
+        atol = settings.atol
+        if atol is None:
+            atol = settings.rtol * max(float(np.max(np.abs(y0[:n]))), 1e-6)
 
-    def rhs(t, y):
-        q, v = y[:n], y[n:]
-        return np.concatenate((v, pin.aba(pm, data, q, v, torque(t, q, v))))
+        def torque(t, q, v):
+            tau = -stiffness(q) * q
+            if C is not None:
+                tau -= C @ v
+            te = tau_external(q, t, v)
+            return tau if te is None else tau + te
 
-    jac = None
-    if method in _IMPLICIT:
-        top = np.hstack((np.zeros((n, n)), np.eye(n)))
-
-        def jac(t, y):
+        def rhs(t, y):
             q, v = y[:n], y[n:]
-            dq, dv, Minv = pin.computeABADerivatives(pm, data, q, v, torque(t, q, v))
-            Minv = symmetrised(Minv)
-            bottom_q = dq - Minv * stiffness(q)
-            bottom_v = dv if C is None else dv - Minv @ C
-            return np.vstack((top, np.hstack((bottom_q, bottom_v))))
+            return np.concatenate((v, pin.aba(pm, data, q, v, torque(t, q, v))))
 
-    kw = {"jac": jac} if jac is not None else {}
-    sol = solve_ivp(rhs, (0.0, duration), np.concatenate((q0, v0)), method=method, rtol=rtol,
-                    atol=atol, dense_output=output_dt is not None, **kw)
-    if not sol.success:
-        raise SolveError(f"solve_ivp({method}) failed: {sol.message}")
-    steps = len(sol.t) - 1
-    if output_dt is None:
-        t, Y = sol.t.copy(), sol.y.T
-    else:
-        t = output_times(duration, output_dt)
-        Y = sol.sol(t).T
-    return Samples(t, Y[:, :n].copy(), Y[:, n:].copy(), steps, sol.nfev)
+        kw = {}
+        if settings.method in _IMPLICIT:
+            top = np.hstack((np.zeros((n, n)), np.eye(n)))
+
+            def jac(t, y):
+                q, v = y[:n], y[n:]
+                dq, dv, Minv = pin.computeABADerivatives(pm, data, q, v, torque(t, q, v))
+                Minv = symmetrised(Minv)
+                bottom_q = dq - Minv * stiffness(q)
+                bottom_v = dv if C is None else dv - Minv @ C
+                return np.vstack((top, np.hstack((bottom_q, bottom_v))))
+
+            kw["jac"] = jac
+        # built as solve_ivp builds it: the same solver takes the same steps
+        solver_class = getattr(scipy.integrate, settings.method)
+        self.solver = solver_class(rhs, float(t0), y0, float(t_bound), vectorized=False,
+                                   rtol=settings.rtol, atol=atol, **kw)
+        self.t = self.t_old = t0
+        self.y = y0
+        self.done = False
+        self.steps = 0
+        self.jacobian_updates = 0  # as the solve_ivp path always reported
+
+    @property
+    def rhs_evaluations(self) -> int:
+        """Right-hand side (ABA) evaluations, the solver's ``nfev``."""
+        return self.solver.nfev
+
+    def step(self) -> None:
+        """Take the solver's next accepted step; SolveError when it fails."""
+        solver = self.solver
+        message = solver.step()
+        if solver.status == "failed":
+            raise SolveError(f"solve_ivp({self.settings.method}) failed: {message}")
+        self.steps += 1
+        self.t_old, self.t, self.y = solver.t_old, solver.t, solver.y
+        self.done = solver.status == "finished"
+
+    def dense_output(self):
+        """Return the solver's interpolant of the last step: times (m,) s -> states (m, 2n)."""
+        sol = self.solver.dense_output()
+        return lambda t_s: sol(t_s).T

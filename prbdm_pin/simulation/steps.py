@@ -1,4 +1,4 @@
-"""What every integrator takes and returns: the step settings, the raw samples, the step grid."""
+"""What the shared loop returns and the grids it steps on: the raw samples, the sample times."""
 
 from __future__ import annotations
 
@@ -10,44 +10,9 @@ import numpy as np
 from ..errors import BeamInputError
 
 
-@dataclass(frozen=True)
-class StepSettings:
-    """How an integrator steps and samples a run (validated by ``simulate``).
-
-    Attributes
-    ----------
-    duration_s : float
-        Simulated time, s.
-    dt_s : float or None
-        Fixed step (``"gauss"``, ``"trapezoidal"``) or nominal, largest step
-        (``"exponential"``), s; unused by ``solve_ivp``.
-    output_dt_s : float or None
-        Sample interval of the output, s (None: every step).
-    max_steps : int
-        Refuse runs that would take more steps.
-    refresh_rad : float
-        ``"exponential"``: joint-angle travel that triggers a new eigen-decomposition, rad.
-    method : str
-        Integrator name (the ``solve_ivp`` method for ``prbdm_pin.simulation.ivp``).
-    rtol : float
-        ``solve_ivp`` relative tolerance.
-    atol : float or None
-        ``solve_ivp`` absolute tolerance (None: rtol times a joint-angle scale).
-    """
-
-    duration_s: float
-    dt_s: float | None
-    output_dt_s: float | None
-    max_steps: int
-    refresh_rad: float = 0.01
-    method: str = "exponential"
-    rtol: float = 1e-9
-    atol: float | None = None
-
-
 @dataclass(frozen=True, eq=False)
 class Samples:
-    """An integrator's output before the tip positions are added.
+    """A run's samples before the tip positions are added (what ``loop.integrate`` returns).
 
     Attributes
     ----------

@@ -1,4 +1,4 @@
-"""The simulated time response and the dense (quintic Hermite) output between steps."""
+"""The simulated time response and the dense (quintic Hermite) output of a Gauss step."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .steps import output_times
+from ..options.integrators import Integrator
 
 
 @dataclass(frozen=True, eq=False)
@@ -26,7 +26,7 @@ class Trajectory:
     steps : int
         Integrator steps taken (accepted steps for solve_ivp and ``"exponential"``).
     method : str
-        Integrator used.
+        Integrator used, by name (``integrator.method``).
     wall_time_s : float
         Wall time of the whole call (set-up, integration, output), s.
     rhs_evaluations : int
@@ -46,6 +46,8 @@ class Trajectory:
         state).
     output_values : ndarray, shape (s, p)
         The outputs at each sample (values, not deviations), in their units.
+    integrator : Integrator or None
+        The integrator whole (``method`` is its name): its step, tolerances and caps.
     """
 
     t_s: np.ndarray
@@ -64,6 +66,7 @@ class Trajectory:
     output_names: tuple[str, ...] = ()
     output_units: tuple[str, ...] = ()
     output_values: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    integrator: Integrator | None = None
 
     def input(self, name: str) -> np.ndarray:
         """Return the samples (s,) of the input ``name``."""
@@ -85,20 +88,16 @@ def _index(names: tuple[str, ...], name: str, kind: str) -> int:
     return names.index(name)
 
 
-def hermite_output(t_nodes: np.ndarray, Q: np.ndarray, V: np.ndarray, Acc: np.ndarray,
-                   duration_s: float, output_dt_s: float
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Sample every ``output_dt_s`` (s) by quintic Hermite interpolation of (q, v, a).
+def hermite_step(t_start: float, h: float, start: tuple, end: tuple, t_s: np.ndarray
+                 ) -> np.ndarray:
+    """Return the states (q, v) of one step at the times ``t_s`` by quintic Hermite interpolation.
 
-    The nodes are the equal steps ``t_nodes`` (s); returns times (s), joint angles (rad),
-    velocities (rad/s).
+    ``start`` and ``end`` are (q rad, v rad/s, a rad/s^2) at the step's ends, ``t_start`` (s)
+    its start and ``h`` (s) the run's equal step; returns shape (len(t_s), 2n).
 
     Local error O(dt^6) in q and O(dt^5) in v: below the Gauss scheme's own O(dt^4) error.
     """
-    t = output_times(duration_s, output_dt_s)
-    h = t_nodes[1] - t_nodes[0]
-    i = np.minimum((t / h).astype(int), len(t_nodes) - 2)
-    s = ((t - t_nodes[i]) / h)[:, None]
+    s = ((t_s - t_start) / h)[:, None]
     s2 = s * s
     s3 = s2 * s
     s4 = s3 * s
@@ -114,9 +113,8 @@ def hermite_output(t_nodes: np.ndarray, Q: np.ndarray, V: np.ndarray, Acc: np.nd
     d2 = s - 4.5 * s2 + 6 * s3 - 2.5 * s4
     d3 = 1.5 * s2 - 4 * s3 + 2.5 * s4
     d4 = -12 * s2 + 28 * s3 - 15 * s4
-    q0, v0, a0 = Q[i], V[i], Acc[i]
-    q1, v1, a1 = Q[i + 1], V[i + 1], Acc[i + 1]
+    (q0, v0, a0), (q1, v1, a1) = start, end
     hh = h * h
     q = h0 * q0 + h5 * q1 + h * (h1 * v0 + h4 * v1) + hh * (h2 * a0 + h3 * a1)
     v = (d0 * (q0 - q1)) / h + d1 * v0 + d4 * v1 + h * (d2 * a0 + d3 * a1)
-    return t, q, v
+    return np.hstack((q, v))
