@@ -21,6 +21,7 @@ _EXPORTS = {
     "beam_from_dict": "beam_file",
     # errors
     "BeamInputError": "errors",
+    "InputTypeError": "errors",
     "SolveError": "errors",
     "TruthError": "errors",
     # sections, layout, stiffness

@@ -17,19 +17,17 @@ import stat
 from pathlib import Path
 
 from ..errors import BeamInputError
+from ..validate import MAX_SEED, MAX_WORKERS  # shared with the API
 
 __all__ = ["CliParser", "one_line", "in_range", "writable_dir", "writable_file", "existing_dir",
            "MAX_SEED", "MAX_WORKERS"]
 
 # Kernel and device trees: writing there fails (or, as root, does harm) after the work is done.
 SYSTEM_ROOTS = ("/proc", "/sys", "/dev")
-# numpy's SeedSequence takes any integer >= 0; fit.json and the batch manifest store the seed as
-# a JSON integer that other tools read as 64-bit.
-MAX_SEED = 2**63 - 1
-# More local processes than this is a typing slip, not a machine (and each one holds a model).
-MAX_WORKERS = 1024
 
 _ARG = re.compile(r"^argument (\S+): (.*)$", re.DOTALL)
+# a value that starts like a negative number: -1:0.1, -10,0,0, -.5e3
+_DASH_VALUE = re.compile(r"^-\.?\d")
 
 
 def one_line(text: str) -> str:

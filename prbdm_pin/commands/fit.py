@@ -9,6 +9,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from ..validate import MAX_NFEV  # shared with the API's FitOptions
 from . import add_common
 from .fit_checks import (
     MAX_STARTS,
@@ -196,8 +197,6 @@ def _base_target(args, beam):
     return target_from_truth(truth, beam.tip_force_N, request)
 
 
-# a least-squares start's evaluation cap: each evaluation is a model build and eigensolve
-MAX_NFEV = 100_000
 
 # the files a fit writes into its folder (the knee of a Pareto fit too)
 FIT_FILES = ("fit.json", "model.urdf", "planform.png", "scf.png")
