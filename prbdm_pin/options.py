@@ -33,6 +33,16 @@ from .option_checks import check_bool as _bool
 from .option_checks import check_choice as _choice
 from .option_checks import check_float as _float
 from .option_checks import check_int as _int
+from .validate import (
+    MAX_GENERATIONS,
+    MAX_NFEV,
+    MAX_POP,
+    MAX_SEED,
+    MAX_STARTS,
+    MAX_SWEEP_RAD,
+    MIN_POP,
+    check_damping_ratio,
+)
 
 __all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict",
            "UNIQUE_RULES"]
@@ -65,9 +75,11 @@ class _ProblemOptions:
         s = object.__setattr__
         s(self, "frequencies", _int("frequencies", self.frequencies, 1, optional=True))
         s(self, "stiffness", _choice("stiffness", self.stiffness, StiffnessKind))
-        s(self, "seed", _int("seed", self.seed, 0))
-        s(self, "xi_rad", _float("xi_rad", self.xi_rad, low=0.0, unit="rad"))
-        s(self, "eps_rad", _float("eps_rad", self.eps_rad, low=0.0, low_open=True, unit="rad"))
+        s(self, "seed", _int("seed", self.seed, 0, high=MAX_SEED))
+        s(self, "xi_rad", _float("xi_rad", self.xi_rad, low=0.0, high=MAX_SWEEP_RAD,
+                                 unit="rad"))
+        s(self, "eps_rad", _float("eps_rad", self.eps_rad, low=0.0, low_open=True,
+                                  high=MAX_SWEEP_RAD, unit="rad"))
         s(self, "squared", _bool("squared", self.squared))
         s(self, "deflection_norm", _choice("deflection_norm", self.deflection_norm,
                                            DeflectionNorm))
@@ -183,14 +195,14 @@ class FitOptions(_ProblemOptions):
         super().__post_init__()
         s = object.__setattr__
         s(self, "objective", _choice("objective", self.objective, Objective))
-        s(self, "starts", _int("starts", self.starts, 1))
+        s(self, "starts", _int("starts", self.starts, 1, high=MAX_STARTS))
         s(self, "loss_tol_pct", _float("loss_tol_pct", self.loss_tol_pct, low=0.0,
                                        optional=True, unit="%"))
         s(self, "joint_sweep", _bool("joint_sweep", self.joint_sweep))
-        s(self, "polish", _int("polish", self.polish, 0))
-        s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1))
-        s(self, "explore_nfev", _int("explore_nfev", self.explore_nfev, 1))
-        s(self, "refine_starts", _int("refine_starts", self.refine_starts, 0))
+        s(self, "polish", _int("polish", self.polish, 0, high=MAX_STARTS))
+        s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1, high=MAX_NFEV))
+        s(self, "explore_nfev", _int("explore_nfev", self.explore_nfev, 1, high=MAX_NFEV))
+        s(self, "refine_starts", _int("refine_starts", self.refine_starts, 0, high=MAX_STARTS))
         s(self, "unique", _choice("unique", self.unique, UNIQUE_RULES))
         for name in ("start_lengths_m", "start_factors"):
             v = getattr(self, name)
@@ -244,8 +256,8 @@ class ParetoOptions(_ProblemOptions):
         """Validate every field; an error names the field and the value."""
         super().__post_init__()
         s = object.__setattr__
-        s(self, "pop", _int("pop", self.pop, 1))
-        s(self, "generations", _int("generations", self.generations, 1))
+        s(self, "pop", _int("pop", self.pop, MIN_POP, high=MAX_POP))
+        s(self, "generations", _int("generations", self.generations, 1, high=MAX_GENERATIONS))
         b = self.log10_bounds
         if b is not None:
             if isinstance(b, (str, bytes)) or not hasattr(b, "__len__") or len(b) != 2:
@@ -256,7 +268,7 @@ class ParetoOptions(_ProblemOptions):
                 raise BeamInputError(f"log10_bounds = {b!r}: needs low < high")
             s(self, "log10_bounds", (lo, hi))
         s(self, "seed_with_fits", _bool("seed_with_fits", self.seed_with_fits))
-        s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1))
+        s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1, high=MAX_STARTS))
         s(self, "polish_knee", _bool("polish_knee", self.polish_knee))
 
 
@@ -288,7 +300,8 @@ class SimulationOptions:
         this since the last one, rad (0: every step).
     damping_ratio : float or tuple of float
         Modal ratios (``"modal"``), per-joint factors (``"eq5c"``) or mode 1's ratio
-        (``"stiffness"``); 0 disables damping.
+        (``"stiffness"``), each in [0, 1) as ``prbdm simulate --damping`` (an over-damped
+        ratio is refused); 0 disables damping.
     damping : str
         Damping form: ``"modal"``, ``"eq5c"`` or ``"stiffness"`` (``prbdm_pin.damping``).
     """
@@ -310,9 +323,9 @@ class SimulationOptions:
         if self.method not in FIXED_STEP_METHODS + IVP_METHODS:
             raise BeamInputError(f"method = {self.method!r}: must be one of "
                                  f"{FIXED_STEP_METHODS + IVP_METHODS}")
-        s(self, "dt_s", _float("dt", self.dt_s, low=0.0, low_open=True, optional=True,
+        s(self, "dt_s", _float("dt_s", self.dt_s, low=0.0, low_open=True, optional=True,
                                unit="s"))
-        s(self, "output_dt_s", _float("output_dt", self.output_dt_s, low=0.0, low_open=True,
+        s(self, "output_dt_s", _float("output_dt_s", self.output_dt_s, low=0.0, low_open=True,
                                       optional=True, unit="s"))
         s(self, "rtol", _float("rtol", self.rtol, low=0.0, low_open=True))
         s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
@@ -324,12 +337,14 @@ class SimulationOptions:
             raise BeamInputError(f"damping = {self.damping!r}: must be one of "
                                  f"{', '.join(DAMPING_FORMS)}")
         r = self.damping_ratio
-        if isinstance(r, (list, tuple)):
-            s(self, "damping_ratio", tuple(_float(f"damping_ratio[{i}]", v, low=0.0)
+        if hasattr(r, "__len__") and not isinstance(r, (str, bytes, dict)):
+            if len(r) == 0:
+                raise BeamInputError("damping_ratio = (): give one ratio, or one per mode "
+                                     "(joint)")
+            s(self, "damping_ratio", tuple(check_damping_ratio(f"damping_ratio[{i}]", v)
                                            for i, v in enumerate(r)))
-        elif not (isinstance(r, (int, float)) or hasattr(r, "__len__")):
-            raise BeamInputError(f"damping_ratio = {r!r}: must be a number >= 0 or one per "
-                                 "mode (joint)")
+        else:
+            s(self, "damping_ratio", check_damping_ratio("damping_ratio", r))
 
     replace = _ProblemOptions.replace
     to_dict = _ProblemOptions.to_dict

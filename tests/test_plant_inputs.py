@@ -110,7 +110,7 @@ def test_empty_or_reversed_patch_is_refused(xa, xb):
     ({"load_N": [0.0, 1.0]}, r"load_N = \[0.0, 1.0\]"),
     ({"gravity_m_s2": [0.0, 0.0, float("inf")]}, r"gravity_m_s2 ="),
     ({"damping": "viscous"}, r"damping = 'viscous'"),
-    ({"damping_ratio": -0.1}, r"damping_ratio\[0\] = -0.1"),
+    ({"damping_ratio": -0.1}, r"damping_ratio = -0.1"),
     ({"q_eq": [0.0, 0.0]}, r"q_eq = \[0.0, 0.0\]"),
     ({"actuators": [(0.1, 0.2)]}, r"actuators\[0\] = \(0.1, 0.2\)"),
 ])
