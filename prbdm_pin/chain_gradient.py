@@ -39,6 +39,8 @@ from .planar_mass import chain_points, planar_mass_matrices
 from .section_gradients import SectionGradient, planar_sections_gradient
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
+from .validate import check_joints, real_vector
+from .validate_args import check_springs
 
 __all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "static_tip_gradient"]
 
@@ -248,9 +250,11 @@ def model_gradient(beam: Beam, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.n
     """
     lengths = validate_lengths(beam, lengths_m)
     n = lengths.size - 1
+    check_joints(n)
     k = validate_stiffness(stiffness_Nm_per_rad, n)
-    q = np.zeros(n) if pose_rad is None else np.asarray(pose_rad, dtype=float)
-    if q.shape != (n,) or not np.all(np.isfinite(q)):
+    check_springs(beam, k)
+    q = np.zeros(n) if pose_rad is None else real_vector("pose_rad", pose_rad, "rad")
+    if q.shape != (n,):
         raise BeamInputError(f"pose_rad = {np.asarray(pose_rad).tolist()}: must be {n} finite "
                              "joint angles (rad)")
     sec = planar_sections_gradient(beam, lengths)

@@ -28,6 +28,8 @@ from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
 from .urdf import read_springs, render_urdf
+from .validate import check_joints, check_type
+from .validate_args import check_springs
 
 __all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
 
@@ -234,22 +236,33 @@ def build_model(
         A rotating rigid hub the root is clamped to (see :class:`PrbdmModel`); default None,
         the beam clamped to the world.
 
+    Returns
+    -------
+    PrbdmModel
+        The chain with its springs (and hub).
+
     Raises
     ------
     BeamInputError
-        Naming the offending field and value.
+        Naming the offending field and value: lengths off the beam, more joints than the cap
+        ``limits().max_joints`` (``PRBDM_MAX_JOINTS``), springs more than a factor 1e6 beyond
+        the finite-segment springs E I / l the beam can have
+        (:func:`prbdm_pin.validate_args.check_springs`).
+    InputTypeError
+        ``beam`` not a Beam, ``hub`` not a Hub, lengths or springs not real numbers.
     """
-    if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a Beam")
+    check_type("beam", beam, Beam)
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     lengths.setflags(write=False)
+    check_joints(lengths.size - 1)  # the command line's --joints cap (PRBDM_MAX_JOINTS)
     k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
+    check_springs(beam, k)  # within a factor 1e6 of what the beam's sections can give
+    if hub is not None:
+        check_type("hub", hub, Hub, "a prbdm_pin.Hub or None")
     sections = link_sections_unchecked(beam, lengths)
     if hub is None:
         model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
         return PrbdmModel(beam, lengths, k, sections, model, tip)
-    if not isinstance(hub, Hub):
-        raise BeamInputError(f"hub = {hub!r}: must be a prbdm_pin.Hub or None")
     model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
     return PrbdmModel(beam, lengths, k, sections, model, tip, hub)
 

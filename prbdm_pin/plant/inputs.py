@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import BeamInputError
+from ..validate import check_size
 from .names import parse_names
 
 __all__ = ["StrainActuator", "INPUT_UNITS", "ON_JOINT_RTOL", "joint_stations", "strain_map",
@@ -73,14 +74,15 @@ class StrainActuator:
     joint_weights: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
-        """Check the stations and the weights (BeamInputError naming the field)."""
+        """Check the stations and the weights (BeamInputError naming the field).
+
+        The stations are on a beam: x_start_m >= 0 and x_end_m a size in [1e-5, 1e3] m
+        (:func:`prbdm_pin.validate.check_size`); where the beam ends is checked where the
+        actuator is used.
+        """
         for name in ("x_start_m", "x_end_m"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.number)) \
-                    or not math.isfinite(float(v)):
-                raise BeamInputError(f"StrainActuator {name} = {v!r}: must be a finite number "
-                                     "(m)")
-            object.__setattr__(self, name, float(v))
+            v = check_size(f"StrainActuator {name}", getattr(self, name), low=0.0)
+            object.__setattr__(self, name, v)
         if not self.x_start_m < self.x_end_m:
             raise BeamInputError(f"StrainActuator x_start_m = {self.x_start_m!r}: must be < "
                                  f"x_end_m = {self.x_end_m!r} (m)")
