@@ -30,6 +30,7 @@ from .errors import BeamInputError, SolveError
 from .geometry import Beam
 from .model_design_gradient import frequency_design_gradient
 from .target import FitTarget, read_only
+from .validate import check_joints, check_type
 
 __all__ = ["CodesignPoint", "codesign_point", "panel_mass", "TRUTH_MODELS"]
 
@@ -176,6 +177,8 @@ def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_mode
     from .fitting import fit
     from .fitting.design_gradient import fit_design_gradient
 
+    check_type("design", design, Design)
+    joints = check_joints(joints)
     if truth_model not in TRUTH_MODELS:
         raise BeamInputError(f"truth_model = {truth_model!r}: must be one of {TRUTH_MODELS}")
     p = design.check(p)

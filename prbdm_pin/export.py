@@ -108,6 +108,7 @@ from .export_record import (
 )
 from .io import atomic_write_text
 from .model_json import JSON_FORMAT, model_dict, read_model_json, read_plant_json
+from .validate_args import check_model, check_out_file
 
 __all__ = [
     "FORMATS",
@@ -202,7 +203,18 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     -------
     pathlib.Path
         The file written.
+
+    Raises
+    ------
+    InputTypeError
+        ``model`` not a PrbdmModel, ``path`` not a str or path-like.
+    BeamInputError
+        A ``path`` that cannot be written as a file (an existing folder, a path under a file,
+        in ``/proc``, ``/sys`` or ``/dev``, an unwritable folder), refused before anything is
+        written; a bad format, damping or actuator.
     """
+    check_model(model)
+    check_out_file("path", path)
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
     kw = {"damping_form": damping_form, "omega_truth_rad_s": omega_truth_rad_s,

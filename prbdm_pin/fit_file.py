@@ -32,10 +32,15 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
     pathlib.Path
         The file written.
     """
-    from .geometry import beam_to_dict
+    from .geometry import Beam, beam_to_dict
+    from .validate import check_type
+    from .validate_args import check_out_file
 
+    check_type("result", result, FitResult, "a prbdm_pin.FitResult (fit, fit_pareto().knee)")
+    check_out_file("path", path)
     d = result.to_dict()
     if beam is not None:
+        check_type("beam", beam, Beam, "a prbdm_pin.Beam or None")
         d["beam"] = beam_to_dict(beam)
     return atomic_write_json(path, d)
 
@@ -78,10 +83,14 @@ def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
     BeamInputError
         Naming the file, the field and the value.
     """
+    from .geometry import Beam
     from .jsonfile import read_json
+    from .validate import check_type
 
-    what = f"fit.json {str(path)!r}"
+    if beam is not None:
+        check_type("beam", beam, Beam, "a prbdm_pin.Beam or None")
     d = read_json(path, "fit.json")
+    what = f"fit.json {str(path)!r}"
     if beam is None:
         beam = fit_beam(d, what)
     return FitResult.from_dict(d, beam=beam, what=what)

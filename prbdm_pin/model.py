@@ -288,9 +288,8 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     """
     from .urdf_checks import check_sections, check_urdf, hub_inertia, read_urdf_text
 
-    p = Path(path)
-    what = f"urdf file {str(p)!r}"
-    text = read_urdf_text(p)
+    text = read_urdf_text(path)
+    what = f"urdf file {str(path)!r}"
     n = check_urdf(text, what)
     try:
         model = pin.buildModelFromXML(text)

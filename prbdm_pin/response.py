@@ -28,6 +28,8 @@ from scipy.optimize import brentq
 
 from .damping import damping_ratios
 from .errors import BeamInputError
+from .validate import check_type
+from .validate_args import check_model
 
 __all__ = [
     "ModalTip",
@@ -254,6 +256,8 @@ def dynamic_accuracy(
     DynamicAccuracy
         The errors (fractions; phase in rad) and the curves compared (m/N).
     """
+    check_model(model)
+    check_type("truth", truth, ModalTip, "a prbdm_pin.response.ModalTip (truth_modal_tip)")
     t = np.linspace(0.0, duration_s, samples)
     mine = prbdm_modal_tip(model)
     u_truth = modal_step_response(truth, t, damping_ratio)

@@ -27,7 +27,7 @@ import numpy as np
 
 from .choices import MIN_FRACTION
 from .design import Design, step_partner
-from .errors import BeamInputError
+from .errors import BeamInputError, InputTypeError
 from .geometry import Beam
 from .json_record import readonly_array
 from .layout import validate_lengths
@@ -80,7 +80,7 @@ class SectionDesignGradient:
 
 def _check_design(beam: Beam, design: Design) -> None:
     if not isinstance(design, Design):
-        raise BeamInputError(f"design = {design!r}: must be a prbdm_pin.Design")
+        raise InputTypeError(f"design = {design!r}: must be a prbdm_pin.Design")
     if beam.x_m.size != design.beam.x_m.size or not np.array_equal(
             np.diff(beam.x_m) == 0.0, np.diff(design.beam.x_m) == 0.0):
         raise BeamInputError(f"beam {beam.name!r}: must have the vertex structure of the "

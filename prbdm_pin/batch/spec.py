@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..choices import TRUTH_MODELS
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..option_checks import check_choice, check_int
 from ..options import FitOptions
 
@@ -54,7 +54,7 @@ class FitSettings:
 
         check_int("joints", self.joints, 1)
         if not isinstance(self.options, FitOptions):
-            raise BeamInputError(f"options = {self.options!r:.80}: must be a FitOptions")
+            raise InputTypeError(f"options = {self.options!r:.80}: must be a FitOptions")
         check_min_fraction(self.options.min_fraction, self.joints)
         check_choice("truth_model", self.truth_model, TRUTH_MODELS)
 

@@ -20,12 +20,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import BeamInputError, SolveError
+from ..errors import BeamInputError, InputTypeError, SolveError
 from ..geometry import Beam
+from ..option_checks import shown
 from ..problem import FitProblem, lengths_from_unit, make_problem, unit_from_lengths
 from ..results import FitResult
 from ..stiffness import finite_segment_stiffness
 from ..target import FitTarget
+from ..validate import check_type
 from .joint import JointResiduals
 from .spec import FitSpec
 from .unique import log_frequency_jacobian, reference_x
@@ -146,6 +148,11 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     SolveError
         When the optimality conditions are singular (a fit that is not unique).
     """
+    check_type("result", result, FitResult)
+    for name, f in (("beam_at", beam_at), ("target_at", target_at)):
+        if not callable(f):
+            raise InputTypeError(f"{name} = {shown(f)}: must be a function (of the parameter; "
+                                 "of the beam)")
     if result.stiffness != "joint" or result.options is None:
         raise BeamInputError("result: needs a joint fit that recorded its options")
     p = float(parameter)

@@ -33,6 +33,7 @@ from ..section_design_gradients import finite_segment_design_gradient, section_d
 from ..section_gradients import finite_segment_stiffness_gradient
 from ..target import FitTarget, read_only
 from ..truth.gradient import TruthGradient
+from ..validate import check_type
 from .derivative import (
     COND_MAX,
     H_X,
@@ -154,6 +155,9 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
     SolveError
         Singular KKT conditions.
     """
+    check_type("result", result, FitResult)
+    check_type("design", design, Design)
+    check_type("truth", truth, TruthGradient, "a prbdm_pin.TruthGradient (truth_gradient)")
     if result.options is None or result.options.unique != "nearest":
         raise BeamInputError("result: needs a fit with unique = 'nearest' (its KKT conditions "
                              "define the model as a function of the design)")

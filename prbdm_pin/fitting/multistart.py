@@ -20,6 +20,8 @@ from ..options import FitOptions
 from ..problem import FitProblem, make_problem, unit_from_lengths
 from ..results import FitResult
 from ..target import FitTarget
+from ..validate import check_type
+from ..validate_args import check_fit_inputs
 from ..workers import pool_scope
 from .explore import run_explored
 from .local import polish_paper_eigen, solve_start
@@ -100,7 +102,7 @@ def resolve_options(options: Any, cls: type, changes: dict[str, Any]):
     if options is None:
         options = cls()
     elif not isinstance(options, cls):
-        raise BeamInputError(f"options = {options!r:.80}: must be a {cls.__name__}")
+        check_type("options", options, cls)
     return options.replace(**changes) if changes else options
 
 
@@ -200,6 +202,7 @@ def fit(
         tip or a tip load.
     """
     t0 = time.perf_counter()
+    check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, FitOptions, changes)
     if start is not None:
         from .warm import start_changes

@@ -21,6 +21,7 @@ from ..options import FitOptions, ParetoOptions
 from ..pareto_result import ParetoResult
 from ..problem import FitProblem, make_problem, unit_frequencies
 from ..target import FitTarget
+from ..validate_args import check_fit_inputs
 from ..workers import stop_pool
 from .local import solve_start
 from .multistart import fit, resolve_options
@@ -104,6 +105,7 @@ def fit_pareto(
     from pymoo.termination import get_termination
 
     t0 = time.perf_counter()
+    check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, ParetoOptions, changes)
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..geometry import Beam
 from ..options import FitOptions
 from ..results import FitResult
@@ -83,7 +83,7 @@ def start_changes(start: Any, beam: Beam, joints: int, options: FitOptions) -> d
         springs = np.asarray(start[1], dtype=float).reshape(-1)
         scf = None
     else:
-        raise BeamInputError(f"start = {start!r:.60}: must be a FitResult or a pair "
+        raise InputTypeError(f"start = {start!r:.60}: must be a FitResult or a pair "
                              "(lengths m, springs N m/rad)")
     if stiffness == "joint":
         if springs.size != joints or not np.all(np.isfinite(springs)) or np.any(springs <= 0):

@@ -230,7 +230,15 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
         Bad actuators, a truth of another beam or with fewer modes than joints, model modes not
         well separated or not paired with the truth's, a weight beyond ``WEIGHT_LIMIT``.
     """
+    from ..geometry import Beam
     from ..truth.plant.gains import truth_modal_gains
+    from ..truth.result import TruthResult
+    from ..validate import check_type
+    from ..validate_args import check_model
+
+    check_model(model)
+    check_type("truth", truth, TruthResult, "a prbdm_pin.TruthResult (compute_truth)")
+    check_type("beam", beam, Beam)
 
     if isinstance(actuators, (str, bytes, StrainActuator)) or not isinstance(actuators, Sequence):
         raise BeamInputError(f"actuators = {actuators!r:.60}: must be a sequence of "

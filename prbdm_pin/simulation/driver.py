@@ -16,12 +16,13 @@ import numpy as np
 from ..choices import FIXED_STEP_METHODS
 from ..damping import damping_ratios
 from ..eigen import generalized_eigh
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..limits import check_cap
 from ..options import SimulationOptions
 from ..plant.hub import hub_frequencies
 from ..plant.inputs import StrainActuator, parse_inputs, strain_map
 from ..plant.outputs import output_samples, output_unit, parse_outputs
+from ..validate_args import check_model
 from . import exponential, gauss, ivp, newmark
 from .inputs import input_force
 from .schedule import StiffnessSchedule
@@ -91,6 +92,7 @@ def simulate(
     Trajectory
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
+    check_model(model)
     o = _options(options, changes)
     method, dt, output_dt = o.method, o.dt_s, o.output_dt_s
     hub = getattr(model, "hub", None) is not None
@@ -194,5 +196,5 @@ def _options(options: SimulationOptions | None, changes: dict[str, Any]) -> Simu
     if options is None:
         options = SimulationOptions()
     elif not isinstance(options, SimulationOptions):
-        raise BeamInputError(f"options = {options!r:.80}: must be a SimulationOptions")
+        raise InputTypeError(f"options = {options!r:.80}: must be a SimulationOptions")
     return options.replace(**changes) if changes else options

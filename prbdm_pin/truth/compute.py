@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import __version__
-from ..errors import BeamInputError, TruthError
+from ..errors import BeamInputError, InputTypeError, TruthError
 from ..geometry import Beam
 from .cache import cache_key, load_cached, store_cached
 from .estimate import (
@@ -104,7 +104,7 @@ def compute_truth(
         ``CoarseTruthError`` (a TruthError) for an error estimate above ``error_tol_pct``.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     if model not in MODELS:
         raise BeamInputError(f"model = {model!r}: must be one of {MODELS}")
     if selection not in SELECTIONS:

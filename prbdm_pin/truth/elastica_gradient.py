@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..design import Design, step_partner
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..geometry import Beam
 from ..json_record import readonly_array as _ro
 from .elastica import elastica_primal
@@ -177,7 +177,7 @@ def elastica_gradient(
         The elastica or its adjoint did not converge.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     names = design.names if isinstance(design, Design) else design
     if isinstance(names, str):
         names = tuple(n.strip() for n in names.split(","))

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..design import Design
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..geometry import Beam
 from ..json_record import readonly_array as _ro
 from .modes import SELECTIONS
@@ -142,7 +142,7 @@ def truth_gradient(
         below ``sensitivity_rules.GAP_TOL``): its derivative is not defined by one mode.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     names = design.names if isinstance(design, Design) else design
     if isinstance(names, str):
         names = tuple(n.strip() for n in names.split(","))
