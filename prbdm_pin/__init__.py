@@ -42,6 +42,7 @@ _EXPORTS = {
     "load_urdf": "model",
     # the linear plant
     "Hub": "plant.hub",
+    "LightHubWarning": "plant.hub_check",
     "StrainActuator": "plant.inputs",
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",

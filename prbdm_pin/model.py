@@ -24,6 +24,7 @@ from .io import atomic_write_text
 from .layout import validate_lengths
 from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
 from .plant.hub import HUB_JOINT, Hub, hub_chain, hub_frequencies, hub_modes
+from .plant.hub_check import warn_light_hub
 from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
@@ -250,6 +251,13 @@ def build_model(
         (:func:`prbdm_pin.validate_args.check_springs`).
     InputTypeError
         ``beam`` not a Beam, ``hub`` not a Hub, lengths or springs not real numbers.
+
+    Warns
+    -----
+    LightHubWarning
+        A hub so light that it moves mode 1 by more than 25 % toward the pinned-free beam,
+        where a model fitted to the clamped truth loses accuracy
+        (:mod:`prbdm_pin.plant.hub_check` says how it is estimated).
     """
     check_type("beam", beam, Beam)
     lengths = validate_lengths(beam, lengths_m, min_fraction)
@@ -264,7 +272,9 @@ def build_model(
         model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
         return PrbdmModel(beam, lengths, k, sections, model, tip)
     model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
-    return PrbdmModel(beam, lengths, k, sections, model, tip, hub)
+    out = PrbdmModel(beam, lengths, k, sections, model, tip, hub)
+    warn_light_hub(out)  # mode 1 moved > 25 % toward the pinned-free beam
+    return out
 
 
 def load_urdf(path: str | os.PathLike) -> PrbdmModel:
