@@ -25,6 +25,7 @@ from .layout import validate_lengths
 from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
 from .plant.hub import HUB_JOINT, Hub, hub_chain, hub_frequencies, hub_modes
 from .plant.hub_check import warn_light_hub
+from .plant.inputs import strain_map
 from .sections import LinkSections, link_sections_unchecked
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
@@ -63,6 +64,11 @@ class PrbdmModel:
         ``nv`` coordinates (frequencies: the hub's rigid mode, exactly 0, first). A hub model
         has no static equilibrium under a tip force (the hub would turn); its URDF carries
         the hub as the revolute joint ``hub``.
+    actuators : tuple of StrainActuator
+        The strain actuators the model's file records (:func:`load_urdf` reads them from the
+        export record, :func:`prbdm_pin.read_model_json` from its fields); () otherwise. They
+        are carried, not applied: pass them on, ``linearize(model, ...,
+        actuators=model.actuators)``.
 
     As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
     method that computes takes ``data``. Without one it uses a built-in workspace made on first
@@ -78,6 +84,7 @@ class PrbdmModel:
     pin_model: pin.Model
     tip_frame_id: int
     hub: Hub | None = None
+    actuators: tuple = ()
     _cache: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
@@ -208,7 +215,7 @@ class PrbdmModel:
         k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
         return PrbdmModel(
             self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
-            self.hub,
+            self.hub, self.actuators,
         )
 
 
@@ -284,7 +291,9 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     path-like. A file with the revolute joint ``hub`` reads as a hub model (``hub`` set: the
     inertia of link ``hub_body``, the radius of the ``clamp`` offset).
 
-    The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
+    The springs come from the Gazebo ``<springStiffness>`` tags; the strain actuators the
+    file's export record lists (``strain_actuators_m``, with their fitted joint weights) become
+    ``actuators``, as :func:`prbdm_pin.read_plant_json` returns them; ``beam`` is None and
     ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'
     ``<dynamics damping>`` (N m s/rad; :func:`prbdm_pin.simulate` takes its damping from its own
     arguments, not from there).
@@ -296,6 +305,7 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
     ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
     """
+    from .export_comment import read_export_record
     from .urdf_checks import check_sections, check_urdf, hub_inertia, read_urdf_text
 
     text = read_urdf_text(path)
@@ -326,6 +336,13 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     k = validate_stiffness(read_springs(text, names), len(names))
     sections = sections_from_pin(model, lengths, hub is not None)
     check_sections(what, lengths, sections.mass_kg)
-    out = PrbdmModel(None, lengths, k, sections, model, tip, hub)
+    try:
+        record = read_export_record(text)
+        actuators = () if record is None else record.actuators()
+    except ValueError as exc:  # a hand-edited record: numbers that are not numbers
+        raise BeamInputError(f"{what}: {exc}") from None
+    for i, a in enumerate(actuators):  # the record's patches lie on this chain
+        strain_map(lengths, a, f"{what}: actuators[{i}]")
+    out = PrbdmModel(None, lengths, k, sections, model, tip, hub, tuple(actuators))
     out._cache["urdf"] = text
     return out
