@@ -14,6 +14,7 @@ import math
 import os
 import re
 import stat
+import sys
 from pathlib import Path
 
 from ..errors import BeamInputError
@@ -41,6 +42,34 @@ class CliParser(argparse.ArgumentParser):
     argparse prints a usage block above the error; the rest of ``prbdm`` reports every refusal
     as one line, so scripts and logs see the same shape for all of them. ``--help`` is unchanged.
     """
+
+    def parse_known_args(self, args=None, namespace=None):  # noqa: D102 - argparse's contract
+        args = sys.argv[1:] if args is None else list(args)
+        return super().parse_known_args(self._joined_dash_values(args), namespace)
+
+    def _joined_dash_values(self, args: list[str]) -> list[str]:
+        """Join ``--opt -1:0.1`` into ``--opt=-1:0.1`` for options that take one value.
+
+        argparse reads a value starting with '-' that is not a plain negative number
+        (``-1:0.1``, ``-10,0,0``) as an option and answers "expected one argument"; joined,
+        the value reaches the option's own check, which names what is wrong with it.
+        """
+        out: list[str] = []
+        i = 0
+        while i < len(args):
+            a = args[i]
+            if a == "--":
+                return out + args[i:]
+            action = self._option_string_actions.get(a)
+            if (action is not None and action.nargs is None and i + 1 < len(args)
+                    and isinstance(args[i + 1], str) and _DASH_VALUE.match(args[i + 1])
+                    and args[i + 1] not in self._option_string_actions):
+                out.append(f"{a}={args[i + 1]}")
+                i += 2
+                continue
+            out.append(a)
+            i += 1
+        return out
 
     def error(self, message: str):  # noqa: D102 - argparse's contract
         m = _ARG.match(message)
