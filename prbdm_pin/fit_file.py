@@ -27,6 +27,11 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
         The beam it was fitted to; with it the file alone rebuilds the model
         (``prbdm simulate fit.json``, ``prbdm export fit.json``).
 
+    The file keeps the fit's truth record (``result.truth_request``: a target made by
+    :func:`prbdm_pin.target_from_truth` from a :func:`prbdm_pin.compute_truth` result carries
+    it), so ``prbdm simulate/linearize --compare-truth`` find the same truth, as for a
+    ``prbdm fit`` folder.
+
     Returns
     -------
     pathlib.Path

@@ -191,13 +191,20 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
     tip_force_N : ndarray, shape (3,)
         The tip force the truth's statics were computed under, N.
     request : TruthRequest or None
-        The ``compute_truth`` request that produced ``truth``, recorded in the target.
+        The ``compute_truth`` request that produced ``truth``, recorded in the target (default:
+        the truth's own record, ``truth.request``, set by :func:`prbdm_pin.compute_truth`), and
+        from there in the fit and its ``fit.json``.
 
     Returns
     -------
     FitTarget
         The target, with the truth's frequencies, tip, MAC and mode labels.
     """
+    from .truth.result import TruthResult
+
+    check_type("truth", truth, TruthResult, "a prbdm_pin.TruthResult (compute_truth)")
+    if request is None:
+        request = truth.request
     mac = getattr(truth, "mac_beam", None)
     src = f"{truth.model}, mesh level {truth.mesh_level}, selection {truth.selection}"
     labels = tuple(truth.labels[int(i)] for i in truth.mode_index)

@@ -126,6 +126,13 @@ def compute_truth(
         raise BeamInputError(f"error_tol_pct = {error_tol_pct!r}: must be a number > 0 (%) "
                              "or None")
 
+    request = None
+    if n_computed == max(DEFAULT_COMPUTED_MODES, 2 * int(modes)):
+        from .request import TruthRequest
+
+        request = TruthRequest(model=model, modes=int(modes), mesh_level=mesh_level,
+                               selection=selection, large_deflection=large_deflection,
+                               error_tol_pct=error_tol_pct)
     key = None
     if cache_dir is not None:
         key = cache_key(beam, model=model, mesh_level=mesh_level, modes=modes,
@@ -133,7 +140,7 @@ def compute_truth(
                         large_deflection=large_deflection, version=__version__)
         hit = load_cached(cache_dir, key, beam.fingerprint())
         if hit is not None:
-            return _judged(hit, beam, error_tol_pct)
+            return _judged(_recorded(hit, request), beam, error_tol_pct)
 
     modal = compute_modal(beam, model, mesh_level, n_computed)
     labels = label_modes(modal)
@@ -200,7 +207,13 @@ def compute_truth(
     )
     if key is not None:
         store_cached(cache_dir, key, result)
-    return _judged(result, beam, error_tol_pct)
+    return _judged(_recorded(result, request), beam, error_tol_pct)
+
+
+def _recorded(result: TruthResult, request) -> TruthResult:
+    """Record the call that made ``result`` on it (``TruthResult.request``; not cached)."""
+    object.__setattr__(result, "_request", request)
+    return result
 
 
 def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> TruthResult:
