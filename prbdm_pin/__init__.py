@@ -61,6 +61,7 @@ _EXPORTS = {
     "ElasticaGradient": "truth.elastica_gradient",
     # fitting
     "FitTarget": "target",
+    "LoadCase": "target",
     "target_from_truth": "target",
     "FitOptions": "options",
     "ParetoOptions": "options",

@@ -16,6 +16,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..geometry import Beam
 from ..layout import sample_lengths
+from ..load_cases import with_extra_loads
 from ..options import FitOptions
 from ..problem import FitProblem, make_problem, unit_from_lengths
 from ..results import FitResult
@@ -162,6 +163,7 @@ def fit(
     workers: int = 1,
     progress: bool = True,
     start: Any = None,
+    extra_loads: Any = (),
     **changes: Any,
 ) -> FitResult:
     """Fit an nR PRBDM to a target by a multistart of a local solver.
@@ -185,6 +187,11 @@ def fit(
     start : FitResult or (lengths m, springs N m/rad), optional
         Warm start: the local solver runs from there only (``fitting/warm.py``); recorded in
         the result's options (``start_lengths_m``, ``start_factors``).
+    extra_loads : sequence of float or LoadCase
+        Further load cases for the deflection objective (the command line's
+        ``--extra-loads``): multiples of the beam's tip force, whose truth tips come from the
+        target's large-deflection model (:mod:`prbdm_pin.load_cases`), or
+        :class:`~prbdm_pin.LoadCase` objects; added to ``target.extra_loads``.
     **changes
         Options by name, applied to ``options`` (``fit(beam, target, 3, objective="combined")``).
 
@@ -204,6 +211,7 @@ def fit(
     t0 = time.perf_counter()
     check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, FitOptions, changes)
+    target = with_extra_loads(target, beam, extra_loads)
     if start is not None:
         from .warm import start_changes
 

@@ -16,6 +16,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..geometry import Beam
 from ..layout import sample_lengths
+from ..load_cases import with_extra_loads
 from ..objectives import best_scale, knee_index
 from ..options import FitOptions, ParetoOptions
 from ..pareto_result import ParetoResult
@@ -49,6 +50,7 @@ def fit_pareto(
     *,
     workers: int = 1,
     progress: bool = True,
+    extra_loads: Any = (),
     **changes: Any,
 ) -> ParetoResult:
     """Fit an nR PRBDM's Pareto front over (eigen loss, deflection loss) by NSGA-II.
@@ -86,6 +88,8 @@ def fit_pareto(
         Processes to evaluate each generation in (results do not depend on it).
     progress : bool
         Show a tqdm progress bar over the generations.
+    extra_loads : sequence of float or LoadCase
+        Further load cases of the deflection objective, as in :func:`fit`.
     **changes
         Options by name, applied to ``options``.
 
@@ -107,6 +111,7 @@ def fit_pareto(
     t0 = time.perf_counter()
     check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, ParetoOptions, changes)
+    target = with_extra_loads(target, beam, extra_loads)
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
     stiffness, deflection_norm = o.stiffness.value, o.deflection_norm.value
