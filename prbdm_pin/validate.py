@@ -35,7 +35,7 @@ from .errors import BeamInputError, InputTypeError
 from .option_checks import check_float, check_int, shown
 
 __all__ = [
-    "MAX_SEED", "MAX_WORKERS", "MAX_STARTS", "MAX_NFEV", "MIN_POP", "MAX_POP",
+    "MAX_SEED", "MAX_WORKERS", "MAX_STARTS", "MAX_NFEV", "MAX_SHARD_BEAMS", "MIN_POP", "MAX_POP",
     "MAX_GENERATIONS", "MAX_SWEEP_RAD", "MAX_DAMPING_RATIO", "E_RANGE_PA", "SIZE_RANGE_M",
     "MAX_WIDTH_RATIO", "SPRING_WINDOW", "MAX_HUB_INERTIA_KG_M2",
     "check_type", "check_path", "check_workers", "check_joints", "check_damping_ratio",
@@ -51,6 +51,8 @@ MAX_WORKERS = 1024
 MAX_STARTS = 100_000
 # a least-squares start's evaluation cap: each evaluation is a model build and eigensolve
 MAX_NFEV = 100_000
+# the batch driver holds one task per beam of its shard
+MAX_SHARD_BEAMS = 1_000_000
 # NSGA-II's mating needs a few parents; a population holds its designs and objectives in memory
 MIN_POP = 4
 MAX_POP = 100_000

@@ -84,6 +84,11 @@ FIELDS = [
     (pp.SimulationOptions, {}, "rtol", "rtol", "real", [0.0], []),
     (pp.SimulationOptions, {}, "refresh_rad", "refresh_rad", "real", [-0.1], []),
     (pp.SimulationOptions, {}, "max_steps", "max_steps", "int", [0], []),
+    (pp.FitSettings, {}, "joints", "joints", "int", [0, -1], [65, 1000]),
+    (pp.BatchSpec, {"seed": 0, "settings": pp.FitSettings(joints=3), "n_beams": 5}, "seed",
+     "seed", "int", [-1], [2**63]),
+    (pp.BatchSpec, {"seed": 0, "settings": pp.FitSettings(joints=3), "n_beams": 5}, "n_beams",
+     "beams", "int", [0, -5], [10**7]),  # prbdm batch: at most 1e6 beams in one shard
 ]
 FIELD_IDS = [f"{c.__name__}.{f}" for c, _, f, *_ in FIELDS]
 
@@ -136,6 +141,18 @@ def test_the_damping_ratio_range_is_the_command_lines_in_every_door(tmp_path):
     _refused(BeamInputError, "damping_ratio", pp.export_model, model, tmp_path / "m.urdf",
              "urdf", damping_ratio=1.5)
     assert not list(tmp_path.iterdir())
+
+
+def test_feedback_and_controller_fields_are_checked():
+    _refused(InputTypeError, "StateFeedback gain", pp.StateFeedback, [1.0, 2.0])
+    _refused(InputTypeError, "StateFeedback gain", pp.StateFeedback, "K")
+    _refused(BeamInputError, "StateFeedback gain[0, 1]", pp.StateFeedback, [[1.0, math.nan]])
+    _refused(BeamInputError, "StateFeedback x_ref[1]", pp.StateFeedback, [[1.0, 2.0]],
+             x_ref=[0.0, math.inf])
+    _refused(InputTypeError, "StateFeedback u_ref", pp.StateFeedback, [[1.0, 2.0]], u_ref="u")
+    _refused(InputTypeError, "Controller function", pp.Controller, 3.0)
+    _refused(InputTypeError, "settings", pp.BatchSpec, 0, None, n_beams=3)
+    pp.StateFeedback([[1.0, 2.0]], x_ref=[0.1, 0.0], u_ref=lambda t: [0.0])
 
 
 def test_vector_fields_refuse_nan_complex_and_wrong_sizes():
