@@ -14,7 +14,6 @@ Quick mode (``--quick``): two beams, 1D beam truth, 3R eigen fits with 4 starts,
 
 from __future__ import annotations
 
-import argparse
 import shutil
 from pathlib import Path
 
@@ -22,6 +21,8 @@ import numpy as np
 
 import prbdm_pin as pp
 from prbdm_pin.batch import LocalPool, read_records
+from prbdm_pin.commands.script_cli import run_example
+from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,7 +35,7 @@ FULL_BEAMS = ("uniform-narrow", "tapered", "tapered-linear", "stepped-narrow",
 def main(quick: bool = False,
          out: Path = ROOT / "results" / "examples" / "batch_study") -> dict:
     """Run the batch; returns its spec and its records (one dict per beam)."""
-    out = Path(out)
+    out = check_out_dir("out", out)  # refused before any work, as --out
     beams_dir = out / "beams"
     beams_dir.mkdir(parents=True, exist_ok=True)
     for name in QUICK_BEAMS if quick else FULL_BEAMS:
@@ -80,8 +81,4 @@ def main(quick: bool = False,
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1D beam truth, seconds")
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "examples" / "batch_study")
-    args = ap.parse_args()
-    main(args.quick, args.out)
+    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "batch_study", main))

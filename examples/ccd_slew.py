@@ -18,12 +18,13 @@ Quick mode (``--quick``): the uniform strip, 1D beam truth, 3R combined fit (4 s
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
 
 import prbdm_pin as pp
+from prbdm_pin.commands.script_cli import run_example
+from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.plant import slew
 from prbdm_pin.plant.slew_study import hub_inertia_for_stiffening
 from prbdm_pin.truth.plant import hybrid_model, truth_modal_gains
@@ -37,7 +38,7 @@ DESIGN = slew.SlewDesign(angle_rad=0.1)
 
 def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "ccd_slew") -> dict:
     """Fit, hub, LQG, slews; returns the responses, the linear plant and the gain."""
-    out = Path(out)
+    out = check_out_dir("out", out)  # refused before any work, as --out
     out.mkdir(parents=True, exist_ok=True)
     if quick:
         beam = pp.load_beam(ROOT / "examples" / "beams" / "uniform-narrow.json")
@@ -104,8 +105,4 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "ccd_s
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1D beam truth, seconds")
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "examples" / "ccd_slew")
-    args = ap.parse_args()
-    main(args.quick, args.out)
+    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "ccd_slew", main))

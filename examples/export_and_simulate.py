@@ -16,7 +16,6 @@ the uniform strip, 1D beam truth, 3R eigen fit, three periods of mode 1.
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import mujoco
@@ -25,6 +24,8 @@ import pinocchio as pin
 from scipy.integrate import solve_ivp
 
 import prbdm_pin as pp
+from prbdm_pin.commands.script_cli import run_example
+from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.model.urdf import read_springs
 from prbdm_pin.views.plots import new_figure, save_png
 
@@ -94,7 +95,7 @@ def run_mujoco(mjcf: Path, q0: np.ndarray, duration_s: float, every: int):
 def main(quick: bool = False,
          out: Path = ROOT / "results" / "examples" / "export_and_simulate") -> dict:
     """Export, release in three engines; returns the sample times and the three tip z (m)."""
-    out = Path(out)
+    out = check_out_dir("out", out)  # refused before any work, as --out
     out.mkdir(parents=True, exist_ok=True)
     beam, model = fitted_model(quick, out / "cache")
     urdf = pp.export_model(model, out / "model.urdf", "urdf", DAMPING_RATIO)
@@ -130,9 +131,5 @@ def main(quick: bool = False,
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1D beam truth, seconds")
-    ap.add_argument("--out", type=Path,
-                    default=ROOT / "results" / "examples" / "export_and_simulate")
-    args = ap.parse_args()
-    main(args.quick, args.out)
+    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "export_and_simulate",
+                                 main))

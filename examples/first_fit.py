@@ -13,12 +13,13 @@ Quick mode (``--quick``): the uniform strip, 1D Euler-Bernoulli truth, 3R eigen 
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
 
 import prbdm_pin as pp
+from prbdm_pin.commands.script_cli import run_example
+from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import plot_planform
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -27,7 +28,7 @@ FIGURE = ROOT / "docs" / "examples" / "figures" / "first_fit.png"
 
 def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "first_fit") -> dict:
     """Fit, report and export; returns the truth's and the models' frequencies (rad/s)."""
-    out = Path(out)
+    out = check_out_dir("out", out)  # refused before any work, as --out
     out.mkdir(parents=True, exist_ok=True)
     if quick:
         beam = pp.load_beam(ROOT / "examples" / "beams" / "uniform-narrow.json")
@@ -66,8 +67,4 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "first
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1D beam truth, seconds")
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "examples" / "first_fit")
-    args = ap.parse_args()
-    main(args.quick, args.out)
+    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "first_fit", main))

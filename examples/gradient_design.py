@@ -20,13 +20,14 @@ Quick mode (``--quick``): the optimisation and the 1D beam truth's check.
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import minimize
 
 import prbdm_pin as pp
+from prbdm_pin.commands.script_cli import run_example
+from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -87,7 +88,7 @@ def truth_at(beam: pp.Beam, model: str) -> tuple[float, float]:
 def main(quick: bool = False,
          out: Path = ROOT / "results" / "examples" / "gradient_design") -> dict:
     """Optimise; returns the optimum (SI units), the PRBDM's and the truths' values there."""
-    out = Path(out)
+    out = check_out_dir("out", out)  # refused before any work, as --out
     out.mkdir(parents=True, exist_ok=True)
     beam = pp.load_beam(ROOT / "examples" / "beams" / "tapered.json")
     design = pp.Design(beam, ("thickness", "half_width[0]", "half_width[1]"))
@@ -128,8 +129,5 @@ def main(quick: bool = False,
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="no plate check, seconds")
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "examples" / "gradient_design")
-    args = ap.parse_args()
-    main(args.quick, args.out)
+    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "gradient_design",
+                                 main, "no plate check, seconds"))

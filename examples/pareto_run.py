@@ -14,12 +14,13 @@ Quick mode (``--quick``): the uniform strip, 1D beam truth, 3R, population 20, 1
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
 
 import prbdm_pin as pp
+from prbdm_pin.commands.script_cli import run_example
+from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import new_figure, save_png
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -29,7 +30,7 @@ FLOOR_PCT = 1e-9  # losses drawn on log axes: an exact match (rounding, about 1e
 
 def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "pareto_run") -> dict:
     """Front, knee and the single-objective fits alone; returns them (losses in %)."""
-    out = Path(out)
+    out = check_out_dir("out", out)  # refused before any work, as --out
     out.mkdir(parents=True, exist_ok=True)
     beam = pp.load_beam(ROOT / "examples" / "beams" / "uniform-narrow.json")
     if quick:
@@ -76,8 +77,4 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "paret
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1D beam truth, seconds")
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "examples" / "pareto_run")
-    args = ap.parse_args()
-    main(args.quick, args.out)
+    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "pareto_run", main))

@@ -21,6 +21,7 @@ _EXPORTS = {
     "beam_from_dict": "files.beam_file",
     # errors
     "BeamInputError": "errors",
+    "InputTypeError": "errors",
     "SolveError": "errors",
     "TruthError": "errors",
     # sections, layout, stiffness
@@ -38,11 +39,12 @@ _EXPORTS = {
     # model
     "PrbdmModel": "model.prbdm_model",
     "build_model": "model.prbdm_model",
-    "load_urdf": "model.prbdm_model",
+    "load_urdf": "files.urdf_file",
     "load_model": "files.model_source",
     "ModelFile": "files.model_source",
     # the linear plant
     "Hub": "model.hub",
+    "LightHubWarning": "model.hub_check",
     "StrainActuator": "model.inputs",
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
@@ -64,6 +66,7 @@ _EXPORTS = {
     "ElasticaGradient": "truth.elastica_derivatives",
     # fitting
     "FitTarget": "fitting.target",
+    "LoadCase": "fitting.target",
     "target_from_truth": "fitting.target",
     "FitOptions": "options.objects",
     "ParetoOptions": "options.objects",

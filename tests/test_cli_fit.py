@@ -13,7 +13,7 @@ from reference import BETA_L as REF_BETA_L
 from reference import ELASTICA
 
 from prbdm_pin.cli import main
-from prbdm_pin.model.prbdm_model import load_urdf
+from prbdm_pin.files.urdf_file import load_urdf
 
 BEAM = "examples/beams/uniform-narrow.json"
 BETA_L = REF_BETA_L[:3]

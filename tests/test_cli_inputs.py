@@ -148,7 +148,7 @@ def test_outputs_of_a_fit_with_links_below_the_default_bound(tmp_path, truth_fil
     import dataclasses
 
     from prbdm_pin.commands.fit import write_fit_outputs
-    from prbdm_pin.model.prbdm_model import load_urdf
+    from prbdm_pin.files.urdf_file import load_urdf
 
     out = tmp_path / "fit"
     assert main(["fit", BEAM, "--joints", "2", "--stiffness", "joint", "--starts", "2",
@@ -187,7 +187,7 @@ def test_a_design_below_the_default_bound_is_evaluated():
 def test_a_long_chain_fits_with_a_smaller_min_link(tmp_path, truth_file):
     # 50 links of at least 0.02 L do not fit; with --min-link 0.015 the 49R fit runs end to end
     # and its URDF has the Euler-Bernoulli frequencies of the truth file
-    from prbdm_pin.model.prbdm_model import load_urdf
+    from prbdm_pin.files.urdf_file import load_urdf
 
     out = tmp_path / "long"
     assert main(["fit", BEAM, "--joints", "49", "--min-link", "0.015", "--frequencies", "3",

@@ -76,7 +76,7 @@ def test_hub_option(fit_json, tmp_path):
     (["--outputs", "tip_z,q[5]"], "outputs[1] = 'q[5]'"),
     (["--outputs", "q(0)"], "--outputs = 'q(0)'"),
     (["--actuator", "0.6:0.1"], "--actuator = '0.6:0.1'"),
-    (["--actuator", "0.1:5", "--inputs", "strain[0]"], "actuators[0] x_end_m = 5.0"),
+    (["--actuator", "0.1:5", "--inputs", "strain[0]"], "--actuator = '0.1:5': x_end_m = 5.0"),
     (["--actuator", "a:b"], "--actuator = 'a:b'"),
     (["--hub=-1:0.1"], "--hub = '-1:0.1': Hub inertia_kg_m2 = -1.0"),
     (["--hub", "1"], "--hub = '1'"),

@@ -17,7 +17,8 @@ from prbdm_pin.files.export import (
     read_export_record,
     read_model_json,
 )
-from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.files.urdf_file import load_urdf
+from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.simulation import simulate
 
 mujoco = pytest.importorskip("mujoco")

@@ -21,10 +21,11 @@ from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam
 from prbdm_pin.files.export import mjcf_text, read_model_json, urdf_text, write_json
 from prbdm_pin.files.fit_file import load_fit, save_fit
+from prbdm_pin.files.urdf_file import load_urdf
 from prbdm_pin.fitting import fit
 from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.member.geometry import Beam, beam_to_dict
-from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = "examples/beams"
 TAPERED_OMEGA = np.array([87.0, 520.0])  # rad/s, a hand target near the 1D beam's

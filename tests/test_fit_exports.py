@@ -17,12 +17,13 @@ from reference import REF_OMEGA
 
 from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.files.fit_file import load_fit, save_fit
+from prbdm_pin.files.urdf_file import load_urdf
 from prbdm_pin.fitting import fit
 from prbdm_pin.fitting.evaluate import batch_losses, evaluate
 from prbdm_pin.fitting.problem import make_problem
 from prbdm_pin.fitting.results import FitResult
 from prbdm_pin.fitting.target import FitTarget, target_from_truth
-from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.options.objects import FitOptions
 
 BEAMS = "examples/beams"

@@ -28,10 +28,11 @@ from prbdm_pin.files.beam_file import beam_from_dict, load_beam
 from prbdm_pin.files.export import read_model_json, write_json
 from prbdm_pin.files.fit_file import load_fit, save_fit
 from prbdm_pin.files.model_source import load_model
+from prbdm_pin.files.urdf_file import load_urdf
 from prbdm_pin.fitting import fit
 from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.member.geometry import beam_to_dict
-from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.model.prbdm_model import build_model
 
 BEAMS = Path("examples/beams")
 # what a message may name when the file as a whole is wrong, not one field

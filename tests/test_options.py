@@ -78,7 +78,7 @@ def test_options_survive_json(options):
     (ParetoOptions, {"generations": 0}, "generations = 0"),
     (ParetoOptions, {"seed_starts": 0}, "seed_starts = 0"),
     (SimulationOptions, {"method": "euler"}, "method = 'euler'"),
-    (SimulationOptions, {"dt_s": -1e-3}, "dt = -0.001"),
+    (SimulationOptions, {"dt_s": -1e-3}, "dt_s = -0.001"),
     (SimulationOptions, {"damping": "rayleigh"}, "damping = 'rayleigh'"),
     (SimulationOptions, {"damping_ratio": (0.02, -0.1)}, r"damping_ratio\[1\] = -0.1"),
 ])

@@ -11,6 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam, save_beam
 from prbdm_pin.io import atomic as atomic_io
@@ -133,10 +134,16 @@ def test_half_widths_whose_section_inertia_overflows_are_named(half_width):
         beam_from_dict(d)
 
 
-def test_a_large_but_representable_half_width_builds_finite_sections():
-    beam = beam_from_dict(dict(GOOD, half_width=[1e80] + GOOD["half_width"][1:]))
+def test_a_large_but_representable_half_width_is_a_unit_slip_and_the_largest_sizes_build():
+    # 1e80 m is representable but no member's size: refused naming it; a member at the largest
+    # plausible sizes (1 km long, wide and thick) builds finite sections
+    with pytest.raises(BeamInputError, match=r"half_width\[0\] = 1e\+80 m: outside"):
+        beam_from_dict(dict(GOOD, half_width=[1e80] + GOOD["half_width"][1:]))
+    beam = beam_from_dict(dict(GOOD, length=1e3, x=[0.0, 400.0, 1e3],
+                               half_width=[1e3, 80.0, 50.0], thickness=1e3))
     L = beam.length_m
-    model = build_model(beam, [L / 3, L / 3, L / 3], [1.0, 1.0])
+    lengths = [L / 3, L / 3, L / 3]
+    model = build_model(beam, lengths, finite_segment_stiffness(beam, lengths))
     assert np.all(np.isfinite(model.sections.inertia_com_kg_m2))
 
 

@@ -14,7 +14,8 @@ import pytest
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.files.export import read_export_record, urdf_text
-from prbdm_pin.model.prbdm_model import build_model, load_urdf
+from prbdm_pin.files.urdf_file import load_urdf
+from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.model.urdf import read_springs
 
 ROOT = Path(__file__).resolve().parent.parent

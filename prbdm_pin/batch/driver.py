@@ -20,6 +20,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import BeamInputError
+from ..io.paths import check_out_dir
+from ..options.validate import check_type
 from .executors import DaskCluster, LocalPool
 from .manifest import MANIFEST, build_manifest, check_manifest
 from .records import (
@@ -165,10 +167,9 @@ def run_batch(
         written.
     """
     t0 = time.perf_counter()
+    check_type("spec", spec, BatchSpec)
+    out = check_out_dir("out_dir", out_dir)  # a file, /proc, an unwritable folder: refused
     backend = backend or LocalPool(1)
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise BeamInputError(f"out = {str(out)!r}: exists and is not a folder")
     tasks = plan_tasks(spec)  # the beam files are checked before OUT is made
     out.mkdir(parents=True, exist_ok=True)
     with _exclusive(out):

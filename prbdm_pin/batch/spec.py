@@ -13,10 +13,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..options.checks import check_choice, check_int
 from ..options.choices import TRUTH_MODELS
 from ..options.objects import FitOptions
+from ..options.validate import MAX_SEED, MAX_SHARD_BEAMS, check_joints, check_type
 
 if TYPE_CHECKING:
     from ..member.geometry import Beam
@@ -52,9 +53,9 @@ class FitSettings:
         """Check the joints, the options and the truth model (BeamInputError naming the field)."""
         from ..chain.layout import check_min_fraction
 
-        check_int("joints", self.joints, 1)
+        check_joints(self.joints)  # the command line's --joints cap (PRBDM_MAX_JOINTS)
         if not isinstance(self.options, FitOptions):
-            raise BeamInputError(f"options = {self.options!r:.80}: must be a FitOptions")
+            raise InputTypeError(f"options = {self.options!r:.80}: must be a FitOptions")
         check_min_fraction(self.options.min_fraction, self.joints)
         check_choice("truth_model", self.truth_model, TRUTH_MODELS)
 
@@ -130,17 +131,25 @@ class BatchSpec:
 
     def __post_init__(self) -> None:
         """Check the seed, the beams and the shard (BeamInputError naming the field)."""
-        check_int("seed", self.seed, 0)
+        check_type("settings", self.settings, FitSettings)
+        check_int("seed", self.seed, 0, high=MAX_SEED)
         if (self.n_beams is None) == (self.beams_dir is None):
             raise BeamInputError(
                 f"beams = {self.n_beams!r}, beams_dir = {self.beams_dir!r}: give exactly one"
             )
         if self.n_beams is not None:
             check_int("beams", self.n_beams, 1)
+        if isinstance(self.shard, (str, bytes)) or not hasattr(self.shard, "__len__") \
+                or len(self.shard) != 2:
+            raise InputTypeError(f"shard = {self.shard!r:.60}: must be a pair (i, N)")
         i, n = self.shard
         check_int("shard count", n, 1)
         if not (isinstance(i, int) and 0 <= i < n):
             raise BeamInputError(f"shard = {i}/{n}: the index must be in 0 .. {n - 1}")
+        if self.n_beams is not None and (self.n_beams - i + n - 1) // n > MAX_SHARD_BEAMS:
+            raise BeamInputError(f"beams = {self.n_beams}: {(self.n_beams - i + n - 1) // n} "
+                                 f"beams in one shard (at most {MAX_SHARD_BEAMS}, as prbdm "
+                                 "batch --beams): split the study into shards")
 
 
 def parse_shard(text: str) -> tuple[int, int]:

@@ -31,12 +31,14 @@ from scipy.linalg.lapack import dgesv as _gesv
 
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.validate import check_joints, real_vector
 from .eigen import modes_from_mass
 from .layout import validate_lengths
 from .mode_energy import kinetic_energy_change, mode_motion
 from .planar import tip_terms
 from .planar_mass import chain_points, planar_mass_matrices
 from .sections_derivatives import SectionGradient, planar_sections_gradient
+from .spring_checks import check_springs
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
 
@@ -248,9 +250,11 @@ def model_gradient(beam: Beam, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.n
     """
     lengths = validate_lengths(beam, lengths_m)
     n = lengths.size - 1
+    check_joints(n)
     k = validate_stiffness(stiffness_Nm_per_rad, n)
-    q = np.zeros(n) if pose_rad is None else np.asarray(pose_rad, dtype=float)
-    if q.shape != (n,) or not np.all(np.isfinite(q)):
+    check_springs(beam, k)
+    q = np.zeros(n) if pose_rad is None else real_vector("pose_rad", pose_rad, "rad")
+    if q.shape != (n,):
         raise BeamInputError(f"pose_rad = {np.asarray(pose_rad).tolist()}: must be {n} finite "
                              "joint angles (rad)")
     sec = planar_sections_gradient(beam, lengths)

@@ -102,24 +102,15 @@ def validate_lengths(beam: Any, lengths_m: Any, min_fraction: float = MIN_FRACTI
     BeamInputError
         Naming the field ``lengths`` and the offending value.
     """
-    if isinstance(lengths_m, (str, bytes, dict)):
-        raise BeamInputError(f"lengths = {lengths_m!r}: must be a 1-D list of numbers (m)")
-    try:
-        arr = np.asarray(lengths_m, dtype=float)
-    except (TypeError, ValueError):
-        raise BeamInputError(
-            f"lengths = {lengths_m!r}: must be a 1-D list of numbers (m)"
-        ) from None
-    if arr.ndim != 1:
-        raise BeamInputError(f"lengths has shape {arr.shape}: must be 1-D (n+1 link lengths, m)")
+    from ..member.geometry import Beam
+    from ..options.validate import check_type, real_vector
+
+    check_type("beam", beam, Beam)
+    arr = real_vector("lengths", lengths_m, "m")  # finite reals: not complex, not strings
     if arr.size < 2:
         raise BeamInputError(
             f"lengths = {arr.tolist()}: needs at least 2 links (n >= 1 joints), got {arr.size}"
         )
-    bad = np.flatnonzero(~np.isfinite(arr))
-    if bad.size:
-        i = int(bad[0])
-        raise BeamInputError(f"lengths[{i}] = {arr[i]}: must be finite (m)")
     L = float(beam.length_m)
     _check_fraction(min_fraction, arr.size)
     with np.errstate(over="ignore"):  # lengths near 1e308 overflow the sum: reported below
@@ -181,6 +172,12 @@ def sample_lengths(
     ndarray, shape (size, n_links)
         The drawn link lengths, m.
     """
+    from ..options.checks import check_int
+    from ..options.validate import check_size, check_type
+
+    check_type("rng", rng, np.random.Generator, "a numpy.random.Generator (default_rng(seed))")
+    length_m = check_size("length_m", length_m)
+    size = check_int("size", size, 0)
     n_links = _check_n_links(n_links)
     lo, hi = length_bounds(length_m, n_links, min_fraction)
     free = float(length_m) - float(np.sum(lo))
@@ -216,7 +213,16 @@ def repair_lengths(lengths: np.ndarray, length_m: float,
     ndarray, shape of ``lengths``
         The nearest lengths on the bounded simplex, m.
     """
-    x = np.asarray(lengths, dtype=float)
+    from ..errors import InputTypeError
+    from ..options.checks import shown
+    from ..options.validate import check_size
+
+    raw = np.asarray(lengths)
+    if raw.dtype.kind not in "iuf" or raw.ndim not in (1, 2):
+        raise InputTypeError(f"lengths = {shown(lengths)}: must be real numbers (m), of shape "
+                             "(n+1,) or (B, n+1)")
+    length_m = check_size("length_m", length_m)
+    x = raw.astype(float)
     one = x.ndim == 1
     X = np.atleast_2d(x)
     n_links = X.shape[1]

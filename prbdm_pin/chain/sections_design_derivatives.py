@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..io.records import readonly_array
 from ..member.design import Design, step_partner
 from ..member.geometry import Beam
@@ -81,7 +81,7 @@ class SectionDesignGradient:
 
 def _check_design(beam: Beam, design: Design) -> None:
     if not isinstance(design, Design):
-        raise BeamInputError(f"design = {design!r}: must be a prbdm_pin.Design")
+        raise InputTypeError(f"design = {design!r}: must be a prbdm_pin.Design")
     if beam.x_m.size != design.beam.x_m.size or not np.array_equal(
             np.diff(beam.x_m) == 0.0, np.diff(design.beam.x_m) == 0.0):
         raise BeamInputError(f"beam {beam.name!r}: must have the vertex structure of the "

@@ -12,7 +12,9 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..member.geometry import Beam
+from ..options.checks import check_float
 from ..options.choices import EPS_RAD, MIN_FRACTION, XI_RAD
+from ..options.validate import check_joints, check_modulus, check_type
 from .layout import validate_lengths
 from .sections import LinkSections
 
@@ -57,11 +59,9 @@ def pose_sweep(
     ndarray, shape (m, n_joints)
         The poses' joint angles, rad.
     """
-    if isinstance(n_joints, bool) or not isinstance(n_joints, (int, np.integer)) or n_joints < 1:
-        raise BeamInputError(f"n_joints = {n_joints!r}: must be an integer >= 1")
+    n_joints = check_joints(n_joints, "n_joints")
     for name, v in (("xi", xi), ("eps", eps), ("max_tip_angle", max_tip_angle_rad)):
-        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v)):
-            raise BeamInputError(f"{name} = {v!r}: must be a finite number (rad)")
+        check_float(name, v, unit="rad")
     if eps <= 0.0:
         raise BeamInputError(f"eps = {eps}: must be > 0 (rad)")
     if xi < 0.0 or n_joints * xi > max_tip_angle_rad * (1 + 1e-12):
@@ -96,7 +96,9 @@ def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) 
     -------
     ndarray, shape (n,) for a scalar k, (m, n) for an array of k.
     """
-    base = paper_unit_stiffness(float(E_Pa), sections.area_moment_m4, sections.mass_kg)
+    check_type("sections", sections, LinkSections, "a prbdm_pin.LinkSections (link_sections)")
+    base = paper_unit_stiffness(check_modulus("E_Pa", E_Pa), sections.area_moment_m4,
+                                sections.mass_kg)
     k_arr = np.asarray(k, dtype=float)
     if k_arr.ndim > 1:
         raise BeamInputError(f"k has shape {k_arr.shape}: must be a scalar or 1-D (one per pose)")

@@ -6,6 +6,7 @@ import argparse
 import os
 import sys
 
+from ..options.validate import MAX_SHARD_BEAMS  # shared with BatchSpec
 from . import add_common
 
 EXAMPLES = """\
@@ -70,10 +71,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_common(p)
     p.set_defaults(func=run)
     return p
-
-
-# the driver holds one task per beam of its shard
-MAX_SHARD_BEAMS = 1_000_000
 
 
 def check_options(args: argparse.Namespace) -> None:

@@ -128,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
         model = with_hub(model, opts["hub"])
     actuators = opts["actuators"]
     if args.actuator:
-        actuators_on_beam(model, actuators, args.actuator)
+        actuators_on_beam(model, actuators, args.actuator, args.fit_actuators)
     else:
         actuators = source.actuators
     actuators = fit_actuators(args, model, fitted, actuators)

@@ -9,6 +9,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from ..options.validate import MAX_NFEV  # shared with the API's FitOptions
 from . import add_common
 from .fit_checks import (
     MAX_STARTS,
@@ -106,33 +107,6 @@ def print_warnings(result) -> None:
         print(f"fit warning: {note}", file=sys.stderr)
 
 
-def extra_load_cases(beam, factors: list[float], large_deflection: str,
-                     static_theory_gap_pct: float | None = None) -> tuple:
-    """Build load cases at multiples of the beam's tip force, with the large-deflection tip.
-
-    The large-deflection truth is the elastica (fast) or the 3D nonlinear solid (slow).
-
-    ``calibrated-elastica`` scales EI(x) by 1 + gap / 100 with the primary truth's
-    ``static_theory_gap_pct`` (the linear ratio does not depend on the load).
-    """
-    from ..fitting.target import LoadCase
-
-    cases = []
-    for f in factors:
-        b = beam.with_tip_force(f * beam.tip_force_N)
-        if large_deflection == "solid":
-            from ..truth.solid import solid_static
-
-            st = solid_static(b, nonlinear=True)
-        else:
-            from ..truth.elastica import elastica_static
-
-            gap = static_theory_gap_pct if large_deflection == "calibrated-elastica" else None
-            st = elastica_static(b, ei_scale=1.0 if gap is None else 1.0 + gap / 100.0)
-        cases.append(LoadCase(b.tip_force_N, st.tip_position_m, st.tip_displacement_m))
-    return tuple(cases)
-
-
 def load_target(args, beam):
     """Return the FitTarget of the command, with the ``--extra-loads`` cases.
 
@@ -145,6 +119,7 @@ def load_target(args, beam):
     if not factors:
         return target
     from ..errors import BeamInputError
+    from ..fitting.load_cases import extra_load_cases  # shared with fit(..., extra_loads=)
 
     if args.truth:
         raise BeamInputError("extra-loads: needs a computed truth, not --truth TRUTH.json")
@@ -197,8 +172,6 @@ def _base_target(args, beam):
     return target_from_truth(truth, beam.tip_force_N, request)
 
 
-# a least-squares start's evaluation cap: each evaluation is a model build and eigensolve
-MAX_NFEV = 100_000
 
 # the files a fit writes into its folder (the knee of a Pareto fit too)
 FIT_FILES = ("fit.json", "model.urdf", "planform.png", "scf.png")

@@ -10,9 +10,7 @@ import math
 import os
 from pathlib import Path
 
-# a start holds its lengths and factors from the outset; more starts is a slip, not a study
-MAX_STARTS = 100_000
-# every evaluation solves one eigenproblem per pose of the sweep
+from ..options.validate import MAX_STARTS, MAX_SWEEP_RAD  # noqa: F401 - shared with FitOptions
 
 
 def cache_dir(args) -> str:
@@ -62,7 +60,7 @@ def check_truth_options(args) -> None:
     in_range("--frequencies", args.frequencies, 1, args.joints, integer=True,
              why=f"a {args.joints}R model has {args.joints} frequencies")
     in_range("--mesh-level", args.mesh_level, 0, 6, integer=True)
-    in_range("--xi", args.xi, 0.0, unit="rad")
+    in_range("--xi", args.xi, 0.0, MAX_SWEEP_RAD, unit="rad")
     in_range("--seed", args.seed, 0, MAX_SEED, integer=True)
     check_min_fraction(args.min_link, args.joints, "--min-link")
     if load_factors(args.extra_loads) and args.truth:
@@ -94,7 +92,7 @@ def check_sweep(args) -> None:
     """``--eps``: > 0, and (for the paper's pose sweep) a sweep of at most ``MAX_POSES``."""
     from .checks import in_range
 
-    in_range("--eps", args.eps, 0.0, lo_open=True, unit="rad")
+    in_range("--eps", args.eps, 0.0, MAX_SWEEP_RAD, lo_open=True, unit="rad")
     if args.stiffness == "paper":
         from ..chain.stiffness import MAX_POSES
 

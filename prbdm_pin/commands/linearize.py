@@ -14,6 +14,7 @@ from ..errors import BeamInputError
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
+    actuators_on_beam,
     actuators_option,
     add_plant_options,
     hub_option,
@@ -200,7 +201,9 @@ def run(args: argparse.Namespace) -> int:
         request = truth_request_of(fitted, args.model)
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
-    if not args.actuator:  # those a model JSON or URDF export records
+    if args.actuator:
+        actuators_on_beam(model, opts["actuators"], args.actuator, args.fit_actuators)
+    else:  # those a model JSON or URDF export records
         opts["actuators"] = source.actuators
     opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
     gravity = opts["gravity"] if any(opts["gravity"]) else None

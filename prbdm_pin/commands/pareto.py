@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..options.validate import MAX_GENERATIONS, MAX_POP, MIN_POP  # shared with the API
 from . import add_common
 from .fit import (
     FIT_FILES,
@@ -64,10 +65,6 @@ def write_pareto_outputs(res, beam, out: Path) -> None:
         write_fit_files(res.knee, beam, stage)
 
 
-# NSGA-II's mating needs a few parents; a population holds its designs and objectives in memory
-MIN_POP = 4
-MAX_POP = 100_000
-MAX_GENERATIONS = 1_000_000
 
 
 def check_options(args) -> None:

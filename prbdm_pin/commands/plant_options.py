@@ -88,9 +88,13 @@ def with_hub(model, hub):
                        min_fraction=LINK_FLOOR_FRACTION, hub=hub)
 
 
-def actuators_on_beam(model, actuators, texts: list[str]) -> None:
-    """Refuse an ``--actuator`` that leaves the beam of ``model``."""
-    from ..model.inputs import strain_map
+def actuators_on_beam(model, actuators, texts: list[str], fitted: bool = False) -> None:
+    """Refuse an ``--actuator`` that leaves the beam of ``model``.
+
+    Unless its weights are to be fitted (``fitted``: ``--fit-actuators``), a patch must also
+    hold a joint: the virtual-work map gives a patch between joints no input at all.
+    """
+    from ..model.inputs import check_patch, strain_map
 
     for a, text in zip(actuators, texts, strict=True):
-        strain_map(model.lengths_m, a, f"--actuator = {text!r}:")
+        (check_patch if fitted else strain_map)(model.lengths_m, a, f"--actuator = {text!r}:")

@@ -41,12 +41,20 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def parse_design(spec: str) -> tuple[str, ...]:
-    """Return the variable names of ``--design``, comma-separated."""
-    names = tuple(s.strip() for s in spec.split(",") if s.strip())
-    if not names:
-        from ..errors import BeamInputError
+    """Return the variable names of ``--design``, comma-separated.
 
+    An empty name (``thickness,,E``, a trailing comma) is refused, naming its position: it is
+    a typo, not a variable to skip.
+    """
+    from ..errors import BeamInputError
+
+    names = tuple(s.strip() for s in spec.split(","))
+    if not any(names):
         raise BeamInputError(f"--design {spec!r}: name at least one design variable")
+    for i, name in enumerate(names):
+        if not name:
+            raise BeamInputError(f"--design {spec!r}: variable {i + 1} of {len(names)} is "
+                                 "empty (two commas, or one at an end); remove it or name it")
     return names
 
 

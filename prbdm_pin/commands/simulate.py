@@ -210,7 +210,7 @@ def run(args: argparse.Namespace) -> int:
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
     if args.actuator:
-        actuators_on_beam(model, plant["actuators"], args.actuator)
+        actuators_on_beam(model, plant["actuators"], args.actuator, args.fit_actuators)
     else:  # those a model JSON or URDF export records
         plant["actuators"] = source.actuators
     plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])

@@ -10,7 +10,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..io.atomic import atomic_write_json
 from ..io.jsonfile import field_str, read_json
 from ..member.checks import finite_positive
@@ -35,7 +35,7 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     than ``limits().max_vertices`` vertices; a mapping built in code is not capped.
     """
     if not isinstance(d, dict):
-        raise BeamInputError(f"beam = {type(d).__name__}: must be a JSON object")
+        raise InputTypeError(f"beam = {type(d).__name__}: must be a JSON object (a dict)")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
     if unknown:
         raise BeamInputError(f"unknown key(s) {sorted(unknown)}: allowed are "
@@ -121,4 +121,9 @@ def save_beam(beam: Beam, path: str | os.PathLike) -> Path:
     pathlib.Path
         The file written.
     """
+    from ..io.paths import check_out_file
+    from ..options.validate import check_type
+
+    check_type("beam", beam, Beam)
+    check_out_file("path", path)
     return atomic_write_json(path, beam_to_dict(beam))

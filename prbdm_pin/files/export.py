@@ -97,6 +97,8 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
+from ..io.paths import check_out_file
+from ..model.checks import check_model
 from .export_mjcf import mjcf_text
 from .export_plant import mujoco_name
 from .export_record import (
@@ -202,7 +204,18 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     -------
     pathlib.Path
         The file written.
+
+    Raises
+    ------
+    InputTypeError
+        ``model`` not a PrbdmModel, ``path`` not a str or path-like.
+    BeamInputError
+        A ``path`` that cannot be written as a file (an existing folder, a path under a file,
+        in ``/proc``, ``/sys`` or ``/dev``, an unwritable folder), refused before anything is
+        written; a bad format, damping or actuator.
     """
+    check_model(model)
+    check_out_file("path", path)
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
     kw = {"damping_form": damping_form, "omega_truth_rad_s": omega_truth_rad_s,

@@ -27,15 +27,25 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
         The beam it was fitted to; with it the file alone rebuilds the model
         (``prbdm simulate fit.json``, ``prbdm export fit.json``).
 
+    The file keeps the fit's truth record (``result.truth_request``: a target made by
+    :func:`prbdm_pin.target_from_truth` from a :func:`prbdm_pin.compute_truth` result carries
+    it), so ``prbdm simulate/linearize --compare-truth`` find the same truth, as for a
+    ``prbdm fit`` folder.
+
     Returns
     -------
     pathlib.Path
         The file written.
     """
-    from ..member.geometry import beam_to_dict
+    from ..io.paths import check_out_file
+    from ..member.geometry import Beam, beam_to_dict
+    from ..options.validate import check_type
 
+    check_type("result", result, FitResult, "a prbdm_pin.FitResult (fit, fit_pareto().knee)")
+    check_out_file("path", path)
     d = result.to_dict()
     if beam is not None:
+        check_type("beam", beam, Beam, "a prbdm_pin.Beam or None")
         d["beam"] = beam_to_dict(beam)
     return atomic_write_json(path, d)
 
@@ -79,9 +89,13 @@ def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
         Naming the file, the field and the value.
     """
     from ..io.jsonfile import read_json
+    from ..member.geometry import Beam
+    from ..options.validate import check_type
 
-    what = f"fit.json {str(path)!r}"
+    if beam is not None:
+        check_type("beam", beam, Beam, "a prbdm_pin.Beam or None")
     d = read_json(path, "fit.json")
+    what = f"fit.json {str(path)!r}"
     if beam is None:
         beam = fit_beam(d, what)
     return FitResult.from_dict(d, beam=beam, what=what)

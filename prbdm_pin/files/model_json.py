@@ -12,6 +12,7 @@ clamped beam without actuators.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from typing import Any
@@ -151,7 +152,8 @@ def read_plant_json(path: str | os.PathLike):
     Returns
     -------
     model : PrbdmModel
-        The model, with its hub if the file records one.
+        The model, with its hub if the file records one, and its actuators
+        (``model.actuators``, as :func:`prbdm_pin.load_urdf` reads a URDF's).
     actuators : tuple of StrainActuator
         The plant's strain actuators (:class:`~prbdm_pin.model.inputs.StrainActuator`; spans
         in m).
@@ -190,14 +192,14 @@ def read_plant_json(path: str | os.PathLike):
     hub = _hub(what, d.get("hub"))
     actuators = _actuators(what, d.get("actuators"), beam.length_m, k.size)
     model = build_model(beam, lengths, k, min_fraction=LINK_FLOOR_FRACTION, hub=hub)
-    return model, actuators
+    return dataclasses.replace(model, actuators=tuple(actuators)), actuators
 
 
 def read_model_json(path: str | os.PathLike):
     """Rebuild the PrbdmModel from a file written by :func:`write_json` (needs its beam).
 
-    The model is on its hub if the file records one (:func:`read_plant_json` also returns the
-    actuators).
+    The model is on its hub if the file records one, and carries the actuators it records
+    (``model.actuators``; :func:`read_plant_json` also returns them).
 
     Parameters
     ----------

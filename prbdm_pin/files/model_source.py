@@ -90,7 +90,7 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
     """
     from ..io.jsonfile import read_json
     from ..io.record_checks import file_kind
-    from ..model.prbdm_model import load_urdf
+    from .urdf_file import load_urdf
 
     p = Path(path)
     if not p.is_file():

@@ -29,6 +29,7 @@ from ..errors import BeamInputError, SolveError
 from ..member.design import Design
 from ..member.geometry import Beam
 from ..model.prbdm_model_derivatives import frequency_design_gradient
+from ..options.validate import check_joints, check_type
 from .target import FitTarget, read_only
 
 __all__ = ["CodesignPoint", "codesign_point", "panel_mass", "TRUTH_MODELS"]
@@ -176,6 +177,8 @@ def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_mode
     from . import fit
     from .design_derivatives import fit_design_gradient
 
+    check_type("design", design, Design)
+    joints = check_joints(joints)
     if truth_model not in TRUTH_MODELS:
         raise BeamInputError(f"truth_model = {truth_model!r}: must be one of {TRUTH_MODELS}")
     p = design.check(p)

@@ -33,6 +33,7 @@ from ..errors import BeamInputError, SolveError
 from ..member.design import Design
 from ..model.prbdm_model_derivatives import frequency_design_gradient
 from ..options.choices import UniqueRule
+from ..options.validate import check_type
 from ..truth.compute_derivatives import TruthGradient
 from .joint_jacobian import unit_lengths_jacobian
 from .multistart_derivatives import (
@@ -158,6 +159,9 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
     SolveError
         Singular KKT conditions.
     """
+    check_type("result", result, FitResult)
+    check_type("design", design, Design)
+    check_type("truth", truth, TruthGradient, "a prbdm_pin.TruthGradient (truth_gradient)")
     if result.options is None or result.options.unique is not UniqueRule.NEAREST:
         raise BeamInputError("result: needs a fit with unique = 'nearest' (its KKT conditions "
                              "define the model as a function of the design)")

@@ -17,8 +17,11 @@ from ..errors import BeamInputError
 from ..member.geometry import Beam
 from ..options.choices import UniqueRule
 from ..options.objects import FitOptions
+from ..options.validate import check_type
 from ..workers import pool_scope
+from .checks import check_fit_inputs
 from .explore import run_explored
+from .load_cases import with_extra_loads
 from .local import solve_start
 from .pool import fit_pool
 from .problem import FitProblem, make_problem
@@ -99,7 +102,7 @@ def resolve_options(options: Any, cls: type, changes: dict[str, Any]):
     if options is None:
         options = cls()
     elif not isinstance(options, cls):
-        raise BeamInputError(f"options = {options!r:.80}: must be a {cls.__name__}")
+        check_type("options", options, cls)
     return options.replace(**changes) if changes else options
 
 
@@ -158,6 +161,7 @@ def fit(
     workers: int = 1,
     progress: bool = True,
     start: Any = None,
+    extra_loads: Any = (),
     **changes: Any,
 ) -> FitResult:
     """Fit an nR PRBDM to a target by a multistart of a local solver.
@@ -181,6 +185,11 @@ def fit(
     start : FitResult or (lengths m, springs N m/rad), optional
         Warm start: the local solver runs from there only (``fitting/warm.py``); recorded in
         the result's options (``start_lengths_m``, ``start_factors``).
+    extra_loads : sequence of float or LoadCase
+        Further load cases for the deflection objective (the command line's
+        ``--extra-loads``): multiples of the beam's tip force, whose truth tips come from the
+        target's large-deflection model (:mod:`prbdm_pin.load_cases`), or
+        :class:`~prbdm_pin.LoadCase` objects; added to ``target.extra_loads``.
     **changes
         Options by name, applied to ``options`` (``fit(beam, target, 3, objective="combined")``).
 
@@ -198,7 +207,9 @@ def fit(
         tip or a tip load.
     """
     t0 = time.perf_counter()
+    check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, FitOptions, changes)
+    target = with_extra_loads(target, beam, extra_loads)
     if start is not None:
         from .warm import start_changes
 

@@ -21,9 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..chain.stiffness import finite_segment_stiffness
-from ..errors import BeamInputError, SolveError
+from ..errors import BeamInputError, InputTypeError, SolveError
 from ..member.geometry import Beam
+from ..options.checks import shown
 from ..options.choices import UniqueRule
+from ..options.validate import check_type
 from .joint import JointResiduals
 from .parametrisation import parametrisation
 from .problem import FitProblem, lengths_from_unit, make_problem, unit_from_lengths
@@ -145,6 +147,11 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
     SolveError
         When the optimality conditions are singular (a fit that is not unique).
     """
+    check_type("result", result, FitResult)
+    for name, f in (("beam_at", beam_at), ("target_at", target_at)):
+        if not callable(f):
+            raise InputTypeError(f"{name} = {shown(f)}: must be a function (of the parameter; "
+                                 "of the beam)")
     if result.options is None or not parametrisation(result.stiffness).pose_independent:
         raise BeamInputError("result: needs a joint fit that recorded its options")
     p = float(parameter)

@@ -19,6 +19,8 @@ from ..member.geometry import Beam
 from ..options.choices import Objective
 from ..options.objects import FitOptions, ParetoOptions
 from ..workers import stop_pool
+from .checks import check_fit_inputs
+from .load_cases import with_extra_loads
 from .local import solve_start
 from .multistart import fit, resolve_options
 from .objectives import knee_index
@@ -49,6 +51,7 @@ def fit_pareto(
     *,
     workers: int = 1,
     progress: bool = True,
+    extra_loads: Any = (),
     **changes: Any,
 ) -> ParetoResult:
     """Fit an nR PRBDM's Pareto front over (eigen loss, deflection loss) by NSGA-II.
@@ -86,6 +89,8 @@ def fit_pareto(
         Processes to evaluate each generation in (results do not depend on it).
     progress : bool
         Show a tqdm progress bar over the generations.
+    extra_loads : sequence of float or LoadCase
+        Further load cases of the deflection objective, as in :func:`fit`.
     **changes
         Options by name, applied to ``options``.
 
@@ -105,7 +110,9 @@ def fit_pareto(
     from pymoo.termination import get_termination
 
     t0 = time.perf_counter()
+    check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, ParetoOptions, changes)
+    target = with_extra_loads(target, beam, extra_loads)
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")
     pop, generations, seed = o.pop, o.generations, o.seed

@@ -13,10 +13,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..member.geometry import Beam
+from ..options.checks import shown
 from ..options.choices import UniqueRule
 from ..options.objects import FitOptions
+from ..options.validate import check_type
 from .multistart import fit, resolve_options
 from .results import FitResult
 from .target import FitTarget
@@ -104,12 +106,14 @@ def check_path(designs: Sequence[Beam]) -> None:
     BeamInputError
         Naming the first design that breaks the path.
     """
+    if isinstance(designs, (str, bytes, dict, Beam)) or not isinstance(designs, Sequence):
+        raise InputTypeError(f"designs = {shown(designs)}: must be a sequence of prbdm_pin.Beam")
+    for i, b in enumerate(designs):
+        check_type(f"designs[{i}]", b, Beam)
     if len(designs) < 2:
         raise BeamInputError(f"designs: {len(designs)} given: a sweep needs at least 2")
     first = designs[0]
     for i, b in enumerate(designs):
-        if not isinstance(b, Beam):
-            raise BeamInputError(f"designs[{i}] = {b!r:.60}: must be a Beam")
         if b.x_m.size != first.x_m.size:
             raise BeamInputError(f"designs[{i}]: {b.x_m.size} planform vertices, designs[0] "
                                  f"has {first.x_m.size}: a continuous path keeps the planform's "

@@ -10,7 +10,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
+from ..options.checks import shown
+from ..options.validate import check_type, real_vector
 
 if TYPE_CHECKING:
     from ..truth.request import TruthRequest
@@ -47,12 +49,10 @@ class LoadCase:
     tip_displacement_m: np.ndarray
 
     def __post_init__(self) -> None:
-        """Check the three vectors are finite and the deflection nonzero; freeze them."""
-        for name in ("tip_force_N", "tip_position_m", "tip_displacement_m"):
-            v = np.asarray(getattr(self, name), dtype=float)
-            if v.size != 3 or not np.all(np.isfinite(v)):
-                raise BeamInputError(f"{name} = {v.tolist()}: must be 3 finite numbers")
-            object.__setattr__(self, name, read_only(v, (3,)))
+        """Check the three vectors are 3 finite reals and the deflection nonzero; freeze them."""
+        for name, unit in (("tip_force_N", "N"), ("tip_position_m", "m"),
+                           ("tip_displacement_m", "m")):
+            object.__setattr__(self, name, real_vector(name, getattr(self, name), unit, 3))
         if not np.linalg.norm(self.tip_displacement_m) > 0.0:
             raise BeamInputError("tip_displacement_m = 0: a load case needs a deflection")
 
@@ -99,27 +99,36 @@ class FitTarget:
     static_theory_gap_pct: float | None = None
 
     def __post_init__(self) -> None:
-        """Check the frequencies, load cases and labels; freeze the arrays."""
-        w = np.asarray(self.omega_truth_rad_s, dtype=float).reshape(-1)
-        if w.size == 0 or not np.all(np.isfinite(w)) or np.any(w <= 0):
+        """Check the frequencies, load cases and labels; freeze the arrays.
+
+        Every vector holds finite real numbers of its size (a NaN tip, a complex frequency or
+        a string is refused naming the field: :func:`prbdm_pin.validate.real_vector`).
+        """
+        w = real_vector("omega_truth_rad_s", self.omega_truth_rad_s, "rad/s")
+        if w.size == 0 or np.any(w <= 0):
             raise BeamInputError(f"omega_truth_rad_s = {w.tolist()}: must be finite and > 0")
         if np.any(np.diff(w) < 0):
             raise BeamInputError(f"omega_truth_rad_s = {w.tolist()}: must be ascending")
-        object.__setattr__(self, "omega_truth_rad_s", read_only(w))
-        object.__setattr__(self, "tip_force_N", read_only(self.tip_force_N, (3,)))
+        object.__setattr__(self, "omega_truth_rad_s", w)
+        object.__setattr__(self, "tip_force_N", real_vector("tip_force_N", self.tip_force_N,
+                                                            "N", 3))
         for name in ("tip_position_m", "tip_displacement_m"):
             v = getattr(self, name)
             if v is not None:
-                object.__setattr__(self, name, read_only(v, (3,)))
+                object.__setattr__(self, name, real_vector(name, v, "m", 3))
         if self.mac is not None:
-            object.__setattr__(self, "mac", read_only(self.mac, (-1,)))
+            object.__setattr__(self, "mac", real_vector("mac", self.mac, "1"))
+        if isinstance(self.extra_loads, (str, bytes, dict, LoadCase)) or not hasattr(
+                self.extra_loads, "__iter__"):
+            raise InputTypeError(f"extra_loads = {shown(self.extra_loads)}: must be a tuple of "
+                                 "prbdm_pin.LoadCase (or give fit(..., extra_loads=...) "
+                                 "multiples of the tip force)")
         extra = tuple(self.extra_loads)
         if extra and not self.has_static:
             raise BeamInputError("extra_loads: need the primary load case's truth tip position "
                                  "and displacement too")
         for i, c in enumerate(extra):
-            if not isinstance(c, LoadCase):
-                raise BeamInputError(f"extra_loads[{i}] = {c!r}: must be a LoadCase")
+            check_type(f"extra_loads[{i}]", c, LoadCase)
         object.__setattr__(self, "extra_loads", extra)
         if self.labels is not None:
             labels = tuple(str(v) for v in self.labels)
@@ -182,13 +191,20 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
     tip_force_N : ndarray, shape (3,)
         The tip force the truth's statics were computed under, N.
     request : TruthRequest or None
-        The ``compute_truth`` request that produced ``truth``, recorded in the target.
+        The ``compute_truth`` request that produced ``truth``, recorded in the target (default:
+        the truth's own record, ``truth.request``, set by :func:`prbdm_pin.compute_truth`), and
+        from there in the fit and its ``fit.json``.
 
     Returns
     -------
     FitTarget
         The target, with the truth's frequencies, tip, MAC and mode labels.
     """
+    from ..truth.result import TruthResult
+
+    check_type("truth", truth, TruthResult, "a prbdm_pin.TruthResult (compute_truth)")
+    if request is None:
+        request = truth.request
     mac = getattr(truth, "mac_beam", None)
     src = f"{truth.model}, mesh level {truth.mesh_level}, selection {truth.selection}"
     labels = tuple(truth.labels[int(i)] for i in truth.mode_index)

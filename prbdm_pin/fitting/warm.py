@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..member.geometry import Beam
 from ..options.checks import check_choice
 from ..options.choices import StiffnessKind
@@ -85,7 +85,7 @@ def start_changes(start: Any, beam: Beam, joints: int, options: FitOptions) -> d
         springs = np.asarray(start[1], dtype=float).reshape(-1)
         factors = None
     else:
-        raise BeamInputError(f"start = {start!r:.60}: must be a FitResult or a pair "
+        raise InputTypeError(f"start = {start!r:.60}: must be a FitResult or a pair "
                              "(lengths m, springs N m/rad)")
     # joint: the springs as factors on this beam's; paper: the SCFs (fit() checks their count)
     factors = springs_of.start_factors(beam, lengths, springs, factors, options.min_fraction)

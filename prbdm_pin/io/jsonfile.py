@@ -11,7 +11,6 @@ from __future__ import annotations
 import json
 import math
 import os
-from pathlib import Path
 from typing import Any
 
 from ..errors import BeamInputError
@@ -79,8 +78,14 @@ def parse_json(text: str, what: str, *, scan_depth: bool = True) -> Any:
 
 
 def read_json(path: str | os.PathLike, what: str = "file") -> Any:
-    """Read and parse the JSON file ``path``; ``what`` ("beam file", "fit.json" ...) names it."""
-    p = Path(path)
+    """Read and parse the JSON file ``path``; ``what`` ("beam file", "fit.json" ...) names it.
+
+    ``path`` that is not a str or path-like raises :class:`~prbdm_pin.errors.InputTypeError`
+    naming it (every public reader of JSON files takes its file as ``path``).
+    """
+    from ..options.validate import check_path
+
+    p = check_path("path", path, what)
     label = f"{what} {str(p)!r}"
     try:
         size = p.stat().st_size

@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
+from ..options.checks import shown
 
 if TYPE_CHECKING:
     from .material import Material
@@ -20,10 +21,17 @@ __all__ = ["finite_positive", "float_array", "check_representable", "check_stati
 
 
 def finite_positive(name: str, value: Any) -> float:
-    """Return ``value`` as a finite float > 0; a BeamInputError names the field ``name``."""
+    """Return ``value`` as a finite float > 0; a BeamInputError names the field ``name``.
+
+    A value that is not a real number raises :class:`~prbdm_pin.errors.InputTypeError` (a
+    BeamInputError too).
+    """
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise BeamInputError(f"{name} = {value!r}: must be a number")
-    v = float(value)
+        raise InputTypeError(f"{name} = {shown(value)}: must be a number")
+    try:
+        v = float(value)
+    except OverflowError:  # an int beyond 1.8e308
+        v = math.inf
     if not math.isfinite(v):
         raise BeamInputError(f"{name} = {v}: must be finite")
     if v <= 0.0:
@@ -37,11 +45,15 @@ def float_array(name: str, value: Any, unit: str) -> np.ndarray:
     A BeamInputError names the field ``name``, the offending entry and the ``unit``.
     """
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
-        raise BeamInputError(f"{name} = {value!r}: must be a list of numbers ({unit})")
+        raise InputTypeError(f"{name} = {shown(value)}: must be a list of numbers ({unit})")
     for i, v in enumerate(value):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-            raise BeamInputError(f"{name}[{i}] = {v!r}: must be a number ({unit})")
-    arr = np.array(value, dtype=float).reshape(-1)
+            raise InputTypeError(f"{name}[{i}] = {shown(v)}: must be a number ({unit})")
+    with np.errstate(over="ignore"):
+        try:
+            arr = np.array(value, dtype=float).reshape(-1)
+        except OverflowError:  # an int beyond 1.8e308: reported as not finite below
+            arr = np.array([float(v) if abs(v) < 2**1023 else math.inf for v in value])
     bad = np.flatnonzero(~np.isfinite(arr))
     if bad.size:
         i = int(bad[0])

@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from .geometry import Beam
 
 __all__ = ["Design", "DESIGN_UNITS"]
@@ -96,7 +96,7 @@ class Design:
     def __post_init__(self) -> None:
         """Check the beam and the names, and parse every name once."""
         if not isinstance(self.beam, Beam):
-            raise BeamInputError(f"beam = {self.beam!r}: must be a prbdm_pin.Beam")
+            raise InputTypeError(f"beam = {self.beam!r}: must be a prbdm_pin.Beam")
         if isinstance(self.variables, str) or not hasattr(self.variables, "__iter__"):
             raise BeamInputError(f"variables = {self.variables!r}: must be a sequence of names "
                                  "such as ('thickness', 'half_width[2]')")

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..io.jsonfile import field_str
+from ..options.validate import check_planform, check_type
 from .checks import check_representable, check_stations, finite_positive, float_array
 from .material import Material
 
@@ -43,6 +44,10 @@ class Beam:
         Half-width w(x_k) in m (> 0); the width is 2 w, linear between vertices.
     thickness_m : float
         Uniform thickness t in m.
+
+    Sizes lie in [1e-5, 1e3] m and the planform is at most 20 times as wide as long
+    (:func:`prbdm_pin.validate.check_planform`): outside, the error names the field and the
+    unit slip it suggests (a thickness in mm, E in GPa).
     material : Material
     tip_force_N : ndarray, shape (3,)
         The load case: a force at the tip in world axes, N.
@@ -77,8 +82,8 @@ class Beam:
             i = int(bad[0])
             raise BeamInputError(f"half_width[{i}] = {w[i]} m: must be > 0")
         t = finite_positive("thickness", self.thickness_m)
-        if not isinstance(self.material, Material):
-            raise BeamInputError(f"material = {self.material!r}: must be a Material")
+        check_planform(x, w, t)  # sizes in 1e-5 ... 1e3 m: a size in mm is named
+        check_type("material", self.material, Material)
         f = float_array("tip_force", self.tip_force_N, "N")
         if f.size != 3:
             raise BeamInputError(f"tip_force has {f.size} entries: must be [Fx, Fy, Fz] in N")

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-
-import numpy as np
 
 from ..errors import BeamInputError
 from ..io.jsonfile import field_str
+from ..options.checks import check_float
+from ..options.validate import check_modulus
 from .checks import finite_positive
 
 __all__ = ["Material", "STEEL_4340"]
@@ -22,7 +21,8 @@ class Material:
     ----------
     name : str
     E_Pa : float
-        Young's modulus in Pa.
+        Young's modulus in Pa, in [1e6, 1e13] (``validate.E_RANGE_PA``: a modulus outside is a
+        unit slip, E in GPa or MPa, and the error says so).
     rho_kg_m3 : float
         Density in kg/m^3.
     nu : float
@@ -38,11 +38,9 @@ class Material:
         """Validate the name and the constants; an error names the field and the value."""
         # a control character makes the URDF/MJCF that carry the name unreadable XML
         field_str("material.name", self.name)
-        finite_positive("material.E", self.E_Pa)
+        check_modulus("material.E", self.E_Pa)  # in E_RANGE_PA: E in GPa is named
         finite_positive("material.rho", self.rho_kg_m3)
-        if isinstance(self.nu, bool) or not isinstance(self.nu, (int, float, np.floating)):
-            raise BeamInputError(f"material.nu = {self.nu!r}: must be a number")
-        if not (math.isfinite(self.nu) and -1.0 < self.nu < 0.5):
+        if not -1.0 < check_float("material.nu", self.nu) < 0.5:
             raise BeamInputError(f"material.nu = {self.nu}: must be in (-1, 0.5)")
 
     @property

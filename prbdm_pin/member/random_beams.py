@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from .checks import finite_positive
 from .geometry import Beam
 from .material import STEEL_4340, Material
@@ -64,7 +64,7 @@ def random_beam(
     finite_positive("width_scale", width_scale)
     finite_positive("min_half_width", min_half_width_m)
     if not isinstance(rng, np.random.Generator):
-        raise BeamInputError(f"rng = {rng!r}: must be a numpy.random.Generator")
+        raise InputTypeError(f"rng = {rng!r}: must be a numpy.random.Generator")
     # strictly inside (0, 1) and distinct: Generator.random is in [0, 1), redraw the rare ties
     while True:
         xi = np.sort(rng.random(p))

@@ -24,18 +24,12 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.eigen import eig_scaled, modes_from_mass
-from ..errors import BeamInputError
+from ..options.checks import check_float
+from ..options.validate import MAX_HUB_INERTIA_KG_M2, check_size
 
 __all__ = ["Hub", "hub_chain", "hub_frequencies", "hub_modes", "schur_mass"]
 
 HUB_JOINT = "hub"
-
-
-def _number(field: str, value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) \
-            or not math.isfinite(float(value)):
-        raise BeamInputError(f"{field} = {value!r}: must be a finite number")
-    return float(value)
 
 
 @dataclass(frozen=True)
@@ -55,14 +49,14 @@ class Hub:
     radius_m: float = 0.0
 
     def __post_init__(self) -> None:
-        """Check the inertia and the radius (BeamInputError naming the field)."""
-        J = _number("Hub inertia_kg_m2", self.inertia_kg_m2)
-        r = _number("Hub radius_m", self.radius_m)
-        if not J > 0.0:
-            raise BeamInputError(f"Hub inertia_kg_m2 = {self.inertia_kg_m2!r}: must be > 0 "
-                                 "(kg m^2)")
-        if r < 0.0:
-            raise BeamInputError(f"Hub radius_m = {self.radius_m!r}: must be >= 0 (m)")
+        """Check the inertia and the radius (BeamInputError naming the field).
+
+        The inertia is > 0 and at most ``validate.MAX_HUB_INERTIA_KG_M2``; the radius is 0 or
+        a size in [1e-5, 1e3] m (:func:`prbdm_pin.validate.check_size`).
+        """
+        J = check_float("Hub inertia_kg_m2", self.inertia_kg_m2, low=0.0, low_open=True,
+                        high=MAX_HUB_INERTIA_KG_M2, unit="kg m^2")
+        r = check_size("Hub radius_m", self.radius_m, low=0.0)
         object.__setattr__(self, "inertia_kg_m2", J)
         object.__setattr__(self, "radius_m", r)
 

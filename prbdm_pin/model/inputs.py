@@ -18,8 +18,9 @@ such patches end to end add up to the one patch that covers both).
 
 Two maps. The virtual-work map above is what the chain's kinematics give: it needs nothing but
 the joint stations, and it is exact in the limit of many joints, but a patch shorter than a
-link moves no joint (zero gain) and one across a joint gives that joint the whole moment,
-whichever part of the beam the patch bends. A fitted map (``StrainActuator(...,
+link moves no joint (zero gain: ``strain_map`` refuses such a patch, naming the nearest joints,
+rather than give a plant it cannot drive) and one across a joint gives that joint the whole
+moment, whichever part of the beam the patch bends. A fitted map (``StrainActuator(...,
 joint_weights=w)``, made by :func:`prbdm_pin.plant.actuator_fit.fit_strain_actuators`) gives
 each joint the weight that makes the chain's n modal input gains the finite-element truth's,
 as the springs and links are fitted to its n frequencies: it needs the truth, and it is the
@@ -45,10 +46,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import BeamInputError
+from ..options.validate import check_size
 from .names import parse_names
 
 __all__ = ["StrainActuator", "INPUT_UNITS", "ON_JOINT_RTOL", "joint_stations", "strain_map",
-           "parse_inputs", "input_map"]
+           "check_patch", "virtual_work_map", "parse_inputs", "input_map"]
 
 # a patch end within this fraction of the beam length of a joint is on it (the stations come
 # from sums of link lengths, so exact equality would depend on rounding)
@@ -73,14 +75,15 @@ class StrainActuator:
     joint_weights: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
-        """Check the stations and the weights (BeamInputError naming the field)."""
+        """Check the stations and the weights (BeamInputError naming the field).
+
+        The stations are on a beam: x_start_m >= 0 and x_end_m a size in [1e-5, 1e3] m
+        (:func:`prbdm_pin.validate.check_size`); where the beam ends is checked where the
+        actuator is used.
+        """
         for name in ("x_start_m", "x_end_m"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.number)) \
-                    or not math.isfinite(float(v)):
-                raise BeamInputError(f"StrainActuator {name} = {v!r}: must be a finite number "
-                                     "(m)")
-            object.__setattr__(self, name, float(v))
+            v = check_size(f"StrainActuator {name}", getattr(self, name), low=0.0)
+            object.__setattr__(self, name, v)
         if not self.x_start_m < self.x_end_m:
             raise BeamInputError(f"StrainActuator x_start_m = {self.x_start_m!r}: must be < "
                                  f"x_end_m = {self.x_end_m!r} (m)")
@@ -120,9 +123,58 @@ def strain_map(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "ac
     The actuator's ``joint_weights`` when it has them, else 1 inside the patch, 1/2 for a joint
     an end sits on, 0 outside (dimensionless, N m per N m).
 
-    Raises BeamInputError naming ``field`` when the patch leaves [0, L] or its weights do not
-    have one entry per joint.
+    Raises BeamInputError naming ``field`` when the patch leaves [0, L], its weights do not
+    have one entry per joint, or it has no weights and holds no joint: the virtual-work map
+    would give it no input at all (B = 0); the message names the joint stations nearest to
+    it, and the fitted map (:func:`prbdm_pin.fit_strain_actuators`, ``--fit-actuators``) is
+    the one for patches between joints.
     """
+    lengths = check_patch(lengths_m, actuator, field)
+    x = joint_stations(lengths)
+    if actuator.joint_weights is not None:
+        if len(actuator.joint_weights) != x.size:
+            raise BeamInputError(f"{field}.joint_weights: has {len(actuator.joint_weights)} "
+                                 f"entries, this model has {x.size} joints")
+        return np.array(actuator.joint_weights)
+    a, b = actuator.x_start_m, actuator.x_end_m
+    inside = virtual_work_map(lengths, a, b)
+    if not np.any(inside):
+        below, above = x[x < a], x[x > b]
+        near = ", ".join([f"{v:.6g} m" for v in (*below[-1:], *above[:1])])
+        raise BeamInputError(
+            f"{field} [{a:g}, {b:g}] m: holds no joint of this {x.size}R model (nearest joints "
+            f"at {near}), so the virtual-work map gives it no input (B = 0); extend the patch "
+            "over a joint, or fit its joint weights to the truth (fit_strain_actuators, "
+            "--fit-actuators)")
+    return inside
+
+
+def virtual_work_map(lengths_m: np.ndarray, x_start_m: float, x_end_m: float) -> np.ndarray:
+    """Return the virtual-work map of the patch [x_start_m, x_end_m] (m) on a chain, shape (n,).
+
+    1 on a joint inside, 1/2 on a joint an end sits on (within ``ON_JOINT_RTOL`` L), 0
+    outside; all zero for a patch between joints (which :func:`strain_map` refuses). Unchecked:
+    for studies that compare the map with others where it gives nothing.
+    """
+    lengths = np.asarray(lengths_m, dtype=float)
+    tol = ON_JOINT_RTOL * float(lengths.sum())
+    x = joint_stations(lengths)
+    inside = ((x > x_start_m + tol) & (x < x_end_m - tol)).astype(float)
+    inside[(np.abs(x - x_start_m) <= tol) | (np.abs(x - x_end_m) <= tol)] = 0.5
+    return inside
+
+
+def check_patch(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "actuators[0]"
+                ) -> np.ndarray:
+    """Check that ``actuator`` lies on the chain of link lengths ``lengths_m`` (m).
+
+    Returns the lengths as floats; a BeamInputError naming ``field`` when the patch leaves
+    [0, L]. Holding a joint is not required here (a patch between joints gets fitted weights).
+    """
+    if not isinstance(actuator, StrainActuator):
+        from ..errors import InputTypeError
+
+        raise InputTypeError(f"{field} = {actuator!r:.60}: must be a prbdm_pin.StrainActuator")
     lengths = np.asarray(lengths_m, dtype=float)
     L = float(lengths.sum())
     tol = ON_JOINT_RTOL * L
@@ -131,17 +183,7 @@ def strain_map(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "ac
         if v < -tol or v > L + tol:
             raise BeamInputError(f"{field} {name} = {v!r}: must lie on the beam, in [0, {L:g}] "
                                  "(m)")
-    x = joint_stations(lengths)
-    if actuator.joint_weights is not None:
-        if len(actuator.joint_weights) != x.size:
-            raise BeamInputError(f"{field}.joint_weights: has {len(actuator.joint_weights)} "
-                                 f"entries, this model has {x.size} joints")
-        return np.array(actuator.joint_weights)
-    a, b = actuator.x_start_m, actuator.x_end_m
-    inside = ((x > a + tol) & (x < b - tol)).astype(float)
-    on_end = (np.abs(x - a) <= tol) | (np.abs(x - b) <= tol)
-    inside[on_end] = 0.5
-    return inside
+    return lengths
 
 
 def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool):

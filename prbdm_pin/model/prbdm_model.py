@@ -19,17 +19,20 @@ from ..chain import pin_dynamics as dyn
 from ..chain.eigen import eig_scaled
 from ..chain.layout import validate_lengths
 from ..chain.sections import LinkSections, link_sections_unchecked
+from ..chain.spring_checks import check_springs
 from ..chain.statics import static_deflection_planar
 from ..chain.stiffness import validate_stiffness
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
 from ..member.geometry import Beam
 from ..options.choices import MIN_FRACTION
-from .hub import HUB_JOINT, Hub, hub_chain, hub_frequencies, hub_modes
-from .pin_chain import TIP_FRAME, pin_chain, sections_from_pin
-from .urdf import read_springs, render_urdf
+from ..options.validate import check_joints, check_type
+from .hub import Hub, hub_chain, hub_frequencies, hub_modes
+from .hub_check import warn_light_hub
+from .pin_chain import pin_chain
+from .urdf import render_urdf
 
-__all__ = ["PrbdmModel", "build_model", "load_urdf", "validate_stiffness"]
+__all__ = ["PrbdmModel", "build_model", "validate_stiffness"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,6 +63,11 @@ class PrbdmModel:
         ``nv`` coordinates (frequencies: the hub's rigid mode, exactly 0, first). A hub model
         has no static equilibrium under a tip force (the hub would turn); its URDF carries
         the hub as the revolute joint ``hub``.
+    actuators : tuple of StrainActuator
+        The strain actuators the model's file records (:func:`load_urdf` reads them from the
+        export record, :func:`prbdm_pin.read_model_json` from its fields); () otherwise. They
+        are carried, not applied: pass them on, ``linearize(model, ...,
+        actuators=model.actuators)``.
 
     As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
     method that computes takes ``data``. Without one it uses a built-in workspace made on first
@@ -75,6 +83,7 @@ class PrbdmModel:
     pin_model: pin.Model
     tip_frame_id: int
     hub: Hub | None = None
+    actuators: tuple = ()
     _cache: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
@@ -205,7 +214,7 @@ class PrbdmModel:
         k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
         return PrbdmModel(
             self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
-            self.hub,
+            self.hub, self.actuators,
         )
 
 
@@ -234,76 +243,41 @@ def build_model(
         A rotating rigid hub the root is clamped to (see :class:`PrbdmModel`); default None,
         the beam clamped to the world.
 
+    Returns
+    -------
+    PrbdmModel
+        The chain with its springs (and hub).
+
     Raises
     ------
     BeamInputError
-        Naming the offending field and value.
+        Naming the offending field and value: lengths off the beam, more joints than the cap
+        ``limits().max_joints`` (``PRBDM_MAX_JOINTS``), springs more than a factor 1e6 beyond
+        the finite-segment springs E I / l the beam can have
+        (:func:`prbdm_pin.validate_args.check_springs`).
+    InputTypeError
+        ``beam`` not a Beam, ``hub`` not a Hub, lengths or springs not real numbers.
+
+    Warns
+    -----
+    LightHubWarning
+        A hub so light that it moves mode 1 by more than 25 % toward the pinned-free beam,
+        where a model fitted to the clamped truth loses accuracy
+        (:mod:`prbdm_pin.plant.hub_check` says how it is estimated).
     """
-    if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a Beam")
+    check_type("beam", beam, Beam)
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     lengths.setflags(write=False)
+    check_joints(lengths.size - 1)  # the command line's --joints cap (PRBDM_MAX_JOINTS)
     k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
+    check_springs(beam, k)  # within a factor 1e6 of what the beam's sections can give
+    if hub is not None:
+        check_type("hub", hub, Hub, "a prbdm_pin.Hub or None")
     sections = link_sections_unchecked(beam, lengths)
     if hub is None:
         model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
         return PrbdmModel(beam, lengths, k, sections, model, tip)
-    if not isinstance(hub, Hub):
-        raise BeamInputError(f"hub = {hub!r}: must be a prbdm_pin.Hub or None")
     model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
-    return PrbdmModel(beam, lengths, k, sections, model, tip, hub)
-
-
-def load_urdf(path: str | os.PathLike) -> PrbdmModel:
-    """Read a PRBDM URDF file, springs included.
-
-    The file is one written by :attr:`PrbdmModel.urdf` or the URDF export; ``path`` is a str or
-    path-like. A file with the revolute joint ``hub`` reads as a hub model (``hub`` set: the
-    inertia of link ``hub_body``, the radius of the ``clamp`` offset).
-
-    The springs come from the Gazebo ``<springStiffness>`` tags; ``beam`` is None and
-    ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'
-    ``<dynamics damping>`` (N m s/rad; :func:`prbdm_pin.simulate` takes its damping from its own
-    arguments, not from there).
-
-    Gravity: URDF carries none and Pinocchio's parser gives every model its default gravity,
-    -9.81 m/s^2 along z (so does ``pinocchio.buildModelFromUrdf``). The PRBDM has no gravity, so
-    this loader sets ``pin_model.gravity`` to zero, as :func:`build_model` does; set it back
-    (``pin_model.gravity = pinocchio.Motion(np.array([0, 0, -9.81, 0, 0, 0]))``) to simulate
-    with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
-    ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
-    """
-    from .urdf_checks import check_sections, check_urdf, hub_inertia, read_urdf_text
-
-    p = Path(path)
-    what = f"urdf file {str(p)!r}"
-    text = read_urdf_text(p)
-    n = check_urdf(text, what)
-    try:
-        model = pin.buildModelFromXML(text)
-    except (RuntimeError, ValueError) as exc:
-        raise BeamInputError(f"{what}: Pinocchio cannot parse it ({exc})") from None
-    model.gravity = pin.Motion.Zero()
-    if not model.existFrame(TIP_FRAME):
-        raise BeamInputError(f"{what}: has no {TIP_FRAME!r} link")
-    if model.nv != n:
-        raise BeamInputError(f"{what}: {n} revolute joints but a chain of {model.nv} "
-                             "(every revolute joint must be on the chain to the tip)")
-    tip = model.getFrameId(TIP_FRAME)
-    lengths = dyn.planar_lengths(model, tip)
-    hub = None
-    if model.njoints > 2 and model.names[1] == HUB_JOINT:
-        # the first offset is the hub's (0); the second is the radius plus link 0
-        if not model.existFrame("clamp"):
-            raise BeamInputError(f"{what}: a joint 'hub' but no fixed joint 'clamp' to link_0")
-        radius = float(model.frames[model.getFrameId("clamp")].placement.translation[0])
-        hub = Hub(hub_inertia(text, what), radius)
-        lengths = np.concatenate([[lengths[1] - hub.radius_m], lengths[2:]])
-    lengths.setflags(write=False)
-    names = [model.names[j] for j in range(1 + (hub is not None), model.njoints)]
-    k = validate_stiffness(read_springs(text, names), len(names))
-    sections = sections_from_pin(model, lengths, hub is not None)
-    check_sections(what, lengths, sections.mass_kg)
-    out = PrbdmModel(None, lengths, k, sections, model, tip, hub)
-    out._cache["urdf"] = text
+    out = PrbdmModel(beam, lengths, k, sections, model, tip, hub)
+    warn_light_hub(out)  # mode 1 moved > 25 % toward the pinned-free beam
     return out

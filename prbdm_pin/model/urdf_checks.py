@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 import os
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import numpy as np
 
@@ -25,7 +24,9 @@ HUB_LINK = "hub_body"
 
 def read_urdf_text(path: str | os.PathLike) -> str:
     """Read the text of a URDF file: size capped by ``max_file_bytes``, UTF-8, named on error."""
-    p = Path(path)
+    from ..options.validate import check_path
+
+    p = check_path("path", path, "URDF file")
     label = f"urdf file {str(p)!r}"
     try:
         if not p.is_file():

@@ -11,44 +11,76 @@ import numbers
 from collections.abc import Sequence
 from typing import Any
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from .choices import Choice
 
-__all__ = ["check_int", "check_float", "check_bool", "check_choice"]
+__all__ = ["check_int", "check_float", "check_bool", "check_choice", "shown"]
 
 
-def check_int(name: str, v: Any, low: int, *, optional: bool = False) -> int | None:
-    """``v`` as an int >= ``low`` (not a bool; None too when ``optional``)."""
+def shown(v: Any, width: int = 80) -> str:
+    """``repr(v)`` cut to ``width`` characters, for a message (an int of any size too)."""
+    if isinstance(v, numbers.Integral) and not isinstance(v, bool) and abs(v) >= 10**30:
+        return f"{'-' if v < 0 else ''}an integer of {len(format(abs(v), 'x')) * 4} bits"
+    try:
+        text = repr(v)
+    except Exception:  # noqa: BLE001 - a hostile __repr__ must not hide the real error
+        text = f"<{type(v).__name__}>"
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def check_int(name: str, v: Any, low: int, *, optional: bool = False,
+              high: int | None = None) -> int | None:
+    """``v`` as an int in ``low..high`` (not a bool; None too when ``optional``).
+
+    A value that is not an integer raises :class:`InputTypeError`, one out of range
+    :class:`BeamInputError`; both name ``name``.
+    """
     if v is None and optional:
         return None
-    if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < low:
-        raise BeamInputError(f"{name} = {v!r}: must be an integer >= {low}"
-                             + (" or None" if optional else ""))
+    want = f"an integer >= {low}" if high is None else f"an integer in {low}..{high}"
+    want += " or None" if optional else ""
+    if isinstance(v, bool) or not isinstance(v, numbers.Integral):
+        raise InputTypeError(f"{name} = {shown(v)}: must be {want}")
+    if v < low or (high is not None and v > high):
+        raise BeamInputError(f"{name} = {shown(v)}: must be {want}")
     return int(v)
 
 
 def check_float(name: str, v: Any, *, low: float | None = None, low_open: bool = False,
-           optional: bool = False, unit: str = "") -> float | None:
-    """Return ``v`` as a finite float, > ``low`` (``low_open``) or >= ``low``.
+                optional: bool = False, unit: str = "", high: float | None = None,
+                high_open: bool = False) -> float | None:
+    """Return ``v`` as a finite float in the range ``low``..``high`` (each end open if asked).
 
-    None is accepted too when ``optional``; ``unit`` is named in the error.
+    None is accepted too when ``optional``; ``unit`` is named in the error. A value that is not
+    a real number (a string, a bool, a complex number, None) raises :class:`InputTypeError`;
+    one that is not finite, too large for a float, or out of range :class:`BeamInputError`.
     """
     if v is None and optional:
         return None
-    ok = not isinstance(v, bool) and isinstance(v, numbers.Real) and math.isfinite(float(v))
+    bound = "" if low is None else f" {'>' if low_open else '>='} {low:g}"
+    if high is not None:
+        bound += f"{' and' if bound else ''} {'<' if high_open else '<='} {high:g}"
+    text = f"must be a finite number{bound}" + (f" ({unit})" if unit else "")
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):
+        raise InputTypeError(f"{name} = {shown(v)}: {text}")
+    try:
+        f = float(v)
+    except OverflowError:  # an int beyond 1.8e308
+        f = math.inf
+    ok = math.isfinite(f)
     if ok and low is not None:
-        ok = float(v) > low if low_open else float(v) >= low
+        ok = f > low if low_open else f >= low
+    if ok and high is not None:
+        ok = f < high if high_open else f <= high
     if not ok:
-        bound = "" if low is None else f" {'>' if low_open else '>='} {low:g}"
-        raise BeamInputError(f"{name} = {v!r}: must be a finite number{bound}"
-                             + (f" ({unit})" if unit else ""))
-    return float(v)
+        raise BeamInputError(f"{name} = {shown(v)}: {text}")
+    return f
 
 
 def check_bool(name: str, v: Any) -> bool:
     """``v`` if it is True or False."""
     if not isinstance(v, bool):
-        raise BeamInputError(f"{name} = {v!r}: must be true or false")
+        raise InputTypeError(f"{name} = {shown(v)}: must be true or false")
     return v
 
 

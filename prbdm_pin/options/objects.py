@@ -32,6 +32,15 @@ from .choices import (
     UniqueRule,
 )
 from .simulation import SimulationOptions
+from .validate import (
+    MAX_GENERATIONS,
+    MAX_NFEV,
+    MAX_POP,
+    MAX_SEED,
+    MAX_STARTS,
+    MAX_SWEEP_RAD,
+    MIN_POP,
+)
 
 __all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict",
            "UNIQUE_RULES"]
@@ -64,9 +73,11 @@ class _ProblemOptions:
         s = object.__setattr__
         s(self, "frequencies", _int("frequencies", self.frequencies, 1, optional=True))
         s(self, "stiffness", _choice("stiffness", self.stiffness, StiffnessKind))
-        s(self, "seed", _int("seed", self.seed, 0))
-        s(self, "xi_rad", _float("xi_rad", self.xi_rad, low=0.0, unit="rad"))
-        s(self, "eps_rad", _float("eps_rad", self.eps_rad, low=0.0, low_open=True, unit="rad"))
+        s(self, "seed", _int("seed", self.seed, 0, high=MAX_SEED))
+        s(self, "xi_rad", _float("xi_rad", self.xi_rad, low=0.0, high=MAX_SWEEP_RAD,
+                                 unit="rad"))
+        s(self, "eps_rad", _float("eps_rad", self.eps_rad, low=0.0, low_open=True,
+                                  high=MAX_SWEEP_RAD, unit="rad"))
         s(self, "squared", _bool("squared", self.squared))
         s(self, "deflection_norm", _choice("deflection_norm", self.deflection_norm,
                                            DeflectionNorm))
@@ -182,14 +193,14 @@ class FitOptions(_ProblemOptions):
         super().__post_init__()
         s = object.__setattr__
         s(self, "objective", _choice("objective", self.objective, Objective))
-        s(self, "starts", _int("starts", self.starts, 1))
+        s(self, "starts", _int("starts", self.starts, 1, high=MAX_STARTS))
         s(self, "loss_tol_pct", _float("loss_tol_pct", self.loss_tol_pct, low=0.0,
                                        optional=True, unit="%"))
         s(self, "joint_sweep", _bool("joint_sweep", self.joint_sweep))
-        s(self, "polish", _int("polish", self.polish, 0))
-        s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1))
-        s(self, "explore_nfev", _int("explore_nfev", self.explore_nfev, 1))
-        s(self, "refine_starts", _int("refine_starts", self.refine_starts, 0))
+        s(self, "polish", _int("polish", self.polish, 0, high=MAX_STARTS))
+        s(self, "max_nfev", _int("max_nfev", self.max_nfev, 1, high=MAX_NFEV))
+        s(self, "explore_nfev", _int("explore_nfev", self.explore_nfev, 1, high=MAX_NFEV))
+        s(self, "refine_starts", _int("refine_starts", self.refine_starts, 0, high=MAX_STARTS))
         s(self, "unique", _choice("unique", self.unique, UniqueRule))
         for name in ("start_lengths_m", "start_factors"):
             v = getattr(self, name)
@@ -245,8 +256,8 @@ class ParetoOptions(_ProblemOptions):
         """Validate every field; an error names the field and the value."""
         super().__post_init__()
         s = object.__setattr__
-        s(self, "pop", _int("pop", self.pop, 1))
-        s(self, "generations", _int("generations", self.generations, 1))
+        s(self, "pop", _int("pop", self.pop, MIN_POP, high=MAX_POP))
+        s(self, "generations", _int("generations", self.generations, 1, high=MAX_GENERATIONS))
         b = self.log10_bounds
         if b is not None:
             if isinstance(b, (str, bytes)) or not hasattr(b, "__len__") or len(b) != 2:
@@ -257,7 +268,7 @@ class ParetoOptions(_ProblemOptions):
                 raise BeamInputError(f"log10_bounds = {b!r}: needs low < high")
             s(self, "log10_bounds", (lo, hi))
         s(self, "seed_with_fits", _bool("seed_with_fits", self.seed_with_fits))
-        s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1))
+        s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1, high=MAX_STARTS))
         s(self, "polish_knee", _bool("polish_knee", self.polish_knee))
 
 

@@ -16,6 +16,7 @@ from .checks import check_float as _float
 from .checks import check_int as _int
 from .choices import DAMPING_FORMS, FIXED_STEP_METHODS, IVP_METHODS
 from .integrators import INTEGRATOR_SPELLINGS, Integrator, integrator_for
+from .validate import check_damping_ratio
 
 __all__ = ["SimulationOptions"]
 
@@ -55,7 +56,8 @@ class SimulationOptions:
         this since the last one, rad (0: every step).
     damping_ratio : float or tuple of float
         Modal ratios (``"modal"``), per-joint factors (``"eq5c"``) or mode 1's ratio
-        (``"stiffness"``); 0 disables damping.
+        (``"stiffness"``), each in [0, 1) as ``prbdm simulate --damping`` (an over-damped
+        ratio is refused); 0 disables damping.
     damping : str
         Damping form: ``"modal"``, ``"eq5c"`` or ``"stiffness"`` (``prbdm_pin.simulation.damping``).
     integrator : Integrator or None
@@ -83,9 +85,9 @@ class SimulationOptions:
         if self.method not in FIXED_STEP_METHODS + IVP_METHODS:
             raise BeamInputError(f"method = {self.method!r}: must be one of "
                                  f"{FIXED_STEP_METHODS + IVP_METHODS}")
-        s(self, "dt_s", _float("dt", self.dt_s, low=0.0, low_open=True, optional=True,
+        s(self, "dt_s", _float("dt_s", self.dt_s, low=0.0, low_open=True, optional=True,
                                unit="s"))
-        s(self, "output_dt_s", _float("output_dt", self.output_dt_s, low=0.0, low_open=True,
+        s(self, "output_dt_s", _float("output_dt_s", self.output_dt_s, low=0.0, low_open=True,
                                       optional=True, unit="s"))
         s(self, "rtol", _float("rtol", self.rtol, low=0.0, low_open=True))
         s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
@@ -97,12 +99,14 @@ class SimulationOptions:
             raise BeamInputError(f"damping = {self.damping!r}: must be one of "
                                  f"{', '.join(DAMPING_FORMS)}")
         r = self.damping_ratio
-        if isinstance(r, (list, tuple)):
-            s(self, "damping_ratio", tuple(_float(f"damping_ratio[{i}]", v, low=0.0)
+        if hasattr(r, "__len__") and not isinstance(r, (str, bytes, dict)):
+            if len(r) == 0:
+                raise BeamInputError("damping_ratio = (): give one ratio, or one per mode "
+                                     "(joint)")
+            s(self, "damping_ratio", tuple(check_damping_ratio(f"damping_ratio[{i}]", v)
                                            for i, v in enumerate(r)))
-        elif not (isinstance(r, (int, float)) or hasattr(r, "__len__")):
-            raise BeamInputError(f"damping_ratio = {r!r}: must be a number >= 0 or one per "
-                                 "mode (joint)")
+        else:
+            s(self, "damping_ratio", check_damping_ratio("damping_ratio", r))
         integ = self.integrator
         if integ is None:
             s(self, "integrator", integrator_for(

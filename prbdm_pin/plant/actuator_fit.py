@@ -34,7 +34,7 @@ import numpy as np
 
 from ..chain.eigen import modes_from_mass
 from ..errors import BeamInputError
-from ..model.inputs import StrainActuator, strain_map
+from ..model.inputs import StrainActuator, check_patch
 
 __all__ = ["MATCHES", "PROFILE_POINTS", "SEPARATION_MIN_RTOL", "STILL_RTOL", "WEIGHT_LIMIT",
            "clamped_modes", "fit_strain_actuators", "fitted_weights", "mode_signs",
@@ -230,7 +230,15 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
         Bad actuators, a truth of another beam or with fewer modes than joints, model modes not
         well separated or not paired with the truth's, a weight beyond ``WEIGHT_LIMIT``.
     """
+    from ..member.geometry import Beam
+    from ..model.checks import check_model
+    from ..options.validate import check_type
     from ..truth.plant.gains import truth_modal_gains
+    from ..truth.result import TruthResult
+
+    check_model(model)
+    check_type("truth", truth, TruthResult, "a prbdm_pin.TruthResult (compute_truth)")
+    check_type("beam", beam, Beam)
 
     if isinstance(actuators, (str, bytes, StrainActuator)) or not isinstance(actuators, Sequence):
         raise BeamInputError(f"actuators = {actuators!r:.60}: must be a sequence of "
@@ -242,7 +250,7 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
     if model.beam is not None and model.beam.fingerprint() != beam.fingerprint():
         raise BeamInputError(f"model: built for another beam than {beam.name!r}")
     for i, a in enumerate(acts):
-        strain_map(model.lengths_m, StrainActuator(a.x_start_m, a.x_end_m), f"actuators[{i}]")
+        check_patch(model.lengths_m, a, f"actuators[{i}]")  # on the beam; a joint or not
     if match not in MATCHES:
         raise BeamInputError(f"match = {match!r}: must be one of {', '.join(MATCHES)}")
     L = float(beam.length_m)

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..errors import BeamInputError, SolveError
+from ..errors import BeamInputError, InputTypeError, SolveError
 from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
 from ..model.outputs import output_maps, output_unit, output_values, parse_outputs
 from ..simulation.hub_damping import plant_damping
@@ -91,7 +91,7 @@ def linearize(
     from ..model.prbdm_model import PrbdmModel
 
     if not isinstance(model, PrbdmModel):
-        raise BeamInputError(f"model = {model!r}: must be a PrbdmModel")
+        raise InputTypeError(f"model = {model!r}: must be a PrbdmModel")
     acts = _actuators(actuators)
     hub = model.hub is not None
     # names first: refused before any work, and a bare string is not taken letter by letter

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 
 __all__ = ["SecondOrderPlant", "second_order"]
 
@@ -136,7 +136,7 @@ class SecondOrderPlant:
 def _check_plant(name: str, plant) -> None:
     for attr in ("A", "B", "C", "D", "input_names", "output_names"):
         if not hasattr(plant, attr):
-            raise BeamInputError(f"{name} = {type(plant).__name__}: must be a linear plant "
+            raise InputTypeError(f"{name} = {type(plant).__name__}: must be a linear plant "
                                  "(prbdm_pin.linearize, or the truth's hybrid_model or "
                                  "clamped_model)")
     if np.any(np.asarray(plant.D)):

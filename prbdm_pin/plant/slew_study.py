@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from ..model.inputs import StrainActuator
+from ..model.inputs import StrainActuator, virtual_work_map
 from ..simulation.response import relative_l2
 from . import slew
 from .actuator_fit import fitted_weights
@@ -48,7 +48,11 @@ def patch_actuators(model, gains, stations, kind: str) -> tuple[StrainActuator, 
     by the ``profile_stations`` (see ``fitted_weights``).
     """
     if kind == "virtual-work":
-        return tuple(StrainActuator(a, b) for a, b in stations)
+        # written out as weights: a patch between joints gets the map's zero input, which the
+        # study compares with the fitted maps (an unweighted one is refused: it would drive
+        # nothing)
+        return tuple(StrainActuator(a, b, joint_weights=tuple(virtual_work_map(
+            model.lengths_m, a, b))) for a, b in stations)
     W = fitted_weights(model, gains, "tip_z" if kind == "fitted-tip_z" else "modal")
     return tuple(StrainActuator(a, b, joint_weights=tuple(w))
                  for (a, b), w in zip(stations, W, strict=True))

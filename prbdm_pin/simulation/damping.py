@@ -31,6 +31,7 @@ import scipy.linalg as sla
 from ..chain.eigen import generalized_eigh, modes_from_mass, symmetric_eigh
 from ..errors import BeamInputError, SolveError
 from ..options.choices import DAMPING_FORMS
+from ..options.validate import check_damping_ratio, real_vector
 
 __all__ = [
     "DAMPING_FORMS",
@@ -51,24 +52,20 @@ def damping_ratios(
 ) -> np.ndarray:
     """Validate a damping ratio (scalar or one per mode/joint) and broadcast it to shape (n,).
 
-    Raises :class:`BeamInputError` naming ``name`` for a wrong shape, a non-finite or a negative
-    value.
+    Raises :class:`BeamInputError` naming ``name`` for a wrong shape, or a value that is not
+    finite or not in [0, 1) (``validate.MAX_DAMPING_RATIO``: an over-damped ratio is refused, as
+    ``prbdm simulate --damping`` refuses it).
     """
-    try:
-        xi = np.asarray(damping_ratio, dtype=float)
-    except (TypeError, ValueError):
-        raise BeamInputError(
-            f"{name} = {damping_ratio!r}: must be a number or a list of numbers"
-        ) from None
-    if xi.ndim == 0:
-        xi = np.full(n, float(xi))
+    v = damping_ratio.item() if isinstance(damping_ratio, np.ndarray) and \
+        damping_ratio.ndim == 0 else damping_ratio
+    if np.ndim(v) == 0 and not isinstance(v, (list, tuple)):
+        return np.full(n, check_damping_ratio(name, v))
+    xi = real_vector(name, v, "dimensionless")
     if xi.shape != (n,):
         raise BeamInputError(f"{name} has shape {xi.shape}: must be a scalar or have {n} entries")
-    bad = np.flatnonzero(~np.isfinite(xi) | (xi < 0.0))
-    if bad.size:
-        i = int(bad[0])
-        raise BeamInputError(f"{name}[{i}] = {xi[i]}: must be finite and >= 0")
-    return xi
+    for i, r in enumerate(xi):
+        check_damping_ratio(f"{name}[{i}]", float(r))
+    return xi.copy()
 
 
 def _check_pair(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

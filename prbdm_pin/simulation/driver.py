@@ -14,7 +14,8 @@ from typing import Any
 import numpy as np
 
 from ..chain.eigen import generalized_eigh
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
+from ..model.checks import check_model
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, parse_inputs, strain_map
 from ..model.outputs import output_samples, output_unit, parse_outputs
@@ -92,6 +93,7 @@ def simulate(
     Trajectory
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
+    check_model(model)
     if integrator is not None:
         changes["integrator"] = integrator
     o = _options(options, changes)
@@ -194,5 +196,5 @@ def _options(options: SimulationOptions | None, changes: dict[str, Any]) -> Simu
     if options is None:
         options = SimulationOptions()
     elif not isinstance(options, SimulationOptions):
-        raise BeamInputError(f"options = {options!r:.80}: must be a SimulationOptions")
+        raise InputTypeError(f"options = {options!r:.80}: must be a SimulationOptions")
     return options.replace(**changes) if changes else options

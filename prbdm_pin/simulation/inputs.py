@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
 
 __all__ = ["Controller", "StateFeedback", "InputForce", "input_force"]
@@ -47,9 +47,9 @@ class Controller:
     function: Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 
     def __post_init__(self) -> None:
-        """Check that ``function`` is callable (BeamInputError otherwise)."""
+        """Check that ``function`` is callable (InputTypeError otherwise)."""
         if not callable(self.function):
-            raise BeamInputError(f"Controller function = {self.function!r}: must be callable "
+            raise InputTypeError(f"Controller function = {self.function!r}: must be callable "
                                  "u(t, q, v)")
 
 
@@ -71,6 +71,26 @@ class StateFeedback:
     gain: np.ndarray
     x_ref: np.ndarray | None = None
     u_ref: np.ndarray | Callable[[float], np.ndarray] | None = field(default=None)
+
+    def __post_init__(self) -> None:
+        """Check that the gain is a finite real matrix and the references finite real vectors.
+
+        Their sizes are checked against the model where the feedback is used.
+        """
+        from ..options.validate import real_vector
+
+        g = np.asarray(self.gain)
+        if g.dtype.kind not in "iuf" or g.ndim != 2:
+            raise InputTypeError(f"StateFeedback gain = {self.gain!r:.80}: must be a matrix "
+                                 "(inputs x states) of real numbers")
+        bad = np.argwhere(~np.isfinite(g))
+        if bad.size:
+            i, j = (int(v) for v in bad[0])
+            raise BeamInputError(f"StateFeedback gain[{i}, {j}] = {g[i, j]}: must be finite")
+        if self.x_ref is not None:
+            real_vector("StateFeedback x_ref", self.x_ref, "rad, rad/s")
+        if self.u_ref is not None and not callable(self.u_ref):
+            real_vector("StateFeedback u_ref", self.u_ref, "input units")
 
 
 def _finite(name: str, value, shape: tuple[int, ...]) -> np.ndarray:

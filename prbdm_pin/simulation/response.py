@@ -27,6 +27,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import BeamInputError
+from ..model.checks import check_model
+from ..options.validate import check_type
 from .damping import damping_ratios
 
 __all__ = [
@@ -254,6 +256,8 @@ def dynamic_accuracy(
     DynamicAccuracy
         The errors (fractions; phase in rad) and the curves compared (m/N).
     """
+    check_model(model)
+    check_type("truth", truth, ModalTip, "a prbdm_pin.response.ModalTip (truth_modal_tip)")
     t = np.linspace(0.0, duration_s, samples)
     mine = prbdm_modal_tip(model)
     u_truth = modal_step_response(truth, t, damping_ratio)

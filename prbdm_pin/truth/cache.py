@@ -12,8 +12,10 @@ fingerprint, the scalar fields and a SHA-256 checksum of the metadata and every 
 the format, key, fingerprint and checksum are verified and every field is type-checked; any
 mismatch (an entry edited in place, copied from another key or beam, truncated, of another
 format) is a miss: it is recomputed with a :class:`TruthCacheWarning` naming the entry, never
-served. Entries are written to a temporary file and renamed into place, so a crashed or
-concurrent writer never leaves a half-written entry. Entries of older versions (``truth-*.pkl``
+served. Entries are written to a temporary file (``.truth-<pid>-<random>.tmp``) and renamed into
+place, so a crashed or concurrent writer never leaves a half-written entry; the temporary files
+a killed writer leaves are removed by the next lookup once stale (``truth.cache_clean``: an hour
+old, or their writer gone). Entries of older versions (``truth-*.pkl``
 pickles) are never opened.
 """
 
@@ -29,6 +31,7 @@ import numpy as np
 
 from ..io.atomic import AtomicFile
 from ..member.geometry import Beam
+from .cache_clean import clean_stale, temp_prefix
 from .digest import code_digest
 from .entry import EntryError, check_truth, decode, encode
 from .result import TruthResult
@@ -119,6 +122,7 @@ def load_cached(cache_dir, key: str, beam_fingerprint: str) -> TruthResult | Non
     A missing entry is a silent miss; an entry that fails any check (format, key, beam
     fingerprint, checksum, field types, shapes) is a miss with a :class:`TruthCacheWarning`.
     """
+    clean_stale(cache_dir)  # what killed writers left behind (truth.cache_clean)
     path = entry_path(cache_dir, key)
     if not path.is_file():
         return None
@@ -162,7 +166,7 @@ def store_cached(cache_dir, key: str, result: TruthResult) -> Path | None:
     d = Path(cache_dir)
     try:
         d.mkdir(parents=True, exist_ok=True)
-        staged = AtomicFile(entry_path(d, key), "wb", fsync=True, prefix=".truth-")
+        staged = AtomicFile(entry_path(d, key), "wb", fsync=True, prefix=temp_prefix())
     except OSError as exc:
         _not_stored(d, exc)
         return None

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import BeamInputError, TruthError
+from ..errors import InputTypeError, TruthError
 from ..member.geometry import Beam
 from ..version import __version__
 from .cache import cache_key, load_cached, store_cached
@@ -69,7 +69,7 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
         A keyword that is no field of TruthRequest, or a request given with fields.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     req = request_of(request, fields, "compute_truth")
     model, modes, mesh_level, selection = req.model, req.modes, req.mesh_level, req.selection
     n_computed = req.computed_modes
@@ -81,7 +81,7 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
                         large_deflection=req.large_deflection, version=__version__)
         hit = load_cached(cache_dir, key, beam.fingerprint())
         if hit is not None:
-            return _judged(hit, beam, req.error_tol_pct)
+            return _judged(_recorded(hit, req), beam, req.error_tol_pct)
 
     modal = compute_modal(beam, model, mesh_level, n_computed)
     labels = label_modes(modal)
@@ -148,7 +148,13 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
     )
     if key is not None:
         store_cached(cache_dir, key, result)
-    return _judged(result, beam, req.error_tol_pct)
+    return _judged(_recorded(result, req), beam, req.error_tol_pct)
+
+
+def _recorded(result: TruthResult, request) -> TruthResult:
+    """Record the call that made ``result`` on it (``TruthResult.request``; not cached)."""
+    object.__setattr__(result, "_request", request)
+    return result
 
 
 def _judged(result: TruthResult, beam: Beam, error_tol_pct: float | None) -> TruthResult:

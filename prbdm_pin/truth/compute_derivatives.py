@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..io.records import readonly_array as _ro
 from ..member.design import Design
 from ..member.geometry import Beam
@@ -128,7 +128,7 @@ def truth_gradient(beam: Beam, design: Design | tuple[str, ...] | list[str],
         A keyword that is no field of TruthRequest, or a request given with fields.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     names = design.names if isinstance(design, Design) else design
     if isinstance(names, str):
         names = tuple(n.strip() for n in names.split(","))

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..io.records import readonly_array as _ro
 from ..member.design import Design, step_partner
 from ..member.geometry import Beam
@@ -177,7 +177,7 @@ def elastica_gradient(
         The elastica or its adjoint did not converge.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     names = design.names if isinstance(design, Design) else design
     if isinstance(names, str):
         names = tuple(n.strip() for n in names.split(","))

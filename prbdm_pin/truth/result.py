@@ -199,6 +199,16 @@ class TruthResult:
     beam_gap_cause: tuple[str, ...] = ()
 
     @property
+    def request(self):
+        """The :class:`~prbdm_pin.truth.TruthRequest` of the ``compute_truth`` call that made it.
+
+        None for a truth read from a file or computed with a non-default ``n_computed``. A fit
+        to a target made from this truth records it (``fit.json``'s ``truth_request``), so
+        ``prbdm simulate/linearize --compare-truth`` ask for the same truth.
+        """
+        return self.__dict__.get("_request")
+
+    @property
     def tip_position_m(self) -> np.ndarray | None:
         """Large-deflection tip position if computed, else the linear one (m)."""
         s = self.static_nonlinear or self.static_linear

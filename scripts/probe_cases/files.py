@@ -152,7 +152,7 @@ def _load_model(d):
 
 
 def _load_urdf(p):
-    from prbdm_pin.model.prbdm_model import load_urdf
+    from prbdm_pin.files.urdf_file import load_urdf
 
     return lambda: load_urdf(p)
 
@@ -346,7 +346,7 @@ def _zero_masses():
 
 def _own_urdfs_load():
     from prbdm_pin.files.export import urdf_text
-    from prbdm_pin.model.prbdm_model import load_urdf
+    from prbdm_pin.files.urdf_file import load_urdf
 
     m = _model()
     w = m.natural_frequencies()
@@ -449,7 +449,7 @@ def _raised_cap():
     old = os.environ.get("PRBDM_MAX_JOINTS")
     os.environ["PRBDM_MAX_JOINTS"] = "100"
     try:
-        from prbdm_pin.model.prbdm_model import load_urdf
+        from prbdm_pin.files.urdf_file import load_urdf
 
         assert load_urdf(p).n_joints == 100
     finally:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import BeamInputError, TruthError
+from ...errors import BeamInputError, InputTypeError, TruthError
 from ...member.geometry import Beam
 from ..modes import mac_matrix
 from ..result import TruthResult
@@ -180,9 +180,9 @@ def truth_modal_gains(truth: TruthResult, beam: Beam,
         The recomputed modes are not the truth's.
     """
     if not isinstance(beam, Beam):
-        raise BeamInputError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
     if not isinstance(truth, TruthResult):
-        raise BeamInputError(f"truth = {truth!r}: must be a TruthResult")
+        raise InputTypeError(f"truth = {truth!r}: must be a TruthResult")
     if truth.beam_fingerprint != beam.fingerprint():
         raise BeamInputError(f"truth: computed for another beam than {beam.name!r}")
     stations = check_actuators(actuators, beam.length_m)

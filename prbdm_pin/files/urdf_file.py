@@ -1,0 +1,86 @@
+"""A PRBDM read back from a URDF file (the package's export, or ``PrbdmModel.urdf``).
+
+The URDF carries the chain, its springs and the hub; the export record in its XML comment
+carries the strain actuators with their fitted weights.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pinocchio as pin
+
+from ..chain import pin_dynamics as dyn
+from ..chain.stiffness import validate_stiffness
+from ..errors import BeamInputError
+from ..model.hub import HUB_JOINT, Hub
+from ..model.inputs import strain_map
+from ..model.pin_chain import TIP_FRAME, sections_from_pin
+from ..model.prbdm_model import PrbdmModel
+from ..model.urdf import read_springs
+from ..model.urdf_checks import check_sections, check_urdf, hub_inertia, read_urdf_text
+from .export_comment import read_export_record
+
+__all__ = ["load_urdf"]
+
+
+def load_urdf(path: str | os.PathLike) -> PrbdmModel:
+    """Read a PRBDM URDF file, springs included.
+
+    The file is one written by :attr:`PrbdmModel.urdf` or the URDF export; ``path`` is a str or
+    path-like. A file with the revolute joint ``hub`` reads as a hub model (``hub`` set: the
+    inertia of link ``hub_body``, the radius of the ``clamp`` offset).
+
+    The springs come from the Gazebo ``<springStiffness>`` tags; the strain actuators the
+    file's export record lists (``strain_actuators_m``, with their fitted joint weights) become
+    ``actuators``, as :func:`prbdm_pin.read_plant_json` returns them; ``beam`` is None and
+    ``sections.area_moment_m4`` is NaN; ``pin_model.damping`` holds the joints'
+    ``<dynamics damping>`` (N m s/rad; :func:`prbdm_pin.simulate` takes its damping from its own
+    arguments, not from there).
+
+    Gravity: URDF carries none and Pinocchio's parser gives every model its default gravity,
+    -9.81 m/s^2 along z (so does ``pinocchio.buildModelFromUrdf``). The PRBDM has no gravity, so
+    this loader sets ``pin_model.gravity`` to zero, as :func:`build_model` does; set it back
+    (``pin_model.gravity = pinocchio.Motion(np.array([0, 0, -9.81, 0, 0, 0]))``) to simulate
+    with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
+    ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
+    """
+    text = read_urdf_text(path)
+    what = f"urdf file {str(path)!r}"
+    n = check_urdf(text, what)
+    try:
+        model = pin.buildModelFromXML(text)
+    except (RuntimeError, ValueError) as exc:
+        raise BeamInputError(f"{what}: Pinocchio cannot parse it ({exc})") from None
+    model.gravity = pin.Motion.Zero()
+    if not model.existFrame(TIP_FRAME):
+        raise BeamInputError(f"{what}: has no {TIP_FRAME!r} link")
+    if model.nv != n:
+        raise BeamInputError(f"{what}: {n} revolute joints but a chain of {model.nv} "
+                             "(every revolute joint must be on the chain to the tip)")
+    tip = model.getFrameId(TIP_FRAME)
+    lengths = dyn.planar_lengths(model, tip)
+    hub = None
+    if model.njoints > 2 and model.names[1] == HUB_JOINT:
+        # the first offset is the hub's (0); the second is the radius plus link 0
+        if not model.existFrame("clamp"):
+            raise BeamInputError(f"{what}: a joint 'hub' but no fixed joint 'clamp' to link_0")
+        radius = float(model.frames[model.getFrameId("clamp")].placement.translation[0])
+        hub = Hub(hub_inertia(text, what), radius)
+        lengths = np.concatenate([[lengths[1] - hub.radius_m], lengths[2:]])
+    lengths.setflags(write=False)
+    names = [model.names[j] for j in range(1 + (hub is not None), model.njoints)]
+    k = validate_stiffness(read_springs(text, names), len(names))
+    sections = sections_from_pin(model, lengths, hub is not None)
+    check_sections(what, lengths, sections.mass_kg)
+    try:
+        record = read_export_record(text)
+        actuators = () if record is None else record.actuators()
+    except ValueError as exc:  # a hand-edited record: numbers that are not numbers
+        raise BeamInputError(f"{what}: {exc}") from None
+    for i, a in enumerate(actuators):  # the record's patches lie on this chain
+        strain_map(lengths, a, f"{what}: actuators[{i}]")
+    out = PrbdmModel(None, lengths, k, sections, model, tip, hub, tuple(actuators))
+    out._cache["urdf"] = text
+    return out
