@@ -107,7 +107,7 @@ def test_replace_rebuilds_the_integrator_from_its_spelling():
     assert ivp.integrator == pp.ScipyIVP("DOP853", rtol=1e-10) and ivp.dt_s == 1e-3
     back = ivp.replace(integrator=pp.Trapezoidal())
     assert back.method == "trapezoidal" and back.dt_s is None and back.rtol == 1e-9
-    with pytest.raises(BeamInputError, match="dt = -0.001"):
+    with pytest.raises(BeamInputError, match="dt_s = -0.001"):
         o.replace(dt_s=-1e-3)
 
 

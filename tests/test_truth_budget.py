@@ -43,17 +43,25 @@ def _no_meshing(monkeypatch):
 
 
 @pytest.mark.parametrize("model, beam", [
-    ("plate", _short(1e-9)),
-    ("plate", _short(1e-7)),
-    ("plate-morley", _short(1e-9)),
-    ("plate", Beam(np.array([0.0, 0.5, 1.0]), np.array([0.1, 1e-9, 0.1]), 0.01)),
-    ("solid", Beam(np.array([0.0, 1.0]), np.array([0.1, 0.1]), 1e-6)),
+    # the smallest features a beam takes (1e-5 m: the plausibility floor of its sizes) still
+    # ask for meshes far beyond the cap
+    ("plate", _short(1e-5)),
+    ("plate", _short(2e-5)),
+    ("plate-morley", _short(1e-5)),
+    ("solid", Beam(np.array([0.0, 1.0]), np.array([0.1, 0.1]), 1e-5)),
 ])
 def test_a_nanometre_feature_is_refused_before_meshing(monkeypatch, model, beam):
     _no_meshing(monkeypatch)
     with pytest.raises(BeamInputError, match=r"mesh DOFs .* max_mesh_dofs = 500000 .*"
                                              r"PRBDM_MAX_MESH_DOFS"):
         compute_truth(beam, model=model, modes=3, static=False)
+
+
+def test_a_nanometre_waist_is_refused_by_the_beam_before_any_truth():
+    # a waist at the plausibility floor (1e-5 m) meshes within the cap (about 2.4e5 DOFs at
+    # level 2); one of 1e-9 m, which would have asked for far more, never becomes a Beam
+    with pytest.raises(BeamInputError, match=r"half_width\[1\] = 1e-09 m: outside the plausible"):
+        Beam(np.array([0.0, 0.5, 1.0]), np.array([0.1, 1e-9, 0.1]), 0.01)
 
 
 def test_the_plate_static_solve_is_refused_before_meshing(monkeypatch):
@@ -123,8 +131,9 @@ def test_a_1d_width_step_next_to_the_tip_is_an_input_error():
         beam_modal(beam, 3)
 
 
-def test_a_nanometre_section_in_1d_is_finite():
-    beam = Beam(np.array([0.0, 0.5, 1.0]), np.array([0.1, 1e-9, 0.1]), 0.01)
+def test_a_section_at_the_size_floor_in_1d_is_finite():
+    # the narrowest half-width a beam takes (1e-5 m, 1e-4 of its neighbours)
+    beam = Beam(np.array([0.0, 0.5, 1.0]), np.array([0.1, 1e-5, 0.1]), 0.01)
     r = compute_truth(beam, model="beam", modes=3, static=False, error_tol_pct=None)
     assert np.all(np.isfinite(r.omega_rad_s)) and np.all(np.diff(r.omega_rad_s) > 0)
 

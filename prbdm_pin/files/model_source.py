@@ -92,7 +92,9 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
     from ..io.record_checks import file_kind
     from .urdf_file import load_urdf
 
-    p = Path(path)
+    from ..options.validate import check_path
+
+    p = Path(check_path("path", path))
     if not p.is_file():
         raise BeamInputError(f"MODEL {str(path)!r}: not found")
     if p.suffix.lower() == ".urdf":

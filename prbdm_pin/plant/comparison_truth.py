@@ -97,6 +97,12 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     BeamInputError
         A model without its beam, or a truth model with no modal plant.
     """
+    from ..model.checks import check_model
+    from ..options.validate import check_type
+    from .state_space import LinearModel
+
+    check_type("lin", lin, LinearModel, "a prbdm_pin.LinearModel (linearize)")
+    check_model(model)
     from ..truth.plant import clamped_model, hybrid_model
     from .comparison import compare_plant
 

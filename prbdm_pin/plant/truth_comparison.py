@@ -137,6 +137,9 @@ def compare_truth(model, request: TruthRequest | None = None, damping_ratio: flo
     BeamInputError
         A model without its beam, or a request for another truth model.
     """
+    from ..model.checks import check_model
+
+    check_model(model)
     from ..simulation.response import dynamic_accuracy, prbdm_modal_tip, truth_modal_tip
     from ..truth.request import TruthRequest
 

@@ -71,8 +71,10 @@ class TrapezoidalStepper:
         self.lu = self.piv = None
         self.lu_h = h
         self.rhs_evaluations = 1
-        # Newton stops when the update moves q1 by less than this (scaled by the motion's size)
-        scale = max(float(np.max(np.abs(q0))), float(np.max(np.abs(v0))) * h, 1e-300)
+        # Newton stops when the update moves q1 by less than this (scaled by the motion's size;
+        # a nanoradian floor, as Gauss's: a run from rest under a load that starts at zero has
+        # no scale, and 1e-10 of a 1e-300 floor is below what any update can resolve)
+        scale = max(float(np.max(np.abs(q0))), float(np.max(np.abs(v0))) * h, 1e-9)
         # a force sets the scale of the motion: its static deflection angle
         self.scale = max(scale, static_angle_rad(system.tau_external(q0, t0, v0),
                                                  system.springs(q0)))
