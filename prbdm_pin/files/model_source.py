@@ -90,9 +90,8 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
     """
     from ..io.jsonfile import read_json
     from ..io.record_checks import file_kind
-    from .urdf_file import load_urdf
-
     from ..options.validate import check_path
+    from .urdf_file import load_urdf
 
     p = Path(check_path("path", path))
     if not p.is_file():
