@@ -2,7 +2,7 @@
 
 Every subcommand gets its usage, its description, one table row per argument (the invocation
 ``--help`` prints, the parser's default, the help text as ``--help`` expands it) and its epilog
-(examples and notes) verbatim. ``tests/test_docs_cli.py`` regenerates the page in memory and
+(examples and notes) verbatim. ``tests/project/test_docs_cli.py`` regenerates the page in memory and
 fails when the committed one differs, so an option cannot be added without its entry.
 
 usage: python scripts/docs_cli.py [--out docs/cli.md]

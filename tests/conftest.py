@@ -1,4 +1,6 @@
-"""Hypothesis profiles: CI runs the same examples on every machine; exploration is opt-in.
+"""Shared fixtures, and the hypothesis profiles.
+
+Hypothesis profiles: CI runs the same examples on every machine; exploration is opt-in.
 
 ``reproducible`` (the default) derives the examples from each test's source, so a run on a clean
 checkout draws exactly what the last green run drew. ``explore`` draws fresh random examples, to
@@ -6,8 +8,37 @@ hunt for new failures: ``python -m pytest -m stress --hypothesis-profile explore
 found there becomes a named regression test.
 """
 
+import pytest
 from hypothesis import settings
+from paths import BEAMS
 
 settings.register_profile("reproducible", derandomize=True, database=None)
 settings.register_profile("explore", derandomize=False, database=None)
 settings.load_profile("reproducible")
+
+
+# --- shared fixtures: the shipped beams, loaded once per session (a Beam is frozen) -----------
+
+
+@pytest.fixture(scope="session")
+def narrow():
+    """The uniform narrow strip (examples/beams/uniform-narrow.json)."""
+    from prbdm_pin.files.beam_file import load_beam
+
+    return load_beam(BEAMS / "uniform-narrow.json")
+
+
+@pytest.fixture(scope="session")
+def tapered():
+    """The tapered beam (examples/beams/tapered.json)."""
+    from prbdm_pin.files.beam_file import load_beam
+
+    return load_beam(BEAMS / "tapered.json")
+
+
+@pytest.fixture(scope="session")
+def reference_panel():
+    """The paper's reference random panel (examples/beams/reference-random.json)."""
+    from prbdm_pin.files.beam_file import load_beam
+
+    return load_beam(BEAMS / "reference-random.json")

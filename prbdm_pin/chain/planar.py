@@ -15,7 +15,7 @@ linear tip Jacobian has the rows dp_x/dq_m = -s_m, dp_z/dq_m = -c_m, so for a de
 
 Every function takes one pose (q of shape (n,)) or a stack (Q of shape (..., n)); lengths
 (n+1,) serve every pose of a stack, or come stacked like the poses. These are the fit's inner
-loop and the simulation's force terms; tests/test_planar.py checks them against Pinocchio.
+loop and the simulation's force terms; tests/chain/test_planar.py checks them against Pinocchio.
 """
 
 from __future__ import annotations

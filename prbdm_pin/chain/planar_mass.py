@@ -1,9 +1,9 @@
 """The planar chain's mass matrices M(q) in closed form, and the points they are made of.
 
 The chain is that of :mod:`prbdm_pin.chain.planar`: a clamped link 0 along x, then n links on
-revolute
-joints about +y. The fit's inner loop computes M(q) here instead of building a
-``pinocchio.Model`` for every trial design; tests/test_planar.py checks it against ``pin.crba``.
+revolute joints about +y. The fit's inner loop computes M(q) here instead of building a
+``pinocchio.Model`` for every trial design; tests/chain/test_planar.py checks it against
+``pin.crba``.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ def planar_mass_matrices(
 
     The fit's inner loop uses this instead of building a ``pinocchio.Model`` for every trial
     design (the model build cost ~10x the rest of an evaluation); the product, and every fit
-    result, use Pinocchio's CRBA. tests/test_planar.py checks it against ``pin.crba``.
+    result, use Pinocchio's CRBA. tests/chain/test_planar.py checks it against ``pin.crba``.
     No input checks: the caller passes valid arrays.
 
     Link i >= 1 (mass m_i, centre of mass d_i from its joint along its axis, inertia I_i about
