@@ -17,6 +17,11 @@ __all__ = ["fit_beam", "load_fit", "save_fit"]
 def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
     """Write ``fit.json`` atomically.
 
+    The file keeps the fit's truth record (``result.truth_request``: a target made by
+    :func:`prbdm_pin.target_from_truth` from a :func:`prbdm_pin.compute_truth` result carries
+    it), so ``prbdm simulate/linearize --compare-truth`` find the same truth, as for a
+    ``prbdm fit`` folder.
+
     Parameters
     ----------
     result : FitResult
@@ -26,11 +31,6 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
     beam : Beam, optional
         The beam it was fitted to; with it the file alone rebuilds the model
         (``prbdm simulate fit.json``, ``prbdm export fit.json``).
-
-    The file keeps the fit's truth record (``result.truth_request``: a target made by
-    :func:`prbdm_pin.target_from_truth` from a :func:`prbdm_pin.compute_truth` result carries
-    it), so ``prbdm simulate/linearize --compare-truth`` find the same truth, as for a
-    ``prbdm fit`` folder.
 
     Returns
     -------

@@ -39,11 +39,11 @@ class TruthGradient:
         The design variables and their SI units.
     values : ndarray, shape (n,)
         The design variables' values (SI units).
-    mode_index : ndarray of int, shape (modes,)
-        Indices of the selected bending modes among the computed modes.
-    omega_rad_s : ndarray, shape (modes,)
+    mode_index : ndarray of int, shape (N,)
+        Indices of the N selected bending modes among the computed modes.
+    omega_rad_s : ndarray, shape (N,)
         Selected bending frequencies, rad/s.
-    d_omega_rad_s : ndarray, shape (modes, n)
+    d_omega_rad_s : ndarray, shape (N, n)
         d omega_k / d p_j, rad/s per unit of variable j.
     tip_z_m : float or None
         Linear static tip deflection (z) under the beam's tip force, m (None without the static
@@ -77,7 +77,7 @@ class TruthGradient:
 
     @property
     def relative_d_omega(self) -> np.ndarray:
-        """p_j / omega_k d omega_k / d p_j (dimensionless), shape (modes, n)."""
+        """p_j / omega_k d omega_k / d p_j (dimensionless), shape (N, n)."""
         return self.d_omega_rad_s * self.values[None, :] / self.omega_rad_s[:, None]
 
     @property
