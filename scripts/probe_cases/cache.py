@@ -475,6 +475,17 @@ def _refused(model, x, w, t=0.01):
     return fn
 
 
+def _implausible(model, x, w, t, field):
+    """A size below the plausibility floor (1e-5 m) is refused by the beam, before any mesh."""
+    def fn():
+        d = _scratch()
+        p = run_cli("truth", _beam_file(d, x, w, t), "--model", model, "--no-static",
+                    "--out", d / "t", timeout=120)
+        expect_exit2(p, field)
+        assert "plausible range" in p.stderr, p.stderr[-300:]
+    return fn
+
+
 def _one_d(x, w, static, t=0.01):
     def fn():
         d = _scratch()
@@ -561,15 +572,17 @@ def cases():
                                                                           1.0], w)),
         ("4 unbounded work", "plate-morley, 1e-9 m interval", _refused("plate-morley", x, w)),
         ("4 unbounded work", "plate, 1e-9 m half-width",
-         _refused("plate", [0.0, 0.5, 1.0], [0.1, 1e-9, 0.1])),
-        ("4 unbounded work", "plate, 1e-9 m tip", _refused("plate", [0.0, 1.0], [0.1, 1e-9])),
+         _implausible("plate", [0.0, 0.5, 1.0], [0.1, 1e-9, 0.1], 0.01, "half_width[1]")),
+        ("4 unbounded work", "plate, 1e-9 m tip",
+         _implausible("plate", [0.0, 1.0], [0.1, 1e-9], 0.01, "half_width[1]")),
         ("4 unbounded work", "solid, 1e-6 m thickness",
-         _refused("solid", [0.0, 1.0], [0.1, 0.1], 1e-6)),
+         _implausible("solid", [0.0, 1.0], [0.1, 0.1], 1e-6, "thickness")),
         ("4 unbounded work", "1D beam, 1e-9 m interval, no static", _one_d(x, w, False)),
         ("4 unbounded work", "1D beam, 1e-9 m interval, static", _one_d(x, w, True)),
         ("4 unbounded work", "1D beam, 1e-9 m half-width",
-         _one_d([0.0, 0.5, 1.0], [0.1, 1e-9, 0.1], True)),
-        ("4 unbounded work", "1D beam, 1e-9 m tip width", _one_d([0.0, 1.0], [0.1, 1e-9], True)),
+         _implausible("beam", [0.0, 0.5, 1.0], [0.1, 1e-9, 0.1], 0.01, "half_width[1]")),
+        ("4 unbounded work", "1D beam, 1e-9 m tip width",
+         _implausible("beam", [0.0, 1.0], [0.1, 1e-9], 0.01, "half_width[1]")),
         ("4 unbounded work", "1D beam, vanishing interval = width step", _one_d_limit),
         ("4 unbounded work", "1D beam, 5k vertices with statics", _many_vertices(5_001, True)),
         ("4 unbounded work", "1D beam, 200k vertices", _many_vertices(200_001, False)),

@@ -354,7 +354,7 @@ def _own_urdfs_load():
         back = load_urdf(_file(text, ".urdf"))
         np.testing.assert_allclose(back.natural_frequencies(), w, rtol=1e-12)
     templates = sorted((ROOT / "urdf_templates").glob("*.tmpl"))
-    assert len(templates) == 4, templates
+    assert len(templates) == 5, templates  # robot, link, joint, spring, hub
 
 
 # Category 4: unbounded work -----------------------------------------------------------------
@@ -435,13 +435,22 @@ def _digits(n):
 
 
 def _long_urdf(n):
+    """A URDF of n joints, written by a model built with the joint cap raised to n."""
     from prbdm_pin.files.beam_file import load_beam
     from prbdm_pin.model.prbdm_model import build_model
 
     beam = load_beam(TAPERED)
-    m = build_model(beam, np.full(n + 1, beam.length_m / (n + 1)), np.full(n, 100.0),
-                    min_fraction=0.5 / (n + 1))
-    return _file(m.urdf, ".urdf")
+    old = os.environ.get("PRBDM_MAX_JOINTS")
+    os.environ["PRBDM_MAX_JOINTS"] = str(max(n, 64))
+    try:
+        m = build_model(beam, np.full(n + 1, beam.length_m / (n + 1)), np.full(n, 100.0),
+                        min_fraction=0.5 / (n + 1))
+        return _file(m.urdf, ".urdf")
+    finally:
+        if old is None:
+            del os.environ["PRBDM_MAX_JOINTS"]
+        else:
+            os.environ["PRBDM_MAX_JOINTS"] = old
 
 
 def _raised_cap():
