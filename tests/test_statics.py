@@ -8,6 +8,7 @@ import pytest
 from reference import ELASTICA
 from scipy.optimize import brentq
 from scipy.special import ellipk
+from tolerances import EPS
 
 from prbdm_pin import statics
 from prbdm_pin.beam_file import load_beam
@@ -115,4 +116,5 @@ def test_free_function_matches_method(chain32):
     np.testing.assert_array_equal(q, q2)
     data = chain32.new_data()
     pin.framesForwardKinematics(chain32.pin_model, data, q)
-    np.testing.assert_allclose(p, data.oMf[chain32.tip_frame_id].translation, atol=1e-15)
+    # the statics' tip is this placement (exact here); kept: the test's 1e-15 m
+    np.testing.assert_allclose(p, data.oMf[chain32.tip_frame_id].translation, atol=5 * EPS * L)
