@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from tolerances import EPS
 
 from prbdm_pin.fitting.geodesic_lm import lm_advance, lm_start
 
@@ -49,7 +50,9 @@ def test_optimum_on_the_bounds():
                                                                             [np.sqrt(10.0)]])
 
     s = _solve(fun, jac, [0.2, 0.7], [-3.0, 0.0], [1.0, 3.0])
-    np.testing.assert_allclose(s.x, [1.0, 0.0], atol=1e-12)
+    # exact by construction: both variables end held on their bounds, which the step's clip
+    # returns as the bounds themselves; slack 5000 EPS (the test's 1e-12)
+    np.testing.assert_allclose(s.x, [1.0, 0.0], atol=5000 * EPS)
 
 
 def test_one_active_bound_solves_the_rest():
