@@ -57,9 +57,9 @@ def test_all_mode_static_gains_are_the_euler_bernoulli_cantilever(narrow, all_mo
     np.testing.assert_allclose(G[0], [L**3 / (3 * EI), -(xb - xa) * (L - 0.5 * (xa + xb)) / EI],
                                rtol=2 * EPS * c)
     # exact by structure: A is n decoupled 2 x 2 blocks [[0, 1], [-w^2, -2 z w]] and B drives
-    # accelerations only, so the solve's rate rows are exact zeros; the slack is the test's
-    # bound (1e-12 of the tip compliance) rounded up to 2^13 EPS
-    np.testing.assert_allclose(G[1], 0.0, atol=2**13 * EPS * L**3 / EI)
+    # accelerations only, so the solve's rate rows are exact zeros; slack 5000 EPS of the tip
+    # compliance (the test's 1e-12, kept)
+    np.testing.assert_allclose(G[1], 0.0, atol=5000 * EPS * L**3 / EI)
 
 
 def test_tip_frf_is_the_closed_form_cantilevers(narrow, six_modes):
