@@ -183,7 +183,7 @@ def _linear_field_error(beam):
     """Largest error (m) with which the beam truth's Hermite basis gives back the field x at its
     quadrature points. The field is exact in the Hermite space, but scikit-fem builds the basis
     by inverting each element's Vandermonde matrix in global coordinates (condition up to 5.8e8
-    at 200 elements), so its nodal values come back as x only to ~6e-11, not to EPS."""
+    at 200 elements), so it gives x back at those points only to ~6e-11, not to EPS."""
     mesh, basis, *_ = beam_modes(beam, 1)
     u, ux = basis.nodal_dofs
     r1 = np.zeros(basis.N)
