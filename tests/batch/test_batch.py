@@ -14,6 +14,7 @@ import pytest
 from paths import BEAMS
 from paths import ROOT as REPO
 from terminal_signals import sigint_default
+from tolerances import EPS
 
 from prbdm_pin import batch
 from prbdm_pin.batch import BatchSpec, FitSettings, LocalPool, run_batch
@@ -128,7 +129,9 @@ def test_twenty_beams_on_two_workers(fitted, two_workers):
     for i, rec in two_workers.items():
         # beam i is reproducible outside the batch from the documented recipe
         beam = random_beam(np.random.default_rng(np.random.SeedSequence(SEED, spawn_key=(i,))))
-        assert rec["mass_kg"] == pytest.approx(beam.mass_kg, rel=1e-15)
+        # exact by construction: the record holds this recipe's mass (JSON keeps every bit);
+        # 5 EPS of slack, the test's 1e-15
+        assert rec["mass_kg"] == pytest.approx(beam.mass_kg, rel=5 * EPS)
         assert rec["taper_ratio"] == pytest.approx(beam.half_width_m[-1] / beam.half_width_m[0])
         assert rec["status"] == "ok"
         # a joint-stiffness fit matches n frequencies exactly (issue 4), so the fitted model
@@ -138,7 +141,9 @@ def test_twenty_beams_on_two_workers(fitted, two_workers):
         assert rec["worst_mode_error_pct"] < 1e-6 and rec["worst_export_error_pct"] < 1e-6
         assert len(rec["omega_export_errors_pct"]) == 2
         assert rec["eigen_norm"] == SETTINGS.options.eigen_norm
-        assert sum(rec["lengths_m"]) == pytest.approx(beam.length_m, rel=1e-12)
+        # n + 1 stick-breaking lengths and their sum: a few roundings each (1 EPS measured);
+        # kept: the test's 1e-12
+        assert sum(rec["lengths_m"]) == pytest.approx(beam.length_m, rel=5000 * EPS)
     assert len({r["mass_kg"] for r in two_workers.values()}) == N_BEAMS  # 20 different beams
 
 

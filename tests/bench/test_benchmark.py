@@ -8,6 +8,7 @@ import re
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from tolerances import EPS
 
 from prbdm_pin.bench.report import frontier_mask
 from prbdm_pin.cli import main
@@ -94,7 +95,10 @@ def test_chain_matches_euler_bernoulli(quick):
         # plate-versus-EB difference (< 0.5 %); printed to 4 significant digits
         printed = [float(v) for v in table[("uniform-narrow", f"chain N={N}")][4].split()]
         np.testing.assert_allclose(printed, 100 * err_eb, atol=0.5 + 1e-9)
-        np.testing.assert_allclose(printed, 100 * (w / truth - 1.0), rtol=5.01e-4, atol=1e-12)
+        # rtol: 4 significant digits; atol: w / truth - 1 is exact to ~2 EPS absolute, 200 EPS
+        # in percent (kept: the test's 1e-12)
+        np.testing.assert_allclose(printed, 100 * (w / truth - 1.0), rtol=5.01e-4,
+                                   atol=5000 * EPS)
     assert first[16] < 6e-3 and first[16] / first[32] > 3.0
 
 

@@ -17,6 +17,7 @@ import dataclasses
 import numpy as np
 import pytest
 from paths import BEAMS
+from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.chain.eigen import modes_from_mass
@@ -105,7 +106,9 @@ def test_section_and_spring_design_derivatives_equal_central_differences(name):
     d, p, lengths = _case(name)
     beam = d.beam_at(p)
     values, A = _analytic(beam, d, lengths)
-    np.testing.assert_allclose(values, _sections(beam, lengths), rtol=1e-14, atol=0.0)
+    # exact by construction: the gradient's values are link_sections' and the springs' own;
+    # slack 50 EPS (the test's 1e-14)
+    np.testing.assert_allclose(values, _sections(beam, lengths), rtol=50 * EPS, atol=0.0)
     D = _differences(lambda b: _sections(b, lengths), d, p)
     assert np.all(_err(A, D, d.scales) < 1e-9), _err(A, D, d.scales)
     # what the design cannot move stays exactly still: nu everywhere, E in the sections
@@ -125,13 +128,16 @@ def test_by_hand_uniform_strip():
     g = section_design_gradient(beam, d, lengths)
     K, dK = finite_segment_design_gradient(beam, d, lengths)
     rho, t, w = beam.material.rho_kg_m3, beam.thickness_m, beam.half_width_m[0]
+    # each side a few products and a sum of two (1 EPS measured): the tests' bounds kept, 500
+    # EPS for the sum of mass derivatives, 5000 EPS for the springs', 50 EPS for the others
     # the whole half-width (both vertices together) adds 2 rho t per metre of link
     np.testing.assert_allclose(g.d_mass_kg[:, 0] + g.d_mass_kg[:, 1], 2 * rho * t * lengths,
-                               rtol=1e-13)
-    np.testing.assert_allclose(g.d_area_moment_m4[:, 2], 3 * g.area_moment_m4 / t, rtol=1e-14)
-    np.testing.assert_allclose(dK[:, 0] + dK[:, 1], K / w, rtol=1e-12)  # K ∝ w
-    np.testing.assert_allclose(dK[:, 2], 3 * K / t, rtol=1e-14)
-    np.testing.assert_allclose(dK[:, 3], K / beam.material.E_Pa, rtol=1e-14)
+                               rtol=500 * EPS)
+    np.testing.assert_allclose(g.d_area_moment_m4[:, 2], 3 * g.area_moment_m4 / t,
+                               rtol=50 * EPS)
+    np.testing.assert_allclose(dK[:, 0] + dK[:, 1], K / w, rtol=5000 * EPS)  # K ∝ w
+    np.testing.assert_allclose(dK[:, 2], 3 * K / t, rtol=50 * EPS)
+    np.testing.assert_allclose(dK[:, 3], K / beam.material.E_Pa, rtol=50 * EPS)
 
 
 @pytest.mark.parametrize("lengths", [[0.15, 0.25, 0.3, 0.3], [0.3, 0.2, 0.2, 0.3]])
@@ -177,7 +183,9 @@ def test_frequency_design_gradient_equals_central_differences(name):
     k = np.array([3.0, 1.0, 2.0]) * finite_segment_stiffness(beam, lengths)
     # fixed springs, then springs that follow the finite-segment law
     w, dw = frequency_design_gradient(beam, d, lengths, k)
-    np.testing.assert_allclose(w, _chain_omega(beam, lengths, k), rtol=1e-12)
+    # the same sections, mass matrices and scaled solve (exact here; two solves of the pencil
+    # would agree to eig_rtol, 1e-14 here); kept: the test's 1e-12
+    np.testing.assert_allclose(w, _chain_omega(beam, lengths, k), rtol=5000 * EPS)
     D = _differences(lambda b: _chain_omega(b, lengths, k), d, p)
     assert np.all(_err(dw, D, d.scales) < 1e-9), _err(dw, D, d.scales)
     s = np.array([3.0, 1.0, 2.0])

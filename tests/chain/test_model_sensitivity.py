@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from paths import BEAMS
 from reference import strip_target
+from tolerances import EPS
 
 from prbdm_pin.chain.chain_derivatives import model_gradient
 from prbdm_pin.chain.layout import sample_lengths
@@ -162,7 +163,8 @@ def test_one_joint_frequency_derivative_in_closed_form():
     lengths = np.array([0.4, 0.6]) * beam.length_m
     g = model_gradient(beam, lengths, [50.0])
     w = g.omega_rad_s[0]
-    assert g.d_omega_rad_s[0, 1] == pytest.approx(w / 100.0, rel=1e-12)
+    # a few roundings either side (0.6 EPS measured); kept: the test's 1e-12
+    assert g.d_omega_rad_s[0, 1] == pytest.approx(w / 100.0, rel=5000 * EPS)
 
 
 def test_unit_lengths_jacobian_equals_central_differences():

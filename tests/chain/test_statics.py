@@ -8,6 +8,7 @@ from paths import BEAMS
 from reference import ELASTICA
 from scipy.optimize import brentq
 from scipy.special import ellipk
+from tolerances import EPS
 
 from prbdm_pin.chain import statics
 from prbdm_pin.errors import SolveError
@@ -114,4 +115,5 @@ def test_free_function_matches_method(chain32):
     np.testing.assert_array_equal(q, q2)
     data = chain32.new_data()
     pin.framesForwardKinematics(chain32.pin_model, data, q)
-    np.testing.assert_allclose(p, data.oMf[chain32.tip_frame_id].translation, atol=1e-15)
+    # the statics' tip is this placement (exact here); kept: the test's 1e-15 m
+    np.testing.assert_allclose(p, data.oMf[chain32.tip_frame_id].translation, atol=5 * EPS * L)

@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+from tolerances import EPS
 
 from prbdm_pin import Hub, StrainActuator, build_model, linearize
 from prbdm_pin.cli import main
@@ -45,15 +46,19 @@ def test_writes_matrices_names_modes_and_bode(fit_json, tmp_path):
     ref = linearize(_model(fit_json), inputs=("tip_force_z", "strain[0]"),
                     outputs=("tip_z", "q[0]"), actuators=[StrainActuator(0.1, 0.6)],
                     load_N=[0.0, 0.0, -10.0], damping_ratio=0.03)
+    # exact by construction: the command runs this linearize on the model of this fit file, and
+    # npz and JSON keep every bit; slack 5000 EPS (the test's 1e-12)
     for name in "ABCD":
-        np.testing.assert_allclose(mats[name], getattr(ref, name), rtol=1e-12, atol=1e-300)
+        np.testing.assert_allclose(mats[name], getattr(ref, name), rtol=5000 * EPS,
+                                   atol=1e-300)
     d = json.loads((out / "linear_model.json").read_text())
     assert d["input_names"] == ["tip_force_z", "strain[0]"]
     assert d["output_units"] == ["m", "rad"] and d["input_units"] == ["N", "N m"]
     assert d["state_names"] == ["q[0]", "q[1]", "q_rate[0]", "q_rate[1]"]
-    np.testing.assert_allclose(d["q_eq_rad"], ref.q_eq, rtol=1e-12)
+    np.testing.assert_allclose(d["q_eq_rad"], ref.q_eq, rtol=5000 * EPS)
     assert len(d["modes"]) == 2 and d["hub"] is None
-    assert d["modes"][0]["omega_rad_s"] == pytest.approx(ref.modal().omega_rad_s[0], rel=1e-12)
+    assert d["modes"][0]["omega_rad_s"] == pytest.approx(ref.modal().omega_rad_s[0],
+                                                         rel=5000 * EPS)
     assert (out / "bode.png").stat().st_size > 1000
     assert not list(tmp_path.glob(".*staging*"))
 
@@ -67,7 +72,9 @@ def test_hub_option(fit_json, tmp_path):
     assert d["hub"] == {"inertia_kg_m2": 0.5, "radius_m": 0.05}
     assert d["modes"][0]["omega_rad_s"] == 0.0
     ref = _model(fit_json, Hub(0.5, 0.05)).natural_frequencies()
-    np.testing.assert_allclose([m["omega_rad_s"] for m in d["modes"]], ref, rtol=1e-12)
+    # two solves of the hub model's modes (the plant's on the hub's Schur complement, the
+    # model's scaled one): EPS (w_max / w_min)^2 each, 1e-14 here; kept: the test's 1e-12
+    np.testing.assert_allclose([m["omega_rad_s"] for m in d["modes"]], ref, rtol=5000 * EPS)
 
 
 @pytest.mark.parametrize("argv,needle", [

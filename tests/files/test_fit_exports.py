@@ -14,6 +14,7 @@ import json
 import numpy as np
 import pytest
 from reference import REF_OMEGA
+from tolerances import EPS
 
 from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.files.fit_file import load_fit, save_fit
@@ -71,8 +72,10 @@ def test_tapered_paper_fit_exports_the_springs_of_a_fitted_pose(tapered, tapered
     exported = _straight_errors_pct(load_urdf(out / "model.urdf"), truth)
     # what fit.json says about the export is the URDF's own Pinocchio frequencies
     assert exported == pytest.approx(d["omega_export_errors_pct"], rel=1e-9, abs=1e-9)
+    # w / t - 1 and back: a few roundings, absolute in the error, relative in w (1 EPS
+    # measured); kept: the test's 1e-12
     assert np.array(d["omega_export_rad_s"]) == pytest.approx(
-        truth * (1 + exported / 100), rel=1e-12)
+        truth * (1 + exported / 100), rel=5000 * EPS)
     # ... and they are a fitted pose's: pose 0 (every joint at 0.05 rad) within the O(q^2) change
     # of the frequencies from there to q = 0 (measured 0.04, 0.28, 0.23 points; SCF_mean
     # springs were 5.5, 7.0, 6.8 points away)
@@ -116,8 +119,9 @@ def test_per_mode_errors_are_the_models_own_frequencies(reference, stiffness, tm
     for i, (q, k) in enumerate(zip(r.poses_rad, r.stiffness_per_pose_Nm_per_rad, strict=True)):
         w = build_model(reference, r.lengths_m, k).natural_frequencies(q)[:3]
         assert r.omega_errors_pct[i] == pytest.approx(100 * (w / t - 1), rel=1e-9, abs=1e-9)
+    # exact by construction (the largest of the same numbers); slack: the test's 1e-12
     assert r.worst_mode_error_pct == pytest.approx(
-        np.max(np.abs(r.omega_errors_pct)), rel=1e-12)
+        np.max(np.abs(r.omega_errors_pct)), rel=5000 * EPS)
     # the exported model through its URDF
     path = build_model(reference, r.lengths_m, r.stiffness_Nm_per_rad).write_urdf(
         tmp_path / "model.urdf")
@@ -145,9 +149,12 @@ def test_old_fit_json_without_the_new_fields_loads(reference, tmp_path):
     (tmp_path / "fit.json").write_text(json.dumps(d))
     old = load_fit(tmp_path / "fit.json")
     w = np.array(d["omega_model_rad_s"])
-    assert old.omega_errors_pct == pytest.approx(100 * (w / REF_OMEGA[:2] - 1), rel=1e-12)
+    # load_fit recomputes them from the recorded frequencies by this formula (exact here);
+    # kept: the tests' 1e-12
+    assert old.omega_errors_pct == pytest.approx(100 * (w / REF_OMEGA[:2] - 1),
+                                                 rel=5000 * EPS)
     assert old.worst_mode_error_pct == pytest.approx(
-        np.max(np.abs(100 * (w / REF_OMEGA[:2] - 1))), rel=1e-12)
+        np.max(np.abs(100 * (w / REF_OMEGA[:2] - 1))), rel=5000 * EPS)
     assert old.eigen_norm == "paper" and old.export_pose_rad is None
     assert "SCF_mean" in old.stiffness_pose  # what those files exported
     assert isinstance(FitResult.from_dict(r.to_dict()).omega_export_rad_s, np.ndarray)
@@ -164,9 +171,11 @@ def test_stiffness_schedule_interpolates_the_per_pose_table(reference):
     np.testing.assert_array_equal(s.at(np.zeros(2)), r.stiffness_Nm_per_rad)
     for a in (th[0], 0.5 * (th[1] + th[2]), th[-1], 0.7 * th[1] + 0.3 * th[2], 2 * th[-1]):
         ref = [np.interp(a, th, K[:, j]) for j in range(2)]
-        assert s.at(np.full(2, a)) == pytest.approx(ref, rel=1e-13)
+        # a linear interpolation either side: a few roundings (1 EPS measured); kept: the
+        # tests' 1e-13
+        assert s.at(np.full(2, a)) == pytest.approx(ref, rel=500 * EPS)
         # the rule uses the mean |q_j| (a pose off the sweep's diagonal)
-        assert s.at(np.array([-0.5 * a, 1.5 * a])) == pytest.approx(ref, rel=1e-13)
+        assert s.at(np.array([-0.5 * a, 1.5 * a])) == pytest.approx(ref, rel=500 * EPS)
 
 
 def _loss(prob, lengths, factors, objective):
@@ -273,7 +282,8 @@ def test_batch_losses_honour_the_relative_norm(reference):
         w = ev.omega_model_rad_s
         hand = np.sqrt(np.mean((w / REF_OMEGA[:3] - 1) ** 2, axis=1))
         assert e[b] == pytest.approx(hand, rel=1e-9)
-        assert ev.eigen_errors == pytest.approx(hand, rel=1e-12)
+        # the same rms by hand: a few roundings (1 EPS measured); kept: the test's 1e-12
+        assert ev.eigen_errors == pytest.approx(hand, rel=5000 * EPS)
 
 
 def test_pareto_with_the_relative_norm_records_it(reference):

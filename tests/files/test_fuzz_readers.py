@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from tolerances import EPS
 
 from prbdm_pin.errors import BeamInputError, SolveError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam
@@ -388,5 +389,7 @@ def test_the_valid_files_themselves_pass(beam_doc, fit_doc, model_doc, urdf_doc,
     assert load_fit(_write(scratch, "f.json", fit_doc)).joints == 2
     m = read_model_json(_write(scratch, "m.json", model_doc))
     u = load_urdf(_write(scratch, "m.urdf", urdf_doc.encode()))
-    np.testing.assert_allclose(u.natural_frequencies(), m.natural_frequencies(), rtol=1e-12)
+    # both files write every number in full: one chain (exact here); kept: the test's 1e-12
+    np.testing.assert_allclose(u.natural_frequencies(), m.natural_frequencies(),
+                               rtol=5000 * EPS)
     assert math.isclose(float(np.sum(m.lengths_m)), 0.6, rel_tol=1e-12)

@@ -10,6 +10,7 @@ import pytest
 from paths import BEAMS
 from reference import ELASTICA, REF_OMEGA
 from scipy.integrate import quad
+from tolerances import EPS
 
 from prbdm_pin.chain.layout import sample_lengths
 from prbdm_pin.chain.sections import link_sections_unchecked, planar_sections
@@ -43,8 +44,9 @@ def test_inv_width_integral_against_quadrature_and_stacks():
             assert np.array_equal(got[r], row)
             for j in range(lo.shape[1]):
                 pts = [x for x in beam.x_m if lo[r, j] < x < hi[r, j]]
+                # the quadrature's request: 450 EPS (1e-13); QUADPACK's floor is 50 EPS
                 ref = quad(lambda x, b=beam: 1.0 / b.half_width_at(x), lo[r, j], hi[r, j],
-                           points=pts or None, epsabs=0, epsrel=1e-13, limit=200)[0]
+                           points=pts or None, epsabs=0, epsrel=450 * EPS, limit=200)[0]
                 assert row[j] == pytest.approx(ref, rel=1e-11, abs=1e-14)
 
 
@@ -70,9 +72,11 @@ def test_stacked_designs_equal_single_designs_and_the_pinocchio_path(stiffness):
             assert np.array_equal(iyy, s.inertia_com_kg_m2[:, 1, 1])
             # the product path: Pinocchio model, CRBA, validated springs
             _, K0_ref, W_ref = unit_frequencies(prob, lengths)
-            assert K0i == pytest.approx(K0_ref, rel=1e-14)
+            # the kernel's springs are the product path's (exact here); kept: the tests' 1e-14
+            assert K0i == pytest.approx(K0_ref, rel=50 * EPS)
             if stiffness == "joint":
-                assert K0i == pytest.approx(finite_segment_stiffness(beam, lengths), rel=1e-14)
+                assert K0i == pytest.approx(finite_segment_stiffness(beam, lengths),
+                                            rel=50 * EPS)
             # frequencies agree to the eigenproblem's rounding (eps * cond, cond <= 1e5 here)
             assert W[i] == pytest.approx(W_ref, rel=1e-9)
 
@@ -103,7 +107,10 @@ def test_batched_statics_satisfy_pinocchio_equilibrium(n):
         for i in range(0, 40, 7):
             model = build_model(beam, L[i], K[i])
             assert _pin_residual(model, q[i], F) < 1e-9
-            np.testing.assert_allclose(tips[i], model.tip_position(q[i]), atol=1e-14)
+            # two kinematics of the 1 m chain: a few roundings (2 EPS m measured); kept: the
+            # test's 1e-14 m
+            np.testing.assert_allclose(tips[i], model.tip_position(q[i]),
+                                       atol=50 * EPS * beam.length_m)
             # a minimum: the Hessian of the potential, by differences of Pinocchio's J^T F
             h = 1e-6
             H = np.diag(K[i]) - np.array([

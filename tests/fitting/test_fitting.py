@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 from reference import BETA_L, ELASTICA, REF_OMEGA
+from tolerances import EPS
 
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
@@ -124,7 +125,9 @@ def test_joint_matches_n_euler_bernoulli_frequencies(narrow, n):
             loss_tol_pct=1e-7)
     assert r.eigen_loss_pct <= 1e-6
     assert r.omega_model_rad_s[0] == pytest.approx(target.omega_truth_rad_s[:n], rel=1e-8)
-    assert np.sum(r.lengths_m) == pytest.approx(narrow.length_m, rel=1e-12)
+    # n + 1 stick-breaking lengths summed: a few roundings (1 EPS measured); kept: the test's
+    # 1e-12
+    assert np.sum(r.lengths_m) == pytest.approx(narrow.length_m, rel=5000 * EPS)
     assert np.all(r.lengths_m >= 0.02 * narrow.length_m - 1e-12)
 
 
@@ -145,7 +148,8 @@ def test_paper_scfs_are_each_poses_optimum(reference):
     prob = make_problem(reference, target, 2,
                         FitOptions(frequencies=2, stiffness="paper", eigen_norm="paper"))
     base = evaluate(prob, r.lengths_m, r.factors, deflection=False).eigen_errors
-    assert 100 * np.mean(base) == pytest.approx(r.eigen_loss_pct, rel=1e-12)
+    # the fit's loss is this mean (exact here); kept: the test's 1e-12
+    assert 100 * np.mean(base) == pytest.approx(r.eigen_loss_pct, rel=5000 * EPS)
     for i in range(prob.n_poses):
         for f in (0.999, 1.001):
             k = np.array(r.factors, copy=True)
@@ -213,7 +217,9 @@ def test_stick_breaking_map_round_trip_and_bounds():
     for _ in range(50):
         u = rng.random(4)
         lengths = lengths_from_unit(u, 2.0)
-        assert np.sum(lengths) == pytest.approx(2.0, rel=1e-14)
+        # 2 (n + 1) = 10 roundings of the stick-breaking and the sum (1 EPS measured); kept:
+        # the test's 1e-14
+        assert np.sum(lengths) == pytest.approx(2.0, rel=50 * EPS)
         assert np.all(lengths >= 0.04 - 1e-15)
         assert unit_from_lengths(lengths, 2.0) == pytest.approx(u, abs=1e-12)
     # the corners of the box reach the corners of the simplex
@@ -288,7 +294,11 @@ def test_paper_2r_fit_reaches_the_grid_optimum(reference, squared):
             seed=0,
             eigen_norm="paper", progress=False)
     assert r.eigen_loss_pct <= best.fun * (1 + 1e-4)
-    assert r.eigen_loss_pct == pytest.approx(_projected_loss_pct(prob, r.lengths_m), rel=1e-12)
+    # the fit's kernel against the Pinocchio route: their frequencies differ by a few EPS,
+    # which the loss (a mean of small differences, 0.08 % and 0.3 %) turns into ~EPS / loss
+    # relative (33 EPS measured); kept: the test's 1e-12
+    assert r.eigen_loss_pct == pytest.approx(_projected_loss_pct(prob, r.lengths_m),
+                                             rel=5000 * EPS)
 
 
 def test_paper_omega_fit_beats_the_omega_squared_design_in_omega(reference):
@@ -323,8 +333,11 @@ def test_joint_pareto_4r_knee_against_euler_bernoulli_and_elastica(narrow):
                    workers=2, progress=False)
     k = p.knee
     assert k.combined_loss_pct <= 0.1
+    # the combined loss is this hypot of the recorded two: a few roundings; kept: the test's
+    # 1e-12
     assert k.combined_loss_pct == pytest.approx(math.hypot(k.eigen_loss_pct,
-                                                           k.deflection_loss_pct), rel=1e-12)
+                                                           k.deflection_loss_pct),
+                                                rel=5000 * EPS)
     assert p.knee_index == int(np.argmin(np.hypot(p.F_pct[:, 0], p.F_pct[:, 1])))
 
 
@@ -348,8 +361,10 @@ def test_paper_pareto_knee_beats_the_papers(reference, reference_truth_target, n
     k = p.knee
     assert p.eps == 0.01 and k.poses_rad.shape[0] == len(np.arange(0.05, np.pi / 2 / n, 0.01))
     assert k.combined_loss_pct < paper_knee
+    # as above: a few roundings; kept: the test's 1e-12
     assert k.combined_loss_pct == pytest.approx(math.hypot(k.eigen_loss_pct,
-                                                           k.deflection_loss_pct), rel=1e-12)
+                                                           k.deflection_loss_pct),
+                                                rel=5000 * EPS)
     # the front is mutually non-dominated and the knee is its point nearest the origin
     F = p.F_pct
     dominated = [np.any(np.all(F <= f, axis=1) & np.any(F < f, axis=1)) for f in F]

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from tolerances import EPS
 
 from prbdm_pin.fitting import objectives as ob
 from prbdm_pin.fitting.evaluate import evaluate
@@ -20,21 +21,24 @@ from prbdm_pin.options.objects import FitOptions
 def test_eigen_errors_hand_values():
     truth = np.array([1.0, 2.0])
     model = np.array([[1.0, 2.0, 9.0], [1.0, 2.2, 9.0], [0.9, 2.0, 9.0]])
+    # hand values: each side a handful of roundings of decimal inputs (<= 4.3 EPS measured);
+    # kept: the tests' 1e-14, 1e-13, 1e-12 as 50, 500, 5000 EPS
     e = ob.eigen_errors(model, truth)
-    assert e == pytest.approx([0.0, 0.2 / math.sqrt(5.0), 0.1 / math.sqrt(5.0)], rel=1e-14)
+    assert e == pytest.approx([0.0, 0.2 / math.sqrt(5.0), 0.1 / math.sqrt(5.0)], rel=50 * EPS)
     assert ob.eigen_loss_pct(model, truth) == pytest.approx(100 * 0.3 / math.sqrt(5) / 3)
     # omega^2: |4.84 - 4| / sqrt(1 + 16)
     e2 = ob.eigen_errors(model[:2], truth, squared=True)
-    assert e2 == pytest.approx([0.0, 0.84 / math.sqrt(17.0)], rel=1e-14)
+    assert e2 == pytest.approx([0.0, 0.84 / math.sqrt(17.0)], rel=50 * EPS)
 
 
 def test_best_scale_is_the_exact_one_dimensional_least_squares():
     truth = np.array([3.0, 7.0, 11.0])
     w = np.array([[1.0, 2.0, 4.0], [3.0, 7.0, 11.0]]) / 2.0
+    # hand values: as in test_eigen_errors_hand_values (kept bounds)
     k = ob.best_scale(w, truth)
     # sqrt(k) = f.w / w.w
-    assert k[1] == pytest.approx(4.0, rel=1e-14)
-    assert math.sqrt(k[0]) == pytest.approx((3 + 14 + 44) / (1 + 4 + 16) * 2.0, rel=1e-14)
+    assert k[1] == pytest.approx(4.0, rel=50 * EPS)
+    assert math.sqrt(k[0]) == pytest.approx((3 + 14 + 44) / (1 + 4 + 16) * 2.0, rel=50 * EPS)
     e = ob.projected_eigen_errors(w, truth)
     assert e[1] == pytest.approx(0.0, abs=1e-15)
     # no other factor does better
@@ -43,27 +47,28 @@ def test_best_scale_is_the_exact_one_dimensional_least_squares():
     # squared: k = f^2.w^2 / w^2.w^2
     k2 = ob.best_scale(w, truth, squared=True)
     f2, w2 = truth**2, w[0] ** 2
-    assert k2[0] == pytest.approx(f2 @ w2 / (w2 @ w2), rel=1e-14)
+    assert k2[0] == pytest.approx(f2 @ w2 / (w2 @ w2), rel=50 * EPS)
 
 
 def test_relative_norm_hand_values():
     truth = np.array([1.0, 2.0, 4.0])
     model = np.array([[1.1, 2.0, 3.6, 50.0], [1.0, 2.0, 4.0, 9.0]])
+    # hand values: as in test_eigen_errors_hand_values (kept bounds)
     # sqrt(mean_k ((w_k - t_k) / t_k)^2): the 10 % errors of modes 1 and 3 count equally
     assert ob.eigen_errors(model, truth, norm="relative") == pytest.approx(
-        [math.sqrt((0.01 + 0.0 + 0.01) / 3.0), 0.0], rel=1e-14)
+        [math.sqrt((0.01 + 0.0 + 0.01) / 3.0), 0.0], rel=50 * EPS)
     assert ob.eigen_loss_pct(model, truth, norm="relative") == pytest.approx(
-        100 * math.sqrt(0.02 / 3.0) / 2, rel=1e-14)
+        100 * math.sqrt(0.02 / 3.0) / 2, rel=50 * EPS)
     # Eq. 16 weighs mode 3's 0.4 rad/s above mode 1's 0.1 rad/s
     assert ob.eigen_errors(model, truth)[0] == pytest.approx(
-        math.sqrt(0.1**2 + 0.4**2) / math.sqrt(21.0), rel=1e-14)
+        math.sqrt(0.1**2 + 0.4**2) / math.sqrt(21.0), rel=50 * EPS)
     # omega^2: ((1.21 - 1) / 1, 0, (12.96 - 16) / 16)
     e2 = ob.eigen_errors(model[:1], truth, squared=True, norm="relative")[0]
-    assert e2 == pytest.approx(math.sqrt((0.21**2 + 0.19**2) / 3.0), rel=1e-14)
+    assert e2 == pytest.approx(math.sqrt((0.21**2 + 0.19**2) / 3.0), rel=50 * EPS)
     # signed per-mode errors in omega, whatever the norm
     pm = ob.mode_errors_pct(model, truth)
     assert pm == pytest.approx(np.array([[10.0, 0.0, -10.0], [0.0, 0.0, 0.0]]), abs=1e-12)
-    assert ob.worst_mode_error_pct(pm) == pytest.approx(10.0, rel=1e-12)
+    assert ob.worst_mode_error_pct(pm) == pytest.approx(10.0, rel=5000 * EPS)
     with pytest.raises(ValueError, match="eigen_norm"):
         ob.eigen_errors(model, truth, norm="l1")
 
@@ -74,9 +79,10 @@ def test_relative_best_scale_is_its_own_closed_form(squared):
 
     truth = np.array([3.0, 7.0, 11.0])
     w = np.array([[1.0, 2.0, 4.0], [1.5, 3.5, 5.5]])
+    # hand values: as in test_eigen_errors_hand_values (kept bounds)
     k = ob.best_scale(w, truth, squared=squared, norm="relative")
     # the second pose is the truth scaled by 1/2 in omega: k = 4 exactly
-    assert k[1] == pytest.approx(4.0, rel=1e-13)
+    assert k[1] == pytest.approx(4.0, rel=500 * EPS)
     # the first against a bounded scalar minimisation of the hand-written relative rms
     p = 2 if squared else 1
 
@@ -89,17 +95,18 @@ def test_relative_best_scale_is_its_own_closed_form(squared):
     # ... and it differs from the Eq. 16 optimum
     assert abs(k[0] / ob.best_scale(w, truth, squared=squared)[0] - 1) > 1e-3
     e = ob.projected_eigen_errors(w, truth, squared=squared, norm="relative")
-    assert e[0] == pytest.approx(rms(k[0]), rel=1e-12) and e[1] == pytest.approx(0, abs=1e-14)
+    assert e[0] == pytest.approx(rms(k[0]), rel=5000 * EPS) and e[1] == pytest.approx(0, abs=1e-14)
 
 
 def test_tip_errors_hand_values():
     truth = np.array([0.9, 0.0, -0.4])
     disp = truth - np.array([1.0, 0.0, 0.0])
     model = np.array([[0.9, 0.0, -0.4], [0.93, 0.0, -0.36]])
+    # hand values: as in test_eigen_errors_hand_values (kept bounds)
     pos = ob.tip_position_errors(model, truth)
-    assert pos == pytest.approx([0.0, 0.05 / math.sqrt(0.97)], rel=1e-13)
+    assert pos == pytest.approx([0.0, 0.05 / math.sqrt(0.97)], rel=500 * EPS)
     d = ob.tip_displacement_errors(model, truth, disp)
-    assert d == pytest.approx([0.0, 0.05 / math.sqrt(0.17)], rel=1e-13)
+    assert d == pytest.approx([0.0, 0.05 / math.sqrt(0.17)], rel=500 * EPS)
 
 
 def test_scf_statistics_and_knee():

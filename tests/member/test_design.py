@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from paths import BEAMS
 from skfem import MeshTri
+from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError
@@ -74,7 +75,9 @@ def test_moved_mesh_tiles_the_new_planform(name):
 
     area = signed_areas(moved.p)
     assert np.all(np.sign(area) == np.sign(signed_areas(mesh.p)))  # no element inverted
-    assert np.abs(area).sum() == pytest.approx(new.planform_area_m2, rel=1e-12)
+    # a sum of 120 to 2410 positive areas, each exact to a few EPS: <= 2410 EPS in the worst
+    # case (1 EPS measured); kept: the test's 1e-12
+    assert np.abs(area).sum() == pytest.approx(new.planform_area_m2, rel=5000 * EPS)
     # every planform vertex of the new beam is a node of the moved mesh
     for xv, wv in zip(new.x_m, new.half_width_m, strict=True):
         assert np.min(np.hypot(moved.p[0] - xv, moved.p[1] - wv)) < 1e-12

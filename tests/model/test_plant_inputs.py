@@ -5,6 +5,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from paths import ROOT
+from tolerances import EPS
 
 from prbdm_pin import BeamInputError, Hub, StrainActuator, build_model, linearize
 from prbdm_pin.files.beam_file import load_beam
@@ -54,15 +55,19 @@ def test_static_response_equals_joint_torques_inside_the_span(model):
                     outputs=("tip_z", "tip_x", "q[0]", "q[1]", "q[2]", "spring_torque[1]"),
                     actuators=[patch], load_N=[0.0, 0.0, -20.0])
     dc = np.asarray(lin.to_control().dcgain())
+    # atol: gains of one solve of the loaded stiffness, their superposition cancelling to a
+    # few EPS of the largest gain (25 EPS measured); kept: the test's 1e-12 of it
     np.testing.assert_allclose(dc[:, 0], dc[:, 1] + dc[:, 2], rtol=1e-10,
-                               atol=1e-12 * np.max(np.abs(dc)))
+                               atol=5000 * EPS * np.max(np.abs(dc)))
     # and nonlinearly: K q = M on the inside joints, the outside joint unloaded
     Mpatch = 2.0
     q = np.linalg.solve(np.diag(SPRINGS), Mpatch * np.array([1.0, 1.0, 0.0]))
     lin0 = linearize(model, inputs=("strain[0]",), outputs=("q[0]", "q[1]", "q[2]"),
                      actuators=[patch])
+    # a solve of a diagonal stiffness either side (8 EPS of the gains measured); kept: the
+    # test's 1e-12 and 1e-15 rad
     np.testing.assert_allclose(Mpatch * np.asarray(lin0.to_control().dcgain()).ravel(), q,
-                               rtol=1e-12, atol=1e-15)
+                               rtol=5000 * EPS, atol=5 * EPS)
 
 
 def test_patch_end_on_a_joint_gives_half_the_moment():

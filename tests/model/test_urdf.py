@@ -16,6 +16,7 @@ from consumers import (
     yourdfpy_mass_and_damping,
 )
 from paths import ROOT
+from tolerances import EPS, eig_rtol
 
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import load_beam
@@ -47,9 +48,11 @@ def test_pinocchio_file_parser_gives_the_same_bodies(model, urdf_path):
         inertia = parsed.inertias[i]
         assert inertia.mass == s.mass_kg[i]
         # appending a body to a joint sums inertias (lever = sum m c / sum m): equal to rounding
-        np.testing.assert_allclose(inertia.lever, s.com_m[i] - [s.start_m[i], 0, 0], rtol=1e-14,
+        # (2.3 EPS measured); kept: the tests' 1e-14
+        np.testing.assert_allclose(inertia.lever, s.com_m[i] - [s.start_m[i], 0, 0],
+                                   rtol=50 * EPS, atol=0)
+        np.testing.assert_allclose(inertia.inertia, s.inertia_com_kg_m2[i], rtol=50 * EPS,
                                    atol=0)
-        np.testing.assert_allclose(inertia.inertia, s.inertia_com_kg_m2[i], rtol=1e-14, atol=0)
     for j in range(1, 5):
         assert parsed.joints[j].shortname() == "JointModelRY"
         np.testing.assert_array_equal(parsed.jointPlacements[j].translation, [LENGTHS[j - 1], 0, 0])
@@ -165,7 +168,9 @@ def test_every_consumer_reads_the_same_mass_matrix_and_damping(model, export_pat
         # no link defaults to 1 kg: the tip is massless, the links weigh what we computed
         assert masses["tip"] == 0.0
         for i in range(5):
-            assert masses[f"link_{i}"] == pytest.approx(model.sections.mass_kg[i], rel=1e-12)
+            # exact by construction (masses written in full); slack: the test's 1e-12
+            assert masses[f"link_{i}"] == pytest.approx(model.sections.mass_kg[i],
+                                                        rel=5000 * EPS)
     else:
         Ms, damping = {"pinocchio": pinocchio_mass_and_damping,
                        "mujoco": mujoco_mass_and_damping,
@@ -175,8 +180,9 @@ def test_every_consumer_reads_the_same_mass_matrix_and_damping(model, export_pat
         assert np.abs(M - ours).max() <= 1e-9 * np.abs(ours).max(), (consumer, q)
     rec = read_export_record(export_path.read_text())
     assert rec.damping_form == "stiffness"
-    np.testing.assert_allclose(damping, rec.joint_damping_Nms_per_rad, rtol=1e-12)
-    np.testing.assert_allclose(damping, rec.damping_beta_s * STIFFNESS, rtol=1e-12)
+    # exact by construction (beta k written in full, read back); slack: the tests' 1e-12
+    np.testing.assert_allclose(damping, rec.joint_damping_Nms_per_rad, rtol=5000 * EPS)
+    np.testing.assert_allclose(damping, rec.damping_beta_s * STIFFNESS, rtol=5000 * EPS)
 
 
 def test_gravity_convention(model, export_path):
@@ -195,13 +201,19 @@ def test_gravity_convention(model, export_path):
     data = plain.createData()
     M = pin.crba(plain, data, q)
     M = np.triu(M) + np.triu(M, 1).T
-    np.testing.assert_allclose(M, model.mass_matrix(q), rtol=1e-14, atol=1e-16)
+    # the same bodies through the same CRBA (exact here); kept: the test's 1e-14 and 1e-16
+    # kg m^2 (EPS / 2)
+    np.testing.assert_allclose(M, model.mass_matrix(q), rtol=50 * EPS, atol=EPS / 2)
     k = read_springs(export_path.read_text(), [plain.names[j] for j in range(1, plain.njoints)])
     import scipy.linalg as sla
 
     omega = np.sqrt(sla.eigh(np.diag(k), M, eigvals_only=True))
-    np.testing.assert_allclose(omega, model.natural_frequencies(q), rtol=1e-12)
-    np.testing.assert_allclose(ours.natural_frequencies(q), omega, rtol=1e-12)
+    # this solve of K phi = w^2 M phi gets the lowest w (0.47 rad/s beside 125) only to
+    # n EPS (w_max / w_min)^2 / 2 = 3e-11 relative (1.5e-12 measured), the package's scaled
+    # solve to a few EPS
+    rtol = eig_rtol(omega)
+    np.testing.assert_allclose(omega, model.natural_frequencies(q), rtol=rtol)
+    np.testing.assert_allclose(ours.natural_frequencies(q), omega, rtol=rtol)
 
 
 def test_every_link_has_an_inertial_but_the_fixed_root(export_path):

@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 from reference import BETA_L
+from tolerances import EPS
 
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
@@ -95,8 +96,11 @@ def test_fit_json_records_the_options_and_reads_them_back(narrow, target, tmp_pa
     # tip displacement, recomputed here from the recorded tips
     err = np.linalg.norm(r.tip_position_model_m[0] - target.tip_position_m)
     disp = 100 * err / np.linalg.norm(target.tip_displacement_m)
-    assert r.displacement_loss_pct == pytest.approx(disp, rel=1e-12)
-    assert r.combined_loss_pct == pytest.approx(math.hypot(r.eigen_loss_pct, disp), rel=1e-12)
+    # a norm and a hypot either side: a few roundings (0.9 EPS measured); kept: the tests'
+    # 1e-12
+    assert r.displacement_loss_pct == pytest.approx(disp, rel=5000 * EPS)
+    assert r.combined_loss_pct == pytest.approx(math.hypot(r.eigen_loss_pct, disp),
+                                                rel=5000 * EPS)
     # keyword changes are the same options
     assert fit(narrow, target, 2, progress=False, **{
         k: v for k, v in o.to_dict().items() if k != "kind"}).options == o
@@ -136,5 +140,6 @@ def test_the_cli_carries_every_fit_option_into_fit_json(tmp_path, capsys):
     # the sweep was used (one straight pose without it) and the combined loss is in the
     # displacement norm
     assert len(d["poses_rad"]) > 1
+    # the recorded hypot of the recorded two (exact here); kept: the test's 1e-12
     assert d["combined_loss_pct"] == pytest.approx(
-        math.hypot(d["eigen_loss_pct"], d["displacement_loss_pct"]), rel=1e-12)
+        math.hypot(d["eigen_loss_pct"], d["displacement_loss_pct"]), rel=5000 * EPS)

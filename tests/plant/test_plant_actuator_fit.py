@@ -10,6 +10,7 @@ import dataclasses
 import numpy as np
 import pytest
 from reference import cantilever_modes
+from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.plant import actuator_fit
@@ -195,10 +196,11 @@ def test_on_a_hub_the_fitted_map_follows_the_truths_hybrid_model(truth, fits):
                      damping="modal")
     fitted = pp.fit_strain_actuators(hub, truth, BEAM, SHORT)
     # the hub model's clamped block comes from another CRBA of the same chain: equal to rounding
+    # (exact here); kept: the test's 1e-12 and 1e-14
     np.testing.assert_allclose(
         [a.joint_weights for a in fitted],
         [a.joint_weights for a in pp.fit_strain_actuators(model, truth, BEAM, SHORT)],
-        rtol=1e-12, atol=1e-14)
+        rtol=5000 * EPS, atol=50 * EPS)
     names = tuple(f"strain[{i}]" for i in range(4))
     outs = ("hub_angle", "tip_z")
     w = np.linspace(0.1 * h.frequencies_rad_s[1], 1.2 * h.frequencies_rad_s[3], 8001)
@@ -228,7 +230,8 @@ def test_the_signs_follow_either_sides_modes(truth, fits):
     flip = np.array([1.0, -1.0, 1.0, 1.0, -1.0, 1.0])  # modes 2 and 5 of the truth
     g2 = dataclasses.replace(g, tip_z_per_sqrt_kg=g.tip_z_per_sqrt_kg * flip,
                              strain_per_sqrt_kg_m=g.strain_per_sqrt_kg_m * flip)
-    np.testing.assert_allclose(fitted_weights(model, g2), base, rtol=1e-12, atol=1e-15)
+    # a sign flip is exact and the map undoes it (exact here); kept: the test's 1e-12, 1e-15
+    np.testing.assert_allclose(fitted_weights(model, g2), base, rtol=5000 * EPS, atol=5 * EPS)
     # tip deflection and rotation of the PRBDM's modes and the truth's (mode 2 flipped)
     c, rot = np.array([1.0, -1.0, 0.8]), np.array([-2.0, 5.0, -3.0])
     ct, rt = np.array([1.0, 1.0, 1.0]), np.array([-2.0, -5.0, -8.0])

@@ -12,6 +12,7 @@ import json
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.cli import main
@@ -112,7 +113,8 @@ def test_two_mass_plant_against_its_closed_form():
                                rtol=1e-9)
     p = c.pair("tip_force_z", "tip_z")
     hi = 1.2 * wt[1]
-    assert c.band_rad_s == (0.0, pytest.approx(hi, rel=1e-12))
+    # exact by construction (the same product); slack: the test's 1e-12
+    assert c.band_rad_s == (0.0, pytest.approx(hi, rel=5000 * EPS))
     np.testing.assert_allclose(p.frf_truth, truth.frf(p.omega_rad_s), rtol=1e-10)
     # the L2 error by brute quadrature on a fine uniform grid
     w = np.linspace(0.0, hi, 1_000_001)
@@ -126,7 +128,9 @@ def test_two_mass_plant_against_its_closed_form():
     for plant, curve in ((truth, p.step_truth), (model, p.step_prbdm)):
         w_k, x2 = plant.modes()
         ref = modal_step_response(ModalTip(w_k, x2**2), p.t_s, plant.beta * w_k / 2)
-        np.testing.assert_allclose(curve, ref, rtol=1e-9, atol=1e-12 * np.abs(ref).max())
+        # atol: near t = 0 each mode's term cancels against its static part, so the sum is
+        # good to a few EPS of max |ref| absolute (48 EPS measured); kept: the test's 1e-12
+        np.testing.assert_allclose(curve, ref, rtol=1e-9, atol=5000 * EPS * np.abs(ref).max())
     u_t = modal_step_response(ModalTip(wt, gt**2), p.t_s, truth.beta * wt / 2)
     u_m = modal_step_response(ModalTip(wm, gm**2), p.t_s, model.beta * wm / 2)
     assert p.step_error_pct == pytest.approx(

@@ -7,6 +7,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from paths import ROOT
+from tolerances import EPS
 
 from prbdm_pin import Hub, StrainActuator, build_model, linearize
 from prbdm_pin.files.beam_file import load_beam
@@ -124,7 +125,8 @@ def test_outputs_equal_finite_differences_of_the_kinematics():
     h = 1e-6
     Cfd = np.column_stack([(y(x0 + h * e) - y(x0 - h * e)) / (2 * h) for e in np.eye(2 * nv)])
     np.testing.assert_allclose(lin.C, Cfd, rtol=1e-7, atol=1e-9)
-    np.testing.assert_allclose(lin.y_eq, y(x0), rtol=1e-12, atol=1e-15)
+    # the same outputs of the same equilibrium (exact here); kept: the test's 1e-12 and 1e-15
+    np.testing.assert_allclose(lin.y_eq, y(x0), rtol=5000 * EPS, atol=5 * EPS)
     assert not np.any(lin.D)
 
 
@@ -150,9 +152,11 @@ def test_to_control_frequency_response_equals_the_state_space(hub):
     eye = np.eye(lin.A.shape[0])
     for wi in (0.5, 7.0, 40.0, 300.0):
         direct = lin.C @ np.linalg.solve(1j * wi * eye - lin.A, lin.B) + lin.D
+        # the resolvent by another call (exact here); kept: the tests' 1e-12 (of the
+        # largest response for the atol)
         np.testing.assert_allclose(np.asarray(sys(1j * wi)), direct, rtol=1e-9,
-                                   atol=1e-12 * np.max(np.abs(direct)))
-        np.testing.assert_allclose(lin.frequency_response([wi])[0], direct, rtol=1e-12)
+                                   atol=5000 * EPS * np.max(np.abs(direct)))
+        np.testing.assert_allclose(lin.frequency_response([wi])[0], direct, rtol=5000 * EPS)
 
 
 def test_modal_view_diagonalises_the_second_order_form():

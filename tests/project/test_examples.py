@@ -14,6 +14,7 @@ import pytest
 import scipy.linalg as sla
 from paths import ROOT
 from reference import BETA_L
+from tolerances import EPS
 
 import prbdm_pin as pp
 
@@ -89,9 +90,11 @@ def test_batch_study_matches_a_direct_fit_and_euler_bernoulli(tmp_path):
     truth = pp.compute_truth(beam, model="beam", modes=settings.joints)
     direct = pp.fit(beam, pp.target_from_truth(truth, beam.tip_force_N), settings.joints,
                     settings.options.replace(seed=rec["fit_seed"]), progress=False)
-    np.testing.assert_allclose(rec["lengths_m"], direct.lengths_m, rtol=1e-12)
+    # exact here: the batch ran this fit with this seed on this machine, and JSON keeps the
+    # bits; slack 5000 EPS (the test's 1e-12)
+    np.testing.assert_allclose(rec["lengths_m"], direct.lengths_m, rtol=5000 * EPS)
     np.testing.assert_allclose(rec["stiffness_Nm_per_rad"], direct.stiffness_Nm_per_rad,
-                               rtol=1e-12)
+                               rtol=5000 * EPS)
     # and the model the record describes against the closed form
     model = pp.build_model(beam, np.array(rec["lengths_m"]), np.array(rec["stiffness_Nm_per_rad"]))
     np.testing.assert_allclose(model.natural_frequencies(),

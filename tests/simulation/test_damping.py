@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from tolerances import EPS
 
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
@@ -64,15 +65,18 @@ def test_eq5c_is_the_principal_root_and_not_symmetric(model):
     assert np.abs(C - C.T).max() > 1e-3 * np.abs(C).max()
     # per-joint factors scale rows
     xi = np.array([0.01, 0.02, 0.03, 0.04, 0.05])
-    np.testing.assert_allclose(eq5c_damping(M, K, xi), 2 * xi[:, None] * C, rtol=1e-12)
+    # exact by construction: the form is 2 xi[:, None] times one root, and 2 * 0.5 = 1 gave C
+    # that root itself; slack 5000 EPS (the test's 1e-12)
+    np.testing.assert_allclose(eq5c_damping(M, K, xi), 2 * xi[:, None] * C, rtol=5000 * EPS)
 
 
 def test_single_dof_forms_agree():
     m, k, xi = 2.0, 800.0, 0.05
     expected = 2 * xi * np.sqrt(m * k)
-    assert modal_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=1e-14)
-    assert eq5c_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=1e-14)
-    assert stiffness_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=1e-14)
+    # a handful of roundings each (1 EPS measured); kept: the test's 1e-14
+    assert modal_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=50 * EPS)
+    assert eq5c_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=50 * EPS)
+    assert stiffness_damping([[m]], [[k]], xi)[0, 0] == pytest.approx(expected, rel=50 * EPS)
 
 
 @pytest.mark.parametrize("pose", [0.0, 0.15])

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from paths import ROOT
+from tolerances import EPS
 
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.files.beam_file import load_beam
@@ -29,8 +30,10 @@ def test_euler_bernoulli_closed_form(beam):
     # sum of modal static compliances converges to L^3 / (3 E I) (1/k^4 tail)
     assert eb.static_compliance_m_per_N == pytest.approx(L**3 / (3 * EI), rel=1e-5)
     mu = beam.mass_kg / L
+    # the same closed form either side: a few roundings (1.2 EPS measured); kept: the test's
+    # 1e-12
     assert eb.omega_rad_s[0] == pytest.approx(1.875104068711961**2 * np.sqrt(EI / (mu * L**4)),
-                                              rel=1e-12)
+                                              rel=5000 * EPS)
 
 
 def test_beam_truth_normalisation_matches_closed_form(beam):
@@ -51,7 +54,8 @@ def test_step_and_frf_limits(beam):
     assert u[0] == 0.0
     assert u[-1] == pytest.approx(eb.static_compliance_m_per_N, rel=1e-9)
     h0 = modal_frf(eb, [0.0], 0.05)[0]
-    assert h0.real == pytest.approx(eb.static_compliance_m_per_N, rel=1e-12)
+    # the FRF at 0 is the sum of the modal compliances (exact here); kept: the test's 1e-12
+    assert h0.real == pytest.approx(eb.static_compliance_m_per_N, rel=5000 * EPS)
     # at resonance of an isolated mode the phase lags by about 90 degrees
     h1 = modal_frf(eb, [eb.omega_rad_s[0]], 0.05)[0]
     assert np.angle(h1) == pytest.approx(-np.pi / 2, abs=0.01)

@@ -3,6 +3,7 @@
 import numpy as np
 import pinocchio as pin
 import pytest
+from tolerances import EPS
 
 import prbdm_pin.simulation.system as system
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
@@ -128,9 +129,12 @@ def test_dense_output_matches_dop853(model, method):
 def test_tip_positions_closed_form_equal_pinocchio(model):
     q = np.array([0.3, -0.2, 0.5, 0.1, -0.4])
     tr = simulate(model, 0.01, q0=q, damping_ratio=0.0, dt_s=1e-4)
-    np.testing.assert_allclose(tr.tip_position_m[0], model.tip_position(q), atol=1e-14)
+    # the closed-form tip against Pinocchio's: a few roundings of the 1 m chain (0.6 EPS
+    # measured); kept: the tests' 1e-14 m
+    L = model.lengths_m.sum()
+    np.testing.assert_allclose(tr.tip_position_m[0], model.tip_position(q), atol=50 * EPS * L)
     np.testing.assert_allclose(tr.tip_position_m[-1], model.tip_position(tr.q_rad[-1]),
-                               atol=1e-14)
+                               atol=50 * EPS * L)
 
 
 def test_dop853_free_vibration_frequency(model):
@@ -238,7 +242,8 @@ def test_callable_force_and_sampling(model):
     w = 0.5 * omega[0]
     tr = simulate(model, 0.2, tip_force=lambda t: np.array([0.0, 0.0, -10.0 * np.sin(w * t)]),
                   output_dt_s=0.01)
-    np.testing.assert_allclose(tr.t_s, np.arange(21) * 0.01, atol=1e-12)
+    # output times are these products (exact here); kept: the test's 1e-12 s
+    np.testing.assert_allclose(tr.t_s, np.arange(21) * 0.01, atol=5000 * EPS)
     assert tr.q_rad.shape == (21, 5) and tr.tip_position_m.shape == (21, 3)
     assert not tr.t_s.flags.writeable
 
@@ -268,7 +273,9 @@ def test_schedule_constant_in_pose_matches_scaled_model(model):
     q0 = np.full(5, 1e-3)
     a = simulate(model, 0.05, q0=q0, stiffness_schedule=sched, dt_s=1e-4)
     b = simulate(model.with_stiffness(k2), 0.05, q0=q0, dt_s=1e-4)
-    np.testing.assert_allclose(a.q_rad, b.q_rad, atol=1e-12)
+    # the same equations, the springs through the schedule's interpolation of a constant
+    # (1.7e-17 rad measured); kept: the test's 1e-12 rad
+    np.testing.assert_allclose(a.q_rad, b.q_rad, atol=5000 * EPS)
 
 
 @pytest.mark.parametrize(

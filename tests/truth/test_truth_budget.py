@@ -7,6 +7,7 @@ import pytest
 from paths import BEAMS
 from reference import BETA_L as REF_BETA_L
 from skfem import Basis
+from tolerances import EPS
 
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
@@ -166,4 +167,6 @@ def test_the_elastica_of_a_dense_planform_is_that_of_the_strip():
     x = np.linspace(0.0, 1.0, 20_001)
     dense = elastica_static(Beam(x, np.full(x.size, 0.05), 0.01, tip_force_N=F))
     strip = elastica_static(Beam(np.array([0.0, 1.0]), np.full(2, 0.05), 0.01, tip_force_N=F))
-    np.testing.assert_allclose(dense.tip_position_m, strip.tip_position_m, rtol=1e-8, atol=1e-12)
+    # rtol: the collocation's tolerance; atol for the tip's zero y: kept, the test's 1e-12 m
+    np.testing.assert_allclose(dense.tip_position_m, strip.tip_position_m, rtol=1e-8,
+                               atol=5000 * EPS)
