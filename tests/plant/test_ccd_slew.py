@@ -77,9 +77,9 @@ def test_the_prbdm_closed_loop_follows_the_truth_under_the_same_controller(small
     assert rows["fitted-tip_z"]["tip_l2"] < 0.004
     assert rows["virtual-work"]["tip_l2"] > 0.08
     assert mine["settle_hub_s"] == pytest.approx(truth["settle_hub_s"], rel=0.005)
-    assert mine["settle_tip_s"] == pytest.approx(truth["settle_tip_s"], rel=0.01)
+    assert mine["settle_tip_s"] == pytest.approx(truth["settle_tip_s"], rel=1e-2)
     assert mine["residual_tip_m"] == pytest.approx(truth["residual_tip_m"], rel=0.015)
-    assert mine["cost"] == pytest.approx(truth["cost"], rel=0.001)
+    assert mine["cost"] == pytest.approx(truth["cost"], rel=1e-3)
 
 
 def test_the_prbdm_picks_the_truths_best_patch_position(small):
@@ -94,7 +94,7 @@ def test_the_prbdm_picks_the_truths_best_patch_position(small):
         assert case.starts_frac[int(np.argmin(sw[f"{tag} on truth"]))] == best
     # the predicted cost of every position within 1 % of what its controller does on the
     # truth (measured 0.44 % at most with the virtual-work map, 0.23 % with the fitted map)
-    np.testing.assert_allclose(sw["3R predicted"], sw["3R on truth"], rtol=0.01)
+    np.testing.assert_allclose(sw["3R predicted"], sw["3R on truth"], rtol=1e-2)
     np.testing.assert_allclose(sw["3R fitted predicted"], sw["3R fitted on truth"], rtol=0.005)
 
 
