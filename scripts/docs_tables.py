@@ -14,7 +14,7 @@ DOCS_TABLES = ROOT / "docs" / "benchmarks"
 
 
 def write_table(out: str | os.PathLike, text: str, default_out: str | os.PathLike,
-                name: str) -> list[Path]:
+                name: str, docs_tables: str | os.PathLike = DOCS_TABLES) -> list[Path]:
     """Write ``text`` to ``out``; when ``out`` is ``default_out``, to the docs table ``name`` too.
 
     Parameters
@@ -25,6 +25,8 @@ def write_table(out: str | os.PathLike, text: str, default_out: str | os.PathLik
         The Markdown the script writes.
     name : str
         The docs table's name: ``docs/benchmarks/<name>.md``.
+    docs_tables : path
+        The docs tables' folder (default ``docs/benchmarks``).
 
     Returns
     -------
@@ -33,5 +35,5 @@ def write_table(out: str | os.PathLike, text: str, default_out: str | os.PathLik
     """
     written = [atomic_write_text(out, text)]
     if Path(out).resolve() == Path(default_out).resolve():
-        written.append(atomic_write_text(DOCS_TABLES / f"{name}.md", text))
+        written.append(atomic_write_text(Path(docs_tables) / f"{name}.md", text))
     return written

@@ -25,6 +25,7 @@ ENV_VARS = {
     "max_output_samples": "PRBDM_MAX_SAMPLES",
     "max_mesh_dofs": "PRBDM_MAX_MESH_DOFS",
     "max_file_bytes": "PRBDM_MAX_FILE_BYTES",
+    "max_estimate_dofs": "PRBDM_MAX_ESTIMATE_DOFS",
 }
 
 
@@ -46,6 +47,11 @@ class Limits:
         keeps one truth near 10 GB.
     max_file_bytes : int
         Size of any JSON or URDF file the package reads.
+    max_estimate_dofs : int
+        Degrees of freedom of the next, finer plate mesh that a truth's error estimate may
+        solve: refined once a plate mesh has about four times the DOFs and its factorisation
+        grows faster than that (on jagged random panels the next level took minutes and more
+        than 12 GB per process), so above this the estimate is skipped and the truth says so.
     """
 
     max_joints: int = 64
@@ -53,6 +59,7 @@ class Limits:
     max_output_samples: int = 2_000_000
     max_mesh_dofs: int = 500_000
     max_file_bytes: int = 64 * 2**20
+    max_estimate_dofs: int = 120_000
 
     def __post_init__(self) -> None:
         """Check every cap is a positive integer; an error names the cap."""

@@ -35,6 +35,7 @@ import numpy as np
 from ..chain.eigen import modes_from_mass
 from ..errors import BeamInputError
 from ..model.inputs import StrainActuator, check_patch
+from ..options.checks import check_float
 
 __all__ = ["MATCHES", "PROFILE_POINTS", "SEPARATION_MIN_RTOL", "STILL_RTOL", "WEIGHT_LIMIT",
            "clamped_modes", "fit_strain_actuators", "fitted_weights", "mode_signs",
@@ -169,7 +170,8 @@ def _check_pairing(omega: np.ndarray, omega_truth: np.ndarray) -> None:
                                  "was not fitted to this truth's frequencies")
 
 
-def fitted_weights(model, gains, match: str = "modal") -> np.ndarray:
+def fitted_weights(model, gains, match: str = "modal",
+                   weight_limit: float = WEIGHT_LIMIT) -> np.ndarray:
     """Return the joint weights (a, n) of the actuators of ``gains``.
 
     ``gains`` is a ``ModalGains`` of the truth whose last ``PROFILE_POINTS`` actuators are
@@ -193,17 +195,17 @@ def fitted_weights(model, gains, match: str = "modal") -> np.ndarray:
     if match == "tip_z":
         b = b * (s * c_t / c)  # c_k phi_k^T w = c_t,k b_t,k
     W = np.linalg.solve(Phi.T, b.T).T
-    big = np.abs(W) > WEIGHT_LIMIT
+    big = np.abs(W) > weight_limit
     if np.any(big):
         i, j = np.argwhere(big)[0]
         raise BeamInputError(f"actuators[{i}].joint_weights[{j}] = {W[i, j]:.4g}: beyond "
-                             f"+-{WEIGHT_LIMIT:g} N m per N m, the model's modes do not match "
+                             f"+-{weight_limit:g} N m per N m, the model's modes do not match "
                              "the truth's (fit the model to this truth)")
     return W
 
 
-def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "modal"
-                         ) -> tuple[StrainActuator, ...]:
+def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "modal",
+                         weight_limit: float = WEIGHT_LIMIT) -> tuple[StrainActuator, ...]:
     """Strain actuators whose joint weights are fitted to the truth's modal gains.
 
     Parameters
@@ -218,6 +220,9 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
         The patches, m from the root (any joint weights they carry are replaced).
     match : {"modal", "tip_z"}
         Match the modal input gains (default) or the strain -> tip z residues (module notes).
+    weight_limit : float
+        Refuse a fitted weight beyond +- this, N m per N m (default ``WEIGHT_LIMIT``): such a
+        weight says the model's modes do not match the truth's.
 
     Returns
     -------
@@ -262,7 +267,8 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
                              f"{model.n_joints} joints; compute it with modes >= "
                              f"{model.n_joints}")
     gains = truth_modal_gains(truth, beam, [*stations, *profile_stations(L)])
-    W = fitted_weights(model, gains, match)
+    W = fitted_weights(model, gains, match, check_float("weight_limit", weight_limit,
+                                                       low=0.0, low_open=True))
     return tuple(StrainActuator(a.x_start_m, a.x_end_m, joint_weights=tuple(w))
                  for a, w in zip(acts, W, strict=True))
 

@@ -118,10 +118,10 @@ def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None)
     return mesh, basis, K, M, u_dofs, free
 
 
-def _eigh(K, M, free, n_modes):
+def _eigh(K, M, free, n_modes, dense_max_dofs: int = DENSE_MAX_DOFS):
     N = free.size
     n = min(n_modes, N)
-    if N > DENSE_MAX_DOFS:
+    if N > dense_max_dofs:
         return _eigsh(K[free][:, free], M[free][:, free], n)
     Kf = K[free][:, free].toarray()
     Mf = M[free][:, free].toarray()
@@ -147,7 +147,8 @@ def _eigsh(Kf, Mf, n):
 
 
 def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200,
-               stations_m: np.ndarray | None = None) -> ModalSolution:
+               stations_m: np.ndarray | None = None,
+               dense_max_dofs: int = DENSE_MAX_DOFS) -> ModalSolution:
     """Bending modes of the 1D Euler-Bernoulli beam with varying section.
 
     Parameters
@@ -160,6 +161,9 @@ def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200,
     stations_m : array_like, optional
         Ready element edges (m, ascending, from 0 to L, every vertex among them) instead of
         ``beam_stations(beam, n_elements)``.
+    dense_max_dofs : int
+        Above this many free DOFs the eigenproblem is solved sparse (shift-invert ARPACK),
+        below it dense (LAPACK); default ``DENSE_MAX_DOFS``.
 
     Returns
     -------
@@ -169,11 +173,12 @@ def beam_modal(beam: Beam, n_modes: int = 10, n_elements: int = 200,
         nodal deflections scaled to unit maximum with a positive tip.
     """
     n_modes = _check_count("n_modes", n_modes)
-    return beam_modal_solution(beam, *beam_modes(beam, n_modes, n_elements, stations_m))
+    return beam_modal_solution(beam, *beam_modes(beam, n_modes, n_elements, stations_m,
+                                                 dense_max_dofs))
 
 
 def beam_modes(beam: Beam, n_modes: int, n_elements: int = 200,
-               stations_m: np.ndarray | None = None):
+               stations_m: np.ndarray | None = None, dense_max_dofs: int = DENSE_MAX_DOFS):
     """Return the raw modes of ``beam_modal``.
 
     (mesh, basis, K, M, u_dofs, free, lam, phi, timings), ``phi`` (N, k) the full DOF vectors
@@ -183,7 +188,7 @@ def beam_modes(beam: Beam, n_modes: int, n_elements: int = 200,
     t0 = time.perf_counter()
     mesh, basis, K, M, u_dofs, free = _assemble(beam, n_elements, stations_m)
     t1 = time.perf_counter()
-    lam, vec = _eigh(K, M, free, n_modes)
+    lam, vec = _eigh(K, M, free, n_modes, dense_max_dofs)
     t2 = time.perf_counter()
     phi = np.zeros((basis.N, lam.size))
     phi[free] = vec
@@ -273,7 +278,7 @@ def beam_bending_modes(
 
 def beam_static(
     beam: Beam, tip_force_N: np.ndarray | None = None, n_elements: int = 200,
-    stations_m: np.ndarray | None = None,
+    stations_m: np.ndarray | None = None, dense_max_dofs: int = DENSE_MAX_DOFS,
 ) -> StaticSolution:
     """Linear tip deflection of the 1D beam under the z component of a tip force.
 
@@ -285,6 +290,8 @@ def beam_static(
     n_elements : int
     stations_m : array_like, optional
         Ready element edges (m), as in ``beam_modal``.
+    dense_max_dofs : int
+        Above this many free DOFs the solve is sparse, below it dense (as in ``beam_modal``).
 
     Returns
     -------
@@ -301,7 +308,7 @@ def beam_static(
     f[basis.nodal_dofs[0, tip]] = F[2]
     t1 = time.perf_counter()
     u = np.zeros(basis.N)
-    if free.size > DENSE_MAX_DOFS:
+    if free.size > dense_max_dofs:
         from scipy.sparse.linalg import spsolve
 
         u[free] = spsolve(K[free][:, free].tocsc(), f[free])

@@ -12,10 +12,10 @@ import numpy as np
 
 from ..errors import InputTypeError, TruthError
 from ..member.geometry import Beam
+from ..options.limits import limits
 from ..version import __version__
 from .cache import cache_key, load_cached, store_cached
 from .estimate import (
-    ESTIMATE_MAX_DOFS,
     CoarseTruthError,
     beam_theory_gap,
     error_estimate_pct,
@@ -28,10 +28,7 @@ from .request import TruthRequest, request_of
 from .result import TruthResult
 from .tip_response import elastica_warnings, tip_response
 
-__all__ = ["CONVERGENCE_TOL", "compute_truth"]
-
-# largest relative change of a selected frequency to the next mesh level (check_convergence)
-CONVERGENCE_TOL = 1e-3
+__all__ = ["compute_truth"]
 
 
 def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=None,
@@ -76,10 +73,13 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
 
     key = None
     if cache_dir is not None:
+        # the estimate's DOF cap decides whether a plate truth carries an estimate: part of the key
         key = cache_key(beam, model=model, mesh_level=mesh_level, modes=modes,
                         selection=selection, static=req.static, n_computed=n_computed,
-                        large_deflection=req.large_deflection, version=__version__)
-        hit = load_cached(cache_dir, key, beam.fingerprint())
+                        large_deflection=req.large_deflection, version=__version__,
+                        estimate_dofs=limits().max_estimate_dofs)
+        # a convergence check solves the finer level, which no cache entry holds: never skipped
+        hit = None if req.check_convergence else load_cached(cache_dir, key, beam.fingerprint())
         if hit is not None:
             return _judged(_recorded(hit, req), beam, req.error_tol_pct)
 
@@ -102,7 +102,7 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
             raise TruthError(f"{beam.name!r}, finer mesh: {exc}") from exc
         w0, w1 = modal.omega_rad_s[index], finer.omega_rad_s[index_f]
         rel = w0 / w1 - 1.0
-        if not np.array_equal(index, index_f) or np.any(np.abs(rel) > CONVERGENCE_TOL) or (
+        if not np.array_equal(index, index_f) or np.any(np.abs(rel) > req.convergence_rtol) or (
             model == "plate" and np.any(rel < -1e-5)
         ):
             raise TruthError(
@@ -117,7 +117,8 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
     if estimate is None and estimate_skipped(model, modal):
         notes.append(f"no discretisation error estimate: the next mesh level of this {model} "
                      f"truth would have about {4 * int(modal.dofs):,} DOFs (above "
-                     f"{ESTIMATE_MAX_DOFS:,}, many GB); check_convergence=True compares with it")
+                     f"{limits().max_estimate_dofs:,}, many GB; PRBDM_MAX_ESTIMATE_DOFS raises "
+                     "it); check_convergence=True compares with it")
     elif estimate is None:
         notes.append(f"no discretisation error estimate for the {model} model (its next mesh "
                      "level costs minutes): check_convergence=True compares with it")

@@ -55,18 +55,14 @@ ESTIMATED_MODELS = ("plate", "plate-morley", "beam")
 _BEAM_ELEMENTS = 200
 
 
-# A plate mesh refined once has about four times the DOFs, and its sparse factorisation grows
-# faster than that: on jagged random panels the next level took minutes and more than 12 GB per
-# process (batch workers ran out of memory). Above this many DOFs at the next level the estimate
-# is skipped, and the truth says so.
-ESTIMATE_MAX_DOFS = 120_000
 _REFINED_DOF_RATIO = 4
 
 
 def estimate_skipped(model: str, modal: ModalSolution) -> bool:
     """Whether the next mesh level of a plate truth is too large to be solved for the estimate."""
     # never above the mesh cap either: the estimate is optional, the truth is not
-    cap = min(ESTIMATE_MAX_DOFS, limits().max_mesh_dofs)
+    caps = limits()
+    cap = min(caps.max_estimate_dofs, caps.max_mesh_dofs)
     return model in ("plate", "plate-morley") and _REFINED_DOF_RATIO * int(modal.dofs) > cap
 
 
@@ -74,7 +70,7 @@ def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.nda
     """Return the modal solution one mesh level finer (beam: twice the elements), or None.
 
     None for a model whose next level is not estimated (the solid: minutes) or too large
-    (``ESTIMATE_MAX_DOFS``).
+    (the cap ``max_estimate_dofs`` of :func:`~prbdm_pin.options.limits.limits`).
     """
     if model not in ESTIMATED_MODELS or estimate_skipped(model, modal):
         return None

@@ -89,7 +89,11 @@ class TruthRequest:
         the selection is complete.
     check_convergence : bool
         Also solve one mesh level finer and raise TruthError if a selected frequency moves by
-        more than 0.1 % or increases (Argyris converges from above); default False.
+        more than ``convergence_rtol`` or increases (Argyris converges from above); default
+        False.
+    convergence_rtol : float
+        The relative change of a selected frequency between two mesh levels that
+        ``check_convergence`` accepts (default 1e-3, i.e. 0.1 %).
     """
 
     model: str = "plate"
@@ -101,6 +105,7 @@ class TruthRequest:
     static: bool = True
     n_computed: int = DEFAULT_COMPUTED_MODES
     check_convergence: bool = False
+    convergence_rtol: float = 1e-3
 
     def __post_init__(self) -> None:
         """Check every field (BeamInputError naming it); numpy scalars become Python ones."""
@@ -126,6 +131,11 @@ class TruthRequest:
         put("static", _flag("static", self.static))
         put("n_computed", _integer("n_computed", self.n_computed, 1))
         put("check_convergence", _flag("check_convergence", self.check_convergence))
+        r = self.convergence_rtol
+        if (isinstance(r, bool) or not isinstance(r, (int, float, np.floating))
+                or not 0.0 < r < 1.0):
+            raise BeamInputError(f"convergence_rtol = {r!r}: must be a number in (0, 1)")
+        put("convergence_rtol", float(r))
 
     @property
     def computed_modes(self) -> int:

@@ -16,21 +16,21 @@ def _module():
     return mod
 
 
-def test_default_output_also_writes_the_docs_table(tmp_path, monkeypatch):
+def test_default_output_also_writes_the_docs_table(tmp_path):
     mod = _module()
-    monkeypatch.setattr(mod, "DOCS_TABLES", tmp_path / "docs")
     default = tmp_path / "results" / "bench_x.md"
-    written = mod.write_table(default, "| a |\n|---|\n| 1 |\n", default, "bench_x")
+    written = mod.write_table(default, "| a |\n|---|\n| 1 |\n", default, "bench_x",
+                              tmp_path / "docs")
     docs = tmp_path / "docs" / "bench_x.md"
     assert written == [default, docs]
     assert docs.read_text() == default.read_text() == "| a |\n|---|\n| 1 |\n"
 
 
-def test_other_output_leaves_the_docs_alone(tmp_path, monkeypatch):
+def test_other_output_leaves_the_docs_alone(tmp_path):
     mod = _module()
-    monkeypatch.setattr(mod, "DOCS_TABLES", tmp_path / "docs")
     out = tmp_path / "elsewhere" / "x.md"
-    written = mod.write_table(out, "text\n", tmp_path / "results" / "bench_x.md", "bench_x")
+    written = mod.write_table(out, "text\n", tmp_path / "results" / "bench_x.md", "bench_x",
+                              tmp_path / "docs")
     assert written == [out]
     assert out.read_text() == "text\n"
     assert not (tmp_path / "docs").exists()

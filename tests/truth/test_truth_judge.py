@@ -185,10 +185,8 @@ def test_truth_request_carries_the_tolerance():
 def test_the_estimate_is_skipped_where_the_next_level_is_too_large(monkeypatch):
     """A plate truth whose next mesh level would exceed the DOF cap gets no estimate (and no
     refusal), and says why; the cap is lowered here so that a small strip triggers it."""
-    import prbdm_pin.truth.estimate as estimate
-
     beam = load_beam(BEAMS / "uniform-narrow.json")
-    monkeypatch.setattr(estimate, "ESTIMATE_MAX_DOFS", 100)
+    monkeypatch.setenv("PRBDM_MAX_ESTIMATE_DOFS", "100")
     r = compute_truth(beam, modes=2, static=False)
     assert r.error_estimate_pct is None
     assert any("next mesh level" in w and "DOFs" in w for w in r.warnings)

@@ -134,17 +134,15 @@ def test_random_planform_meshes_cover_and_have_no_slivers(seed):
     assert _min_angle_deg(mesh).min() > 2.0
 
 
-def test_convergence_check_refuses_an_unconverged_result(monkeypatch):
+def test_convergence_check_refuses_an_unconverged_result(narrow):
     import prbdm_pin.truth as truth
-    import prbdm_pin.truth.compute as compute
 
-    beam = load_beam(BEAMS / "uniform-narrow.json")
-    r = truth.compute_truth(beam, modes=3, static=False, check_convergence=True)
+    r = truth.compute_truth(narrow, modes=3, static=False, check_convergence=True)
     assert r.mesh_level == truth.DEFAULT_PLATE_LEVEL
     # a tolerance below the measured level-0 -> level-1 change must be refused
-    monkeypatch.setattr(compute, "CONVERGENCE_TOL", 1e-9)
     with pytest.raises(TruthError, match="not converged"):
-        truth.compute_truth(beam, modes=3, static=False, check_convergence=True)
+        truth.compute_truth(narrow, modes=3, static=False, check_convergence=True,
+                            convergence_rtol=1e-9)
 
 
 @pytest.mark.slow
