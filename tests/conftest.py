@@ -42,3 +42,24 @@ def reference_panel():
     from prbdm_pin.files.beam_file import load_beam
 
     return load_beam(BEAMS / "reference-random.json")
+
+
+@pytest.fixture(scope="session")
+def truth_of():
+    """``compute_truth`` with its results kept for the session (a TruthResult is frozen).
+
+    ``truth_of(beam, **fields)`` computes a truth the first time a test asks for it and hands
+    the same result to every later test that asks for the same beam and request.
+    """
+    from prbdm_pin.truth import compute_truth
+    from prbdm_pin.truth.request import TruthRequest
+
+    kept = {}
+
+    def get(beam, **fields):
+        key = (beam.fingerprint(), repr(TruthRequest(**fields)))
+        if key not in kept:
+            kept[key] = compute_truth(beam, **fields)
+        return kept[key]
+
+    return get

@@ -16,9 +16,9 @@ ACTUATORS = ((0.1234, 0.4567), (0.0, 1.0), (0.3, 0.95))
 
 
 @pytest.fixture(scope="module")
-def all_modes(narrow):
+def all_modes(narrow, truth_of):
     """Every mode of the 200-element beam (400 DOFs): the modal sums are the FE statics."""
-    truth = compute_truth(narrow, model="beam", modes=400, static=False, error_tol_pct=None)
+    truth = truth_of(narrow, model="beam", modes=400, static=False, error_tol_pct=None)
     assert truth.omega_rad_s.size == 400
     return truth_modal_gains(truth, narrow, ACTUATORS)
 
@@ -40,8 +40,8 @@ def _analytic_slope(k: int, x: np.ndarray, L: float, rhoA: float) -> np.ndarray:
     return np.sign(tip) * d / np.sqrt(rhoA * L)
 
 
-def test_strain_gains_match_analytic_mode_slopes(narrow):
-    truth = compute_truth(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
+def test_strain_gains_match_analytic_mode_slopes(narrow, truth_of):
+    truth = truth_of(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
     g = truth_modal_gains(truth, narrow, ACTUATORS)
     _, rhoA = _section(narrow)
     L = narrow.length_m
@@ -52,8 +52,8 @@ def test_strain_gains_match_analytic_mode_slopes(narrow):
     np.testing.assert_allclose(g.strain_per_sqrt_kg_m, ref, rtol=5e-5)
 
 
-def test_tip_gains_are_the_analytic_tip_deflections(narrow):
-    truth = compute_truth(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
+def test_tip_gains_are_the_analytic_tip_deflections(narrow, truth_of):
+    truth = truth_of(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
     g = truth_modal_gains(truth, narrow, ())
     _, rhoA = _section(narrow)
     # every mass-normalised clamped-free mode has |phi(L)| = 2 / sqrt(rho A L)

@@ -8,21 +8,20 @@ from tolerances import EPS, hermite_basis_cond
 
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.simulation.response import euler_bernoulli_modal_tip, modal_frf
-from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.beam import beam_stations
 from prbdm_pin.truth.plant import clamped_model, hybrid_model
 
 
 @pytest.fixture(scope="module")
-def all_modes(narrow):
+def all_modes(narrow, truth_of):
     """Every mode of the 200-element beam: the modal sum is the finite-element statics, and
     cubic Hermite elements are exact at the nodes under nodal loads."""
-    return compute_truth(narrow, model="beam", modes=400, static=False, error_tol_pct=None)
+    return truth_of(narrow, model="beam", modes=400, static=False, error_tol_pct=None)
 
 
 @pytest.fixture(scope="module")
-def six_modes(narrow):
-    return compute_truth(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
+def six_modes(narrow, truth_of):
+    return truth_of(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
 
 
 def _static_gain(plant):

@@ -17,14 +17,14 @@ HUBS = ((0.5, 0.1), (2.0, 0.0), (0.05, 0.3))  # (J_h kg m^2, r m)
 
 
 @pytest.fixture(scope="module")
-def all_modes(narrow):
+def all_modes(narrow, truth_of):
     """Every mode of the 200-element beam: the hybrid model is then the hub + beam FE itself."""
-    return compute_truth(narrow, model="beam", modes=400, static=False, error_tol_pct=None)
+    return truth_of(narrow, model="beam", modes=400, static=False, error_tol_pct=None)
 
 
 @pytest.fixture(scope="module")
-def six_modes(narrow):
-    return compute_truth(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
+def six_modes(narrow, truth_of):
+    return truth_of(narrow, model="beam", modes=6, static=False, error_tol_pct=None)
 
 
 def _hub_beam_det(beta, beam, J_h, r):
