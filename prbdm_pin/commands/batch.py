@@ -78,8 +78,9 @@ def check_options(args: argparse.Namespace) -> None:
     from ..batch import parse_shard
     from ..chain.layout import check_min_fraction
     from ..errors import BeamInputError
+    from ..io.paths import existing_dir, writable_dir
     from ..options.limits import check_cap
-    from .checks import MAX_SEED, MAX_WORKERS, existing_dir, in_range, writable_dir
+    from .checks import MAX_SEED, MAX_WORKERS, in_range
     from .fit_checks import MAX_STARTS
 
     in_range("--joints", args.joints, 1, integer=True)

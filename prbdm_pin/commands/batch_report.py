@@ -32,7 +32,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def check_options(args: argparse.Namespace) -> None:
     """Every DIR an existing folder and the report folder writable, before anything is read."""
-    from .checks import existing_dir, writable_dir
+    from ..io.paths import existing_dir, writable_dir
 
     for d in args.dirs:
         existing_dir(d, "DIR")

@@ -39,7 +39,7 @@ BENCH_FILES = ("results.md", "results.json", "error_vs_cost.png")
 
 def check_options(args) -> None:
     """``--out`` and the truth cache folder must be writable: refused before the first fit."""
-    from .checks import writable_dir
+    from ..io.paths import writable_dir
 
     writable_dir(args.out, "--out")
     if args.cache_dir is not None:

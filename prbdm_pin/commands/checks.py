@@ -1,10 +1,10 @@
 """Checks of command-line options, run before any work starts.
 
 Each command's ``run()`` starts with these: ranges of numbers (a refusal names the option, the
-value and the range) and checks that an output folder or file can be written, so that a bad
-``--out`` is refused before minutes of computation rather than after, and nothing is created on
-refusal. The writability checks create nothing: they look at the nearest existing ancestor of
-the path. :class:`CliParser` makes argparse's own errors one line as well.
+value and the range), and, from :mod:`prbdm_pin.io.paths` (shared with the public functions
+that write), checks that an output folder or file can be written, so that a bad ``--out`` is
+refused before minutes of computation rather than after, and nothing is created on refusal.
+:class:`CliParser` makes argparse's own errors one line as well.
 """
 
 from __future__ import annotations
@@ -15,11 +15,9 @@ import re
 import sys
 
 from ..errors import BeamInputError
-from ..io.paths import SYSTEM_ROOTS, existing_dir, writable_dir, writable_file  # noqa: F401
 from ..options.validate import MAX_SEED, MAX_WORKERS  # shared with the API
 
-__all__ = ["CliParser", "one_line", "in_range", "writable_dir", "writable_file", "existing_dir",
-           "MAX_SEED", "MAX_WORKERS"]
+__all__ = ["CliParser", "one_line", "in_range", "MAX_SEED", "MAX_WORKERS"]
 
 # Kernel and device trees: writing there fails (or, as root, does harm) after the work is done.
 

@@ -97,7 +97,8 @@ def check_options(args: argparse.Namespace) -> dict:
     import os
 
     from ..errors import BeamInputError
-    from .checks import in_range, writable_file
+    from ..io.paths import writable_file
+    from .checks import in_range
 
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
              why="the damping_ratio of mode 1 (stiffness form) or of every mode (modal); "

@@ -52,8 +52,9 @@ def check_truth_options(args) -> None:
     """
     from ..chain.layout import check_min_fraction
     from ..errors import BeamInputError
+    from ..io.paths import writable_dir
     from ..options.limits import check_cap
-    from .checks import MAX_SEED, in_range, writable_dir
+    from .checks import MAX_SEED, in_range
 
     in_range("--joints", args.joints, 1, integer=True)
     check_cap("--joints", args.joints, "max_joints")
@@ -77,7 +78,7 @@ def check_cache_dir(args) -> None:
     The folder is ``--cache-dir``, else ``$PRBDM_CACHE``, else ``~/.cache/prbdm_pin`` (each
     named as what it is).
     """
-    from .checks import writable_dir
+    from ..io.paths import writable_dir
 
     if args.cache_dir is not None:
         field = "--cache-dir"

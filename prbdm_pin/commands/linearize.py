@@ -122,7 +122,8 @@ def check_options(args: argparse.Namespace) -> dict:
 
     Returns the parsed values (names, actuators, hub, load, gravity).
     """
-    from .checks import in_range, writable_dir
+    from ..io.paths import writable_dir
+    from .checks import in_range
 
     out = {"inputs": names_option(args.inputs, "--inputs"),
            "outputs": names_option(args.outputs, "--outputs"),

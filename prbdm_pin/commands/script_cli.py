@@ -17,7 +17,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from ..errors import BeamInputError, SolveError, TruthError
-from .checks import CliParser, one_line, writable_dir
+from ..io.paths import writable_dir
+from .checks import CliParser, one_line
 
 __all__ = ["example_parser", "run_example"]
 

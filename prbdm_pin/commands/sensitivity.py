@@ -64,10 +64,11 @@ def run(args) -> int:
     from ..files.beam_file import load_beam
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
+    from ..io.paths import writable_dir
     from ..member.design import Design
     from ..options.limits import check_cap
     from ..truth.compute_derivatives import truth_gradient
-    from .checks import in_range, writable_dir
+    from .checks import in_range
 
     in_range("--modes", args.modes, 1, integer=True)
     check_cap("--modes", args.modes, "max_joints")

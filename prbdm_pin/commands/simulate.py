@@ -146,9 +146,10 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     """
     import math
 
+    from ..io.paths import writable_dir
     from ..options.limits import check_cap
     from ..simulation import FIXED_STEP_METHODS, IVP_METHODS
-    from .checks import in_range, writable_dir
+    from .checks import in_range
 
     force = parse_force(args.tip_force)
     in_range("--duration", args.duration, 0.0, lo_open=True, unit="s")

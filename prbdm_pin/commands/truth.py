@@ -49,8 +49,9 @@ TRUTH_FILES = ("truth.json", "modes.vtu")
 
 def check_options(args) -> None:
     """Refuse bad ``prbdm truth`` options before the beam is read."""
+    from ..io.paths import writable_dir
     from ..options.limits import check_cap
-    from .checks import in_range, writable_dir
+    from .checks import in_range
 
     # a truth serves fits of up to max_joints joints: as many modes at most
     in_range("--modes", args.modes, 1, integer=True)
