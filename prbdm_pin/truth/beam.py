@@ -18,6 +18,7 @@ from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
 from ..options.limits import check_cap
 from .result import ModalSolution, StaticSolution, Timings
+from .settings import lanczos_start
 
 __all__ = ["beam_stations", "beam_modal", "beam_modes", "beam_modal_solution",
            "beam_bending_modes", "beam_static"]
@@ -138,7 +139,8 @@ def _eigsh(Kf, Mf, n):
     """Return the n lowest modes by shift-invert Lanczos about 0 (banded K: linear cost)."""
     from scipy.sparse.linalg import eigsh
 
-    lam, vec = eigsh(Kf.tocsc(), k=n, M=Mf.tocsc(), sigma=0.0, which="LM", tol=0.0)
+    lam, vec = eigsh(Kf.tocsc(), k=n, M=Mf.tocsc(), sigma=0.0, which="LM", tol=0.0,
+                     v0=lanczos_start(Kf.shape[0]))
     order = np.argsort(lam)
     lam, vec = lam[order], vec[:, order]
     if np.any(lam <= 0.0) or not np.all(np.isfinite(lam)):

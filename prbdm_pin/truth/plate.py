@@ -17,6 +17,7 @@ from skfem.helpers import dd, ddot, eye, trace
 from ..member.geometry import Beam
 from .plate_elements import PLATE_ELEMENTS
 from .result import ModalSolution, Timings
+from .settings import lanczos_start
 
 __all__ = [
     "PlateModes",
@@ -201,7 +202,7 @@ def plate_modes(
     Ks = (s @ Kf @ s).tocsc()
     Ms = (s @ Mf @ s).tocsc()
     k = min(n_modes, free.size - 2)
-    lam, y = eigsh(Ks, k=k, M=Ms, sigma=0.0, which="LM")
+    lam, y = eigsh(Ks, k=k, M=Ms, sigma=0.0, which="LM", v0=lanczos_start(Ks.shape[0]))
     order = np.argsort(lam)
     lam, y = lam[order], y[:, order]
     phi_f = s @ y

@@ -17,6 +17,7 @@ from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
 from .modes import beam_mac
 from .result import ModalSolution, StaticSolution, Timings
+from .settings import lanczos_start
 from .solid_fe import (
     ROOT_THICKNESSES,
     VTK_HEX,
@@ -67,7 +68,8 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
     k = min(n_modes, d.free.size - 2)
     lu = SpdFactor(Kff, d.order)
     OPinv = spla.LinearOperator(Kff.shape, matvec=lu.solve, dtype=float)
-    lam, vec = spla.eigsh(Kff, k=k, M=Mff, sigma=0.0, which="LM", OPinv=OPinv, tol=1e-12)
+    lam, vec = spla.eigsh(Kff, k=k, M=Mff, sigma=0.0, which="LM", OPinv=OPinv, tol=1e-12,
+                          v0=lanczos_start(Kff.shape[0]))
     t3 = time.perf_counter()
     if np.any(lam <= 0.0) or not np.all(np.isfinite(lam)):
         raise SolveError(f"solid eigenvalues not positive: min = {lam.min():.3e} (rad/s)^2")
