@@ -10,10 +10,8 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
-import sys
 
-from .commands.checks import CliParser, one_line
-from .errors import BeamInputError, SolveError, TruthError
+from .commands.checks import CliParser, one_line, run_reported
 from .version import __version__
 
 # Order is the order of `prbdm --help`.
@@ -60,18 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
-    try:
-        return int(args.func(args) or 0)
-    except BeamInputError as exc:
-        print(f"prbdm {args.command}: error: {one_line(exc)}", file=sys.stderr)
-        return 2
-    except (SolveError, TruthError) as exc:
-        print(f"prbdm {args.command}: failed: {one_line(exc)}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print(f"prbdm {args.command}: interrupted", file=sys.stderr)
-        return 130
-
+    return run_reported(f"prbdm {args.command}", lambda: args.func(args))
 
 if __name__ == "__main__":  # ``python -m prbdm_pin.cli``, as ``python -m prbdm_pin``
     raise SystemExit(main())

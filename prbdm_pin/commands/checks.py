@@ -13,11 +13,12 @@ import argparse
 import math
 import re
 import sys
+from collections.abc import Callable
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, SolveError, TruthError
 from ..options.validate import MAX_SEED, MAX_WORKERS  # shared with the API
 
-__all__ = ["CliParser", "one_line", "in_range", "MAX_SEED", "MAX_WORKERS"]
+__all__ = ["CliParser", "one_line", "in_range", "run_reported", "MAX_SEED", "MAX_WORKERS"]
 
 # Kernel and device trees: writing there fails (or, as root, does harm) after the work is done.
 
@@ -122,3 +123,35 @@ def in_range(field: str, value: object, lo: float | None = None, hi: float | Non
         ok = value < hi if hi_open else value <= hi
     if not ok:
         raise BeamInputError(f"{field} = {value!r}: {want}")
+
+
+def run_reported(prog: str, call: Callable[[], int | None]) -> int:
+    """Run ``call()`` and turn the package's errors into one line on stderr and an exit code.
+
+    Shared by ``prbdm`` and the example scripts, so that both report alike.
+
+    Parameters
+    ----------
+    prog : str
+        The program named in the message (``"prbdm fit"``, ``"first_fit.py"``).
+    call : callable
+        The work; its return value (None: 0) is the exit code.
+
+    Returns
+    -------
+    int
+        ``call``'s code, 2 for bad input (BeamInputError), 1 for a solve that failed
+        (SolveError, TruthError), 130 on Ctrl-C.
+    """
+    try:
+        return int(call() or 0)
+    except BeamInputError as exc:
+        print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
+        return 2
+    except (SolveError, TruthError) as exc:
+        print(f"{prog}: failed: {one_line(exc)}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
+

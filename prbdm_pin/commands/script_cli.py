@@ -16,9 +16,8 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from ..errors import BeamInputError, SolveError, TruthError
 from ..io.paths import writable_dir
-from .checks import CliParser, one_line
+from .checks import CliParser, run_reported
 
 __all__ = ["example_parser", "run_example"]
 
@@ -59,16 +58,8 @@ def run_example(doc: str, default_out: str | os.PathLike, main: Callable[[bool, 
     """
     parser = example_parser(doc, default_out, quick_help, prog)
     args = parser.parse_args(argv)
-    try:
+    def work() -> None:
         out = writable_dir(args.out, "--out")  # creates nothing: refused before any work
         main(args.quick, out)
-    except BeamInputError as exc:
-        print(f"{parser.prog}: error: {one_line(exc)}", file=sys.stderr)
-        return 2
-    except (SolveError, TruthError) as exc:
-        print(f"{parser.prog}: failed: {one_line(exc)}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print(f"{parser.prog}: interrupted", file=sys.stderr)
-        return 130
-    return 0
+
+    return run_reported(parser.prog, work)
