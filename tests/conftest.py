@@ -63,3 +63,52 @@ def truth_of():
         return kept[key]
 
     return get
+
+
+@pytest.fixture(scope="session")
+def strip_truth(narrow, tmp_path_factory):
+    """A truth.json of the uniform narrow strip from independent references, and its values.
+
+    The first three Euler-Bernoulli frequencies and the elastica tip at P L^2 / EI = 1
+    (``reference.strip_target``), written as a truth file that ``prbdm fit --truth`` reads.
+    Returns ``(path, omega_rad_s, tip_position_m)``.
+    """
+    import json
+
+    from reference import strip_target
+
+    t = strip_target(narrow)
+    omega = t.omega_truth_rad_s[:3]
+    path = tmp_path_factory.mktemp("strip-truth") / "truth.json"
+    path.write_text(json.dumps({"omega_rad_s": omega.tolist(),
+                                "tip_position_m": t.tip_position_m.tolist(),
+                                "tip_displacement_m": t.tip_displacement_m.tolist(),
+                                "mac": [1.0] * omega.size}))
+    return path, omega, t.tip_position_m
+
+
+@pytest.fixture(scope="session")
+def strip_fit(tmp_path_factory):
+    """``strip_fit(n)``: the folder of one ``prbdm fit`` of the narrow strip, made once per n.
+
+    An nR joint-spring eigen fit to the 1D beam truth (2 starts), as the plant and simulation
+    commands' tests read it: ``ROOT/fit/fit.json`` and the truth cache ``ROOT/cache``. Tests
+    read it and write elsewhere.
+    """
+    from prbdm_pin.cli import main
+
+    made = {}
+
+    def get(joints: int):
+        if joints not in made:
+            root = tmp_path_factory.mktemp(f"strip-fit-{joints}r")
+            rc = main(["fit", str(BEAMS / "uniform-narrow.json"), "--joints", str(joints),
+                       "--truth-model", "beam", "--objective", "eigen", "--stiffness", "joint",
+                       "--starts", "2", "--cache-dir", str(root / "cache"),
+                       "--out", str(root / "fit"), "-q"])
+            assert rc == 0
+            made[joints] = root
+        return made[joints]
+
+    return get
+

@@ -9,29 +9,17 @@ import math
 
 import numpy as np
 import pytest
-from reference import BETA_L as REF_BETA_L
 from reference import ELASTICA
 
 from prbdm_pin.cli import main
 from prbdm_pin.files.urdf_file import load_urdf
 
 BEAM = "examples/beams/uniform-narrow.json"
-BETA_L = REF_BETA_L[:3]
 
 
 @pytest.fixture(scope="module")
-def truth_file(tmp_path_factory):
-    b, t, L = 0.05, 0.01, 1.0
-    EI = 205e9 * b * t**3 / 12
-    omega = BETA_L**2 * math.sqrt(EI / (7850.0 * b * t * L**4))
-    # elastica table, alpha^2 = 1 (load along -z)
-    retreat, deflection = ELASTICA[1.0]
-    tip = [L * (1 - retreat), 0.0, -deflection * L]
-    disp = [-retreat * L, 0.0, -deflection * L]
-    path = tmp_path_factory.mktemp("truth") / "truth.json"
-    path.write_text(json.dumps({"omega_rad_s": omega.tolist(), "tip_position_m": tip,
-                                "tip_displacement_m": disp, "mac": [1.0, 1.0, 1.0]}))
-    return path, omega, np.array(tip)
+def truth_file(strip_truth):
+    return strip_truth
 
 
 def test_fit_writes_fit_json_urdf_and_plots(truth_file, tmp_path):

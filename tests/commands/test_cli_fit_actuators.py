@@ -23,13 +23,8 @@ PATCH = (0.2, 0.3)  # between the eigen fit's joints: the virtual-work map gives
 
 
 @pytest.fixture(scope="module")
-def fit_json(tmp_path_factory):
-    root = tmp_path_factory.mktemp("fit")
-    rc = main(["fit", BEAM, "--joints", "3", "--truth-model", "beam", "--objective", "eigen",
-               "--stiffness", "joint", "--starts", "2", "--cache-dir", str(root / "cache"),
-               "--out", str(root / "fit"), "-q"])
-    assert rc == 0
-    return root / "fit" / "fit.json"
+def fit_json(strip_fit):
+    return strip_fit(3) / "fit" / "fit.json"
 
 
 def _cache(fit_json):

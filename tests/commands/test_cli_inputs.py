@@ -5,12 +5,9 @@ Bernoulli frequencies and the elastica tip of uniform-narrow.json) or the 1D bea
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 import pytest
-from reference import BETA_L as REF_BETA_L
-from reference import ELASTICA
 from tolerances import EPS
 
 from prbdm_pin.batch import BeamTask, FitSettings, evaluate_beam
@@ -22,21 +19,11 @@ from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.options.objects import FitOptions
 
 BEAM = "examples/beams/uniform-narrow.json"
-BETA_L = REF_BETA_L[:3]
 
 
 @pytest.fixture(scope="module")
-def truth_file(tmp_path_factory):
-    b, t, L = 0.05, 0.01, 1.0
-    EI = 205e9 * b * t**3 / 12
-    omega = BETA_L**2 * math.sqrt(EI / (7850.0 * b * t * L**4))
-    retreat, deflection = ELASTICA[1.0]
-    tip = [L * (1 - retreat), 0.0, -deflection * L]
-    disp = [-retreat * L, 0.0, -deflection * L]
-    path = tmp_path_factory.mktemp("truth") / "truth.json"
-    path.write_text(json.dumps({"omega_rad_s": omega.tolist(), "tip_position_m": tip,
-                                "tip_displacement_m": disp, "mac": [1.0, 1.0, 1.0]}))
-    return path
+def truth_file(strip_truth):
+    return strip_truth[0]
 
 
 def _one_line_exit_2(capsys, argv, *needles):

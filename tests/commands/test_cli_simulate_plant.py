@@ -19,14 +19,8 @@ BEAM = "examples/beams/uniform-narrow.json"
 
 
 @pytest.fixture(scope="module")
-def fit_json(tmp_path_factory):
-    root = tmp_path_factory.mktemp("fit")
-    out = root / "fit"
-    rc = main(["fit", BEAM, "--joints", "3", "--truth-model", "beam", "--objective", "eigen",
-               "--stiffness", "joint", "--starts", "2", "--cache-dir", str(root / "cache"),
-               "--out", str(out), "-q"])
-    assert rc == 0
-    return out / "fit.json"
+def fit_json(strip_fit):
+    return strip_fit(3) / "fit" / "fit.json"
 
 
 def _csv(path):

@@ -279,13 +279,8 @@ def test_refusals(narrow_strip, strip_on_hub, change, match):
 # --- the command line -------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def fit_json(tmp_path_factory):
-    root = tmp_path_factory.mktemp("fit")
-    rc = main(["fit", BEAM, "--joints", "3", "--truth-model", "beam", "--objective", "eigen",
-               "--stiffness", "joint", "--starts", "2", "--cache-dir", str(root / "cache"),
-               "--out", str(root / "fit"), "-q"])
-    assert rc == 0
-    return root / "fit" / "fit.json", root / "cache"
+def fit_json(strip_fit):
+    return strip_fit(3) / "fit" / "fit.json", strip_fit(3) / "cache"
 
 
 def test_cli_compare_truth_writes_the_comparison(fit_json, tmp_path, capsys):
