@@ -157,6 +157,13 @@ def stop_pool(executor: cf.Executor, join_s: float = 5.0) -> None:
     for p in procs:
         with contextlib.suppress(Exception):
             p.join(join_s)
+    # The pool's manager thread notices the dead workers and closes its wake-up pipe; before
+    # 3.12 the interpreter's exit hook can write to that pipe while it closes (an OSError
+    # printed at exit), so let the thread finish first.
+    manager = getattr(executor, "_executor_manager_thread", None)
+    if manager is not None:
+        with contextlib.suppress(Exception):
+            manager.join(join_s)
 
 
 @contextlib.contextmanager
