@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..errors import BeamInputError
+from ..member.section import area_moment_z_m4, torsion_constant_m4
 from ..options.choices import LINK_FLOOR_FRACTION
 from ..options.validate import SPRING_WINDOW
 
-__all__ = ["check_springs"]
+__all__ = ["check_springs", "check_spatial_springs"]
 
 
 def check_springs(beam, stiffness_Nm_per_rad) -> None:
@@ -31,3 +34,35 @@ def check_springs(beam, stiffness_Nm_per_rad) -> None:
                 f" {SPRING_WINDOW:g} times beyond the finite-segment springs E I / l of this "
                 f"beam (E I = {EI_min:.3g} ... {EI_max:.3g} N m^2, l = {LINK_FLOOR_FRACTION:g} L"
                 f" ... L = {L:.6g} m); springs in N mm/rad, or of another model?")
+
+
+def check_spatial_springs(beam, stiffness_Nm_per_rad, axes) -> None:
+    """Check a spatial chain's springs (N m/rad, node-major), each against its own axis.
+
+    Each spring must lie within ``SPRING_WINDOW`` of the window its axis's section stiffness
+    gives (E I_y, E I_z or G J over the span from the shortest link to the whole member), as
+    :func:`check_springs` does for bending about y.
+    """
+    b = 2.0 * beam.half_width_m
+    t = beam.thickness_m
+    E, G, L = beam.material.E_Pa, beam.material.G_Pa, beam.length_m
+    section = {
+        "y": E * b * t**3 / 12.0,
+        "z": E * area_moment_z_m4(b, t),
+        "x": G * torsion_constant_m4(b, t),
+    }
+    order = axes.joint_order
+    k = np.asarray(stiffness_Nm_per_rad, dtype=float)
+    for i, ki in enumerate(k):
+        a = order[i % len(order)]
+        s_min, s_max = float(np.min(section[a])), float(np.max(section[a]))
+        lo = s_min / L / SPRING_WINDOW
+        hi = s_max / (LINK_FLOOR_FRACTION * L) * SPRING_WINDOW
+        if not lo <= ki <= hi:
+            what = {"y": "E I_y", "z": "E I_z", "x": "G J"}[a]
+            raise BeamInputError(
+                f"stiffness[{i}] = {float(ki):.6g} N m/rad (joint {i // len(order) + 1}, axis "
+                f"{a}): outside {lo:.3g} ... {hi:.3g} N m/rad, {SPRING_WINDOW:g} times beyond "
+                f"the finite-segment springs {what} / l of this beam ({what} = {s_min:.3g} ... "
+                f"{s_max:.3g} N m^2); springs in N mm/rad, or in another order (node-major: "
+                f"{', '.join(order)} at each joint)?")

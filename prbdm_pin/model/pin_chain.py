@@ -13,6 +13,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.sections import LinkSections
+from ..options.choices import Axes
+from .chain_names import joint_names, node_links
 from .urdf import JOINT_EFFORT_LIMIT_NM, JOINT_LIMIT_RAD, JOINT_VELOCITY_LIMIT_RAD_S
 
 __all__ = ["TIP_FRAME", "pin_chain", "sections_from_pin"]
@@ -20,11 +22,17 @@ __all__ = ["TIP_FRAME", "pin_chain", "sections_from_pin"]
 TIP_FRAME = "tip"
 
 
-def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[pin.Model, int]:
+_JOINT_MODELS = {"x": pin.JointModelRX, "y": pin.JointModelRY, "z": pin.JointModelRZ}
+
+
+def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str,
+              axes: Axes = Axes.Y) -> tuple[pin.Model, int]:
     """Build the chain of links ``sections`` cut at ``lengths`` (m) through the Pinocchio API.
 
     It is built frame for frame as Pinocchio's URDF parser builds it; returns the model and the
-    tip frame id.
+    tip frame id. A spatial chain (``axes`` other than y) has at node j one revolute joint per
+    axis, in the order of :attr:`Axes.joint_order`, all at the same point, joined by massless
+    links (:func:`node_links`).
     """
     n = lengths.size - 1
     model = pin.Model()
@@ -45,29 +53,36 @@ def pin_chain(sections: LinkSections, lengths: np.ndarray, name: str) -> tuple[p
     vel = np.array([JOINT_VELOCITY_LIMIT_RAD_S])
     lim = np.array([JOINT_LIMIT_RAD])
     zero = np.zeros(1)
+    names = iter(joint_names(n, axes))
+    jid = 0
     for j in range(1, n + 1):
         placement = pin.SE3(eye, np.array([float(lengths[j - 1]), 0.0, 0.0]))
-        jid = model.addJoint(j - 1, pin.JointModelRY(), placement, f"joint_{j}",
-                             -big, big, -vel, vel, -lim, lim, zero, zero, zero)
-        jf = model.addJointFrame(jid, prev)
-        model.appendBodyToJoint(jid, inertia(j), ident)
-        prev = model.addBodyFrame(f"link_{j}", jid, ident, jf)
+        links = node_links(j, axes)
+        for a, link in zip(axes.joint_order, links, strict=True):
+            jid = model.addJoint(jid, _JOINT_MODELS[a](), placement, next(names),
+                                 -big, big, -vel, vel, -lim, lim, zero, zero, zero)
+            jf = model.addJointFrame(jid, prev)
+            if link == links[-1]:
+                model.appendBodyToJoint(jid, inertia(j), ident)
+            prev = model.addBodyFrame(link, jid, ident, jf)
+            placement = ident
     tip_place = pin.SE3(eye, np.array([float(lengths[n]), 0.0, 0.0]))
-    tf = model.addFrame(pin.Frame("tip_joint", n, prev, tip_place, pin.FrameType.FIXED_JOINT))
-    tip = model.addBodyFrame(TIP_FRAME, n, tip_place, tf)
+    tf = model.addFrame(pin.Frame("tip_joint", jid, prev, tip_place, pin.FrameType.FIXED_JOINT))
+    tip = model.addBodyFrame(TIP_FRAME, jid, tip_place, tf)
     model.gravity = pin.Motion.Zero()
     return model, tip
 
 
-def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False
-                      ) -> LinkSections:
+def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False,
+                      axes: Axes = Axes.Y) -> LinkSections:
     """Read the links' sections back from a Pinocchio model.
 
     Mass (kg), COM (m, beam frame) and inertia (kg m^2) as the model holds them, for lengths
     ``lengths`` (m); ``area_moment_m4`` is NaN (a URDF does not carry it).
 
     On a hub model (``hub``) link 0 is the inertia of the ``clamp`` frame (the parser keeps a
-    fixed joint's child there) and link j that of Pinocchio joint j + 1.
+    fixed joint's child there) and link j that of Pinocchio joint j + 1. On a spatial chain
+    link j is the inertia of node j's last joint (the others are massless).
     """
     n1 = lengths.size
     ends = np.cumsum(lengths)
@@ -76,7 +91,8 @@ def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False
         links = [model.frames[model.getFrameId("clamp")].inertia,
                  *(model.inertias[i + 1] for i in range(1, n1))]
     else:
-        links = [model.inertias[i] for i in range(n1)]
+        m = len(axes.joint_order)
+        links = [model.inertias[0], *(model.inertias[i * m] for i in range(1, n1))]
     mass = np.array([b.mass for b in links])
     com = np.array([b.lever for b in links]) + starts[:, None] * [1, 0, 0]
     inertia = np.array([b.inertia for b in links])

@@ -19,14 +19,15 @@ from ..chain import pin_dynamics as dyn
 from ..chain.eigen import eig_scaled
 from ..chain.layout import validate_lengths
 from ..chain.sections import LinkSections, link_sections_unchecked
-from ..chain.spring_checks import check_springs
+from ..chain.spatial_stiffness import spring_axes
+from ..chain.spring_checks import check_spatial_springs, check_springs
 from ..chain.statics import static_deflection_planar
 from ..chain.stiffness import validate_stiffness
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
 from ..member.geometry import Beam
-from ..options.choices import MIN_FRACTION
-from ..options.validate import check_joints, check_type
+from ..options.choices import MIN_FRACTION, Axes
+from ..options.validate import check_axes, check_joints, check_type
 from .hub import Hub, hub_chain, hub_frequencies, hub_modes
 from .hub_check import warn_light_hub
 from .pin_chain import pin_chain
@@ -84,12 +85,31 @@ class PrbdmModel:
     tip_frame_id: int
     hub: Hub | None = None
     actuators: tuple = ()
+    axes: Axes = Axes.Y
     _cache: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
     def n_joints(self) -> int:
-        """Number of spring joints n (``pin_model.nv`` less the hub joint, if any)."""
+        """Number of joint nodes n (the links less one); each has ``len(axes)`` springs."""
+        return int(self.lengths_m.size) - 1
+
+    @property
+    def n_springs(self) -> int:
+        """Number of spring coordinates (``pin_model.nv`` less the hub joint, if any).
+
+        n for the planar chain, n times the number of axes for a spatial one (node-major:
+        :meth:`spring_axes`).
+        """
         return int(self.pin_model.nv) - (self.hub is not None)
+
+    @property
+    def spring_axes(self) -> tuple[str, ...]:
+        """The axis (``"y"``, ``"z"`` or ``"x"``) of every spring coordinate, node-major."""
+        return spring_axes(self.axes, self.n_joints)
+
+    def axis_index(self, axis: str) -> np.ndarray:
+        """Return the indices of the springs about ``axis`` (one per node), int, shape (n,)."""
+        return np.flatnonzero(np.array(self.spring_axes) == axis)
 
     @property
     def urdf(self) -> str:
@@ -98,7 +118,7 @@ class PrbdmModel:
         if text is None:
             name = "prbdm" if self.beam is None else f"prbdm_{self.beam.name}"
             text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name,
-                               hub=self.hub)
+                               hub=self.hub, axes=self.axes)
             self._cache["urdf"] = text
         return text
 
@@ -204,6 +224,9 @@ class PrbdmModel:
         would turn; :func:`prbdm_pin.linearize` holds it with a trim torque).
         """
         self._no_hub("a static equilibrium under a tip force alone")
+        if self.axes.spatial:
+            raise BeamInputError(f"axes = {self.axes.value!r}: the static equilibrium of a "
+                                 "spatial chain is not available yet; use axes='y'")
         q = static_deflection_planar(
             self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
         )
@@ -211,10 +234,10 @@ class PrbdmModel:
 
     def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
         """Return the same chain with other springs (shares ``pin_model``)."""
-        k = validate_stiffness(stiffness_Nm_per_rad, self.n_joints)
+        k = validate_stiffness(stiffness_Nm_per_rad, self.n_springs)
         return PrbdmModel(
             self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
-            self.hub, self.actuators,
+            self.hub, self.actuators, self.axes,
         )
 
 
@@ -225,6 +248,7 @@ def build_model(
     *,
     min_fraction: float = MIN_FRACTION,
     hub: Hub | None = None,
+    axes: Axes | str = Axes.Y,
 ) -> PrbdmModel:
     """Build a PRBDM of ``beam`` with the given link lengths and joint springs.
 
@@ -234,14 +258,20 @@ def build_model(
     lengths_m : array_like, shape (n+1,)
         Link lengths in m, n >= 1: summing to the beam length (relative 1e-9), each in
         [0.02 L, 0.98 L].
-    stiffness_Nm_per_rad : array_like, shape (n,)
-        Joint spring stiffness, N m/rad (finite, > 0).
+    stiffness_Nm_per_rad : array_like, shape (n * len(axes),)
+        Joint spring stiffness, N m/rad (finite, > 0), node-major: node 1's springs in the
+        order y, z, x (those in ``axes``), then node 2's, ... (``PrbdmModel.spring_axes``).
     min_fraction : float
         Lower bound on each link as a fraction of L (Eq. 15's 0.02). Fine reference chains
         (e.g. 32 equal segments with half segments at the ends) need a smaller value.
     hub : Hub, optional
         A rotating rigid hub the root is clamped to (see :class:`PrbdmModel`); default None,
         the beam clamped to the world.
+    axes : {"y", "xy", "yz", "xyz"}
+        The joint axes at each node (default ``"y"``: the planar chain, bending out of the
+        plane). ``x`` adds torsion about the link axis, ``z`` bending in the plane; each axis
+        has its own spring. A spatial node is successive revolute joints at one point, joined
+        by massless links (:func:`prbdm_pin.model.pin_chain.node_links`).
 
     Returns
     -------
@@ -269,14 +299,22 @@ def build_model(
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     lengths.setflags(write=False)
     check_joints(lengths.size - 1)  # the command line's --joints cap (PRBDM_MAX_JOINTS)
-    k = validate_stiffness(stiffness_Nm_per_rad, lengths.size - 1)
-    check_springs(beam, k)  # within a factor 1e6 of what the beam's sections can give
+    axes = check_axes(axes)
+    n_axes = len(axes.joint_order)
+    k = validate_stiffness(stiffness_Nm_per_rad, (lengths.size - 1) * n_axes)
+    if axes.spatial:
+        check_spatial_springs(beam, k, axes)
+    else:
+        check_springs(beam, k)  # within a factor 1e6 of what the beam's sections can give
     if hub is not None:
         check_type("hub", hub, Hub, "a prbdm_pin.Hub or None")
+        if axes.spatial:
+            raise BeamInputError(f"axes = {axes.value!r}: a hub carries the planar chain only "
+                                 "(axes='y')")
     sections = link_sections_unchecked(beam, lengths)
     if hub is None:
-        model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}")
-        return PrbdmModel(beam, lengths, k, sections, model, tip)
+        model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}", axes)
+        return PrbdmModel(beam, lengths, k, sections, model, tip, axes=axes)
     model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
     out = PrbdmModel(beam, lengths, k, sections, model, tip, hub)
     warn_light_hub(out)  # mode 1 moved > 25 % toward the pinned-free beam

@@ -28,6 +28,8 @@ import numpy as np
 
 from ..chain.sections import LinkSections
 from ..errors import BeamInputError
+from ..options.choices import Axes
+from .chain_names import joint_names, node_links
 
 # an attribute's tab, newline and carriage return become spaces when an XML parser normalises
 # it; as character references they survive
@@ -50,6 +52,9 @@ JOINT_VELOCITY_LIMIT_RAD_S = 1.0e3
 # a hub may turn many times: its limit is far beyond any run (a continuous joint would make
 # Pinocchio's coordinate a (cos, sin) pair)
 HUB_LIMIT_RAD = 1.0e6
+
+
+_AXIS = {"x": "1 0 0", "y": "0 1 0", "z": "0 0 1"}
 
 
 @cache
@@ -82,6 +87,7 @@ def render_urdf(
     damping_Nms_per_rad: np.ndarray | None = None,
     comment: str = "",
     hub=None,
+    axes: Axes | str = Axes.Y,
 ) -> str:
     """Render the URDF string of the chain.
 
@@ -102,34 +108,52 @@ def render_urdf(
         A rotating hub: the revolute joint ``hub`` about y from ``world`` to the massless link
         ``hub_body`` (inertia ``inertia_kg_m2`` about every axis, as the Pinocchio hub model
         holds it), and ``clamp`` from ``hub_body`` to ``link_0`` at ``radius_m`` along x.
+    axes : Axes or str
+        The joint axes per node (default ``"y"``). A spatial node j is revolute joints
+        ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` (those in ``axes``, in that order) at one
+        point, joined by massless links ``link_j_y``, ``link_j_z`` (explicit zero inertial), the
+        last one's child ``link_j``; springs and damping are node-major in that order.
     """
     lengths = np.asarray(lengths_m, dtype=float)
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     n = lengths.size - 1
-    damp = np.zeros(n) if damping_Nms_per_rad is None else np.asarray(damping_Nms_per_rad, float)
-    if damp.shape != (n,) or not np.all(np.isfinite(damp) & (damp >= 0.0)):
+    axes = Axes(axes)
+    nk = n * len(axes.joint_order)
+    damp = np.zeros(nk) if damping_Nms_per_rad is None else np.asarray(damping_Nms_per_rad, float)
+    if damp.shape != (nk,) or not np.all(np.isfinite(damp) & (damp >= 0.0)):
         raise BeamInputError(
-            f"damping = {damp.tolist()} N m s/rad: needs {n} finite values >= 0"
+            f"damping = {damp.tolist()} N m s/rad: needs {nk} finite values >= 0"
         )
     if "--" in comment:
         raise BeamInputError("urdf comment: must not contain '--' (XML comments cannot)")
     link_t, joint_t, spring_t = _t("link.urdf.tmpl"), _t("joint.urdf.tmpl"), _t("spring.urdf.tmpl")
+    names = joint_names(n, axes)
     body = []
+    zero = dict(com_x="0", com_y="0", com_z="0", mass="0", ixx="0", ixy="0", ixz="0", iyy="0",
+                iyz="0", izz="0")
     for i in range(n + 1):
         I = sections.inertia_com_kg_m2[i]
         c = sections.com_m[i] - np.array([sections.start_m[i], 0.0, 0.0])
-        if i > 0:
+        parent, x = f"link_{i - 1}", _f(lengths[i - 1]) if i > 0 else "0"
+        links = node_links(i, axes) if i > 0 else ["link_0"]
+        for a, child in zip(axes.joint_order if i > 0 else (), links, strict=False):
             body.append(joint_t.substitute(
-                i=i, parent=i - 1, x=_f(lengths[i - 1]), lower=_f(-JOINT_LIMIT_RAD),
+                name=names[(i - 1) * len(axes.joint_order) + axes.joint_order.index(a)],
+                parent=parent, child=child, x=x, axis=_AXIS[a], lower=_f(-JOINT_LIMIT_RAD),
                 upper=_f(JOINT_LIMIT_RAD), effort=_f(JOINT_EFFORT_LIMIT_NM),
-                velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S), damping=_f(damp[i - 1]),
+                velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S),
+                damping=_f(damp[(i - 1) * len(axes.joint_order) + axes.joint_order.index(a)]),
             ))
+            if child != links[-1]:  # a massless link between two joints of one node
+                body.append(link_t.substitute(name=child, **zero))
+            parent, x = child, "0"
         body.append(link_t.substitute(
-            i=i, com_x=_f(c[0]), com_y=_f(c[1]), com_z=_f(c[2]), mass=_f(sections.mass_kg[i]),
+            name=f"link_{i}", com_x=_f(c[0]), com_y=_f(c[1]), com_z=_f(c[2]),
+            mass=_f(sections.mass_kg[i]),
             ixx=_f(I[0, 0]), ixy=_f(I[0, 1]), ixz=_f(I[0, 2]),
             iyy=_f(I[1, 1]), iyz=_f(I[1, 2]), izz=_f(I[2, 2]),
         ))
-    springs = [spring_t.substitute(i=j + 1, stiffness=_f(k[j])) for j in range(n)]
+    springs = [spring_t.substitute(name=names[j], stiffness=_f(k[j])) for j in range(len(names))]
     hub_text, clamp_parent, clamp_x = "", "world", "0"
     if hub is not None:
         hub_text = _t("hub.urdf.tmpl").substitute(

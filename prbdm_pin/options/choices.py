@@ -28,6 +28,8 @@ __all__ = [
     "DAMPING_FORMS",
     "FIXED_STEP_METHODS",
     "IVP_METHODS",
+    "AXES",
+    "Axes",
     "XI_RAD",
     "EPS_RAD",
     "PARETO_EPS_RAD",
@@ -92,6 +94,33 @@ class DeflectionNorm(Choice):
     DISPLACEMENT = "displacement"
 
 
+class Axes(Choice):
+    """The joint axes at each node of the chain (``--axes``).
+
+    ``y``: bending out of the plane only (the planar chain); ``xy`` adds torsion about the link
+    axis x; ``yz`` adds bending in the plane (about z); ``xyz`` all three.
+    """
+
+    Y = "y"
+    XY = "xy"
+    YZ = "yz"
+    XYZ = "xyz"
+
+    @property
+    def joint_order(self) -> tuple[str, ...]:
+        """The revolute joints at one node, root side first: y, then z, then x (those present).
+
+        Bending about y comes first so that ``y`` is the planar chain; the torsion joint comes
+        last, so it turns the link about its own (bent) axis.
+        """
+        return tuple(a for a in ("y", "z", "x") if a in self.value)
+
+    @property
+    def spatial(self) -> bool:
+        """Whether the chain has any axis beside y."""
+        return self is not Axes.Y
+
+
 class UniqueRule(Choice):
     """Which model a fit returns: a multistart's best (``none``) or the rule's (``nearest``).
 
@@ -103,6 +132,7 @@ class UniqueRule(Choice):
 
 
 OBJECTIVES = Objective.values()
+AXES = Axes.values()
 STIFFNESS_KINDS = StiffnessKind.values()
 EIGEN_NORMS = EigenNorm.values()
 DEFLECTION_NORMS = DeflectionNorm.values()

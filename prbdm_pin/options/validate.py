@@ -38,7 +38,8 @@ __all__ = [
     "MAX_SEED", "MAX_WORKERS", "MAX_STARTS", "MAX_NFEV", "MAX_SHARD_BEAMS", "MIN_POP", "MAX_POP",
     "MAX_GENERATIONS", "MAX_SWEEP_RAD", "MAX_DAMPING_RATIO", "E_RANGE_PA", "SIZE_RANGE_M",
     "MAX_WIDTH_RATIO", "SPRING_WINDOW", "MAX_HUB_INERTIA_KG_M2",
-    "check_type", "check_path", "check_workers", "check_joints", "check_damping_ratio",
+    "check_type", "check_path", "check_workers", "check_joints", "check_axes",
+    "check_damping_ratio",
     "check_modulus", "check_size", "check_planform", "real_vector",
 ]
 
@@ -123,6 +124,24 @@ def check_joints(value: Any, name: str = "joints") -> int:
     n = check_int(name, value, 1)
     check_cap(name, n, "max_joints")
     return n
+
+
+def check_axes(value: Any, name: str = "axes"):
+    """Return the :class:`~prbdm_pin.options.choices.Axes` spelled ``value`` (``--axes``).
+
+    Raises
+    ------
+    BeamInputError
+        ``value`` is not one of ``y``, ``xy``, ``yz``, ``xyz`` (nor an Axes).
+    """
+    from .choices import Axes
+
+    if isinstance(value, Axes):
+        return value
+    if isinstance(value, str) and value in Axes.values():
+        return Axes(value)
+    raise BeamInputError(f"{name} = {value!r}: must be one of {', '.join(Axes.values())} "
+                         "(joint axes at each node: y bending, z in-plane bending, x torsion)")
 
 
 def check_damping_ratio(name: str, value: Any) -> float:

@@ -1,0 +1,110 @@
+"""Finite-segment springs of every joint axis: bending about y and z, torsion about x.
+
+Each joint's spring stands for the member between the centres of the links it joins (the end
+links counted to the clamp and to the tip, so the spans tile the member), as for the planar
+chain's :func:`~prbdm_pin.chain.stiffness.finite_segment_stiffness`: K = C / ∫ dx / S(x) with
+the section stiffness C S(x) of the axis:
+
+- ``y`` (out-of-plane bending): E I_y, I_y = 2 w t^3 / 12 (the planar chain's springs, the same
+  numbers bit for bit);
+- ``z`` (in-plane bending): E I_z, I_z = t (2 w)^3 / 12, integrated in closed form on each
+  vertex interval where w is linear;
+- ``x`` (torsion): G J with the Saint-Venant constant J(2 w, t) of the rectangle
+  (:func:`prbdm_pin.member.section.torsion_constant_m4`), integrated by 16-point
+  Gauss-Legendre on each vertex interval (1 / J is smooth there; the rule's error is below
+  1e-13 relative for every interval whose end widths differ by less than a factor 10).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..member.geometry import Beam
+from ..member.section import torsion_constant_m4
+from ..options.choices import MIN_FRACTION, Axes
+from .layout import validate_lengths
+from .stiffness import finite_segment_stiffness_unchecked
+
+__all__ = ["axis_stiffness", "spatial_stiffness", "spring_axes"]
+
+_GL_T, _GL_W = np.polynomial.legendre.leggauss(16)
+
+
+def _spans(lengths: np.ndarray) -> np.ndarray:
+    """Return the springs' span ends: 0, the inner links' centres, L; m, shape (n + 1,)."""
+    ends = np.add.accumulate(lengths)
+    centres = ends - 0.5 * lengths
+    centres[0] = 0.0
+    centres[-1] = ends[-1]
+    return centres
+
+
+def _span_integrals(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarray:
+    """∫ dx / S(x) over each spring's span (S = I_z or J, m^4), 1/m^3, shape (n,)."""
+    c = _spans(lengths)
+    n = c.size - 1
+    cuts = np.union1d(c, beam.x_m)
+    u, v = cuts[:-1], cuts[1:]
+    keep = v > u
+    u, v = u[keep], v[keep]
+    # one-sided widths at the sub-interval ends (a width step jumps between them)
+    wu = 2.0 * np.asarray(beam.half_width_at(u, "right"), dtype=float)
+    wv = 2.0 * np.asarray(beam.half_width_at(v, "left"), dtype=float)
+    t = beam.thickness_m
+    if axis == "z":
+        # ∫ dx / (t b^3 / 12) with b linear from wu to wv: 12 (v - u) (wu + wv) / (2 t wu^2 wv^2)
+        part = 6.0 * (v - u) * (wu + wv) / (t * wu * wu * wv * wv)
+    else:
+        s = 0.5 * (_GL_T + 1.0)
+        b = wu[:, None] + (wv - wu)[:, None] * s
+        part = (v - u) * (0.5 * _GL_W / torsion_constant_m4(b, t)).sum(axis=1)
+    span = np.searchsorted(c, 0.5 * (u + v)) - 1
+    return np.bincount(np.clip(span, 0, n - 1), part, n)
+
+
+def axis_stiffness(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarray:
+    """Finite-segment springs of one axis (``"y"``, ``"z"`` or ``"x"``), N m/rad, shape (n,).
+
+    ``lengths`` (m, shape (n+1,)) already validated.
+    """
+    if axis == "y":
+        return finite_segment_stiffness_unchecked(beam, lengths)
+    if axis not in ("z", "x"):
+        raise ValueError(f"axis = {axis!r}: must be 'x', 'y' or 'z'")
+    modulus = beam.material.E_Pa if axis == "z" else beam.material.G_Pa
+    return modulus / _span_integrals(beam, lengths, axis)
+
+
+def spring_axes(axes: Axes | str, n_joints: int) -> tuple[str, ...]:
+    """Return the axis of every spring coordinate, node-major: joint 1's axes, then joint 2's, ...
+
+    Within a node the order is :attr:`Axes.joint_order` (y, z, x).
+    """
+    order = Axes(axes).joint_order
+    return order * int(n_joints)
+
+
+def spatial_stiffness(beam: Beam, lengths_m: np.ndarray, axes: Axes | str = Axes.Y,
+                      min_fraction: float = MIN_FRACTION) -> np.ndarray:
+    """Finite-segment springs of every joint axis, N m/rad, node-major (:func:`spring_axes`).
+
+    Parameters
+    ----------
+    beam : Beam
+        Planform, thickness (m), E and nu (G = E / (2 (1 + nu))).
+    lengths_m : array_like, shape (n+1,)
+        Link lengths, m (validated as for :func:`~prbdm_pin.build_model`).
+    axes : Axes or {"y", "xy", "yz", "xyz"}
+        The joint axes at each node.
+    min_fraction : float
+        Lower bound on each link as a fraction of L.
+
+    Returns
+    -------
+    ndarray, shape (n * len(axes),)
+        Springs, N m/rad: for ``"y"`` the planar chain's finite-segment springs.
+    """
+    lengths = validate_lengths(beam, lengths_m, min_fraction)
+    order = Axes(axes).joint_order
+    per_axis = np.stack([axis_stiffness(beam, lengths, a) for a in order], axis=1)
+    return per_axis.reshape(-1)
