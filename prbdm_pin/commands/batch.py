@@ -8,6 +8,7 @@ import sys
 
 from ..options.validate import MAX_SHARD_BEAMS  # shared with BatchSpec
 from . import add_common
+from .options import add_axes_option, stiffness_of
 
 EXAMPLES = """\
 examples:
@@ -47,7 +48,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--frequencies", type=int, default=None,
                    help="truth frequencies to match (default: joints)")
     p.add_argument("--objective", choices=OBJECTIVES, default="eigen")
-    p.add_argument("--stiffness", choices=STIFFNESS_KINDS, default="paper")
+    p.add_argument("--stiffness", choices=STIFFNESS_KINDS, default=None,
+                   help="paper (default) or joint (the default with a spatial --axes)")
+    add_axes_option(p)
     p.add_argument("--starts", type=int, default=64, help="multistart points per fit (64)")
     p.add_argument("--truth-model", choices=TRUTH_MODELS, default="plate")
     p.add_argument("--min-link", type=float, default=0.02, metavar="FRACTION",
@@ -122,8 +125,8 @@ def batch_fit_options(args: argparse.Namespace):
     from ..options.objects import FitOptions
 
     return FitOptions(frequencies=args.frequencies, objective=args.objective,
-                      stiffness=args.stiffness, starts=args.starts, eigen_norm=args.eigen_norm,
-                      min_fraction=args.min_link)
+                      stiffness=stiffness_of(args), starts=args.starts,
+                      eigen_norm=args.eigen_norm, min_fraction=args.min_link, axes=args.axes)
 
 
 def run(args: argparse.Namespace) -> int:

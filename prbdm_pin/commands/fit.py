@@ -101,6 +101,21 @@ def export_text(result) -> str:
             f"(worst {result.worst_export_error_pct:.3g} %)")
 
 
+def modes_table(result) -> str:
+    """Return the per-mode table of a fit by kind: truth and model rad/s, error %.
+
+    A truth mode no chain mode represents (``chordwise``) shows ``-`` for the model.
+    """
+    lines = [f"{'mode':>4}  {'kind':<10} {'truth rad/s':>12} {'model rad/s':>12} {'error %':>9}"]
+    for i, r in enumerate(result.modes, 1):
+        if r["omega_model_rad_s"] is None:
+            model, err = f"{'-':>12}", f"{'not modelled':>12}"
+        else:
+            model, err = f"{r['omega_model_rad_s']:12.6g}", f"{r['error_pct']:+9.3g}"
+        lines.append(f"{i:>4}  {r['kind']:<10} {r['omega_truth_rad_s']:12.6g} {model} {err}")
+    return "\n".join(lines)
+
+
 def print_warnings(result) -> None:
     """Every note of a FitResult as one 'fit warning:' line on stderr."""
     for note in result.warnings:
@@ -206,7 +221,8 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
     lengths = result.lengths_m
     # the fit's own bound may be below Eq. 15's default (--min-link)
     model = build_model(beam, lengths, result.stiffness_Nm_per_rad,
-                        min_fraction=min(MIN_FRACTION, 0.5 * float(min(lengths)) / beam.length_m))
+                        min_fraction=min(MIN_FRACTION, 0.5 * float(min(lengths)) / beam.length_m),
+                        axes=result.axes)
     written = [write_urdf(model, out / "model.urdf",
                           omega_truth_rad_s=result.omega_truth_rad_s)]
     if plots:
@@ -247,9 +263,10 @@ def run(args) -> int:
     check_options(args)
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, args.objective)
+    options = fit_options(args, min_fraction)  # refused before the truth is computed
     target = load_target(args, beam)
-    result = fit(beam, target, args.joints, fit_options(args, min_fraction),
-                 workers=args.workers, progress=not args.quiet)
+    result = fit(beam, target, args.joints, options, workers=args.workers,
+                 progress=not args.quiet)
     out = Path(args.out)
     write_fit_outputs(result, beam, out)
     if not args.quiet:
@@ -261,6 +278,8 @@ def run(args) -> int:
               f"tip displacement {result.displacement_loss_pct:.4g} %, "
               f"combined {result.combined_loss_pct:.4g} % ({result.wall_time_s:.1f} s)")
         print("lengths_m:", " ".join(f"{v:.4f}" for v in result.lengths_m))
+        if result.axes != "y":
+            print(modes_table(result))
         print(export_text(result))
         print(f"wrote {out / 'fit.json'}")
     return 0

@@ -92,9 +92,10 @@ def check_cache_dir(args) -> None:
 def check_sweep(args) -> None:
     """``--eps``: > 0, and (for the paper's pose sweep) a sweep of at most ``MAX_POSES``."""
     from .checks import in_range
+    from .options import stiffness_of
 
     in_range("--eps", args.eps, 0.0, MAX_SWEEP_RAD, lo_open=True, unit="rad")
-    if args.stiffness == "paper":
+    if stiffness_of(args) == "paper":
         from ..chain.stiffness import MAX_POSES
 
         in_range("--xi", args.xi, 0.0, math.pi / 2 / args.joints, unit="rad",

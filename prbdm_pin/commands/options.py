@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 
 from ..options.choices import (
+    AXES,
     DEFAULT_EIGEN_NORM,
     DEFLECTION_NORMS,
     EIGEN_NORMS,
@@ -21,16 +22,32 @@ from ..options.choices import (
 )
 from ..options.objects import FitOptions, ParetoOptions
 
-__all__ = ["add_problem_options", "add_fit_options", "add_pareto_options", "fit_options",
-           "pareto_options"]
+__all__ = ["add_problem_options", "add_fit_options", "add_pareto_options", "add_axes_option",
+           "fit_options", "pareto_options", "stiffness_of"]
+
+
+def add_axes_option(p: argparse.ArgumentParser) -> None:
+    """Add ``--axes {y,xy,yz,xyz}``: the joint axes at each node (fit, pareto, batch)."""
+    p.add_argument("--axes", default="y", choices=list(AXES),
+                   help="joint axes at each node: y bending (the planar chain, default), xy "
+                        "adds torsion, yz in-plane bending, xyz all three (each its own spring)")
+
+
+def stiffness_of(args: argparse.Namespace) -> str:
+    """Return ``--stiffness``, or its default: ``joint`` for a spatial ``--axes``, else paper."""
+    if args.stiffness is not None:
+        return args.stiffness
+    return "paper" if getattr(args, "axes", "y") == "y" else "joint"
 
 
 def add_problem_options(p: argparse.ArgumentParser) -> None:
     """Add the flags that define the fit problem (shared by ``prbdm fit`` and ``pareto``)."""
     p.add_argument("--frequencies", type=int, default=None,
                    help="truth frequencies to match, <= n (default n)")
-    p.add_argument("--stiffness", default="paper", choices=list(STIFFNESS_KINDS),
-                   help="paper: one SCF per pose (Eq. 14); joint: one factor per joint")
+    p.add_argument("--stiffness", default=None, choices=list(STIFFNESS_KINDS),
+                   help="paper: one SCF per pose (Eq. 14); joint: one factor per joint "
+                        "(default paper; joint with a spatial --axes)")
+    add_axes_option(p)
     p.add_argument("--xi", type=float, default=XI_RAD, help="pose sweep offset, rad (Eq. 11)")
     p.add_argument("--squared", action="store_true", help="compare omega^2 instead of omega")
     p.add_argument("--min-link", type=float, default=MIN_FRACTION, metavar="FRACTION",
@@ -91,23 +108,23 @@ def fit_options(args: argparse.Namespace, min_fraction: float) -> FitOptions:
     ``min_fraction`` is ``--min-link``, checked against the beam.
     """
     return FitOptions(
-        frequencies=args.frequencies, objective=args.objective, stiffness=args.stiffness,
+        frequencies=args.frequencies, objective=args.objective, stiffness=stiffness_of(args),
         starts=args.starts, seed=args.seed, xi_rad=args.xi, eps_rad=args.eps,
         squared=args.squared, loss_tol_pct=args.loss_tol, joint_sweep=args.joint_sweep,
         deflection_norm=args.deflection_norm, polish=args.polish, max_nfev=args.max_nfev,
         explore_nfev=args.explore_nfev, refine_starts=args.refine_starts,
-        eigen_norm=args.eigen_norm, min_fraction=min_fraction)
+        eigen_norm=args.eigen_norm, min_fraction=min_fraction, axes=args.axes)
 
 
 def pareto_options(args: argparse.Namespace, min_fraction: float) -> ParetoOptions:
     """Return the ParetoOptions of a ``prbdm pareto`` command line."""
     return ParetoOptions(
-        frequencies=args.frequencies, stiffness=args.stiffness, seed=args.seed,
+        frequencies=args.frequencies, stiffness=stiffness_of(args), seed=args.seed,
         xi_rad=args.xi, eps_rad=args.eps, squared=args.squared,
         deflection_norm=args.deflection_norm, eigen_norm=args.eigen_norm,
         min_fraction=min_fraction, pop=args.pop, generations=args.generations,
         log10_bounds=parse_bounds(args.log10_bounds), seed_with_fits=not args.no_seed_fits,
-        seed_starts=args.seed_starts, polish_knee=not args.no_knee_polish)
+        seed_starts=args.seed_starts, polish_knee=not args.no_knee_polish, axes=args.axes)
 
 
 def parse_bounds(text: str | None) -> tuple[float, float] | None:

@@ -152,6 +152,19 @@ def _fit_unique(problem: FitProblem, o: FitOptions, t0: float) -> FitResult:
         wall_time_s=time.perf_counter() - t0, success=True, message=best.message)
 
 
+def _fit_spatial(beam, target, joints, o: FitOptions, workers, progress, start, extra_loads):
+    """Run :func:`~prbdm_pin.fitting.spatial_fit.fit_spatial`; refuse what it does not take."""
+    from .spatial_fit import fit_spatial
+
+    for name, bad in (("start", start is not None), ("extra_loads", bool(extra_loads)),
+                      ("workers", workers != 1)):
+        if bad:
+            raise BeamInputError(f"{name}: not available for a spatial fit (axes = "
+                                 f"{o.axes.value!r}), which runs its starts in one process "
+                                 "on the frequencies alone")
+    return fit_spatial(beam, target, joints, o, progress=progress)
+
+
 def fit(
     beam: Beam,
     target: FitTarget,
@@ -209,6 +222,8 @@ def fit(
     t0 = time.perf_counter()
     check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, FitOptions, changes)
+    if o.axes.spatial:
+        return _fit_spatial(beam, target, joints, o, workers, progress, start, extra_loads)
     target = with_extra_loads(target, beam, extra_loads)
     if start is not None:
         from .warm import start_changes

@@ -15,6 +15,7 @@ from ..errors import SolveError
 from ..options.checks import check_choice
 from ..options.choices import Objective
 from .evaluate import evaluate
+from .mode_records import mode_records
 from .objectives import mode_errors_pct, worst_mode_error_pct
 from .problem import FitProblem
 from .results import FitResult
@@ -154,6 +155,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: Ob
         stiffness_pose=described, omega_export_rad_s=w_export,
         omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,
         options=problem.options,
+        modes=mode_records(t.labels, t.omega_truth_rad_s, w_export),
     )
 
 

@@ -154,6 +154,17 @@ class FitResult(JsonRecord):
     options : FitOptions or ParetoOptions or None
         Every option the fit was run with (a Pareto knee: the Pareto fit's); None in a
         fit.json written before options were recorded.
+    axes : str
+        The joint axes at each node (``"y"`` planar; ``"xy"``, ``"yz"``, ``"xyz"`` spatial).
+        A spatial fit's springs, factors and poses run over every spring coordinate,
+        node-major (``PrbdmModel.spring_axes``), and ``frequencies`` counts the matched truth
+        modes of every kind.
+    modes : tuple of dict
+        One record per truth mode the fit matched, in ``omega_truth_rad_s``'s order, with the
+        keys ``kind`` (the truth mode's label: ``bending``, ``torsion``, ``in-plane``, ...),
+        ``omega_truth_rad_s``, ``omega_model_rad_s`` (the exported model's mode of that kind,
+        rad/s) and ``error_pct`` (signed, %); a spatial fit adds the truth modes in its band
+        that no chain mode represents (``chordwise``...), with null model frequency and error.
     versions : tuple of (name, version)
     """
 
@@ -217,6 +228,8 @@ class FitResult(JsonRecord):
     static_theory_gap_pct: float = math.nan
     min_fraction: float = MIN_FRACTION
     options: FitOptions | ParetoOptions | None = None
+    axes: str = "y"
+    modes: tuple = ()
     versions: tuple = field(default_factory=package_versions)
 
     def __post_init__(self) -> None:

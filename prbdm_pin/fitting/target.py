@@ -85,6 +85,11 @@ class FitTarget:
     static_theory_gap_pct : float or None
         100 (u_1D / u_truth - 1): the 1D beam's linear tip deflection against the truth model's
         under the same small load, in % (the gap between the two theories; None when unknown).
+    all_omega_rad_s : ndarray, shape (K,), or None
+        Every mode the truth computed, ascending, rad/s (bending or not): what a spatial fit
+        selects its modes of each kind from.
+    all_labels : tuple of str, or None
+        The label of each of them (``bending``, ``torsion``, ``in-plane``, ``chordwise``, ...).
     """
 
     omega_truth_rad_s: np.ndarray
@@ -97,6 +102,8 @@ class FitTarget:
     labels: tuple[str, ...] | None = None
     truth_request: TruthRequest | None = None
     static_theory_gap_pct: float | None = None
+    all_omega_rad_s: np.ndarray | None = None
+    all_labels: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         """Check the frequencies, load cases and labels; freeze the arrays.
@@ -136,6 +143,17 @@ class FitTarget:
                 raise BeamInputError(f"labels has {len(labels)} entries: one per truth "
                                      f"frequency ({w.size}) needed")
             object.__setattr__(self, "labels", labels)
+        if (self.all_omega_rad_s is None) != (self.all_labels is None):
+            raise BeamInputError("all_omega_rad_s, all_labels: give both (every truth mode and "
+                                 "its label) or neither")
+        if self.all_omega_rad_s is not None:
+            wa = real_vector("all_omega_rad_s", self.all_omega_rad_s, "rad/s")
+            la = tuple(str(v) for v in self.all_labels)
+            if len(la) != wa.size:
+                raise BeamInputError(f"all_labels has {len(la)} entries: one per mode of "
+                                     f"all_omega_rad_s ({wa.size}) needed")
+            object.__setattr__(self, "all_omega_rad_s", wa)
+            object.__setattr__(self, "all_labels", la)
 
     @property
     def has_static(self) -> bool:
@@ -218,6 +236,8 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
         labels=labels,
         truth_request=request,
         static_theory_gap_pct=getattr(truth, "static_theory_gap_pct", None),
+        all_omega_rad_s=truth.modal.omega_rad_s,
+        all_labels=tuple(truth.labels),
     )
 
 

@@ -25,6 +25,7 @@ from ..options.choices import (
     StiffnessKind,
 )
 from ..options.limits import check_cap
+from ..options.validate import check_axes
 
 __all__ = [
     "LINK_FLOOR_FRACTION",
@@ -95,8 +96,8 @@ def _nested(label: str, value: Any, ndim: int) -> np.ndarray:
 
 
 def check_chain(what: str, lengths_m: Any, stiffness_Nm_per_rad: Any,
-                length_m: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Link lengths (m, (n+1,)) and joint springs (N m/rad, (n,)) read from a file.
+                length_m: float | None = None, n_axes: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """Link lengths (m, (n+1,)) and joint springs (N m/rad, (n n_axes,)) read from a file.
 
     n is between 1 and ``limits().max_joints``; lengths are finite and > 0; with the beam
     length ``length_m`` (m) they sum to it (relative 1e-9) and each is at least
@@ -111,7 +112,8 @@ def check_chain(what: str, lengths_m: Any, stiffness_Nm_per_rad: Any,
                              "(n >= 1 joints)")
     lengths = _array(what, "lengths_m", lengths_m, (len(lengths_m),), positive=True)
     n = lengths.size - 1
-    k = _array(what, "stiffness_Nm_per_rad", stiffness_Nm_per_rad, (n,), positive=True)
+    k = _array(what, "stiffness_Nm_per_rad", stiffness_Nm_per_rad, (n * n_axes,),
+               positive=True)
     if length_m is not None:
         with np.errstate(over="ignore"):
             total = float(np.sum(lengths))
@@ -134,6 +136,33 @@ def _opt_float(what: str, field: str, value: Any) -> None:
         raise BeamInputError(f"{what}: {field} = {value!r:.60}: must be a number or null")
 
 
+MODE_KEYS = ("kind", "omega_truth_rad_s", "omega_model_rad_s", "error_pct")
+
+
+def check_mode_records(what: str, records: Any) -> None:
+    """Check fit.json's ``modes``: a list of records with keys :data:`MODE_KEYS`.
+
+    ``kind`` is a string; the frequencies (rad/s) are numbers > 0 and the error (%) a number,
+    or null for a truth mode no chain mode represents (its ``kind`` says why).
+    """
+    if not isinstance(records, list):
+        raise BeamInputError(f"{what}: modes = {records!r:.60}: must be a list of records")
+    for i, r in enumerate(records):
+        r = require_mapping(r, f"{what}: modes[{i}]")
+        missing = [k for k in MODE_KEYS if k not in r]
+        if missing:
+            raise BeamInputError(f"{what}: modes[{i}]: missing key(s) {missing}")
+        field_str(f"{what}: modes[{i}].kind", r["kind"])
+        for key in MODE_KEYS[1:]:
+            v = r[key]
+            if v is None and key != "omega_truth_rad_s":
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
+                    or (key != "error_pct" and v <= 0):
+                raise BeamInputError(f"{what}: modes[{i}].{key} = {v!r:.60}: must be a finite "
+                                     "number" + (" > 0" if key != "error_pct" else ""))
+
+
 def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) -> dict[str, Any]:
     """Check the JSON mapping of a fit.json; return it with the chain fields validated.
 
@@ -146,7 +175,10 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
         raise BeamInputError(f"{what}: missing field(s) {missing}")
     n = field_int(f"{what}: joints", d["joints"], minimum=1)
     check_cap(f"{what}: joints", n, "max_joints")
-    field_int(f"{what}: frequencies", d["frequencies"], minimum=1, maximum=n)
+    axes = check_axes(d.get("axes", "y"), f"{what}: axes")
+    # a spatial fit's poses, springs and factors run over every spring coordinate
+    nk = n * len(axes.joint_order)
+    field_int(f"{what}: frequencies", d["frequencies"], minimum=1, maximum=nk)
     for key in _FIT_STR:
         if key in d:
             field_str(f"{what}: {key}", d[key])
@@ -170,13 +202,13 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
     if isinstance(d["lengths_m"], list) and len(d["lengths_m"]) != n + 1:
         raise BeamInputError(f"{what}: lengths_m has {len(d['lengths_m'])} values: "
                              f"joints = {n} needs {n + 1}")
-    check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], length_m)
-    poses = _array(what, "poses_rad", d["poses_rad"], (None, n))
+    check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], length_m, nk // n)
+    poses = _array(what, "poses_rad", d["poses_rad"], (None, nk))
     m = poses.shape[0]
-    _array(what, "stiffness_per_pose_Nm_per_rad", d["stiffness_per_pose_Nm_per_rad"], (m, n),
+    _array(what, "stiffness_per_pose_Nm_per_rad", d["stiffness_per_pose_Nm_per_rad"], (m, nk),
            positive=True)
     # one SCF per pose (Eq. 14) or one factor per joint
-    nf = m if StiffnessKind(d["stiffness"]) is StiffnessKind.PAPER else n
+    nf = m if StiffnessKind(d["stiffness"]) is StiffnessKind.PAPER else nk
     _array(what, "factors", d["factors"], (nf,), positive=True)
     w = _array(what, "omega_truth_rad_s", d["omega_truth_rad_s"], (d["frequencies"],),
                positive=True)
@@ -187,12 +219,14 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
         "tip_displacement_truth_m": (3,), "tip_force_N": (3,), "mac": (w.size,),
         "start_losses_pct": (None,), "extra_tip_force_N": (None, 3),
         "extra_tip_position_truth_m": (None, 3), "extra_tip_position_model_m": (None, None, 3),
-        "export_pose_rad": (n,), "omega_export_rad_s": (w.size,),
+        "export_pose_rad": (nk,), "omega_export_rad_s": (w.size,),
         "omega_export_errors_pct": (w.size,),
     }
     for key, shape in shapes.items():
         if key in d:
             _array(what, key, d[key], shape, finite=False, optional=True)
+    if "modes" in d:
+        check_mode_records(what, d["modes"])
     if "warnings" in d:
         ws = d["warnings"]
         if not isinstance(ws, list):

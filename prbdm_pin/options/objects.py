@@ -24,6 +24,7 @@ from .choices import (
     MIN_FRACTION,
     PARETO_EPS_RAD,
     XI_RAD,
+    Axes,
     Choice,
     DeflectionNorm,
     EigenNorm,
@@ -40,6 +41,7 @@ from .validate import (
     MAX_STARTS,
     MAX_SWEEP_RAD,
     MIN_POP,
+    check_axes,
 )
 
 __all__ = ["FitOptions", "ParetoOptions", "SimulationOptions", "options_from_dict",
@@ -67,10 +69,12 @@ class _ProblemOptions:
     deflection_norm: DeflectionNorm = DeflectionNorm.POSITION
     eigen_norm: EigenNorm = EigenNorm.RELATIVE
     min_fraction: float = MIN_FRACTION
+    axes: Axes = Axes.Y
 
     def __post_init__(self) -> None:
         """Validate every field; an error names the field and the value."""
         s = object.__setattr__
+        s(self, "axes", check_axes(self.axes))
         s(self, "frequencies", _int("frequencies", self.frequencies, 1, optional=True))
         s(self, "stiffness", _choice("stiffness", self.stiffness, StiffnessKind))
         s(self, "seed", _int("seed", self.seed, 0, high=MAX_SEED))
@@ -172,6 +176,11 @@ class FitOptions(_ProblemOptions):
     start_lengths_m, start_factors : tuple of float or None
         A warm start (``fit(..., start=previous)``): the local solver runs from these link
         lengths (m) and stiffness factors only, instead of random starts.
+    axes : Axes or str
+        The joint axes at each node (``--axes``): ``"y"`` the planar chain; ``"xy"``,
+        ``"yz"``, ``"xyz"`` a spatial chain (``fitting/spatial_fit.py``), fitted with the
+        ``joint`` springs to the ``eigen`` objective over the truth's modes of each kind
+        (``frequencies`` of each kind, default n).
     """
 
     kind: ClassVar[str] = "fit"
@@ -215,6 +224,8 @@ class FitOptions(_ProblemOptions):
         if self.start_lengths_m is not None and self.unique is not UniqueRule.NONE:
             raise BeamInputError(f"unique = {self.unique.value!r}: the rule chooses the model "
                                  "itself; a warm start (start_lengths_m) needs unique = 'none'")
+        if self.axes.spatial:
+            _check_spatial(self)
 
 
 @dataclass(frozen=True)
@@ -270,6 +281,28 @@ class ParetoOptions(_ProblemOptions):
         s(self, "seed_with_fits", _bool("seed_with_fits", self.seed_with_fits))
         s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1, high=MAX_STARTS))
         s(self, "polish_knee", _bool("polish_knee", self.polish_knee))
+        if self.axes.spatial:
+            raise BeamInputError(f"axes = {self.axes.value!r}: a Pareto front of a spatial "
+                                 "chain (frequencies against a 3D tip) is not available; "
+                                 "fit it with prbdm fit --axes (eigen objective)")
+
+
+def _check_spatial(o: FitOptions) -> None:
+    """Refuse the options a spatial fit does not have; each error names the field."""
+    if o.stiffness is not StiffnessKind.JOINT:
+        raise BeamInputError(f"stiffness = {o.stiffness.value!r}: a spatial chain (axes = "
+                             f"{o.axes.value!r}) is fitted with one factor per spring: "
+                             "stiffness = 'joint'")
+    if o.objective is not Objective.EIGEN:
+        raise BeamInputError(f"objective = {o.objective.value!r}: a spatial chain (axes = "
+                             f"{o.axes.value!r}) is fitted to its frequencies by kind: "
+                             "objective = 'eigen'")
+    for name, bad in (("joint_sweep", o.joint_sweep), ("unique", o.unique is not UniqueRule.NONE),
+                      ("start_lengths_m", o.start_lengths_m is not None),
+                      ("squared", o.squared)):
+        if bad:
+            raise BeamInputError(f"{name} = {getattr(o, name)!r}: not an option of a spatial "
+                                 f"fit (axes = {o.axes.value!r}); leave it at its default")
 
 
 def options_from_dict(d: Any, what: str = "options") -> FitOptions | ParetoOptions:

@@ -1,0 +1,220 @@
+"""The fit of a spatial chain: link lengths and the springs of every axis, to modes by kind.
+
+A spatial chain (``axes`` ``xy``, ``yz`` or ``xyz``) has at each node a spring per axis: y
+(out-of-plane bending), z (in-plane bending), x (torsion). The fit matches the first
+``frequencies`` truth modes of each kind (default n of each): bending-type modes (labelled
+``bending`` or ``mixed``) to the y coordinates, ``torsion`` modes to x and ``in-plane`` modes to
+z. At the straight pose the chain's mass matrix has no coupling between the axes (the
+planform is symmetric about x and the section about its mid-plane, so every product of inertia
+that would couple them vanishes), so each kind's model frequencies are the eigenvalues of its
+own block: modes are paired by kind and, within a kind, in order, never across kinds. A truth
+mode in the band that no axis represents (``chordwise``, or a kind whose axis the chain lacks)
+is named in the result (``FitResult.modes``) with no model frequency.
+
+The design is [u (n), log s (n len(axes))]: the stick-breaking lengths of
+:func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
+finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within a decade either way.
+The residual is each matched mode's relative error; each start runs ``least_squares`` (trust
+region reflective, forward-difference Jacobian).
+
+Which solution: with 2n + n len(axes) - n unknowns beyond the frequencies, a fit of n modes per
+kind has many exact solutions (the torsion springs of one panel have 2-12). The rule: among the
+starts that match every mode (loss at most ``EXACT_MATCH_PCT``) the one whose springs are
+nearest their finite-segment values (least rms of log s); when none does, the lowest loss.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..chain.eigen import eig_scaled
+from ..chain.spatial_stiffness import axis_stiffness
+from ..errors import SolveError
+from ..member.geometry import Beam
+from ..options.objects import FitOptions
+from .problem import lengths_from_unit, unit_from_lengths
+from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
+from .results import FitResult
+from .spatial_target import SpatialSelection, select_spatial, spatial_records
+
+__all__ = ["fit_spatial", "LOG_FACTOR_BOUND"]
+
+# a spring factor stays within a decade of the finite-segment spring of its axis
+LOG_FACTOR_BOUND = math.log(10.0)
+
+
+class _Design:
+    """Evaluates designs of one spatial fit (beam, selection and bounds fixed)."""
+
+    def __init__(self, beam: Beam, sel: SpatialSelection, joints: int, options: FitOptions):
+        from ..model.prbdm_model import build_model  # Pinocchio loads with the first model
+
+        self.build_model = build_model
+        self.beam, self.sel, self.n, self.o = beam, sel, joints, options
+        self.order = options.axes.joint_order
+        self.m = len(self.order)
+        self.nfev = 0
+
+    def lengths(self, u: np.ndarray) -> np.ndarray:
+        return lengths_from_unit(u, self.beam.length_m, self.o.min_fraction)
+
+    def unit_springs(self, lengths: np.ndarray) -> np.ndarray:
+        """Finite-segment springs (N m/rad), node-major, shape (n m,)."""
+        per_axis = [axis_stiffness(self.beam, lengths, a) for a in self.order]
+        return np.stack(per_axis, axis=1).reshape(-1)
+
+    def model(self, x: np.ndarray):
+        lengths = self.lengths(x[: self.n])
+        k = self.unit_springs(lengths) * np.exp(x[self.n:])
+        return self.build_model(self.beam, lengths, k, min_fraction=self.o.min_fraction,
+                                axes=self.o.axes)
+
+    def frequencies(self, model) -> np.ndarray:
+        """Return the model's frequencies (rad/s) of the selected modes, in their order."""
+        M = model.mass_matrix()
+        k = model.stiffness_Nm_per_rad
+        out = np.empty(self.sel.omega_truth_rad_s.size)
+        for c, a in enumerate(self.order):
+            idx = np.arange(c, self.n * self.m, self.m)
+            w = eig_scaled(M[np.ix_(idx, idx)], 1.0 / np.sqrt(k[idx]))
+            rows = self.sel.axis == a
+            out[rows] = w[: int(rows.sum())]
+        return out
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        self.nfev += 1
+        return self.frequencies(self.model(x)) / self.sel.omega_truth_rad_s - 1.0
+
+
+def _loss_pct(r: np.ndarray) -> float:
+    return 100.0 * float(np.sqrt(np.mean(r * r)))
+
+
+def _starts(d: _Design, starts: int, seed: int) -> list[np.ndarray]:
+    """Start 0: equal links at the finite-segment springs; then random lengths and factors."""
+    L, n = d.beam.length_m, d.n
+    eq = np.full(n + 1, L / (n + 1))
+    out = [np.r_[unit_from_lengths(eq, L, d.o.min_fraction), np.zeros(n * d.m)]]
+    rng = np.random.default_rng(seed)
+    for _ in range(starts - 1):
+        out.append(np.r_[rng.uniform(0.05, 0.95, n),
+                         rng.uniform(-0.5, 0.5, n * d.m) * LOG_FACTOR_BOUND])
+    return out
+
+
+def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
+                progress: bool = True) -> FitResult:
+    """Fit a spatial chain's lengths and springs to the truth's modes of each kind.
+
+    Parameters
+    ----------
+    beam : Beam
+    target : FitTarget
+        Made by :func:`~prbdm_pin.fitting.target.target_from_truth` (it carries every truth
+        mode and its label, ``all_omega_rad_s`` and ``all_labels``).
+    joints : int
+        n, the number of joint nodes (each with ``len(options.axes)`` springs).
+    options : FitOptions
+        With ``axes`` spatial, ``stiffness="joint"``, ``objective="eigen"`` (checked there);
+        ``frequencies`` is the number of modes of each kind (default n), ``starts``, ``seed``,
+        ``max_nfev`` (per start, times the number of unknowns) and ``loss_tol_pct`` apply.
+    progress : bool
+        Show a tqdm bar over the starts.
+
+    Returns
+    -------
+    FitResult
+        With ``axes``, the springs of every axis (N m/rad, node-major) and ``modes``: every
+        matched truth mode by kind, and the unrepresented modes of the band.
+
+    Raises
+    ------
+    BeamInputError
+        A target without labelled truth modes, or with fewer modes of a kind than asked.
+    """
+    t0 = time.perf_counter()
+    sel = select_spatial(target, options.axes, joints, options.frequencies)
+    d = _Design(beam, sel, joints, options)
+    n_x = joints + joints * d.m
+    lo = np.r_[np.zeros(joints), np.full(joints * d.m, -LOG_FACTOR_BOUND)]
+    hi = np.r_[np.ones(joints), np.full(joints * d.m, LOG_FACTOR_BOUND)]
+    tasks = _starts(d, options.starts, options.seed)
+    if progress:
+        from tqdm.auto import tqdm
+
+        tasks = tqdm(tasks, desc=f"fit {joints}R {options.axes.value}", unit="start",
+                     leave=False)
+    runs: list[tuple[float, float, int, np.ndarray, bool, str]] = []
+    for i, x0 in enumerate(tasks):
+        try:
+            sol = least_squares(d.residual, x0, bounds=(lo, hi), method="trf",
+                                max_nfev=options.max_nfev * n_x, x_scale=1.0)
+        except SolveError:
+            continue  # a start whose design left the chain's valid range
+        loss = _loss_pct(sol.fun)
+        runs.append((loss, float(np.sqrt(np.mean(sol.x[joints:] ** 2))), i, sol.x,
+                     bool(sol.success), str(sol.message)))
+        if options.loss_tol_pct is not None and loss <= options.loss_tol_pct:
+            break
+    if not runs:
+        raise SolveError(f"axes = {options.axes.value!r}: no start of the spatial fit "
+                         "gave a valid chain")
+    exact = [r for r in runs if r[0] <= EXACT_MATCH_PCT]
+    best = min(exact, key=lambda r: (r[1], r[2])) if exact else min(runs, key=lambda r: r[:1])
+    return _result(beam, target, d, best, runs, time.perf_counter() - t0)
+
+
+def _result(beam, target, d: _Design, best, runs, wall_s: float) -> FitResult:
+    loss, _, index, x, success, message = best
+    model = d.model(x)
+    w = d.frequencies(model)
+    sel, o, n = d.sel, d.o, d.n
+    nk = n * d.m
+    errors = 100.0 * (w / sel.omega_truth_rad_s - 1.0)
+    records = spatial_records(sel, w, target)
+    notes = []
+    k_worst = int(np.argmax(np.abs(errors)))
+    if abs(errors[k_worst]) > EXPORT_WARN_PCT:
+        notes.append(f"the fitted model misses truth mode {sel.index[k_worst] + 1} "
+                     f"({sel.kind[k_worst]}, {sel.omega_truth_rad_s[k_worst]:.6g} rad/s) by "
+                     f"{errors[k_worst]:+.3g} %")
+    unrepresented = [r for r in records if r["omega_model_rad_s"] is None]
+    if unrepresented:
+        notes.append(f"{len(unrepresented)} truth mode(s) in the band have no chain mode "
+                     f"({', '.join(sorted({r['kind'] for r in unrepresented}))}): named in "
+                     "modes, not matched")
+    factors = np.exp(x[n:])
+    chosen = "nearest the finite-segment springs among the exact starts" if loss <= \
+        EXACT_MATCH_PCT else "the lowest loss (no start matched every mode)"
+    return FitResult(
+        beam_name=beam.name, beam_fingerprint=beam.fingerprint(), joints=n,
+        frequencies=int(sel.omega_truth_rad_s.size), objective="eigen", stiffness="joint",
+        lengths_m=model.lengths_m, stiffness_Nm_per_rad=model.stiffness_Nm_per_rad,
+        stiffness_per_pose_Nm_per_rad=model.stiffness_Nm_per_rad[None, :], factors=factors,
+        scf_mean=float(np.mean(factors)), scf_deviation_pct=np.zeros(1),
+        poses_rad=np.zeros((1, nk)), omega_truth_rad_s=sel.omega_truth_rad_s,
+        omega_model_rad_s=w[None, :], eigen_errors_pct=np.array([loss]), eigen_loss_pct=loss,
+        deflection_loss_pct=math.nan, displacement_loss_pct=math.nan,
+        combined_loss_pct=math.nan, tip_position_model_m=None,
+        tip_position_truth_m=target.tip_position_m,
+        tip_displacement_truth_m=target.tip_displacement_m, tip_force_N=target.tip_force_N,
+        mac=None, truth_source=target.source, truth_request=target.truth_request,
+        static_theory_gap_pct=math.nan, squared=False, xi=o.xi_rad, eps=o.eps_rad,
+        seed=o.seed, starts=o.starts, starts_run=len(runs), nfev=d.nfev,
+        start_losses_pct=np.array([r[0] for r in sorted(runs, key=lambda r: r[2])]),
+        wall_time_s=wall_s, success=success,
+        message=f"{chosen}: start {index} of {len(runs)}: {message}",
+        warnings=tuple(notes), eigen_norm="relative", min_fraction=o.min_fraction,
+        omega_errors_pct=errors[None, :], worst_mode_error_pct=float(np.max(np.abs(errors))),
+        export_pose_rad=np.zeros(nk),
+        stiffness_pose=f"joint: pose-independent springs of every axis ({o.axes.value}), "
+        "fitted at the straight pose",
+        omega_export_rad_s=w, omega_export_errors_pct=errors,
+        worst_export_error_pct=float(np.max(np.abs(errors))), options=o,
+        axes=o.axes.value, modes=records,
+    )
+
