@@ -202,7 +202,7 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
     ``q`` has ``pin_model.nq`` entries (the hub angle first on a hub model).
     """
     hub = model.hub is not None
-    parsed = parse_inputs(names, model.n_joints, len(actuators), hub)
+    parsed = parse_inputs(names, model.n_springs, len(actuators), hub)
     off = int(hub)
     J = model.tip_jacobian(q)
     maps = [strain_map(model.lengths_m, a, f"actuators[{i}]") for i, a in enumerate(actuators)]

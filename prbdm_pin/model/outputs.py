@@ -36,7 +36,7 @@ def output_maps(model, q: np.ndarray, names) -> tuple[np.ndarray, np.ndarray]:
     The derivatives are with respect to the joint angles (per rad) and rates (per rad/s).
     """
     hub = model.hub is not None
-    parsed = parse_outputs(names, model.n_joints, hub)
+    parsed = parse_outputs(names, model.n_springs, hub)
     nv, off = model.pin_model.nv, int(hub)
     J = model.tip_jacobian(q)
     Cq = np.zeros((len(parsed), nv))
@@ -67,7 +67,7 @@ def output_values(model, q: np.ndarray, names) -> np.ndarray:
     Tip coordinates (m), angles (rad), spring torques (N m), rates 0.
     """
     hub = model.hub is not None
-    parsed = parse_outputs(names, model.n_joints, hub)
+    parsed = parse_outputs(names, model.n_springs, hub)
     off = int(hub)
     p = model.tip_position(q)
     out = np.zeros(len(parsed))
@@ -98,7 +98,7 @@ def output_samples(model, Q: np.ndarray, V: np.ndarray, tip_m: np.ndarray, names
     ``tip_m`` (s, 3), m.
     """
     hub = model.hub is not None
-    parsed = parse_outputs(names, model.n_joints, hub)
+    parsed = parse_outputs(names, model.n_springs, hub)
     off = int(hub)
     out = np.zeros((len(Q), len(parsed)))
     tip_rate = None

@@ -92,6 +92,10 @@ def linearize(
 
     if not isinstance(model, PrbdmModel):
         raise InputTypeError(f"model = {model!r}: must be a PrbdmModel")
+    if model.axes.spatial:
+        # its inputs and outputs (tip twist, corner forces) and its statics are not there yet
+        raise BeamInputError(f"model.axes = {model.axes.value!r}: linearize takes the planar "
+                             "chain (axes 'y'); simulate a spatial chain instead")
     acts = _actuators(actuators)
     hub = model.hub is not None
     # names first: refused before any work, and a bare string is not taken letter by letter

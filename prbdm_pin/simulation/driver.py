@@ -100,6 +100,8 @@ def simulate(
     integ, dt, output_dt = o.integrator, o.dt_s, o.output_dt_s
     hub = getattr(model, "hub", None) is not None
     n = int(model.pin_model.nv)
+    # spring coordinates: a spatial chain has one per axis and node (n_springs)
+    n_springs = int(getattr(model, "n_springs", model.n_joints))
     if isinstance(duration_s, bool) or not isinstance(duration_s, (int, float, np.number)) \
             or not math.isfinite(duration_s) or duration_s <= 0.0:
         raise BeamInputError(f"duration = {duration_s!r} s: must be a finite number > 0")
@@ -108,7 +110,7 @@ def simulate(
     v0 = vector("v0", v0, n)
     force, constant_force = force_function(tip_force)
     xi = damping_ratios(np.asarray(o.damping_ratio, dtype=float) if isinstance(
-        o.damping_ratio, tuple) else o.damping_ratio, int(model.n_joints))
+        o.damping_ratio, tuple) else o.damping_ratio, n_springs)
     if stiffness_schedule is not None and not isinstance(stiffness_schedule, StiffnessSchedule):
         raise BeamInputError("stiffness_schedule: must be a StiffnessSchedule")
     if stiffness_schedule is not None and hub:
@@ -163,17 +165,21 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
         raise BeamInputError(f"actuators = {actuators!r:.80}: must be a sequence of "
                              "StrainActuator")
     hub = model.hub is not None
+    n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
     out_names = ()
     if not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
-        out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_joints, hub))
+        out_names = tuple(n for n, _, _ in parse_outputs(outputs, n_springs, hub))
     if isinstance(inputs, (list, tuple)) and len(inputs) == 0:
         if u is not None:
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
-    names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_joints, len(acts), hub))
+    names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub))
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
                              "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
+    if acts and getattr(getattr(model, "axes", None), "spatial", False):
+        raise BeamInputError(f"actuators: strain actuators act on the planar chain's bending "
+                             f"joints; this model has axes {model.axes.value!r}")
     for i, a in enumerate(acts):
         strain_map(model.lengths_m, a, f"actuators[{i}]")
     return (lambda tip_terms: input_force(model, names, u, acts, tip_terms)), out_names

@@ -234,7 +234,8 @@ def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_term
     The tip forces' generalized force and load stiffness come from ``tip_terms(q, F)``.
     """
     hub = model.hub is not None
-    parsed = parse_inputs(names, model.n_joints, len(actuators), hub)
+    n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
+    parsed = parse_inputs(names, n_springs, len(actuators), hub)
     names = tuple(n for n, _, _ in parsed)
     nv = model.pin_model.nv
     m = len(names)
