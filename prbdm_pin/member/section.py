@@ -73,7 +73,10 @@ def torsion_constant_m4(width_m, thickness_m) -> np.ndarray:
 
 
 def torsion_constant_thin_m4(width_m, thickness_m) -> np.ndarray:
-    """Roark's closed form for J of a rectangle, m^4 (within 0.2 % of the exact series).
+    """Roark's closed form for J of a rectangle, m^4 (within 0.5 % of the exact series).
+
+    The error is 0.09 % at most for a long side at least 1.5 times the short one; near the
+    square it reaches 0.49 % (at a = 1.15 c).
 
     J = a c^3 [1/3 - 0.21 (c / a) (1 - c^4 / (12 a^4))], a >= c the long and short sides (m):
     the thin-strip value a c^3 / 3 with its finite-width correction. Used where a closed form

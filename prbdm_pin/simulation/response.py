@@ -140,6 +140,11 @@ def centerline_modal_tip(modal, beam, indices: np.ndarray | None = None) -> Moda
     for k in idx:
         phi = np.interp(xf, x, np.asarray(modal.centerline_uz[k], dtype=float)[order])
         m_k = np.trapezoid(mu * phi**2, xf)
+        if m_k == 0.0:
+            # no z motion on the axis (the 1D truth's torsion and in-plane modes): a tip z
+            # force at the axis does not excite it
+            gains.append(0.0)
+            continue
         gains.append(phi[-1] ** 2 / m_k)
         mpf = np.trapezoid(mu * phi, xf) ** 2 / m_k
         ref = float(np.asarray(modal.mpf_z)[k])

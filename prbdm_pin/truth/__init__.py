@@ -2,7 +2,8 @@
 
 ``compute_truth`` (``truth.compute``) computes the truth a ``TruthRequest`` (``truth.request``)
 asks for: it runs a modal analysis (``truth.modal``: Kirchhoff plate by default, 3D solid or 1D
-beam on request), labels and selects the bending modes (``truth.modes``), solves the tip-load
+beam on request), labels and selects the bending modes (``truth.modes``; the modes of one kind,
+bending, torsion or in-plane: ``truth.mode_kinds``), solves the tip-load
 case (``truth.tip_response``) and refuses results it cannot trust (negative or complex
 eigenvalues, a failed convergence check, a coarse error estimate). This module only
 re-exports the public names; the finite-element code loads when a truth is solved.
@@ -11,6 +12,7 @@ re-exports the public names; the finite-element code loads when a truth is solve
 from .compute import compute_truth
 from .estimate import CoarseTruthError
 from .modal import compute_modal
+from .mode_kinds import mode_kinds, select_by_kind
 from .request import TruthRequest
 from .result import ModalSolution, StaticSolution, Timings, TruthResult
 from .settings import (
@@ -35,6 +37,8 @@ __all__ = [
     "Timings",
     "compute_truth",
     "compute_modal",
+    "mode_kinds",
+    "select_by_kind",
     "CoarseTruthError",
     "ERROR_TOL_PCT",
 ]

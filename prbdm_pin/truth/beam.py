@@ -101,7 +101,8 @@ def _mass(u, v, w):
     return w["rhoA"] * u * v
 
 
-def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None):
+def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None,
+              in_plane: bool = False):
     # given stations: a mesh that moved with the planform (shape sensitivities keep its topology)
     xs = beam_stations(beam, n_elements) if stations_m is None else np.asarray(stations_m, float)
     mesh = MeshLine(xs)
@@ -109,7 +110,9 @@ def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None)
     xq = basis.global_coordinates()[0]
     t = beam.thickness_m
     width = 2.0 * beam.half_width_at(xq)
-    K = asm(_stiffness, basis, EI=beam.material.E_Pa * width * t**3 / 12.0)
+    # in-plane bending: E I_z = E t (2 w)^3 / 12, cubic in x: stiffness integrand of degree 5
+    EI = beam.material.E_Pa * (t * width**3 if in_plane else width * t**3) / 12.0
+    K = asm(_stiffness, basis, EI=EI)
     M = asm(_mass, basis, rhoA=beam.material.rho_kg_m3 * width * t)
     # DOF order: nodal [u, u_x] per node; clamp u and u_x at the root node.
     u_dofs = basis.nodal_dofs[0]

@@ -70,6 +70,8 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
     req = request_of(request, fields, "compute_truth")
     model, modes, mesh_level, selection = req.model, req.modes, req.mesh_level, req.selection
     n_computed = req.computed_modes
+    # only the 1D beam adds modes with it: the other models' results and keys are the same
+    spatial = req.spatial and model == "beam"
 
     key = None
     if cache_dir is not None:
@@ -77,20 +79,20 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
         key = cache_key(beam, model=model, mesh_level=mesh_level, modes=modes,
                         selection=selection, static=req.static, n_computed=n_computed,
                         large_deflection=req.large_deflection, version=__version__,
-                        estimate_dofs=limits().max_estimate_dofs)
+                        estimate_dofs=limits().max_estimate_dofs, spatial=spatial)
         # a convergence check solves the finer level, which no cache entry holds: never skipped
         hit = None if req.check_convergence else load_cached(cache_dir, key, beam.fingerprint())
         if hit is not None:
             return _judged(_recorded(hit, req), beam, req.error_tol_pct)
 
-    modal = compute_modal(beam, model, mesh_level, n_computed)
+    modal = compute_modal(beam, model, mesh_level, n_computed, spatial)
     labels = label_modes(modal)
     try:
         index = select_modes(modal, modes, selection)
     except ValueError as exc:
         raise TruthError(f"{beam.name!r}: {exc}") from exc
     if req.check_convergence:
-        finer = compute_modal(beam, model, modal.mesh_level + 1, n_computed)
+        finer = compute_modal(beam, model, modal.mesh_level + 1, n_computed, spatial)
     else:
         finer = next_level_modal(beam, model, modal, index)
     estimate = error_estimate_pct(modal, finer, index)

@@ -137,6 +137,10 @@ def truth_gradient(beam: Beam, design: Design | tuple[str, ...] | list[str],
     if req.model not in GRADIENT_MODELS:
         raise BeamInputError(f"model = {req.model!r}: must be one of {GRADIENT_MODELS}")
     model, modes, selection, static = req.model, req.modes, req.selection, req.static
+    if req.spatial and model == "beam":
+        # its mode_index would count the bending modes only, not the spatial truth's modes
+        raise BeamInputError("spatial = True: the 1D truth's design sensitivities cover its "
+                             "bending modes only (give spatial=False)")
     n_computed = req.computed_modes
     if model == "plate":
         from .plate_derivatives import plate_sensitivity

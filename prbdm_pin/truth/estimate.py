@@ -76,6 +76,10 @@ def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.nda
         return None
     # a few modes beyond the highest selected one: the order shifts by 1e-4 between levels at most
     k = min(int(np.max(index)) + 3, int(modal.omega_rad_s.size))
+    if model == "beam" and modal.kinds is not None:
+        from .beam_spatial import beam_spatial_modal
+
+        return beam_spatial_modal(beam, n_modes=k, n_elements=2 * _BEAM_ELEMENTS)
     if model == "beam":
         from .beam import beam_modal
 
@@ -85,6 +89,14 @@ def next_level_modal(beam: Beam, model: str, modal: ModalSolution, index: np.nda
 
 def _match(modal: ModalSolution, finer: ModalSolution, index: np.ndarray) -> np.ndarray:
     """Index into ``finer`` of each selected mode of ``modal``: best MAC at the coarse nodes."""
+    if modal.model == "beam" and modal.kinds is not None:
+        # the families are solved apart: the same family's mode of the same rank
+        kinds, finer_kinds = np.array(modal.kinds), np.array(finer.kinds)
+        out = []
+        for i in np.asarray(index):
+            rank = int(np.count_nonzero(kinds[:i] == kinds[i]))
+            out.append(int(np.flatnonzero(finer_kinds == kinds[i])[rank]))
+        return np.array(out, dtype=int)
     if modal.model == "beam":
         return np.asarray(index)
     n0 = modal.node_uz.shape[1]

@@ -13,7 +13,7 @@ __all__ = ["compute_modal"]
 
 
 def compute_modal(beam: Beam, model: str = "plate", mesh_level: int | None = None,
-                  n_modes: int = DEFAULT_COMPUTED_MODES) -> ModalSolution:
+                  n_modes: int = DEFAULT_COMPUTED_MODES, spatial: bool = False) -> ModalSolution:
     """All computed modes of one model, classified (MPF_z, symmetry, beam MAC).
 
     Parameters
@@ -23,7 +23,10 @@ def compute_modal(beam: Beam, model: str = "plate", mesh_level: int | None = Non
     mesh_level : int, optional
         Refinement level; default the cheapest level meeting 0.1 % for the model.
     n_modes : int
-        Number of lowest modes computed.
+        Number of lowest modes computed (the 1D beam with ``spatial``: of each family).
+    spatial : bool
+        The 1D beam also solves its torsion and in-plane bending modes
+        (:func:`~prbdm_pin.truth.beam_spatial.beam_spatial_modal`); the other models ignore it.
 
     Raises
     ------
@@ -44,6 +47,10 @@ def compute_modal(beam: Beam, model: str = "plate", mesh_level: int | None = Non
 
         level = None if mesh_level is None else check_mesh_level(mesh_level)
         modal = solid_modal(beam, level=level, n_modes=n_modes)
+    elif spatial:
+        from .beam_spatial import beam_spatial_modal
+
+        modal = beam_spatial_modal(beam, n_modes=n_modes)
     else:
         from .beam import beam_modal
 

@@ -19,6 +19,7 @@ from .settings import SELECTIONS
 __all__ = [
     "MAC_BEAM_LIKE",
     "IN_PLANE_Z_ENERGY",
+    "AXIAL_X_ENERGY",
     "SELECTIONS",
     "mac_matrix",
     "mass_participation_z",
@@ -39,6 +40,9 @@ WIDTH_VARIATION_CHORDWISE = 1.0
 # below this share of kinetic energy in z motion a mode moves mainly in plane (bending and torsion
 # modes of thin panels: above 0.99)
 IN_PLANE_Z_ENERGY = 0.5
+# of the in-plane modes, those with most of their kinetic energy in x motion extend the member
+# (the narrow strip's first: x share 1.00; its first four in-plane bending modes: 0.001-0.025)
+AXIAL_X_ENERGY = 0.5
 
 
 def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -124,23 +128,30 @@ def width_variation(
 
 
 def label_modes(modal: ModalSolution) -> tuple[str, ...]:
-    """Label every mode: ``bending``, ``torsion``, ``chordwise``, ``mixed`` or ``in-plane``.
+    """Label every mode: bending, torsion, chordwise, mixed, in-plane or axial.
 
     ``in-plane``: less than half of the kinetic energy in z motion (the 3D solid's membrane
-    modes, which a plate model does not have). ``torsion``: antisymmetric about x.
+    modes, which a plate model does not have); of those, ``axial``: more than half of it in x
+    motion (extension, where the model reports that share). ``torsion``: antisymmetric about x.
     ``bending``: symmetric, beam-like along the axis (MAC >= 0.8) and nearly uniform across the
     width. ``chordwise``: symmetric with a large variation across the width. ``mixed``:
     symmetric, uniform across the width, but not beam-like along the axis (jagged panels).
+    A model that names the family of every mode (``modal.kinds``: the 1D beam's bending,
+    torsion and in-plane modes) keeps its names.
     """
     k = modal.omega_rad_s.size
+    if modal.kinds is not None:  # a model that solved the families apart names them
+        return tuple(modal.kinds)
     if modal.model == "beam" or modal.nodes_m is None or modal.node_uz is None:
         return ("bending",) * k
     wv = width_variation(modal.nodes_m, modal.node_uz, modal.centerline_x_m, modal.centerline_uz)
     ez = modal.z_energy_fraction
+    ex = modal.x_energy_fraction
     labels = []
     for i in range(k):
         if ez is not None and ez[i] < IN_PLANE_Z_ENERGY:
-            labels.append("in-plane")
+            axial = ex is not None and ex[i] > AXIAL_X_ENERGY
+            labels.append("axial" if axial else "in-plane")
         elif not modal.symmetric[i]:
             labels.append("torsion")
         elif wv[i] > WIDTH_VARIATION_CHORDWISE:

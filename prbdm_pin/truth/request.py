@@ -94,6 +94,12 @@ class TruthRequest:
     convergence_rtol : float
         The relative change of a selected frequency between two mesh levels that
         ``check_convergence`` accepts (default 1e-3, i.e. 0.1 %).
+    spatial : bool
+        The 1D beam truth also computes its Saint-Venant torsion and in-plane bending modes
+        (``n_computed`` of each family beside the bending modes, labelled ``"torsion"`` and
+        ``"in-plane"``); default False: bending modes only. The selected bending modes are the
+        same either way. The plate and solid truths compute every kind they model whatever it
+        says (the plate has no in-plane modes).
     """
 
     model: str = "plate"
@@ -106,6 +112,7 @@ class TruthRequest:
     n_computed: int = DEFAULT_COMPUTED_MODES
     check_convergence: bool = False
     convergence_rtol: float = 1e-3
+    spatial: bool = False
 
     def __post_init__(self) -> None:
         """Check every field (BeamInputError naming it); numpy scalars become Python ones."""
@@ -131,6 +138,7 @@ class TruthRequest:
         put("static", _flag("static", self.static))
         put("n_computed", _integer("n_computed", self.n_computed, 1))
         put("check_convergence", _flag("check_convergence", self.check_convergence))
+        put("spatial", _flag("spatial", self.spatial))
         r = self.convergence_rtol
         if (isinstance(r, bool) or not isinstance(r, (int, float, np.floating))
                 or not 0.0 < r < 1.0):

@@ -81,7 +81,14 @@ class ModalSolution:
     z_energy_fraction : ndarray, shape (k,), optional
         Share of each mode's kinetic energy phi^T M phi in the z displacement (the 3D solid:
         near 1 for bending and torsion, near 0 for in-plane modes); None for models that only
-        move in z (plate, beam).
+        move in z (plate, bending-only beam).
+    x_energy_fraction : ndarray, shape (k,), optional
+        Share of each mode's kinetic energy in the x displacement (the 3D solid: near 1 for its
+        extension modes, small for all others); None for the other models.
+    kinds : tuple of str, optional
+        The family of every mode where the model solves the families apart (the 1D beam with
+        ``spatial=True``: ``"bending"``, ``"torsion"``, ``"in-plane"``); None where the labels
+        are judged from the mode shapes (``truth.modes.label_modes``).
     """
 
     model: str
@@ -102,6 +109,8 @@ class ModalSolution:
     node_uz: np.ndarray | None = None
     modal_mass_kg: np.ndarray | None = None
     z_energy_fraction: np.ndarray | None = None
+    x_energy_fraction: np.ndarray | None = None
+    kinds: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True, eq=False)

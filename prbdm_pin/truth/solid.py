@@ -45,7 +45,7 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
         Planform mesh level (element size about L / (10 2^level) where the planform is wide,
         smaller at its features); default: closest to 2.5 t.
     n_modes : int
-        Number of modes (all types: bending, torsion, chordwise, in-plane).
+        Number of modes (all types: bending, torsion, chordwise, in-plane, axial).
 
     Returns
     -------
@@ -53,8 +53,9 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
         ``mpf_z`` in kg from M and the rigid z translation; ``symmetric`` from the z displacement
         mirrored about y = 0; ``centerline_uz`` the mid-surface z displacement on y = 0 (scaled
         to unit maximum, positive at the tip) and ``node_uz`` at the same scale; ``mac_beam``
-        against the 1D beam's bending modes; ``z_energy_fraction`` the share of each mode's
-        kinetic energy in z motion (in-plane modes near 0).
+        against the 1D beam's bending modes; ``z_energy_fraction`` and ``x_energy_fraction``
+        the shares of each mode's kinetic energy in z and in x motion (in-plane modes: z near
+        0; of them the extension modes x near 1).
     """
     if not isinstance(n_modes, (int, np.integer)) or isinstance(n_modes, bool) or n_modes < 1:
         raise BeamInputError(f"n_modes = {n_modes!r}: must be an integer >= 1")
@@ -85,7 +86,10 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
     locs = d.basis.doflocs.T
     uz = phi[2::3].T  # (k, N)
     # kinetic-energy share of the z motion: near 1 for bending and torsion, near 0 in plane
-    ez = np.einsum("ij,ij->j", phi[2::3], Mphi[2::3]) / np.einsum("ij,ij->j", phi, Mphi)
+    energy = np.einsum("ij,ij->j", phi, Mphi)
+    ez = np.einsum("ij,ij->j", phi[2::3], Mphi[2::3]) / energy
+    # and of the x motion: near 1 for the extension modes, (b / L)^2 for in-plane bending
+    ex = np.einsum("ij,ij->j", phi[0::3], Mphi[0::3]) / energy
     mirror = mirror_index(locs, beam.length_m)
     sym = np.linalg.norm(uz - uz[:, mirror], axis=1) < np.linalg.norm(uz + uz[:, mirror], axis=1)
     tol = 1e-9 * beam.length_m
@@ -120,6 +124,7 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
         node_uz=uz[:, verts] * scale[:, None],
         modal_mass_kg=scale**2,  # the eigenvectors are mass-normalised before scaling
         z_energy_fraction=ez,
+        x_energy_fraction=ex,
     )
 
 

@@ -133,6 +133,9 @@ def check_actuators(actuators: object, length_m: float) -> np.ndarray:
 
 def _mode_fields(truth: TruthResult, beam: Beam, stations: np.ndarray) -> ModeFields:
     n = int(truth.modal.omega_rad_s.size)
+    if truth.modal.kinds is not None:
+        raise BeamInputError("truth: a 1D truth with torsion and in-plane modes (spatial=True); "
+                             "modal gains need its bending modes only (spatial=False)")
     if truth.model == "beam":
         from .beam_fields import beam_mode_fields
 
