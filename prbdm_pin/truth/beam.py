@@ -111,7 +111,8 @@ def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None,
     t = beam.thickness_m
     width = 2.0 * beam.half_width_at(xq)
     # in-plane bending: E I_z = E t (2 w)^3 / 12, cubic in x: stiffness integrand of degree 5
-    EI = beam.material.E_Pa * (t * width**3 if in_plane else width * t**3) / 12.0
+    E = beam.material.E_Pa
+    EI = E * t * width**3 / 12.0 if in_plane else E * width * t**3 / 12.0
     K = asm(_stiffness, basis, EI=EI)
     M = asm(_mass, basis, rhoA=beam.material.rho_kg_m3 * width * t)
     # DOF order: nodal [u, u_x] per node; clamp u and u_x at the root node.
