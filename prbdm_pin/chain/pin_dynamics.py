@@ -28,6 +28,7 @@ __all__ = [
     "tip_position",
     "tip_jacobian",
     "tip_kinematics",
+    "tip_pose",
     "planar_lengths",
 ]
 
@@ -167,6 +168,19 @@ def tip_position(
     """World position of the tip frame, m, shape (3,) (joint kinematics plus one frame update)."""
     pin.forwardKinematics(pin_model, data, _q(pin_model, q))
     return pin.updateFramePlacement(pin_model, data, tip_frame_id).translation.copy()
+
+
+def tip_pose(
+    pin_model: pin.Model, data: pin.Data, q: np.ndarray, tip_frame_id: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """World position (m, (3,)) and rotation matrix (world from tip frame, (3, 3)) of the tip.
+
+    The rotation's columns are the tip frame's axes in the world: column 0 the link axis, so a
+    twist of the tip about it is read from columns 1 and 2.
+    """
+    pin.forwardKinematics(pin_model, data, _q(pin_model, q))
+    M = pin.updateFramePlacement(pin_model, data, tip_frame_id)
+    return M.translation.copy(), M.rotation.copy()
 
 
 def tip_jacobian(
