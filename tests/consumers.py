@@ -103,3 +103,63 @@ def pinocchio_mass_and_damping(path, poses):
         M = pin.crba(pm, data, q)
         Ms.append(np.triu(M) + np.triu(M, 1).T)
     return Ms, np.array(pm.damping)
+
+
+def consumer_joint_names(path):
+    """The moving joints in the order of each consumer's coordinates: pybullet's (revolute
+    joints by joint index; the fixed clamp and tip joints hold none) and yourdfpy's."""
+    p = pytest.importorskip("pybullet")
+    yourdfpy = pytest.importorskip("yourdfpy")
+    cid = p.connect(p.DIRECT)
+    try:
+        body = p.loadURDF(str(path), useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE,
+                          physicsClientId=cid)
+        info = [p.getJointInfo(body, j, physicsClientId=cid)
+                for j in range(p.getNumJoints(body, physicsClientId=cid))]
+        bullet = [i[1].decode() for i in info if i[2] == p.JOINT_REVOLUTE]
+    finally:
+        p.disconnect(cid)
+    robot = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
+    return bullet, list(robot.actuated_joint_names)
+
+
+def mujoco_from_spatial_urdf(text, node_axes, n_nodes):
+    """MuJoCo's model of a spatial chain's URDF, its massless node links fused away.
+
+    MuJoCo's compiler refuses a body that has joints when neither it nor a jointless body
+    below it (reached without crossing another jointed body) has mass and principal inertias
+    >= mjMINVAL ("mass and inertia of moving bodies must be larger than mjMINVAL",
+    mjCModel::CheckBodyMassInertia in src/user/user_model.cc): the rule is on the body and its
+    static children, not on the subtree mass. The massless links link_j_y, link_j_z each carry
+    a joint and have a jointed child, so the URDF does not compile as it is, and no compiler
+    option of the URDF's <mujoco> element makes it: fusestatic fuses jointless bodies only,
+    balanceinertia only repairs a violated triangle inequality, and boundmass / boundinertia
+    would give those links mass, which would change M. What compiles it unchanged: parse it
+    into an MjSpec and, before compiling, turn each node's later bodies into frames of its
+    first (MjsBody.to_frame moves a body's joints, children and inertia into its parent, the
+    joints appended in order): node j becomes one body with the hinges y, z, x at one point
+    and link j's inertia, the MJCF export's structure.
+    """
+    mujoco = pytest.importorskip("mujoco")
+    spec = mujoco.MjSpec.from_string(text)
+    for j in range(1, n_nodes + 1):
+        first = spec.body(f"link_{j}_{node_axes[0]}")
+        for a in node_axes[1:-1]:
+            spec.body(f"link_{j}_{a}").to_frame()
+        spec.body(f"link_{j}").to_frame()
+        first.name = f"link_{j}"
+    return spec.compile()
+
+
+def mujoco_mass_matrices(m, poses):
+    """MuJoCo's mass matrix (mj_fullM after mj_forward) at each pose of qpos."""
+    mujoco = pytest.importorskip("mujoco")
+    d = mujoco.MjData(m)
+    Ms = []
+    for q in poses:
+        d.qpos[:] = q
+        mujoco.mj_forward(m, d)
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        Ms.append(M)
+    return Ms

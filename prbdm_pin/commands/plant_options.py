@@ -84,6 +84,9 @@ def with_hub(model, hub):
     if model.beam is None:
         raise BeamInputError("--hub: needs the beam (give a fit.json or a model JSON; a "
                              "URDF does not carry it)")
+    if model.axes.spatial:
+        raise BeamInputError(f"--hub: a hub carries the planar chain only; this model has "
+                             f"axes = {model.axes.value!r}")
     return build_model(model.beam, model.lengths_m, model.stiffness_Nm_per_rad,
                        min_fraction=LINK_FLOOR_FRACTION, hub=hub)
 

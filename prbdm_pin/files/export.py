@@ -29,6 +29,21 @@ is not diagonal and no joint damping carries it: asked for a URDF or MJCF, the s
 mode 1's ratio is written instead and the record's ``warnings`` say so, with the modal ratios that
 result. ``prbdm_pin.simulate(..., damping="stiffness")`` simulates the damping these files carry.
 
+Spatial chains (``build_model(..., axes="xy" | "yz" | "xyz")``): node j is the revolute joints
+``joint_j_y``, ``joint_j_z``, ``joint_j_x`` (those of ``axes``, in that order) at one point, each
+with its own spring, and every spring gets the stiffness-proportional damping beta K_ii (beta
+from the lowest mode of all the springs' coordinates); the record's frequencies, damping ratios
+and joint damping have one entry per spring coordinate. The URDF joins a node's joints by
+massless links ``link_j_y``, ``link_j_z`` (explicit zero inertial); the MJCF puts all of a node's
+hinges in the body ``link_j`` (MuJoCo composes a body's joints in the order written); the model
+JSON adds ``"axes"``. A spatial model has no hub, strain actuators or MJCF inputs (they are
+defined on the planar chain) and the exports refuse them. MuJoCo does not compile the spatial
+URDF as it is: a body with a joint needs mass and inertia >= mjMINVAL, its own or a jointless
+child's, and the massless node links have neither (no URDF compiler option changes that without
+giving them mass); use the MJCF, or parse the URDF into ``mujoco.MjSpec.from_string`` and call
+``to_frame()`` on each node's later bodies (``link_j_z``, then ``link_j``) before
+``spec.compile()``, which gives the MJCF's bodies.
+
 Loading the files
 -----------------
 URDF (``prbdm export fit.json --format urdf --out beam.urdf``)
@@ -148,7 +163,7 @@ def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
     name = "prbdm" if model.beam is None else f"prbdm_{model.beam.name}"
     return render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
                        damping_Nms_per_rad=rec.joint_damping_Nms_per_rad,
-                       comment=rec.comment_text(), hub=model.hub)
+                       comment=rec.comment_text(), hub=model.hub, axes=model.axes)
 
 
 def write_urdf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,

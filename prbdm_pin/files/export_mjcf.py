@@ -35,6 +35,7 @@ from .export_record import export_record
 __all__ = ["mjcf_text"]
 
 _TIP_GEAR = {"tip_force_z": "0 0 1 0 0 0", "tip_force_x": "1 0 0 0 0 0"}
+_AXIS = {"x": "1 0 0", "y": "0 1 0", "z": "0 0 1"}
 
 
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
@@ -46,11 +47,14 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     ----------
     model : PrbdmModel
         With a hub, the hub is a body turning on a hinge ``hub`` about y (no spring, no damping,
-        inertia J_h about its axis) and the beam root sits on it at ``radius_m`` along x.
+        inertia J_h about its axis) and the beam root sits on it at ``radius_m`` along x. A
+        spatial chain's body ``link_j`` has one hinge per axis, ``joint_j_y``, ``joint_j_z``,
+        ``joint_j_x`` (those of ``model.axes``, in that order, at the body's origin), each with
+        its own spring.
     damping_ratio : float or ndarray (n,)
-        Mode 1's damping ratio (the lowest flexible mode with a hub): joint ``damping`` is
-        beta K_jj (N m s/rad), the stiffness form (see :func:`export_record`). 0 writes
-        undamped joints.
+        Mode 1's damping ratio (the lowest flexible mode with a hub): every hinge's
+        ``damping`` is beta K_ii (N m s/rad), the stiffness form (see :func:`export_record`);
+        n is the number of springs. 0 writes undamped joints.
     timestep_s : float, optional
         MuJoCo time step, s (default: a twentieth of the shortest natural period, of the
         clamped and the hub model; the integrator is RK4).
@@ -60,8 +64,15 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         The plant's strain actuators (``strain[i]`` is the i-th).
     inputs : sequence of str, optional
         The inputs written as MuJoCo actuators (module notes); default ``hub_torque`` with a
-        hub, and ``strain[i]`` for every actuator.
+        hub, and ``strain[i]`` for every actuator. A spatial chain takes neither actuators nor
+        inputs.
+
+    Returns
+    -------
+    str
+        The MJCF text.
     """
+    from ..model.chain_names import joint_names
     from ..model.inputs import strain_map
 
     rec = export_record(model, "mjcf", damping_ratio, damping_form, omega_truth_rad_s,
@@ -92,11 +103,16 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         "link 0 is",
         "       clamped to the hub, which turns on the hinge 'hub' about y (no spring, no",
         "       damping); the actuators carry the plant's inputs (see the record's inputs);"]
+    hinges = ["       hinge joints about y carry the torsional springs and the"] \
+        if not model.axes.spatial else [
+        "       each link's body turns on hinges about "
+        + ", ".join(model.axes.joint_order) + " in that order (joint_j_y, ...), at one",
+        "       point; each hinge carries its own torsional spring and the"]
     lines = [
         f"<mujoco model={quoteattr(name)}>",
         f"  <!-- Pseudo-rigid-body dynamic model written by prbdm_pin {__version__}: {root[0]}",
         *root[1:],
-        "       hinge joints about y carry the torsional springs and the",
+        *hinges,
         "       stiffness-proportional damping beta K. -->",
         f"  <!--{rec.comment_text()}  -->",
         '  <compiler angle="radian" autolimits="true"/>',
@@ -120,13 +136,18 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     lines += [f'{indent}<body name="link_0" pos="{"0" if hub is None else _f(hub.radius_m)} 0 0">',
               f"{indent}  {inertial(0)}"]
     indent += "  "
+    names = iter(joint_names(n, model.axes))
+    springs = iter(range(k.size))
     for j in range(1, n + 1):
-        lines += [
-            f'{indent}<body name="link_{j}" pos="{_f(lengths[j - 1])} 0 0">',
-            f'{indent}  <joint name="joint_{j}" type="hinge" axis="0 1 0" pos="0 0 0" '
-            f'stiffness="{_f(k[j - 1])}" springref="0" damping="{_f(c[j - 1])}"/>',
-            f"{indent}  {inertial(j)}",
-        ]
+        lines.append(f'{indent}<body name="link_{j}" pos="{_f(lengths[j - 1])} 0 0">')
+        # MuJoCo composes a body's joints in the order written: y, then z, then x, as the
+        # Pinocchio chain's successive joints (massless links between them add nothing)
+        for a in model.axes.joint_order:
+            i = next(springs)
+            lines.append(f'{indent}  <joint name="{next(names)}" type="hinge" axis="{_AXIS[a]}" '
+                         f'pos="0 0 0" stiffness="{_f(k[i])}" springref="0" '
+                         f'damping="{_f(c[i])}"/>')
+        lines.append(f"{indent}  {inertial(j)}")
         indent += "  "
     lines.append(f'{indent}<site name="tip" pos="{_f(lengths[n])} 0 0" size="0.005"/>')
     for _ in range(n + 1 + (hub is not None)):

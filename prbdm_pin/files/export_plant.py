@@ -88,6 +88,11 @@ def plant_inputs(model, fmt: str, actuators, inputs
     if isinstance(actuators, (str, bytes)) or not hasattr(actuators, "__len__"):
         raise BeamInputError(f"actuators = {actuators!r:.60}: must be a sequence of "
                              "StrainActuator")
+    if model.axes.spatial and (len(actuators) or (inputs is not None and len(inputs))):
+        what = "actuators" if len(actuators) else "inputs"
+        raise BeamInputError(f"{what}: the strain actuators and the MJCF inputs are defined on "
+                             f"the planar chain only (axes='y'); this model has axes = "
+                             f"{model.axes.value!r}")
     for i, a in enumerate(actuators):
         if not isinstance(a, StrainActuator):
             raise BeamInputError(f"actuators[{i}] = {a!r:.60}: must be a StrainActuator")

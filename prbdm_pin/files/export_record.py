@@ -46,6 +46,9 @@ def _ro(a: np.ndarray | None) -> np.ndarray | None:
 class ExportRecord:
     """What an exported file holds besides the model: its frequencies, errors and damping.
 
+    n below is the number of spring coordinates (``model.n_springs``: the joints of a planar
+    chain, the joints times the axes of a spatial one).
+
     Attributes
     ----------
     natural_frequencies_rad_s : ndarray, shape (n,)
@@ -236,7 +239,7 @@ def export_record(
         raise BeamInputError(f"damping_form = {requested!r}: must be one of "
                              f"{', '.join(EXPORT_DAMPING_FORMS)}")
     spans, weights, names = plant_inputs(model, fmt, actuators, inputs)
-    n = model.n_joints
+    n = model.n_springs  # modes: one per spring coordinate (n_joints on the planar chain)
     xi = damping_ratios(damping_ratio, n)
     M = model.mass_matrix()
     k = np.asarray(model.stiffness_Nm_per_rad, dtype=float)

@@ -8,6 +8,12 @@ list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b)
 ``"joint_weights": [w_1, ..., w_n]`` (one finite number per joint) for an actuator whose map
 was fitted to the truth. A file written before they existed has neither and reads as the
 clamped beam without actuators.
+
+Spatial chain: ``"axes"`` (``"xy"``, ``"yz"`` or ``"xyz"``: the joint axes at each node) is
+written for a spatial model only, and ``stiffness_Nm_per_rad`` holds ``n_joints`` times its
+length springs, node-major in the order y, z, x (:attr:`PrbdmModel.spring_axes`); a file
+without ``"axes"`` is the planar chain (``"y"``), so a planar model's file is as before. A
+spatial model has no hub and no actuators.
 """
 
 from __future__ import annotations
@@ -21,6 +27,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..member.geometry import beam_to_dict
+from ..options.choices import Axes
 from ..version import __version__
 from .beam_file import beam_from_dict
 from .export_record import export_record
@@ -36,7 +43,8 @@ def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
     """Return the JSON-ready parameters of ``model`` (SI units) with its plant and record.
 
     The mapping holds the model's hub and strain ``actuators``, and its
-    :class:`~prbdm_pin.files.export_record.ExportRecord` fields.
+    :class:`~prbdm_pin.files.export_record.ExportRecord` fields; a spatial model's also its
+    ``axes`` (module notes).
     """
     rec = export_record(model, "json", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators)
@@ -47,6 +55,7 @@ def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
         "version": __version__,
         "beam": None if model.beam is None else beam_to_dict(model.beam),
         "n_joints": model.n_joints,
+        **({"axes": model.axes.value} if model.axes.spatial else {}),
         "lengths_m": [float(v) for v in model.lengths_m],
         "stiffness_Nm_per_rad": [float(v) for v in model.stiffness_Nm_per_rad],
         "hub": None if hub is None else {"inertia_kg_m2": hub.inertia_kg_m2,
@@ -102,6 +111,14 @@ def _hub(what: str, value: Any):
     if r < 0.0:
         raise BeamInputError(f"{what}: hub.radius_m = {r!r}: must be >= 0 (m)")
     return Hub(J, r)
+
+
+def _axes(what: str, value: Any) -> Axes:
+    if not (isinstance(value, str) and value in Axes.values()):
+        raise BeamInputError(f"{what}: axes = {value!r:.60}: must be one of "
+                             f"{', '.join(repr(a) for a in Axes.values())} (the joint axes at "
+                             "each node; 'y' when absent)")
+    return Axes(value)
 
 
 def _joint_weights(what: str, field: str, value: Any, n_joints: int) -> tuple | None:
@@ -185,13 +202,21 @@ def read_plant_json(path: str | os.PathLike):
         beam = beam_from_dict(d["beam"], check_caps=True)
     except BeamInputError as exc:
         raise BeamInputError(f"{what}: beam: {exc}") from None
-    lengths, k = check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], beam.length_m)
-    if "n_joints" in d and d["n_joints"] != k.size:
+    axes = _axes(what, d.get("axes", Axes.Y.value))
+    per_node = len(axes.joint_order)
+    lengths, k = check_chain(what, d["lengths_m"], d["stiffness_Nm_per_rad"], beam.length_m,
+                             springs_per_joint=per_node)
+    n = lengths.size - 1
+    if "n_joints" in d and d["n_joints"] != n:
         raise BeamInputError(f"{what}: n_joints = {d['n_joints']!r:.60}: lengths_m and "
-                             f"stiffness_Nm_per_rad hold {k.size} joints")
+                             f"stiffness_Nm_per_rad hold {n} joints")
     hub = _hub(what, d.get("hub"))
-    actuators = _actuators(what, d.get("actuators"), beam.length_m, k.size)
-    model = build_model(beam, lengths, k, min_fraction=LINK_FLOOR_FRACTION, hub=hub)
+    actuators = _actuators(what, d.get("actuators"), beam.length_m, n)
+    if axes.spatial and (hub is not None or actuators):
+        field = "hub" if hub is not None else "actuators"
+        raise BeamInputError(f"{what}: {field}: a hub and strain actuators go with the planar "
+                             f"chain only (axes = 'y'); this file has axes = {axes.value!r}")
+    model = build_model(beam, lengths, k, min_fraction=LINK_FLOOR_FRACTION, hub=hub, axes=axes)
     return dataclasses.replace(model, actuators=tuple(actuators)), actuators
 
 

@@ -96,12 +96,14 @@ def _nested(label: str, value: Any, ndim: int) -> np.ndarray:
 
 
 def check_chain(what: str, lengths_m: Any, stiffness_Nm_per_rad: Any,
-                length_m: float | None = None, n_axes: int = 1) -> tuple[np.ndarray, np.ndarray]:
-    """Link lengths (m, (n+1,)) and joint springs (N m/rad, (n n_axes,)) read from a file.
+                length_m: float | None = None, springs_per_joint: int = 1
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Link lengths (m, (n+1,)) and joint springs (N m/rad, (n * springs_per_joint,)) of a file.
 
     n is between 1 and ``limits().max_joints``; lengths are finite and > 0; with the beam
     length ``length_m`` (m) they sum to it (relative 1e-9) and each is at least
-    ``LINK_FLOOR_FRACTION`` of it; springs are finite and > 0.
+    ``LINK_FLOOR_FRACTION`` of it; springs are finite and > 0, ``springs_per_joint`` per joint
+    (the spatial chain's axes per node).
     """
     if not isinstance(lengths_m, (list, tuple)):
         raise BeamInputError(f"{what}: lengths_m = {lengths_m!r:.60}: must be a list of "
@@ -112,7 +114,7 @@ def check_chain(what: str, lengths_m: Any, stiffness_Nm_per_rad: Any,
                              "(n >= 1 joints)")
     lengths = _array(what, "lengths_m", lengths_m, (len(lengths_m),), positive=True)
     n = lengths.size - 1
-    k = _array(what, "stiffness_Nm_per_rad", stiffness_Nm_per_rad, (n * n_axes,),
+    k = _array(what, "stiffness_Nm_per_rad", stiffness_Nm_per_rad, (n * springs_per_joint,),
                positive=True)
     if length_m is not None:
         with np.errstate(over="ignore"):

@@ -13,11 +13,12 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.sections import LinkSections
+from ..errors import BeamInputError
 from ..options.choices import Axes
 from .chain_names import joint_names, node_links
 from .urdf import JOINT_EFFORT_LIMIT_NM, JOINT_LIMIT_RAD, JOINT_VELOCITY_LIMIT_RAD_S
 
-__all__ = ["TIP_FRAME", "pin_chain", "sections_from_pin"]
+__all__ = ["TIP_FRAME", "pin_chain", "sections_from_pin", "spatial_lengths"]
 
 TIP_FRAME = "tip"
 
@@ -100,3 +101,66 @@ def sections_from_pin(model: pin.Model, lengths: np.ndarray, hub: bool = False,
     for a in arrs:
         a.setflags(write=False)
     return LinkSections(*arrs)
+
+
+def spatial_lengths(model: pin.Model, tip_frame_id: int, axes: Axes) -> np.ndarray:
+    """Read the link lengths (m, shape (n+1,)) of a spatial chain parsed from a URDF.
+
+    The model must be the chain :func:`pin_chain` builds: a serial chain whose node j is one
+    revolute joint per axis of :attr:`Axes.joint_order` (``JointModelRY``, ``RZ``, ``RX``),
+    the first placed a pure x offset (link j - 1's length) from the previous node, the others
+    at the same point with the same orientation (exactly: the URDF writes ``0 0 0``), the joints
+    before a node's last carrying no inertia (the massless links), and the tip frame a pure x
+    offset on the last joint.
+
+    Parameters
+    ----------
+    model : pinocchio.Model
+        The chain, as Pinocchio's URDF parser built it (no hub).
+    tip_frame_id : int
+        The ``tip`` frame.
+    axes : Axes
+        The joint axes at each node (spatial).
+
+    Returns
+    -------
+    ndarray, shape (n+1,)
+        The link lengths, m: the x offsets of the nodes' first joints, then the tip's.
+
+    Raises
+    ------
+    BeamInputError
+        Naming the joint, link or frame that is not so.
+    """
+    order = axes.joint_order
+    m = len(order)
+    nj = model.njoints - 1
+    if nj % m:
+        raise BeamInputError(f"{nj} revolute joints: a chain of axes {axes.value!r} has "
+                             f"{m} per node")
+    out = np.empty(nj // m + 1)
+    for idx in range(1, nj + 1):
+        a, name = order[(idx - 1) % m], model.names[idx]
+        if model.parents[idx] != idx - 1 or model.joints[idx].shortname() != \
+                _JOINT_MODELS[a]().shortname():
+            raise BeamInputError(f"joint {name!r}: must be a serial revolute joint about {a}")
+        p = model.jointPlacements[idx]
+        first = (idx - 1) % m == 0
+        if not (np.array_equal(p.rotation, np.eye(3)) and not np.any(p.translation[1:])
+                and (first or p.translation[0] == 0.0)):
+            raise BeamInputError(f"joint {name!r} origin = {p.translation.tolist()} m: must be "
+                                 + ("a pure x offset" if first else "at its node (0 0 0)"))
+        if first:
+            out[(idx - 1) // m] = float(p.translation[0])
+        body = model.inertias[idx]
+        if idx % m and (body.mass != 0.0 or np.any(body.inertia) or np.any(body.lever)):
+            raise BeamInputError(f"the link after joint {name!r}: mass = {body.mass!r} kg: a "
+                                 "link between two joints of one node must be massless")
+    frame = model.frames[tip_frame_id]
+    t = frame.placement.translation
+    if frame.parentJoint != nj or not (np.array_equal(frame.placement.rotation, np.eye(3))
+                                       and not np.any(t[1:])):
+        raise BeamInputError(f"frame {frame.name!r}: must sit on the last joint at a pure x "
+                             "offset")
+    out[-1] = float(t[0])
+    return out

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -20,6 +21,9 @@ from ..options.limits import check_cap
 __all__ = ["HUB_LINK", "read_urdf_text", "check_urdf", "check_sections", "hub_inertia"]
 
 HUB_LINK = "hub_body"
+# a spatial chain's massless link between two joints of one node (link_j_y, link_j_z)
+_NODE_LINK = re.compile(r"link_[0-9]+_[xyz]")
+_NODE_JOINT = re.compile(r"joint_([0-9]+)_[xyz]")
 
 
 def read_urdf_text(path: str | os.PathLike) -> str:
@@ -62,6 +66,9 @@ def check_urdf(text: str, what: str = "urdf") -> int:
     finite, joint offsets (link lengths, m) are > 0, link masses (kg) and principal inertias
     (kg m^2) are > 0 (the massless ``tip`` frame and the ``world`` root excepted; the hub link
     ``hub_body`` is massless with inertias > 0, and the hub radius, ``clamp``'s x, may be 0).
+    A spatial chain's node links ``link_j_a`` may be massless and the joints after them at
+    x = 0 (:func:`~prbdm_pin.model.pin_chain.spatial_lengths` checks the rest); the cap is on
+    the nodes.
     """
     try:
         root = ET.fromstring(text)
@@ -71,6 +78,7 @@ def check_urdf(text: str, what: str = "urdf") -> int:
         raise BeamInputError(f"{what}: root element <{root.tag}>: must be <robot>")
     joints = root.findall("joint")
     revolute = 0
+    plain, nodes = 0, set()  # revolute joints; a spatial node's joint_j_a count once per j
     for j in joints:
         name = j.get("name", "?")
         kind = j.get("type")
@@ -78,6 +86,11 @@ def check_urdf(text: str, what: str = "urdf") -> int:
             raise BeamInputError(f"{what}: joint {name!r} type = {kind!r}: a PRBDM has only "
                                  "revolute joints (and fixed ones at the clamp and the tip)")
         revolute += kind == "revolute"
+        node = _NODE_JOINT.fullmatch(name) if kind == "revolute" else None
+        if node:
+            nodes.add(node.group(1))
+        else:
+            plain += kind == "revolute"
         origin = j.find("origin")
         xyz = _numbers(f"{what}: joint {name!r} origin xyz", None if origin is None
                        else origin.get("xyz", "0 0 0"), 3)
@@ -87,10 +100,12 @@ def check_urdf(text: str, what: str = "urdf") -> int:
             if not xyz[0] >= 0.0:
                 raise BeamInputError(f"{what}: joint {name!r} origin x = {xyz[0]!r} m: the hub "
                                      "radius must be >= 0")
-        elif parent_link not in (None, "world") and not xyz[0] > 0.0:
+        elif parent_link not in (None, "world") and not _NODE_LINK.fullmatch(parent_link) \
+                and not xyz[0] > 0.0:
             raise BeamInputError(f"{what}: joint {name!r} origin x = {xyz[0]!r} m: the length "
                                  f"of link {parent_link!r} must be > 0")
-    check_cap(f"{what}: revolute joints", revolute, "max_joints")
+    # the cap is on the nodes (a spatial node's joints count once), as build_model's
+    check_cap(f"{what}: revolute joints", plain + len(nodes), "max_joints")
     if revolute < 1:
         raise BeamInputError(f"{what}: has {revolute} revolute joints: a PRBDM needs n >= 1")
     for link in root.findall("link"):
@@ -98,7 +113,7 @@ def check_urdf(text: str, what: str = "urdf") -> int:
         inertial = link.find("inertial")
         if inertial is None:
             continue
-        massless = name == "tip"
+        massless = name == "tip" or _NODE_LINK.fullmatch(name) is not None
         m_el = inertial.find("mass")
         (mass,) = _numbers(f"{what}: link {name!r} mass", None if m_el is None
                            else m_el.get("value"), 1)
