@@ -106,7 +106,8 @@ def evaluate_beam(task: BeamTask) -> dict[str, Any]:
         t1 = time.perf_counter()
         # the eigen objective needs no static solve
         request = TruthRequest(model=s.truth_model, modes=s.n_frequencies,
-                               static=s.options.objective.has_deflection_term)
+                               static=s.options.objective.has_deflection_term,
+                               spatial=s.options.axes.spatial)
         truth = request.compute(beam, cache_dir=s.cache_dir)
         rec["truth_s"] = time.perf_counter() - t1
         stage = "fit"

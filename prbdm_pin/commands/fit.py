@@ -174,6 +174,10 @@ def _base_target(args, beam):
 
     # --accept-coarse drops the tolerance; without it the request's default holds
     coarse = {"error_tol_pct": None} if getattr(args, "accept_coarse", False) else {}
+    # a spatial chain is fitted to its frequencies alone, over the truth's modes of every kind
+    spatial = getattr(args, "axes", "y") != "y"
+    if spatial:
+        coarse.update(spatial=True, static=False)
     request = TruthRequest(model=args.truth_model, modes=max(args.joints, args.frequencies or 0),
                            mesh_level=args.mesh_level, selection=args.mode_selection,
                            large_deflection=args.large_deflection, **coarse)
@@ -271,12 +275,17 @@ def run(args) -> int:
     write_fit_outputs(result, beam, out)
     if not args.quiet:
         print_warnings(result)
-        print(f"{result.joints}R {result.stiffness} {result.objective}: "
-              f"eigen ({result.eigen_norm} norm) {result.eigen_loss_pct:.4g} %, "
-              f"{worst_mode_text(result)}, "
-              f"tip position {result.deflection_loss_pct:.4g} %, "
-              f"tip displacement {result.displacement_loss_pct:.4g} %, "
-              f"combined {result.combined_loss_pct:.4g} % ({result.wall_time_s:.1f} s)")
+        if result.axes != "y":
+            print(f"{result.joints}R {result.axes} {result.stiffness} {result.objective}: eigen "
+                  f"({result.eigen_norm} norm) {result.eigen_loss_pct:.4g} %, "
+                  f"{worst_mode_text(result)} ({result.wall_time_s:.1f} s)")
+        else:
+            print(f"{result.joints}R {result.stiffness} {result.objective}: "
+                  f"eigen ({result.eigen_norm} norm) {result.eigen_loss_pct:.4g} %, "
+                  f"{worst_mode_text(result)}, "
+                  f"tip position {result.deflection_loss_pct:.4g} %, "
+                  f"tip displacement {result.displacement_loss_pct:.4g} %, "
+                  f"combined {result.combined_loss_pct:.4g} % ({result.wall_time_s:.1f} s)")
         print("lengths_m:", " ".join(f"{v:.4f}" for v in result.lengths_m))
         if result.axes != "y":
             print(modes_table(result))

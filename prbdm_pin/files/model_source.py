@@ -169,5 +169,5 @@ def _fit_model(p: Path, path: str, d: dict, beam) -> ModelFile:
                              f"({d.get('beam_name')!r:.60})")
     fit = FitResult.from_dict(d, beam=used, what=what)
     model = build_model(used, fit.lengths_m, fit.stiffness_Nm_per_rad,
-                        min_fraction=LINK_FLOOR_FRACTION)
+                        min_fraction=LINK_FLOOR_FRACTION, axes=fit.axes)
     return ModelFile(p, "fit", model, fit, (), fit.omega_truth_rad_s, label is not None)

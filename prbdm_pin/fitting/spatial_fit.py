@@ -184,9 +184,10 @@ def _result(beam, target, d: _Design, best, runs, wall_s: float) -> FitResult:
                      f"{errors[k_worst]:+.3g} %")
     unrepresented = [r for r in records if r["omega_model_rad_s"] is None]
     if unrepresented:
-        notes.append(f"{len(unrepresented)} truth mode(s) in the band have no chain mode "
-                     f"({', '.join(sorted({r['kind'] for r in unrepresented}))}): named in "
-                     "modes, not matched")
+        notes.append(f"{len(unrepresented)} truth mode(s) in the band are not matched (kinds: "
+                     f"{', '.join(sorted({r['kind'] for r in unrepresented}))}): the chain has "
+                     f"{n} modes about each of its axes and none of a kind without an axis; "
+                     "they are named in modes")
     factors = np.exp(x[n:])
     chosen = "nearest the finite-segment springs among the exact starts" if loss <= \
         EXACT_MATCH_PCT else "the lowest loss (no start matched every mode)"
