@@ -31,70 +31,22 @@ import time
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..chain.eigen import eig_scaled
-from ..chain.spatial_stiffness import axis_stiffness
 from ..errors import SolveError
 from ..member.geometry import Beam
 from ..options.objects import FitOptions
-from .problem import lengths_from_unit, unit_from_lengths
+from .problem import unit_from_lengths
 from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
 from .results import FitResult
-from .spatial_target import SpatialSelection, select_spatial, spatial_records
+from .spatial_design import LOG_FACTOR_BOUND, SpatialDesign, spatial_terms
+from .spatial_target import select_spatial, spatial_records
 
 __all__ = ["fit_spatial", "LOG_FACTOR_BOUND"]
-
-# a spring factor stays within a decade of the finite-segment spring of its axis
-LOG_FACTOR_BOUND = math.log(10.0)
-
-
-class _Design:
-    """Evaluates designs of one spatial fit (beam, selection and bounds fixed)."""
-
-    def __init__(self, beam: Beam, sel: SpatialSelection, joints: int, options: FitOptions):
-        from ..model.prbdm_model import build_model  # Pinocchio loads with the first model
-
-        self.build_model = build_model
-        self.beam, self.sel, self.n, self.o = beam, sel, joints, options
-        self.order = options.axes.joint_order
-        self.m = len(self.order)
-        self.nfev = 0
-
-    def lengths(self, u: np.ndarray) -> np.ndarray:
-        return lengths_from_unit(u, self.beam.length_m, self.o.min_fraction)
-
-    def unit_springs(self, lengths: np.ndarray) -> np.ndarray:
-        """Finite-segment springs (N m/rad), node-major, shape (n m,)."""
-        per_axis = [axis_stiffness(self.beam, lengths, a) for a in self.order]
-        return np.stack(per_axis, axis=1).reshape(-1)
-
-    def model(self, x: np.ndarray):
-        lengths = self.lengths(x[: self.n])
-        k = self.unit_springs(lengths) * np.exp(x[self.n:])
-        return self.build_model(self.beam, lengths, k, min_fraction=self.o.min_fraction,
-                                axes=self.o.axes)
-
-    def frequencies(self, model) -> np.ndarray:
-        """Return the model's frequencies (rad/s) of the selected modes, in their order."""
-        M = model.mass_matrix()
-        k = model.stiffness_Nm_per_rad
-        out = np.empty(self.sel.omega_truth_rad_s.size)
-        for c, a in enumerate(self.order):
-            idx = np.arange(c, self.n * self.m, self.m)
-            w = eig_scaled(M[np.ix_(idx, idx)], 1.0 / np.sqrt(k[idx]))
-            rows = self.sel.axis == a
-            out[rows] = w[: int(rows.sum())]
-        return out
-
-    def residual(self, x: np.ndarray) -> np.ndarray:
-        self.nfev += 1
-        return self.frequencies(self.model(x)) / self.sel.omega_truth_rad_s - 1.0
-
 
 def _loss_pct(r: np.ndarray) -> float:
     return 100.0 * float(np.sqrt(np.mean(r * r)))
 
 
-def _starts(d: _Design, starts: int, seed: int) -> list[np.ndarray]:
+def _starts(d: SpatialDesign, starts: int, seed: int) -> list[np.ndarray]:
     """Start 0: equal links at the finite-segment springs; then random lengths and factors."""
     L, n = d.beam.length_m, d.n
     eq = np.full(n + 1, L / (n + 1))
@@ -138,7 +90,7 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     """
     t0 = time.perf_counter()
     sel = select_spatial(target, options.axes, joints, options.frequencies)
-    d = _Design(beam, sel, joints, options)
+    d = SpatialDesign(beam, sel, joints, options, spatial_terms(sel, target, options))
     n_x = joints + joints * d.m
     lo = np.r_[np.zeros(joints), np.full(joints * d.m, -LOG_FACTOR_BOUND)]
     hi = np.r_[np.ones(joints), np.full(joints * d.m, LOG_FACTOR_BOUND)]
@@ -168,7 +120,7 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     return _result(beam, target, d, best, runs, time.perf_counter() - t0)
 
 
-def _result(beam, target, d: _Design, best, runs, wall_s: float) -> FitResult:
+def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitResult:
     loss, _, index, x, success, message = best
     model = d.model(x)
     w = d.frequencies(model)

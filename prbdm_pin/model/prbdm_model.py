@@ -19,11 +19,8 @@ from ..chain import pin_dynamics as dyn
 from ..chain.eigen import eig_scaled
 from ..chain.layout import validate_lengths
 from ..chain.sections import LinkSections, link_sections_unchecked
-from ..chain.spatial_statics import spatial_static_deflection
 from ..chain.spatial_stiffness import spring_axes
-from ..chain.spatial_tangent import checked_wrench
 from ..chain.spring_checks import check_spatial_springs, check_springs
-from ..chain.statics import static_deflection_planar
 from ..chain.stiffness import validate_stiffness
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
@@ -32,6 +29,7 @@ from ..options.choices import MIN_FRACTION, Axes
 from ..options.validate import check_axes, check_joints, check_type
 from .hub import Hub, hub_chain, hub_frequencies, hub_modes
 from .hub_check import warn_light_hub
+from .kinematics import ChainKinematics
 from .pin_chain import pin_chain
 from .urdf import render_urdf
 
@@ -39,7 +37,7 @@ __all__ = ["PrbdmModel", "build_model", "validate_stiffness"]
 
 
 @dataclass(frozen=True, eq=False)
-class PrbdmModel:
+class PrbdmModel(ChainKinematics):
     """A pseudo-rigid-body dynamic model: n + 1 rigid links, n revolute joints about y with springs.
 
     Attributes
@@ -200,53 +198,6 @@ class PrbdmModel:
         if self.hub is not None:
             return hub_modes(self.mass_matrix(q, data), self.stiffness_Nm_per_rad)
         return dyn.modes(self.pin_model, self._workspace(data), self.stiffness_Nm_per_rad, q)
-
-    def tip_position(self, q: np.ndarray | None = None, data: pin.Data | None = None
-                     ) -> np.ndarray:
-        """World position of the tip, m, shape (3,)."""
-        return dyn.tip_position(self.pin_model, self._workspace(data), q, self.tip_frame_id)
-
-    def tip_pose(self, q: np.ndarray | None = None, data: pin.Data | None = None
-                 ) -> tuple[np.ndarray, np.ndarray]:
-        """World position (m, (3,)) and rotation (world from tip frame, (3, 3)) of the tip."""
-        return dyn.tip_pose(self.pin_model, self._workspace(data), q, self.tip_frame_id)
-
-    def tip_jacobian(self, q: np.ndarray | None = None, data: pin.Data | None = None
-                     ) -> np.ndarray:
-        """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
-        return dyn.tip_jacobian(self.pin_model, self._workspace(data), q, self.tip_frame_id)
-
-    def tip_kinematics(
-        self, q: np.ndarray | None = None, data: pin.Data | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Tip position (m, (3,)) and its linear Jacobian (m/rad, (3, n)), one kinematics pass."""
-        return dyn.tip_kinematics(self.pin_model, self._workspace(data), q, self.tip_frame_id)
-
-    def static_deflection(
-        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None, data: pin.Data | None = None,
-        tip_moment_Nm: np.ndarray | None = None,
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Equilibrium under a dead tip force (N) and moment (N m), world axes.
-
-        Returns the joint angles (rad) and the tip position (m); :meth:`tip_pose` of the angles
-        gives the tip's rotation too. The planar chain under a force alone is solved in its
-        plane (:func:`~prbdm_pin.chain.statics.static_deflection_planar`), a spatial chain or a
-        moment by :func:`~prbdm_pin.chain.spatial_statics.spatial_static_deflection`. Raises
-        SolveError when no equilibrium is found, BeamInputError for a bad load or a hub model
-        (the hub would turn; :func:`prbdm_pin.linearize` holds it with a trim torque).
-        """
-        self._no_hub("a static equilibrium under a tip force alone")
-        if tip_moment_Nm is not None:
-            checked_wrench(tip_force_N, tip_moment_Nm)  # names tip_force or tip_moment
-        if self.axes.spatial or (tip_moment_Nm is not None and np.any(tip_moment_Nm)):
-            d = self._workspace(data)
-            q = spatial_static_deflection(self.pin_model, d, self.stiffness_Nm_per_rad,
-                                          self.tip_frame_id, tip_force_N, tip_moment_Nm, q0)
-            return q, self.tip_position(q, d)
-        q = static_deflection_planar(
-            self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
-        )
-        return q, self.tip_position(q, data)
 
     def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
         """Return the same chain with other springs (shares ``pin_model``)."""

@@ -1,0 +1,109 @@
+"""A spatial fit's design and its residual terms.
+
+The design x = [u (n), log s (n len(axes))]: the stick-breaking link lengths of
+:func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
+finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`). The residual is the
+concatenation of its terms' (each an object with ``size``, ``residual(design, model)`` and
+``label``): the frequencies by kind (:class:`EigenTerm`) and whatever else the options ask for.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+
+from ..chain.eigen import eig_scaled
+from ..chain.spatial_stiffness import axis_stiffness
+from ..member.geometry import Beam
+from ..options.objects import FitOptions
+from .problem import lengths_from_unit
+from .spatial_target import SpatialSelection
+
+__all__ = ["LOG_FACTOR_BOUND", "EigenTerm", "SpatialDesign", "spatial_terms"]
+
+# a spring factor stays within a decade of the finite-segment spring of its axis
+LOG_FACTOR_BOUND = math.log(10.0)
+
+
+class EigenTerm:
+    """Each selected truth mode's relative frequency error, omega_model / omega_truth - 1."""
+
+    label = "eigen"
+
+    def __init__(self, sel: SpatialSelection):
+        self.sel = sel
+        self.size = int(sel.omega_truth_rad_s.size)
+
+    def residual(self, design: SpatialDesign, model) -> np.ndarray:
+        """Return the relative errors (dimensionless), in the selection's order."""
+        return design.frequencies(model) / self.sel.omega_truth_rad_s - 1.0
+
+
+def spatial_terms(sel: SpatialSelection, target, options: FitOptions) -> tuple:
+    """Return the residual terms the options ask for: the frequencies, then the others."""
+    return (EigenTerm(sel),)
+
+
+class SpatialDesign:
+    """Evaluates designs of one spatial fit (beam, selection, terms and bounds fixed)."""
+
+    def __init__(self, beam: Beam, sel: SpatialSelection, joints: int, options: FitOptions,
+                 terms: tuple = ()):
+        from ..model.prbdm_model import build_model  # Pinocchio loads with the first model
+
+        self.build_model = build_model
+        self.beam, self.sel, self.n, self.o = beam, sel, joints, options
+        self.terms = terms or (EigenTerm(sel),)
+        self.order = options.axes.joint_order
+        self.m = len(self.order)
+        self.nfev = 0
+
+    def lengths(self, u: np.ndarray) -> np.ndarray:
+        """Return the link lengths (m) of the unit-box coordinates ``u`` (n,)."""
+        return lengths_from_unit(u, self.beam.length_m, self.o.min_fraction)
+
+    def unit_springs(self, lengths: np.ndarray) -> np.ndarray:
+        """Return the finite-segment springs (N m/rad), node-major, shape (n m,)."""
+        per_axis = [axis_stiffness(self.beam, lengths, a) for a in self.order]
+        return np.stack(per_axis, axis=1).reshape(-1)
+
+    def model(self, x: np.ndarray):
+        """Return the PrbdmModel of design ``x``."""
+        lengths = self.lengths(x[: self.n])
+        k = self.unit_springs(lengths) * np.exp(x[self.n:])
+        return self.build_model(self.beam, lengths, k, min_fraction=self.o.min_fraction,
+                                axes=self.o.axes)
+
+    def axis_modes(self, model, axis: str) -> tuple[np.ndarray, np.ndarray]:
+        """Return the frequencies (rad/s) and mass-normalised shapes (nv, n) of one axis block.
+
+        At the straight pose the axis blocks of M do not couple (``spatial_fit``'s docstring);
+        a shape is zero outside its block's coordinates.
+        """
+        M = model.mass_matrix()
+        k = model.stiffness_Nm_per_rad
+        idx = model.axis_index(axis)
+        w2, phi = scipy.linalg.eigh(np.diag(k[idx]), M[np.ix_(idx, idx)])
+        shapes = np.zeros((k.size, idx.size))
+        shapes[idx] = phi
+        return np.sqrt(w2), shapes
+
+    def frequencies(self, model) -> np.ndarray:
+        """Return the model's frequencies (rad/s) of the selected modes, in their order."""
+        M = model.mass_matrix()
+        k = model.stiffness_Nm_per_rad
+        out = np.empty(self.sel.omega_truth_rad_s.size)
+        for c, a in enumerate(self.order):
+            idx = np.arange(c, self.n * self.m, self.m)
+            w = eig_scaled(M[np.ix_(idx, idx)], 1.0 / np.sqrt(k[idx]))
+            rows = self.sel.axis == a
+            out[rows] = w[: int(rows.sum())]
+        return out
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """Return every term's residual of design ``x``, concatenated (dimensionless)."""
+        self.nfev += 1
+        model = self.model(x)
+        return np.concatenate([t.residual(self, model) for t in self.terms])

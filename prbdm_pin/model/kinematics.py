@@ -1,0 +1,86 @@
+"""The kinematics and statics of a PRBDM's chain: tip, named points, static equilibrium.
+
+A mixin of :class:`~prbdm_pin.model.prbdm_model.PrbdmModel`, which supplies ``pin_model``,
+``tip_frame_id``, ``beam``, ``axes``, ``lengths_m``, ``stiffness_Nm_per_rad`` and the
+workspace (``_workspace``, ``_no_hub``): every method takes an optional Pinocchio ``data``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..chain import pin_dynamics as dyn
+from ..chain.points import point_kinematics, point_offset_m
+from ..chain.spatial_statics import checked_wrench, spatial_static_deflection
+from ..chain.statics import static_deflection_planar
+from ..errors import BeamInputError
+
+__all__ = ["ChainKinematics"]
+
+
+class ChainKinematics:
+    """Tip and point kinematics and the static equilibrium of a chain model."""
+
+    def tip_position(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
+        """World position of the tip, m, shape (3,)."""
+        return dyn.tip_position(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def tip_pose(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """World position (m, (3,)) and rotation (world from tip frame, (3, 3)) of the tip."""
+        return dyn.tip_pose(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def point_kinematics(self, point: str, q: np.ndarray | None = None,
+                         data: pin.Data | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """World position (m, (3,)) and linear Jacobian (m/rad, (3, nv)) of a named point.
+
+        ``point``: ``tip`` (the centre of the free end), ``tip_corner_left`` or
+        ``tip_corner_right`` (at +/- the tip half-width along the tip link's y axis;
+        :mod:`prbdm_pin.chain.points`). A model read from a URDF has no beam: its corners are
+        refused.
+        """
+        if self.beam is None and point != "tip":
+            raise BeamInputError(f"point = {point!r}: this model carries no beam, so no width")
+        w = 0.0 if self.beam is None else float(self.beam.half_width_m[-1])
+        qv = np.zeros(self.pin_model.nq) if q is None else np.asarray(q, dtype=float)
+        return point_kinematics(self.pin_model, self._workspace(data), qv, self.tip_frame_id,
+                                point_offset_m(point, w))
+
+    def tip_jacobian(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                     ) -> np.ndarray:
+        """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
+        return dyn.tip_jacobian(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def tip_kinematics(
+        self, q: np.ndarray | None = None, data: pin.Data | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Tip position (m, (3,)) and its linear Jacobian (m/rad, (3, n)), one kinematics pass."""
+        return dyn.tip_kinematics(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def static_deflection(
+        self, tip_force_N: np.ndarray, q0: np.ndarray | None = None, data: pin.Data | None = None,
+        tip_moment_Nm: np.ndarray | None = None,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Equilibrium under a dead tip force (N) and moment (N m), world axes.
+
+        Returns the joint angles (rad) and the tip position (m); :meth:`tip_pose` of the angles
+        gives the tip's rotation too. The planar chain under a force alone is solved in its
+        plane (:func:`~prbdm_pin.chain.statics.static_deflection_planar`), a spatial chain or a
+        moment by :func:`~prbdm_pin.chain.spatial_statics.spatial_static_deflection`. Raises
+        SolveError when no equilibrium is found, BeamInputError for a bad load or a hub model
+        (the hub would turn; :func:`prbdm_pin.linearize` holds it with a trim torque).
+        """
+        self._no_hub("a static equilibrium under a tip force alone")
+        if tip_moment_Nm is not None:
+            checked_wrench(tip_force_N, tip_moment_Nm)  # names tip_force or tip_moment
+        if self.axes.spatial or (tip_moment_Nm is not None and np.any(tip_moment_Nm)):
+            d = self._workspace(data)
+            q = spatial_static_deflection(self.pin_model, d, self.stiffness_Nm_per_rad,
+                                          self.tip_frame_id, tip_force_N, tip_moment_Nm, q0)
+            return q, self.tip_position(q, d)
+        q = static_deflection_planar(
+            self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
+        )
+        return q, self.tip_position(q, data)
