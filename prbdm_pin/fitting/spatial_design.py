@@ -2,14 +2,13 @@
 
 The design x = [u (n), log s (n len(axes))]: the stick-breaking link lengths of
 :func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
-finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`). The residual is the
+finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within the planar joint fit's
+bounds. The residual is the
 concatenation of its terms' (each an object with ``size``, ``residual(design, model)`` and
 ``label``): the frequencies by kind (:class:`EigenTerm`) and whatever else the options ask for.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import scipy.linalg
@@ -20,11 +19,13 @@ from ..member.geometry import Beam
 from ..options.objects import FitOptions
 from .problem import lengths_from_unit
 from .spatial_target import SpatialSelection
+from .spec import LN_S_BOUNDS
 
 __all__ = ["LOG_FACTOR_BOUND", "EigenTerm", "SpatialDesign", "spatial_terms"]
 
-# a spring factor stays within a decade of the finite-segment spring of its axis
-LOG_FACTOR_BOUND = math.log(10.0)
+# a spring factor stays within a factor 1e3 of the finite-segment spring of its axis, as the
+# planar joint fit's (jagged panels need their bending springs far off the 1D beam's)
+LOG_FACTOR_BOUND = LN_S_BOUNDS[1]
 
 
 class EigenTerm:

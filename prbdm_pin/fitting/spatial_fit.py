@@ -13,9 +13,9 @@ is named in the result (``FitResult.modes``) with no model frequency.
 
 The design is [u (n), log s (n len(axes))]: the stick-breaking lengths of
 :func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
-finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within a decade either way.
-The residual is each matched mode's relative error; each start runs ``least_squares`` (trust
-region reflective, forward-difference Jacobian).
+finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within a factor 1e3 either
+way (the planar joint fit's bounds; ``fitting/spatial_design.py``). The residual is each matched
+mode's relative error; each start runs ``least_squares`` (dogbox, as the planar joint fit).
 
 Which solution: with 2n + n len(axes) - n unknowns beyond the frequencies, a fit of n modes per
 kind has many exact solutions (the torsion springs of one panel have 2-12). The rule: among the
@@ -31,6 +31,7 @@ import time
 import numpy as np
 from scipy.optimize import least_squares
 
+from ..chain.layout import sample_lengths
 from ..errors import SolveError
 from ..member.geometry import Beam
 from ..options.objects import FitOptions
@@ -47,14 +48,20 @@ def _loss_pct(r: np.ndarray) -> float:
 
 
 def _starts(d: SpatialDesign, starts: int, seed: int) -> list[np.ndarray]:
-    """Start 0: equal links at the finite-segment springs; then random lengths and factors."""
+    """Return the starts: equal links at the finite-segment springs, then random ones.
+
+    The random starts are drawn as the planar joint fit draws them: lengths uniform on the
+    bounded simplex, factors log-uniform within a factor 2 of 1.
+    """
     L, n = d.beam.length_m, d.n
     eq = np.full(n + 1, L / (n + 1))
     out = [np.r_[unit_from_lengths(eq, L, d.o.min_fraction), np.zeros(n * d.m)]]
-    rng = np.random.default_rng(seed)
-    for _ in range(starts - 1):
-        out.append(np.r_[rng.uniform(0.05, 0.95, n),
-                         rng.uniform(-0.5, 0.5, n * d.m) * LOG_FACTOR_BOUND])
+    if starts > 1:
+        rng = np.random.default_rng(seed)
+        L0 = sample_lengths(rng, L, n + 1, starts - 1, min_fraction=d.o.min_fraction)
+        F0 = rng.uniform(-math.log(2.0), math.log(2.0), (starts - 1, n * d.m))
+        out += [np.r_[unit_from_lengths(L0[i], L, d.o.min_fraction), F0[i]]
+                for i in range(starts - 1)]
     return out
 
 
@@ -103,7 +110,8 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     runs: list[tuple[float, float, int, np.ndarray, bool, str]] = []
     for i, x0 in enumerate(tasks):
         try:
-            sol = least_squares(d.residual, x0, bounds=(lo, hi), method="trf",
+            # dogbox, as the planar joint fit at one pose: the box bounds bind on jagged panels
+            sol = least_squares(d.residual, x0, bounds=(lo, hi), method="dogbox",
                                 max_nfev=options.max_nfev * n_x, x_scale=1.0)
         except SolveError:
             continue  # a start whose design left the chain's valid range
