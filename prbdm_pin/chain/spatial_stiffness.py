@@ -25,7 +25,8 @@ from ..options.choices import MIN_FRACTION, Axes
 from .layout import validate_lengths
 from .stiffness import finite_segment_stiffness_unchecked
 
-__all__ = ["axis_stiffness", "spatial_stiffness", "spring_axes"]
+__all__ = ["axis_stiffness", "spatial_stiffness", "spring_axes", "link_mean_section_m4",
+           "paper_axis_unit_stiffness"]
 
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(16)
 
@@ -108,3 +109,46 @@ def spatial_stiffness(beam: Beam, lengths_m: np.ndarray, axes: Axes | str = Axes
     order = Axes(axes).joint_order
     per_axis = np.stack([axis_stiffness(beam, lengths, a) for a in order], axis=1)
     return per_axis.reshape(-1)
+
+
+def link_mean_section_m4(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarray:
+    """Each link's mean section constant of one axis over its span, m^4, shape (n+1,).
+
+    ``y``: I_y = 2 w t^3 / 12; ``z``: I_z = t (2 w)^3 / 12; ``x``: Roark's closed-form J of the
+    rectangle (:func:`~prbdm_pin.member.section.torsion_constant_thin_m4`, the paper-style
+    closed form). 16-point Gauss-Legendre on each vertex interval: exact for I_y and I_z (cubic
+    in x), and for Roark's J to rounding where the end widths differ by less than a factor 10.
+    ``lengths`` (m, shape (n+1,)) already validated.
+    """
+    from ..member.section import torsion_constant_thin_m4
+
+    ends = np.add.accumulate(lengths)
+    ends[-1] = beam.length_m
+    starts = ends - lengths
+    cuts = np.union1d(np.r_[0.0, ends], beam.x_m)
+    u, v = cuts[:-1], cuts[1:]
+    keep = v > u
+    u, v = u[keep], v[keep]
+    s = 0.5 * (_GL_T + 1.0)
+    x = u[:, None] + (v - u)[:, None] * s
+    b = 2.0 * np.asarray(beam.half_width_at(x.ravel()), dtype=float).reshape(x.shape)
+    t = beam.thickness_m
+    section = {"y": lambda w: w * t**3 / 12.0, "z": lambda w: t * w**3 / 12.0,
+               "x": lambda w: torsion_constant_thin_m4(w, t)}[axis]
+    part = (v - u) * (0.5 * _GL_W * section(b)).sum(axis=1)
+    link = np.clip(np.searchsorted(ends, 0.5 * (u + v)), 0, lengths.size - 1)
+    return np.bincount(link, part, lengths.size) / (ends - starts)
+
+
+def paper_axis_unit_stiffness(beam: Beam, lengths: np.ndarray, mass_kg: np.ndarray,
+                              axis: str) -> np.ndarray:
+    """Return the paper's Eq. 14 on any axis at unit factor, N m/rad, shape (n,).
+
+    Joint j drives link j + 1: K_j = sqrt(C S_(j+1) / m_(j+1)) with S the link's mean section
+    constant of the axis (:func:`link_mean_section_m4`), C = E for bending (y, z) and G for
+    torsion (x), and m the link mass (kg, shape (n+1,)). For ``y`` this is
+    :func:`~prbdm_pin.chain.stiffness.paper_unit_stiffness` with the exact mean I_y.
+    """
+    modulus = beam.material.G_Pa if axis == "x" else beam.material.E_Pa
+    S = link_mean_section_m4(beam, lengths, axis)
+    return np.sqrt(modulus * S[1:] / np.asarray(mass_kg, dtype=float)[1:])
