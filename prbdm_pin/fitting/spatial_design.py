@@ -1,9 +1,10 @@
 """A spatial fit's design and its residual terms.
 
-The design x = [u (n), log s (n len(axes))]: the stick-breaking link lengths of
-:func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
-finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within the planar joint fit's
-bounds. The residual is the
+The design x = [u (n), log s]: the stick-breaking link lengths of
+:func:`~prbdm_pin.fitting.problem.lengths_from_unit` and the spring factors, within the planar
+joint fit's bounds: ``joint`` one per spring (n len(axes)) on its finite-segment value,
+``paper`` one per axis (len(axes)) on the paper's Eq. 14 closed form of that axis
+(:mod:`prbdm_pin.chain.spatial_stiffness`). The residual is the
 concatenation of its terms' (each an object with ``size``, ``residual(design, model)`` and
 ``label``): the frequencies by kind (:class:`EigenTerm`) and whatever else the options ask for.
 """
@@ -14,8 +15,10 @@ import numpy as np
 import scipy.linalg
 
 from ..chain.eigen import eig_scaled
-from ..chain.spatial_stiffness import axis_stiffness
+from ..chain.sections import link_sections_unchecked
+from ..chain.spatial_stiffness import axis_stiffness, paper_axis_unit_stiffness
 from ..member.geometry import Beam
+from ..options.choices import StiffnessKind
 from ..options.objects import FitOptions
 from .problem import lengths_from_unit
 from .spatial_target import SpatialSelection
@@ -59,6 +62,9 @@ class SpatialDesign:
         self.terms = terms or (EigenTerm(sel),)
         self.order = options.axes.joint_order
         self.m = len(self.order)
+        # joint: one factor per spring; paper: one per axis on Eq. 14's closed form
+        self.paper = options.stiffness is StiffnessKind.PAPER
+        self.n_factors = self.m if self.paper else joints * self.m
         self.nfev = 0
 
     def lengths(self, u: np.ndarray) -> np.ndarray:
@@ -66,14 +72,27 @@ class SpatialDesign:
         return lengths_from_unit(u, self.beam.length_m, self.o.min_fraction)
 
     def unit_springs(self, lengths: np.ndarray) -> np.ndarray:
-        """Return the finite-segment springs (N m/rad), node-major, shape (n m,)."""
-        per_axis = [axis_stiffness(self.beam, lengths, a) for a in self.order]
+        """Return the unit-factor springs (N m/rad), node-major, shape (n m,).
+
+        ``joint``: the finite-segment springs; ``paper``: Eq. 14's closed form on each axis.
+        """
+        if self.paper:
+            mass = link_sections_unchecked(self.beam, lengths).mass_kg
+            per_axis = [paper_axis_unit_stiffness(self.beam, lengths, mass, a)
+                        for a in self.order]
+        else:
+            per_axis = [axis_stiffness(self.beam, lengths, a) for a in self.order]
         return np.stack(per_axis, axis=1).reshape(-1)
+
+    def spring_factors(self, log_factors: np.ndarray) -> np.ndarray:
+        """Return every spring's factor (node-major, (n m,)) from the design's log factors."""
+        f = np.exp(np.asarray(log_factors, dtype=float))
+        return np.tile(f, self.n) if self.paper else f
 
     def model(self, x: np.ndarray):
         """Return the PrbdmModel of design ``x``."""
         lengths = self.lengths(x[: self.n])
-        k = self.unit_springs(lengths) * np.exp(x[self.n:])
+        k = self.unit_springs(lengths) * self.spring_factors(x[self.n:])
         return self.build_model(self.beam, lengths, k, min_fraction=self.o.min_fraction,
                                 axes=self.o.axes)
 

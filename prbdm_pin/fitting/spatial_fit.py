@@ -11,11 +11,10 @@ own block: modes are paired by kind and, within a kind, in order, never across k
 mode in the band that no axis represents (``chordwise``, or a kind whose axis the chain lacks)
 is named in the result (``FitResult.modes``) with no model frequency.
 
-The design is [u (n), log s (n len(axes))]: the stick-breaking lengths of
-:func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
-finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within a factor 1e3 either
-way (the planar joint fit's bounds; ``fitting/spatial_design.py``). The residual is each matched
-mode's relative error; each start runs ``least_squares`` (dogbox, as the planar joint fit).
+The design is [u (n), log s]: the stick-breaking lengths and the spring factors, one per spring
+(``joint``) or one per axis on the paper's Eq. 14 (``paper``), within a factor 1e3 either way
+(``fitting/spatial_design.py``). The residual is each matched mode's relative error; each start
+runs ``least_squares`` (dogbox, as the planar joint fit).
 
 Which solution: with 2n + n len(axes) - n unknowns beyond the frequencies, a fit of n modes per
 kind has many exact solutions (the torsion springs of one panel have 2-12). The rule: among the
@@ -55,11 +54,11 @@ def _starts(d: SpatialDesign, starts: int, seed: int) -> list[np.ndarray]:
     """
     L, n = d.beam.length_m, d.n
     eq = np.full(n + 1, L / (n + 1))
-    out = [np.r_[unit_from_lengths(eq, L, d.o.min_fraction), np.zeros(n * d.m)]]
+    out = [np.r_[unit_from_lengths(eq, L, d.o.min_fraction), np.zeros(d.n_factors)]]
     if starts > 1:
         rng = np.random.default_rng(seed)
         L0 = sample_lengths(rng, L, n + 1, starts - 1, min_fraction=d.o.min_fraction)
-        F0 = rng.uniform(-math.log(2.0), math.log(2.0), (starts - 1, n * d.m))
+        F0 = rng.uniform(-math.log(2.0), math.log(2.0), (starts - 1, d.n_factors))
         out += [np.r_[unit_from_lengths(L0[i], L, d.o.min_fraction), F0[i]]
                 for i in range(starts - 1)]
     return out
@@ -78,7 +77,8 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     joints : int
         n, the number of joint nodes (each with ``len(options.axes)`` springs).
     options : FitOptions
-        With ``axes`` spatial, ``stiffness="joint"``, ``objective="eigen"`` (checked there);
+        With ``axes`` spatial and ``objective="eigen"`` (checked there); ``stiffness``
+        ``"joint"`` (a factor per spring) or ``"paper"`` (a factor per axis on Eq. 14);
         ``frequencies`` is the number of modes of each kind (default n), ``starts``, ``seed``,
         ``max_nfev`` (per start, times the number of unknowns) and ``loss_tol_pct`` apply.
     progress : bool
@@ -98,9 +98,9 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     t0 = time.perf_counter()
     sel = select_spatial(target, options.axes, joints, options.frequencies)
     d = SpatialDesign(beam, sel, joints, options, spatial_terms(sel, target, options))
-    n_x = joints + joints * d.m
-    lo = np.r_[np.zeros(joints), np.full(joints * d.m, -LOG_FACTOR_BOUND)]
-    hi = np.r_[np.ones(joints), np.full(joints * d.m, LOG_FACTOR_BOUND)]
+    n_x = joints + d.n_factors
+    lo = np.r_[np.zeros(joints), np.full(d.n_factors, -LOG_FACTOR_BOUND)]
+    hi = np.r_[np.ones(joints), np.full(d.n_factors, LOG_FACTOR_BOUND)]
     tasks = _starts(d, options.starts, options.seed)
     if progress:
         from tqdm.auto import tqdm
@@ -153,7 +153,8 @@ def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitRes
         EXACT_MATCH_PCT else "the lowest loss (no start matched every mode)"
     return FitResult(
         beam_name=beam.name, beam_fingerprint=beam.fingerprint(), joints=n,
-        frequencies=int(sel.omega_truth_rad_s.size), objective="eigen", stiffness="joint",
+        frequencies=int(sel.omega_truth_rad_s.size), objective="eigen",
+        stiffness=o.stiffness.value,
         lengths_m=model.lengths_m, stiffness_Nm_per_rad=model.stiffness_Nm_per_rad,
         stiffness_per_pose_Nm_per_rad=model.stiffness_Nm_per_rad[None, :], factors=factors,
         scf_mean=float(np.mean(factors)), scf_deviation_pct=np.zeros(1),
@@ -172,7 +173,8 @@ def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitRes
         warnings=tuple(notes), eigen_norm="relative", min_fraction=o.min_fraction,
         omega_errors_pct=errors[None, :], worst_mode_error_pct=float(np.max(np.abs(errors))),
         export_pose_rad=np.zeros(nk),
-        stiffness_pose=f"joint: pose-independent springs of every axis ({o.axes.value}), "
+        stiffness_pose=f"{o.stiffness.value}: pose-independent springs of every axis "
+        f"({o.axes.value}), "
         "fitted at the straight pose",
         omega_export_rad_s=w, omega_export_errors_pct=errors,
         worst_export_error_pct=float(np.max(np.abs(errors))), options=o,

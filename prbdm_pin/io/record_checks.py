@@ -210,7 +210,9 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
     _array(what, "stiffness_per_pose_Nm_per_rad", d["stiffness_per_pose_Nm_per_rad"], (m, nk),
            positive=True)
     # one SCF per pose (Eq. 14) or one factor per joint
-    nf = m if StiffnessKind(d["stiffness"]) is StiffnessKind.PAPER else nk
+    # (a spatial paper fit: one factor per axis, at its one pose)
+    nf = (m if nk == n else nk // n) if StiffnessKind(d["stiffness"]) is \
+        StiffnessKind.PAPER else nk
     _array(what, "factors", d["factors"], (nf,), positive=True)
     w = _array(what, "omega_truth_rad_s", d["omega_truth_rad_s"], (d["frequencies"],),
                positive=True)

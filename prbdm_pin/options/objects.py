@@ -289,10 +289,6 @@ class ParetoOptions(_ProblemOptions):
 
 def _check_spatial(o: FitOptions) -> None:
     """Refuse the options a spatial fit does not have; each error names the field."""
-    if o.stiffness is not StiffnessKind.JOINT:
-        raise BeamInputError(f"stiffness = {o.stiffness.value!r}: a spatial chain (axes = "
-                             f"{o.axes.value!r}) is fitted with one factor per spring: "
-                             "stiffness = 'joint'")
     if o.objective is not Objective.EIGEN:
         raise BeamInputError(f"objective = {o.objective.value!r}: a spatial chain (axes = "
                              f"{o.axes.value!r}) is fitted to its frequencies by kind: "
