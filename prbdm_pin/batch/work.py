@@ -144,7 +144,7 @@ _FIT_KEYS = ("frequencies", "eigen_norm", "lengths_m", "stiffness_Nm_per_rad", "
              "scf_mean", "omega_truth_rad_s", "eigen_errors_pct", "eigen_loss_pct",
              "worst_mode_error_pct", "omega_export_errors_pct", "worst_export_error_pct",
              "deflection_loss_pct", "displacement_loss_pct", "combined_loss_pct", "mac",
-             "success", "nfev", "starts_run")
+             "success", "nfev", "starts_run", "axes")
 
 
 def _fit_fields(result: Any, length_m: float) -> dict[str, Any]:
@@ -161,4 +161,6 @@ def _fit_fields(result: Any, length_m: float) -> dict[str, Any]:
     out["gamma"] = (lengths / length_m).tolist()
     # The paper's "characteristic pivot": the first link's fraction of the length (Sec. 4.1.1).
     out["gamma_1"] = float(lengths[0] / length_m)
+    # the kind of each matched truth mode, beside its error (omega_export_errors_pct's order)
+    out["mode_kinds"] = [m["kind"] for m in result.modes if m["error_pct"] is not None]
     return out
