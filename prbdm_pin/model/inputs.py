@@ -1,6 +1,12 @@
 """Plant inputs and the generalized forces they make.
 
-Tip forces, joint torques, strain actuators and the hub torque.
+Tip forces (at the tip centre, world axes), the tip moment about world x, z forces at the tip
+corners, joint torques, strain actuators and the hub torque.
+
+The tip corners are the points at +/- w(L) (the tip half-width) along the tip link's y axis
+(:mod:`prbdm_pin.chain.points`): a corner force acts through that point's Jacobian, so it bends
+and twists; at the straight pose a planar chain feels its bending part only. A spatial chain's
+``joint_torque[j]`` indexes every spring coordinate (``PrbdmModel.spring_axes``).
 
 Strain actuator (a full-width piezo patch between stations x_a < x_b of the beam, m from the
 root along the undeformed beam): it bends the beam by a moment M (N m) applied as a pair, +M
