@@ -4,6 +4,13 @@ A point is rigidly attached to the tip link at an offset (m, tip frame) from the
 centre of the free end): ``tip`` at 0, ``tip_corner_left`` at +w(L) along y and
 ``tip_corner_right`` at -w(L) (w the member's half-width at its tip). Off the centre line a
 force twists the member and a twist moves the point: what a planar chain cannot show.
+
+The tip twist is the roll of the tip frame R (world from tip) in its yaw-pitch-roll (z, y, x)
+decomposition R = R_z(psi) R_y(theta) R_x(phi): phi = atan2(R_zy, R_zz), the rotation of the
+tip section about the tip link's own axis once that axis has been bent (yawed and pitched) into
+place. A bent, untwisted tip has phi = 0 whatever its bending; at small angles phi is the
+rotation about x, and the corners' z difference is 2 w sin(phi) cos(theta) (2 w phi at the
+straight pose). It is singular where the tip axis is vertical (cos(theta) = 0).
 """
 
 from __future__ import annotations
@@ -13,7 +20,7 @@ import pinocchio as pin
 
 from ..errors import BeamInputError
 
-__all__ = ["POINTS", "point_offset_m", "point_kinematics"]
+__all__ = ["POINTS", "point_offset_m", "point_kinematics", "twist_angle", "twist_jacobian"]
 
 # the named points and their side across the width (+1 left, -1 right, 0 centre)
 POINTS = {"tip": 0.0, "tip_corner_left": 1.0, "tip_corner_right": -1.0}
@@ -45,3 +52,27 @@ def point_kinematics(pin_model: pin.Model, data: pin.Data, q: np.ndarray, tip_fr
     M = pin.updateFramePlacement(pin_model, data, tip_frame_id)
     r = M.rotation @ np.asarray(offset_m, dtype=float)
     return M.translation + r, J[:3] - pin.skew(r) @ J[3:]
+
+
+def twist_angle(rotation: np.ndarray) -> float:
+    """Return the tip twist phi = atan2(R_zy, R_zz) (rad) of a rotation (module notes).
+
+    ``rotation``: world from tip frame, (3, 3).
+    """
+    R = np.asarray(rotation, dtype=float)
+    return float(np.arctan2(R[2, 1], R[2, 2]))
+
+
+def twist_jacobian(rotation: np.ndarray, angular_jacobian: np.ndarray) -> np.ndarray:
+    """Return d(phi)/dq (rad/rad, (nv,)) of the tip twist at rotation R.
+
+    From the tip's world angular Jacobian J_w ((3, nv), rad/s per rad/s): dR = [omega]_x R, so
+    dR_zy = (omega x R e_y)_z = omega_x R_yy - omega_y R_xy and likewise dR_zz with e_z, and
+    d(atan2(a, b)) = (b da - a db) / (a^2 + b^2).
+    """
+    R = np.asarray(rotation, dtype=float)
+    Jw = np.asarray(angular_jacobian, dtype=float)
+    a, b = R[2, 1], R[2, 2]
+    da = R[1, 1] * Jw[0] - R[0, 1] * Jw[1]
+    db = R[1, 2] * Jw[0] - R[0, 2] * Jw[1]
+    return (b * da - a * db) / (a * a + b * b)

@@ -34,11 +34,16 @@ examples:
   prbdm linearize runs/ref/fit.json --inputs strain[0] --outputs tip_z --actuator 0.2:0.3 \\
       --fit-actuators --out runs/ref/patch
 
-Inputs: tip_force_z, tip_force_x (N), joint_torque[j] (N m, beam joint j from the root, 0-based),
-strain[i] (N m, the moment of the i-th --actuator), hub_torque (N m, with --hub).
-Outputs: tip_z, tip_x (m), tip_z_rate (m/s), q[j] (rad), q_rate[j] (rad/s), spring_torque[j]
-(N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are deviations from the equilibrium
-under --load and --gravity; a hub is held there by a trim torque.
+Inputs: tip_force_z, tip_force_x, tip_force_y (N), tip_moment_x (N m, about world x at the tip:
+twists it), corner_force_z_left, corner_force_z_right (N, z forces at the tip corners, +-w(L)
+across the tip), joint_torque[j] (N m, spring coordinate j from the root, 0-based: every axis of
+a spatial chain), strain[i] (N m, the moment of the i-th --actuator; planar chains), hub_torque
+(N m, with --hub).
+Outputs: tip_z, tip_x, tip_y (m), tip_z_rate (m/s), tip_twist (rad, the tip's rotation about its
+own axis), corner_z_left, corner_z_right (m, z of the tip corners), q[j] (rad), q_rate[j]
+(rad/s), spring_torque[j] (N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are
+deviations from the equilibrium under --load and --gravity; a hub is held there by a trim
+torque. A spatial fit (axes xy, yz, xyz) is linearised through its general kinematics.
 
 Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
 ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.
@@ -56,8 +61,8 @@ mode: the signed frequency error; per input/output pair both plants have: the FR
 [0, 1.2 omega_n] (a hub's from 0.1 omega_1, its rigid-body mode being singular at 0; and its
 flexible part from 0), the peak error at each resonance, and the unit-step response error (a
 hub's flexible part: the rigid rotation's response subtracted). Signals the truth plant lacks
-(tip_x, q[j], q_rate[j], spring_torque[j], tip_force_x, joint_torque[j]) are listed as not
-compared.
+(tip_x, q[j], q_rate[j], spring_torque[j], tip_force_x, joint_torque[j], the corner and twist
+signals) are listed as not compared.
 """
 
 LINEARIZE_FILES = ("linear_model.npz", "linear_model.json", "bode.png", "comparison.json",

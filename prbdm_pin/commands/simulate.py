@@ -37,10 +37,11 @@ examples:
 Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position; with a hub the hub angle
 and rate first; then each input as u:NAME and each output as y:NAME in their units) and
 OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N m, needs
---hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x
-(N); SIGNAL is A (a step at t = 0), step:A:T0, pulse:A:T1 (A until T1 s) or sine:A:F (F in Hz).
-Outputs (--outputs): tip_z, tip_z_rate, tip_x, q[j], q_rate[j], spring_torque[j], hub_angle,
-hub_rate.
+--hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x,
+tip_force_y (N); SIGNAL is A (a step at t = 0), step:A:T0, pulse:A:T1 (A until T1 s) or
+sine:A:F (F in Hz).
+Outputs (--outputs): tip_z, tip_z_rate, tip_x, tip_y, tip_twist, corner_z_left, corner_z_right,
+q[j], q_rate[j], spring_torque[j], hub_angle, hub_rate.
 --compare-truth adds OUT/truth_comparison.json and OUT/truth_comparison.png: the tip response to
 a unit step tip force over the first second and the tip FRF over [0, 1.2 omega_n] (n = joints)
 of the model linearised at the straight pose, against the finite-element truth's modal

@@ -16,7 +16,10 @@ import numpy as np
 from ..errors import BeamInputError
 from ..simulation.damping import modal_ratios, stiffness_damping_coefficient
 
-__all__ = ["stiffness_form", "plant_inputs", "mujoco_name"]
+__all__ = ["MJCF_INPUTS", "stiffness_form", "plant_inputs", "mujoco_name"]
+
+# the inputs the MJCF export writes as MuJoCo actuators (the bases of their names)
+MJCF_INPUTS = ("hub_torque", "joint_torque", "strain", "tip_force_z", "tip_force_x")
 
 
 def mujoco_name(input_name: str) -> str:
@@ -111,4 +114,8 @@ def plant_inputs(model, fmt: str, actuators, inputs
     if not len(inputs):
         return spans, weights, ()
     parsed = parse_inputs(tuple(inputs), model.n_joints, len(actuators), hub)
+    for i, (name, base, _) in enumerate(parsed):
+        if base not in MJCF_INPUTS:  # the plant's other inputs have no MuJoCo transmission here
+            raise BeamInputError(f"inputs[{i}] = {name!r}: not an MJCF input; one of "
+                                 f"{', '.join(MJCF_INPUTS)}")
     return spans, weights, tuple(name for name, _, _ in parsed)

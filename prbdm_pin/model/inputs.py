@@ -1,6 +1,12 @@
 """Plant inputs and the generalized forces they make.
 
-Tip forces, joint torques, strain actuators and the hub torque.
+Tip forces (at the tip centre, world axes), the tip moment about world x, z forces at the tip
+corners, joint torques, strain actuators and the hub torque.
+
+The tip corners are the points at +/- w(L) (the tip half-width) along the tip link's y axis
+(:mod:`prbdm_pin.chain.points`): a corner force acts through that point's Jacobian, so it bends
+and twists; at the straight pose a planar chain feels its bending part only. A spatial chain's
+``joint_torque[j]`` indexes every spring coordinate (``PrbdmModel.spring_axes``).
 
 Strain actuator (a full-width piezo patch between stations x_a < x_b of the beam, m from the
 root along the undeformed beam): it bends the beam by a moment M (N m) applied as a pair, +M
@@ -49,15 +55,23 @@ from ..errors import BeamInputError
 from ..options.validate import check_size
 from .names import parse_names
 
-__all__ = ["StrainActuator", "INPUT_UNITS", "ON_JOINT_RTOL", "joint_stations", "strain_map",
-           "check_patch", "virtual_work_map", "parse_inputs", "input_map"]
+__all__ = ["StrainActuator", "INPUT_UNITS", "CORNER_INPUTS", "LINEAR_ONLY_INPUTS",
+           "ON_JOINT_RTOL", "joint_stations", "strain_map", "check_patch", "virtual_work_map",
+           "parse_inputs", "check_corner_names", "input_map"]
 
 # a patch end within this fraction of the beam length of a joint is on it (the stations come
 # from sums of link lengths, so exact equality would depend on rounding)
 ON_JOINT_RTOL = 1e-9
 
-INPUT_UNITS = {"tip_force_z": "N", "tip_force_x": "N", "joint_torque": "N m",
-               "strain": "N m", "hub_torque": "N m"}
+INPUT_UNITS = {"tip_force_z": "N", "tip_force_x": "N", "tip_force_y": "N", "tip_moment_x": "N m",
+               "corner_force_z_left": "N", "corner_force_z_right": "N",
+               "joint_torque": "N m", "strain": "N m", "hub_torque": "N m"}
+# the inputs at a tip corner: the point each acts at (:mod:`prbdm_pin.chain.points`)
+CORNER_INPUTS = {"corner_force_z_left": "tip_corner_left",
+                 "corner_force_z_right": "tip_corner_right"}
+# the inputs that act on the tip link beyond a force at its centre: a time response takes the
+# tip forces only (their load stiffness is the tip's), :func:`linearize` all of them
+LINEAR_ONLY_INPUTS = ("tip_moment_x", *CORNER_INPUTS)
 
 
 @dataclass(frozen=True)
@@ -187,17 +201,36 @@ def check_patch(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "a
 
 
 def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool):
-    """Check input names against a model; returns (name, base, index) per input."""
-    plain = ("tip_force_z", "tip_force_x") + (("hub_torque",) if hub else ())
+    """Check input names against a model; returns (name, base, index) per input.
+
+    ``n_joints`` is the number of spring coordinates ``joint_torque[j]`` indexes (a spatial
+    chain's ``n_springs``).
+    """
+    plain = ("tip_force_z", "tip_force_x", "tip_force_y", "tip_moment_x", *CORNER_INPUTS) + (
+        ("hub_torque",) if hub else ())
     return parse_names(names, "inputs", {"joint_torque": n_joints, "strain": n_actuators}, plain)
+
+
+def check_corner_names(model, names, field: str) -> None:
+    """Refuse names of tip-corner signals (``field[i]``) on a model without its beam.
+
+    A model read from a URDF carries no width, so it has no corners; BeamInputError.
+    """
+    if model.beam is not None:
+        return
+    for i, name in enumerate(names):
+        if isinstance(name, str) and name.startswith("corner_"):
+            raise BeamInputError(f"{field}[{i}] = {name!r}: this model carries no beam (read "
+                                 "from a URDF), so no tip width and no corners")
 
 
 def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...] = ()
               ) -> np.ndarray:
     """Return the generalized force per unit input at pose ``q`` (rad), shape (nv, m).
 
-    Tip forces act through the tip Jacobian's transpose (m/rad), torques and patch moments
-    directly.
+    Tip forces act through the tip Jacobian's transpose (m/rad), the tip moment about world x
+    through the tip's angular Jacobian (its x row), corner forces through the corner points'
+    Jacobians (:meth:`PrbdmModel.point_kinematics`), torques and patch moments directly.
 
     ``q`` has ``pin_model.nq`` entries (the hub angle first on a hub model).
     """
@@ -212,6 +245,12 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
             B[:, c] = J[2]
         elif base == "tip_force_x":
             B[:, c] = J[0]
+        elif base == "tip_force_y":
+            B[:, c] = J[1]
+        elif base == "tip_moment_x":
+            B[:, c] = model.tip_frame_jacobian(q)[3]
+        elif base in CORNER_INPUTS:
+            B[:, c] = model.point_kinematics(CORNER_INPUTS[base], q)[1][2]
         elif base == "hub_torque":
             B[0, c] = 1.0
         elif base == "joint_torque":

@@ -11,7 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain import pin_dynamics as dyn
-from ..chain.points import point_kinematics, point_offset_m
+from ..chain.points import point_kinematics, point_offset_m, twist_angle, twist_jacobian
 from ..chain.spatial_statics import checked_wrench, spatial_static_deflection
 from ..chain.statics import static_deflection_planar
 from ..errors import BeamInputError
@@ -52,6 +52,29 @@ class ChainKinematics:
                      ) -> np.ndarray:
         """World-aligned linear Jacobian of the tip point, m/rad, shape (3, n)."""
         return dyn.tip_jacobian(self.pin_model, self._workspace(data), q, self.tip_frame_id)
+
+    def tip_frame_jacobian(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                           ) -> np.ndarray:
+        """World-aligned Jacobian of the tip frame, shape (6, nv): linear (m/rad), angular (1).
+
+        Rows 3..5 are the tip's angular velocity about the world x, y, z axes per joint rate.
+        """
+        qv = np.zeros(self.pin_model.nq) if q is None else np.asarray(q, dtype=float)
+        J = pin.computeFrameJacobian(self.pin_model, self._workspace(data), qv,
+                                     self.tip_frame_id, pin.LOCAL_WORLD_ALIGNED)
+        return J.reshape(6, -1)  # the binding hands one column back as a vector
+
+    def tip_twist(self, q: np.ndarray | None = None, data: pin.Data | None = None
+                  ) -> tuple[float, np.ndarray]:
+        """Return the tip twist (rad) and its gradient (rad/rad, (nv,)) at pose ``q``.
+
+        The twist is the roll of the tip frame about the tip link's own axis
+        (:func:`prbdm_pin.chain.points.twist_angle`): 0 on a planar chain.
+        """
+        d = self._workspace(data)
+        J = self.tip_frame_jacobian(q, d)  # forward kinematics at q in d
+        R = pin.updateFramePlacement(self.pin_model, d, self.tip_frame_id).rotation
+        return twist_angle(R), twist_jacobian(R, J[3:])
 
     def tip_kinematics(
         self, q: np.ndarray | None = None, data: pin.Data | None = None

@@ -6,7 +6,10 @@ Linearised: the effective stiffness is K + dg/dq - d(J^T F)/dq. The dead-load te
 the closed-form planar chain (:func:`prbdm_pin.chain.planar.load_stiffness`); a hub model is the
 planar
 chain whose first joint is the hub at the origin, reaching the first beam joint over
-radius + L_0, so the same formula covers it.
+radius + L_0, so the same formula covers it. A spatial chain (no hub) takes the exact tangent of
+the general serial chain (:func:`prbdm_pin.chain.spatial_tangent.residual_and_tangent`) and
+starts from its static deflection (:meth:`PrbdmModel.static_deflection`); gravity enters
+through Pinocchio either way.
 
 A hub model has no equilibrium of its own under a load that turns the hub: the hub is held at
 angle 0 by a trim hub torque (returned), and the beam joints are balanced.
@@ -20,6 +23,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.planar import force_and_load_stiffness
+from ..chain.spatial_tangent import residual_and_tangent
 from ..chain.statics import static_deflection_planar
 from ..errors import BeamInputError, SolveError
 
@@ -67,10 +71,16 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
     The residual is K q + g(q) - J^T F (N m, (nv,)); its Jacobian the effective stiffness
     (N m/rad, (nv, nv)).
     """
-    K = model.stiffness_matrix()
-    jtf, T = force_and_load_stiffness(planar_lengths_with_hub(model), q, load_N)
-    r = K @ q - jtf
-    H = K - T
+    if model.axes.spatial:
+        w = np.concatenate([load_N, np.zeros(3)])  # a dead force, no moment: T is symmetric
+        # the chain's data workspace: only the gravity copy's is passed in
+        r, H = residual_and_tangent(model.pin_model, model.default_data,
+                                    model.stiffness_Nm_per_rad, model.tip_frame_id, q, w)
+    else:
+        K = model.stiffness_matrix()
+        jtf, T = force_and_load_stiffness(planar_lengths_with_hub(model), q, load_N)
+        r = K @ q - jtf
+        H = K - T
     if pm_g is not None:
         r = r + pin.computeGeneralizedGravity(pm_g, data_g, q)
         H = H + pin.computeGeneralizedGravityDerivatives(pm_g, data_g, q)
@@ -99,7 +109,10 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
         return model.static_deflection(load_N)[0], 0.0
     off = int(hub)
     q = np.zeros(model.pin_model.nv)
-    q[off:] = static_deflection_planar(model.lengths_m, model.stiffness_Nm_per_rad, load_N)
+    if model.axes.spatial:  # no hub on a spatial chain
+        q = model.static_deflection(load_N)[0] if np.any(load_N) else q
+    else:
+        q[off:] = static_deflection_planar(model.lengths_m, model.stiffness_Nm_per_rad, load_N)
     data_g = None if pm_g is None else pm_g.createData()
     free = slice(off, None)
 

@@ -10,7 +10,13 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..errors import BeamInputError, InputTypeError, SolveError
-from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
+from ..model.inputs import (
+    StrainActuator,
+    check_corner_names,
+    input_map,
+    input_unit,
+    parse_inputs,
+)
 from ..model.outputs import output_maps, output_unit, output_values, parse_outputs
 from ..simulation.hub_damping import plant_damping
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
@@ -56,19 +62,29 @@ def linearize(
     Parameters
     ----------
     model : PrbdmModel
-        The chain, with or without hub.
+        The chain: planar (with or without hub) or spatial (``axes`` ``"xy"``, ``"yz"``,
+        ``"xyz"``: linearised through Pinocchio's general kinematics and the exact tangent
+        stiffness of :mod:`prbdm_pin.chain.spatial_tangent`).
     inputs : sequence of str
-        ``tip_force_z``, ``tip_force_x`` (N, world), ``joint_torque[j]`` (N m, beam joint j from
-        the root, 0-based), ``strain[i]`` (N m, the moment of ``actuators[i]``), ``hub_torque``
-        (N m, hub models).
+        ``tip_force_z``, ``tip_force_x``, ``tip_force_y`` (N, world, at the tip centre),
+        ``tip_moment_x`` (N m, about world x at the tip: a torque on the twist),
+        ``corner_force_z_left``, ``corner_force_z_right`` (N, world z at the tip corners, +/- the
+        tip half-width along the tip link's y axis; a planar chain feels their bending part
+        only), ``joint_torque[j]`` (N m, spring coordinate j from the root, 0-based: beam joint
+        j of a planar chain, the ``spring_axes`` order of a spatial one), ``strain[i]`` (N m,
+        the moment of ``actuators[i]``; planar chains), ``hub_torque`` (N m, hub models).
     outputs : sequence of str
-        ``tip_z``, ``tip_z_rate``, ``tip_x``, ``q[j]``, ``q_rate[j]``, ``spring_torque[j]``,
-        ``hub_angle``, ``hub_rate`` (see :mod:`prbdm_pin.model.outputs`).
+        ``tip_z``, ``tip_z_rate``, ``tip_x``, ``tip_y`` (m, m/s), ``tip_twist`` (rad, the tip
+        section's rotation about the tip link's own axis), ``corner_z_left``,
+        ``corner_z_right`` (m, z of the tip corners), ``q[j]``, ``q_rate[j]``,
+        ``spring_torque[j]`` (every spring coordinate), ``hub_angle``, ``hub_rate`` (see
+        :mod:`prbdm_pin.model.outputs`). Corner signals need the model's beam (its width).
     q_eq : array_like (nv,), optional
         Pose to linearise about, rad, taken as given; default: the equilibrium under
         ``load_N`` and gravity (a hub held at angle 0 by a trim torque).
     load_N : array_like (3,), optional
-        Dead tip force, N, world (default none). Its load stiffness enters K_e.
+        Dead tip force, N, world (default none), at the tip centre. Its load stiffness enters
+        K_e = K - d(J^T F)/dq (+ dg/dq under gravity).
     damping_ratio : float or array (n,)
         Damping ratio of each flexible mode (``"modal"``), of the lowest (``"stiffness"``), or
         per joint (``"eq5c"``, no hub); dimensionless.
@@ -92,15 +108,18 @@ def linearize(
 
     if not isinstance(model, PrbdmModel):
         raise InputTypeError(f"model = {model!r}: must be a PrbdmModel")
-    if model.axes.spatial:
-        # its inputs and outputs (tip twist, corner forces) and its statics are not there yet
-        raise BeamInputError(f"model.axes = {model.axes.value!r}: linearize takes the planar "
-                             "chain (axes 'y'); simulate a spatial chain instead")
     acts = _actuators(actuators)
+    if acts and model.axes.spatial:
+        # a patch's moment pair is defined on the bending joints of the planar chain
+        raise BeamInputError(f"actuators: strain actuators act on the planar chain's bending "
+                             f"joints (axes 'y'); this model has axes {model.axes.value!r}")
     hub = model.hub is not None
-    # names first: refused before any work, and a bare string is not taken letter by letter
-    in_names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_joints, len(acts), hub))
-    out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_joints, hub))
+    # names first: refused before any work, and a bare string is not taken letter by letter;
+    # joint_torque[j] and q[j] index every spring coordinate (n_joints on the planar chain)
+    in_names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_springs, len(acts), hub))
+    out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_springs, hub))
+    check_corner_names(model, in_names, "inputs")
+    check_corner_names(model, out_names, "outputs")
     F = check_vector("load_N", load_N, "N")
     F = np.zeros(3) if F is None else F
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
@@ -130,10 +149,10 @@ def linearize(
     A[nv:, nv:] = -X[:, nv:2 * nv]
     B = np.zeros((2 * nv, m))
     B[nv:] = X[:, 2 * nv:]
-    coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_joints)]
+    coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_springs)]
     states = tuple(coords + [f"{c}_rate" if c == "hub" else c.replace("q[", "q_rate[")
                              for c in coords])
-    nominal = {"tip_force_z": F[2], "tip_force_x": F[0], "hub_torque": trim}
+    nominal = {"tip_force_z": F[2], "tip_force_x": F[0], "tip_force_y": F[1], "hub_torque": trim}
     u_eq = np.array([nominal.get(name, 0.0) for name in in_names])
     for a in (A, B, Cq, Cv, M, K, Cd, Bq, q, u_eq):
         a.setflags(write=False)

@@ -17,7 +17,7 @@ from ..chain.eigen import generalized_eigh
 from ..errors import BeamInputError, InputTypeError
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
-from ..model.inputs import StrainActuator, parse_inputs, strain_map
+from ..model.inputs import LINEAR_ONLY_INPUTS, StrainActuator, parse_inputs, strain_map
 from ..model.outputs import output_samples, output_unit, parse_outputs
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
@@ -71,7 +71,8 @@ def simulate(
         Pose at which the damping matrix is computed and frozen (default: ``q0``).
     inputs : sequence of str
         Plant inputs by name, as :func:`prbdm_pin.linearize` takes them (``hub_torque``,
-        ``joint_torque[j]``, ``strain[i]``, ``tip_force_z``, ``tip_force_x``).
+        ``joint_torque[j]``, ``strain[i]``, ``tip_force_z``, ``tip_force_x``,
+        ``tip_force_y``; not its tip moment and corner forces).
     u : array (m,), callable t -> (m,), Controller or StateFeedback, optional
         What drives the inputs (see :mod:`prbdm_pin.simulation.inputs`); default zero.
     actuators : sequence of StrainActuator
@@ -174,6 +175,10 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
     names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub))
+    for i, name in enumerate(names):
+        if name in LINEAR_ONLY_INPUTS:  # their load stiffness is not the tip force's
+            raise BeamInputError(f"inputs[{i}] = {name!r}: linearize takes it, a time response "
+                                 "does not (tip forces, torques and patch moments only)")
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
                              "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")

@@ -4,9 +4,11 @@ They are driven by a constant, a function of time, a controller of the state or 
 state-feedback gain.
 
 The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
-``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch moments and the hub torque
-act through a constant map B_0 (:func:`prbdm_pin.model.inputs.input_map`); tip forces act through
-the tip Jacobian, J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does.
+``tip_force_y``, ``joint_torque[j]``, ``strain[i]``, ``hub_torque``); the tip moment and the
+corner forces are :func:`~prbdm_pin.linearize`'s only (a time response refuses them). Torques,
+patch moments and the hub torque act through a constant map B_0
+(:func:`prbdm_pin.model.inputs.input_map`); tip forces act through the tip Jacobian,
+J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does.
 
 The signal ``u`` is one of
 
@@ -33,7 +35,7 @@ from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
 
 __all__ = ["Controller", "StateFeedback", "InputForce", "input_force"]
 
-_TIP = {"tip_force_x": 0, "tip_force_z": 2}
+_TIP = {"tip_force_x": 0, "tip_force_y": 1, "tip_force_z": 2}
 
 
 @dataclass(frozen=True)

@@ -112,7 +112,7 @@ def test_empty_or_reversed_patch_is_refused(xa, xb):
     ({"inputs": ("joint_torque[3]",)}, r"inputs\[0\] = 'joint_torque\[3\]': index 3"),
     ({"inputs": ("hub_torque",)}, r"inputs\[0\] = 'hub_torque': unknown"),
     ({"inputs": "tip_force_z"}, r"inputs = 'tip_force_z'"),
-    ({"outputs": ("tip_z", "tip_y")}, r"outputs\[1\] = 'tip_y': unknown"),
+    ({"outputs": ("tip_z", "tip_w")}, r"outputs\[1\] = 'tip_w': unknown"),
     ({"outputs": ("q[-1]",)}, r"outputs\[0\] = 'q\[-1\]'"),
     ({"outputs": ("tip_z", "tip_z")}, r"outputs = .*twice"),
     ({"load_N": [0.0, 1.0]}, r"load_N = \[0.0, 1.0\]"),

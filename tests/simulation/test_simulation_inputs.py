@@ -145,7 +145,7 @@ def test_a_tip_force_input_settles_at_the_large_deflection_statics():
     (dict(inputs=("hub_torque",), u=pp.Controller(lambda t, q, v: [1.0, 2.0])), "controller"),
     (dict(inputs=("hub_torque",), u=pp.StateFeedback(np.ones((1, 3)))), "StateFeedback gain"),
     (dict(inputs=("hub_torque",), method="gauss"), "gauss"),
-    (dict(outputs=("tip_y",)), "outputs[0]"),
+    (dict(outputs=("tip_w",)), "outputs[0]"),
     (dict(actuators=[1.0]), "actuators"),
 ])
 def test_bad_plant_arguments_are_named(kwargs, field):

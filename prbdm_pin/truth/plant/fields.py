@@ -51,6 +51,10 @@ class ModeFields:
         Integral of rho t x phi dA (x from the root).
     mass_kg, first_moment_kg_m, second_moment_kg_m2 : float
         Integrals of rho t, rho t x and rho t x^2 over the planform (the model's own quadrature).
+    corner_per_sqrt_kg : ndarray, shape (2, k), or None
+        phi at the tip corners (L, +w(L)) (left) and (L, -w(L)) (right): the generalised force
+        per newton of a z point force there, and the corner's z per unit modal coordinate. None
+        for a model without width (the 1D beam).
     """
 
     model: str
@@ -64,3 +68,4 @@ class ModeFields:
     mass_kg: float
     first_moment_kg_m: float
     second_moment_kg_m2: float
+    corner_per_sqrt_kg: np.ndarray | None = None

@@ -64,6 +64,13 @@ class ModalGains:
         Integrals of rho t phi_k dA and rho t x phi_k dA.
     mass_kg, first_moment_kg_m, second_moment_kg_m2 : float
         Integrals of rho t, rho t x and rho t x^2 dA (x from the root).
+    corner_per_sqrt_kg : ndarray, shape (2, N), or None
+        phi_k at the tip corners (L, +w(L)) (left, row 0) and (L, -w(L)) (right, row 1): the
+        generalised force per newton of a z force at a corner (``corner_force_z_left``,
+        ``corner_force_z_right``) and the corner's z (m) per unit modal coordinate
+        (``corner_z_left``, ``corner_z_right``). Equal on both sides for a mode symmetric
+        across the width (bending), opposite for an antisymmetric one (torsion). None for the
+        1D beam, which has no width.
     """
 
     model: str
@@ -79,6 +86,7 @@ class ModalGains:
     mass_kg: float
     first_moment_kg_m: float
     second_moment_kg_m2: float
+    corner_per_sqrt_kg: np.ndarray | None = None
 
     def static_tip_z_m(self, tip_force_N: float = 0.0,
                        moments_Nm: Sequence[float] | np.ndarray = ()) -> float:
@@ -157,7 +165,8 @@ def _signs(tip: np.ndarray, node_uz: np.ndarray) -> np.ndarray:
 
 
 def truth_modal_gains(truth: TruthResult, beam: Beam,
-                      actuators: Sequence[tuple[float, float]] = ()) -> ModalGains:
+                      actuators: Sequence[tuple[float, float]] = (),
+                      mode_index: Sequence[int] | None = None) -> ModalGains:
     """Modal input and output gains of a clamped truth's selected modes.
 
     The truth keeps only nodal deflections; its modes are recomputed (same model, mesh and
@@ -170,6 +179,10 @@ def truth_modal_gains(truth: TruthResult, beam: Beam,
     beam : Beam
     actuators : sequence of (x_a, x_b)
         Strain actuators: full-width moment pairs between stations 0 <= x_a < x_b <= L, m.
+    mode_index : sequence of int, optional
+        The computed modes to keep (0-based indices into ``truth.modal``); default the truth's
+        selected (bending) modes, ``truth.mode_index``. The corner gains of a plate need its
+        torsion modes too (``truth.labels``): they are not among the selected ones.
 
     Returns
     -------
@@ -190,7 +203,7 @@ def truth_modal_gains(truth: TruthResult, beam: Beam,
         raise BeamInputError(f"truth: computed for another beam than {beam.name!r}")
     stations = check_actuators(actuators, beam.length_m)
     fields = _mode_fields(truth, beam, stations)
-    idx = np.asarray(truth.mode_index)
+    idx = _indices(truth, mode_index)
     w_truth = np.asarray(truth.modal.omega_rad_s)
     if fields.omega_rad_s.size != w_truth.size or np.any(
             np.abs(fields.omega_rad_s / w_truth - 1.0) > FREQUENCY_MATCH_TOL):
@@ -216,7 +229,25 @@ def truth_modal_gains(truth: TruthResult, beam: Beam,
         mass_kg=fields.mass_kg,
         first_moment_kg_m=fields.first_moment_kg_m,
         second_moment_kg_m2=fields.second_moment_kg_m2,
+        corner_per_sqrt_kg=None if fields.corner_per_sqrt_kg is None else
+        _ro(s * fields.corner_per_sqrt_kg[:, idx]),
     )
+
+
+def _indices(truth: TruthResult, mode_index: Sequence[int] | None) -> np.ndarray:
+    """Return the modes kept: the selected ones, or ``mode_index`` checked (BeamInputError)."""
+    if mode_index is None:
+        return np.asarray(truth.mode_index)
+    n = int(truth.modal.omega_rad_s.size)
+    try:
+        idx = np.array(mode_index, dtype=int).reshape(-1)
+        ok = idx.size > 0 and np.array_equal(idx, np.asarray(mode_index, dtype=float).ravel())
+    except (TypeError, ValueError):
+        ok = False
+    if not ok or np.any(idx < 0) or np.any(idx >= n) or np.unique(idx).size != idx.size:
+        raise BeamInputError(f"mode_index = {mode_index!r:.80}: must be distinct indices of the "
+                             f"truth's {n} computed modes (0..{n - 1})")
+    return np.sort(idx)  # ascending in frequency, as the selected modes
 
 
 def _ro(a: np.ndarray) -> np.ndarray:

@@ -122,13 +122,16 @@ def plate_mode_fields(beam: Beam, level: int, n_modes: int, element: str,
     -------
     ModeFields
         Tip force spread uniformly over the free edge (as ``plate_static``); tip z read at the
-        mid-surface point (L, 0) (as ``plate_static``).
+        mid-surface point (L, 0) (as ``plate_static``); the modes at the tip corners
+        (L, +-w(L)), where a corner force acts and a corner's z is read.
     """
     pm = plate_modes(beam, level, n_modes, element)
     basis, phi = pm.basis, pm.phi  # phi^T M phi = 1
     L = beam.length_m
     tip_in = line_average_matrix(basis, L, _half_width_over(beam, L)) @ phi
     tip_out = probe_matrix(basis, np.array([L]), np.array([0.0])) @ phi
+    w_tip = float(beam.half_width_m[-1])  # the free edge's, as the chain's corner points
+    corners = probe_matrix(basis, np.array([L, L]), np.array([w_tip, -w_tip])) @ phi
     st = np.asarray(stations_m, dtype=float).reshape(-1, 2)
     rows = [line_average_matrix(basis, x, _half_width_over(beam, x), d_dx=True)
             for x in st.ravel()]
@@ -146,4 +149,5 @@ def plate_mode_fields(beam: Beam, level: int, n_modes: int, element: str,
         mass_kg=rho_h * float(asm(_one, basis)),
         first_moment_kg_m=rho_h * float(asm(_x, basis)),
         second_moment_kg_m2=rho_h * float(asm(_x2, basis)),
+        corner_per_sqrt_kg=np.asarray(corners),
     )
