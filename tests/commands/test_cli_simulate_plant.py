@@ -81,7 +81,7 @@ def test_compare_truth_of_the_plant_writes_per_pair_and_per_mode(fit_json, tmp_p
     (["--hub=-1:0.1"], "--hub"),
     (["--actuator", "0.5:0.2"], "--actuator"),
     (["--actuator", "0.5:2"], "--actuator"),
-    (["--outputs", "tip_y"], "tip_y"),
+    (["--outputs", "tip_w"], "tip_w"),
     (["--hub", "1:0.1", "--compare-truth"], "--input"),
     (["--hub", "1:0.1", "--input", "hub_torque=1", "--method", "gauss"], "gauss"),
     (["--input", "joint_torque[0]=1", "--input", "joint_torque[0]=2"], "twice"),
