@@ -15,7 +15,7 @@ The design is [u (n), log s (n len(axes))]: the stick-breaking lengths of
 :func:`~prbdm_pin.fitting.problem.lengths_from_unit` and one factor per spring on its
 finite-segment value (:mod:`prbdm_pin.chain.spatial_stiffness`), within a decade either way.
 The residual is each matched mode's relative error; each start runs ``least_squares`` (trust
-region reflective, forward-difference Jacobian).
+region reflective, the analytic Jacobian of :mod:`.spatial_jacobian`).
 
 Which solution: with 2n + n len(axes) - n unknowns beyond the frequencies, a fit of n modes per
 kind has many exact solutions (the torsion springs of one panel have 2-12). The rule: among the
@@ -38,6 +38,7 @@ from .problem import unit_from_lengths
 from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
 from .results import FitResult
 from .spatial_design import LOG_FACTOR_BOUND, SpatialDesign, spatial_terms
+from .spatial_jacobian import spatial_jacobian
 from .spatial_target import select_spatial, spatial_records
 
 __all__ = ["fit_spatial", "LOG_FACTOR_BOUND"]
@@ -101,9 +102,10 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
         tasks = tqdm(tasks, desc=f"fit {joints}R {options.axes.value}", unit="start",
                      leave=False)
     runs: list[tuple[float, float, int, np.ndarray, bool, str]] = []
+    jac = spatial_jacobian(d)
     for i, x0 in enumerate(tasks):
         try:
-            sol = least_squares(d.residual, x0, bounds=(lo, hi), method="trf",
+            sol = least_squares(d.residual, x0, jac=jac, bounds=(lo, hi), method="trf",
                                 max_nfev=options.max_nfev * n_x, x_scale=1.0)
         except SolveError:
             continue  # a start whose design left the chain's valid range
