@@ -21,11 +21,11 @@ from functools import lru_cache
 import numpy as np
 
 from ..member.geometry import Beam
-from .sections import planar_sections
+from .sections import link_sections_unchecked, planar_sections
 from .stiffness import finite_segment_stiffness_unchecked
 
 __all__ = ["SectionGradient", "stations_from_lengths", "planar_sections_gradient",
-           "finite_segment_stiffness_gradient"]
+           "finite_segment_stiffness_gradient", "roll_yaw_inertia_gradient"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -131,6 +131,53 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     out = np.zeros((4, nl, n))
     out[:, links, cols] = v
     return SectionGradient(mass, offset, Iyy, area_moment, *out)
+
+
+def roll_yaw_inertia_gradient(beam: Beam, lengths_m: np.ndarray,
+                              sections: SectionGradient | None = None
+                              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Return the links' inertias about x and z and their derivatives in the joint stations.
+
+    The inertias are about each link's centre of mass, as :func:`sections.link_sections`
+    computes them: I_xx = rho t S_yy + m t^2 / 12 and I_zz = rho t (S_xx + S_yy), with
+    S_yy = ∫ 2 w^3 / 3 dx and S_xx the second moment of the area in x about the centre of mass
+    (rho t S_xx = I_yy - m t^2 / 12). S_yy's derivative at a moving span end is its integrand
+    there (at a width step the mean of the one-sided values, as the module docstring says).
+
+    Parameters
+    ----------
+    beam : Beam
+    lengths_m : ndarray, shape (n+1,)
+        Valid link lengths, m.
+    sections : SectionGradient, optional
+        ``planar_sections_gradient(beam, lengths_m)`` when already computed (its mass and I_yy
+        derivatives give those of S_xx).
+
+    Returns
+    -------
+    inertia_xx, inertia_zz : ndarray, shape (n+1,)
+        kg m^2.
+    d_inertia_xx, d_inertia_zz : ndarray, shape (n+1, n)
+        Entry [i, j]: derivative of link i's inertia in the station of joint j + 1, kg m.
+    """
+    lengths = np.asarray(lengths_m, dtype=float)
+    if sections is None:
+        sections = planar_sections_gradient(beam, lengths)
+    sec = link_sections_unchecked(beam, lengths)
+    Ixx, Izz = sec.inertia_com_kg_m2[:, 0, 0], sec.inertia_com_kg_m2[:, 2, 2]
+    n = lengths.size - 1
+    t = beam.thickness_m
+    rho_t = beam.material.rho_kg_m3 * t
+    x = stations_from_lengths(lengths)
+    left, right = beam.half_width_at(x, "left"), beam.half_width_at(x, "right")
+    g = (left**3 + right**3) / 3.0  # the mean one-sided 2 w^3 / 3 at each station
+    links, cols, sign = _bands(n)
+    dSyy = np.zeros((n + 1, n))
+    dSyy[links, cols] = sign * np.r_[g, g]  # a station ends link j (+), starts link j + 1 (-)
+    thick = sections.d_mass_kg_per_m * (t * t / 12.0)
+    d_xx = rho_t * dSyy + thick
+    d_zz = (sections.d_inertia_yy_kg_m - thick) + rho_t * dSyy
+    return Ixx, Izz, d_xx, d_zz
 
 
 def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,

@@ -14,7 +14,8 @@ is named in the result (``FitResult.modes``) with no model frequency.
 The design is [u (n), log s]: the stick-breaking lengths and the spring factors, one per spring
 (``joint``) or one per axis on the paper's Eq. 14 (``paper``), within a factor 1e3 either way
 (``fitting/spatial_design.py``). The residual is each matched mode's relative error; each start
-runs ``least_squares`` (dogbox, as the planar joint fit).
+runs ``least_squares`` (dogbox, as the planar joint fit; the analytic Jacobian of
+:mod:`.spatial_jacobian` for ``joint``, forward differences for ``paper``).
 
 Which solution: with 2n + n len(axes) - n unknowns beyond the frequencies, a fit of n modes per
 kind has many exact solutions (the torsion springs of one panel have 2-12). The rule: among the
@@ -38,6 +39,7 @@ from .problem import unit_from_lengths
 from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
 from .results import FitResult
 from .spatial_design import LOG_FACTOR_BOUND, SpatialDesign, spatial_terms
+from .spatial_jacobian import spatial_jacobian
 from .spatial_target import select_spatial, spatial_records
 
 __all__ = ["fit_spatial", "LOG_FACTOR_BOUND"]
@@ -108,10 +110,11 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
         tasks = tqdm(tasks, desc=f"fit {joints}R {options.axes.value}", unit="start",
                      leave=False)
     runs: list[tuple[float, float, int, np.ndarray, bool, str]] = []
+    jac = spatial_jacobian(d)
     for i, x0 in enumerate(tasks):
         try:
             # dogbox, as the planar joint fit at one pose: the box bounds bind on jagged panels
-            sol = least_squares(d.residual, x0, bounds=(lo, hi), method="dogbox",
+            sol = least_squares(d.residual, x0, jac=jac, bounds=(lo, hi), method="dogbox",
                                 max_nfev=options.max_nfev * n_x, x_scale=1.0)
         except SolveError:
             continue  # a start whose design left the chain's valid range
