@@ -84,7 +84,8 @@ def spatial_jacobian(design: SpatialDesign) -> Callable[[np.ndarray], np.ndarray
     residual: the ``paper`` springs move with the lengths through the links' sections).
     """
     terms = design.terms
-    if getattr(design, "paper", False) or not all(isinstance(t, EigenTerm) or hasattr(t, "jacobian") for t in terms):
+    if getattr(design, "paper", False) or not all(
+            isinstance(t, EigenTerm) or hasattr(t, "jacobian") for t in terms):
         return "2-point"
 
     def jac(x: np.ndarray) -> np.ndarray:
