@@ -146,7 +146,7 @@ def test_a_truth_without_torsion_modes_is_refused(narrow):
 
 
 @pytest.mark.parametrize("change, field", [
-    ({"stiffness": "paper"}, "stiffness"), ({"objective": "combined"}, "objective"),
+    ({"stiffness": "paper"}, "stiffness"), ({"squared": True}, "squared"),
     ({"joint_sweep": True}, "joint_sweep"), ({"axes": "xz"}, "axes"),
 ])
 def test_options_a_spatial_fit_does_not_have_are_refused(change, field):
