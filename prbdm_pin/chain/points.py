@@ -20,7 +20,8 @@ import pinocchio as pin
 
 from ..errors import BeamInputError
 
-__all__ = ["POINTS", "point_offset_m", "point_kinematics", "twist_angle", "twist_jacobian"]
+__all__ = ["POINTS", "point_offset_m", "point_kinematics", "point_frame", "twist_angle",
+           "twist_jacobian"]
 
 # the named points and their side across the width (+1 left, -1 right, 0 centre)
 POINTS = {"tip": 0.0, "tip_corner_left": 1.0, "tip_corner_right": -1.0}
@@ -76,3 +77,20 @@ def twist_jacobian(rotation: np.ndarray, angular_jacobian: np.ndarray) -> np.nda
     da = R[1, 1] * Jw[0] - R[0, 1] * Jw[1]
     db = R[1, 2] * Jw[0] - R[0, 2] * Jw[1]
     return (b * da - a * db) / (a * a + b * b)
+
+
+def point_frame(pin_model: pin.Model, tip_frame_id: int, offset_m: np.ndarray
+                ) -> tuple[pin.Model, int]:
+    """Return a copy of the model with a frame at a point of the tip link, and the frame's id.
+
+    The frame sits on the tip frame's joint at ``offset_m`` (m, tip frame axes) from the tip
+    frame, its axes the tip frame's: a load on it is a load at the point (the statics take a
+    frame, :func:`~prbdm_pin.chain.spatial_statics.spatial_static_deflection`). The model given
+    is left as it is (a Pinocchio ``Data`` is sized to its frames).
+    """
+    m = pin.Model(pin_model)
+    tip = m.frames[tip_frame_id]
+    placement = tip.placement * pin.SE3(np.eye(3), np.asarray(offset_m, dtype=float))
+    fid = m.addFrame(pin.Frame("load_point", tip.parentJoint, tip_frame_id, placement,
+                               pin.FrameType.OP_FRAME))
+    return m, int(fid)

@@ -77,6 +77,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_truth_options(p)
     add_fit_options(p)
     p.add_argument("--workers", type=int, default=1, help="processes for the starts")
+    p.add_argument("--load-point", default="tip",
+                   choices=["tip", "tip_corner_left", "tip_corner_right"],
+                   help="spatial deflection and combined fits (--axes): where the beam's tip "
+                        "force acts, the tip centre or a tip corner (bending plus twist); the "
+                        "plate (linear) or the solid (large deflection) gives its truth")
     add_common(p)
     p.set_defaults(func=run)
     return p
@@ -130,6 +135,8 @@ def load_target(args, beam):
     import dataclasses
 
     target = _base_target(args, beam)
+    if getattr(args, "axes", "y") != "y" and args.objective != "eigen":
+        return _spatial_load(args, beam, target)
     factors = load_factors(getattr(args, "extra_loads", None))
     if not factors:
         return target
@@ -143,6 +150,27 @@ def load_target(args, beam):
     return dataclasses.replace(target, extra_loads=cases,
                                source=f"{target.source}; extra loads x{args.extra_loads} "
                                       f"({args.large_deflection})")
+
+
+def _spatial_load(args, beam, target):
+    """Return ``target`` with the 3D tip truth of a spatial deflection or combined fit.
+
+    The beam's tip force at ``--load-point``, solved by the plate (linear) or the solid
+    (geometrically nonlinear) at the truth's mesh level.
+    """
+    from ..errors import BeamInputError
+    from ..fitting.spatial_deflection import spatial_load_target
+    from ..truth.corner_static import corner_static
+
+    if args.truth or args.truth_model not in ("plate", "solid"):
+        raise BeamInputError(f"--objective {args.objective} with --axes {args.axes}: the 3D tip "
+                             "truth comes from the plate or the solid (--truth-model plate or "
+                             "solid, no --truth file)")
+    if load_factors(getattr(args, "extra_loads", None)):
+        raise BeamInputError("--extra-loads: a spatial fit takes the one load case")
+    sol = corner_static(beam, args.truth_model, beam.tip_force_N, args.load_point,
+                        level=args.mesh_level, nonlinear=args.truth_model == "solid")
+    return spatial_load_target(target, sol)
 
 
 def _base_target(args, beam):
@@ -176,7 +204,7 @@ def _base_target(args, beam):
     coarse = {"error_tol_pct": None} if getattr(args, "accept_coarse", False) else {}
     # a spatial chain is fitted to its frequencies alone, over the truth's modes of every kind
     spatial = getattr(args, "axes", "y") != "y"
-    if spatial:
+    if spatial:  # a spatial load case is solved apart (_spatial_load)
         coarse.update(spatial=True, static=False)
     request = TruthRequest(model=args.truth_model, modes=max(args.joints, args.frequencies or 0),
                            mesh_level=args.mesh_level, selection=args.mode_selection,
@@ -276,9 +304,12 @@ def run(args) -> int:
     if not args.quiet:
         print_warnings(result)
         if result.axes != "y":
+            tip = "" if result.objective == "eigen" else (
+                f", tip and twist {result.deflection_loss_pct:.4g} %, combined "
+                f"{result.combined_loss_pct:.4g} %")
             print(f"{result.joints}R {result.axes} {result.stiffness} {result.objective}: eigen "
                   f"({result.eigen_norm} norm) {result.eigen_loss_pct:.4g} %, "
-                  f"{worst_mode_text(result)} ({result.wall_time_s:.1f} s)")
+                  f"{worst_mode_text(result)}{tip} ({result.wall_time_s:.1f} s)")
         else:
             print(f"{result.joints}R {result.stiffness} {result.objective}: "
                   f"eigen ({result.eigen_norm} norm) {result.eigen_loss_pct:.4g} %, "

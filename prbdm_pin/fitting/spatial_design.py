@@ -47,7 +47,10 @@ class EigenTerm:
 
 def spatial_terms(sel: SpatialSelection, target, options: FitOptions) -> tuple:
     """Return the residual terms the options ask for: the frequencies, then the others."""
-    return (EigenTerm(sel),)
+    from .spatial_deflection import deflection_terms  # it builds on this module's terms
+
+    eigen = (EigenTerm(sel),) if options.objective.has_eigen_term else ()
+    return eigen + deflection_terms(sel, target, options)
 
 
 class SpatialDesign:

@@ -38,6 +38,7 @@ from ..options.objects import FitOptions
 from .problem import unit_from_lengths
 from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
 from .results import FitResult
+from .spatial_deflection import spatial_losses
 from .spatial_design import LOG_FACTOR_BOUND, SpatialDesign, spatial_terms
 from .spatial_jacobian import spatial_jacobian
 from .spatial_target import select_spatial, spatial_records
@@ -79,10 +80,11 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     joints : int
         n, the number of joint nodes (each with ``len(options.axes)`` springs).
     options : FitOptions
-        With ``axes`` spatial and ``objective="eigen"`` (checked there); ``stiffness``
-        ``"joint"`` (a factor per spring) or ``"paper"`` (a factor per axis on Eq. 14);
+        With ``axes`` spatial; ``stiffness`` ``"joint"`` (a factor per spring) or ``"paper"``
+        (a factor per axis on Eq. 14); ``objective`` ``eigen``, ``deflection`` or ``combined``
+        (the tip in 3D and its twist: :mod:`.spatial_deflection`);
         ``frequencies`` is the number of modes of each kind (default n), ``starts``, ``seed``,
-        ``max_nfev`` (per start, times the number of unknowns) and ``loss_tol_pct`` apply.
+        ``max_nfev`` (residual evaluations per start) and ``loss_tol_pct`` apply.
     progress : bool
         Show a tqdm bar over the starts.
 
@@ -100,7 +102,6 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     t0 = time.perf_counter()
     sel = select_spatial(target, options.axes, joints, options.frequencies)
     d = SpatialDesign(beam, sel, joints, options, spatial_terms(sel, target, options))
-    n_x = joints + d.n_factors
     lo = np.r_[np.zeros(joints), np.full(d.n_factors, -LOG_FACTOR_BOUND)]
     hi = np.r_[np.ones(joints), np.full(d.n_factors, LOG_FACTOR_BOUND)]
     tasks = _starts(d, options.starts, options.seed)
@@ -115,7 +116,7 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
         try:
             # dogbox, as the planar joint fit at one pose: the box bounds bind on jagged panels
             sol = least_squares(d.residual, x0, jac=jac, bounds=(lo, hi), method="dogbox",
-                                max_nfev=options.max_nfev * n_x, x_scale=1.0)
+                                max_nfev=options.max_nfev, x_scale=1.0)
         except SolveError:
             continue  # a start whose design left the chain's valid range
         loss = _loss_pct(sol.fun)
@@ -151,20 +152,19 @@ def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitRes
                      f"{', '.join(sorted({r['kind'] for r in unrepresented}))}): the chain has "
                      f"{n} modes about each of its axes and none of a kind without an axis; "
                      "they are named in modes")
+    losses = spatial_losses(d, model)  # the eigen, deflection and combined losses (Eq. 27)
     factors = np.exp(x[n:])
     chosen = "nearest the finite-segment springs among the exact starts" if loss <= \
         EXACT_MATCH_PCT else "the lowest loss (no start matched every mode)"
     return FitResult(
         beam_name=beam.name, beam_fingerprint=beam.fingerprint(), joints=n,
-        frequencies=int(sel.omega_truth_rad_s.size), objective="eigen",
-        stiffness=o.stiffness.value,
+        frequencies=int(sel.omega_truth_rad_s.size), stiffness=o.stiffness.value,
         lengths_m=model.lengths_m, stiffness_Nm_per_rad=model.stiffness_Nm_per_rad,
         stiffness_per_pose_Nm_per_rad=model.stiffness_Nm_per_rad[None, :], factors=factors,
         scf_mean=float(np.mean(factors)), scf_deviation_pct=np.zeros(1),
         poses_rad=np.zeros((1, nk)), omega_truth_rad_s=sel.omega_truth_rad_s,
-        omega_model_rad_s=w[None, :], eigen_errors_pct=np.array([loss]), eigen_loss_pct=loss,
-        deflection_loss_pct=math.nan, displacement_loss_pct=math.nan,
-        combined_loss_pct=math.nan, tip_position_model_m=None,
+        omega_model_rad_s=w[None, :], eigen_errors_pct=np.array([losses["eigen_loss_pct"]]),
+        **losses, displacement_loss_pct=math.nan,
         tip_position_truth_m=target.tip_position_m,
         tip_displacement_truth_m=target.tip_displacement_m, tip_force_N=target.tip_force_N,
         mac=None, truth_source=target.source, truth_request=target.truth_request,

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import BeamInputError, InputTypeError
-from ..options.checks import shown
+from ..options.checks import check_float, shown
 from ..options.validate import check_type, real_vector
 
 if TYPE_CHECKING:
@@ -90,6 +90,15 @@ class FitTarget:
         selects its modes of each kind from.
     all_labels : tuple of str, or None
         The label of each of them (``bending``, ``torsion``, ``in-plane``, ``chordwise``, ...).
+    tip_moment_Nm : ndarray, shape (3,), or None
+        A tip moment besides the force, N m, world axes (the spatial deflection objective).
+    load_point : str
+        Where ``tip_force_N`` acts: ``tip`` (the centre of the free end), ``tip_corner_left``
+        or ``tip_corner_right`` (:mod:`prbdm_pin.truth.corner_static`).
+    tip_twist_rad : float or None
+        The truth's tip twist under the load, rad (the angle of the tip's corner-to-corner
+        line to the world y axis in the y-z plane): with the tip, what a spatial deflection
+        fit matches (:mod:`prbdm_pin.fitting.spatial_deflection`).
     """
 
     omega_truth_rad_s: np.ndarray
@@ -104,6 +113,9 @@ class FitTarget:
     static_theory_gap_pct: float | None = None
     all_omega_rad_s: np.ndarray | None = None
     all_labels: tuple[str, ...] | None = None
+    tip_moment_Nm: np.ndarray | None = None
+    load_point: str = "tip"
+    tip_twist_rad: float | None = None
 
     def __post_init__(self) -> None:
         """Check the frequencies, load cases and labels; freeze the arrays.
@@ -154,6 +166,21 @@ class FitTarget:
                                      f"all_omega_rad_s ({wa.size}) needed")
             object.__setattr__(self, "all_omega_rad_s", wa)
             object.__setattr__(self, "all_labels", la)
+        self._check_load()
+
+    def _check_load(self) -> None:
+        """Check the spatial load case's moment, point and twist (each names its field)."""
+        from ..truth.corner_static import POINT_SIDES
+
+        if self.tip_moment_Nm is not None:
+            object.__setattr__(self, "tip_moment_Nm",
+                               real_vector("tip_moment_Nm", self.tip_moment_Nm, "N m", 3))
+        if not isinstance(self.load_point, str) or self.load_point not in POINT_SIDES:
+            raise BeamInputError(f"load_point = {shown(self.load_point)}: must be one of "
+                                 f"{', '.join(POINT_SIDES)}")
+        if self.tip_twist_rad is not None:
+            object.__setattr__(self, "tip_twist_rad",
+                               check_float("tip_twist_rad", self.tip_twist_rad, unit="rad"))
 
     @property
     def has_static(self) -> bool:

@@ -11,7 +11,13 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain import pin_dynamics as dyn
-from ..chain.points import point_kinematics, point_offset_m, twist_angle, twist_jacobian
+from ..chain.points import (
+    point_frame,
+    point_kinematics,
+    point_offset_m,
+    twist_angle,
+    twist_jacobian,
+)
 from ..chain.spatial_statics import checked_wrench, spatial_static_deflection
 from ..chain.statics import static_deflection_planar
 from ..errors import BeamInputError
@@ -84,20 +90,28 @@ class ChainKinematics:
 
     def static_deflection(
         self, tip_force_N: np.ndarray, q0: np.ndarray | None = None, data: pin.Data | None = None,
-        tip_moment_Nm: np.ndarray | None = None,
+        tip_moment_Nm: np.ndarray | None = None, point: str = "tip",
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Equilibrium under a dead tip force (N) and moment (N m), world axes.
+        """Equilibrium under a dead force (N) at a tip point and a dead tip moment (N m).
 
         Returns the joint angles (rad) and the tip position (m); :meth:`tip_pose` of the angles
-        gives the tip's rotation too. The planar chain under a force alone is solved in its
-        plane (:func:`~prbdm_pin.chain.statics.static_deflection_planar`), a spatial chain or a
-        moment by :func:`~prbdm_pin.chain.spatial_statics.spatial_static_deflection`. Raises
-        SolveError when no equilibrium is found, BeamInputError for a bad load or a hub model
-        (the hub would turn; :func:`prbdm_pin.linearize` holds it with a trim torque).
+        gives the tip's rotation too. The force acts at ``point`` (``tip``, the centre of the
+        free end, or a tip corner, :meth:`point_kinematics`), both in world axes. The planar
+        chain under a force alone at the tip is solved in its plane
+        (:func:`~prbdm_pin.chain.statics.static_deflection_planar`), a spatial chain, a moment
+        or a corner by :func:`~prbdm_pin.chain.spatial_statics.spatial_static_deflection`.
+        Raises SolveError when no equilibrium is found, BeamInputError for a bad load or point
+        or a hub model (the hub would turn; :func:`prbdm_pin.linearize` holds it with a trim
+        torque).
         """
         self._no_hub("a static equilibrium under a tip force alone")
         if tip_moment_Nm is not None:
             checked_wrench(tip_force_N, tip_moment_Nm)  # names tip_force or tip_moment
+        if point != "tip":
+            pm, pd, fid = self._point_model(point)
+            q = spatial_static_deflection(pm, pd, self.stiffness_Nm_per_rad, fid, tip_force_N,
+                                          tip_moment_Nm, q0)
+            return q, self.tip_position(q, data)
         if self.axes.spatial or (tip_moment_Nm is not None and np.any(tip_moment_Nm)):
             d = self._workspace(data)
             q = spatial_static_deflection(self.pin_model, d, self.stiffness_Nm_per_rad,
@@ -107,3 +121,15 @@ class ChainKinematics:
             self.lengths_m, self.stiffness_Nm_per_rad, tip_force_N, q0=q0
         )
         return q, self.tip_position(q, data)
+
+    def _point_model(self, point: str) -> tuple[pin.Model, pin.Data, int]:
+        """Return the model with a frame at ``point`` (built once), its workspace, the frame id."""
+        key = ("point", point)
+        if key not in self._cache:
+            if self.beam is None:
+                raise BeamInputError(f"point = {point!r}: this model carries no beam, so no "
+                                     "width")
+            off = point_offset_m(point, float(self.beam.half_width_m[-1]))
+            pm, fid = point_frame(self.pin_model, self.tip_frame_id, off)
+            self._cache[key] = (pm, pm.createData(), fid)
+        return self._cache[key]

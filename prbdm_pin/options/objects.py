@@ -179,8 +179,9 @@ class FitOptions(_ProblemOptions):
     axes : Axes or str
         The joint axes at each node (``--axes``): ``"y"`` the planar chain; ``"xy"``,
         ``"yz"``, ``"xyz"`` a spatial chain (``fitting/spatial_fit.py``), fitted with the
-        ``joint`` springs to the ``eigen`` objective over the truth's modes of each kind
-        (``frequencies`` of each kind, default n).
+        ``joint`` springs to the truth's modes of each kind (``frequencies`` of each kind,
+        default n) with the ``eigen`` objective, to the tip in 3D and its twist under a tip
+        load with ``deflection``, to both with ``combined`` (``fitting/spatial_deflection.py``).
     """
 
     kind: ClassVar[str] = "fit"
@@ -289,10 +290,6 @@ class ParetoOptions(_ProblemOptions):
 
 def _check_spatial(o: FitOptions) -> None:
     """Refuse the options a spatial fit does not have; each error names the field."""
-    if o.objective is not Objective.EIGEN:
-        raise BeamInputError(f"objective = {o.objective.value!r}: a spatial chain (axes = "
-                             f"{o.axes.value!r}) is fitted to its frequencies by kind: "
-                             "objective = 'eigen'")
     for name, bad in (("joint_sweep", o.joint_sweep), ("unique", o.unique is not UniqueRule.NONE),
                       ("start_lengths_m", o.start_lengths_m is not None),
                       ("squared", o.squared)):

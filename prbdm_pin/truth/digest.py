@@ -51,6 +51,7 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/cache_clean.py",
     "prbdm_pin/truth/compute.py",
     "prbdm_pin/truth/compute_derivatives.py",
+    "prbdm_pin/truth/corner_static.py",
     "prbdm_pin/truth/derivative_rules.py",
     "prbdm_pin/truth/digest.py",
     "prbdm_pin/truth/elastica.py",

@@ -146,7 +146,7 @@ def test_a_truth_without_torsion_modes_is_refused(narrow):
 
 
 @pytest.mark.parametrize("change, field", [
-    ({"objective": "combined"}, "objective"),
+    ({"squared": True}, "squared"),
     ({"joint_sweep": True}, "joint_sweep"), ({"axes": "xz"}, "axes"),
 ])
 def test_options_a_spatial_fit_does_not_have_are_refused(change, field):
@@ -162,7 +162,7 @@ def test_a_spatial_pareto_front_is_refused():
 
 @pytest.mark.parametrize("args, text", [
     (["--axes", "xz"], "--axes: invalid choice"),
-    (["--axes", "xy", "--objective", "combined"], "objective = 'combined'"),
+    (["--axes", "xy", "--objective", "combined"], "--truth-model plate or solid"),
 ])
 def test_the_command_line_refuses_bad_axes_in_one_line(narrow, tmp_path, args, text):
     from paths import BEAMS
