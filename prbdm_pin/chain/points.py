@@ -19,12 +19,13 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import BeamInputError
+from ..options.choices import POINT_NAMES
 
 __all__ = ["POINTS", "point_offset_m", "point_kinematics", "point_frame", "twist_angle",
            "twist_jacobian"]
 
 # the named points and their side across the width (+1 left, -1 right, 0 centre)
-POINTS = {"tip": 0.0, "tip_corner_left": 1.0, "tip_corner_right": -1.0}
+POINTS = dict(zip(POINT_NAMES, (0.0, 1.0, -1.0), strict=True))
 _LWA = pin.LOCAL_WORLD_ALIGNED
 
 

@@ -13,12 +13,11 @@ from ..options.validate import MAX_NFEV  # shared with the API's FitOptions
 from . import add_common
 from .fit_checks import (
     MAX_STARTS,
-    cache_dir,
     check_inputs,
     check_sweep,
     check_truth_options,
-    load_factors,
 )
+from .fit_target import load_target
 from .options import add_fit_options, add_problem_options, fit_options
 
 EXAMPLE = """examples:
@@ -82,6 +81,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="spatial deflection and combined fits (--axes): where the beam's tip "
                         "force acts, the tip centre or a tip corner (bending plus twist); the "
                         "plate (linear) or the solid (large deflection) gives its truth")
+    p.add_argument("--gain-points", default=None, metavar="P1,P2",
+                   help="spatial fits: also match the modal amplitudes of the plate truth at "
+                        "these tip points (tip, tip_corner_left, tip_corner_right), so the "
+                        "model moves them as the truth does (the FRFs a controller sees)")
+    p.add_argument("--gain-modes", type=int, default=1, metavar="K",
+                   help="with --gain-points: the lowest K matched modes of each kind (default 1)")
+    p.add_argument("--gain-weight", type=float, default=1.0,
+                   help="with --gain-points: weight of the amplitude errors (default 1)")
     add_common(p)
     p.set_defaults(func=run)
     return p
@@ -125,99 +132,6 @@ def print_warnings(result) -> None:
     """Every note of a FitResult as one 'fit warning:' line on stderr."""
     for note in result.warnings:
         print(f"fit warning: {note}", file=sys.stderr)
-
-
-def load_target(args, beam):
-    """Return the FitTarget of the command, with the ``--extra-loads`` cases.
-
-    The truth comes from ``--truth`` or from ``compute_truth`` (cached).
-    """
-    import dataclasses
-
-    target = _base_target(args, beam)
-    if getattr(args, "axes", "y") != "y" and args.objective != "eigen":
-        return _spatial_load(args, beam, target)
-    factors = load_factors(getattr(args, "extra_loads", None))
-    if not factors:
-        return target
-    from ..errors import BeamInputError
-    from ..fitting.load_cases import extra_load_cases  # shared with fit(..., extra_loads=)
-
-    if args.truth:
-        raise BeamInputError("extra-loads: needs a computed truth, not --truth TRUTH.json")
-    cases = extra_load_cases(beam, factors, args.large_deflection,
-                             target.static_theory_gap_pct)
-    return dataclasses.replace(target, extra_loads=cases,
-                               source=f"{target.source}; extra loads x{args.extra_loads} "
-                                      f"({args.large_deflection})")
-
-
-def _spatial_load(args, beam, target):
-    """Return ``target`` with the 3D tip truth of a spatial deflection or combined fit.
-
-    The beam's tip force at ``--load-point``, solved by the plate (linear) or the solid
-    (geometrically nonlinear) at the truth's mesh level.
-    """
-    from ..errors import BeamInputError
-    from ..fitting.spatial_deflection import spatial_load_target
-    from ..truth.corner_static import corner_static
-
-    if args.truth or args.truth_model not in ("plate", "solid"):
-        raise BeamInputError(f"--objective {args.objective} with --axes {args.axes}: the 3D tip "
-                             "truth comes from the plate or the solid (--truth-model plate or "
-                             "solid, no --truth file)")
-    if load_factors(getattr(args, "extra_loads", None)):
-        raise BeamInputError("--extra-loads: a spatial fit takes the one load case")
-    sol = corner_static(beam, args.truth_model, beam.tip_force_N, args.load_point,
-                        level=args.mesh_level, nonlinear=args.truth_model == "solid")
-    return spatial_load_target(target, sol)
-
-
-def _base_target(args, beam):
-    from ..errors import BeamInputError
-    from ..fitting.target import FitTarget, target_from_truth
-
-    if args.truth:
-        from ..files.truth_file import read_truth_file
-
-        t = read_truth_file(args.truth)
-        fingerprint = t.beam_fingerprint
-        # a truth of another beam would be fitted without a word: refuse it; a hand-made file
-        # without a fingerprint cannot be checked and is taken on trust
-        if fingerprint is not None and fingerprint != beam.fingerprint():
-            raise BeamInputError(
-                f"truth = {args.truth!r}: computed for beam fingerprint {fingerprint}, but "
-                f"{args.beam!r} has fingerprint {beam.fingerprint()}: compute its own truth")
-        if fingerprint is None and not getattr(args, "quiet", False):
-            print(f"truth warning: {args.truth} carries no beam_fingerprint: cannot check "
-                  "that it belongs to this beam", file=sys.stderr)
-        try:
-            return FitTarget(t.omega_rad_s, beam.tip_force_N, t.tip_position_m,
-                             t.tip_displacement_m, t.mac,
-                             source=f"truth file {Path(args.truth).name}",
-                             static_theory_gap_pct=t.static_theory_gap_pct)
-        except (ValueError, KeyError, TypeError) as exc:
-            raise BeamInputError(f"truth = {args.truth!r}: cannot be used ({exc})") from None
-    from ..truth import CoarseTruthError, TruthRequest
-
-    # --accept-coarse drops the tolerance; without it the request's default holds
-    coarse = {"error_tol_pct": None} if getattr(args, "accept_coarse", False) else {}
-    # a spatial chain is fitted to its frequencies alone, over the truth's modes of every kind
-    spatial = getattr(args, "axes", "y") != "y"
-    if spatial:  # a spatial load case is solved apart (_spatial_load)
-        coarse.update(spatial=True, static=False)
-    request = TruthRequest(model=args.truth_model, modes=max(args.joints, args.frequencies or 0),
-                           mesh_level=args.mesh_level, selection=args.mode_selection,
-                           large_deflection=args.large_deflection, **coarse)
-    try:
-        truth = request.compute(beam, cache_dir=cache_dir(args))
-    except CoarseTruthError as exc:
-        raise BeamInputError(f"{exc}") from None
-    if not getattr(args, "quiet", False):
-        for note in truth.warnings:
-            print(f"truth warning: {note}", file=sys.stderr)
-    return target_from_truth(truth, beam.tip_force_N, request)
-
 
 
 # the files a fit writes into its folder (the knee of a Pareto fit too)

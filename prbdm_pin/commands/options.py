@@ -113,7 +113,17 @@ def fit_options(args: argparse.Namespace, min_fraction: float) -> FitOptions:
         squared=args.squared, loss_tol_pct=args.loss_tol, joint_sweep=args.joint_sweep,
         deflection_norm=args.deflection_norm, polish=args.polish, max_nfev=args.max_nfev,
         explore_nfev=args.explore_nfev, refine_starts=args.refine_starts,
-        eigen_norm=args.eigen_norm, min_fraction=min_fraction, axes=args.axes)
+        eigen_norm=args.eigen_norm, min_fraction=min_fraction, axes=args.axes,
+        **_gain_options(args))
+
+
+def _gain_options(args: argparse.Namespace) -> dict:
+    """Return the gain options of ``prbdm fit`` (``--gain-points`` and its companions)."""
+    text = getattr(args, "gain_points", None)
+    if not text:
+        return {}
+    return {"gain_points": tuple(v.strip() for v in text.split(",")),
+            "gain_modes": args.gain_modes, "gain_weight": args.gain_weight}
 
 
 def pareto_options(args: argparse.Namespace, min_fraction: float) -> ParetoOptions:

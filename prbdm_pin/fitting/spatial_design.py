@@ -47,10 +47,11 @@ class EigenTerm:
 
 def spatial_terms(sel: SpatialSelection, target, options: FitOptions) -> tuple:
     """Return the residual terms the options ask for: the frequencies, then the others."""
-    from .spatial_deflection import deflection_terms  # it builds on this module's terms
+    from .spatial_deflection import deflection_terms  # they build on this module's terms
+    from .spatial_gains import gain_terms
 
     eigen = (EigenTerm(sel),) if options.objective.has_eigen_term else ()
-    return eigen + deflection_terms(sel, target, options)
+    return eigen + deflection_terms(sel, target, options) + gain_terms(sel, target, options)
 
 
 class SpatialDesign:

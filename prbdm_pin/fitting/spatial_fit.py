@@ -40,6 +40,7 @@ from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
 from .results import FitResult
 from .spatial_deflection import spatial_losses
 from .spatial_design import LOG_FACTOR_BOUND, SpatialDesign, spatial_terms
+from .spatial_gains import GainsTerm, gain_records
 from .spatial_jacobian import spatial_jacobian
 from .spatial_target import select_spatial, spatial_records
 
@@ -153,6 +154,11 @@ def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitRes
                      f"{n} modes about each of its axes and none of a kind without an axis; "
                      "they are named in modes")
     losses = spatial_losses(d, model)  # the eigen, deflection and combined losses (Eq. 27)
+    gains = next((gain_records(t, d, model) for t in d.terms if isinstance(t, GainsTerm)), ())
+    worst = max(gains, key=lambda g: abs(g["error_pct"]), default=None)
+    if worst is not None and abs(worst["error_pct"]) > EXPORT_WARN_PCT:
+        notes.append(f"modal gains: worst {worst['error_pct']:+.3g} % ({worst['kind']} mode at "
+                     f"{worst['omega_truth_rad_s']:.6g} rad/s, {worst['point']})")
     factors = np.exp(x[n:])
     chosen = "nearest the finite-segment springs among the exact starts" if loss <= \
         EXACT_MATCH_PCT else "the lowest loss (no start matched every mode)"
@@ -181,6 +187,6 @@ def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitRes
         "fitted at the straight pose",
         omega_export_rad_s=w, omega_export_errors_pct=errors,
         worst_export_error_pct=float(np.max(np.abs(errors))), options=o,
-        axes=o.axes.value, modes=records,
+        axes=o.axes.value, modes=records, gains=gains,
     )
 

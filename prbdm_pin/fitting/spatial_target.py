@@ -20,6 +20,9 @@ __all__ = ["AXIS_KINDS", "SpatialSelection", "select_spatial", "spatial_records"
 # the truth labels each joint axis represents
 AXIS_KINDS = {"y": ("bending", "mixed"), "x": ("torsion",), "z": ("in-plane",)}
 _AXIS_NAME = {"y": "bending", "x": "torsion", "z": "in-plane"}
+_HINT = {"y": "a wide panel's band holds torsion and chordwise modes between its bending ones",
+         "x": "the plate and the solid have torsion modes, the 1D beam with spatial=True too",
+         "z": "the solid has in-plane modes, the 1D beam with spatial=True too (not the plate)"}
 
 
 @dataclass(frozen=True)
@@ -79,9 +82,8 @@ def select_spatial(target, axes: Axes, joints: int, per_kind: int | None) -> Spa
             raise BeamInputError(
                 f"axes = {axes.value!r}: the truth ({target.source or 'target'}) has "
                 f"{len(found)} {_AXIS_NAME[a]} mode(s) among its {len(labels)} computed, "
-                f"{n_kind} asked (frequencies, default n = {joints}); use a truth model with "
-                f"{_AXIS_NAME[a]} modes (plate or solid for torsion, solid or beam for in-plane)"
-                ", compute more modes, or fewer frequencies")
+                f"{n_kind} asked (frequencies, default n = {joints}): {_HINT[a]}, compute "
+                "more modes (n_computed), or ask for fewer frequencies")
         idx += found[:n_kind]
         axis += [a] * n_kind
     order = np.argsort(w_all[idx], kind="stable")

@@ -90,6 +90,10 @@ class FitTarget:
         selects its modes of each kind from.
     all_labels : tuple of str, or None
         The label of each of them (``bending``, ``torsion``, ``in-plane``, ``chordwise``, ...).
+    point_gains : tuple of (str, ndarray (K,)), or None
+        The z amplitude of each of those modes, mass-normalised (1/sqrt(kg)), at named points of
+        the tip (``tip``, ``tip_corner_left``, ``tip_corner_right``): what a spatial fit's
+        ``gain_points`` term matches (:func:`prbdm_pin.fitting.spatial_gains.with_point_gains`).
     tip_moment_Nm : ndarray, shape (3,), or None
         A tip moment besides the force, N m, world axes (the spatial deflection objective).
     load_point : str
@@ -113,6 +117,7 @@ class FitTarget:
     static_theory_gap_pct: float | None = None
     all_omega_rad_s: np.ndarray | None = None
     all_labels: tuple[str, ...] | None = None
+    point_gains: tuple[tuple[str, np.ndarray], ...] | None = None
     tip_moment_Nm: np.ndarray | None = None
     load_point: str = "tip"
     tip_twist_rad: float | None = None
@@ -158,6 +163,13 @@ class FitTarget:
         if (self.all_omega_rad_s is None) != (self.all_labels is None):
             raise BeamInputError("all_omega_rad_s, all_labels: give both (every truth mode and "
                                  "its label) or neither")
+        if self.point_gains is not None:
+            if self.all_omega_rad_s is None:
+                raise BeamInputError("point_gains: need all_omega_rad_s (the modes they are of)")
+            gains = tuple((str(name), real_vector(f"point_gains[{name!r}]", g, "1/sqrt(kg)",
+                                                  len(self.all_omega_rad_s)))
+                          for name, g in self.point_gains)
+            object.__setattr__(self, "point_gains", gains)
         if self.all_omega_rad_s is not None:
             wa = real_vector("all_omega_rad_s", self.all_omega_rad_s, "rad/s")
             la = tuple(str(v) for v in self.all_labels)

@@ -30,6 +30,7 @@ __all__ = [
     "IVP_METHODS",
     "AXES",
     "Axes",
+    "POINT_NAMES",
     "XI_RAD",
     "EPS_RAD",
     "PARETO_EPS_RAD",
@@ -119,6 +120,10 @@ class Axes(Choice):
     def spatial(self) -> bool:
         """Whether the chain has any axis beside y."""
         return self is not Axes.Y
+
+
+# the named points on the tip link (chain/points.py): the tip centre and its two corners
+POINT_NAMES = ("tip", "tip_corner_left", "tip_corner_right")
 
 
 class UniqueRule(Choice):

@@ -23,6 +23,7 @@ from .choices import (
     EPS_RAD,
     MIN_FRACTION,
     PARETO_EPS_RAD,
+    POINT_NAMES,
     XI_RAD,
     Axes,
     Choice,
@@ -176,6 +177,17 @@ class FitOptions(_ProblemOptions):
     start_lengths_m, start_factors : tuple of float or None
         A warm start (``fit(..., start=previous)``): the local solver runs from these link
         lengths (m) and stiffness factors only, instead of random starts.
+    gain_points : tuple of str
+        Spatial fits: points of the tip link (``tip``, ``tip_corner_left``,
+        ``tip_corner_right``; ``--gain-points``) whose modal amplitudes the fit matches beside
+        the frequencies (``fitting/spatial_gains.py``): how much each mode moves the points a
+        controller sees. Default none.
+    gain_weight : float
+        The weight of those amplitude errors against the frequency errors (> 0, default 1).
+    gain_modes : int
+        How many of the lowest matched modes of each kind have their amplitudes matched
+        (default 1: the first bending and the first torsion mode, which carry most of a
+        corner's response).
     axes : Axes or str
         The joint axes at each node (``--axes``): ``"y"`` the planar chain; ``"xy"``,
         ``"yz"``, ``"xyz"`` a spatial chain (``fitting/spatial_fit.py``), fitted with the
@@ -197,6 +209,9 @@ class FitOptions(_ProblemOptions):
     unique: UniqueRule = UniqueRule.NONE
     start_lengths_m: tuple[float, ...] | None = None
     start_factors: tuple[float, ...] | None = None
+    gain_points: tuple[str, ...] = ()
+    gain_weight: float = 1.0
+    gain_modes: int = 1
 
     def __post_init__(self) -> None:
         """Validate every field; an error names the field and the value."""
@@ -225,8 +240,15 @@ class FitOptions(_ProblemOptions):
         if self.start_lengths_m is not None and self.unique is not UniqueRule.NONE:
             raise BeamInputError(f"unique = {self.unique.value!r}: the rule chooses the model "
                                  "itself; a warm start (start_lengths_m) needs unique = 'none'")
+        s(self, "gain_points", _gain_points(self.gain_points))
+        s(self, "gain_weight", _float("gain_weight", self.gain_weight, low=0.0, low_open=True))
+        s(self, "gain_modes", _int("gain_modes", self.gain_modes, 1, high=MAX_STARTS))
         if self.axes.spatial:
             _check_spatial(self)
+        elif self.gain_points:
+            raise BeamInputError(f"gain_points = {list(self.gain_points)}: the modal gains at "
+                                 "the tip corners are a spatial fit's term; give axes 'xy', "
+                                 "'yz' or 'xyz'")
 
 
 @dataclass(frozen=True)
@@ -286,6 +308,20 @@ class ParetoOptions(_ProblemOptions):
             raise BeamInputError(f"axes = {self.axes.value!r}: a Pareto front of a spatial "
                                  "chain (frequencies against a 3D tip) is not available; "
                                  "fit it with prbdm fit --axes (eigen objective)")
+
+
+def _gain_points(value: Any) -> tuple[str, ...]:
+    """Check ``gain_points``: distinct names of :data:`~.choices.POINT_NAMES`, as a tuple."""
+    if isinstance(value, str) or not isinstance(value, (tuple, list)):
+        raise BeamInputError(f"gain_points = {value!r:.60}: must be a list of point names "
+                             f"({', '.join(POINT_NAMES)})")
+    for i, v in enumerate(value):
+        if v not in POINT_NAMES:
+            raise BeamInputError(f"gain_points[{i}] = {v!r:.60}: must be one of "
+                                 f"{', '.join(POINT_NAMES)}")
+    if len(set(value)) != len(value):
+        raise BeamInputError(f"gain_points = {list(value)}: a point appears twice")
+    return tuple(value)
 
 
 def _check_spatial(o: FitOptions) -> None:

@@ -1,0 +1,137 @@
+"""The spatial fit's modal-gain term: how much each mode moves the points a controller sees.
+
+A frequency-only fit can match every frequency and still move a tip corner more or less than
+the truth in a mode, so its corner-force to corner-displacement FRF is off by its residues.
+This term adds, for the lowest ``gain_modes`` matched modes k of each kind (default the first
+bending and the first torsion mode, which carry most of a corner's response) and every point p
+of ``gain_points`` (``tip``, ``tip_corner_left``, ``tip_corner_right``), the error of the
+mass-normalised z amplitude:
+
+    r_kp = w (s_k a_model,kp - a_truth,kp) / max_p |a_truth,kp|
+
+with a_model the chain's mode of the same kind and rank (its own axis block at the straight
+pose, mass-normalised: phi^T M phi = 1 in kg m^2, so J_p phi is in 1/sqrt(kg), as the truth's
+phi^T M phi = 1 in kg), s_k = +-1 the sign that aligns the two shapes over the points (a mode's
+sign is arbitrary), and w the ``gain_weight`` option. A corner's residue a^2 is the mode's
+share of the corner's FRF, so matching a matches the FRF's residues mode by mode.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..options.objects import FitOptions
+from .spatial_target import SpatialSelection
+from .target import FitTarget
+
+__all__ = ["GainsTerm", "with_point_gains", "gain_terms", "gain_records"]
+
+
+def with_point_gains(target: FitTarget, truth, beam, points=None) -> FitTarget:
+    """Return ``target`` with the truth's modal amplitudes at the tip points, every mode.
+
+    Parameters
+    ----------
+    target : FitTarget
+        From :func:`~prbdm_pin.fitting.target.target_from_truth` of ``truth``.
+    truth : TruthResult
+        A plate truth (``"plate"`` or ``"plate-morley"``): its modes are recomputed once and
+        read at (L, 0) and (L, +-w(L)) (:func:`prbdm_pin.truth.plant.truth_modal_gains`).
+    beam : Beam
+    points : sequence of str, optional
+        Default all three.
+
+    Raises
+    ------
+    BeamInputError
+        A truth without a width (the 1D beam) or of another beam.
+    """
+    from ..truth.plant.gains import truth_modal_gains
+
+    if target.all_omega_rad_s is None:
+        raise BeamInputError("target: needs every truth mode (target_from_truth) for its gains")
+    k = int(np.asarray(target.all_omega_rad_s).size)
+    g = truth_modal_gains(truth, beam, mode_index=np.arange(k))
+    if g.corner_per_sqrt_kg is None:
+        raise BeamInputError(f"truth model = {truth.model!r}: has no tip corners; the modal "
+                             "gains at the tip points need the plate truth")
+    values = {"tip": g.tip_z_per_sqrt_kg, "tip_corner_left": g.corner_per_sqrt_kg[0],
+              "tip_corner_right": g.corner_per_sqrt_kg[1]}
+    names = tuple(values) if points is None else tuple(points)
+    return replace(target, point_gains=tuple((p, values[p]) for p in names))
+
+
+def _truth_gains(target: FitTarget, sel: SpatialSelection, points: tuple[str, ...]):
+    have = dict(target.point_gains or ())
+    missing = [p for p in points if p not in have]
+    if missing:
+        raise BeamInputError(f"gain_points = {list(points)}: the target has no truth amplitude "
+                             f"at {', '.join(missing)} (with_point_gains, a plate truth)")
+    return np.stack([np.asarray(have[p])[sel.index] for p in points], axis=1)  # (N, P)
+
+
+class GainsTerm:
+    """Each selected mode's amplitude error at each gain point (module notes)."""
+
+    label = "gains"
+
+    def __init__(self, target: FitTarget, sel: SpatialSelection, options: FitOptions):
+        self.points = options.gain_points
+        self.sel, self.weight = sel, float(options.gain_weight)
+        # the lowest gain_modes of each axis's matched modes (the selection is ascending)
+        rank = np.array([np.sum(sel.axis[:k] == a) for k, a in enumerate(sel.axis)])
+        self.rows = np.flatnonzero(rank < options.gain_modes)
+        self.truth = _truth_gains(target, sel, self.points)[self.rows]
+        self.scale = np.max(np.abs(self.truth), axis=1)
+        if np.any(self.scale <= 0.0):
+            k = int(np.argmin(self.scale))
+            raise BeamInputError(f"gain_points = {list(self.points)}: truth mode "
+                                 f"{sel.index[k] + 1} does not move any of them")
+        self.size = int(self.truth.size)
+
+    def model_gains(self, design, model) -> np.ndarray:
+        """Return the chain's amplitudes (1/sqrt(kg)) of the matched modes, (N, P)."""
+        J = np.stack([model.point_kinematics(p)[1][2] for p in self.points])  # (P, nv)
+        out = np.empty((self.sel.axis.size, len(self.points)))
+        for a in design.order:
+            rows = np.flatnonzero(self.sel.axis == a)
+            _, shapes = design.axis_modes(model, a)
+            out[rows] = (J @ shapes[:, : rows.size]).T
+        return out[self.rows]
+
+    def aligned(self, design, model) -> np.ndarray:
+        """Return the model's amplitudes with each mode's sign aligned to the truth's."""
+        g = self.model_gains(design, model)
+        s = np.where(np.sum(g * self.truth, axis=1) < 0.0, -1.0, 1.0)
+        return g * s[:, None]
+
+    def residual(self, design, model) -> np.ndarray:
+        """Return the weighted relative amplitude errors (dimensionless), (N P,)."""
+        err = (self.aligned(design, model) - self.truth) / self.scale[:, None]
+        return self.weight * err.ravel()
+
+
+def gain_terms(sel: SpatialSelection, target: FitTarget, options: FitOptions) -> tuple:
+    """Return the gains term the options ask for (none without ``gain_points``)."""
+    return (GainsTerm(target, sel, options),) if options.gain_points else ()
+
+
+def gain_records(term: GainsTerm, design, model) -> tuple[dict, ...]:
+    """Return one record per (matched mode, point): amplitudes (1/sqrt(kg)) and error (%).
+
+    The error is relative to the mode's largest truth amplitude over the points.
+    """
+    g = term.aligned(design, model)
+    out = []
+    for i, k in enumerate(term.rows):
+        for j, p in enumerate(term.points):
+            out.append({"point": p, "kind": term.sel.kind[k],
+                        "omega_truth_rad_s": float(term.sel.omega_truth_rad_s[k]),
+                        "truth_per_sqrt_kg": float(term.truth[i, j]),
+                        "model_per_sqrt_kg": float(g[i, j]),
+                        "error_pct": float(100.0 * (g[i, j] - term.truth[i, j])
+                                           / term.scale[i])})
+    return tuple(out)
