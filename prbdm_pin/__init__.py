@@ -33,6 +33,7 @@ _EXPORTS = {
     "pose_sweep": "chain.stiffness",
     "paper_stiffness": "chain.stiffness",
     "finite_segment_stiffness": "chain.stiffness",
+    "spatial_stiffness": "chain.spatial_stiffness",
     # model sensitivities
     "model_gradient": "chain.chain_derivatives",
     "ModelGradient": "chain.chain_derivatives",
@@ -75,6 +76,7 @@ _EXPORTS = {
     "StiffnessKind": "options.choices",
     "EigenNorm": "options.choices",
     "DeflectionNorm": "options.choices",
+    "Axes": "options.choices",
     "fit": "fitting",
     "fit_pareto": "fitting",
     "fit_sweep": "fitting",
@@ -88,6 +90,9 @@ _EXPORTS = {
     "CodesignPoint": "fitting.codesign",
     "FitResult": "fitting.results",
     "ParetoResult": "fitting.pareto_result",
+    "with_point_gains": "fitting.spatial_gains",
+    "spatial_load_target": "fitting.spatial_deflection",
+    "corner_static": "truth.corner_static",
     "load_fit": "files.fit_file",
     "save_fit": "files.fit_file",
     # simulation and exports

@@ -22,6 +22,7 @@ import numpy as np
 from ..member.geometry import Beam
 from ..member.section import torsion_constant_m4
 from ..options.choices import MIN_FRACTION, Axes
+from ..options.validate import check_axes, check_type
 from .layout import validate_lengths
 from .stiffness import finite_segment_stiffness_unchecked
 
@@ -105,8 +106,9 @@ def spatial_stiffness(beam: Beam, lengths_m: np.ndarray, axes: Axes | str = Axes
     ndarray, shape (n * len(axes),)
         Springs, N m/rad: for ``"y"`` the planar chain's finite-segment springs.
     """
+    check_type("beam", beam, Beam)
+    order = check_axes(axes).joint_order
     lengths = validate_lengths(beam, lengths_m, min_fraction)
-    order = Axes(axes).joint_order
     per_axis = np.stack([axis_stiffness(beam, lengths, a) for a in order], axis=1)
     return per_axis.reshape(-1)
 

@@ -98,6 +98,12 @@ def worst_mode_text(result) -> str:
     """'worst mode -15.6 % (mode 1, pose 0)': the largest per-mode error over the fitted poses."""
     import numpy as np
 
+    if result.axes != "y":  # name the mode by its kind: the table numbers every truth mode
+        from ..fitting.mode_records import worst_record
+
+        r = worst_record(result.modes)
+        return (f"worst mode {r['error_pct']:+.3g} % ({r['kind']}, "
+                f"{r['omega_truth_rad_s']:.6g} rad/s)")
     e = np.asarray(result.omega_errors_pct)
     i, k = np.unravel_index(int(np.argmax(np.abs(e))), e.shape)
     where = f"mode {k + 1}" + (f", pose {i}" if e.shape[0] > 1 else "")

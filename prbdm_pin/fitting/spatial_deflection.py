@@ -151,6 +151,11 @@ def spatial_load_target(target: FitTarget, solution) -> FitTarget:
         :func:`prbdm_pin.truth.corner_static.corner_static`'s: its force (N), point, moment
         (N m), tip position and displacement (m) and twist (rad) replace the target's load case.
     """
+    from ..options.validate import check_type
+    from ..truth.corner_static import CornerSolution
+
+    check_type("target", target, FitTarget)
+    check_type("solution", solution, CornerSolution, "a CornerSolution (corner_static)")
     return replace(target, tip_force_N=solution.tip_force_N,
                    tip_position_m=solution.tip_position_m,
                    tip_displacement_m=solution.tip_displacement_m,

@@ -49,8 +49,14 @@ def with_point_gains(target: FitTarget, truth, beam, points=None) -> FitTarget:
     BeamInputError
         A truth without a width (the 1D beam) or of another beam.
     """
+    from ..member.geometry import Beam
+    from ..options.validate import check_type
     from ..truth.plant.gains import truth_modal_gains
+    from ..truth.result import TruthResult
 
+    check_type("target", target, FitTarget)
+    check_type("truth", truth, TruthResult)
+    check_type("beam", beam, Beam)
     if target.all_omega_rad_s is None:
         raise BeamInputError("target: needs every truth mode (target_from_truth) for its gains")
     k = int(np.asarray(target.all_omega_rad_s).size)

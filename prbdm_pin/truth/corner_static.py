@@ -30,6 +30,7 @@ import numpy as np
 
 from ..errors import BeamInputError, SolveError, TruthError
 from ..member.geometry import Beam
+from ..options.validate import check_type
 from .result import Timings
 
 # scikit-fem loads inside the solves: the fit checks a load point against POINT_SIDES without it
@@ -234,6 +235,7 @@ def corner_static(beam: Beam, model: str = "plate", tip_force_N=None,
         An unknown model or point, a load that is not 3 finite numbers, a nonlinear plate or a
         moment about y on the plate, each naming the field.
     """
+    check_type("beam", beam, Beam)
     F = _vector("tip_force_N", beam.tip_force_N if tip_force_N is None else tip_force_N, "N")
     M = _vector("tip_moment_Nm", tip_moment_Nm, "N m")
     Mc = centre_moment(beam, point, F, M)

@@ -20,7 +20,7 @@ SCRIPTS = sorted(p.stem for p in (ROOT / "examples").glob("*.py"))
 
 
 def test_every_example_is_covered():
-    assert len(SCRIPTS) == 6 and "first_fit" in SCRIPTS
+    assert len(SCRIPTS) == 7 and "first_fit" in SCRIPTS and "spatial_panel" in SCRIPTS
 
 
 def _bad_outs(tmp: Path) -> dict[str, tuple[str, str]]:
