@@ -103,8 +103,9 @@ def spatial_stiffness(beam: Beam, lengths_m: np.ndarray, axes: Axes | str = Axes
 
     Returns
     -------
-    ndarray, shape (n * len(axes),)
-        Springs, N m/rad: for ``"y"`` the planar chain's finite-segment springs.
+    ndarray
+        Springs, N m/rad, n times the number of axes: for ``"y"`` the planar chain's
+        finite-segment springs.
     """
     check_type("beam", beam, Beam)
     order = check_axes(axes).joint_order

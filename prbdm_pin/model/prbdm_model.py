@@ -225,8 +225,9 @@ def build_model(
     lengths_m : array_like, shape (n+1,)
         Link lengths in m, n >= 1: summing to the beam length (relative 1e-9), each in
         [0.02 L, 0.98 L].
-    stiffness_Nm_per_rad : array_like, shape (n * len(axes),)
-        Joint spring stiffness, N m/rad (finite, > 0), node-major: node 1's springs in the
+    stiffness_Nm_per_rad : array_like
+        Joint spring stiffness, N m/rad (finite, > 0), one per joint and axis (n of them for
+        the planar chain, n times the number of axes for a spatial one), node-major: node 1's springs in the
         order y, z, x (those in ``axes``), then node 2's, ... (``PrbdmModel.spring_axes``).
     min_fraction : float
         Lower bound on each link as a fraction of L (Eq. 15's 0.02). Fine reference chains
