@@ -227,8 +227,9 @@ def build_model(
         [0.02 L, 0.98 L].
     stiffness_Nm_per_rad : array_like
         Joint spring stiffness, N m/rad (finite, > 0), one per joint and axis (n of them for
-        the planar chain, n times the number of axes for a spatial one), node-major: node 1's springs in the
-        order y, z, x (those in ``axes``), then node 2's, ... (``PrbdmModel.spring_axes``).
+        the planar chain, n times the number of axes for a spatial one), node-major: node 1's
+        springs in the order y, z, x (those in ``axes``), then node 2's, ...
+        (``PrbdmModel.spring_axes``).
     min_fraction : float
         Lower bound on each link as a fraction of L (Eq. 15's 0.02). Fine reference chains
         (e.g. 32 equal segments with half segments at the ends) need a smaller value.
