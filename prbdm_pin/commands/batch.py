@@ -88,6 +88,10 @@ def check_options(args: argparse.Namespace) -> None:
 
     in_range("--joints", args.joints, 1, integer=True)
     check_cap("--joints", args.joints, "max_joints")
+    if args.axes != "y" and args.objective != "eigen":
+        raise BeamInputError(f"--objective {args.objective} with --axes {args.axes}: a batch fits "
+                             "spatial chains to the truth's frequencies by kind (--objective "
+                             "eigen); the 3D tip of a corner load is a prbdm fit option")
     in_range("--frequencies", args.frequencies, 1, args.joints, integer=True,
              why=f"a {args.joints}R model has {args.joints} frequencies")
     in_range("--starts", args.starts, 1, MAX_STARTS, integer=True)

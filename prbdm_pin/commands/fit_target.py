@@ -22,7 +22,7 @@ def load_target(args, beam):
     import dataclasses
 
     target = _base_target(args, beam)
-    if getattr(args, "axes", "y") != "y" and args.objective != "eigen":
+    if getattr(args, "axes", "y") != "y" and getattr(args, "objective", "eigen") != "eigen":
         return _spatial_load(args, beam, target)
     factors = load_factors(getattr(args, "extra_loads", None))
     if not factors:

@@ -88,9 +88,10 @@ def run(args) -> int:
     check_options(args)
     beam = load_beam(args.beam)
     min_fraction = check_inputs(args, beam, "Pareto")
+    options = pareto_options(args, min_fraction)  # refused before the truth is computed
     target = load_target(args, beam)
-    res = fit_pareto(beam, target, args.joints, pareto_options(args, min_fraction),
-                     workers=args.workers, progress=not args.quiet)
+    res = fit_pareto(beam, target, args.joints, options, workers=args.workers,
+                     progress=not args.quiet)
     out = Path(args.out)
     write_pareto_outputs(res, beam, out)
     if not args.quiet:

@@ -200,3 +200,19 @@ def test_a_paper_style_spatial_fit_has_one_factor_per_axis(tapered, tmp_path):
     assert np.allclose(np.sort(r.factors), [0.6, 1.7], rtol=1e-5)
     back = load_fit(save_fit(r, tmp_path / "fit.json", tapered))
     assert np.array_equal(back.factors, r.factors)
+
+
+@pytest.mark.parametrize("command", [
+    ["pareto", "--axes", "xy"],
+    ["batch", "--beams", "2", "--axes", "xy", "--objective", "combined"],
+])
+def test_what_a_spatial_command_does_not_do_is_refused_before_any_work(tmp_path, command):
+    from paths import BEAMS
+
+    beam = [] if command[0] == "batch" else [str(BEAMS / "uniform-narrow.json")]
+    p = subprocess.run([sys.executable, "-m", "prbdm_pin", command[0], *beam, "--joints", "2",
+                        "--truth-model", "beam", *command[1:], "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert "axes" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()
