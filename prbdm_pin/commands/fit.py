@@ -63,6 +63,12 @@ def add_truth_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--extra-loads", default=None, metavar="F1,F2,...",
                    help="further load cases, as multiples of the beam's tip force, whose "
                         "large-deflection truth tips the deflection objective also matches")
+    p.add_argument("--load-point", default="tip",
+                   choices=["tip", "tip_corner_left", "tip_corner_right"],
+                   help="spatial deflection, combined and Pareto fits (--axes): where the "
+                        "beam's tip force acts, the tip centre or a tip corner (bending plus "
+                        "twist); the plate (linear) or the solid (large deflection) gives its "
+                        "truth")
     p.add_argument("--out", required=True, help="output directory")
 
 
@@ -76,11 +82,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_truth_options(p)
     add_fit_options(p)
     p.add_argument("--workers", type=int, default=1, help="processes for the starts")
-    p.add_argument("--load-point", default="tip",
-                   choices=["tip", "tip_corner_left", "tip_corner_right"],
-                   help="spatial deflection and combined fits (--axes): where the beam's tip "
-                        "force acts, the tip centre or a tip corner (bending plus twist); the "
-                        "plate (linear) or the solid (large deflection) gives its truth")
     p.add_argument("--gain-points", default=None, metavar="P1,P2",
                    help="spatial fits: also match the modal amplitudes of the plate truth at "
                         "these tip points (tip, tip_corner_left, tip_corner_right), so the "

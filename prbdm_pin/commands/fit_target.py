@@ -22,7 +22,8 @@ def load_target(args, beam):
     import dataclasses
 
     target = _base_target(args, beam)
-    if getattr(args, "axes", "y") != "y" and getattr(args, "objective", "eigen") != "eigen":
+    # a Pareto front (no --objective) has the deflection objective too
+    if getattr(args, "axes", "y") != "y" and getattr(args, "objective", "combined") != "eigen":
         return _spatial_load(args, beam, target)
     factors = load_factors(getattr(args, "extra_loads", None))
     if not factors:
@@ -50,7 +51,8 @@ def _spatial_load(args, beam, target):
     from ..truth.corner_static import corner_static
 
     if args.truth or args.truth_model not in ("plate", "solid"):
-        raise BeamInputError(f"--objective {args.objective} with --axes {args.axes}: the 3D tip "
+        what = f"--objective {args.objective}" if hasattr(args, "objective") else "a front"
+        raise BeamInputError(f"{what} with --axes {args.axes}: the 3D tip "
                              "truth comes from the plate or the solid (--truth-model plate or "
                              "solid, no --truth file)")
     if load_factors(getattr(args, "extra_loads", None)):

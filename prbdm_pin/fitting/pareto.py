@@ -112,6 +112,13 @@ def fit_pareto(
     t0 = time.perf_counter()
     check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, ParetoOptions, changes)
+    if o.axes.spatial:
+        from .spatial_pareto import fit_spatial_pareto
+
+        if workers != 1 or extra_loads:
+            raise BeamInputError("workers, extra_loads: a spatial front (axes = "
+                                 f"{o.axes.value!r}) runs in one process on its one load case")
+        return fit_spatial_pareto(beam, target, joints, o, progress=progress)
     target = with_extra_loads(target, beam, extra_loads)
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise BeamInputError(f"workers = {workers!r}: must be an integer >= 1")

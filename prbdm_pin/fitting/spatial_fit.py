@@ -44,7 +44,7 @@ from .spatial_gains import GainsTerm, gain_records
 from .spatial_jacobian import spatial_jacobian
 from .spatial_target import select_spatial, spatial_records
 
-__all__ = ["fit_spatial", "LOG_FACTOR_BOUND"]
+__all__ = ["fit_spatial", "spatial_result", "LOG_FACTOR_BOUND"]
 
 def _loss_pct(r: np.ndarray) -> float:
     return 100.0 * float(np.sqrt(np.mean(r * r)))
@@ -130,11 +130,17 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
                          "gave a valid chain")
     exact = [r for r in runs if r[0] <= EXACT_MATCH_PCT]
     best = min(exact, key=lambda r: (r[1], r[2])) if exact else min(runs, key=lambda r: r[:1])
-    return _result(beam, target, d, best, runs, time.perf_counter() - t0)
+    return spatial_result(beam, target, d, best, runs, time.perf_counter() - t0)
 
 
-def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitResult:
-    loss, _, index, x, success, message = best
+def spatial_result(beam, target, d: SpatialDesign, best, runs, wall_s: float,
+                   message: str | None = None) -> FitResult:
+    """Evaluate the chosen design in full and package it as a FitResult.
+
+    ``best`` and ``runs`` are (loss %, rms log factor, index, x, success, message) tuples;
+    ``message`` replaces the result's message (default: how the start was chosen).
+    """
+    loss, _, index, x, success, solver_message = best
     model = d.model(x)
     w = d.frequencies(model)
     sel, o, n = d.sel, d.o, d.n
@@ -178,7 +184,7 @@ def _result(beam, target, d: SpatialDesign, best, runs, wall_s: float) -> FitRes
         seed=o.seed, starts=o.starts, starts_run=len(runs), nfev=d.nfev,
         start_losses_pct=np.array([r[0] for r in sorted(runs, key=lambda r: r[2])]),
         wall_time_s=wall_s, success=success,
-        message=f"{chosen}: start {index} of {len(runs)}: {message}",
+        message=message or f"{chosen}: start {index} of {len(runs)}: {solver_message}",
         warnings=tuple(notes), eigen_norm="relative", min_fraction=o.min_fraction,
         omega_errors_pct=errors[None, :], worst_mode_error_pct=float(np.max(np.abs(errors))),
         export_pose_rad=np.zeros(nk),

@@ -304,10 +304,9 @@ class ParetoOptions(_ProblemOptions):
         s(self, "seed_with_fits", _bool("seed_with_fits", self.seed_with_fits))
         s(self, "seed_starts", _int("seed_starts", self.seed_starts, 1, high=MAX_STARTS))
         s(self, "polish_knee", _bool("polish_knee", self.polish_knee))
-        if self.axes.spatial:
-            raise BeamInputError(f"axes = {self.axes.value!r}: a Pareto front of a spatial "
-                                 "chain (frequencies against a 3D tip) is not available; "
-                                 "fit it with prbdm fit --axes (eigen objective)")
+        if self.axes.spatial and self.squared:
+            raise BeamInputError(f"squared = True: not an option of a spatial fit (axes = "
+                                 f"{self.axes.value!r}); leave it at its default")
 
 
 def _gain_points(value: Any) -> tuple[str, ...]:
