@@ -23,7 +23,6 @@ from .choices import (
     EPS_RAD,
     MIN_FRACTION,
     PARETO_EPS_RAD,
-    POINT_NAMES,
     XI_RAD,
     Axes,
     Choice,
@@ -34,6 +33,7 @@ from .choices import (
     UniqueRule,
 )
 from .simulation import SimulationOptions
+from .spatial import check_spatial_fit, gain_points
 from .validate import (
     MAX_GENERATIONS,
     MAX_NFEV,
@@ -240,11 +240,11 @@ class FitOptions(_ProblemOptions):
         if self.start_lengths_m is not None and self.unique is not UniqueRule.NONE:
             raise BeamInputError(f"unique = {self.unique.value!r}: the rule chooses the model "
                                  "itself; a warm start (start_lengths_m) needs unique = 'none'")
-        s(self, "gain_points", _gain_points(self.gain_points))
+        s(self, "gain_points", gain_points(self.gain_points))
         s(self, "gain_weight", _float("gain_weight", self.gain_weight, low=0.0, low_open=True))
         s(self, "gain_modes", _int("gain_modes", self.gain_modes, 1, high=MAX_STARTS))
         if self.axes.spatial:
-            _check_spatial(self)
+            check_spatial_fit(self)
         elif self.gain_points:
             raise BeamInputError(f"gain_points = {list(self.gain_points)}: the modal gains at "
                                  "the tip corners are a spatial fit's term; give axes 'xy', "
@@ -307,30 +307,6 @@ class ParetoOptions(_ProblemOptions):
         if self.axes.spatial and self.squared:
             raise BeamInputError(f"squared = True: not an option of a spatial fit (axes = "
                                  f"{self.axes.value!r}); leave it at its default")
-
-
-def _gain_points(value: Any) -> tuple[str, ...]:
-    """Check ``gain_points``: distinct names of :data:`~.choices.POINT_NAMES`, as a tuple."""
-    if isinstance(value, str) or not isinstance(value, (tuple, list)):
-        raise BeamInputError(f"gain_points = {value!r:.60}: must be a list of point names "
-                             f"({', '.join(POINT_NAMES)})")
-    for i, v in enumerate(value):
-        if v not in POINT_NAMES:
-            raise BeamInputError(f"gain_points[{i}] = {v!r:.60}: must be one of "
-                                 f"{', '.join(POINT_NAMES)}")
-    if len(set(value)) != len(value):
-        raise BeamInputError(f"gain_points = {list(value)}: a point appears twice")
-    return tuple(value)
-
-
-def _check_spatial(o: FitOptions) -> None:
-    """Refuse the options a spatial fit does not have; each error names the field."""
-    for name, bad in (("joint_sweep", o.joint_sweep), ("unique", o.unique is not UniqueRule.NONE),
-                      ("start_lengths_m", o.start_lengths_m is not None),
-                      ("squared", o.squared)):
-        if bad:
-            raise BeamInputError(f"{name} = {getattr(o, name)!r}: not an option of a spatial "
-                                 f"fit (axes = {o.axes.value!r}); leave it at its default")
 
 
 def options_from_dict(d: Any, what: str = "options") -> FitOptions | ParetoOptions:
