@@ -85,6 +85,10 @@ class ModalSolution:
     x_energy_fraction : ndarray, shape (k,), optional
         Share of each mode's kinetic energy in the x displacement (the 3D solid: near 1 for its
         extension modes, small for all others); None for the other models.
+    eig_residual : ndarray, shape (k,), optional
+        The plate's eigenpairs' relative residuals (``truth.plate.PlateModes.rel_residual``):
+        the solve's own accuracy, which a convergence check between mesh levels allows for;
+        None for the other models.
     kinds : tuple of str, optional
         The family of every mode where the model solves the families apart (the 1D beam with
         ``spatial=True``: ``"bending"``, ``"torsion"``, ``"in-plane"``); None where the labels
@@ -111,6 +115,7 @@ class ModalSolution:
     z_energy_fraction: np.ndarray | None = None
     x_energy_fraction: np.ndarray | None = None
     kinds: tuple[str, ...] | None = None
+    eig_residual: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)

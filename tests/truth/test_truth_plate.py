@@ -153,10 +153,14 @@ def test_random_panels_ten_seeds(seed):
     # by more than 0.1 %, rises, or the selection changes)
     r = compute_truth(beam, modes=5, static=False, check_convergence=True)
     a0 = r.modal.omega_rad_s[:8]
-    a1 = plate_modes(beam, 1, 8).omega_rad_s
+    p1 = plate_modes(beam, 1, 8)
+    a1 = p1.omega_rad_s
     m2 = plate_modes(beam, 2, 8, "morley").omega_rad_s
     assert np.all(a0 > 0) and np.all(a1 > 0) and np.all(m2 > 0)
-    assert np.all(a1 <= a0 * (1 + 1e-5))
+    # Argyris converges from above, within what the two eigensolves resolve (their relative
+    # residuals, 1e-6 ... 1e-5 on these refined meshes: truth.compute.rise_slack)
+    slack = np.maximum(1e-5, 4 * (r.modal.eig_residual[:8] + p1.rel_residual))
+    assert np.all(a1 <= a0 * (1 + slack))
     assert np.all(m2 < a1)
 
 
