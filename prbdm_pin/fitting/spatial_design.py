@@ -70,6 +70,7 @@ class SpatialDesign:
         self.paper = options.stiffness is StiffnessKind.PAPER
         self.n_factors = self.m if self.paper else joints * self.m
         self.nfev = 0
+        self._mass = (None, None)
 
     def lengths(self, u: np.ndarray) -> np.ndarray:
         """Return the link lengths (m) of the unit-box coordinates ``u`` (n,)."""
@@ -100,13 +101,23 @@ class SpatialDesign:
         return self.build_model(self.beam, lengths, k, min_fraction=self.o.min_fraction,
                                 axes=self.o.axes)
 
+    def mass_matrix(self, model) -> np.ndarray:
+        """Return ``model``'s mass matrix at the straight pose (kg m^2), once per model.
+
+        The terms of one residual evaluation share one model: its CRBA runs once for the
+        frequencies and the shapes of every axis.
+        """
+        if self._mass[0] is not model:
+            self._mass = (model, model.mass_matrix())
+        return self._mass[1]
+
     def axis_modes(self, model, axis: str) -> tuple[np.ndarray, np.ndarray]:
         """Return the frequencies (rad/s) and mass-normalised shapes (nv, n) of one axis block.
 
         At the straight pose the axis blocks of M do not couple (``spatial_fit``'s docstring);
         a shape is zero outside its block's coordinates.
         """
-        M = model.mass_matrix()
+        M = self.mass_matrix(model)
         k = model.stiffness_Nm_per_rad
         idx = model.axis_index(axis)
         w2, phi = scipy.linalg.eigh(np.diag(k[idx]), M[np.ix_(idx, idx)])
@@ -116,7 +127,7 @@ class SpatialDesign:
 
     def frequencies(self, model) -> np.ndarray:
         """Return the model's frequencies (rad/s) of the selected modes, in their order."""
-        M = model.mass_matrix()
+        M = self.mass_matrix(model)
         k = model.stiffness_Nm_per_rad
         out = np.empty(self.sel.omega_truth_rad_s.size)
         for c, a in enumerate(self.order):

@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 import pytest
-import scipy.linalg
+from chain_truth import LABELS, self_target
 from tolerances import EPS
 
 from prbdm_pin.chain.spatial_stiffness import spatial_stiffness
@@ -23,21 +23,11 @@ from prbdm_pin.fitting.target import FitTarget, target_from_truth
 from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.options.objects import FitOptions, ParetoOptions
 
-_LABEL = {"y": "bending", "x": "torsion", "z": "in-plane"}
-
 
 def _self_target(beam, lengths, axes, scale):
-    """A spatial chain's modes from the full pencil, labelled by their kinetic energy's axis."""
     k = spatial_stiffness(beam, lengths, axes) * scale
     model = build_model(beam, lengths, k, axes=axes)
-    M = model.mass_matrix()
-    w2, phi = scipy.linalg.eigh(np.diag(k), M)
-    share = {a: np.einsum("ij,ij->j", phi[model.axis_index(a)],
-                          (M @ phi)[model.axis_index(a)]) for a in axes}
-    labels = tuple(_LABEL[max(share, key=lambda a: share[a][i])] for i in range(w2.size))
-    w = np.sqrt(w2)
-    return model, FitTarget(w[:1], np.zeros(3), all_omega_rad_s=w, all_labels=labels,
-                            source="a spatial chain")
+    return model, self_target(model)
 
 
 def test_the_axes_do_not_couple_at_the_straight_pose(tapered):
@@ -68,7 +58,7 @@ def test_a_spatial_chain_taken_as_its_own_truth_is_matched(tapered, axes):
     assert r.worst_mode_error_pct < 1e-4
     kinds = [m["kind"] for m in r.modes]
     for a in axes:
-        assert kinds.count(_LABEL[a]) == 3
+        assert kinds.count(LABELS[a]) == 3
     truth = np.array([m["omega_truth_rad_s"] for m in r.modes])
     assert np.all(np.diff(truth) >= 0)
     rebuilt = build_model(tapered, r.lengths_m, r.stiffness_Nm_per_rad, axes=axes)
@@ -186,13 +176,7 @@ def test_a_paper_style_spatial_fit_has_one_factor_per_axis(tapered, tmp_path):
     mass = link_sections(tapered, lengths).mass_kg
     k = np.stack([f * paper_axis_unit_stiffness(tapered, lengths, mass, a)
                   for a, f in (("y", 1.7), ("x", 0.6))], axis=1).reshape(-1)
-    model = build_model(tapered, lengths, k, axes="xy")
-    w2, phi = scipy.linalg.eigh(np.diag(k), model.mass_matrix())
-    share_x = np.einsum("ij,ij->j", phi[model.axis_index("x")],
-                        (model.mass_matrix() @ phi)[model.axis_index("x")])
-    labels = tuple("torsion" if s > 0.5 else "bending" for s in share_x)
-    w = np.sqrt(w2)
-    target = FitTarget(w[:1], np.zeros(3), all_omega_rad_s=w, all_labels=labels)
+    target = self_target(build_model(tapered, lengths, k, axes="xy"))
     r = fit(tapered, target, 2, axes="xy", stiffness="paper", starts=4, progress=False)
     assert r.stiffness == "paper" and r.factors.size == 2
     # an exact match exists (the solver's tolerance on the relative residuals)

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 import pytest
-import scipy.linalg
+from chain_truth import self_target
 
 from prbdm_pin.chain.spatial_stiffness import spatial_stiffness
 from prbdm_pin.errors import BeamInputError
@@ -16,22 +16,10 @@ from prbdm_pin.fitting.spatial_gains import with_point_gains
 from prbdm_pin.fitting.target import FitTarget, target_from_truth
 from prbdm_pin.model.prbdm_model import build_model
 
-POINTS = ("tip", "tip_corner_left", "tip_corner_right")
-
 
 def _self_target(beam, lengths, scale):
-    """An xy chain's modes from the whole pencil, labelled by axis, with their tip amplitudes."""
     k = spatial_stiffness(beam, lengths, "xy") * scale
-    model = build_model(beam, lengths, k, axes="xy")
-    M = model.mass_matrix()
-    w2, phi = scipy.linalg.eigh(np.diag(k), M)  # phi^T M phi = 1
-    x = model.axis_index("x")
-    share = np.einsum("ij,ij->j", phi[x], (M @ phi)[x])
-    labels = tuple("torsion" if s > 0.5 else "bending" for s in share)
-    gains = tuple((p, model.point_kinematics(p)[1][2] @ phi) for p in POINTS)
-    w = np.sqrt(w2)
-    return FitTarget(w[:1], np.zeros(3), all_omega_rad_s=w, all_labels=labels,
-                     point_gains=gains)
+    return self_target(build_model(beam, lengths, k, axes="xy"), gains=True)
 
 
 def test_a_chain_taken_as_its_own_truth_is_matched_in_amplitude_too(tapered):

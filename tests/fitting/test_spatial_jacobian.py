@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 from central_differences import central_difference
+from chain_truth import self_target
 from scipy.optimize import least_squares
 from tolerances import EPS, eig_rtol
 
@@ -19,26 +20,15 @@ from prbdm_pin.fitting.problem import unit_from_lengths
 from prbdm_pin.fitting.spatial_design import LOG_FACTOR_BOUND, EigenTerm, SpatialDesign
 from prbdm_pin.fitting.spatial_jacobian import spatial_jacobian
 from prbdm_pin.fitting.spatial_target import select_spatial
-from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.options.objects import FitOptions
 
-_LABEL = {"y": "bending", "x": "torsion", "z": "in-plane"}
 LENGTHS = np.array([0.15, 0.3, 0.2, 0.2, 0.15])  # of L
 
 
 def _self_target(beam, lengths, axes, scale):
-    """A spatial chain's modes from the full pencil, labelled by their kinetic energy's axis."""
     k = spatial_stiffness(beam, lengths, axes) * scale
-    model = build_model(beam, lengths, k, axes=axes)
-    M = model.mass_matrix()
-    w2, phi = scipy.linalg.eigh(np.diag(k), M)
-    share = {a: np.einsum("ij,ij->j", phi[model.axis_index(a)],
-                          (M @ phi)[model.axis_index(a)]) for a in axes}
-    labels = tuple(_LABEL[max(share, key=lambda a: share[a][i])] for i in range(w2.size))
-    w = np.sqrt(w2)
-    return FitTarget(w[:1], np.zeros(3), all_omega_rad_s=w, all_labels=labels,
-                     source="a spatial chain")
+    return self_target(build_model(beam, lengths, k, axes=axes))
 
 
 def _design(beam, axes, n=4, terms=()):
