@@ -55,7 +55,7 @@ from ..errors import BeamInputError
 from ..options.validate import check_size
 from .names import parse_names
 
-__all__ = ["StrainActuator", "INPUT_UNITS", "CORNER_INPUTS", "LINEAR_ONLY_INPUTS",
+__all__ = ["StrainActuator", "INPUT_UNITS", "CORNER_INPUTS", "POSE_INPUTS",
            "ON_JOINT_RTOL", "joint_stations", "strain_map", "check_patch", "virtual_work_map",
            "parse_inputs", "check_corner_names", "input_map"]
 
@@ -69,9 +69,10 @@ INPUT_UNITS = {"tip_force_z": "N", "tip_force_x": "N", "tip_force_y": "N", "tip_
 # the inputs at a tip corner: the point each acts at (:mod:`prbdm_pin.chain.points`)
 CORNER_INPUTS = {"corner_force_z_left": "tip_corner_left",
                  "corner_force_z_right": "tip_corner_right"}
-# the inputs that act on the tip link beyond a force at its centre: a time response takes the
-# tip forces only (their load stiffness is the tip's), :func:`linearize` all of them
-LINEAR_ONLY_INPUTS = ("tip_moment_x", *CORNER_INPUTS)
+# the inputs that act on the tip link beyond a force at its centre, through their own
+# pose-dependent columns of the input map (a time response differentiates them for its load
+# stiffness; the tip forces' is the tip's)
+POSE_INPUTS = ("tip_moment_x", *CORNER_INPUTS)
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from ..chain.eigen import generalized_eigh
 from ..errors import BeamInputError, InputTypeError
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
-from ..model.inputs import LINEAR_ONLY_INPUTS, StrainActuator, parse_inputs, strain_map
+from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
 from ..model.outputs import output_samples, output_unit, parse_outputs
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
@@ -72,7 +72,8 @@ def simulate(
     inputs : sequence of str
         Plant inputs by name, as :func:`prbdm_pin.linearize` takes them (``hub_torque``,
         ``joint_torque[j]``, ``strain[i]``, ``tip_force_z``, ``tip_force_x``,
-        ``tip_force_y``; not its tip moment and corner forces).
+        ``tip_force_y``, ``tip_moment_x``, ``corner_force_z_left``, ``corner_force_z_right``;
+        the moment and the corner forces are dead loads, about world x and along world z).
     u : array (m,), callable t -> (m,), Controller or StateFeedback, optional
         What drives the inputs (see :mod:`prbdm_pin.simulation.inputs`); default zero.
     actuators : sequence of StrainActuator
@@ -170,15 +171,13 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
     out_names = ()
     if not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
         out_names = tuple(n for n, _, _ in parse_outputs(outputs, n_springs, hub))
+        check_corner_names(model, out_names, "outputs")
     if isinstance(inputs, (list, tuple)) and len(inputs) == 0:
         if u is not None:
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
     names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub))
-    for i, name in enumerate(names):
-        if name in LINEAR_ONLY_INPUTS:  # their load stiffness is not the tip force's
-            raise BeamInputError(f"inputs[{i}] = {name!r}: linearize takes it, a time response "
-                                 "does not (tip forces, torques and patch moments only)")
+    check_corner_names(model, names, "inputs")
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
                              "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")

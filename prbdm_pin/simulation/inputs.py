@@ -4,11 +4,14 @@ They are driven by a constant, a function of time, a controller of the state or 
 state-feedback gain.
 
 The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
-``tip_force_y``, ``joint_torque[j]``, ``strain[i]``, ``hub_torque``); the tip moment and the
-corner forces are :func:`~prbdm_pin.linearize`'s only (a time response refuses them). Torques,
-patch moments and the hub torque act through a constant map B_0
-(:func:`prbdm_pin.model.inputs.input_map`); tip forces act through the tip Jacobian,
-J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does.
+``tip_force_y``, ``tip_moment_x``, ``corner_force_z_left``, ``corner_force_z_right``,
+``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch moments and the hub torque
+act through a constant map B_0 (:func:`prbdm_pin.model.inputs.input_map`); tip forces act
+through the tip Jacobian, J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does; the
+tip moment (dead, about world x) and the corner forces (dead, world z) through the pose's own
+columns of that map, B_p(q) u_p: the tip's angular Jacobian's x row and the corners' z rows.
+Their load stiffness d(B_p(q) u_p)/dq is taken by forward differences of B_p (it only steers
+the exponential integrator's linearisation, not the accuracy of the response).
 
 The signal ``u`` is one of
 
@@ -31,7 +34,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import BeamInputError, InputTypeError
-from ..model.inputs import StrainActuator, input_map, input_unit, parse_inputs
+from ..model.inputs import (
+    POSE_INPUTS,
+    StrainActuator,
+    input_map,
+    input_unit,
+    parse_inputs,
+)
 
 __all__ = ["Controller", "StateFeedback", "InputForce", "input_force"]
 
@@ -127,6 +136,8 @@ class InputForce:
     time_varying: bool
     feedback: bool  # a controller of the state (its gain by differences)
     tip_terms: Callable | None  # (q, F) -> (J^T F, d(J^T F)/dq)
+    pose_cols: tuple[int, ...] = ()  # input columns of the tip moment and the corner forces
+    pose_map: Callable | None = None  # q -> B_p(q) (nv, len(pose_cols))
 
     def values(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Return the inputs u (m,) at time t (s) and state (q rad, v rad/s)."""
@@ -144,14 +155,32 @@ class InputForce:
         tau = self.b0 @ u
         if self.tip_rows:
             tau = tau + self.tip_terms(q, self._force(u))[0]
+        if self.pose_cols:
+            tau = tau + self.pose_map(q) @ u[list(self.pose_cols)]
         return tau
+
+    def _pose_stiffness(self, q: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """d(B_p(q) u_p)/dq (nv, nv) by forward differences, N m/rad."""
+        up = u[list(self.pose_cols)]
+        base = self.pose_map(q) @ up
+        eps = 1e-7 * max(1.0, float(np.abs(q).max()))  # ~sqrt(EPS): truncation ~ rounding
+        out = np.empty((q.size, q.size))
+        for j in range(q.size):
+            qj = q.copy()
+            qj[j] += eps
+            out[:, j] = (self.pose_map(qj) @ up - base) / eps
+        return out
 
     def jacobians(self, t: float, q: np.ndarray, v: np.ndarray
                   ) -> tuple[np.ndarray | None, np.ndarray | None]:
         """Return d tau / dq and d tau / dv (nv, nv); None for what is not known in closed form."""
         nv = q.size
-        # the load stiffness of the tip forces at their present value
-        dq = self.tip_terms(q, self._force(self.values(t, q, v)))[1] if self.tip_rows else None
+        # the load stiffness of the tip forces (and moment, corner forces) at their present value
+        u = self.values(t, q, v)
+        dq = self.tip_terms(q, self._force(u))[1] if self.tip_rows else None
+        if self.pose_cols and np.any(u[list(self.pose_cols)]):
+            dp = self._pose_stiffness(q, u)
+            dq = dp if dq is None else dq + dp
         gain = self.gain if self.gain is not None else (
             self._difference_gain(t, q, v) if self.feedback else None)
         if gain is None:
@@ -163,6 +192,8 @@ class InputForce:
                 e = np.zeros(3)
                 e[axis] = 1.0
                 B[:, col] += self.tip_terms(q, e)[0]
+        if self.pose_cols:
+            B[:, list(self.pose_cols)] += self.pose_map(q)
         BK = -B @ gain
         dq = BK[:, :nv] if dq is None else dq + BK[:, :nv]
         return dq, BK[:, nv:]
@@ -242,12 +273,16 @@ def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_term
     nv = model.pin_model.nv
     m = len(names)
     tip_rows = tuple((c, _TIP[b]) for c, (_, b, _) in enumerate(parsed) if b in _TIP)
-    const_names = [n for n, b, _ in parsed if b not in _TIP]
+    pose_cols = tuple(c for c, (_, b, _) in enumerate(parsed) if b in POSE_INPUTS)
+    pose_names = tuple(parsed[c][0] for c in pose_cols)
+    const_cols = [c for c, (_, b, _) in enumerate(parsed)
+                  if b not in _TIP and b not in POSE_INPUTS]
     b0 = np.zeros((nv, m))
-    if const_names:
-        cols = [c for c, (_, b, _) in enumerate(parsed) if b not in _TIP]
-        b0[:, cols] = input_map(model, np.zeros(model.pin_model.nq), const_names, actuators)
+    if const_cols:
+        b0[:, const_cols] = input_map(model, np.zeros(model.pin_model.nq),
+                                      [parsed[c][0] for c in const_cols], actuators)
+    pose_map = (lambda q: input_map(model, q, pose_names)) if pose_cols else None
     signal, gain, varying = _signal(u, m, nv)
     signal(0.0, np.zeros(nv), np.zeros(nv))  # a bad signal is refused before any step
     return InputForce(names, tuple(input_unit(s) for s in names), b0, tip_rows, signal, gain,
-                      varying, isinstance(u, Controller), tip_terms)
+                      varying, isinstance(u, Controller), tip_terms, pose_cols, pose_map)
