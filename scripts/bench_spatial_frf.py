@@ -105,7 +105,7 @@ def main(argv=None) -> int:
         f"and torsion modes {med['spatial xy + corner gains']:.2f} %. Floor (the truth without "
         f"its chordwise modes, which no chain has): {100 * band[1]:.2f} %.",
         "",
-        "| fit seed | model | corner FRF error % | worst frequency error % | fit CPU s |",
+        "| fit seed | model | corner FRF error % | worst frequency error by shape % | fit CPU s |",
         "|---:|---|---:|---:|---:|",
     ]
     lines += [f"| {s} | {n} | {e:.2f} | {wm:.2g} | {c:.1f} |" for s, n, e, wm, c in rows]

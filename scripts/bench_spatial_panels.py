@@ -4,7 +4,10 @@ For each seed, the panel ``random_beam(default_rng(seed))`` (the paper's Sec. 2.
 function's defaults), its plate truth (default mesh level, 20 modes) labelled by kind, and a
 joint fit of lengths, bending and torsion springs together (``fit(..., axes="xy")``) to the
 first 4 bending-type modes (labelled bending or mixed, never chordwise) and the first 4 torsion
-modes. A panel passes when each of the 8 modes is matched within 0.1 %. The table also says
+modes. A panel passes when each of the 8 modes is matched within 0.1 % by rank within its kind
+(what the fit matches); the table also gives the errors of the pairs by shape (MAC, the
+result's ``modes``: a pair off its rank shows the frequency of the chain's mode of that shape),
+the smallest MAC and how many pairs are off their rank. The table also says
 what the paper's z-participation selection would have picked (a chordwise mode is a miss), how
 many starts reached an exact match (the spring sets are not unique: the fit's rule takes the
 one nearest the finite-segment springs) and what the fit cost.
@@ -72,11 +75,20 @@ def panel_row(seed: int, joints: int, starts: int, cache_dir: str | None) -> dic
                 stiffness="joint", starts=starts, progress=False)
     except Exception as exc:  # noqa: BLE001 -- a failed panel is a row of the table
         row.update(worst_pct=float("nan"), passed=False, exact=0, fit_s=float("nan"),
+                   rank_pct=float("nan"), mac=float("nan"), off=0,
                    note=f"{type(exc).__name__}: {exc}"[:80])
         return row
     matched = [m for m in r.modes if m["error_pct"] is not None]
     worst = max(abs(m["error_pct"]) for m in matched)
-    row.update(worst_pct=worst, passed=worst <= PASS_PCT,
+    rank, off = [], 0
+    for kinds in (("bending", "mixed"), ("torsion",)):
+        group = [m for m in matched if m["kind"] in kinds]
+        w_t = np.array([m["omega_truth_rad_s"] for m in group])
+        w_m = np.array([m["omega_model_rad_s"] for m in group])
+        rank += list(100.0 * np.abs(np.sort(w_m) / w_t - 1.0))
+        off += int(np.sum(w_m != np.sort(w_m)))
+    row.update(worst_pct=worst, rank_pct=max(rank), passed=max(rank) <= PASS_PCT, off=off,
+               mac=min(m.get("mac", float("nan")) for m in matched),
                exact=int(np.sum(np.asarray(r.start_losses_pct) <= EXACT_MATCH_PCT)),
                fit_s=time.process_time() - t1, note="")
     return row
@@ -85,7 +97,8 @@ def panel_row(seed: int, joints: int, starts: int, cache_dir: str | None) -> dic
 def table(rows: list[dict], joints: int, starts: int) -> str:
     """The Markdown table and its summary."""
     n_pass = sum(r["passed"] for r in rows)
-    worst = np.array([r["worst_pct"] for r in rows])
+    n_shape = sum(r["passed"] and r["off"] == 0 for r in rows)
+    worst = np.array([r["rank_pct"] for r in rows])
     ok = worst[np.isfinite(worst)]
     lines = [
         f"# Spatial fits on random panels ({joints}-joint xy chain, plate truth)",
@@ -96,19 +109,22 @@ def table(rows: list[dict], joints: int, starts: int) -> str:
         f"bending-type and {joints} torsion modes of the plate; a panel passes when every one "
         f"of the {2 * joints} modes is within {PASS_PCT:g} %.",
         "",
-        f"**{n_pass} of {len(rows)} panels pass**; worst mode error over the panels: median "
-        f"{np.median(ok):.2g} %, largest {np.max(ok):.2g} %." if ok.size else "no fit ran",
+        f"**{n_pass} of {len(rows)} panels pass**; worst mode error by rank over the panels: "
+        f"median {np.median(ok):.2g} %, largest {np.max(ok):.2g} %. On {n_shape} of them every "
+        "pair by shape (MAC) is also the pair by rank." if ok.size else "no fit ran",
         "",
         "| seed | L / mean width | bending-type / torsion / chordwise in the first 20 | "
-        "paper's selection picks a chordwise mode | worst mode error % | pass | exact starts "
+        "paper's selection picks a chordwise mode | worst mode error by rank % | pass | "
+        "pairs off rank by shape | worst error by shape % | smallest MAC | exact starts "
         "| truth s | fit s | note |",
-        "|---:|---:|---|---|---:|---|---:|---:|---:|---|",
+        "|---:|---:|---|---|---:|---|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in rows:
         lines.append(
             f"| {r['seed']} | {r['aspect']:.2f} | {r['bending']} / {r['torsion']} / "
             f"{r['chordwise']} | {'yes' if r['paper_chordwise'] else 'no'} | "
-            f"{r['worst_pct']:.2g} | {'yes' if r['passed'] else 'no'} | {r['exact']} of "
+            f"{r['rank_pct']:.2g} | {'yes' if r['passed'] else 'no'} | {r['off']} | "
+            f"{r['worst_pct']:.2g} | {r['mac']:.2f} | {r['exact']} of "
             f"{starts} | {r['truth_s']:.1f} | {r['fit_s']:.1f} | {r['note']} |")
     return "\n".join(lines) + "\n"
 
@@ -126,7 +142,8 @@ def main(argv=None) -> int:
     for seed in seeds_of(a.seeds):
         rows.append(panel_row(seed, a.joints, a.starts, a.cache_dir))
         r = rows[-1]
-        print(f"seed {seed}: worst {r['worst_pct']:.3g} % pass {r['passed']} "
+        print(f"seed {seed}: worst {r['rank_pct']:.3g} % by rank, {r['worst_pct']:.3g} % by "
+              f"shape ({r['off']} off rank), pass {r['passed']} "
               f"({r['truth_s']:.0f} + {r['fit_s']:.0f} s) {r['note']}", flush=True)
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)
     for p in write_table(a.out, table(rows, a.joints, a.starts), DEFAULT_OUT,

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from prbdm_pin.fitting.mode_shapes import ModeShapes, chain_shapes
 from prbdm_pin.fitting.target import FitTarget
 
 __all__ = ["LABELS", "pencil_modes", "self_target"]
@@ -30,10 +31,18 @@ def pencil_modes(model) -> tuple[np.ndarray, tuple[str, ...], np.ndarray]:
     return np.sqrt(w2), labels, phi
 
 
-def self_target(model, gains: bool = False) -> FitTarget:
-    """Return the target of every mode of ``model`` by kind (and its tip amplitudes)."""
+def self_target(model, gains: bool = False, shapes: bool = False) -> FitTarget:
+    """Return the target of every mode of ``model`` by kind (and its tip amplitudes and its
+    deflection and twist along the span)."""
     w, labels, phi = pencil_modes(model)
     point_gains = tuple((p, model.point_kinematics(p)[1][2] @ phi) for p in POINTS) \
         if gains else None
+    mode_shapes = None
+    if shapes:
+        x = np.linspace(0.0, model.beam.length_m, 25)[1:]
+        along = {a: (chain_shapes(model.lengths_m, model.axis_index(a), phi, x, a).T
+                     if a in model.axes.joint_order else np.zeros((w.size, x.size)))
+                 for a in "yx"}
+        mode_shapes = ModeShapes(x, along["y"], along["x"])
     return FitTarget(w[:1], np.zeros(3), all_omega_rad_s=w, all_labels=labels,
-                     source="a spatial chain", point_gains=point_gains)
+                     source="a spatial chain", point_gains=point_gains, mode_shapes=mode_shapes)

@@ -121,17 +121,22 @@ def export_text(result) -> str:
 
 
 def modes_table(result) -> str:
-    """Return the per-mode table of a fit by kind: truth and model rad/s, error %.
+    """Return the per-mode table of a fit by kind: truth and model rad/s, error %, MAC.
 
-    A truth mode no chain mode represents (``chordwise``) shows ``-`` for the model.
+    A truth mode no chain mode represents (``chordwise``) shows ``-`` for the model; the MAC
+    column (the pair's shape agreement) appears when the pairs were made by shape.
     """
-    lines = [f"{'mode':>4}  {'kind':<10} {'truth rad/s':>12} {'model rad/s':>12} {'error %':>9}"]
+    mac = any("mac" in r for r in result.modes)
+    lines = [f"{'mode':>4}  {'kind':<10} {'truth rad/s':>12} {'model rad/s':>12} {'error %':>9}"
+             + (f" {'MAC':>5}" if mac else "")]
     for i, r in enumerate(result.modes, 1):
         if r["omega_model_rad_s"] is None:
             model, err = f"{'-':>12}", f"{'not modelled':>12}"
         else:
             model, err = f"{r['omega_model_rad_s']:12.6g}", f"{r['error_pct']:+9.3g}"
-        lines.append(f"{i:>4}  {r['kind']:<10} {r['omega_truth_rad_s']:12.6g} {model} {err}")
+        shape = f" {r['mac']:5.3f}" if "mac" in r else ""
+        lines.append(f"{i:>4}  {r['kind']:<10} {r['omega_truth_rad_s']:12.6g} {model} {err}"
+                     f"{shape}")
     return "\n".join(lines)
 
 

@@ -35,6 +35,7 @@ from ..chain.layout import sample_lengths
 from ..errors import SolveError
 from ..member.geometry import Beam
 from ..options.objects import FitOptions
+from .mode_shapes import pair_modes, pairing_notes
 from .problem import unit_from_lengths
 from .result import EXACT_MATCH_PCT, EXPORT_WARN_PCT
 from .results import FitResult
@@ -142,12 +143,13 @@ def spatial_result(beam, target, d: SpatialDesign, best, runs, wall_s: float,
     """
     loss, _, index, x, success, solver_message = best
     model = d.model(x)
-    w = d.frequencies(model)
+    # the reported pairs are by kind and shape (MAC), not by the rank the fit matched
+    w, mac, moved = pair_modes(d, model, target.mode_shapes)
     sel, o, n = d.sel, d.o, d.n
     nk = n * d.m
     errors = 100.0 * (w / sel.omega_truth_rad_s - 1.0)
-    records = spatial_records(sel, w, target)
-    notes = []
+    records = spatial_records(sel, w, target, mac)
+    notes = pairing_notes(sel, w, moved, mac)
     k_worst = int(np.argmax(np.abs(errors)))
     if abs(errors[k_worst]) > EXPORT_WARN_PCT:
         notes.append(f"the fitted model misses truth mode {sel.index[k_worst] + 1} "

@@ -93,19 +93,22 @@ def select_spatial(target, axes: Axes, joints: int, per_kind: int | None) -> Spa
                             axis=np.asarray(axis)[order])
 
 
-def spatial_records(sel: SpatialSelection, omega_model_rad_s: np.ndarray, target
-                    ) -> tuple[dict, ...]:
+def spatial_records(sel: SpatialSelection, omega_model_rad_s: np.ndarray, target,
+                    mac: np.ndarray | None = None) -> tuple[dict, ...]:
     """fit.json's ``modes`` of a spatial fit, ascending in truth frequency.
 
-    The matched modes with their model frequencies (rad/s), and every other truth mode below
-    the highest matched one with none (it is in the band, and no axis represents it).
+    The matched modes with their paired model frequencies (rad/s) and MAC (NaN: paired by
+    order), and every other truth mode below the highest matched one with none (it is in the
+    band, and no axis represents it).
     """
-    matched = {int(i): float(w) for i, w in zip(sel.index, omega_model_rad_s, strict=True)}
+    mac = np.full(sel.index.size, np.nan) if mac is None else mac
+    matched = {int(i): (float(w), float(c))
+               for i, w, c in zip(sel.index, omega_model_rad_s, mac, strict=True)}
     top = float(sel.omega_truth_rad_s.max())
     out = []
     for i, (w, lab) in enumerate(zip(target.all_omega_rad_s, target.all_labels, strict=True)):
         if i in matched:
-            out.append(mode_record(lab, w, matched[i]))
+            out.append(mode_record(lab, w, *matched[i]))
         elif w <= top:
             out.append(mode_record(lab, w, None))
     return tuple(out)

@@ -13,6 +13,7 @@ import numpy as np
 from ..errors import BeamInputError, InputTypeError
 from ..options.checks import check_float, shown
 from ..options.validate import check_type, real_vector
+from .mode_shapes import ModeShapes, truth_mode_shapes
 
 if TYPE_CHECKING:
     from ..truth.request import TruthRequest
@@ -103,6 +104,9 @@ class FitTarget:
         The truth's tip twist under the load, rad (the angle of the tip's corner-to-corner
         line to the world y axis in the y-z plane): with the tip, what a spatial deflection
         fit matches (:mod:`prbdm_pin.fitting.spatial_deflection`).
+    mode_shapes : ModeShapes or None
+        Every truth mode's deflection and twist along the span: what a spatial fit's result
+        pairs its modes by (MAC, :mod:`prbdm_pin.fitting.mode_shapes`); None: by order.
     """
 
     omega_truth_rad_s: np.ndarray
@@ -121,6 +125,7 @@ class FitTarget:
     tip_moment_Nm: np.ndarray | None = None
     load_point: str = "tip"
     tip_twist_rad: float | None = None
+    mode_shapes: ModeShapes | None = None
 
     def __post_init__(self) -> None:
         """Check the frequencies, load cases and labels; freeze the arrays.
@@ -178,6 +183,11 @@ class FitTarget:
                                      f"all_omega_rad_s ({wa.size}) needed")
             object.__setattr__(self, "all_omega_rad_s", wa)
             object.__setattr__(self, "all_labels", la)
+        if self.mode_shapes is not None:
+            check_type("mode_shapes", self.mode_shapes, ModeShapes)
+            if self.all_omega_rad_s is None or \
+                    self.mode_shapes.deflection.shape[0] != self.all_omega_rad_s.size:
+                raise BeamInputError("mode_shapes: one row per mode of all_omega_rad_s needed")
         self._check_load()
 
     def _check_load(self) -> None:
@@ -277,6 +287,7 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
         static_theory_gap_pct=getattr(truth, "static_theory_gap_pct", None),
         all_omega_rad_s=truth.modal.omega_rad_s,
         all_labels=tuple(truth.labels),
+        mode_shapes=truth_mode_shapes(truth.modal),
     )
 
 
