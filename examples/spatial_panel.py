@@ -4,7 +4,7 @@ A wide panel twists: among the plate's first modes, torsion modes sit between th
 and a force at a tip corner (a sensor, an actuator, a load off the centre line) excites them at
 once. The planar chain (joints about y) has bending modes only; the spatial ``xy`` chain adds a
 torsion joint at each node, fitted to the plate's torsion modes, and with ``gain_points`` also
-to how much its first modes move the corner. The script prints the frequencies by kind, writes
+to how much each of its modes moves the corner. The script prints the frequencies by kind, writes
 the FRF of a tip-corner force to the tip-corner displacement (truth, planar, spatial) as a
 figure, and exports the spatial model.
 

@@ -86,8 +86,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="spatial fits: also match the modal amplitudes of the plate truth at "
                         "these tip points (tip, tip_corner_left, tip_corner_right), so the "
                         "model moves them as the truth does (the FRFs a controller sees)")
-    p.add_argument("--gain-modes", type=int, default=1, metavar="K",
-                   help="with --gain-points: the lowest K matched modes of each kind (default 1)")
+    p.add_argument("--gain-modes", type=int, default=None, metavar="K",
+                   help="with --gain-points: the lowest K matched modes of each kind (default "
+                        "all, each weighted by its share of the FRF)")
     p.add_argument("--gain-weight", type=float, default=1.0,
                    help="with --gain-points: weight of the amplitude errors (default 1)")
     add_common(p)

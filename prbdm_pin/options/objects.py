@@ -184,10 +184,10 @@ class FitOptions(_ProblemOptions):
         controller sees. Default none.
     gain_weight : float
         The weight of those amplitude errors against the frequency errors (> 0, default 1).
-    gain_modes : int
+    gain_modes : int or None
         How many of the lowest matched modes of each kind have their amplitudes matched
-        (default 1: the first bending and the first torsion mode, which carry most of a
-        corner's response).
+        (default None: every matched mode, each weighted by its share of the FRF,
+        ``fitting/spatial_gains.py``).
     axes : Axes or str
         The joint axes at each node (``--axes``): ``"y"`` the planar chain; ``"xy"``,
         ``"yz"``, ``"xyz"`` a spatial chain (``fitting/spatial_fit.py``), fitted with the
@@ -211,7 +211,7 @@ class FitOptions(_ProblemOptions):
     start_factors: tuple[float, ...] | None = None
     gain_points: tuple[str, ...] = ()
     gain_weight: float = 1.0
-    gain_modes: int = 1
+    gain_modes: int | None = None
 
     def __post_init__(self) -> None:
         """Validate every field; an error names the field and the value."""
@@ -242,7 +242,8 @@ class FitOptions(_ProblemOptions):
                                  "itself; a warm start (start_lengths_m) needs unique = 'none'")
         s(self, "gain_points", gain_points(self.gain_points))
         s(self, "gain_weight", _float("gain_weight", self.gain_weight, low=0.0, low_open=True))
-        s(self, "gain_modes", _int("gain_modes", self.gain_modes, 1, high=MAX_STARTS))
+        s(self, "gain_modes", _int("gain_modes", self.gain_modes, 1, high=MAX_STARTS,
+                                   optional=True))
         if self.axes.spatial:
             check_spatial_fit(self)
         elif self.gain_points:
