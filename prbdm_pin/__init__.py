@@ -49,6 +49,8 @@ _EXPORTS = {
     "StrainActuator": "model.inputs",
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
+    "statics": "plant.statics",
+    "StaticEquilibrium": "plant.statics",
     "LinearModel": "plant.state_space",
     "ModalData": "plant.state_space",
     "compare_plant": "plant.comparison",

@@ -15,8 +15,8 @@ from .commands.checks import CliParser, one_line, run_reported
 from .version import __version__
 
 # Order is the order of `prbdm --help`.
-COMMANDS = ("truth", "sensitivity", "fit", "pareto", "simulate", "linearize", "export", "batch",
-            "batch_report", "bench")
+COMMANDS = ("truth", "sensitivity", "fit", "pareto", "simulate", "linearize", "statics", "export",
+            "batch", "batch_report", "bench")
 
 
 def _pin_threads() -> None:

@@ -18,7 +18,8 @@ from collections.abc import Callable
 from ..errors import BeamInputError, SolveError, TruthError
 from ..options.validate import MAX_SEED, MAX_WORKERS  # shared with the API
 
-__all__ = ["CliParser", "one_line", "in_range", "run_reported", "MAX_SEED", "MAX_WORKERS"]
+__all__ = ["CliParser", "one_line", "in_range", "run_reported", "xyz_option", "MAX_SEED",
+           "MAX_WORKERS"]
 
 # Kernel and device trees: writing there fails (or, as root, does harm) after the work is done.
 
@@ -155,3 +156,15 @@ def run_reported(prog: str, call: Callable[[], int | None]) -> int:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
 
+
+
+def xyz_option(text: str, option: str, unit: str) -> list[float]:
+    """Return ``"X,Y,Z"`` as three finite floats; BeamInputError naming ``option`` otherwise."""
+    parts = text.split(",")
+    try:
+        v = [float(s) for s in parts]
+    except ValueError:
+        v = []
+    if len(v) != 3 or not all(math.isfinite(x) for x in v):
+        raise BeamInputError(f"{option} = {text!r}: must be three numbers X,Y,Z ({unit})")
+    return v

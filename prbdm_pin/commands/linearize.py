@@ -10,7 +10,6 @@ import json
 import sys
 from pathlib import Path
 
-from ..errors import BeamInputError
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
@@ -109,32 +108,19 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _vector(text: str, option: str, unit: str) -> list[float]:
-    import math
-
-    parts = text.split(",")
-    try:
-        v = [float(s) for s in parts]
-    except ValueError:
-        v = []
-    if len(v) != 3 or not all(math.isfinite(x) for x in v):
-        raise BeamInputError(f"{option} = {text!r}: must be three numbers X,Y,Z ({unit})")
-    return v
-
-
 def check_options(args: argparse.Namespace) -> dict:
     """Refuse bad ``prbdm linearize`` options before the model is read.
 
     Returns the parsed values (names, actuators, hub, load, gravity).
     """
     from ..io.paths import writable_dir
-    from .checks import in_range
+    from .checks import in_range, xyz_option
 
     out = {"inputs": names_option(args.inputs, "--inputs"),
            "outputs": names_option(args.outputs, "--outputs"),
            "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub)}
-    out["load"] = _vector(args.load, "--load", "N")
-    out["gravity"] = _vector(args.gravity, "--gravity", "m/s^2")
+    out["load"] = xyz_option(args.load, "--load", "N")
+    out["gravity"] = xyz_option(args.gravity, "--gravity", "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
     writable_dir(args.out, "--out")

@@ -65,21 +65,26 @@ def gravity_model(model, gravity_m_s2: np.ndarray | None) -> pin.Model | None:
 
 
 def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | None,
-                 data_g: pin.Data | None) -> tuple[np.ndarray, np.ndarray]:
+                 data_g: pin.Data | None, moment_Nm: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
     """Return the static residual and its Jacobian at pose ``q`` (rad).
 
-    The residual is K q + g(q) - J^T F (N m, (nv,)); its Jacobian the effective stiffness
-    (N m/rad, (nv, nv)).
+    The residual is K q + g(q) - J^T F - J_w^T M (N m, (nv,)), M a dead tip moment (N m,
+    world; default none); its Jacobian the effective stiffness (N m/rad, (nv, nv)).
     """
+    moment = np.zeros(3) if moment_Nm is None else np.asarray(moment_Nm, dtype=float)
     if model.axes.spatial:
-        w = np.concatenate([load_N, np.zeros(3)])  # a dead force, no moment: T is symmetric
+        # a dead force alone gives a symmetric tangent; a moment does not
+        w = np.concatenate([load_N, moment])
         # the chain's data workspace: only the gravity copy's is passed in
         r, H = residual_and_tangent(model.pin_model, model.default_data,
                                     model.stiffness_Nm_per_rad, model.tip_frame_id, q, w)
     else:
         K = model.stiffness_matrix()
         jtf, T = force_and_load_stiffness(planar_lengths_with_hub(model), q, load_N)
-        r = K @ q - jtf
+        # every coordinate of the planar chain (and its hub) turns about y: J_w^T M = M_y,
+        # the same at every pose (no load stiffness)
+        r = K @ q - jtf - moment[1]
         H = K - T
     if pm_g is not None:
         r = r + pin.computeGeneralizedGravity(pm_g, data_g, q)
@@ -88,11 +93,13 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
 
 
 def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float = 1e-10,
-                max_iter: int = 60) -> tuple[np.ndarray, float]:
+                max_iter: int = 60, moment_Nm: np.ndarray | None = None
+                ) -> tuple[np.ndarray, float]:
     """Return the equilibrium pose (rad, (nv,)) and the trim hub torque (N m).
 
-    The pose is under the dead tip load (N) and the gravity of ``pm_g``; the trim torque holds
-    the hub at 0 (0.0 without a hub).
+    The pose is under the dead tip load (N), the dead tip moment ``moment_Nm`` (N m, world;
+    default none) and the gravity of ``pm_g``; the trim torque holds the hub at 0 (0.0
+    without a hub).
 
     Without gravity and hub this is :meth:`PrbdmModel.static_deflection`; otherwise damped
     Newton steps on the beam joints from the planar statics' pose.
@@ -103,15 +110,17 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
         If no equilibrium is found.
     """
     hub = model.hub is not None
-    if pm_g is None and not np.any(load_N):
+    moment = None if moment_Nm is None or not np.any(moment_Nm) else moment_Nm
+    if pm_g is None and not np.any(load_N) and moment is None:
         return np.zeros(model.pin_model.nv), 0.0  # unloaded: the straight pose, no trim
     if pm_g is None and not hub:
-        return model.static_deflection(load_N)[0], 0.0
+        return model.static_deflection(load_N, tip_moment_Nm=moment)[0], 0.0
     off = int(hub)
     q = np.zeros(model.pin_model.nv)
-    if model.axes.spatial:  # no hub on a spatial chain
-        q = model.static_deflection(load_N)[0] if np.any(load_N) else q
-    else:
+    if not hub and (model.axes.spatial or moment is not None):  # no hub on a spatial chain
+        if np.any(load_N) or moment is not None:
+            q = model.static_deflection(load_N, tip_moment_Nm=moment)[0]
+    elif moment is None:
         q[off:] = static_deflection_planar(model.lengths_m, model.stiffness_Nm_per_rad, load_N)
     data_g = None if pm_g is None else pm_g.createData()
     free = slice(off, None)
@@ -119,7 +128,7 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
     k = model.stiffness_Nm_per_rad
 
     def norm(q: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-        r, H = static_terms(model, q, load_N, pm_g, data_g)
+        r, H = static_terms(model, q, load_N, pm_g, data_g, moment)
         return math.sqrt(float(r[free] @ r[free])), r, H
 
     def converged(q: np.ndarray, r: np.ndarray, rn: float, rel: float) -> bool:

@@ -197,6 +197,7 @@ DOORS = {
     "load_urdf": ("path", lambda v: pp.load_urdf(v)),
     "fit_strain_actuators": ("model", lambda v: pp.fit_strain_actuators(v, None, BEAM, [])),
     "linearize": ("model", lambda v: pp.linearize(v)),
+    "statics": ("model", lambda v: pp.statics(v)),
     "compare_plant": ("prbdm", lambda v: pp.compare_plant(v, None)),
     "compare_truth": ("model", lambda v: pp.compare_truth(v)),
     "compare_truth_plant": ("lin", lambda v: pp.compare_truth_plant(v, None, None)),
