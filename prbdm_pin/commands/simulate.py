@@ -77,6 +77,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="simulated time, s")
     p.add_argument("--tip-force", default="0,0,0", metavar="FX,FY,FZ",
                    help="step tip force in world axes, N (default 0,0,0)")
+    p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
+                   help="gravity, m/s^2, world (default none); from the straight pose at rest "
+                        "the member falls into its sag")
     p.add_argument("--initial-angle", type=float, default=0.0, metavar="RAD",
                    help="start with every joint at this angle, rad (default 0)")
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
@@ -151,9 +154,13 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     from ..io.paths import writable_dir
     from ..options.limits import check_cap
     from ..simulation import FIXED_STEP_METHODS, IVP_METHODS
-    from .checks import in_range
+    from .checks import in_range, xyz_option
 
     force = parse_force(args.tip_force)
+    args.gravity_m_s2 = xyz_option(args.gravity, "--gravity", "m/s^2")
+    if args.compare_truth and any(args.gravity_m_s2):
+        raise BeamInputError("--compare-truth: compares the unloaded plant; run it without "
+                             "--gravity")
     in_range("--duration", args.duration, 0.0, lo_open=True, unit="s")
     in_range("--initial-angle", args.initial_angle, -math.pi, math.pi, unit="rad")
     # the integrators and the truth comparison take underdamped modes (over-damped runs: an
@@ -234,7 +241,8 @@ def run(args: argparse.Namespace) -> int:
     tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
                   options=simulation_options(args, output_dt), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
-                  outputs=outputs)
+                  outputs=outputs,
+                  gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None)
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)

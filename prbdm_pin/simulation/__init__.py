@@ -7,10 +7,10 @@ Equations of motion (relative joint angles q, rad; the hub angle first on a hub 
 
     M(q) a + h(q, v) + K q + C v = J(q)^T F(t) + B(q) u(t, q, v)
 
-with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness (zero for the
-hub), C a damping matrix (``prbdm_pin.simulation.damping``; ``prbdm_pin.simulation.hub_damping``
-with a hub), J the
-world-aligned linear Jacobian of the tip point and B the inputs' map (``inputs``: torques, strain
+with h the Coriolis/centrifugal terms and the weight (``gravity_m_s2``; none by default), K the
+diagonal joint stiffness (zero for the hub), C a damping matrix (``prbdm_pin.simulation.damping``;
+``prbdm_pin.simulation.hub_damping`` with a hub), J the world-aligned linear Jacobian of the tip
+point and B the inputs' map (``inputs``: torques, strain
 actuators, hub torque, tip forces, driven by a constant, a function of time, a controller or a
 state-feedback gain).
 

@@ -43,6 +43,7 @@ def simulate(
     u: Any = None,
     actuators: Sequence[StrainActuator] = (),
     outputs: Sequence[str] = (),
+    gravity_m_s2: np.ndarray | None = None,
     integrator: Integrator | None = None,
     progress: bool = False,
     **changes: Any,
@@ -78,6 +79,10 @@ def simulate(
         What drives the inputs (see :mod:`prbdm_pin.simulation.inputs`); default zero.
     actuators : sequence of StrainActuator
         The strain actuators ``strain[i]`` refers to.
+    gravity_m_s2 : array_like (3,), optional
+        Gravity, m/s^2, world (default none): the chain's weight through Pinocchio's dynamics
+        (its generalized gravity and their derivatives), as ``linearize`` and ``statics`` take
+        it.
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
         ...: see :mod:`prbdm_pin.model.outputs`); the trajectory records them and the inputs.
@@ -123,10 +128,11 @@ def simulate(
         raise BeamInputError(f"stiffness_schedule: needs {n} joint stiffnesses per pose")
     # the options' dt_s, whether or not the integrator has a step (as always)
     check_grid(duration_s, dt, output_dt, o.max_steps)
+    g = vector("gravity_m_s2", gravity_m_s2, 3)  # m/s^2, world; zeros: none
     system = assemble_system(model, q0, damping_ratios=xi, damping=o.damping,
                              schedule=stiffness_schedule, tip_force_N=force,
                              constant_force=constant_force, damping_pose=damping_pose,
-                             inputs=plant[0])
+                             inputs=plant[0], gravity_m_s2=g)
     if integ.default_steps_per_period is not None and dt is None:
         spp = integ.steps_per_period or integ.default_steps_per_period
         dt = min(2.0 * math.pi / _lowest_frequency(system, q0, hub) / spp, duration_s)

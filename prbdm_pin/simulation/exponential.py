@@ -46,7 +46,7 @@ from ..options.integrators import Exponential
 from .exponential_linear import continuous_extension, eig_with_inverse, soft_springs
 from .phi import phi123
 from .steps import equal_steps
-from .system import System, generalised_force, static_angle_rad, symmetrised
+from .system import System, generalised_force, static_angle_rad, symmetrised, weight_angle_rad
 
 
 class ExponentialStepper:
@@ -119,7 +119,7 @@ class ExponentialStepper:
             scale = max(scale, static_angle_rad(self._tau_ext(q0, force(0.0)), springs0))
         if system.inputs is not None:
             scale = max(scale, static_angle_rad(system.inputs.torque(0.0, q0, v0), springs0))
-        self._scale = scale
+        self._scale = max(scale, weight_angle_rad(system, q0))
         # the decomposition of the last Jacobian and the phi functions of its step
         self._lin_q = None
         self._phi_h = None

@@ -34,7 +34,7 @@ import pinocchio as pin
 from ..errors import SolveError
 from ..options.integrators import Gauss
 from .steps import equal_steps
-from .system import System, static_angle_rad, symmetrised
+from .system import System, static_angle_rad, symmetrised, weight_angle_rad
 from .trajectory import hermite_step
 
 # 2-stage Gauss-Legendre tableau (c, A, b = (1/2, 1/2)); for q'' = a the stage positions use
@@ -150,7 +150,7 @@ class GaussStepper:
             f6 = np.zeros(6)
             f6[:3] = force(0.0)
             scale = max(scale, static_angle_rad(self._ext_torque(q0, f6), system.springs(q0)))
-        self.scale = scale
+        self.scale = max(scale, weight_angle_rad(system, q0))
         self.tol2 = (_NEWTON_RTOL * scale) ** 2
         self.rho = 1.0  # contraction rate of the last iterations, carried across steps
         self.constant_force = system.constant_force and force is not None

@@ -24,7 +24,7 @@ from scipy.linalg import lapack
 
 from ..errors import BeamInputError, SolveError
 from ..options.integrators import Trapezoidal
-from .system import System, mass_matrix, static_angle_rad
+from .system import System, mass_matrix, static_angle_rad, weight_angle_rad
 
 
 class TrapezoidalStepper:
@@ -77,7 +77,8 @@ class TrapezoidalStepper:
         scale = max(float(np.max(np.abs(q0))), float(np.max(np.abs(v0))) * h, 1e-9)
         # a force sets the scale of the motion: its static deflection angle
         self.scale = max(scale, static_angle_rad(system.tau_external(q0, t0, v0),
-                                                 system.springs(q0)))
+                                                 system.springs(q0)),
+                         weight_angle_rad(system, q0))
         self.tol = 1e-10 * self.scale
         self.rho = 1.0
         self.steps = self.jacobian_updates = 0

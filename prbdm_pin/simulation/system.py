@@ -2,10 +2,9 @@
 
     M(q) a + h(q, v) + K q + C v = J(q)^T F(t)
 
-with h the Coriolis/centrifugal terms (no gravity), K the diagonal joint stiffness (constant or
-a ``StiffnessSchedule``), C a damping matrix (``prbdm_pin.simulation.damping``) and J the
-world-aligned
-linear Jacobian of the tip point.
+with h the Coriolis/centrifugal terms and the weight (gravity, when given), K the diagonal
+joint stiffness (constant or a ``StiffnessSchedule``), C a damping matrix
+(``prbdm_pin.simulation.damping``) and J the world-aligned linear Jacobian of the tip point.
 
 Damping: ``damping="modal"`` (default), ``"eq5c"`` (the paper's Eq. 5c) or ``"stiffness"``
 (C = beta K, beta = 2 xi_1 / omega_1: what the MJCF and URDF exports carry as joint damping). C
@@ -185,16 +184,23 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
                     schedule: StiffnessSchedule | None,
                     tip_force_N: Callable[[float], np.ndarray] | None, constant_force: bool,
                     damping_pose: np.ndarray | None,
-                    inputs: Callable[[Callable], InputForce] | None = None) -> System:
+                    inputs: Callable[[Callable], InputForce] | None = None,
+                    gravity_m_s2: np.ndarray | None = None) -> System:
     """Assemble the system of ``model`` (``PrbdmModel``) in a fresh workspace.
 
     The damping matrix of the ratios ``damping_ratios`` (form ``damping``) frozen at
     ``damping_pose`` (rad, default the
     start pose ``q0``), the springs of ``schedule`` (default the model's) and the tip force
     ``tip_force_N`` (N, of time in s); ``inputs`` makes the plant inputs' force from the tip
-    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain.
+    terms (q, F) -> (J^T F, d(J^T F)/dq) of this chain. ``gravity_m_s2`` (m/s^2, world) goes
+    into a copy of the Pinocchio model, so every dynamics call (ABA, RNEA and their
+    derivatives) carries the weight and its stiffness.
     """
     pm = model.pin_model
+    if gravity_m_s2 is not None and np.any(gravity_m_s2):
+        pm = pin.Model(pm)
+        pm.gravity = pin.Motion(np.concatenate([np.asarray(gravity_m_s2, dtype=float),
+                                                np.zeros(3)]))
     data = pm.createData()
     fid = int(model.tip_frame_id)
     # one spring per coordinate; a hub's is zero
@@ -217,6 +223,17 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
         forces = inputs(generalised_force(pm, data, fid, lengths)[2])
     return System(pm, data, fid, lengths, k_const, springs, C, tip_force_N, constant_force,
                   forces)
+
+
+def weight_angle_rad(system: System, q: np.ndarray) -> float:
+    """Return the largest joint angle the springs would yield to the weight at ``q``, rad.
+
+    0 without gravity: what sets the scale of a motion that starts at rest under gravity.
+    """
+    if not np.any(system.pin_model.gravity.linear):
+        return 0.0
+    g = pin.computeGeneralizedGravity(system.pin_model, system.data, q)
+    return static_angle_rad(g, system.springs(q))
 
 
 def tip_positions(model, data: pin.Data, Q: np.ndarray, lengths: np.ndarray | None
