@@ -49,8 +49,10 @@ ends (1/2), the virtual-work map of the chain; a patch shorter than a link then 
 --fit-actuators fits each joint's weight so that the PRBDM's n modes get the truth's modal input
 gains (the truth the fit.json was made against, from the cache).
 
-Writes OUT/linear_model.npz (A, B, C, D; x = [q; v]), OUT/linear_model.json (names, units,
-equilibrium, modal table, the actuators' stations and joint weights) and OUT/bode.png.
+Writes OUT/linear_model.npz (A, B, C, D; x = [q; v]; with --dt also the zero-order-hold Ad,
+Bd), OUT/linear_model.mat (the same matrices with state_names, input_names, output_names and
+units as cell arrays, for MATLAB), OUT/linear_model.json (names, units, equilibrium, modal
+table, the actuators' stations and joint weights, dt_s) and OUT/bode.png.
 
 --compare-truth adds OUT/comparison.json and OUT/comparison.png: the plant against the truth of
 the same plant (the finite-element truth the fit.json was fitted to, from the cache, on the same
@@ -64,8 +66,8 @@ hub's flexible part: the rigid rotation's response subtracted). Signals the trut
 signals) are listed as not compared.
 """
 
-LINEARIZE_FILES = ("linear_model.npz", "linear_model.json", "bode.png", "comparison.json",
-                   "comparison.png")
+LINEARIZE_FILES = ("linear_model.npz", "linear_model.mat", "linear_model.json", "bode.png",
+                   "comparison.json", "comparison.png")
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -95,6 +97,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "(stiffness) (default 0.02)")
     p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c"), default="modal",
                    help="damping form (default modal; a hub's rigid mode is never damped)")
+    p.add_argument("--dt", type=float, default=None, metavar="S",
+                   help="also the zero-order-hold discrete-time plant at this sample time, s "
+                        "(Ad, Bd in linear_model.npz and .mat; C, D unchanged)")
     p.add_argument("--compare-truth", action="store_true",
                    help="also compare the plant with the truth the fit was made against, on "
                         "the same hub and actuators (comparison.json, comparison.png)")
@@ -123,6 +128,8 @@ def check_options(args: argparse.Namespace) -> dict:
     out["gravity"] = xyz_option(args.gravity, "--gravity", "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
+    if args.dt is not None:
+        in_range("--dt", args.dt, 0.0, lo_open=True, unit="s")
     writable_dir(args.out, "--out")
     from .compare_truth import check_compare_options
 
@@ -171,6 +178,26 @@ def actuator_weights_record(model, actuators) -> dict:
                                                                 f"actuators[{i}]")]
                                  for i, a in enumerate(actuators)],
             "actuator_maps": ["fitted" if a.fitted else "virtual-work" for a in actuators]}
+
+
+def _mat_file(mats: dict, lin, dt_s: float | None) -> bytes:
+    """Return the plant as a MATLAB .mat file: matrices, signal names (cells) and units."""
+    import io
+
+    import numpy as np
+    import scipy.io
+
+    def cells(names):
+        return np.array(list(names), dtype=object)
+
+    content = {**mats, "state_names": cells(lin.state_names),
+               "input_names": cells(lin.input_names), "output_names": cells(lin.output_names),
+               "input_units": cells(lin.input_units), "output_units": cells(lin.output_units)}
+    if dt_s is not None:
+        content["dt_s"] = float(dt_s)
+    buf = io.BytesIO()
+    scipy.io.savemat(buf, content, oned_as="column")
+    return buf.getvalue()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -224,11 +251,17 @@ def run(args: argparse.Namespace) -> int:
         cmp = compare_truth_plant(lin, model, request, opts["actuators"], args.damping_ratio,
                                   cache_dir(args))
         print_truth_warnings(cmp.truth, args.quiet)
+    mats = {"A": lin.A, "B": lin.B, "C": lin.C, "D": lin.D}
+    if args.dt is not None:
+        mats["Ad"], mats["Bd"] = lin.discretize(args.dt)
+        record["dt_s"] = args.dt
     buf = io.BytesIO()
-    np.savez(buf, A=lin.A, B=lin.B, C=lin.C, D=lin.D)
+    np.savez(buf, **mats)
+    mat = _mat_file(mats, lin, args.dt)
     out = Path(args.out)
     with output_folder(out, LINEARIZE_FILES, marker="linear_model.json") as stage:
         atomic_write_bytes(stage / "linear_model.npz", buf.getvalue())
+        atomic_write_bytes(stage / "linear_model.mat", mat)
         _bode(lin, stage / "bode.png")
         if cmp is not None:
             from ..plant.comparison_plot import plot_plant_comparison

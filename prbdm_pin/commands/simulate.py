@@ -40,7 +40,8 @@ OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N 
 --hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x,
 tip_force_y (N), tip_moment_x (N m, about world x at the tip), corner_force_z_left,
 corner_force_z_right (N, world z at the tip corners; dead loads); SIGNAL is A (a step at
-t = 0), step:A:T0, pulse:A:T1 (A until T1 s) or sine:A:F (F in Hz).
+t = 0), step:A:T0, pulse:A:T1 (A until T1 s), sine:A:F (F in Hz) or FILE.csv (rows of time s
+and value, a header allowed; linear between samples, held outside them; times increasing).
 Outputs (--outputs): tip_z, tip_z_rate, tip_x, tip_y, tip_twist, corner_z_left, corner_z_right,
 q[j], q_rate[j], spring_torque[j], hub_angle, hub_rate.
 --compare-truth adds OUT/truth_comparison.json and OUT/truth_comparison.png: the tip response to
@@ -112,7 +113,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_fit_actuators_option(p)
     p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
-                        "pulse:A:T1 or sine:A:F (Hz); e.g. hub_torque=pulse:0.5:0.4")
+                        "pulse:A:T1, sine:A:F (Hz) or FILE.csv (time s, value; linear "
+                        "between samples); e.g. hub_torque=pulse:0.5:0.4")
     p.add_argument("--outputs", default=None, metavar="NAMES",
                    help="plant outputs to record, comma-separated (default tip_z, and "
                         "hub_angle with a hub)")

@@ -106,6 +106,23 @@ class LinearModel:
         return control.ss(self.A, self.B, self.C, self.D, states=list(self.state_names),
                           inputs=list(self.input_names), outputs=list(self.output_names))
 
+    def discretize(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Return the zero-order-hold discrete-time plant's (A_d, B_d) at sample time ``dt_s``.
+
+        x[k+1] = A_d x[k] + B_d u[k], y[k] = C x[k] + D u[k], with A_d = exp(A dt) and
+        B_d = int_0^dt exp(A s) ds B (python-control's ``sample(dt, "zoh")``).
+
+        Raises
+        ------
+        BeamInputError
+            ``dt_s`` not a finite number > 0 (naming it).
+        """
+        from ..options.checks import check_float
+
+        dt = check_float("dt_s", dt_s, low=0.0, low_open=True, unit="s")
+        d = self.to_control().sample(dt, method="zoh")
+        return np.asarray(d.A, dtype=float), np.asarray(d.B, dtype=float)
+
     def frequency_response(self, omega_rad_s: np.ndarray) -> np.ndarray:
         """C (j omega I - A)^-1 B + D at each frequency (rad/s), complex, shape (f, p, m)."""
         w = np.atleast_1d(np.asarray(omega_rad_s, dtype=float))
