@@ -64,6 +64,7 @@ __all__ = ["StrainActuator", "INPUT_UNITS", "CORNER_INPUTS", "POSE_INPUTS",
 ON_JOINT_RTOL = 1e-9
 
 INPUT_UNITS = {"tip_force_z": "N", "tip_force_x": "N", "tip_force_y": "N", "tip_moment_x": "N m",
+               "tip_moment_y": "N m", "tip_moment_z": "N m",
                "corner_force_z_left": "N", "corner_force_z_right": "N",
                "joint_torque": "N m", "strain": "N m", "hub_torque": "N m"}
 # the inputs at a tip corner: the point each acts at (:mod:`prbdm_pin.chain.points`)
@@ -72,7 +73,8 @@ CORNER_INPUTS = {"corner_force_z_left": "tip_corner_left",
 # the inputs that act on the tip link beyond a force at its centre, through their own
 # pose-dependent columns of the input map (a time response differentiates them for its load
 # stiffness; the tip forces' is the tip's)
-POSE_INPUTS = ("tip_moment_x", *CORNER_INPUTS)
+TIP_MOMENTS = {"tip_moment_x": 3, "tip_moment_y": 4, "tip_moment_z": 5}  # rows of the frame J
+POSE_INPUTS = (*TIP_MOMENTS, *CORNER_INPUTS)
 
 
 @dataclass(frozen=True)
@@ -207,7 +209,7 @@ def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool):
     ``n_joints`` is the number of spring coordinates ``joint_torque[j]`` indexes (a spatial
     chain's ``n_springs``).
     """
-    plain = ("tip_force_z", "tip_force_x", "tip_force_y", "tip_moment_x", *CORNER_INPUTS) + (
+    plain = ("tip_force_z", "tip_force_x", "tip_force_y", *TIP_MOMENTS, *CORNER_INPUTS) + (
         ("hub_torque",) if hub else ())
     return parse_names(names, "inputs", {"joint_torque": n_joints, "strain": n_actuators}, plain)
 
@@ -229,8 +231,8 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
               ) -> np.ndarray:
     """Return the generalized force per unit input at pose ``q`` (rad), shape (nv, m).
 
-    Tip forces act through the tip Jacobian's transpose (m/rad), the tip moment about world x
-    through the tip's angular Jacobian (its x row), corner forces through the corner points'
+    Tip forces act through the tip Jacobian's transpose (m/rad), the tip moments about world
+    x, y, z through the tip's angular Jacobian (its rows), corner forces through the corner points'
     Jacobians (:meth:`PrbdmModel.point_kinematics`), torques and patch moments directly.
 
     ``q`` has ``pin_model.nq`` entries (the hub angle first on a hub model).
@@ -248,8 +250,8 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
             B[:, c] = J[0]
         elif base == "tip_force_y":
             B[:, c] = J[1]
-        elif base == "tip_moment_x":
-            B[:, c] = model.tip_frame_jacobian(q)[3]
+        elif base in TIP_MOMENTS:
+            B[:, c] = model.tip_frame_jacobian(q)[TIP_MOMENTS[base]]
         elif base in CORNER_INPUTS:
             B[:, c] = model.point_kinematics(CORNER_INPUTS[base], q)[1][2]
         elif base == "hub_torque":

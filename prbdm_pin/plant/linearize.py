@@ -68,6 +68,7 @@ def linearize(
     inputs : sequence of str
         ``tip_force_z``, ``tip_force_x``, ``tip_force_y`` (N, world, at the tip centre),
         ``tip_moment_x`` (N m, about world x at the tip: a torque on the twist),
+        ``tip_moment_y``, ``tip_moment_z`` (N m, dead, about world y and z at the tip),
         ``corner_force_z_left``, ``corner_force_z_right`` (N, world z at the tip corners, +/- the
         tip half-width along the tip link's y axis; a planar chain feels their bending part
         only), ``joint_torque[j]`` (N m, spring coordinate j from the root, 0-based: beam joint

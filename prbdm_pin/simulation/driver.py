@@ -73,7 +73,8 @@ def simulate(
     inputs : sequence of str
         Plant inputs by name, as :func:`prbdm_pin.linearize` takes them (``hub_torque``,
         ``joint_torque[j]``, ``strain[i]``, ``tip_force_z``, ``tip_force_x``,
-        ``tip_force_y``, ``tip_moment_x``, ``corner_force_z_left``, ``corner_force_z_right``;
+        ``tip_force_y``, ``tip_moment_x``, ``tip_moment_y``, ``tip_moment_z``,
+        ``corner_force_z_left``, ``corner_force_z_right``;
         the moment and the corner forces are dead loads, about world x and along world z).
     u : array (m,), callable t -> (m,), Controller or StateFeedback, optional
         What drives the inputs (see :mod:`prbdm_pin.simulation.inputs`); default zero.

@@ -4,12 +4,13 @@ They are driven by a constant, a function of time, a controller of the state or 
 state-feedback gain.
 
 The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
-``tip_force_y``, ``tip_moment_x``, ``corner_force_z_left``, ``corner_force_z_right``,
-``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch moments and the hub torque
-act through a constant map B_0 (:func:`prbdm_pin.model.inputs.input_map`); tip forces act
-through the tip Jacobian, J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does; the
-tip moment (dead, about world x) and the corner forces (dead, world z) through the pose's own
-columns of that map, B_p(q) u_p: the tip's angular Jacobian's x row and the corners' z rows.
+``tip_force_y``, ``tip_moment_x``, ``tip_moment_y``, ``tip_moment_z``, ``corner_force_z_left``,
+``corner_force_z_right``, ``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch
+moments and the hub torque act through a constant map B_0
+(:func:`prbdm_pin.model.inputs.input_map`); tip forces act through the tip Jacobian,
+J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does; the tip moments (dead, about
+world x, y, z) and the corner forces (dead, world z) through the pose's own columns of that
+map, B_p(q) u_p: the rows of the tip's angular Jacobian and the corners' z rows.
 Their load stiffness d(B_p(q) u_p)/dq is taken by forward differences of B_p (it only steers
 the exponential integrator's linearisation, not the accuracy of the response).
 

@@ -107,3 +107,21 @@ def test_corner_signals_need_the_beam(chain, tmp_path):
     with pytest.raises(BeamInputError, match=r"outputs\[0\] = 'corner_z_left': this model "
                                              "carries no beam"):
         pp.simulate(bare, 0.01, outputs=("corner_z_left",))
+
+
+def test_a_tip_moment_about_y_rolls_the_chain_as_the_statics(tapered):
+    """A large dead moment about -y (joint angles up to 0.5 rad) settles where
+    the statics put it; the linear model's static gain is the compliance sum."""
+    lengths = np.array([0.2, 0.3, 0.3, 0.2]) * tapered.length_m
+    k = spatial_stiffness(tapered, lengths, "y")
+    planar = build_model(tapered, lengths, k)
+    M = -0.5 * float(np.min(k))  # joint angles ~0.5 rad at the softest joint
+    q_s = pp.statics(planar, tip_moment_Nm=[0.0, M, 0.0]).q_rad
+    # a dead moment on a chain of y joints: each carries it, q_j = M / k_j (exactly)
+    np.testing.assert_allclose(q_s, M / k, rtol=1e-9)
+    q = _settle(planar, ("tip_moment_y",), [M])
+    assert np.abs(q - q_s).max() <= 1e-8 * np.abs(q_s).max()  # as above
+    lin = pp.linearize(planar, inputs=("tip_moment_y", "tip_moment_z"), outputs=("q[0]",))
+    dc = -lin.C @ np.linalg.solve(lin.A, lin.B)
+    # a solve of cond ~ the spring spread: 1e-9
+    np.testing.assert_allclose(dc[0], [1.0 / k[0], 0.0], rtol=1e-9, atol=1e-12 / k[0])
