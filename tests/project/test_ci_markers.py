@@ -37,3 +37,11 @@ def test_ci_runs_every_marker_combination():
 @pytest.mark.parametrize("path", sorted((ROOT / "tests").rglob("test_stress_*.py")))
 def test_stress_modules_carry_the_stress_marker(path):
     assert "pytest.mark.stress" in path.read_text()
+
+
+def test_every_test_module_has_its_own_basename():
+    """The suite imports test modules by basename (rootdir mode, no packages): two files of one
+    name in different folders stop the collection of the second on a fresh checkout."""
+    names = [p.name for p in (ROOT / "tests").rglob("test_*.py")]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    assert not twice, twice
