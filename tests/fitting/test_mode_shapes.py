@@ -140,7 +140,8 @@ def test_a_chain_pairs_with_itself_by_rank_and_exchanged_shapes_are_caught(taper
     twist[d.sel.index[tors]] = twist[d.sel.index[tors[::-1]]]
     shapes = ModeShapes(target.mode_shapes.stations_m, target.mode_shapes.deflection, twist)
     w2, mac2, moved2 = pair_modes(d, model, shapes)
-    np.testing.assert_allclose(w2[tors], w[tors[::-1]], rtol=1e-12)
+    # the same per-axis eigensolve on the same model, permuted
+    np.testing.assert_array_equal(w2[tors], w[tors[::-1]])
     assert np.array_equal(np.flatnonzero(moved2), tors)
     notes = pairing_notes(d.sel, w2, moved2, mac2)
     assert len(notes) == 1 and f"truth mode {d.sel.index[tors[0]] + 1} (torsion" in notes[0]
