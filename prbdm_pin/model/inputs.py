@@ -240,7 +240,11 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
     hub = model.hub is not None
     parsed = parse_inputs(names, model.n_springs, len(actuators), hub)
     off = int(hub)
-    J = model.tip_jacobian(q)
+    # Pinocchio's Jacobians only for the columns that need them (a time response calls this
+    # for its pose-dependent columns at every evaluation)
+    tip = {"tip_force_x", "tip_force_y", "tip_force_z"}
+    J = model.tip_jacobian(q) if any(b in tip for _, b, _ in parsed) else None
+    Jw = model.tip_frame_jacobian(q) if any(b in TIP_MOMENTS for _, b, _ in parsed) else None
     maps = [strain_map(model.lengths_m, a, f"actuators[{i}]") for i, a in enumerate(actuators)]
     B = np.zeros((model.pin_model.nv, len(parsed)))
     for c, (_, base, idx) in enumerate(parsed):
@@ -251,7 +255,7 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
         elif base == "tip_force_y":
             B[:, c] = J[1]
         elif base in TIP_MOMENTS:
-            B[:, c] = model.tip_frame_jacobian(q)[TIP_MOMENTS[base]]
+            B[:, c] = Jw[TIP_MOMENTS[base]]
         elif base in CORNER_INPUTS:
             B[:, c] = model.point_kinematics(CORNER_INPUTS[base], q)[1][2]
         elif base == "hub_torque":
