@@ -18,11 +18,9 @@ The weight is each mode's share of the FRF: a corner's residue is a^2, and near 
 |H|^2 ~ a^4 / ((omega_k^2 - Omega^2)^2 + (2 zeta omega_k Omega)^2), whose integral over Omega
 is pi a^4 / (4 zeta omega_k^3); an amplitude error da changes the FRF's L2 norm by about
 a^3 da / omega_k^(3/2) relative to the same scale. Every amplitude is held (a mode the term left
-free can grow without bound on a short tip link: matching the first two modes of each kind
-alone gave the reference panel's 5-joint chain two modes of a^2 = 10 against the truth's 0.1
-and a 115 % FRF error), and the higher modes, whose peaks weigh less, are held less. On the
-reference panel the corner FRF error falls from 5.4-8.7 % (first mode of each kind, each
-relative to its own amplitude) to 3.1 % against a floor of 2.9 % set by the chordwise modes.
+free can grow far above the truth's on a short tip link, which ruins the FRF), and the higher
+modes, whose peaks weigh less, are held less. ``scripts/bench_spatial_frf.py`` compares this
+with the first mode of each kind alone and with the frequency-only fit on the reference panel.
 """
 
 from __future__ import annotations
