@@ -137,7 +137,8 @@ def _errors(model, acts, truth, plant):
                        damping_ratio=ZETA)
     H = lin.frequency_response(w)[:, 0, :]
     eye = np.eye(plant.A.shape[0])
-    Ht = np.array([plant.C[0] @ np.linalg.solve(1j * x * eye - plant.A, plant.B[:, 1:])
+    cols = slice(1, 1 + len(acts))  # the strain columns
+    Ht = np.array([plant.C[0] @ np.linalg.solve(1j * x * eye - plant.A, plant.B[:, cols])
                    for x in w])
     K = np.diag(model.stiffness_Nm_per_rad)
     Jz = model.tip_jacobian()[2]

@@ -32,9 +32,10 @@ def _static_gain(plant):
 def test_all_mode_static_gains_are_the_euler_bernoulli_cantilever(narrow, all_modes):
     xa, xb = 0.2, 0.6  # element nodes of the 200-element mesh
     plant = clamped_model(all_modes, narrow, actuators=((xa, xb),))
-    assert plant.input_names == ("tip_force_z", "strain[0]")
+    assert plant.input_names == ("tip_force_z", "strain[0]", "base_accel_z")
     assert plant.output_names == ("tip_z", "tip_z_rate")
     L, EI = narrow.length_m, narrow.root_EI_Nm2
+    rhoA = narrow.material.rho_kg_m3 * 2 * narrow.half_width_m[0] * narrow.thickness_m
     G = _static_gain(plant)
     # a tip force: L^3 / 3EI; a moment pair M on [xa, xb]: w'' = -M / EI there, so the tip
     # drops by M (xb - xa)(L - (xa + xb) / 2) / EI; rates settle to 0
@@ -44,8 +45,10 @@ def test_all_mode_static_gains_are_the_euler_bernoulli_cantilever(narrow, all_mo
     # sum of all modes (eigenvectors of a stiffness of condition 3.7e10) adds its own rounding
     # of the same size: 2 EPS c (measured 4e-9 to 6.4e-8 across BLAS kernels)
     c = hermite_basis_cond(beam_stations(narrow))
-    np.testing.assert_allclose(G[0], [L**3 / (3 * EI), -(xb - xa) * (L - 0.5 * (xa + xb)) / EI],
-                               rtol=2 * EPS * c)
+    # the clamp accelerated along +z: relative to it the strip carries the uniform load
+    # -rho A a, so the tip drops by rho A L^4 / (8 EI) per m/s^2
+    np.testing.assert_allclose(G[0], [L**3 / (3 * EI), -(xb - xa) * (L - 0.5 * (xa + xb)) / EI,
+                                      -rhoA * L**4 / (8 * EI)], rtol=2 * EPS * c)
     # exact by structure: A is n decoupled 2 x 2 blocks [[0, 1], [-w^2, -2 z w]] and B drives
     # accelerations only, so the solve's rate rows are exact zeros; slack 5000 EPS of the tip
     # compliance (the test's 1e-12, kept)

@@ -66,11 +66,12 @@ def test_torsion_corner_gains_match_the_saint_venant_strip(narrow, plate_truth, 
 
 def test_the_corner_plant_carries_the_corner_gains(narrow, plate_truth, kept, gains):
     plant = clamped_model(plate_truth, narrow, (), 0.02, corners=True, mode_index=kept)
-    assert plant.input_names == ("tip_force_z", "corner_force_z_left", "corner_force_z_right")
+    assert plant.input_names == ("tip_force_z", "corner_force_z_left", "corner_force_z_right",
+                                 "base_accel_z")
     assert plant.output_names == ("tip_z", "tip_z_rate", "corner_z_left", "corner_z_right")
     n = gains.omega_rad_s.size
     # the same numbers placed in B and C: exact
-    np.testing.assert_array_equal(plant.B[n:, 1:], gains.corner_per_sqrt_kg.T)
+    np.testing.assert_array_equal(plant.B[n:, 1:3], gains.corner_per_sqrt_kg.T)
     np.testing.assert_array_equal(plant.C[2:, :n], gains.corner_per_sqrt_kg)
     # static differential corner response (left minus right) per newton at the left corner:
     # the modal sum of the torsion modes only (bending modes move both corners alike)

@@ -115,22 +115,26 @@ def test_modal_damping_gives_every_hub_stiffened_mode_its_ratio(narrow, six_mode
 
 def test_angular_momentum_about_the_hub_axis(narrow, six_modes):
     # H = first row of M times dq/dt; dH/dt = the external torque about +y: the hub torque, and
-    # -(r + L) F_z from a tip force; an actuator's moment pair is internal
+    # -(r + L) F_z from a tip force; an actuator's moment pair is internal; the axis accelerated
+    # along +z: d'Alembert's -rho A a on the uniform strip at arm r + x, torque
+    # rho A a int (r + x) dx = m a (r + L / 2)
     J_h, r = 0.5, 0.1
     h = hybrid_model(six_modes, narrow, J_h, r, actuators=((0.2, 0.6), (0.0, 1.0)))
     n = h.mass.shape[0]
     p = np.concatenate([np.zeros(n), h.mass[0]])
     np.testing.assert_allclose(p @ h.A, 0.0, atol=1e-9 * np.abs(h.A).max())
     torque = p @ h.B
-    np.testing.assert_allclose(torque, [-(r + narrow.length_m), 1.0, 0.0, 0.0], atol=1e-9)
+    L = narrow.length_m
+    m = narrow.material.rho_kg_m3 * 2 * narrow.half_width_m[0] * narrow.thickness_m * L
+    np.testing.assert_allclose(torque, [-(r + L), 1.0, 0.0, 0.0, m * (r + L / 2)], atol=1e-9)
 
 
 def test_names_shapes_and_outputs(narrow, six_modes):
     h = hybrid_model(six_modes, narrow, 0.5, 0.1, actuators=((0.2, 0.6),))
-    assert h.input_names == ("tip_force_z", "hub_torque", "strain[0]")
+    assert h.input_names == ("tip_force_z", "hub_torque", "strain[0]", "base_accel_z")
     assert h.output_names == OUTPUT_NAMES == ("tip_z", "tip_z_rate", "hub_angle", "hub_rate")
     n = 7
-    assert h.A.shape == (2 * n, 2 * n) and h.B.shape == (2 * n, 3) and h.C.shape == (4, 2 * n)
+    assert h.A.shape == (2 * n, 2 * n) and h.B.shape == (2 * n, 4) and h.C.shape == (4, 2 * n)
     assert not h.D.any()
     # a rigid rotation theta about +y lowers the tip by (r + L) theta
     x = np.zeros(2 * n)

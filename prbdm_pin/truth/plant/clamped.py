@@ -15,6 +15,11 @@ plate's torsion modes, which are not among the selected (bending) modes: ask for
 ``mode_index`` (:func:`~prbdm_pin.truth.plant.gains.truth_modal_gains`). The modal
 damping is the same definition as ``prbdm_pin.linearize(..., damping="modal")`` on a clamped
 PRBDM: every mode gets ``damping_ratio``.
+
+``base_accel_z`` (m/s^2, the last input) accelerates the clamp along +z: in the clamp's frame
+every mass element feels the d'Alembert force -rho t a dA, so mode k receives
+-int rho t phi_k dA per m/s^2 (``translation_sqrt_kg``), and the outputs are then measured
+relative to the clamp (the PRBDM plant's ``base_accel_z`` and its base-frame outputs).
 """
 
 from __future__ import annotations
@@ -30,13 +35,14 @@ from ...member.geometry import Beam
 from ..result import TruthResult
 from .gains import ModalGains, truth_modal_gains
 
-__all__ = ["CLAMPED_OUTPUT_NAMES", "CORNER_INPUT_NAMES", "CORNER_OUTPUT_NAMES", "ClampedModel",
-           "clamped_from_gains", "clamped_input_names",
+__all__ = ["BASE_INPUT_NAMES", "CLAMPED_OUTPUT_NAMES", "CORNER_INPUT_NAMES",
+           "CORNER_OUTPUT_NAMES", "ClampedModel", "clamped_from_gains", "clamped_input_names",
            "clamped_model"]
 
 CLAMPED_OUTPUT_NAMES = ("tip_z", "tip_z_rate")
 CORNER_INPUT_NAMES = ("corner_force_z_left", "corner_force_z_right")
 CORNER_OUTPUT_NAMES = ("corner_z_left", "corner_z_right")
+BASE_INPUT_NAMES = ("base_accel_z",)
 
 
 def clamped_input_names(n_actuators: int) -> tuple[str, ...]:
@@ -58,7 +64,7 @@ class ClampedModel:
     damping_ratio : float
     mass, stiffness, damping : ndarray, shape (N, N)
         I, diag(omega_k^2) (1/s^2) and diag(2 zeta omega_k) (1/s).
-    input_matrix : ndarray, shape (N, 1+a)
+    input_matrix : ndarray, shape (N, 2+a) (4+a with corners)
         Generalised forces per unit input (modal gains).
     output_matrix : ndarray, shape (1, N) (3, N with corners)
         Tip z (and the left and right corners' z) per unit modal coordinate.
@@ -124,7 +130,9 @@ def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02,
     G = _corner_gains(gains, corners)
     w = np.asarray(gains.omega_rad_s, dtype=float)
     n = w.size
-    Bq = np.column_stack([gains.tip_force_per_sqrt_kg, gains.strain_per_sqrt_kg_m.T, G.T])
+    # the clamp's acceleration: the d'Alembert load -rho t a on every element (module notes)
+    Bq = np.column_stack([gains.tip_force_per_sqrt_kg, gains.strain_per_sqrt_kg_m.T, G.T,
+                          -np.asarray(gains.translation_sqrt_kg, dtype=float)])
     Cq = np.vstack([np.asarray(gains.tip_z_per_sqrt_kg, dtype=float)[None, :], G])
     K, D = np.diag(w**2), np.diag(2.0 * zeta * w)
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-K, -D]])
@@ -138,7 +146,7 @@ def clamped_from_gains(gains: ModalGains, damping_ratio: float = 0.02,
         input_matrix=_ro(Bq), output_matrix=_ro(Cq), A=_ro(A), B=_ro(B), C=_ro(C),
         D=_ro(np.zeros((C.shape[0], Bq.shape[1]))), frequencies_rad_s=_ro(w),
         input_names=clamped_input_names(gains.actuators_m.shape[0])
-        + (CORNER_INPUT_NAMES if corners else ()),
+        + (CORNER_INPUT_NAMES if corners else ()) + BASE_INPUT_NAMES,
         output_names=CLAMPED_OUTPUT_NAMES + (CORNER_OUTPUT_NAMES if corners else ()),
     )
 

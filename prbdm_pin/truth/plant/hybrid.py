@@ -10,7 +10,10 @@ The kinetic energy gives the mass matrix
 
 the strain energy K = diag(0, omega_k^2), and the virtual work the input matrix: a hub torque
 acts on theta; a tip force F_z does F_z (-(r + L) theta + sum b_k eta_k); a strain actuator (an
-internal moment pair, no work on a rigid rotation) acts on the eta_k only.
+internal moment pair, no work on a rigid rotation) acts on the eta_k only; an acceleration a of
+the hub's axis along +z (``base_accel_z``, m/s^2) loads every mass element with -rho t a
+(d'Alembert, in the axis' frame), which does a (m r + S_1) on theta (S_1 = int rho t x dA) and
+-a int rho t phi_k dA on eta_k; the outputs are then relative to the axis.
 
 Damping (``damping``): ``"clamped"`` damps the clamped modes, D = diag(0, 2 zeta omega_k) in
 these coordinates, so the hub-stiffened modes get ratios that differ from zeta (and are coupled);
@@ -43,8 +46,12 @@ DAMPING_KINDS = ("clamped", "modal")
 
 
 def input_names(n_actuators: int) -> tuple[str, ...]:
-    """Return the input names: ``tip_force_z``, ``hub_torque``, ``strain[0..a-1]``."""
-    return ("tip_force_z", "hub_torque", *(f"strain[{i}]" for i in range(n_actuators)))
+    """Return the input names (tip force, hub torque, strains, the axis' acceleration).
+
+    ``tip_force_z``, ``hub_torque``, ``strain[0..a-1]``, ``base_accel_z``.
+    """
+    return ("tip_force_z", "hub_torque", *(f"strain[{i}]" for i in range(n_actuators)),
+            "base_accel_z")
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,8 +60,9 @@ class HybridModel:
 
     Generalised coordinates q = [theta_hub (rad), eta_1..eta_N (sqrt(kg) m)]; state
     x = [q, dq/dt]. Inputs u (``input_names``): tip force F_z (N), hub torque about +y (N m),
-    actuator moments (N m). Outputs y (``output_names``): tip z (m), its rate (m/s), hub angle
-    (rad), hub rate (rad/s).
+    actuator moments (N m), the axis' acceleration along +z (m/s^2). Outputs y
+    (``output_names``): tip z (m, relative to the axis), its rate (m/s), hub angle (rad), hub
+    rate (rad/s).
 
     Attributes
     ----------
@@ -134,8 +142,9 @@ def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: f
     Returns
     -------
     M, K : ndarray, shape (N+1, N+1)
-    Bq : ndarray, shape (N+1, 2+a)
-        Columns: tip force (N), hub torque (N m), actuator moments (N m).
+    Bq : ndarray, shape (N+1, 3+a)
+        Columns: tip force (N), hub torque (N m), actuator moments (N m), the axis'
+        acceleration along +z (m/s^2).
     Cq : ndarray, shape (2, N+1)
         Rows: tip z (m), hub angle (rad).
     """
@@ -149,10 +158,13 @@ def hybrid_matrices(gains: ModalGains, hub_inertia_kg_m2: float, hub_radius_m: f
     K = np.diag(np.concatenate([[0.0], gains.omega_rad_s**2]))
     arm = r + gains.length_m
     a = gains.actuators_m.shape[0]
-    Bq = np.zeros((n + 1, 2 + a))
+    Bq = np.zeros((n + 1, 3 + a))
     Bq[0, 0], Bq[1:, 0] = -arm, gains.tip_force_per_sqrt_kg
     Bq[0, 1] = 1.0
-    Bq[1:, 2:] = gains.strain_per_sqrt_kg_m.T
+    Bq[1:, 2:2 + a] = gains.strain_per_sqrt_kg_m.T
+    # the axis' acceleration: d'Alembert's -rho t a on every element (module notes)
+    Bq[0, -1] = r * gains.mass_kg + gains.first_moment_kg_m
+    Bq[1:, -1] = -gains.translation_sqrt_kg
     Cq = np.zeros((2, n + 1))
     Cq[0, 0], Cq[0, 1:] = -arm, gains.tip_z_per_sqrt_kg
     Cq[1, 0] = 1.0
