@@ -5,13 +5,15 @@ generalised force of a tip force and of full-width strain actuators (moment pair
 output. ``hybrid_model`` (``hybrid``): the truth on a rotating rigid hub (Likins' hybrid
 coordinates) as M, K and a state space with the PRBDM plant's input and output names.
 ``clamped_model`` (``clamped``): the clamped truth's selected modes as a state space with the
-same names, the truth side of a PRBDM plant without a hub.
+same names, the truth side of a PRBDM plant without a hub. ``bus_model`` (``bus``): the truth on a
+free-floating rigid bus (hybrid coordinates with the bus's translation and rotation).
 
 A subpackage on purpose: the truth's code digest (``truth.digest``) covers ``truth/*.py`` and
 what it imports, and these modules only read a truth, so adding them leaves every truth's cache
 key as it was.
 """
 
+from .bus import BUS_OUTPUT_NAMES, BusModel, bus_from_gains, bus_input_names, bus_model
 from .clamped import (
     CLAMPED_OUTPUT_NAMES,
     ClampedModel,
@@ -50,4 +52,9 @@ __all__ = [
     "clamped_from_gains",
     "clamped_input_names",
     "CLAMPED_OUTPUT_NAMES",
+    "BusModel",
+    "bus_model",
+    "bus_from_gains",
+    "bus_input_names",
+    "BUS_OUTPUT_NAMES",
 ]
