@@ -37,7 +37,11 @@ Inputs: tip_force_z, tip_force_x, tip_force_y (N), tip_moment_y, tip_moment_z (N
 y, z at the tip), tip_moment_x (N m, about world x at the tip: twists it), corner_force_z_left,
 corner_force_z_right (N, z forces at the tip corners, +-w(L) across the tip), joint_torque[j]
 (N m, spring coordinate j from the root, 0-based: every axis of a spatial chain), strain[i]
-(N m, the moment of the i-th --actuator; planar chains), hub_torque (N m, with --hub).
+(N m, the moment of the i-th --actuator; planar chains), hub_torque (N m, with --hub),
+tip_moment_follower_x, _y, _z (N m, about the tip link's own axes), distributed_force_x, _y, _z
+(N/m, world, uniform over the beam; mapped on the links by virtual work), base_accel_x, _y, _z
+(m/s^2, a translating base's acceleration: the states and outputs are then relative to the
+base).
 Outputs: tip_z, tip_x, tip_y (m), tip_z_rate (m/s), tip_twist (rad, the tip's rotation about its
 own axis), corner_z_left, corner_z_right (m, z of the tip corners), q[j] (rad), q_rate[j]
 (rad/s), spring_torque[j] (N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are

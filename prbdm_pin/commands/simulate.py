@@ -39,8 +39,10 @@ and rate first; then each input as u:NAME and each output as y:NAME in their uni
 OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N m, needs
 --hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x,
 tip_force_y (N), tip_moment_x, tip_moment_y, tip_moment_z (N m, about world x, y, z at the
-tip), corner_force_z_left, corner_force_z_right (N, world z at the tip corners; dead loads);
-SIGNAL is A (a step at
+tip), corner_force_z_left, corner_force_z_right (N, world z at the tip corners; dead loads),
+tip_moment_follower_x, _y, _z (N m, about the tip link's own axes), distributed_force_x, _y, _z
+(N/m, world, uniform over the beam), base_accel_x, _y, _z (m/s^2, the base's acceleration: the
+motion is then relative to the base); SIGNAL is A (a step at
 t = 0), step:A:T0, pulse:A:T1 (A until T1 s), sine:A:F (F in Hz) or FILE.csv (rows of time s
 and value, a header allowed; linear between samples, held outside them; times increasing).
 Outputs (--outputs): tip_z, tip_z_rate, tip_x, tip_y, tip_twist, corner_z_left, corner_z_right,

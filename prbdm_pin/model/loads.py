@@ -29,13 +29,13 @@ then measured in the base frame: positions relative to the base, rates relative 
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from ..errors import BeamInputError, InputTypeError
+from ..options.checks import check_float
 from ..options.validate import check_size
 from .chain_names import node_links
 
@@ -74,12 +74,8 @@ class DistributedLoad:
             raise BeamInputError(f"DistributedLoad x_start_m = {self.x_start_m!r}: must be < "
                                  f"x_end_m = {self.x_end_m!r} (m)")
         for name in ("start_weight", "end_weight"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.number)):
-                raise InputTypeError(f"DistributedLoad {name} = {v!r:.60}: must be a real number")
-            if not math.isfinite(float(v)):
-                raise BeamInputError(f"DistributedLoad {name} = {v!r}: must be finite")
-            object.__setattr__(self, name, float(v))
+            v = check_float(f"DistributedLoad {name}", getattr(self, name))
+            object.__setattr__(self, name, v)
 
 
 def check_load(lengths_m: np.ndarray, load: DistributedLoad, field: str) -> float:

@@ -8,7 +8,9 @@ frame (the follower moment M_f about the tip link's axes) and B_q the virtual-wo
 distributed load q_d (N/m, world; :mod:`prbdm_pin.model.loads`). With a follower moment or a
 distributed load: damped Newton on the full residual, their load stiffness by central
 differences of their generalized force (it steers Newton only: the residual is exact), the
-loads stepped up in tenths when the whole load in one go finds no equilibrium. Without gravity the equilibrium is
+loads stepped up in tenths when the whole load in one go finds no equilibrium.
+
+Otherwise, without gravity the equilibrium is
 :meth:`PrbdmModel.static_deflection` (closed-form planar statics, or Newton on the exact tangent
 of the general chain with load stepping); with gravity, damped Newton on the full residual from
 that pose (:func:`prbdm_pin.plant.equilibrium.equilibrium`). What ``prbdm statics`` writes.
