@@ -11,7 +11,6 @@ import json
 import sys
 from pathlib import Path
 
-from ..errors import BeamInputError
 from . import add_common
 
 EXAMPLES = """\
@@ -75,9 +74,9 @@ def run(args: argparse.Namespace) -> int:
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
     from ..io.paths import writable_dir
-    from ..model.loads import check_load
     from ..plant.statics import statics
     from .checks import xyz_option
+    from .plant_options import spans_on_beam, spans_option
 
     loads = {"tip_force_N": xyz_option(args.tip_force, "--tip-force", "N"),
              "tip_moment_Nm": xyz_option(args.tip_moment, "--tip-moment", "N m"),
@@ -85,15 +84,12 @@ def run(args: argparse.Namespace) -> int:
              "tip_moment_follower_Nm": xyz_option(args.tip_moment_follower,
                                                   "--tip-moment-follower", "N m"),
              "distributed_N_m": xyz_option(args.distributed_load, "--distributed-load", "N/m")}
-    span = _span(args.distributed_span)
+    texts = [] if args.distributed_span is None else [args.distributed_span]
+    spans = spans_option(texts)
     writable_dir(args.out, "--out")
     model = load_model(args.model, args.beam).model
-    if span is not None:
-        try:
-            check_load(model.lengths_m, span, "--distributed-span")
-        except BeamInputError as exc:
-            raise BeamInputError(f"--distributed-span = {args.distributed_span!r}: {exc}") \
-                from None
+    spans_on_beam(model, spans, texts)
+    span = spans[0] if spans else None
     eq = statics(model, **loads, distributed_load=span)
     record = {"model": Path(args.model).name, "n_joints": model.n_joints,
               "axes": model.axes.value, **eq.to_dict()}
@@ -106,16 +102,3 @@ def run(args: argparse.Namespace) -> int:
               f"{out / 'statics.json'}", file=sys.stderr)
     return 0
 
-
-def _span(text: str | None):
-    """Return the ``--distributed-span XA:XB`` value as a DistributedLoad (None without it)."""
-    from ..model.loads import DistributedLoad
-    from .plant_options import pair_option
-
-    if text is None:
-        return None
-    a, b = pair_option(text, "--distributed-span", "XA:XB (m)")
-    try:
-        return DistributedLoad(a, b)
-    except BeamInputError as exc:
-        raise BeamInputError(f"--distributed-span = {text!r}: {exc}") from None

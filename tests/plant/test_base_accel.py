@@ -117,7 +117,29 @@ def test_the_command_linearizes_a_base_acceleration(fitted5, tmp_path, capsys):
     _, _, rhoA = strip_properties(pp.load_model(fitted5).model.beam)
     Bq = lin.input_map
     assert np.abs(Bq[:, 0] + rhoA * Bq[:, 1]).max() <= 50 * EPS * np.abs(Bq[:, 0]).max()
-    assert main(["linearize", str(fitted5), "--inputs", "base_accel_q", "--out",
-                 str(tmp_path / "bad")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "base_accel_q" in err[0], err
+    span = tmp_path / "span"
+    assert main(["linearize", str(fitted5), "--inputs", "distributed_force_z[0]",
+                 "--distributed-span", "0.2:0.6", "--out", str(span), "-q"]) == 0
+    d = json.loads((span / "linear_model.json").read_text())
+    assert d["distributed_spans_m"] == [[0.2, 0.6]]
+    lin = pp.linearize(pp.load_model(fitted5).model, inputs=["distributed_force_z[0]"],
+                       loads=(pp.DistributedLoad(0.2, 0.6),))
+    np.testing.assert_array_equal(np.load(span / "linear_model.npz")["B"], lin.B)
+    sim = tmp_path / "sim"
+    assert main(["simulate", str(fitted5), "--duration", "0.05", "--input",
+                 "distributed_force_z[0]=-5", "--distributed-span", "0.2:0.6", "--outputs",
+                 "tip_z", "--out", str(sim), "-q"]) == 0
+    assert (sim / "trajectory.csv").exists()
+    for cmd, args, text in (
+            ("linearize", ["--inputs", "base_accel_q"], "base_accel_q"),
+            ("linearize", ["--inputs", "distributed_force_z[1]", "--distributed-span", "0:0.5"],
+             "distributed_force_z[1]"),
+            ("linearize", ["--inputs", "distributed_force_z[0]", "--distributed-span",
+                           "0.2:7"], "--distributed-span"),
+            ("simulate", ["--duration", "0.05", "--input", "base_accel_z=1",
+                          "--distributed-span", "0.5:0.2"], "--distributed-span")):
+        bad = tmp_path / "bad"
+        assert main([cmd, str(fitted5), *args, "--out", str(bad)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and text in err[0], err
+        assert not bad.exists()
