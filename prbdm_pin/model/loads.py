@@ -12,8 +12,10 @@ Distributed force (``distributed_force_x``, ``_y``, ``_z``, N/m, dead, world axe
 unit length over [x_start_m, x_end_m] of the undeformed beam (m from the root), its intensity
 linear from ``start_weight`` to ``end_weight`` times the input. Each link is rigid, so the part
 of the load on it does the same virtual work as its resultant at the load's centroid on that
-link: link i's share F_i acts at station c_i, and the column is sum_i J(c_i)^T e, J(c_i) the
-world linear Jacobian of the material point c_i of link i. The plain name covers the whole beam
+link: link i's share F_i acts at station c_i, and the column is sum_i J(c_i)^T e F_i, J(c_i)
+the world linear Jacobian of the material point c_i of link i. It is computed from the share
+and its first moment Q_i = F_i (c_i - s_i) about the link's start s_i (exact also where a
+profile changing sign leaves a link a couple and no resultant). The plain name covers the whole beam
 uniformly; ``distributed_force_z[i]`` the i-th :class:`DistributedLoad`. A uniform load
 q = rho A g per unit length over a uniform member is its weight: the column is then the
 generalized gravity of the chain (links of uniform section have their centre of mass at their
@@ -97,12 +99,14 @@ def check_load(lengths_m: np.ndarray, load: DistributedLoad, field: str) -> floa
 
 def link_resultants(lengths_m: np.ndarray, load: DistributedLoad | None
                     ) -> tuple[np.ndarray, np.ndarray]:
-    """Return each link's share of a unit load and where it acts.
+    """Return each link's share of a unit load and its first moment about the link's start.
 
-    The share is N per N/m of input and the point m from the link's start along it, both
-    shape (n+1,); a link the load misses has share 0 (point at its middle). ``None`` is the
-    uniform unit load over the whole beam. The load's intensity is linear on each link, so the
-    share and its centroid are exact (a trapezoid's area and centroid).
+    The share is N per N/m of input, the moment N m per N/m (the share times the distance of
+    its resultant point from the link's start, along the link), both shape (n+1,); a link the
+    load misses has zeros. ``None`` is the uniform unit load over the whole beam. The load's
+    intensity is linear on each link, so both are exact (a trapezoid's area and first moment),
+    and so is the virtual work of the pair, also where a profile changes sign on a link (its
+    share may vanish there, not its moment).
     """
     lengths = np.asarray(lengths_m, dtype=float)
     ends = np.cumsum(lengths)
@@ -119,12 +123,9 @@ def link_resultants(lengths_m: np.ndarray, load: DistributedLoad | None
 
     wu, wv = w(u), w(v)
     share = 0.5 * (wu + wv) * (v - u)
-    # first moment of the trapezoid about u: (v - u)^2 (wu + 2 wv) / 6
-    moment = (v - u) ** 2 * (wu + 2.0 * wv) / 6.0
-    with np.errstate(invalid="ignore", divide="ignore"):
-        centroid = np.where(share != 0.0, u + moment / np.where(share != 0.0, share, 1.0),
-                            0.5 * (starts + ends))
-    return share, centroid - starts
+    # first moment of the trapezoid about u, (v - u)^2 (wu + 2 wv) / 6, moved to the start
+    moment = (v - u) ** 2 * (wu + 2.0 * wv) / 6.0 + share * (u - starts)
+    return share, moment
 
 
 def _link_frames(model) -> list[int]:
@@ -142,19 +143,19 @@ def distributed_column(model, q: np.ndarray, load: DistributedLoad | None, axis:
     """
     pm = model.pin_model
     d = model.default_data if data is None else data
-    share, offset = link_resultants(model.lengths_m, load)
+    share, moment = link_resultants(model.lengths_m, load)
     pin.computeJointJacobians(pm, d, q)
     pin.updateFramePlacements(pm, d)
     out = np.zeros(pm.nv)
-    for fid, F, s in zip(_link_frames(model), share, offset, strict=True):
-        if F == 0.0:
+    for fid, F, Q in zip(_link_frames(model), share, moment, strict=True):
+        if F == 0.0 and Q == 0.0:
             continue
         J = pin.getFrameJacobian(pm, d, fid, pin.LOCAL_WORLD_ALIGNED)
-        r = d.oMf[fid].rotation[:, 0] * s  # from the frame origin to the resultant, world
-        # linear velocity of the point: v_f + omega x r, so its row `axis` is
-        # J_lin[axis] + (omega x r)[axis]
-        cross = np.cross(J[3:].T, r).T  # (3, nv): omega_j x r for each joint j
-        out += F * (J[axis] + cross[axis])
+        ex = d.oMf[fid].rotation[:, 0]  # the link's axis, world
+        # a point s along the link moves by v_f + omega x (s ex): the load's work is
+        # e . v_f F + e . (omega x ex) Q
+        cross = np.cross(J[3:].T, ex).T  # (3, nv): omega_j x ex for each joint j
+        out += F * J[axis] + Q * cross[axis]
     return out
 
 

@@ -101,12 +101,15 @@ def test_a_distributed_load_does_the_virtual_work_of_the_load_along_the_links(ta
     L = tapered.length_m
     # the span cuts links 0 and 2 inside; a linear profile
     load = pp.DistributedLoad(0.1 * L, 0.65 * L, start_weight=0.5, end_weight=2.0)
+    # a profile through zero: a link's part with (nearly) no resultant but a couple
+    flip = pp.DistributedLoad(0.25 * L, 0.75 * L, start_weight=-1.0, end_weight=1.0)
     names = ["distributed_force_x", "distributed_force_y", "distributed_force_z",
-             "distributed_force_z[0]", "distributed_force_y[0]"]
-    B = input_map(model, q, names, loads=(load,))
+             "distributed_force_z[0]", "distributed_force_y[0]", "distributed_force_z[1]"]
+    B = input_map(model, q, names, loads=(load, flip))
     data = model.new_data()
     scale = np.abs(B).max()  # of all columns: a y load on the planar chain has a zero column
-    for c, (axis, ld) in enumerate([(0, None), (1, None), (2, None), (2, load), (1, load)]):
+    cases = [(0, None), (1, None), (2, None), (2, load), (1, load), (2, flip)]
+    for c, (axis, ld) in enumerate(cases):
         ref = _central(lambda qq, ax=axis, lo=ld: np.array([_quadrature_work(model, qq, lo, ax,
                                                                              data)]), q)[0]
         assert np.abs(B[:, c] - ref).max() <= CD_TOL * scale, c
