@@ -111,7 +111,13 @@ def elastica_self_weight(L: float, EI: float, q: float) -> np.ndarray:
                         atol=1e-14)
         return sol.y[:, -1]
 
-    k_lin = q * L**2 / (2.0 * EI)  # the linear root curvature: the large deflection's is less
-    k0 = brentq(lambda k: shoot(k)[1], 0.0, k_lin, xtol=1e-14, rtol=1e-13)
+    # the linear root curvature: the large deflection's is less (theta'(L) >= 0 there); step
+    # down from it to the first theta'(L) < 0 (a small start curls the strip up past the
+    # vertical under a heavy load, so 0 does not bracket)
+    hi = q * L**2 / (2.0 * EI)
+    lo = 0.8 * hi
+    while shoot(lo)[1] >= 0.0:
+        hi, lo = lo, 0.8 * lo
+    k0 = brentq(lambda k: shoot(k)[1], lo, hi, xtol=1e-14, rtol=1e-13)
     end = shoot(k0)
     return np.array([end[2], end[3]])

@@ -129,10 +129,14 @@ def link_resultants(lengths_m: np.ndarray, load: DistributedLoad | None
 
 
 def _link_frames(model) -> list[int]:
-    """Frame ids of each link's start (x along the link), link 0 first."""
-    pm = model.pin_model
-    names = ["link_0"] + [node_links(j, model.axes)[-1] for j in range(1, model.n_joints + 1)]
-    return [pm.getFrameId(n) for n in names]
+    """Frame ids of each link's start (x along the link), link 0 first (found once)."""
+    ids = model._cache.get("link_frames")
+    if ids is None:
+        pm = model.pin_model
+        names = ["link_0"] + [node_links(j, model.axes)[-1]
+                              for j in range(1, model.n_joints + 1)]
+        ids = model._cache["link_frames"] = [pm.getFrameId(n) for n in names]
+    return ids
 
 
 def distributed_column(model, q: np.ndarray, load: DistributedLoad | None, axis: int,
@@ -153,9 +157,10 @@ def distributed_column(model, q: np.ndarray, load: DistributedLoad | None, axis:
         J = pin.getFrameJacobian(pm, d, fid, pin.LOCAL_WORLD_ALIGNED)
         ex = d.oMf[fid].rotation[:, 0]  # the link's axis, world
         # a point s along the link moves by v_f + omega x (s ex): the load's work is
-        # e . v_f F + e . (omega x ex) Q
-        cross = np.cross(J[3:].T, ex).T  # (3, nv): omega_j x ex for each joint j
-        out += F * J[axis] + Q * cross[axis]
+        # e . v_f F + e . (omega x ex) Q; component `axis` of omega_j x ex for each joint j
+        i1, i2 = (axis + 1) % 3, (axis + 2) % 3
+        cross = J[3 + i1] * ex[i2] - J[3 + i2] * ex[i1]
+        out += F * J[axis] + Q * cross
     return out
 
 

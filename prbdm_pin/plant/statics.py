@@ -153,7 +153,13 @@ def statics(model, tip_force_N=None, tip_moment_Nm=None, gravity_m_s2=None, *,
         except SolveError:
             q = None
             for lam in np.linspace(0.1, 1.0, 10):  # the loads stepped up from the dead pose
-                q, _ = equilibrium(model, F, pm_g, moment_Nm=M, extra=extra(lam), q0=q)
+                try:
+                    q, _ = equilibrium(model, F, pm_g, moment_Nm=M, extra=extra(lam), q0=q)
+                except SolveError:
+                    raise SolveError(
+                        f"statics: no equilibrium under the follower tip moment {Mf.tolist()} "
+                        f"N m and the distributed load {qd.tolist()} N/m (with the other "
+                        f"loads), stepped up in tenths: none at {lam:.1f} of them") from None
     p, R = model.tip_pose(q)
     span = () if distributed_load is None else (distributed_load.x_start_m,
                                                 distributed_load.x_end_m)

@@ -26,7 +26,7 @@ from cantilever_loads import (
 import prbdm_pin as pp
 from prbdm_pin.chain.spatial_stiffness import spatial_stiffness
 from prbdm_pin.cli import main
-from prbdm_pin.errors import BeamInputError
+from prbdm_pin.errors import BeamInputError, SolveError
 
 # the equilibrium's Newton stops at 1e-10 of the spring torques (plant.equilibrium's rtol): a
 # joint angle, and so a tip position over L, is good to about that times the condition of K
@@ -179,6 +179,24 @@ def test_the_large_sag_under_self_weight_is_the_elastica_s(narrow):
     assert err[16] <= 1e-3
 
 
+def test_a_heavy_strip_hangs_as_the_elastica_after_the_load_is_stepped_up(narrow):
+    # q L^3 / EI = 100: the strip hangs nearly down; the whole load in one Newton solve from
+    # the straight pose finds no equilibrium, so statics steps it up in tenths
+    L, EI, _ = strip_properties(narrow)
+    q = 100.0 * EI / L**3
+    ref = elastica_self_weight(L, EI, q)
+    err = {}
+    for n in (8, 16):
+        model = pp.build_model(narrow, equal_lengths(L, n), np.full(n, EI * n / L),
+                               min_fraction=0.5 / n)
+        eq = pp.statics(model, distributed_N_m=[0.0, 0.0, -q])
+        err[n] = np.linalg.norm(eq.tip_position_m[[0, 2]] - ref) / L
+    # second order in 1 / n (2.2e-2 and 5.3e-3 of L measured)
+    assert 3.5 <= err[8] / err[16] <= 4.5
+    assert err[16] <= 1e-2
+    assert ref[1] < -0.9 * L  # hanging
+
+
 def test_bad_loads_are_refused_by_name(tapered):
     lengths = np.array([0.2, 0.3, 0.3, 0.2]) * tapered.length_m
     model = pp.build_model(tapered, lengths, spatial_stiffness(tapered, lengths, "y"))
@@ -189,6 +207,9 @@ def test_bad_loads_are_refused_by_name(tapered):
     with pytest.raises(BeamInputError, match="distributed_load x_end_m = .*must lie on the beam"):
         pp.statics(model, distributed_N_m=[0.0, 0.0, -1.0],
                    distributed_load=pp.DistributedLoad(0.1, 5.0))
+    # beyond what stepping finds: a SolveError naming the loads
+    with pytest.raises(SolveError, match="distributed load .*stepped up in tenths"):
+        pp.statics(model, distributed_N_m=[0.0, 0.0, -1e9])
 
 
 def test_the_command_takes_the_new_loads_and_refuses_them_badly(narrow, tmp_path, capsys):
