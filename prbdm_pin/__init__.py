@@ -47,6 +47,7 @@ _EXPORTS = {
     "Hub": "model.hub",
     "LightHubWarning": "model.hub_check",
     "StrainActuator": "model.inputs",
+    "DistributedLoad": "model.loads",
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
     "statics": "plant.statics",

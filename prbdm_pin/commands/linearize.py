@@ -16,8 +16,11 @@ from .plant_options import (
     actuators_on_beam,
     actuators_option,
     add_plant_options,
+    add_span_option,
     hub_option,
     names_option,
+    spans_on_beam,
+    spans_option,
     with_hub,
 )
 
@@ -37,7 +40,12 @@ Inputs: tip_force_z, tip_force_x, tip_force_y (N), tip_moment_y, tip_moment_z (N
 y, z at the tip), tip_moment_x (N m, about world x at the tip: twists it), corner_force_z_left,
 corner_force_z_right (N, z forces at the tip corners, +-w(L) across the tip), joint_torque[j]
 (N m, spring coordinate j from the root, 0-based: every axis of a spatial chain), strain[i]
-(N m, the moment of the i-th --actuator; planar chains), hub_torque (N m, with --hub).
+(N m, the moment of the i-th --actuator; planar chains), hub_torque (N m, with --hub),
+tip_moment_follower_x, _y, _z (N m, about the tip link's own axes), distributed_force_x, _y, _z
+(N/m, world, uniform over the beam; distributed_force_z[i] over the i-th --distributed-span;
+mapped on the links by virtual work), base_accel_x, _y, _z
+(m/s^2, a translating base's acceleration: the states and outputs are then relative to the
+base).
 Outputs: tip_z, tip_x, tip_y (m), tip_z_rate (m/s), tip_twist (rad, the tip's rotation about its
 own axis), corner_z_left, corner_z_right (m, z of the tip corners), q[j] (rad), q_rate[j]
 (rad/s), spring_torque[j] (N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are
@@ -88,6 +96,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--outputs", default="tip_z", metavar="NAMES",
                    help="comma-separated output names (default tip_z)")
     add_plant_options(p)
+    add_span_option(p)
     p.add_argument("--load", default="0,0,0", metavar="FX,FY,FZ",
                    help="dead tip load of the equilibrium, N, world (default 0,0,0)")
     p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
@@ -123,7 +132,8 @@ def check_options(args: argparse.Namespace) -> dict:
 
     out = {"inputs": names_option(args.inputs, "--inputs"),
            "outputs": names_option(args.outputs, "--outputs"),
-           "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub)}
+           "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub),
+           "loads": spans_option(args.distributed_span)}
     out["load"] = xyz_option(args.load, "--load", "N")
     out["gravity"] = xyz_option(args.gravity, "--gravity", "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
@@ -225,11 +235,12 @@ def run(args: argparse.Namespace) -> int:
     else:  # those a model JSON or URDF export records
         opts["actuators"] = source.actuators
     opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
+    spans_on_beam(model, opts["loads"], args.distributed_span)
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=args.damping_ratio,
                     damping=args.damping_form, actuators=opts["actuators"],
-                    gravity_m_s2=gravity)
+                    gravity_m_s2=gravity, loads=opts["loads"])
     record = {
         **lin.to_dict(),
         "model": Path(args.model).name,
@@ -238,6 +249,7 @@ def run(args: argparse.Namespace) -> int:
             "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m},
         "actuators_m": [[a.x_start_m, a.x_end_m] for a in opts["actuators"]],
         **actuator_weights_record(model, opts["actuators"]),
+        "distributed_spans_m": [[ld.x_start_m, ld.x_end_m] for ld in opts["loads"]],
         "load_N": opts["load"], "gravity_m_s2": opts["gravity"],
         "damping_ratio": args.damping_ratio, "damping_form": args.damping_form,
         "state_units": ["rad"] * len(lin.q_eq) + ["rad/s"] * len(lin.q_eq),

@@ -12,7 +12,8 @@ import math
 from ..errors import BeamInputError
 
 __all__ = ["add_plant_options", "names_option", "pair_option", "actuators_option",
-           "hub_option", "with_hub", "actuators_on_beam"]
+           "hub_option", "with_hub", "actuators_on_beam", "add_span_option", "spans_option",
+           "spans_on_beam"]
 
 
 def add_plant_options(p: argparse.ArgumentParser) -> None:
@@ -101,3 +102,35 @@ def actuators_on_beam(model, actuators, texts: list[str], fitted: bool = False) 
 
     for a, text in zip(actuators, texts, strict=True):
         (check_patch if fitted else strain_map)(model.lengths_m, a, f"--actuator = {text!r}:")
+
+
+def add_span_option(p: argparse.ArgumentParser) -> None:
+    """Add ``--distributed-span`` (repeatable) to a subparser."""
+    p.add_argument("--distributed-span", action="append", default=[], metavar="XA:XB",
+                   help="a span XA to XB m along the beam for distributed_force_x/y/z[i] (repeat "
+                        "for more; the i-th is [i]); the plain names cover the whole beam")
+
+
+def spans_option(texts: list[str], option: str = "--distributed-span") -> tuple:
+    """Return the ``--distributed-span XA:XB`` values as DistributedLoads (XA < XB).
+
+    The beam is checked later by :func:`spans_on_beam`.
+    """
+    from ..model.loads import DistributedLoad
+
+    loads = []
+    for text in texts:
+        a, b = pair_option(text, option, "XA:XB (m)")
+        try:
+            loads.append(DistributedLoad(a, b))
+        except BeamInputError as exc:
+            raise BeamInputError(f"{option} = {text!r}: {exc}") from None
+    return tuple(loads)
+
+
+def spans_on_beam(model, loads, texts: list[str], option: str = "--distributed-span") -> None:
+    """Refuse a ``--distributed-span`` that leaves the beam of ``model``."""
+    from ..model.loads import check_load
+
+    for ld, text in zip(loads, texts, strict=True):
+        check_load(model.lengths_m, ld, f"{option} = {text!r}:")

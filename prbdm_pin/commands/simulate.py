@@ -12,7 +12,7 @@ from ..errors import BeamInputError
 from ..plant.truth_comparison import TRUTH_MODELS
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
-from .plant_options import add_plant_options
+from .plant_options import add_plant_options, add_span_option
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
 
 if TYPE_CHECKING:
@@ -39,9 +39,11 @@ and rate first; then each input as u:NAME and each output as y:NAME in their uni
 OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N m, needs
 --hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x,
 tip_force_y (N), tip_moment_x, tip_moment_y, tip_moment_z (N m, about world x, y, z at the
-tip), corner_force_z_left, corner_force_z_right (N, world z at the tip corners; dead loads);
-SIGNAL is A (a step at
-t = 0), step:A:T0, pulse:A:T1 (A until T1 s), sine:A:F (F in Hz) or FILE.csv (rows of time s
+tip), corner_force_z_left, corner_force_z_right (N, world z at the tip corners; dead loads),
+tip_moment_follower_x, _y, _z (N m, about the tip link's own axes), distributed_force_x, _y, _z
+(N/m, world, uniform over the beam; [i] over the i-th --distributed-span), base_accel_x, _y, _z
+(m/s^2, the base's acceleration: the motion is then relative to the base); SIGNAL is A (a step
+at t = 0), step:A:T0, pulse:A:T1 (A until T1 s), sine:A:F (F in Hz) or FILE.csv (rows of time s
 and value, a header allowed; linear between samples, held outside them; times increasing).
 Outputs (--outputs): tip_z, tip_z_rate, tip_x, tip_y, tip_twist, corner_z_left, corner_z_right,
 q[j], q_rate[j], spring_torque[j], hub_angle, hub_rate.
@@ -111,6 +113,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
     add_plant_options(p)
+    add_span_option(p)
     add_fit_actuators_option(p)
     p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
@@ -211,7 +214,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io.output_folder import output_folder
     from ..simulation import simulate
     from ..views.plots import plot_response
-    from .plant_options import actuators_on_beam, with_hub
+    from .plant_options import actuators_on_beam, spans_on_beam, with_hub
 
     force = check_options(args)
     plant = check_plant_options(args)
@@ -227,6 +230,7 @@ def run(args: argparse.Namespace) -> int:
     else:  # those a model JSON or URDF export records
         plant["actuators"] = source.actuators
     plant["actuators"] = fit_actuators(args, model, fitted, plant["actuators"])
+    spans_on_beam(model, plant["loads"], args.distributed_span)
     if args.fit_actuators and not args.quiet:
         for i, a in enumerate(plant["actuators"]):
             print(f"strain[{i}] joint weights fitted to the truth: "
@@ -244,7 +248,7 @@ def run(args: argparse.Namespace) -> int:
     tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
                   options=simulation_options(args, output_dt), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
-                  outputs=outputs,
+                  loads=plant["loads"], outputs=outputs,
                   gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None)
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was

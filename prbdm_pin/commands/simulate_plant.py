@@ -10,7 +10,7 @@ import argparse
 
 from ..errors import BeamInputError
 from .fit_actuators import check_fit_actuators
-from .plant_options import actuators_option, hub_option, names_option
+from .plant_options import actuators_option, hub_option, names_option, spans_option
 
 
 def check_plant_options(args: argparse.Namespace) -> dict:
@@ -23,7 +23,8 @@ def check_plant_options(args: argparse.Namespace) -> dict:
     names, signal = parse_inputs(args.input)
     outputs = None if args.outputs is None else names_option(args.outputs, "--outputs")
     opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
-            "inputs": names, "u": signal, "outputs": outputs}
+            "inputs": names, "u": signal, "outputs": outputs,
+            "loads": spans_option(args.distributed_span)}
     opts["plant"] = bool(args.hub or args.actuator or args.input)
     check_fit_actuators(args, len(opts["actuators"]))
     if args.compare_truth and opts["plant"]:
@@ -59,7 +60,7 @@ def plant_comparison(model, fitted, plant: dict, outputs, args):
     request = truth_request_of(fitted, args.model)
     lin = linearize(model, inputs=plant["inputs"], outputs=outputs or ("tip_z",),
                     damping_ratio=args.damping, damping="modal",
-                    actuators=tuple(plant["actuators"]))
+                    actuators=tuple(plant["actuators"]), loads=plant["loads"])
     cmp = compare_truth_plant(lin, model, request, plant["actuators"], args.damping,
                               cache_dir(args))
     print_truth_warnings(cmp.truth, args.quiet)

@@ -1,7 +1,8 @@
 """Plant inputs and the generalized forces they make.
 
-Tip forces (at the tip centre, world axes), the tip moment about world x, z forces at the tip
-corners, joint torques, strain actuators and the hub torque.
+Tip forces (at the tip centre, world axes), the dead tip moments about world x, y, z, z forces
+at the tip corners, joint torques, strain actuators and the hub torque; follower tip moments,
+distributed forces and base accelerations (:mod:`prbdm_pin.model.loads`).
 
 The tip corners are the points at +/- w(L) (the tip half-width) along the tip link's y axis
 (:mod:`prbdm_pin.chain.points`): a corner force acts through that point's Jacobian, so it bends
@@ -53,6 +54,16 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..options.validate import check_size
+from .loads import (
+    BASE_ACCELS,
+    DISTRIBUTED_FORCES,
+    FOLLOWER_MOMENTS,
+    DistributedLoad,
+    base_accel_columns,
+    check_load,
+    distributed_column,
+    follower_moment_columns,
+)
 from .names import parse_names
 
 __all__ = ["StrainActuator", "INPUT_UNITS", "CORNER_INPUTS", "POSE_INPUTS",
@@ -66,7 +77,10 @@ ON_JOINT_RTOL = 1e-9
 INPUT_UNITS = {"tip_force_z": "N", "tip_force_x": "N", "tip_force_y": "N", "tip_moment_x": "N m",
                "tip_moment_y": "N m", "tip_moment_z": "N m",
                "corner_force_z_left": "N", "corner_force_z_right": "N",
-               "joint_torque": "N m", "strain": "N m", "hub_torque": "N m"}
+               "joint_torque": "N m", "strain": "N m", "hub_torque": "N m",
+               **dict.fromkeys(FOLLOWER_MOMENTS, "N m"),
+               **dict.fromkeys(DISTRIBUTED_FORCES, "N/m"),
+               **dict.fromkeys(BASE_ACCELS, "m/s^2")}
 # the inputs at a tip corner: the point each acts at (:mod:`prbdm_pin.chain.points`)
 CORNER_INPUTS = {"corner_force_z_left": "tip_corner_left",
                  "corner_force_z_right": "tip_corner_right"}
@@ -74,7 +88,8 @@ CORNER_INPUTS = {"corner_force_z_left": "tip_corner_left",
 # pose-dependent columns of the input map (a time response differentiates them for its load
 # stiffness; the tip forces' is the tip's)
 TIP_MOMENTS = {"tip_moment_x": 3, "tip_moment_y": 4, "tip_moment_z": 5}  # rows of the frame J
-POSE_INPUTS = (*TIP_MOMENTS, *CORNER_INPUTS)
+POSE_INPUTS = (*TIP_MOMENTS, *CORNER_INPUTS, *FOLLOWER_MOMENTS, *DISTRIBUTED_FORCES,
+               *BASE_ACCELS)
 
 
 @dataclass(frozen=True)
@@ -203,15 +218,19 @@ def check_patch(lengths_m: np.ndarray, actuator: StrainActuator, field: str = "a
     return lengths
 
 
-def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool):
+def parse_inputs(names, n_joints: int, n_actuators: int, hub: bool, n_loads: int = 0):
     """Check input names against a model; returns (name, base, index) per input.
 
     ``n_joints`` is the number of spring coordinates ``joint_torque[j]`` indexes (a spatial
-    chain's ``n_springs``).
+    chain's ``n_springs``); ``n_loads`` the number of DistributedLoad spans
+    ``distributed_force_z[i]`` indexes (the plain name is the whole beam).
     """
-    plain = ("tip_force_z", "tip_force_x", "tip_force_y", *TIP_MOMENTS, *CORNER_INPUTS) + (
+    plain = ("tip_force_z", "tip_force_x", "tip_force_y", *TIP_MOMENTS, *CORNER_INPUTS,
+             *FOLLOWER_MOMENTS, *DISTRIBUTED_FORCES, *BASE_ACCELS) + (
         ("hub_torque",) if hub else ())
-    return parse_names(names, "inputs", {"joint_torque": n_joints, "strain": n_actuators}, plain)
+    indexed = {"joint_torque": n_joints, "strain": n_actuators,
+               **dict.fromkeys(DISTRIBUTED_FORCES, n_loads)}
+    return parse_names(names, "inputs", indexed, plain)
 
 
 def check_corner_names(model, names, field: str) -> None:
@@ -227,18 +246,22 @@ def check_corner_names(model, names, field: str) -> None:
                                  "from a URDF), so no tip width and no corners")
 
 
-def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...] = ()
-              ) -> np.ndarray:
+def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...] = (),
+              loads: tuple[DistributedLoad, ...] = ()) -> np.ndarray:
     """Return the generalized force per unit input at pose ``q`` (rad), shape (nv, m).
 
     Tip forces act through the tip Jacobian's transpose (m/rad), the tip moments about world
     x, y, z through the tip's angular Jacobian (its rows), corner forces through the corner points'
-    Jacobians (:meth:`PrbdmModel.point_kinematics`), torques and patch moments directly.
+    Jacobians (:meth:`PrbdmModel.point_kinematics`), torques and patch moments directly; the
+    follower moments, distributed forces (over ``loads[i]`` or the whole beam) and base
+    accelerations as :mod:`prbdm_pin.model.loads` maps them.
 
     ``q`` has ``pin_model.nq`` entries (the hub angle first on a hub model).
     """
     hub = model.hub is not None
-    parsed = parse_inputs(names, model.n_springs, len(actuators), hub)
+    for i, ld in enumerate(loads):
+        check_load(model.lengths_m, ld, f"loads[{i}]")
+    parsed = parse_inputs(names, model.n_springs, len(actuators), hub, len(loads))
     off = int(hub)
     # Pinocchio's Jacobians only for the columns that need them (a time response calls this
     # for its pose-dependent columns at every evaluation)
@@ -246,6 +269,9 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
     J = model.tip_jacobian(q) if any(b in tip for _, b, _ in parsed) else None
     Jw = model.tip_frame_jacobian(q) if any(b in TIP_MOMENTS for _, b, _ in parsed) else None
     maps = [strain_map(model.lengths_m, a, f"actuators[{i}]") for i, a in enumerate(actuators)]
+    Jf = follower_moment_columns(model, q) if any(b in FOLLOWER_MOMENTS for _, b, _ in parsed) \
+        else None
+    Ga = base_accel_columns(model, q) if any(b in BASE_ACCELS for _, b, _ in parsed) else None
     B = np.zeros((model.pin_model.nv, len(parsed)))
     for c, (_, base, idx) in enumerate(parsed):
         if base == "tip_force_z":
@@ -258,6 +284,13 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
             B[:, c] = Jw[TIP_MOMENTS[base]]
         elif base in CORNER_INPUTS:
             B[:, c] = model.point_kinematics(CORNER_INPUTS[base], q)[1][2]
+        elif base in FOLLOWER_MOMENTS:
+            B[:, c] = Jf[:, FOLLOWER_MOMENTS[base] - 3]
+        elif base in DISTRIBUTED_FORCES:
+            B[:, c] = distributed_column(model, q, None if idx is None else loads[idx],
+                                         DISTRIBUTED_FORCES[base])
+        elif base in BASE_ACCELS:
+            B[:, c] = Ga[:, BASE_ACCELS[base]]
         elif base == "hub_torque":
             B[0, c] = 1.0
         elif base == "joint_torque":

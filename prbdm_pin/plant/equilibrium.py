@@ -65,12 +65,14 @@ def gravity_model(model, gravity_m_s2: np.ndarray | None) -> pin.Model | None:
 
 
 def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | None,
-                 data_g: pin.Data | None, moment_Nm: np.ndarray | None = None
-                 ) -> tuple[np.ndarray, np.ndarray]:
+                 data_g: pin.Data | None, moment_Nm: np.ndarray | None = None,
+                 extra=None) -> tuple[np.ndarray, np.ndarray]:
     """Return the static residual and its Jacobian at pose ``q`` (rad).
 
-    The residual is K q + g(q) - J^T F - J_w^T M (N m, (nv,)), M a dead tip moment (N m,
-    world; default none); its Jacobian the effective stiffness (N m/rad, (nv, nv)).
+    The residual is K q + g(q) - J^T F - J_w^T M - tau_x(q) (N m, (nv,)), M a dead tip moment
+    (N m, world; default none), tau_x the generalized force of further loads given as
+    ``extra(q) -> (tau_x, d tau_x / dq)`` (default none); its Jacobian the effective stiffness
+    (N m/rad, (nv, nv)).
     """
     moment = np.zeros(3) if moment_Nm is None else np.asarray(moment_Nm, dtype=float)
     if model.axes.spatial:
@@ -89,17 +91,21 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
     if pm_g is not None:
         r = r + pin.computeGeneralizedGravity(pm_g, data_g, q)
         H = H + pin.computeGeneralizedGravityDerivatives(pm_g, data_g, q)
+    if extra is not None:
+        tau, dtau = extra(q)
+        r, H = r - tau, H - dtau
     return r, H
 
 
 def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float = 1e-10,
-                max_iter: int = 60, moment_Nm: np.ndarray | None = None
-                ) -> tuple[np.ndarray, float]:
+                max_iter: int = 60, moment_Nm: np.ndarray | None = None, extra=None,
+                q0: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """Return the equilibrium pose (rad, (nv,)) and the trim hub torque (N m).
 
     The pose is under the dead tip load (N), the dead tip moment ``moment_Nm`` (N m, world;
-    default none) and the gravity of ``pm_g``; the trim torque holds the hub at 0 (0.0
-    without a hub).
+    default none), the gravity of ``pm_g`` and the loads ``extra`` (:func:`static_terms`;
+    those start from ``q0``, default the pose under the others); the trim torque holds the hub
+    at 0 (0.0 without a hub).
 
     Without gravity and hub this is :meth:`PrbdmModel.static_deflection`; otherwise damped
     Newton steps on the beam joints from the planar statics' pose.
@@ -111,9 +117,9 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
     """
     hub = model.hub is not None
     moment = None if moment_Nm is None or not np.any(moment_Nm) else moment_Nm
-    if pm_g is None and not np.any(load_N) and moment is None:
+    if pm_g is None and not np.any(load_N) and moment is None and extra is None:
         return np.zeros(model.pin_model.nv), 0.0  # unloaded: the straight pose, no trim
-    if pm_g is None and not hub:
+    if pm_g is None and not hub and extra is None:
         return model.static_deflection(load_N, tip_moment_Nm=moment)[0], 0.0
     off = int(hub)
     q = np.zeros(model.pin_model.nv)
@@ -122,13 +128,15 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
             q = model.static_deflection(load_N, tip_moment_Nm=moment)[0]
     elif moment is None:
         q[off:] = static_deflection_planar(model.lengths_m, model.stiffness_Nm_per_rad, load_N)
+    if q0 is not None:
+        q = np.array(q0, dtype=float)
     data_g = None if pm_g is None else pm_g.createData()
     free = slice(off, None)
 
     k = model.stiffness_Nm_per_rad
 
     def norm(q: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-        r, H = static_terms(model, q, load_N, pm_g, data_g, moment)
+        r, H = static_terms(model, q, load_N, pm_g, data_g, moment, extra)
         return math.sqrt(float(r[free] @ r[free])), r, H
 
     def converged(q: np.ndarray, r: np.ndarray, rn: float, rel: float) -> bool:

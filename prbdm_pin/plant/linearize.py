@@ -17,6 +17,7 @@ from ..model.inputs import (
     input_unit,
     parse_inputs,
 )
+from ..model.loads import check_load
 from ..model.outputs import output_maps, output_unit, output_values, parse_outputs
 from ..simulation.hub_damping import plant_damping
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
@@ -46,6 +47,14 @@ def _actuators(actuators) -> tuple[StrainActuator, ...]:
     return tuple(actuators)
 
 
+def _loads(model, loads) -> tuple:
+    if isinstance(loads, (str, bytes)) or not isinstance(loads, Sequence):
+        raise InputTypeError(f"loads = {loads!r:.60}: must be a sequence of DistributedLoad")
+    for i, ld in enumerate(loads):
+        check_load(model.lengths_m, ld, f"loads[{i}]")
+    return tuple(loads)
+
+
 def linearize(
     model,
     inputs: Sequence[str] = ("tip_force_z",),
@@ -56,6 +65,7 @@ def linearize(
     damping: str = "modal",
     actuators: Sequence[StrainActuator] = (),
     gravity_m_s2: np.ndarray | None = None,
+    loads: Sequence = (),
 ) -> LinearModel:
     """Linearise ``model`` about an equilibrium.
 
@@ -73,7 +83,13 @@ def linearize(
         tip half-width along the tip link's y axis; a planar chain feels their bending part
         only), ``joint_torque[j]`` (N m, spring coordinate j from the root, 0-based: beam joint
         j of a planar chain, the ``spring_axes`` order of a spatial one), ``strain[i]`` (N m,
-        the moment of ``actuators[i]``; planar chains), ``hub_torque`` (N m, hub models).
+        the moment of ``actuators[i]``; planar chains), ``hub_torque`` (N m, hub models);
+        ``tip_moment_follower_x``, ``_y``, ``_z`` (N m, about the tip link's own axes),
+        ``distributed_force_x``, ``_y``, ``_z`` (N/m, world, uniform over the whole beam;
+        ``distributed_force_z[i]``: over ``loads[i]``), ``base_accel_x``, ``_y``, ``_z``
+        (m/s^2, a translating base's acceleration: the inertial load -m a on every link;
+        the states and outputs are then measured in the base frame, relative to the base);
+        see :mod:`prbdm_pin.model.loads`.
     outputs : sequence of str
         ``tip_z``, ``tip_z_rate``, ``tip_x``, ``tip_y`` (m, m/s), ``tip_twist`` (rad, the tip
         section's rotation about the tip link's own axis), ``corner_z_left``,
@@ -95,6 +111,8 @@ def linearize(
         The strain actuators ``strain[i]`` refers to.
     gravity_m_s2 : array_like (3,), optional
         Gravity, m/s^2, world; default none.
+    loads : sequence of DistributedLoad
+        The spans (and profiles) ``distributed_force_z[i]`` (and ``_x``, ``_y``) refer to.
 
     Returns
     -------
@@ -117,7 +135,9 @@ def linearize(
     hub = model.hub is not None
     # names first: refused before any work, and a bare string is not taken letter by letter;
     # joint_torque[j] and q[j] index every spring coordinate (n_joints on the planar chain)
-    in_names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_springs, len(acts), hub))
+    lds = _loads(model, loads)
+    in_names = tuple(n for n, _, _ in parse_inputs(inputs, model.n_springs, len(acts), hub,
+                                                   len(lds)))
     out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_springs, hub))
     check_corner_names(model, in_names, "inputs")
     check_corner_names(model, out_names, "outputs")
@@ -131,7 +151,7 @@ def linearize(
         q = _pose(model, q_eq)
         r = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[0]
         trim = float(r[0]) if hub else 0.0
-    Bq = input_map(model, q, in_names, acts)
+    Bq = input_map(model, q, in_names, acts, lds)
     Cq, Cv = output_maps(model, q, out_names)
     M = model.mass_matrix(q)
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]

@@ -18,6 +18,7 @@ from ..errors import BeamInputError, InputTypeError
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
+from ..model.loads import check_load
 from ..model.outputs import output_samples, output_unit, parse_outputs
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
@@ -42,6 +43,7 @@ def simulate(
     inputs: Sequence[str] = (),
     u: Any = None,
     actuators: Sequence[StrainActuator] = (),
+    loads: Sequence = (),
     outputs: Sequence[str] = (),
     gravity_m_s2: np.ndarray | None = None,
     integrator: Integrator | None = None,
@@ -75,11 +77,18 @@ def simulate(
         ``joint_torque[j]``, ``strain[i]``, ``tip_force_z``, ``tip_force_x``,
         ``tip_force_y``, ``tip_moment_x``, ``tip_moment_y``, ``tip_moment_z``,
         ``corner_force_z_left``, ``corner_force_z_right``;
-        the moment and the corner forces are dead loads, about world x and along world z).
+        the moment and the corner forces are dead loads, about world x and along world z;
+        ``tip_moment_follower_x``/``_y``/``_z`` (N m, about the tip link's own axes),
+        ``distributed_force_x``/``_y``/``_z`` (N/m, world, over the whole beam, or with
+        ``[i]`` over ``loads[i]``), ``base_accel_x``/``_y``/``_z`` (m/s^2, the base's
+        acceleration: the motion and outputs are then relative to the base), see
+        :mod:`prbdm_pin.model.loads`).
     u : array (m,), callable t -> (m,), Controller or StateFeedback, optional
         What drives the inputs (see :mod:`prbdm_pin.simulation.inputs`); default zero.
     actuators : sequence of StrainActuator
         The strain actuators ``strain[i]`` refers to.
+    loads : sequence of DistributedLoad
+        The spans ``distributed_force_z[i]`` (and ``_x``, ``_y``) refer to.
     gravity_m_s2 : array_like (3,), optional
         Gravity, m/s^2, world (default none): the chain's weight through Pinocchio's dynamics
         (its generalized gravity and their derivatives), as ``linearize`` and ``statics`` take
@@ -124,7 +133,7 @@ def simulate(
     if stiffness_schedule is not None and hub:
         raise BeamInputError("stiffness_schedule: not with a hub (the schedule holds the beam "
                              "joints' springs of a clamped chain)")
-    plant = _plant(model, inputs, u, actuators, outputs, integ)
+    plant = _plant(model, inputs, u, actuators, outputs, integ, loads)
     if stiffness_schedule is not None and stiffness_schedule.stiffness_Nm_per_rad.shape[1] != n:
         raise BeamInputError(f"stiffness_schedule: needs {n} joint stiffnesses per pose")
     # the options' dt_s, whether or not the integrator has a step (as always)
@@ -164,7 +173,7 @@ def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
     return math.sqrt(max(w2[0], 1e-300))
 
 
-def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
+def _plant(model, inputs, u, actuators, outputs, integrator: Integrator, loads=()):
     """Check the plant inputs and outputs before any work.
 
     Returns (a maker of the system's InputForce or None, the output names).
@@ -183,7 +192,8 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
         if u is not None:
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
-    names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub))
+    lds = _loads(model, loads)
+    names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub, len(lds)))
     check_corner_names(model, names, "inputs")
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
@@ -193,7 +203,16 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
                              f"joints; this model has axes {model.axes.value!r}")
     for i, a in enumerate(acts):
         strain_map(model.lengths_m, a, f"actuators[{i}]")
-    return (lambda tip_terms: input_force(model, names, u, acts, tip_terms)), out_names
+    return (lambda tip_terms: input_force(model, names, u, acts, tip_terms, lds)), out_names
+
+
+def _loads(model, loads) -> tuple:
+    """Check the DistributedLoad spans against the model's beam (naming ``loads[i]``)."""
+    if isinstance(loads, (str, bytes)) or not isinstance(loads, (list, tuple)):
+        raise InputTypeError(f"loads = {loads!r:.80}: must be a sequence of DistributedLoad")
+    for i, ld in enumerate(loads):
+        check_load(model.lengths_m, ld, f"loads[{i}]")
+    return tuple(loads)
 
 
 def _recorded(model, system, out_names, t, Q, V, tip) -> tuple:

@@ -5,12 +5,15 @@ state-feedback gain.
 
 The inputs are named as in :func:`prbdm_pin.linearize` (``tip_force_z``, ``tip_force_x``,
 ``tip_force_y``, ``tip_moment_x``, ``tip_moment_y``, ``tip_moment_z``, ``corner_force_z_left``,
-``corner_force_z_right``, ``joint_torque[j]``, ``strain[i]``, ``hub_torque``). Torques, patch
+``corner_force_z_right``, ``joint_torque[j]``, ``strain[i]``, ``hub_torque``, and the loads of
+:mod:`prbdm_pin.model.loads`: ``tip_moment_follower_x`` ..., ``distributed_force_z`` ...,
+``base_accel_z`` ...). Torques, patch
 moments and the hub torque act through a constant map B_0
 (:func:`prbdm_pin.model.inputs.input_map`); tip forces act through the tip Jacobian,
 J(q)^T F(u), as the ``tip_force`` argument of ``simulate`` does; the tip moments (dead, about
 world x, y, z) and the corner forces (dead, world z) through the pose's own columns of that
-map, B_p(q) u_p: the rows of the tip's angular Jacobian and the corners' z rows.
+map, B_p(q) u_p: the rows of the tip's angular Jacobian and the corners' z rows; so do the
+follower moments, the distributed forces and the base accelerations.
 Their load stiffness d(B_p(q) u_p)/dq is taken by forward differences of B_p (it only steers
 the exponential integrator's linearisation, not the accuracy of the response).
 
@@ -261,15 +264,16 @@ def _signal(u, m: int, nv: int):
     return (lambda t, q, v: const), None, False
 
 
-def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_terms
-                ) -> InputForce:
+def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_terms,
+                loads: tuple = ()) -> InputForce:
     """Return the :class:`InputForce` of the inputs ``names`` driven by ``u`` on ``model``.
 
-    The tip forces' generalized force and load stiffness come from ``tip_terms(q, F)``.
+    The tip forces' generalized force and load stiffness come from ``tip_terms(q, F)``;
+    ``distributed_force_z[i]`` ... act over ``loads[i]`` (DistributedLoad).
     """
     hub = model.hub is not None
     n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
-    parsed = parse_inputs(names, n_springs, len(actuators), hub)
+    parsed = parse_inputs(names, n_springs, len(actuators), hub, len(loads))
     names = tuple(n for n, _, _ in parsed)
     nv = model.pin_model.nv
     m = len(names)
@@ -282,7 +286,7 @@ def input_force(model, names, u, actuators: tuple[StrainActuator, ...], tip_term
     if const_cols:
         b0[:, const_cols] = input_map(model, np.zeros(model.pin_model.nq),
                                       [parsed[c][0] for c in const_cols], actuators)
-    pose_map = (lambda q: input_map(model, q, pose_names)) if pose_cols else None
+    pose_map = (lambda q: input_map(model, q, pose_names, loads=loads)) if pose_cols else None
     signal, gain, varying = _signal(u, m, nv)
     signal(0.0, np.zeros(nv), np.zeros(nv))  # a bad signal is refused before any step
     return InputForce(names, tuple(input_unit(s) for s in names), b0, tip_rows, signal, gain,
