@@ -153,3 +153,18 @@ def test_the_command_linearizes_a_base_acceleration(fitted5, tmp_path, capsys):
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and text in err[0], err
         assert not bad.exists()
+
+
+def test_the_base_excited_5r_fit_against_the_truth_plant(fitted5, strip_fit):
+    # the target: the transmissibility of the base-excited 5R fit within 2 % of the
+    # truth plant's (the clamped 1D beam's modes loaded by d'Alembert's -rho A a, the clamp's
+    # frame) over [0, 1.2 omega_5], relative L2 with 2 % modal damping on both sides
+    loaded = pp.load_model(fitted5)
+    lin = pp.linearize(loaded.model, inputs=["tip_force_z", "base_accel_z"],
+                       outputs=["tip_z"], damping_ratio=0.02)
+    cmp = pp.compare_truth_plant(lin, loaded.model, loaded.fit.truth_request, (), 0.02,
+                                 cache_dir=strip_fit(5) / "cache").comparison
+    pair = cmp.pair("base_accel_z", "tip_z")
+    # measured 0.093 % (FRF) and 0.042 % (step); the tip force's pair is the eigen fit's
+    # known static miss (11 %), which the base load, spread over the span, does not feel
+    assert abs(pair.frf_error_pct) <= 2.0 and abs(pair.step_error_pct) <= 2.0
