@@ -18,11 +18,14 @@ from ..errors import BeamInputError, InputTypeError
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
-from ..model.outputs import output_samples, output_unit, parse_outputs
+from ..model.load_outputs import is_load_output
+from ..model.outputs import check_output_stations, output_samples, output_unit, parse_outputs
+from ..model.reaction import check_load_inputs
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
 from .damping import damping_ratios
 from .inputs import input_force
+from .load_samples import sample_accelerations, sample_loads
 from .loop import check_grid, integrate, progress_bar, start
 from .schedule import StiffnessSchedule
 from .system import assemble_system, force_function, mass_matrix, tip_positions, vector
@@ -146,7 +149,7 @@ def simulate(
         close()
     tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
     t, Q, V = samples.t_s, samples.q_rad, samples.v_rad_s
-    recorded = _recorded(model, system, plant[1], t, Q, V, tip)
+    recorded = _recorded(model, system, plant[1], t, Q, V, tip, force, g)
     for arr in (t, Q, V, tip, recorded[2], recorded[5]):
         arr.setflags(write=False)
     return Trajectory(t, Q, V, tip, int(samples.steps), integ.method,
@@ -175,16 +178,22 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
                              "StrainActuator")
     hub = model.hub is not None
     n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
-    out_names = ()
+    out_names, loads_read = (), False
     if not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
-        out_names = tuple(n for n, _, _ in parse_outputs(outputs, n_springs, hub))
+        parsed_out = parse_outputs(outputs, n_springs, hub)
+        out_names = tuple(n for n, _, _ in parsed_out)
         check_corner_names(model, out_names, "outputs")
+        check_output_stations(model, out_names)
+        loads_read = any(is_load_output(b) for _, b, _ in parsed_out)
     if isinstance(inputs, (list, tuple)) and len(inputs) == 0:
         if u is not None:
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
-    names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub))
+    parsed_in = parse_inputs(inputs, n_springs, len(acts), hub)
+    names = tuple(n for n, _, _ in parsed_in)
     check_corner_names(model, names, "inputs")
+    if loads_read:  # the root reaction and the strain must know every input's load
+        check_load_inputs(parsed_in)
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
                              "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
@@ -196,8 +205,12 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
     return (lambda tip_terms: input_force(model, names, u, acts, tip_terms)), out_names
 
 
-def _recorded(model, system, out_names, t, Q, V, tip) -> tuple:
-    """(input names, units, values, output names, units, values) of the samples."""
+def _recorded(model, system, out_names, t, Q, V, tip, force, gravity) -> tuple:
+    """(input names, units, values, output names, units, values) of the samples.
+
+    The root reaction and the strain read the samples' accelerations and applied loads (the
+    tip force ``force`` of time, N, and the inputs) under the gravity (m/s^2, world).
+    """
     f = system.inputs
     if f is None:
         U, in_names, in_units = np.zeros((len(t), 0)), (), ()
@@ -205,7 +218,14 @@ def _recorded(model, system, out_names, t, Q, V, tip) -> tuple:
         U = np.array([f.values(ti, q, v) for ti, q, v in zip(t, Q, V, strict=True)])
         U = U.reshape(len(t), len(f.names))
         in_names, in_units = f.names, f.units
-    Y = output_samples(model, Q, V, tip, out_names) if out_names else np.zeros((len(t), 0))
+    Y = np.zeros((len(t), 0))
+    if out_names:
+        A = loads = None
+        if any(is_load_output(b) for _, b, _ in parse_outputs(out_names, model.n_springs,
+                                                              model.hub is not None)):
+            A = sample_accelerations(system, t, Q, V)
+            loads = sample_loads(model, system, force, t, U)
+        Y = output_samples(model, Q, V, tip, out_names, A, loads, gravity)
     return (in_names, in_units, U, out_names, tuple(output_unit(s) for s in out_names), Y)
 
 

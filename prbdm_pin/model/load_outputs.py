@@ -1,0 +1,98 @@
+"""Outputs that read the loads the member carries: the root reaction and the surface strain.
+
+They depend on the acceleration and on the applied loads as well as on the pose, so their
+linear rows are y = C_q dq + C_v dv + C_a dv' + D_u du (the plant folds the acceleration in,
+:func:`prbdm_pin.plant.linearize`), and a time response needs its accelerations and loads at
+each sample. :mod:`prbdm_pin.model.reaction` and :mod:`prbdm_pin.model.strain` define them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .reaction import (
+    REACTION_OUTPUTS,
+    applied_wrench,
+    applied_wrench_columns,
+    inertial_wrench,
+    inertial_wrench_derivatives,
+)
+from .strain import strain_terms
+
+__all__ = ["LOAD_OUTPUTS", "is_load_output", "load_output_rows", "load_output_values"]
+
+LOAD_OUTPUTS = (*REACTION_OUTPUTS, "strain")
+_MY = REACTION_OUTPUTS["root_moment_y"]
+
+
+def is_load_output(base: str) -> bool:
+    """Whether outputs of base name ``base`` read the loads (acceleration and inputs)."""
+    return base in LOAD_OUTPUTS
+
+
+def _tip_y_axis(model, q: np.ndarray) -> np.ndarray:
+    return model.tip_pose(q)[1][:, 1]
+
+
+def load_output_rows(model, q: np.ndarray, parsed_outputs, parsed_inputs,
+                     load_N: np.ndarray | None = None,
+                     gravity_m_s2: np.ndarray | None = None):
+    """Return (C_q, C_v, C_a, D_u) of the load outputs at rest at pose ``q`` (rad).
+
+    Shapes (p, nv) three times and (p, m); the rows of the other outputs are zero.
+    ``parsed_outputs`` and ``parsed_inputs`` as the parsers return them; ``load_N`` the dead
+    tip force held at equilibrium (N, world), ``gravity_m_s2`` (m/s^2, world).
+    """
+    nv, p, m = model.pin_model.nv, len(parsed_outputs), len(parsed_inputs)
+    Cq, Cv, Ca, Du = (np.zeros((p, nv)), np.zeros((p, nv)), np.zeros((p, nv)), np.zeros((p, m)))
+    if not any(is_load_output(b) for _, b, _ in parsed_outputs):
+        return Cq, Cv, Ca, Du
+    z = np.zeros(nv)
+    dq, dv, da = inertial_wrench_derivatives(model, q, z, z, gravity_m_s2)
+    F = np.zeros(3) if load_N is None else np.asarray(load_N, dtype=float)
+    dWq = applied_wrench(model, q, {"tip_force": F}, derivative=True)[1]
+    reaction = (dq - dWq, dv, da, -applied_wrench_columns(model, q, parsed_inputs))
+    tip_y = None
+    for r, (name, base, idx) in enumerate(parsed_outputs):
+        if base in REACTION_OUTPUTS:
+            k = REACTION_OUTPUTS[base]
+            for out, src in zip((Cq, Cv, Ca, Du), reaction, strict=True):
+                out[r] = src[k]
+        elif base == "strain":
+            scale, w_root, joints, w_tip = strain_terms(model, idx[0], name)
+            for out, src in zip((Cq, Cv, Ca, Du), reaction, strict=True):
+                out[r] = -scale * w_root * src[_MY]  # M(0) = -R_my
+            for c, w in joints:
+                Cq[r, c] += scale * w * model.stiffness_matrix()[c, c]
+            if w_tip:  # M(L) = m . (tip y axis); no tip moment at the equilibrium
+                tip_y = _tip_y_axis(model, q) if tip_y is None else tip_y
+                for c, (_, b, _) in enumerate(parsed_inputs):
+                    if b.startswith("tip_moment_"):
+                        Du[r, c] += scale * w_tip * tip_y["xyz".index(b[-1])]
+    return Cq, Cv, Ca, Du
+
+
+def load_output_values(model, q: np.ndarray, v: np.ndarray, a: np.ndarray, parsed_outputs,
+                       loads: dict[str, np.ndarray],
+                       gravity_m_s2: np.ndarray | None = None) -> np.ndarray:
+    """Return the load outputs' values in the state (q rad, v rad/s, a rad/s^2), shape (p,).
+
+    ``loads`` the applied loads as :func:`prbdm_pin.model.reaction.applied_wrench` takes them
+    (its ``tip_moment`` also makes the strain's moment at the tip); 0 for other outputs.
+    """
+    out = np.zeros(len(parsed_outputs))
+    if not any(is_load_output(b) for _, b, _ in parsed_outputs):
+        return out
+    R = inertial_wrench(model, q, v, a, gravity_m_s2) - applied_wrench(model, q, loads)
+    k = np.diag(model.stiffness_matrix())
+    m_tip = loads.get("tip_moment")
+    for r, (name, base, idx) in enumerate(parsed_outputs):
+        if base in REACTION_OUTPUTS:
+            out[r] = R[REACTION_OUTPUTS[base]]
+        elif base == "strain":
+            scale, w_root, joints, w_tip = strain_terms(model, idx[0], name)
+            moment = -w_root * R[_MY] + sum(w * k[c] * q[c] for c, w in joints)
+            if w_tip and m_tip is not None:
+                moment += w_tip * float(np.dot(m_tip, _tip_y_axis(model, q)))
+            out[r] = scale * moment
+    return out
