@@ -114,11 +114,19 @@ class LinearModel:
     output_map_input: np.ndarray | None = None
 
     def to_control(self):
-        """Return the plant as a ``control.StateSpace`` (python-control), with signal names."""
+        """Return the plant as a ``control.StateSpace`` (python-control), with signal names.
+
+        python-control refuses a '.' in a signal name (it separates a subsystem's name from
+        its signal's): a station's decimal point is spelled 'p' there (``strain@0.05`` is
+        ``strain@0p05``).
+        """
         import control
 
-        return control.ss(self.A, self.B, self.C, self.D, states=list(self.state_names),
-                          inputs=list(self.input_names), outputs=list(self.output_names))
+        def safe(names):
+            return [n.replace(".", "p") for n in names]
+
+        return control.ss(self.A, self.B, self.C, self.D, states=safe(self.state_names),
+                          inputs=safe(self.input_names), outputs=safe(self.output_names))
 
     def discretize(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Return the zero-order-hold discrete-time plant's (A_d, B_d) at sample time ``dt_s``.
