@@ -57,3 +57,35 @@ def test_free_vibration_root_reaction_is_the_momentum_rate(axes):
     assert np.all(np.abs(R - D1) <= bound), (np.abs(R - D1) / bound).max(axis=0)
     # a vibration that shakes the root: the reaction is far from zero
     assert np.abs(R[:, 2]).max() > 10.0
+
+
+def test_a_run_at_rest_under_a_tip_moment_and_gravity_records_them():
+    """Held at its equilibrium, the member carries its weight to the root, and a pure moment
+    about y bends it uniformly: the strain is -m_y t / (2 E I) at every station (beam theory),
+    read at the root (the reaction), the joints (the springs), the tip (the load) and between."""
+    from prbdm_pin import statics
+
+    model = build_model(BEAM, LENGTHS, SPRINGS)
+    m_y = 3.0  # N m
+    eq = statics(model, tip_moment_Nm=[0.0, m_y, 0.0])
+    x = np.array([0.0, 0.1, 0.2, 0.42, 0.5, 0.77, 0.8, 0.9, 1.0])
+    outs = tuple(f"strain@{v:g}" for v in x) + ("root_force_z", "root_moment_y")
+    run = simulate(model, 0.01, q0=eq.q_rad, inputs=("tip_moment_y",), u=np.array([m_y]),
+                   outputs=outs, output_dt_s=0.001, damping_ratio=0.0)
+    EI = BEAM.material.E_Pa * BEAM.area_moment_at(0.5)
+    ref = -m_y * BEAM.thickness_m / (2.0 * EI) * 1e6
+    strain = run.output_values[:, :x.size]
+    # the equilibrium's Newton residual (rtol 1e-10 of the spring torques) is what the run
+    # starts off by: it stays within a few times that
+    assert np.abs(strain - ref).max() <= 1e-9 * abs(ref)
+    assert np.abs(run.output_values[:, -1] + m_y).max() <= 1e-9 * m_y
+    assert np.abs(run.output_values[:, -2]).max() <= 1e-9 * m_y / BEAM.length_m
+
+    g = np.array([0.0, 0.0, -9.81])
+    eq = statics(model, gravity_m_s2=g)
+    run = simulate(model, 0.01, q0=eq.q_rad, outputs=("root_force_z", "root_force_x"),
+                   output_dt_s=0.001, damping_ratio=0.0, gravity_m_s2=g)
+    mass = 2.0 * 0.025 * BEAM.length_m * BEAM.thickness_m * BEAM.material.rho_kg_m3  # rho t A
+    weight = mass * 9.81
+    assert np.abs(run.output_values[:, 0] - weight).max() <= 1e-9 * weight
+    assert np.abs(run.output_values[:, 1]).max() <= 1e-9 * weight
