@@ -69,8 +69,9 @@ def test_root_force_under_gravity_carries_the_beams_weight():
     assert np.abs(R - (-mass * g)).max() <= 50 * EPS * mass * np.linalg.norm(g)
 
 
-def test_strain_is_the_tip_forces_moment_over_EI():
-    model = _model()
+@pytest.mark.parametrize("axes", ["y", "xyz"])
+def test_strain_is_the_tip_forces_moment_over_EI(axes):
+    model = _model(axes)  # a spatial chain's y springs carry the bending about y
     Fz = 40.0
     q, tip = model.static_deflection(np.array([0.0, 0.0, Fz]))
     data = model.new_data()  # the deformed joints: the lever arms of the tip force
@@ -103,6 +104,28 @@ def test_strain_gain_at_the_straight_pose_is_beam_theory_everywhere():
     ref = h * (BEAM.length_m - x) * BEAM.thickness_m / (2.0 * EI) * 1e6
     # a 1 mN load turns the joints by ~1e-6 rad: the lever arms shorten by q^2/2 ~ 1e-12
     assert np.abs(eps - ref).max() <= 1e-9 * np.abs(ref).max()
+
+
+def test_root_reaction_on_a_turned_hub_is_in_the_hubs_frame():
+    """The straight member on a hub turned by theta: its weight m g acts at L/2 from the root
+    along the hub's x axis, a tip force F at L; in the hub's frame (R_y(theta)^T)."""
+    r = 0.1
+    model = _model(hub=Hub(5.0, r))
+    theta = 0.7
+    q = np.array([theta, 0.0, 0.0, 0.0])
+    c, s = np.cos(theta), np.sin(theta)
+    Rt = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])  # hub from world
+    g = np.array([0.0, 0.0, -9.81])
+    F = np.array([1.0, 2.0, 3.0])
+    parsed = parse_outputs(REACTION, model.n_springs, True)
+    z = np.zeros(4)
+    R = load_output_values(model, q, z, z, parsed, {"tip_force": F}, g)
+    weight = BEAM.mass_kg * (Rt @ g)
+    L = BEAM.length_m
+    ref = np.concatenate([-weight - Rt @ F, -np.cross([L / 2, 0.0, 0.0], weight)
+                          - np.cross([L, 0.0, 0.0], Rt @ F)])
+    # sums of a few link terms of the weight's and the load's scale: a few roundings
+    assert np.abs(R - ref).max() <= 64 * EPS * (np.abs(weight).max() + np.abs(F).max()) * L
 
 
 @pytest.mark.parametrize("kind", ["spatial", "hub"])
