@@ -89,7 +89,10 @@ def simulate(
         it.
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
-        ...: see :mod:`prbdm_pin.model.outputs`); the trajectory records them and the inputs.
+        the sensors ``slope@X``, ``twist@X``, ``point_z@X:Y``, ``strain@X``,
+        ``root_force_z``, ``root_moment_y``, ...: see :mod:`prbdm_pin.model.outputs`); the
+        trajectory records them and the inputs. The strain and the root reaction read each
+        sample's acceleration (Pinocchio's ABA of the run's forces) and applied loads.
     integrator : Integrator, optional
         The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
         ``Trapezoidal(...)``, ``ScipyIVP(...)`` from :mod:`prbdm_pin.options.integrators`),
