@@ -106,6 +106,29 @@ def test_strain_gain_at_the_straight_pose_is_beam_theory_everywhere():
     assert np.abs(eps - ref).max() <= 1e-9 * np.abs(ref).max()
 
 
+def test_strain_under_the_weight_is_the_chord_of_the_beams_moment():
+    """Under its own weight w per length the beam's moment is w (L - x)^2 / 2, a parabola; the
+    chain carries it exactly at the root, the joints and the tip (each link's weight at its own
+    centre) and linearly between, so at a link's midpoint it reads the chord, w l^2 / 8 above
+    the parabola (the claim of prbdm_pin.model.strain)."""
+    from prbdm_pin import statics
+
+    model = _model()
+    g = 0.01  # m/s^2: a light weight keeps the lever arms the straight member's (q ~ 1e-6)
+    eq = statics(model, gravity_m_s2=[0.0, 0.0, -g])
+    ends = np.concatenate([[0.0], np.cumsum(LENGTHS)])
+    mid = 0.5 * (ends[:-1] + ends[1:])
+    names = [f"strain@{x:.12g}" for x in np.concatenate([ends, mid])]
+    eps = output_values(model, eq.q_rad, names, gravity_m_s2=[0.0, 0.0, -g])
+    w = BEAM.material.rho_kg_m3 * BEAM.thickness_m * 0.05 * g  # N/m: rho t (2 b) g
+    L = BEAM.length_m
+    M = w * (L - np.concatenate([ends, mid])) ** 2 / 2.0
+    M[ends.size:] += w * LENGTHS**2 / 8.0  # the chord's excess at the midpoints
+    ref = -M * BEAM.thickness_m / (2.0 * BEAM.material.E_Pa * BEAM.area_moment_at(0.5)) * 1e6
+    # the statics' Newton tolerance (rtol 1e-10) and the lever arms' change O(q^2) ~ 1e-12
+    assert np.abs(eps - ref).max() <= 1e-9 * np.abs(ref).max()
+
+
 def test_root_reaction_on_a_turned_hub_is_in_the_hubs_frame():
     """The straight member on a hub turned by theta: its weight m g acts at L/2 from the root
     along the hub's x axis, a tip force F at L; in the hub's frame (R_y(theta)^T)."""
