@@ -219,9 +219,15 @@ def test_station_names_parse_and_bad_ones_are_refused_by_name():
 def test_a_model_without_its_beam_has_no_strain_or_points(tmp_path):
     from prbdm_pin.files.urdf_file import load_urdf
 
-    _model().write_urdf(tmp_path / "chain.urdf")
+    model = _model()
+    model.write_urdf(tmp_path / "chain.urdf")
     bare = load_urdf(tmp_path / "chain.urdf")
     check_output_stations(bare, ["slope@0.3", "twist@1"])  # the links suffice
+    q = np.array([0.1, -0.2, 0.3])
+    # a planar chain's slope is the sum of the joint angles inboard (0.3 m: joint 0; 0.6 m:
+    # joints 0 and 1), its twist 0: through the rotation matrices, a few roundings of 1 rad
+    assert np.allclose(output_values(bare, q, ["slope@0.3", "slope@0.6", "twist@1"]),
+                       [0.1, -0.1, 0.0], rtol=0.0, atol=8 * EPS)
     with pytest.raises(BeamInputError, match=r"outputs\[0\] = 'strain@0.3': this model "
                                              "carries no beam"):
         check_output_stations(bare, ["strain@0.3"])
