@@ -19,7 +19,8 @@ from .reaction import (
 )
 from .strain import strain_terms
 
-__all__ = ["LOAD_OUTPUTS", "is_load_output", "load_output_rows", "load_output_values"]
+__all__ = ["LOAD_OUTPUTS", "is_load_output", "load_output_rows", "load_output_values",
+           "load_output_samples"]
 
 LOAD_OUTPUTS = (*REACTION_OUTPUTS, "strain")
 _MY = REACTION_OUTPUTS["root_moment_y"]
@@ -80,19 +81,34 @@ def load_output_values(model, q: np.ndarray, v: np.ndarray, a: np.ndarray, parse
     ``loads`` the applied loads as :func:`prbdm_pin.model.reaction.applied_wrench` takes them
     (its ``tip_moment`` also makes the strain's moment at the tip); 0 for other outputs.
     """
-    out = np.zeros(len(parsed_outputs))
-    if not any(is_load_output(b) for _, b, _ in parsed_outputs):
+    return load_output_samples(model, np.asarray(q)[None], np.asarray(v)[None],
+                               np.asarray(a)[None], parsed_outputs, [loads], gravity_m_s2)[0]
+
+
+def load_output_samples(model, Q: np.ndarray, V: np.ndarray, A: np.ndarray, parsed_outputs,
+                        loads, gravity_m_s2: np.ndarray | None = None) -> np.ndarray:
+    """Return the load outputs' values at the states (Q rad, V rad/s, A rad/s^2), (s, p).
+
+    ``loads`` one dict per state, as :func:`load_output_values` takes it; 0 for the other
+    outputs. Each strain's composition is found once for all the states.
+    """
+    out = np.zeros((len(Q), len(parsed_outputs)))
+    rows = [(r, base, strain_terms(model, idx[0], name) if base == "strain" else None)
+            for r, (name, base, idx) in enumerate(parsed_outputs) if is_load_output(base)]
+    if not rows:
         return out
-    R = inertial_wrench(model, q, v, a, gravity_m_s2) - applied_wrench(model, q, loads)
     k = np.diag(model.stiffness_matrix())
-    m_tip = loads.get("tip_moment")
-    for r, (name, base, idx) in enumerate(parsed_outputs):
-        if base in REACTION_OUTPUTS:
-            out[r] = R[REACTION_OUTPUTS[base]]
-        elif base == "strain":
-            scale, w_root, joints, w_tip = strain_terms(model, idx[0], name)
+    for i, (q, v, a, ld) in enumerate(zip(Q, V, A, loads, strict=True)):
+        R = inertial_wrench(model, q, v, a, gravity_m_s2) - applied_wrench(model, q, ld)
+        m_tip, tip_y = ld.get("tip_moment"), None
+        for r, base, terms in rows:
+            if terms is None:
+                out[i, r] = R[REACTION_OUTPUTS[base]]
+                continue
+            scale, w_root, joints, w_tip = terms
             moment = -w_root * R[_MY] + sum(w * k[c] * q[c] for c, w in joints)
-            if w_tip and m_tip is not None:
-                moment += w_tip * float(np.dot(m_tip, _tip_y_axis(model, q)))
-            out[r] = scale * moment
+            if w_tip and m_tip is not None and np.any(m_tip):
+                tip_y = _tip_y_axis(model, q) if tip_y is None else tip_y
+                moment += w_tip * float(np.dot(m_tip, tip_y))
+            out[i, r] = scale * moment
     return out

@@ -30,10 +30,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from .load_outputs import is_load_output, load_output_values
+from .load_outputs import is_load_output, load_output_samples, load_output_values
 from .names import parse_names
 from .reaction import REACTION_OUTPUTS
-from .stations import check_point, check_station, point_displacement, slope, twist
+from .stations import (
+    check_point,
+    check_station,
+    point_displacement,
+    point_position,
+    slope,
+    twist,
+)
 from .strain import strain_terms
 
 __all__ = ["OUTPUT_UNITS", "CORNER_OUTPUTS", "STATION_OUTPUTS", "parse_outputs",
@@ -197,8 +204,7 @@ def output_samples(model, Q: np.ndarray, V: np.ndarray, tip_m: np.ndarray, names
         if A is None or loads is None:
             raise ValueError("output_samples: the strain and the root reaction need the "
                              "accelerations and the loads")
-        out += np.array([load_output_values(model, q, v, a, parsed, ld, gravity_m_s2)
-                         for q, v, a, ld in zip(Q, V, A, loads, strict=True)])
+        out += load_output_samples(model, Q, V, A, parsed, loads, gravity_m_s2)
     tip_rate = None
     for r, (_, base, idx) in enumerate(parsed):
         if base == "tip_z":
@@ -213,6 +219,10 @@ def output_samples(model, Q: np.ndarray, V: np.ndarray, tip_m: np.ndarray, names
                          model.point_kinematics(CORNER_OUTPUTS[base], q, data)[0][2] for q in Q]
         elif is_load_output(base):
             continue
+        elif base in _POINT_ROW:  # the straight member's position once, not per sample
+            data, k = model.new_data(), _POINT_ROW[base]
+            p0 = point_position(model, np.zeros(model.pin_model.nq), *idx, data)[0][k]
+            out[:, r] = [point_position(model, q, *idx, data)[0][k] - p0 for q in Q]
         elif base in STATION_OUTPUTS:
             data = model.new_data()
             out[:, r] = [_station_value(model, q, base, idx, data) for q in Q]

@@ -38,7 +38,7 @@ from ..errors import BeamInputError
 from .inputs import ON_JOINT_RTOL
 
 __all__ = ["check_station", "check_point", "section_links", "slope", "twist",
-           "point_displacement"]
+           "point_position", "point_displacement"]
 
 _LWA = pin.LOCAL_WORLD_ALIGNED
 
@@ -148,16 +148,25 @@ def twist(model, q: np.ndarray, x_m: float, data: pin.Data | None = None
     return float(v), g
 
 
-def point_displacement(model, q: np.ndarray, x_m: float, y_m: float,
-                       data: pin.Data | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Return the world displacement (m, (3,)) of the point (x, y) and its Jacobian (m/rad).
+def point_position(model, q: np.ndarray, x_m: float, y_m: float,
+                   data: pin.Data | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Return the world position (m, (3,)) of the point (x, y) and its Jacobian (m/rad, (3, nv)).
 
-    The Jacobian is (3, nv); the point (m) is taken as checked (:func:`check_point`).
+    The point (m) is taken as checked (:func:`check_point`).
     """
     def position(d, qv, k):
         offset = np.array([x_m - _link_start_m(model, k), y_m, 0.0])
         return point_kinematics(model.pin_model, d, qv, _link_frame(model, k), offset)
 
-    p, J = _mean(model, q, x_m, data, position)
-    p0, _ = _mean(model, np.zeros(model.pin_model.nq), x_m, data, position)
-    return p - p0, J
+    return _mean(model, q, x_m, data, position)
+
+
+def point_displacement(model, q: np.ndarray, x_m: float, y_m: float,
+                       data: pin.Data | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Return the world displacement (m, (3,)) of the point (x, y) and its Jacobian (m/rad).
+
+    The displacement from the point's position on the straight member (every angle zero); the
+    Jacobian is (3, nv); the point (m) is taken as checked (:func:`check_point`).
+    """
+    p, J = point_position(model, q, x_m, y_m, data)
+    return p - point_position(model, np.zeros(model.pin_model.nq), x_m, y_m, data)[0], J
