@@ -234,3 +234,22 @@ def test_a_model_without_its_beam_has_no_strain_or_points(tmp_path):
     with pytest.raises(BeamInputError, match=r"outputs\[1\] = 'point_x@0.3:0': this model "
                                              "carries no beam"):
         check_output_stations(bare, ["slope@0.3", "point_x@0.3:0"])
+
+
+def test_an_input_whose_load_is_unknown_is_refused_not_dropped():
+    """The root reaction subtracts the applied loads: an input it has no resultant for (one
+    added to the plant later) must stop it, not be taken as no load."""
+    from prbdm_pin.model.reaction import applied_wrench_columns, check_load_inputs
+
+    model = _model()
+    parsed = (("tip_force_z", "tip_force_z", None), ("joint_torque[0]", "joint_torque", 0),
+              ("line_load_z", "line_load_z", None))
+    with pytest.raises(BeamInputError, match=r"inputs\[2\] = 'line_load_z': the root reaction "
+                                             "and the strain do not know"):
+        check_load_inputs(parsed)
+    cols = applied_wrench_columns(model, np.zeros(3), parsed[:2])
+    tip = model.tip_position(np.zeros(3))
+    # a unit z force at the tip (L, 0, 0): (0, 0, 1) and L e_x x e_z = -L e_y; a joint torque
+    # is internal (none): exact products of 0, 1 and L
+    assert np.array_equal(cols[:, 0], [0.0, 0.0, 1.0, 0.0, -tip[0], 0.0])
+    assert np.array_equal(cols[:, 1], np.zeros(6))
