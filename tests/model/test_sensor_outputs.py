@@ -69,20 +69,26 @@ def test_root_force_under_gravity_carries_the_beams_weight():
     assert np.abs(R - (-mass * g)).max() <= 50 * EPS * mass * np.linalg.norm(g)
 
 
-@pytest.mark.parametrize("axes", ["y", "xyz"])
-def test_strain_is_the_tip_forces_moment_over_EI(axes):
-    model = _model(axes)  # a spatial chain's y springs carry the bending about y
-    Fz = 40.0
+@pytest.mark.parametrize(("axes", "beam"), [("y", "uniform-narrow"), ("xyz", "uniform-narrow"),
+                                           ("y", "tapered-linear")])
+def test_strain_is_the_tip_forces_moment_over_EI(axes, beam):
+    """At each joint the strain is the moment of the tip force about the deformed joint over
+    the local E I(x) (a tapered member's changes along it), times t / 2."""
+    b = load_beam(ROOT / f"examples/beams/{beam}.json")
+    lengths = LENGTHS * b.length_m
+    k = SPRINGS * (b.root_EI_Nm2 / BEAM.root_EI_Nm2)
+    model = build_model(b, lengths, k if axes == "y" else np.repeat(k, 3), axes=axes)
+    Fz = 40.0 * (b.root_EI_Nm2 / BEAM.root_EI_Nm2)  # a deflection of the same few degrees
     q, tip = model.static_deflection(np.array([0.0, 0.0, Fz]))
     data = model.new_data()  # the deformed joints: the lever arms of the tip force
     pin.framesForwardKinematics(model.pin_model, data, q)
     xj = np.array([data.oMf[model.pin_model.getFrameId(f"link_{j}")].translation[0]
                    for j in range(1, LENGTHS.size)])
-    stations = np.cumsum(LENGTHS)[:-1]
-    names = [f"strain@{x:.12g}" for x in stations]
+    stations = np.cumsum(lengths)[:-1]
+    names = [f"strain@{float(x)!r}" for x in stations]
     eps = output_values(model, q, names, load_N=np.array([0.0, 0.0, Fz]))
-    EI = BEAM.material.E_Pa * BEAM.area_moment_at(0.5)
-    ref = Fz * (tip[0] - xj) * BEAM.thickness_m / (2.0 * EI) * 1e6
+    EI = b.material.E_Pa * b.area_moment_at(stations)
+    ref = Fz * (tip[0] - xj) * b.thickness_m / (2.0 * EI) * 1e6
     assert np.all(ref > 0.0)  # tip_z > 0: positive strain (the sign convention)
     # the springs hold the moment of F about the joints to the statics solver's tolerance
     # (its residual, rtol 1e-10 of the spring torques)
