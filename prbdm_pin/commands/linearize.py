@@ -46,9 +46,10 @@ and about its own axis), point_x@X:Y, point_y@X:Y, point_z@X:Y (m, the world dis
 planform point), strain@X (microstrain, the bending strain of the faces, positive when the
 bending lifts the tip), root_force_x|y|z (N) and root_moment_x|y|z (N m, about the root point):
 the support's wrench on the member, base frame. The strain and the root reaction read the
-acceleration: their C and D carry it. All are deviations from the equilibrium under --load and
---gravity; a hub is held there by a trim torque. A spatial fit (axes xy, yz, xyz) is
-linearised through its general kinematics.
+acceleration: their C and D carry it (the modal table's output gains do not: C_q and C_v
+only). All are deviations from the equilibrium under --load and --gravity; a hub is held there
+by a trim torque. A spatial fit (axes xy, yz, xyz) is linearised through its general
+kinematics.
 
 Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
 ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.
