@@ -48,9 +48,16 @@ mapped on the links by virtual work), base_accel_x, _y, _z
 base).
 Outputs: tip_z, tip_x, tip_y (m), tip_z_rate (m/s), tip_twist (rad, the tip's rotation about its
 own axis), corner_z_left, corner_z_right (m, z of the tip corners), q[j] (rad), q_rate[j]
-(rad/s), spring_torque[j] (N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are
-deviations from the equilibrium under --load and --gravity; a hub is held there by a trim
-torque. A spatial fit (axes xy, yz, xyz) is linearised through its general kinematics.
+(rad/s), spring_torque[j] (N m), hub_angle (rad), hub_rate (rad/s, with --hub); sensors at a
+station X m from the root (Y m across): slope@X, twist@X (rad, the section's rotation about y
+and about its own axis), point_x@X:Y, point_y@X:Y, point_z@X:Y (m, the world displacement of a
+planform point), strain@X (microstrain, the bending strain of the faces, positive when the
+bending lifts the tip), root_force_x|y|z (N) and root_moment_x|y|z (N m, about the root point):
+the support's wrench on the member, base frame. The strain and the root reaction read the
+acceleration: their C and D carry it (the modal table's output gains do not: C_q and C_v
+only). All are deviations from the equilibrium under --load and --gravity; a hub is held there
+by a trim torque. A spatial fit (axes xy, yz, xyz) is linearised through its general
+kinematics.
 
 Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
 ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.

@@ -46,7 +46,10 @@ tip_moment_follower_x, _y, _z (N m, about the tip link's own axes), distributed_
 at t = 0), step:A:T0, pulse:A:T1 (A until T1 s), sine:A:F (F in Hz) or FILE.csv (rows of time s
 and value, a header allowed; linear between samples, held outside them; times increasing).
 Outputs (--outputs): tip_z, tip_z_rate, tip_x, tip_y, tip_twist, corner_z_left, corner_z_right,
-q[j], q_rate[j], spring_torque[j], hub_angle, hub_rate.
+q[j], q_rate[j], spring_torque[j], hub_angle, hub_rate; at a station X m from the root (Y m
+across): slope@X, twist@X (rad), point_x@X:Y, point_y@X:Y, point_z@X:Y (m, displacement),
+strain@X (microstrain, positive when the bending lifts the tip); root_force_x|y|z (N),
+root_moment_x|y|z (N m): the support's wrench on the member about the root, base frame.
 --compare-truth adds OUT/truth_comparison.json and OUT/truth_comparison.png: the tip response to
 a unit step tip force over the first second and the tip FRF over [0, 1.2 omega_n] (n = joints)
 of the model linearised at the straight pose, against the finite-element truth's modal

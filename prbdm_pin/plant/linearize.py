@@ -18,8 +18,15 @@ from ..model.inputs import (
     parse_inputs,
 )
 from ..model.loads import check_load
-from ..model.outputs import output_maps, output_unit, output_values, parse_outputs
+from ..model.outputs import (
+    check_output_stations,
+    output_maps,
+    output_unit,
+    output_values,
+    parse_outputs,
+)
 from ..simulation.hub_damping import plant_damping
+from .acceleration_outputs import load_rows, output_matrices
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
 from .state_space import LinearModel
 
@@ -94,8 +101,14 @@ def linearize(
         ``tip_z``, ``tip_z_rate``, ``tip_x``, ``tip_y`` (m, m/s), ``tip_twist`` (rad, the tip
         section's rotation about the tip link's own axis), ``corner_z_left``,
         ``corner_z_right`` (m, z of the tip corners), ``q[j]``, ``q_rate[j]``,
-        ``spring_torque[j]`` (every spring coordinate), ``hub_angle``, ``hub_rate`` (see
-        :mod:`prbdm_pin.model.outputs`). Corner signals need the model's beam (its width).
+        ``spring_torque[j]`` (every spring coordinate), ``hub_angle``, ``hub_rate``;
+        ``slope@X``, ``twist@X`` (rad), ``point_x@X:Y``, ``point_y@X:Y``, ``point_z@X:Y`` (m),
+        ``strain@X`` (microstrain) at station X m from the root (and Y m across);
+        ``root_force_x|y|z`` (N), ``root_moment_x|y|z`` (N m), the support's wrench on the
+        member (see :mod:`prbdm_pin.model.outputs`). Corner, strain and point signals need
+        the model's beam (its width, E I). The root reaction and the strain near the root
+        read the acceleration: their C and D carry it
+        (:mod:`prbdm_pin.plant.acceleration_outputs`).
     q_eq : array_like (nv,), optional
         Pose to linearise about, rad, taken as given; default: the equilibrium under
         ``load_N`` and gravity (a hub held at angle 0 by a trim torque).
@@ -141,6 +154,7 @@ def linearize(
     out_names = tuple(n for n, _, _ in parse_outputs(outputs, model.n_springs, hub))
     check_corner_names(model, in_names, "inputs")
     check_corner_names(model, out_names, "outputs")
+    check_output_stations(model, out_names)
     F = check_vector("load_N", load_N, "N")
     F = np.zeros(3) if F is None else F
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
@@ -153,11 +167,14 @@ def linearize(
         trim = float(r[0]) if hub else 0.0
     Bq = input_map(model, q, in_names, acts, lds)
     Cq, Cv = output_maps(model, q, out_names)
+    # the root reaction and the strain read the acceleration and the inputs too
+    Lq, Lv, Ca, Du = load_rows(model, q, out_names, in_names, len(acts), F, g, lds)
+    Cq, Cv = Cq + Lq, Cv + Lv
     M = model.mass_matrix(q)
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
-    nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
+    nv, m = M.shape[0], Bq.shape[1]
     try:
         np.linalg.cholesky(M)  # the check: M must be positive definite
         # one solve for the three right-hand sides (small matrices: call overhead dominates)
@@ -175,11 +192,10 @@ def linearize(
                              for c in coords])
     nominal = {"tip_force_z": F[2], "tip_force_x": F[0], "tip_force_y": F[1], "hub_torque": trim}
     u_eq = np.array([nominal.get(name, 0.0) for name in in_names])
-    for a in (A, B, Cq, Cv, M, K, Cd, Bq, q, u_eq):
+    for a in (A, B, Cq, Cv, M, K, Cd, Bq, q, u_eq, Ca, Du):
         a.setflags(write=False)
-    Cfull = np.hstack([Cq, Cv])
-    D = np.zeros((p, m))
-    y_eq = output_values(model, q, out_names)
+    Cfull, D = output_matrices(Cq, Cv, Ca, Du, X)
+    y_eq = output_values(model, q, out_names, F, g)
     for a in (Cfull, D, y_eq):
         a.setflags(write=False)
     return LinearModel(
@@ -188,4 +204,5 @@ def linearize(
         output_units=tuple(output_unit(s) for s in out_names), q_eq=q, u_eq=u_eq, y_eq=y_eq,
         mass_kg_m2=M, stiffness_Nm_per_rad=K, damping_Nms_per_rad=Cd, input_map=Bq,
         output_map_position=Cq, output_map_rate=Cv, hub=hub,
+        output_map_acceleration=Ca, output_map_input=Du,
     )

@@ -5,8 +5,13 @@
 x = [dq; dv] (deviations of the joint angles, rad, and rates, rad/s, from the equilibrium),
 u = input deviations from their nominal values, y = output deviations:
 
-    M dv' + C_d dv + K_e dq = B_q u,   y = C_q dq + C_v dv
-    A = [[0, I], [-M^-1 K_e, -M^-1 C_d]],  B = [[0], [M^-1 B_q]],  C = [C_q, C_v],  D = 0
+    M dv' + C_d dv + K_e dq = B_q u,   y = C_q dq + C_v dv + C_a dv' + D_u u
+    A = [[0, I], [-M^-1 K_e, -M^-1 C_d]],  B = [[0], [M^-1 B_q]],
+    C = [C_q - C_a M^-1 K_e, C_v - C_a M^-1 C_d],  D = C_a M^-1 B_q + D_u
+
+C_a and D_u are zero but for the outputs that read the acceleration and the applied loads (the
+root reaction, the strain near the root: :mod:`prbdm_pin.plant.acceleration_outputs`); with
+them zero, C = [C_q, C_v] and D = 0.
 """
 
 from __future__ import annotations
@@ -74,9 +79,16 @@ class LinearModel:
     input_map : ndarray (nv, m)
         B_q, generalized force per unit input.
     output_map_position, output_map_rate : ndarray (p, nv)
-        C_q and C_v.
+        C_q and C_v (the direct paths; :attr:`C` adds the acceleration's).
     hub : bool
         Whether coordinate 0 is a hub joint.
+    output_map_acceleration : ndarray (p, nv) or None
+        C_a, output per rad/s^2 (None: zero).
+    output_map_input : ndarray (p, m) or None
+        D_u, the inputs' direct part of the outputs (None: zero).
+
+    The modal gains (:meth:`modal`) are of C_q and C_v only: an output that reads the
+    acceleration has its C_a Phi path left out there (the state space has it).
     """
 
     A: np.ndarray
@@ -98,13 +110,23 @@ class LinearModel:
     output_map_position: np.ndarray
     output_map_rate: np.ndarray
     hub: bool = False
+    output_map_acceleration: np.ndarray | None = None
+    output_map_input: np.ndarray | None = None
 
     def to_control(self):
-        """Return the plant as a ``control.StateSpace`` (python-control), with signal names."""
+        """Return the plant as a ``control.StateSpace`` (python-control), with signal names.
+
+        python-control refuses a '.' in a signal name (it separates a subsystem's name from
+        its signal's): a station's decimal point is spelled 'p' there (``strain@0.05`` is
+        ``strain@0p05``).
+        """
         import control
 
-        return control.ss(self.A, self.B, self.C, self.D, states=list(self.state_names),
-                          inputs=list(self.input_names), outputs=list(self.output_names))
+        def safe(names):
+            return [n.replace(".", "p") for n in names]
+
+        return control.ss(self.A, self.B, self.C, self.D, states=safe(self.state_names),
+                          inputs=safe(self.input_names), outputs=safe(self.output_names))
 
     def discretize(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Return the zero-order-hold discrete-time plant's (A_d, B_d) at sample time ``dt_s``.

@@ -18,12 +18,15 @@ from ..errors import BeamInputError, InputTypeError
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
+from ..model.load_outputs import is_load_output
 from ..model.loads import check_load
-from ..model.outputs import output_samples, output_unit, parse_outputs
+from ..model.outputs import check_output_stations, output_samples, output_unit, parse_outputs
+from ..model.reaction import check_load_inputs
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
 from .damping import damping_ratios
 from .inputs import input_force
+from .load_samples import sample_accelerations, sample_loads
 from .loop import check_grid, integrate, progress_bar, start
 from .schedule import StiffnessSchedule
 from .system import assemble_system, force_function, mass_matrix, tip_positions, vector
@@ -95,7 +98,10 @@ def simulate(
         it.
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
-        ...: see :mod:`prbdm_pin.model.outputs`); the trajectory records them and the inputs.
+        the sensors ``slope@X``, ``twist@X``, ``point_z@X:Y``, ``strain@X``,
+        ``root_force_z``, ``root_moment_y``, ...: see :mod:`prbdm_pin.model.outputs`); the
+        trajectory records them and the inputs. The strain and the root reaction read each
+        sample's acceleration (Pinocchio's ABA of the run's forces) and applied loads.
     integrator : Integrator, optional
         The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
         ``Trapezoidal(...)``, ``ScipyIVP(...)`` from :mod:`prbdm_pin.options.integrators`),
@@ -155,7 +161,7 @@ def simulate(
         close()
     tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
     t, Q, V = samples.t_s, samples.q_rad, samples.v_rad_s
-    recorded = _recorded(model, system, plant[1], t, Q, V, tip)
+    recorded = _recorded(model, system, plant[1], t, Q, V, tip, force, g, tuple(loads))
     for arr in (t, Q, V, tip, recorded[2], recorded[5]):
         arr.setflags(write=False)
     return Trajectory(t, Q, V, tip, int(samples.steps), integ.method,
@@ -184,17 +190,23 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator, loads=(
                              "StrainActuator")
     hub = model.hub is not None
     n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
-    out_names = ()
+    out_names, loads_read = (), False
     if not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
-        out_names = tuple(n for n, _, _ in parse_outputs(outputs, n_springs, hub))
+        parsed_out = parse_outputs(outputs, n_springs, hub)
+        out_names = tuple(n for n, _, _ in parsed_out)
         check_corner_names(model, out_names, "outputs")
+        check_output_stations(model, out_names)
+        loads_read = any(is_load_output(b) for _, b, _ in parsed_out)
     if isinstance(inputs, (list, tuple)) and len(inputs) == 0:
         if u is not None:
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
     lds = _loads(model, loads)
-    names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub, len(lds)))
+    parsed_in = parse_inputs(inputs, n_springs, len(acts), hub, len(lds))
+    names = tuple(n for n, _, _ in parsed_in)
     check_corner_names(model, names, "inputs")
+    if loads_read:  # the root reaction and the strain must know every input's load
+        check_load_inputs(parsed_in)
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
                              "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
@@ -215,8 +227,13 @@ def _loads(model, loads) -> tuple:
     return tuple(loads)
 
 
-def _recorded(model, system, out_names, t, Q, V, tip) -> tuple:
-    """(input names, units, values, output names, units, values) of the samples."""
+def _recorded(model, system, out_names, t, Q, V, tip, force, gravity, spans=()) -> tuple:
+    """(input names, units, values, output names, units, values) of the samples.
+
+    The root reaction and the strain read the samples' accelerations and applied loads (the
+    tip force ``force`` of time, N, and the inputs, the distributed ones over ``spans``) under
+    the gravity (m/s^2, world).
+    """
     f = system.inputs
     if f is None:
         U, in_names, in_units = np.zeros((len(t), 0)), (), ()
@@ -224,7 +241,14 @@ def _recorded(model, system, out_names, t, Q, V, tip) -> tuple:
         U = np.array([f.values(ti, q, v) for ti, q, v in zip(t, Q, V, strict=True)])
         U = U.reshape(len(t), len(f.names))
         in_names, in_units = f.names, f.units
-    Y = output_samples(model, Q, V, tip, out_names) if out_names else np.zeros((len(t), 0))
+    Y = np.zeros((len(t), 0))
+    if out_names:
+        A = loads = None
+        if any(is_load_output(b) for _, b, _ in parse_outputs(out_names, model.n_springs,
+                                                              model.hub is not None)):
+            A = sample_accelerations(system, t, Q, V)
+            loads = sample_loads(model, system, force, t, U, spans)
+        Y = output_samples(model, Q, V, tip, out_names, A, loads, gravity)
     return (in_names, in_units, U, out_names, tuple(output_unit(s) for s in out_names), Y)
 
 
