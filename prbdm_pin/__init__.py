@@ -61,6 +61,9 @@ _EXPORTS = {
     "TruthRequest": "truth",
     "TruthResult": "truth",
     "compute_truth": "truth",
+    "beam_gravity_modal": "truth.beam_gravity",
+    "beam_gravity_static": "truth.beam_gravity",
+    "beam_self_weight_buckling": "truth.beam_gravity",
     # design sensitivities
     "Design": "member.design",
     "truth_gradient": "truth.compute_derivatives",

@@ -29,7 +29,7 @@ import scipy.linalg
 from skfem import BilinearForm, asm
 from skfem.helpers import d
 
-from ..errors import BeamInputError, SolveError
+from ..errors import BeamInputError, InputTypeError, SolveError
 from ..member.geometry import Beam
 from .beam import DENSE_MAX_DOFS, _assemble, _check_count, _eigh, beam_modal_solution
 from .result import ModalSolution, StaticSolution, Timings
@@ -61,6 +61,11 @@ def _gravity_system(beam: Beam, g: np.ndarray, F: np.ndarray, n_elements: int):
     tip = int(np.argmax(mesh.p[0]))
     f[basis.nodal_dofs[0, tip]] += F[2]
     return mesh, basis, K, Kg, M, u_dofs, free, f
+
+
+def _check_beam(beam) -> None:
+    if not isinstance(beam, Beam):
+        raise InputTypeError(f"beam = {beam!r:.60}: must be a prbdm_pin.Beam")
 
 
 def _tip_force(beam: Beam, tip_force_N) -> np.ndarray:
@@ -98,6 +103,7 @@ def beam_gravity_modal(beam: Beam, gravity_m_s2, n_modes: int = 10, n_elements: 
     BeamInputError
         A bad gravity or force (naming it), or a member that buckles under the prestress.
     """
+    _check_beam(beam)
     g = check_gravity(gravity_m_s2)
     F = _tip_force(beam, tip_force_N)
     n_modes = _check_count("n_modes", n_modes)
@@ -135,6 +141,7 @@ def beam_gravity_static(beam: Beam, gravity_m_s2, tip_force_N=None,
         sags q L^4 / (8 EI) under q = rho A g_z; g_x stiffens (hanging) or softens (standing)
         it through the prestress.
     """
+    _check_beam(beam)
     g = check_gravity(gravity_m_s2)
     F = _tip_force(beam, tip_force_N)
     t0 = time.perf_counter()
@@ -161,6 +168,7 @@ def beam_self_weight_buckling(beam: Beam, n_elements: int = 200) -> float:
     The smallest lambda of K phi = lambda (-K_g1) phi, K_g1 the geometric stiffness of a unit
     standing gravity (g = (-1, 0, 0) m/s^2).
     """
+    _check_beam(beam)
     _, _, K, Kg1, _, _, free, _ = _gravity_system(beam, np.array([-1.0, 0.0, 0.0]),
                                                   np.zeros(3), n_elements)
     Kf = K[free][:, free].toarray()
