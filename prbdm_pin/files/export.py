@@ -151,6 +151,14 @@ __all__ = [
 ]
 
 
+# the URDF header's gravity sentence (urdf_templates/robot.urdf.tmpl) and its form for a model
+# fitted in gravity
+_NO_GRAVITY = ("No gravity: the model is defined without\n     it, but URDF carries none, so "
+               "zero it in the consumer")
+_FITTED_GRAVITY = ("Gravity: the model was fitted in the\n     gravity_m_s2 stated below; URDF "
+                   "carries none, so set it\n     in the consumer")
+
+
 def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
               actuators=(), gravity_m_s2=None) -> str:
@@ -169,10 +177,16 @@ def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
     rec = export_record(model, "urdf", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators)
     name = "prbdm" if model.beam is None else f"prbdm_{model.beam.name}"
-    return render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
+    text = render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
                        damping_Nms_per_rad=rec.joint_damping_Nms_per_rad,
                        comment=rec.comment_text() + gravity_comment(g), hub=model.hub,
                        axes=model.axes)
+    if g is None or not np.any(g):
+        return text
+    # the header's convention sentence, for a model fitted in gravity
+    if _NO_GRAVITY not in text:
+        raise AssertionError("urdf_templates/robot.urdf.tmpl: the gravity sentence changed")
+    return text.replace(_NO_GRAVITY, _FITTED_GRAVITY)
 
 
 def write_urdf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
