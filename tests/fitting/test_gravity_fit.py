@@ -16,6 +16,7 @@ from tolerances import EPS
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.export import mjcf_text, urdf_text
+from prbdm_pin.fitting.gravity_chain import chain_in_gravity
 from prbdm_pin.fitting.gravity_target import gravity_target
 from prbdm_pin.fitting.result import EXACT_MATCH_PCT
 from prbdm_pin.model.prbdm_model import build_model
@@ -96,8 +97,6 @@ def test_mujoco_settles_where_the_statics_put_it(gravity_fit):
 
 
 def result_omega1(model, g):
-    from prbdm_pin.fitting.gravity_chain import chain_in_gravity
-
     return float(chain_in_gravity(model, g).omega_rad_s[0])
 
 
@@ -109,6 +108,16 @@ def test_mujoco_vibrates_at_the_fit_s_frequencies_about_the_sag(gravity_fit):
     # central differences: 1e-10 relative on the stiffness; the eigensolve adds rounding
     np.testing.assert_allclose(w, result.omega_model_rad_s[0], rtol=1e-7)
     np.testing.assert_allclose(w, target.omega_truth_rad_s, rtol=EXACT_MATCH_PCT / 100 + 1e-7)
+
+
+def test_the_combined_fit_in_gravity_moves_its_tip_to_the_truth_s(narrow):
+    # the tip term works in gravity: the combined fit's tip under the load and the weight is
+    # nearer the elastica's than the eigen-only fit's, and its frequencies stay near
+    target = gravity_target(narrow, [0.0, 0.0, -9.81], modes=2)
+    runs = {o: pp.fit(narrow, target, 2, stiffness="joint", objective=o, starts=2,
+                      progress=False) for o in ("eigen", "combined")}
+    assert runs["combined"].deflection_loss_pct < 0.5 * runs["eigen"].deflection_loss_pct
+    assert runs["combined"].combined_loss_pct < runs["eigen"].combined_loss_pct
 
 
 def test_fit_json_records_the_gravity_and_only_then(gravity_fit, narrow, tmp_path):
