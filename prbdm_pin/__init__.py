@@ -74,6 +74,7 @@ _EXPORTS = {
     "FitTarget": "fitting.target",
     "LoadCase": "fitting.target",
     "target_from_truth": "fitting.target",
+    "gravity_target": "fitting.gravity_target",
     "FitOptions": "options.objects",
     "ParetoOptions": "options.objects",
     "SimulationOptions": "options.simulation",

@@ -209,6 +209,7 @@ DOORS = {
     "truth_gradient": ("beam", lambda v: pp.truth_gradient(v, ("thickness",))),
     "elastica_gradient": ("beam", lambda v: pp.elastica_gradient(v, ("thickness",))),
     "target_from_truth": ("truth", lambda v: pp.target_from_truth(v, [0.0, 0.0, -1.0])),
+    "gravity_target": ("beam", lambda v: pp.gravity_target(v, [0.0, 0.0, -9.81])),
     "fit": ("beam", lambda v: pp.fit(v, None, 3)),
     "fit_pareto": ("beam", lambda v: pp.fit_pareto(v, None, 2)),
     "fit_sweep": ("designs", lambda v: pp.fit_sweep(v, [], 2)),
