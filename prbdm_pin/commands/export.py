@@ -138,11 +138,10 @@ def run(args: argparse.Namespace) -> int:
         plant["inputs"] = opts["inputs"]
     rec = export_record(model, args.format, args.damping, args.damping_form, omega_truth,
                         **plant)
-    # a model fitted in gravity carries it (MJCF option, URDF comment)
-    gravity = None if fitted is None else fitted.gravity_m_s2
+    # a model fitted in gravity carries it on (MJCF option, URDF comment, JSON field)
     path = export_model(model, args.out, args.format, damping_ratio=args.damping,
                         damping_form=args.damping_form, omega_truth_rad_s=omega_truth,
-                        gravity_m_s2=gravity, **plant)
+                        gravity_m_s2=source.gravity_m_s2, **plant)
     if not args.quiet:
         for note in rec.warnings:
             print(f"export warning: {note}", file=sys.stderr)

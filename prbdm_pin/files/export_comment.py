@@ -14,7 +14,7 @@ from ..errors import BeamInputError
 from .export_record import FLOAT_FIELDS, ExportRecord
 
 __all__ = ["comment_text", "read_export_record", "number_text", "vector_text",
-           "gravity_comment"]
+           "gravity_comment", "read_gravity_comment"]
 
 WEIGHTS_VW = "virtual-work"
 RECORD_HEAD = " prbdm_pin export record (prbdm_pin.files.export.read_export_record reads it)"
@@ -106,6 +106,16 @@ def gravity_comment(gravity_m_s2: np.ndarray | None) -> str:
         "     Gravity: URDF has no gravity element, and Pinocchio's URDF parser and MuJoCo's",
         "     URDF import default to -9.81 m/s^2 along z.", *fitted,
         "     <option gravity>; prbdm_pin.load_urdf sets zero).")) + "\n"
+
+
+def read_gravity_comment(text: str) -> list[str] | None:
+    """Return the gravity a URDF's comment states it was fitted in (3 texts), None without.
+
+    The inverse of :func:`gravity_comment` (a file written before it, or fitted without
+    gravity, reads as None); the caller checks the numbers.
+    """
+    m = re.search(r"fitted in gravity_m_s2: (\S+) (\S+) (\S+) \(", text)
+    return None if m is None else list(m.groups())
 
 
 def read_export_record(text: str) -> ExportRecord | None:

@@ -42,6 +42,20 @@ def test_fit_in_gravity_writes_it_everywhere(narrow, tmp_path):
     assert main(["export", str(out / "fit.json"), "--format", "mjcf", "--out", str(xml),
                  "-q"]) == 0
     assert '<option gravity="0.0 0.0 -9.81"' in xml.read_text()
+    # carried on through the model JSON and the URDF (its comment) into the MJCF
+    prev = out / "fit.json"
+    for name, fmt in (("m.json", "json"), ("m.urdf", "urdf"), ("again.xml", "mjcf")):
+        assert main(["export", str(prev), "--format", fmt, "--out", str(tmp_path / name),
+                     "-q"]) == 0
+        prev = tmp_path / name
+    assert '<option gravity="0.0 0.0 -9.81"' in prev.read_text()
+    # a URDF whose comment was edited to an absurd gravity is refused by name
+    bad = tmp_path / "bad.urdf"
+    bad.write_text((tmp_path / "m.urdf").read_text().replace(
+        "gravity_m_s2: 0.0 0.0 -9.81", "gravity_m_s2: 0.0 0.0 -9810.0"))
+    assert main(["export", str(bad), "--format", "mjcf", "--out", str(tmp_path / "b.xml"),
+                 "-q"]) == 2
+    assert not (tmp_path / "b.xml").exists()
 
 
 def test_a_fit_without_gravity_exports_none(tmp_path):
