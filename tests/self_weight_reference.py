@@ -23,7 +23,8 @@ from scipy.optimize import brentq
 from scipy.special import jv
 from tolerances import EPS
 
-__all__ = ["ritz_frequencies", "shoot_self_weight", "GREENHILL", "GREENHILL_PUBLISHED"]
+__all__ = ["ritz_frequencies", "ritz_planform_frequencies", "shoot_self_weight", "GREENHILL",
+           "GREENHILL_PUBLISHED"]
 
 GREENHILL_PUBLISHED = 7.837  # Timoshenko and Gere, 4 digits
 GREENHILL = 2.25 * brentq(lambda x: jv(-1.0 / 3.0, x), 1.0, 3.0, xtol=1e-15) ** 2
@@ -39,6 +40,42 @@ def ritz_frequencies(EI: float, rhoA: float, L: float, g_x: float, n_terms: int 
     mass = 1.0 / (a + b + 1)  # int phi_i phi_j d xi
     K = EI / L**3 * bend + g_x * rhoA * geo
     M = rhoA * L * mass
+    lam = scipy.linalg.eigh(K, M, eigvals_only=True, subset_by_index=[0, n_modes - 1])
+    return np.sqrt(lam)
+
+
+def ritz_planform_frequencies(x_m, half_width_m, t_m: float, E_Pa: float, rho: float,
+                              g_x: float, tip_tension_N: float = 0.0, n_terms: int = 10,
+                              n_modes: int = 2) -> np.ndarray:
+    """Ritz frequencies (rad/s) of a clamped strip with a piecewise-linear half-width w(x).
+
+    EI = E 2 w t^3 / 12, rho A = rho 2 w t, N(x) = g_x int_x^L rho A + tip tension; the same
+    polynomials as :func:`ritz_frequencies`, every integral by Gauss-Legendre on each vertex
+    interval (degree <= 2 (n+1) + 2 there: 2 n_terms points are exact).
+    """
+    x_m, w_m = np.asarray(x_m, float), np.asarray(half_width_m, float)
+    L = x_m[-1]
+    a = np.arange(2, n_terms + 2, dtype=float)
+    gx, gw = np.polynomial.legendre.leggauss(2 * n_terms)
+    K = np.zeros((n_terms, n_terms))
+    M = np.zeros_like(K)
+    # outboard mass at each vertex (trapezoids: exact for linear w), summed from the tip
+    seg = rho * t_m * (w_m[:-1] + w_m[1:]) * np.diff(x_m)
+    tail = np.concatenate([np.cumsum(seg[::-1])[::-1], [0.0]])
+    for i in range(x_m.size - 1):
+        x0, x1 = x_m[i], x_m[i + 1]
+        if x1 <= x0:
+            continue  # a width step
+        x = 0.5 * (x1 - x0) * gx + 0.5 * (x0 + x1)
+        wq = 0.5 * (x1 - x0) * gw
+        w = w_m[i] + (w_m[i + 1] - w_m[i]) * (x - x0) / (x1 - x0)
+        N = g_x * (rho * t_m * (w + w_m[i + 1]) * (x1 - x) + tail[i + 1]) + tip_tension_N
+        xi = x / L
+        phi = xi[None] ** a[:, None]
+        d1 = a[:, None] * xi[None] ** (a[:, None] - 1) / L
+        d2 = a[:, None] * (a[:, None] - 1) * xi[None] ** (a[:, None] - 2) / L**2
+        K += (d2 * (E_Pa * 2 * w * t_m**3 / 12 * wq)) @ d2.T + (d1 * (N * wq)) @ d1.T
+        M += (phi * (rho * 2 * w * t_m * wq)) @ phi.T
     lam = scipy.linalg.eigh(K, M, eigvals_only=True, subset_by_index=[0, n_modes - 1])
     return np.sqrt(lam)
 
