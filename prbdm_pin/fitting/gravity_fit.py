@@ -135,7 +135,8 @@ def fit_in_gravity(beam, target: FitTarget, joints: int, o: FitOptions, *, worke
     n = problem.n_joints
     x0 = np.concatenate([unit_from_lengths(base.lengths_m, beam.length_m, problem.min_fraction),
                          np.log(base.factors)])
-    # stage 2: the residuals in gravity; tolerances at the fit's own (exact match) level
+    # stage 2: the residuals in gravity; tolerances at the fit's own (exact match) level, and
+    # the budget of max_nfev Jacobians (each 2n + 1 evaluations by forward differences)
     sol = least_squares(res, x0, bounds=(np.r_[np.zeros(n), np.full(n, -np.inf)],
                                          np.r_[np.ones(n), np.full(n, np.inf)]),
                         method="trf", xtol=1e-12, ftol=1e-14, gtol=1e-14,
