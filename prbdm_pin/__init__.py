@@ -64,6 +64,7 @@ _EXPORTS = {
     "beam_gravity_modal": "truth.beam_gravity",
     "beam_gravity_static": "truth.beam_gravity",
     "beam_self_weight_buckling": "truth.beam_gravity",
+    "elastica_gravity_modes": "truth.elastica_modes",
     # design sensitivities
     "Design": "member.design",
     "truth_gradient": "truth.compute_derivatives",

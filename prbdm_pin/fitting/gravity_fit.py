@@ -41,11 +41,7 @@ from .results import FitResult
 from .spec import tip_scales_m
 from .target import FitTarget
 
-__all__ = ["fit_in_gravity", "LARGE_SAG_FRACTION"]
-
-# a sag (tip, fraction of L) above which the truth's frequencies, those about the straight
-# prestressed member, are no longer those about the sag (they differ at order sag^2)
-LARGE_SAG_FRACTION = 0.05
+__all__ = ["fit_in_gravity"]
 
 
 def _refuse(o: FitOptions, start, extra_loads) -> None:
@@ -167,11 +163,6 @@ def _result(problem, base: FitResult, res: _Residuals, lengths, s, sol, t0) -> F
     omega_errors = mode_errors_pct(w, t.omega_truth_rad_s)
     worst = worst_mode_error_pct(omega_errors)
     notes = t.shape_notes() + _bound_notes(lengths, problem.length_m, problem.min_fraction)
-    sag = float(np.linalg.norm(ev.sag_tip_m - model.tip_position()))
-    if sag > LARGE_SAG_FRACTION * problem.length_m:
-        notes.append(f"the chain sags {sag / problem.length_m:.3g} L under its weight: the "
-                     "truth's frequencies are the prestressed straight member's, those about "
-                     f"a sag within {LARGE_SAG_FRACTION:g} L")
     return dataclasses.replace(
         base, objective=problem.options.objective.value, lengths_m=lengths,
         stiffness_Nm_per_rad=K, stiffness_per_pose_Nm_per_rad=K[None], factors=s,

@@ -58,6 +58,7 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/elastica.py",
     "prbdm_pin/truth/elastica_adjoint.py",
     "prbdm_pin/truth/elastica_derivatives.py",
+    "prbdm_pin/truth/elastica_modes.py",
     "prbdm_pin/truth/entry.py",
     "prbdm_pin/truth/estimate.py",
     "prbdm_pin/truth/feature_mesh.py",
