@@ -9,7 +9,7 @@ and extrapolated by Richardson from 32 and 64 links.
 
 import numpy as np
 import pytest
-from self_weight_reference import GREENHILL, ritz_frequencies
+from self_weight_reference import GREENHILL, ritz_frequencies, ritz_planform_frequencies
 
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting.gravity_chain import chain_in_gravity
@@ -36,6 +36,16 @@ def test_about_the_straight_member_it_is_the_prestressed_beam(narrow, gamma):
            for n in (12, 25, 50)}
     assert np.all(err[25] < err[12] / 12)  # h^4: 19x from 12 to 25 elements
     assert np.all(err[50] < 1e-7)  # h^4 from 12 elements' 1.7e-5: 6e-8 at 50
+
+
+@pytest.mark.parametrize("g_x, tension_N", [(500.0, 0.0), (-500.0, 100.0)])
+def test_a_tapered_member_pulled_at_its_tip_is_the_prestressed_beam(g_x, tension_N):
+    beam = Beam(np.array([0.0, 1.0]), np.array([0.05, 0.015]), 0.01, MAT)
+    # Gauss-quadrature Ritz, 10 polynomials: 1e-10 from 11
+    ref = ritz_planform_frequencies(beam.x_m, beam.half_width_m, beam.thickness_m,
+                                    MAT.E_Pa, MAT.rho_kg_m3, g_x, tension_N, n_terms=10)
+    w = elastica_gravity_modes(beam, [g_x, 0.0, 0.0], [tension_N, 0.0, 0.0], 2, 50)[0]
+    np.testing.assert_allclose(w, ref, rtol=1e-7)  # h^4 at 50 elements (as above)
 
 
 def _chain(n: int, g) -> np.ndarray:
