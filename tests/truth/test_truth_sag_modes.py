@@ -10,12 +10,15 @@ and extrapolated by Richardson from 32 and 64 links.
 import numpy as np
 import pytest
 from self_weight_reference import GREENHILL, ritz_frequencies, ritz_planform_frequencies
+from tolerances import EPS, hermite_basis_cond
 
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting.gravity_chain import chain_in_gravity
 from prbdm_pin.member.geometry import Beam
 from prbdm_pin.member.material import Material
 from prbdm_pin.model.prbdm_model import build_model
+from prbdm_pin.truth.beam import beam_stations
+from prbdm_pin.truth.beam_gravity import beam_gravity_modal
 from prbdm_pin.truth.elastica_modes import elastica_gravity_modes
 
 MAT = Material("steel", 205e9, 7850.0, 0.28)
@@ -46,6 +49,20 @@ def test_a_tapered_member_pulled_at_its_tip_is_the_prestressed_beam(g_x, tension
                                     MAT.E_Pa, MAT.rho_kg_m3, g_x, tension_N, n_terms=10)
     w = elastica_gravity_modes(beam, [g_x, 0.0, 0.0], [tension_N, 0.0, 0.0], 2, 50)[0]
     np.testing.assert_allclose(w, ref, rtol=1e-7)  # h^4 at 50 elements (as above)
+
+
+@pytest.mark.parametrize("g", [[500.0, 0.0, 0.0], [-500.0, 0.0, 0.0]])
+def test_a_stepped_member_about_straight_is_the_hermite_beam(g):
+    # another formulation on a stepped, tapered planform: the angle theta with its nonlocal
+    # mass against the Hermite beam's displacement w with its geometric stiffness. theta = w'
+    # of the Hermite cubics is piecewise quadratic, so the two spaces nearly coincide and the
+    # results differ by the Hermite bases' rounding (EPS times their condition number)
+    stepped = Beam(np.array([0.0, 0.3, 0.3, 1.0]), np.array([0.05, 0.04, 0.03, 0.015]), 0.01,
+                   MAT)
+    w = elastica_gravity_modes(stepped, g, None, 3, 100)[0]
+    ref = beam_gravity_modal(stepped, g, 3, 100).omega_rad_s
+    rel = 2 * EPS * hermite_basis_cond(beam_stations(stepped, 100))
+    np.testing.assert_allclose(w, ref, rtol=rel)
 
 
 def _chain(n: int, g) -> np.ndarray:
