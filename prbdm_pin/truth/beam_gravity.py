@@ -16,8 +16,9 @@ The Hermite beam of :mod:`prbdm_pin.truth.beam` with the member's own weight (mo
   exactly), so no second mass formula is written here.
 
 The sag is the linear one, (K + K_g) u = f; the frequencies are those of K + K_g and M about the
-straight member: to first order in the sag they are the frequencies about it (a small sag, or
-the elastica's large one: :mod:`prbdm_pin.truth.elastica` with ``gravity_m_s2``, for the tip).
+straight member: to first order in the sag they are the frequencies about it. A large sag's tip
+is the elastica's (:mod:`prbdm_pin.truth.elastica` with ``gravity_m_s2``) and the frequencies
+about it :mod:`prbdm_pin.truth.elastica_modes`'.
 """
 
 from __future__ import annotations
