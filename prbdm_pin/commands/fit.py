@@ -25,6 +25,8 @@ EXAMPLE = """examples:
       --starts 64 --seed 0 --out out/fit4r
   prbdm fit examples/beams/uniform-narrow.json --joints 3 --objective combined --stiffness joint \\
       --truth-model beam --out out/fit3r
+  prbdm fit examples/beams/uniform-narrow.json --joints 3 --truth-model beam --stiffness joint \\
+      --gravity 0,0,-9.81 --out out/fit3r_sag
 writes DIR/fit.json, DIR/model.urdf, DIR/planform.png (and DIR/scf.png for --stiffness paper)
 
 A beam file without "tip_force" has no load (0 N): enough for --objective eigen; a deflection
