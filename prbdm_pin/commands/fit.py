@@ -123,8 +123,9 @@ def export_text(result) -> str:
     """Return the exported model: which springs, and its frequencies and errors at q = 0."""
     w = " ".join(f"{v:.6g}" for v in result.omega_export_rad_s)
     e = " ".join(f"{v:+.3g}" for v in result.omega_export_errors_pct)
+    where = "at the straight pose" if result.gravity_m_s2 is None else "about its sag"
     return (f"exported model: {result.stiffness_pose}\n"
-            f"  at the straight pose: omega {w} rad/s; errors {e} % "
+            f"  {where}: omega {w} rad/s; errors {e} % "
             f"(worst {result.worst_export_error_pct:.3g} %)")
 
 
