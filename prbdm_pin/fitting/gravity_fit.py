@@ -179,4 +179,5 @@ def _result(problem, base: FitResult, res: _Residuals, lengths, s, sol, t0) -> F
         omega_errors_pct=omega_errors, worst_mode_error_pct=worst,
         omega_export_rad_s=w[0], omega_export_errors_pct=omega_errors[0],
         worst_export_error_pct=worst, options=problem.options,
+        stiffness_pose="joint: pose-independent springs, fitted about the sag in gravity",
         modes=mode_records(t.labels, t.omega_truth_rad_s, w[0]), gravity_m_s2=t.gravity_m_s2)
