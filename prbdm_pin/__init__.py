@@ -62,6 +62,10 @@ _EXPORTS = {
     "TruthRequest": "truth",
     "TruthResult": "truth",
     "compute_truth": "truth",
+    "beam_gravity_modal": "truth.beam_gravity",
+    "beam_gravity_static": "truth.beam_gravity",
+    "beam_self_weight_buckling": "truth.beam_gravity",
+    "elastica_gravity_modes": "truth.elastica_modes",
     # design sensitivities
     "Design": "member.design",
     "truth_gradient": "truth.compute_derivatives",
@@ -72,6 +76,7 @@ _EXPORTS = {
     "FitTarget": "fitting.target",
     "LoadCase": "fitting.target",
     "target_from_truth": "fitting.target",
+    "gravity_target": "fitting.gravity_target",
     "FitOptions": "options.objects",
     "ParetoOptions": "options.objects",
     "SimulationOptions": "options.simulation",

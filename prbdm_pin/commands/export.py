@@ -49,6 +49,10 @@ Every file records (XML comment; JSON fields) the exported model's natural frequ
 straight pose and, when the truth is known (a fit.json, or an export of one), its signed per-mode
 errors 100 (omega_model/omega_truth - 1); a worst mode off by more than 1 % is warned about.
 
+Gravity: a model fitted in gravity (prbdm fit --gravity) carries it on: the MJCF's
+<option gravity>, the URDF's comment (URDF has no gravity element: set it in the consumer), the
+model JSON's gravity_m_s2; any other model has none (MJCF gravity 0 0 0).
+
 Load them with prbdm_pin.load_urdf (URDF, springs in the gazebo tags, gravity zero),
 pinocchio.buildModelFromUrdf (then set model.gravity = pinocchio.Motion.Zero()),
 pybullet.loadURDF(..., useFixedBase=True, flags=pybullet.URDF_USE_INERTIA_FROM_FILE),
@@ -138,8 +142,10 @@ def run(args: argparse.Namespace) -> int:
         plant["inputs"] = opts["inputs"]
     rec = export_record(model, args.format, args.damping, args.damping_form, omega_truth,
                         **plant)
+    # a model fitted in gravity carries it on (MJCF option, URDF comment, JSON field)
     path = export_model(model, args.out, args.format, damping_ratio=args.damping,
-                        damping_form=args.damping_form, omega_truth_rad_s=omega_truth, **plant)
+                        damping_form=args.damping_form, omega_truth_rad_s=omega_truth,
+                        gravity_m_s2=source.gravity_m_s2, **plant)
     if not args.quiet:
         for note in rec.warnings:
             print(f"export warning: {note}", file=sys.stderr)

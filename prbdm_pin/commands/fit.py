@@ -17,7 +17,7 @@ from .fit_checks import (
     check_sweep,
     check_truth_options,
 )
-from .fit_target import load_target
+from .fit_target import gravity_option, load_target
 from .options import add_fit_options, add_problem_options, fit_options
 
 EXAMPLE = """examples:
@@ -25,6 +25,8 @@ EXAMPLE = """examples:
       --starts 64 --seed 0 --out out/fit4r
   prbdm fit examples/beams/uniform-narrow.json --joints 3 --objective combined --stiffness joint \\
       --truth-model beam --out out/fit3r
+  prbdm fit examples/beams/uniform-narrow.json --joints 3 --truth-model beam --stiffness joint \\
+      --gravity 0,0,-9.81 --out out/fit3r_sag
 writes DIR/fit.json, DIR/model.urdf, DIR/planform.png (and DIR/scf.png for --stiffness paper)
 
 A beam file without "tip_force" has no load (0 N): enough for --objective eigen; a deflection
@@ -89,6 +91,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--gain-modes", type=int, default=None, metavar="K",
                    help="with --gain-points: the lowest K matched modes of each kind (default "
                         "all, each weighted by its share of the FRF)")
+    p.add_argument("--gravity", default=None, metavar="GX,GY,GZ",
+                   help="fit in gravity, m/s^2, member axes (x from root to tip, GY = 0): the "
+                        "truth's frequencies about its sag and its tip under the load and its "
+                        "weight, the chain's in the same gravity; needs --truth-model beam "
+                        "and --stiffness joint (default: no gravity)")
     p.add_argument("--gain-weight", type=float, default=1.0,
                    help="with --gain-points: weight of the amplitude errors (default 1)")
     add_common(p)
@@ -116,8 +123,9 @@ def export_text(result) -> str:
     """Return the exported model: which springs, and its frequencies and errors at q = 0."""
     w = " ".join(f"{v:.6g}" for v in result.omega_export_rad_s)
     e = " ".join(f"{v:+.3g}" for v in result.omega_export_errors_pct)
+    where = "at the straight pose" if result.gravity_m_s2 is None else "about its sag"
     return (f"exported model: {result.stiffness_pose}\n"
-            f"  at the straight pose: omega {w} rad/s; errors {e} % "
+            f"  {where}: omega {w} rad/s; errors {e} % "
             f"(worst {result.worst_export_error_pct:.3g} %)")
 
 
@@ -183,7 +191,8 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
                         min_fraction=min(MIN_FRACTION, 0.5 * float(min(lengths)) / beam.length_m),
                         axes=result.axes)
     written = [write_urdf(model, out / "model.urdf",
-                          omega_truth_rad_s=result.omega_truth_rad_s)]
+                          omega_truth_rad_s=result.omega_truth_rad_s,
+                          gravity_m_s2=result.gravity_m_s2)]
     if plots:
         from ..views.plots import plot_planform, plot_scf
 
@@ -212,6 +221,7 @@ def check_options(args) -> None:
     in_range("--explore-nfev", args.explore_nfev, 1, MAX_NFEV, integer=True)
     in_range("--refine-starts", args.refine_starts, 0, MAX_STARTS, integer=True)
     check_sweep(args)
+    gravity_option(args)  # refused before any truth is computed
 
 
 def run(args) -> int:
@@ -245,6 +255,9 @@ def run(args) -> int:
                   f"tip displacement {result.displacement_loss_pct:.4g} %, "
                   f"combined {result.combined_loss_pct:.4g} % ({result.wall_time_s:.1f} s)")
         print("lengths_m:", " ".join(f"{v:.4f}" for v in result.lengths_m))
+        if result.gravity_m_s2 is not None:
+            print("in gravity_m_s2:", " ".join(f"{v:g}" for v in result.gravity_m_s2),
+                  "(frequencies about the sag, tip under the load and the weight)")
         if result.axes != "y":
             print(modes_table(result))
         print(export_text(result))

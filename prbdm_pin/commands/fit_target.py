@@ -11,7 +11,7 @@ from pathlib import Path
 
 from .fit_checks import cache_dir, load_factors
 
-__all__ = ["load_target", "gain_points"]
+__all__ = ["load_target", "gain_points", "gravity_option"]
 
 
 def load_target(args, beam):
@@ -21,6 +21,11 @@ def load_target(args, beam):
     """
     import dataclasses
 
+    g = gravity_option(args)
+    if g is not None:
+        from ..fitting.gravity_target import gravity_target
+
+        return gravity_target(beam, g, modes=max(args.joints, args.frequencies or 0))
     target = _base_target(args, beam)
     # a Pareto front (no --objective) has the deflection objective too
     if getattr(args, "axes", "y") != "y" and getattr(args, "objective", "combined") != "eigen":
@@ -116,6 +121,37 @@ def _base_target(args, beam):
 
         target = with_point_gains(target, truth, beam, points)
     return target
+
+
+def gravity_option(args):
+    """Return ``--gravity`` (m/s^2, (3,)) or None without it; refuse what it cannot take.
+
+    A fit in gravity is the planar ``joint`` chain against the 1D beam truth computed here
+    (``--truth-model beam --stiffness joint``, no ``--truth`` file, ``--extra-loads``,
+    ``--gain-points`` or ``--axes`` other than y); BeamInputError naming the option otherwise.
+    """
+    from ..errors import BeamInputError
+    from ..truth.self_weight import check_gravity
+    from .checks import xyz_option
+
+    text = getattr(args, "gravity", None)
+    if text is None:
+        return None
+    g = check_gravity(xyz_option(text, "--gravity", "m/s^2"), "--gravity")
+    if not g.any():
+        return None
+    for option, bad in (("--truth-model", args.truth_model != "beam"),
+                        ("--stiffness", getattr(args, "stiffness", None) != "joint"),
+                        ("--axes", getattr(args, "axes", "y") != "y"),
+                        ("--truth", bool(args.truth)),
+                        ("--extra-loads", bool(getattr(args, "extra_loads", None))),
+                        ("--gain-points", bool(gain_points(args)))):
+        if bad:
+            raise BeamInputError(f"{option}: a fit in gravity (--gravity) takes the planar "
+                                 "chain with --stiffness joint against the 1D beam truth in "
+                                 "that gravity (--truth-model beam), without --truth, "
+                                 "--extra-loads, --gain-points or --axes")
+    return g
 
 
 def gain_points(args) -> tuple[str, ...]:

@@ -17,9 +17,11 @@ frequency (:func:`prbdm_pin.simulation.hub_damping.plant_damping`'s stiffness fo
 ``linearize(..., damping="stiffness")`` uses), on the beam joints only: the hub joint is
 undamped.
 
-Gravity: the PRBDM has none. The MJCF sets ``<option gravity="0 0 0">``; URDF has no gravity
-element, and ``pinocchio.buildModelFromUrdf`` and MuJoCo's URDF import turn on -9.81 m/s^2 along
-z, so zero it there (``prbdm_pin.load_urdf`` does).
+Gravity: a PRBDM fitted without gravity has none, one fitted in gravity (``prbdm fit
+--gravity``) has that gravity (``FitResult.gravity_m_s2``, passed as ``gravity_m_s2``). The MJCF
+sets it as ``<option gravity>`` (``"0 0 0"`` without); URDF has no gravity element, so its comment
+states the fit's gravity vector and that the consumer must set it: ``pinocchio.buildModelFromUrdf``
+and MuJoCo's URDF import turn on -9.81 m/s^2 along z (``prbdm_pin.load_urdf`` sets zero).
 
 Damping: a diagonal joint damping (MJCF ``damping``, URDF ``<dynamics damping>``) carries the
 stiffness-proportional form C = beta K exactly (K is diagonal), beta = 2 xi_1 / omega_1 at the
@@ -114,6 +116,8 @@ from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
 from ..io.paths import check_out_file
 from ..model.checks import check_model
+from ..truth.self_weight import check_gravity
+from .export_comment import gravity_comment
 from .export_mjcf import mjcf_text
 from .export_plant import mujoco_name
 from .export_record import (
@@ -147,56 +151,78 @@ __all__ = [
 ]
 
 
+# the URDF header's gravity sentence (urdf_templates/robot.urdf.tmpl) and its form for a model
+# fitted in gravity
+_NO_GRAVITY = ("No gravity: the model is defined without\n     it, but URDF carries none, so "
+               "zero it in the consumer")
+_FITTED_GRAVITY = ("Gravity: the model was fitted in the\n     gravity_m_s2 stated below; URDF "
+                   "carries none, so set it\n     in the consumer")
+
+
 def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-              actuators=()) -> str:
+              actuators=(), gravity_m_s2=None) -> str:
     """Return the model's URDF with ``<dynamics damping>`` (stiffness form) and record comment.
 
     Parameters as :func:`export_record`; a hub model gets the revolute joint ``hub`` (see the
-    module notes). URDF has no tendons: ``actuators`` are recorded in the comment only. With
-    ``damping_ratio=0``, no actuators and no comment this is :attr:`PrbdmModel.urdf`.
+    module notes). URDF has no tendons: ``actuators`` are recorded in the comment only, and no
+    gravity: the comment states ``gravity_m_s2`` (m/s^2, world; the gravity the model was
+    fitted in, default none) and that the consumer must set it
+    (:func:`~prbdm_pin.files.export_comment.gravity_comment`). With ``damping_ratio=0``, no
+    actuators and no comment this is :attr:`PrbdmModel.urdf`.
     """
     from ..model.urdf import render_urdf
 
+    g = None if gravity_m_s2 is None else check_gravity(gravity_m_s2, planar=False)
     rec = export_record(model, "urdf", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators)
     name = "prbdm" if model.beam is None else f"prbdm_{model.beam.name}"
-    return render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
+    text = render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
                        damping_Nms_per_rad=rec.joint_damping_Nms_per_rad,
-                       comment=rec.comment_text(), hub=model.hub, axes=model.axes)
+                       comment=rec.comment_text() + gravity_comment(g), hub=model.hub,
+                       axes=model.axes)
+    if g is None or not np.any(g):
+        return text
+    # the header's convention sentence, for a model fitted in gravity
+    if _NO_GRAVITY not in text:
+        raise AssertionError("urdf_templates/robot.urdf.tmpl: the gravity sentence changed")
+    return text.replace(_NO_GRAVITY, _FITTED_GRAVITY)
 
 
 def write_urdf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
                damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-               actuators=()) -> Path:
+               actuators=(), gravity_m_s2=None) -> Path:
     """Write :func:`urdf_text` atomically."""
     return atomic_write_text(path, urdf_text(model, damping_ratio, damping_form=damping_form,
                                              omega_truth_rad_s=omega_truth_rad_s,
-                                             actuators=actuators))
+                                             actuators=actuators, gravity_m_s2=gravity_m_s2))
 
 
 def write_mjcf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
                damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-               actuators=(), inputs=None) -> Path:
+               actuators=(), inputs=None, gravity_m_s2=None) -> Path:
     """Write :func:`mjcf_text` atomically."""
     return atomic_write_text(path, mjcf_text(model, damping_ratio, damping_form=damping_form,
                                              omega_truth_rad_s=omega_truth_rad_s,
-                                             actuators=actuators, inputs=inputs))
+                                             actuators=actuators, inputs=inputs,
+                                             gravity_m_s2=gravity_m_s2))
 
 
 def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
                damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-               actuators=()) -> Path:
-    """Write :func:`model_dict` as JSON atomically."""
+               actuators=(), gravity_m_s2=None) -> Path:
+    """Write :func:`model_dict` as JSON atomically (with ``gravity_m_s2`` when given)."""
     d = model_dict(model, damping_ratio, damping_form=damping_form,
                    omega_truth_rad_s=omega_truth_rad_s, actuators=actuators)
+    if gravity_m_s2 is not None:
+        d["gravity_m_s2"] = check_gravity(gravity_m_s2, planar=False).tolist()
     return atomic_write_text(path, json.dumps(d, indent=2) + "\n")
 
 
 def export_model(model, path: str | os.PathLike, fmt: str,
                  damping_ratio: float | np.ndarray = 0.02, *, damping_form: str | None = None,
-                 omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None
-                 ) -> Path:
+                 omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None,
+                 gravity_m_s2=None) -> Path:
     """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt``.
 
     Parameters
@@ -214,6 +240,10 @@ def export_model(model, path: str | os.PathLike, fmt: str,
         As :func:`~prbdm_pin.files.export_record.export_record` (which gives what the file records,
         for a command to print): the damping form, the truth frequencies (rad/s), the strain
         actuators and the inputs (MJCF only).
+    gravity_m_s2 : array_like (3,), optional
+        The gravity the model was fitted in, m/s^2, world (``FitResult.gravity_m_s2``; default
+        none): the MJCF's ``<option gravity>``, stated in the URDF's comment (URDF has no
+        gravity element); a model JSON records it as ``gravity_m_s2``.
 
     Returns
     -------
@@ -233,8 +263,9 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     check_out_file("path", path)
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
+    g = None if gravity_m_s2 is None else check_gravity(gravity_m_s2, planar=False)
     kw = {"damping_form": damping_form, "omega_truth_rad_s": omega_truth_rad_s,
-          "actuators": actuators}
+          "actuators": actuators, "gravity_m_s2": g}
     if fmt == "mjcf":
         return write_mjcf(model, path, damping_ratio, inputs=inputs, **kw)
     if inputs is not None and len(inputs):

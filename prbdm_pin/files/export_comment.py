@@ -13,7 +13,8 @@ import numpy as np
 from ..errors import BeamInputError
 from .export_record import FLOAT_FIELDS, ExportRecord
 
-__all__ = ["comment_text", "read_export_record", "number_text", "vector_text"]
+__all__ = ["comment_text", "read_export_record", "number_text", "vector_text",
+           "gravity_comment", "read_gravity_comment"]
 
 WEIGHTS_VW = "virtual-work"
 RECORD_HEAD = " prbdm_pin export record (prbdm_pin.files.export.read_export_record reads it)"
@@ -83,6 +84,38 @@ def comment_text(record: ExportRecord) -> str:
     lines += [f"     warning: {w}" for w in record.warnings]
     return "\n".join(lines) + "\n"
 
+
+
+def gravity_comment(gravity_m_s2: np.ndarray | None) -> str:
+    """Return the URDF's gravity convention as lines of its XML comment.
+
+    URDF has no gravity element: the comment states the gravity the model was fitted in
+    (m/s^2, world) and that the consumer must set it; Pinocchio's URDF parser and MuJoCo's
+    URDF import default to -9.81 m/s^2 along z.
+    """
+    g = np.zeros(3) if gravity_m_s2 is None else np.asarray(gravity_m_s2, dtype=float)
+    if np.any(g):
+        fitted = (f"     This model was fitted in gravity_m_s2: {vector_text(g)} (m/s^2, world;",
+                  "     its frequencies and tip in fit.json are about its sag in it): the",
+                  "     consumer must set this gravity (Pinocchio: model.gravity; MuJoCo:")
+    else:
+        fitted = ("     This model was fitted without gravity (gravity_m_s2: 0.0 0.0 0.0,",
+                  "     m/s^2, world): the consumer must set gravity to zero (Pinocchio:",
+                  "     model.gravity = pinocchio.Motion.Zero(); MuJoCo:")
+    return "\n".join((
+        "     Gravity: URDF has no gravity element, and Pinocchio's URDF parser and MuJoCo's",
+        "     URDF import default to -9.81 m/s^2 along z.", *fitted,
+        "     <option gravity>; prbdm_pin.load_urdf sets zero).")) + "\n"
+
+
+def read_gravity_comment(text: str) -> list[str] | None:
+    """Return the gravity a URDF's comment states it was fitted in (3 texts), None without.
+
+    The inverse of :func:`gravity_comment` (a file written before it, or fitted without
+    gravity, reads as None); the caller checks the numbers.
+    """
+    m = re.search(r"fitted in gravity_m_s2: (\S+) (\S+) (\S+) \(", text)
+    return None if m is None else list(m.groups())
 
 
 def read_export_record(text: str) -> ExportRecord | None:

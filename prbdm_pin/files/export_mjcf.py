@@ -26,6 +26,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from ..errors import BeamInputError
+from ..truth.self_weight import check_gravity
 from ..version import __version__
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
@@ -38,9 +39,14 @@ _TIP_GEAR = {"tip_force_z": "0 0 1 0 0 0", "tip_force_x": "1 0 0 0 0 0"}
 _AXIS = {"x": "1 0 0", "y": "0 1 0", "z": "0 0 1"}
 
 
+def _gravity_text(g: np.ndarray) -> str:
+    """``0 0 0`` for no gravity (as before gravity was recorded), else the exact doubles."""
+    return "0 0 0" if not np.any(g) else _vec(g)
+
+
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
               *, damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-              actuators=(), inputs=None) -> str:
+              actuators=(), inputs=None, gravity_m_s2=None) -> str:
     """Write the model as an MJCF string for MuJoCo.
 
     Parameters
@@ -66,6 +72,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         The inputs written as MuJoCo actuators (module notes); default ``hub_torque`` with a
         hub, and ``strain[i]`` for every actuator. A spatial chain takes neither actuators nor
         inputs.
+    gravity_m_s2 : array_like (3,), optional
+        The gravity the model was fitted in, m/s^2, world (``FitResult.gravity_m_s2``):
+        ``<option gravity>``; default none, ``0 0 0`` (a model fitted without gravity).
 
     Returns
     -------
@@ -75,6 +84,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     from ..model.chain_names import joint_names
     from ..model.inputs import strain_map
 
+    gravity = np.zeros(3) if gravity_m_s2 is None else check_gravity(gravity_m_s2,
+                                                                    planar=False)
     rec = export_record(model, "mjcf", damping_ratio, damping_form, omega_truth_rad_s,
                         actuators=actuators, inputs=inputs)
     s = model.sections
@@ -118,7 +129,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         '  <compiler angle="radian" autolimits="true"/>',
         # RK4: at T_n/20 its step response is within 0.02 % of the peak of an accurate
         # integration (3R and 5R reference chains), the default Euler 0.1-0.6 % (1st order)
-        f'  <option gravity="0 0 0" timestep="{_f(timestep_s)}" integrator="RK4"/>',
+        f'  <option gravity="{_gravity_text(gravity)}" timestep="{_f(timestep_s)}" '
+        'integrator="RK4"/>',
         "  <worldbody>",
     ]
     indent = "    "

@@ -53,6 +53,9 @@ class ModelFile:
         an export recorded (model JSON field, URDF comment); None when it knows none.
     beam_given : bool
         The model's beam is the one passed to :func:`load_model`, not the one the file carries.
+    gravity_m_s2 : ndarray (3,) or None
+        The gravity the model was fitted in, m/s^2, world: a fit.json's ``gravity_m_s2``, a
+        model JSON's, or the one a URDF's comment states; None for a model fitted without.
     """
 
     path: Path
@@ -62,6 +65,7 @@ class ModelFile:
     actuators: tuple
     omega_truth_rad_s: np.ndarray | None
     beam_given: bool = False
+    gravity_m_s2: np.ndarray | None = None
 
 
 def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = None
@@ -98,11 +102,14 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
         raise BeamInputError(f"MODEL {str(path)!r}: not found")
     if p.suffix.lower() == ".urdf":
         from .export import read_export_record
+        from .export_comment import read_gravity_comment
 
         model = load_urdf(p)
-        rec = read_export_record(p.read_text(encoding="utf-8"))
+        text = p.read_text(encoding="utf-8")
+        rec = read_export_record(text)
         return ModelFile(p, "urdf", model, None, () if rec is None else rec.actuators(),
-                         None if rec is None else rec.omega_truth_rad_s)
+                         None if rec is None else rec.omega_truth_rad_s,
+                         gravity_m_s2=_gravity(str(path), read_gravity_comment(text)))
     d = read_json(p, "MODEL")
     kind = file_kind(d)
     if kind == "model":
@@ -110,7 +117,8 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
 
         model, actuators = read_plant_json(p)
         return ModelFile(p, "model", model, None, tuple(actuators),
-                         _recorded_frequencies(str(path), d.get("omega_truth_rad_s")))
+                         _recorded_frequencies(str(path), d.get("omega_truth_rad_s")),
+                         gravity_m_s2=_gravity(str(path), d.get("gravity_m_s2")))
     if kind == "beam":
         raise BeamInputError(f"MODEL {str(path)!r}: is a beam file, not a fit.json or model: "
                              f"run `prbdm fit {path} --joints N --out DIR` first and pass "
@@ -170,4 +178,15 @@ def _fit_model(p: Path, path: str, d: dict, beam) -> ModelFile:
     fit = FitResult.from_dict(d, beam=used, what=what)
     model = build_model(used, fit.lengths_m, fit.stiffness_Nm_per_rad,
                         min_fraction=LINK_FLOOR_FRACTION, axes=fit.axes)
-    return ModelFile(p, "fit", model, fit, (), fit.omega_truth_rad_s, label is not None)
+    return ModelFile(p, "fit", model, fit, (), fit.omega_truth_rad_s, label is not None,
+                     gravity_m_s2=_gravity(path, fit.gravity_m_s2))
+
+
+def _gravity(path: str, value) -> np.ndarray | None:
+    """Return a recorded gravity (m/s^2, (3,)) checked, None for none or a zero vector."""
+    from ..truth.self_weight import check_gravity
+
+    if value is None:
+        return None
+    g = check_gravity(value, f"MODEL {path!r}: gravity_m_s2", planar=False)
+    return g if g.any() else None

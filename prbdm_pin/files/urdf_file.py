@@ -97,7 +97,10 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     this loader sets ``pin_model.gravity`` to zero, as :func:`build_model` does; set it back
     (``pin_model.gravity = pinocchio.Motion(np.array([0, 0, -9.81, 0, 0, 0]))``) to simulate
     with gravity. A plain ``pinocchio.buildModelFromUrdf`` model needs
-    ``model.gravity = pinocchio.Motion.Zero()`` to be this model.
+    ``model.gravity = pinocchio.Motion.Zero()`` to be this model. A model fitted in gravity
+    (``prbdm fit --gravity``) states that gravity in its comment
+    (``prbdm_pin.load_model(path).gravity_m_s2`` reads it): simulate it with that gravity
+    (``simulate(..., gravity_m_s2=...)``), as it was fitted.
     """
     text = read_urdf_text(path)
     what = f"urdf file {str(path)!r}"

@@ -222,6 +222,11 @@ def fit(
     t0 = time.perf_counter()
     check_fit_inputs(beam, target, joints, workers)
     o = resolve_options(options, FitOptions, changes)
+    if target.gravity_m_s2 is not None:  # the chain evaluated in the truth's gravity
+        from .gravity_fit import fit_in_gravity
+
+        return fit_in_gravity(beam, target, joints, o, workers=workers, progress=progress,
+                              start=start, extra_loads=extra_loads)
     if o.axes.spatial:
         return _fit_spatial(beam, target, joints, o, workers, progress, start, extra_loads)
     target = with_extra_loads(target, beam, extra_loads)

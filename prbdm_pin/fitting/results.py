@@ -34,7 +34,7 @@ ARRAY_FIELDS = frozenset({
     "tip_displacement_truth_m", "tip_force_N", "mac", "start_losses_pct",
     "F_pct", "X", "front_lengths_m", "front_factors", "extra_tip_force_N",
     "extra_tip_position_truth_m", "extra_tip_position_model_m", "omega_errors_pct",
-    "export_pose_rad", "omega_export_rad_s", "omega_export_errors_pct",
+    "export_pose_rad", "omega_export_rad_s", "omega_export_errors_pct", "gravity_m_s2",
 })
 # what an old fit.json (one without ``stiffness_pose``) exported, by its ``stiffness``
 _OLD_EXPORTS = {
@@ -171,6 +171,11 @@ class FitResult(JsonRecord):
         ``model_per_sqrt_kg`` (mass-normalised z amplitudes, 1/sqrt(kg)) and ``error_pct``
         (relative to the mode's largest truth amplitude over the points, %).
     versions : tuple of (name, version)
+    gravity_m_s2 : ndarray (3,) or None
+        The gravity the fit was made in, m/s^2, world (``prbdm fit --gravity``): the model's
+        frequencies (``omega_model_rad_s``, ``omega_export_rad_s``) are about its own sag in
+        it and its tips under the load plus it; None (no ``gravity_m_s2`` key in fit.json):
+        a fit without gravity.
     """
 
     array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS
@@ -237,6 +242,17 @@ class FitResult(JsonRecord):
     modes: tuple = ()
     gains: tuple = ()
     versions: tuple = field(default_factory=package_versions)
+    gravity_m_s2: np.ndarray | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the JSON form; ``gravity_m_s2`` only for a fit made in gravity.
+
+        A fit without gravity keeps the keys fit.json had before gravity was recorded.
+        """
+        d = super().to_dict()
+        if d.get("gravity_m_s2") is None:
+            d.pop("gravity_m_s2", None)
+        return d
 
     def __post_init__(self) -> None:
         """Freeze the arrays; derive what an older fit.json did not record."""

@@ -107,6 +107,10 @@ class FitTarget:
     mode_shapes : ModeShapes or None
         Every truth mode's deflection and twist along the span: what a spatial fit's result
         pairs its modes by (MAC, :mod:`prbdm_pin.fitting.mode_shapes`); None: by order.
+    gravity_m_s2 : ndarray, shape (3,), or None
+        The gravity the truth was computed in, m/s^2, member axes (g_y = 0): its frequencies
+        are about its sag and its tips under the loads plus its weight, and a fit evaluates
+        the chain in the same gravity (:mod:`prbdm_pin.fitting.gravity_fit`).
     """
 
     omega_truth_rad_s: np.ndarray
@@ -126,6 +130,7 @@ class FitTarget:
     load_point: str = "tip"
     tip_twist_rad: float | None = None
     mode_shapes: ModeShapes | None = None
+    gravity_m_s2: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         """Check the frequencies, load cases and labels; freeze the arrays.
@@ -203,6 +208,11 @@ class FitTarget:
         if self.tip_twist_rad is not None:
             object.__setattr__(self, "tip_twist_rad",
                                check_float("tip_twist_rad", self.tip_twist_rad, unit="rad"))
+        if self.gravity_m_s2 is not None:
+            from ..truth.self_weight import check_gravity
+
+            object.__setattr__(self, "gravity_m_s2",
+                               read_only(check_gravity(self.gravity_m_s2)))
 
     @property
     def has_static(self) -> bool:

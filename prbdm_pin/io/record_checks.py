@@ -229,6 +229,8 @@ def fit_kwargs(d: Any, what: str = "fit.json", length_m: float | None = None) ->
     for key, shape in shapes.items():
         if key in d:
             _array(what, key, d[key], shape, finite=False, optional=True)
+    if d.get("gravity_m_s2") is not None:  # a fit made in gravity (m/s^2, world)
+        _array(what, "gravity_m_s2", d["gravity_m_s2"], (3,))
     if "modes" in d:
         check_mode_records(what, d["modes"])
     if "warnings" in d:

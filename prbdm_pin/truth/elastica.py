@@ -6,7 +6,9 @@ The centreline angle phi(s) (from +x towards +z) minimises::
 
 which gives (EI phi')' = F_x sin phi - F_z cos phi with phi(0) = 0 and EI phi'(L) = 0. The
 boundary-value problem is solved with scipy's collocation solver, continuing in the load from the
-straight beam so the stable (continuously loaded) branch is followed.
+straight beam so the stable (continuously loaded) branch is followed. Under the member's own
+weight (``gravity_m_s2``) the force F becomes the internal force F + g m_out(s), m_out the mass
+outboard of s (:mod:`prbdm_pin.truth.self_weight`).
 
 Two optional corrections bring it towards a plate (``compute_truth`` uses the second; the first
 was measured against the nonlinear solid and over-stiffens jagged panels, see
@@ -38,6 +40,7 @@ from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
 from .anticlastic import anticlastic_factor, section_curvature
 from .result import StaticSolution, Timings
+from .self_weight import check_gravity, outboard_mass_kg
 
 __all__ = ["elastica_static", "anticlastic_factor", "ElasticaPrimal", "elastica_primal"]
 
@@ -120,6 +123,7 @@ def elastica_static(
     *,
     ei_scale: float = 1.0,
     anticlastic: bool = False,
+    gravity_m_s2=None,
 ) -> StaticSolution:
     """Tip position of the inextensible elastica under a dead tip force in the x-z plane.
 
@@ -138,6 +142,10 @@ def elastica_static(
     anticlastic : bool
         Stiffen each section by the anticlastic restraint r(eta) of its curvature
         (``anticlastic.anticlastic_factor``).
+    gravity_m_s2 : array_like, shape (3,), optional
+        The member's own weight as well, m/s^2 (member axes, g_y = 0; default none): a dead
+        distributed load rho A(s) g per unit arc length, so the internal force at s is
+        F + g m_out(s) (``self_weight.outboard_mass_kg``).
 
     Returns
     -------
@@ -146,7 +154,7 @@ def elastica_static(
         collocation nodes of the final mesh.
     """
     return elastica_primal(beam, tip_force_N, load_steps, tol, ei_scale=ei_scale,
-                           anticlastic=anticlastic).static
+                           anticlastic=anticlastic, gravity_m_s2=gravity_m_s2).static
 
 
 def elastica_primal(
@@ -157,6 +165,7 @@ def elastica_primal(
     *,
     ei_scale: float = 1.0,
     anticlastic: bool = False,
+    gravity_m_s2=None,
 ) -> ElasticaPrimal:
     """``elastica_static`` with the converged solution kept (see ``ElasticaPrimal``)."""
     F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)
@@ -168,9 +177,12 @@ def elastica_primal(
     if not (isinstance(ei_scale, (int, float, np.floating)) and np.isfinite(ei_scale)
             and ei_scale > 0.0):
         raise BeamInputError(f"ei_scale = {ei_scale!r}: must be a finite number > 0")
+    g = np.zeros(3) if gravity_m_s2 is None else check_gravity(gravity_m_s2)
     L = beam.length_m
     E = beam.material.E_Pa * float(ei_scale)
     nu = beam.material.nu
+    # the member's weight counts as a tip load for the load steps and the moment scale
+    P = P + float(np.hypot(g[0], g[2])) * beam.mass_kg
     alpha = P * L**2 / beam.root_EI_Nm2
     if load_steps is None:
         load_steps = int(np.clip(np.ceil(4 * alpha), 1, 200))
@@ -202,14 +214,20 @@ def elastica_primal(
             return m / (EI_factor * half_width)
         return section_curvature(m, EI_factor * half_width, half_width, t, nu)
 
-    def make(fx: float, fz: float):
+    def make(fx: float, fz: float, gx: float = 0.0, gz: float = 0.0):
+        weight = bool(gx or gz)
+
         def rhs(tau, y):
             out = np.empty_like(y)
             for i in range(nseg):
                 phi, m = y[4 * i], y[4 * i + 1] * m_scale
                 sg = a[i] + ell[i] * tau
                 out[4 * i] = ell[i] * curvature(np.interp(sg, seg_x[i], seg_w[i]), m)
-                out[4 * i + 1] = ell[i] * (fx * np.sin(phi) - fz * np.cos(phi)) / m_scale
+                nx, nz = fx, fz  # the internal force at s: the tip force and the outboard weight
+                if weight:
+                    m_out = outboard_mass_kg(beam, sg)
+                    nx, nz = fx + gx * m_out, fz + gz * m_out
+                out[4 * i + 1] = ell[i] * (nx * np.sin(phi) - nz * np.cos(phi)) / m_scale
                 out[4 * i + 2] = ell[i] * np.cos(phi)
                 out[4 * i + 3] = ell[i] * np.sin(phi)
             return out
@@ -234,7 +252,7 @@ def elastica_primal(
     sol = None
     for k in range(1, load_steps + 1):
         lam = k / load_steps
-        rhs, bc = make(lam * F[0], lam * F[2])
+        rhs, bc = make(lam * F[0], lam * F[2], lam * g[0], lam * g[2])
         sol = solve_bvp(rhs, bc, s, y, tol=tol, max_nodes=200_000, bc_tol=tol)
         if sol.status != 0:
             raise SolveError(
