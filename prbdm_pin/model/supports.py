@@ -45,7 +45,7 @@ from ..options.checks import check_float
 from ..options.validate import real_vector
 
 __all__ = ["FreeBus", "BASE_JOINTS", "N_BASE", "base_chain", "free_schur", "free_frequencies",
-           "free_modes"]
+           "free_modes", "free_modes_of", "euler_rate_matrix"]
 
 # the six base joints in series, in Pinocchio's order (q[0..5])
 BASE_JOINTS = (("bus_x", pin.JointModelPX), ("bus_y", pin.JointModelPY),
@@ -173,14 +173,23 @@ def free_modes(M: np.ndarray, stiffness_Nm_per_rad: np.ndarray, n_free: int = N_
     """
     M = np.asarray(M, dtype=float)
     omega_f, Phi_f = modes_from_mass(free_schur(M, n_free)[None], stiffness_Nm_per_rad)
-    omega_f, Phi_f = omega_f[0], Phi_f[0]
+    return np.concatenate([np.zeros(n_free), omega_f[0]]), free_modes_of(M, Phi_f[0], n_free)
+
+
+def free_modes_of(M: np.ndarray, Phi_f: np.ndarray, n_free: int = N_BASE) -> np.ndarray:
+    """Return all the modes (columns, (nv, nv)) from the flexible ones' member part ``Phi_f``.
+
+    ``Phi_f`` (nv - n_free, nv - n_free) is S-orthonormal (S = :func:`free_schur`); the rigid
+    modes are M_rr-orthonormal on the base, each flexible mode gets its base part
+    -M_rr^-1 M_rf phi_f.
+    """
     nv = M.shape[0]
     Phi = np.zeros((nv, nv))
     L = np.linalg.cholesky(M[:n_free, :n_free])
     Phi[:n_free, :n_free] = np.linalg.inv(L).T  # X^T M_rr X = I
     Phi[n_free:, n_free:] = Phi_f
     Phi[:n_free, n_free:] = -np.linalg.solve(M[:n_free, :n_free], M[:n_free, n_free:] @ Phi_f)
-    return np.concatenate([np.zeros(n_free), omega_f]), Phi
+    return Phi
 
 
 def bus_pose_rad(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

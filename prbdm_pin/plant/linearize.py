@@ -46,6 +46,28 @@ def _actuators(actuators) -> tuple[StrainActuator, ...]:
     return tuple(actuators)
 
 
+def first_order(M: np.ndarray, K: np.ndarray, Cd: np.ndarray, Bq: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Return A (2 nv, 2 nv) and B (2 nv, m) of M dv' + C_d dv + K dq = B_q u (SI units).
+
+    SolveError unless M is positive definite.
+    """
+    nv, m = M.shape[0], Bq.shape[1]
+    try:
+        np.linalg.cholesky(M)  # the check: M must be positive definite
+        # one solve for the three right-hand sides (small matrices: call overhead dominates)
+        X = np.linalg.solve(M, np.hstack([K, Cd, Bq]))
+    except np.linalg.LinAlgError as exc:
+        raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
+    A = np.zeros((2 * nv, 2 * nv))
+    A[:nv, nv:] = np.eye(nv)
+    A[nv:, :nv] = -X[:, :nv]
+    A[nv:, nv:] = -X[:, nv:2 * nv]
+    B = np.zeros((2 * nv, m))
+    B[nv:] = X[:, 2 * nv:]
+    return A, B
+
+
 def linearize(
     model,
     inputs: Sequence[str] = ("tip_force_z",),
@@ -79,7 +101,9 @@ def linearize(
         section's rotation about the tip link's own axis), ``corner_z_left``,
         ``corner_z_right`` (m, z of the tip corners), ``q[j]``, ``q_rate[j]``,
         ``spring_torque[j]`` (every spring coordinate), ``hub_angle``, ``hub_rate`` (see
-        :mod:`prbdm_pin.model.outputs`). Corner signals need the model's beam (its width).
+        :mod:`prbdm_pin.model.outputs`); on a free bus also ``bus_attitude_x|y|z``,
+        ``bus_rate_x|y|z``, ``bus_position_x|y|z`` (:mod:`prbdm_pin.model.bus_outputs`).
+        Corner signals need the model's beam (its width).
     q_eq : array_like (nv,), optional
         Pose to linearise about, rad, taken as given; default: the equilibrium under
         ``load_N`` and gravity (a hub held at angle 0 by a trim torque).
@@ -109,6 +133,11 @@ def linearize(
 
     if not isinstance(model, PrbdmModel):
         raise InputTypeError(f"model = {model!r}: must be a PrbdmModel")
+    if model.bus is not None:  # six rigid coordinates: :mod:`.bus_linearize`
+        from .bus_linearize import linearize_bus
+
+        return linearize_bus(model, inputs, outputs, q_eq, load_N, damping_ratio, damping,
+                             actuators, gravity_m_s2)
     acts = _actuators(actuators)
     if acts and model.axes.spatial:
         # a patch's moment pair is defined on the bending joints of the planar chain
@@ -137,19 +166,8 @@ def linearize(
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
-    nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
-    try:
-        np.linalg.cholesky(M)  # the check: M must be positive definite
-        # one solve for the three right-hand sides (small matrices: call overhead dominates)
-        X = np.linalg.solve(M, np.hstack([K, Cd, Bq]))
-    except np.linalg.LinAlgError as exc:
-        raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
-    A = np.zeros((2 * nv, 2 * nv))
-    A[:nv, nv:] = np.eye(nv)
-    A[nv:, :nv] = -X[:, :nv]
-    A[nv:, nv:] = -X[:, nv:2 * nv]
-    B = np.zeros((2 * nv, m))
-    B[nv:] = X[:, 2 * nv:]
+    m, p = Bq.shape[1], Cq.shape[0]
+    A, B = first_order(M, K, Cd, Bq)
     coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_springs)]
     states = tuple(coords + [f"{c}_rate" if c == "hub" else c.replace("q[", "q_rate[")
                              for c in coords])
