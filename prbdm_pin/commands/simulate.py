@@ -35,7 +35,9 @@ examples:
       --input hub_torque=1 --compare-truth --out runs/ref/slew
 
 Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position; with a hub the hub angle
-and rate first; then each input as u:NAME and each output as y:NAME in their units) and
+and rate first; then each input as u:NAME and each output as y:NAME in their units; with
+--base-motion the joint angles, tip and outputs relative to the moving base, in its frame, and
+the world tip last as tip_world_x_m, tip_world_y_m, tip_world_z_m) and
 OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N m, needs
 --hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x,
 tip_force_y (N), tip_moment_x, tip_moment_y, tip_moment_z (N m, about world x, y, z at the
@@ -116,6 +118,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
                         "pulse:A:T1, sine:A:F (Hz) or FILE.csv (time s, value; linear "
                         "between samples); e.g. hub_torque=pulse:0.5:0.4")
+    p.add_argument("--base-motion", default=None, metavar="FILE.csv",
+                   help="a prescribed motion of the clamp (a robot flange): columns t_s,x_m,y_m,"
+                        "z_m and optionally roll_rad,pitch_rad,yaw_rad (cubic-spline "
+                        "interpolated; their derivatives give the rates and accelerations); "
+                        "the joint angles, tip and outputs are then relative to the base, and "
+                        "trajectory.csv adds the world tip tip_world_x_m, tip_world_y_m, "
+                        "tip_world_z_m; clamped models only")
     p.add_argument("--outputs", default=None, metavar="NAMES",
                    help="plant outputs to record, comma-separated (default tip_z, and "
                         "hub_angle with a hub)")
@@ -182,6 +191,14 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
         samples = math.floor(ratio + 1e-9) + 1 if math.isfinite(ratio) else math.inf
         check_cap(f"output samples (--duration {args.duration:g} / --output-dt "
                   f"{args.output_dt:g} + 1)", samples, "max_output_samples")
+    args.base_motion_samples = None
+    if args.base_motion is not None:
+        from .base_motion_file import read_base_motion
+
+        if args.compare_truth:
+            raise BeamInputError("--base-motion: not with --compare-truth (the truth is clamped "
+                                 "to a fixed base)")
+        args.base_motion_samples = read_base_motion(args.base_motion)
     writable_dir(args.out, "--out")
     if args.compare_truth:
         from .fit_checks import check_cache_dir
@@ -232,6 +249,13 @@ def run(args: argparse.Namespace) -> int:
             print(f"strain[{i}] joint weights fitted to the truth: "
                   + " ".join(f"{v:.6g}" for v in a.joint_weights), file=sys.stderr)
     hub = model.hub is not None
+    if hub and args.base_motion is not None:
+        raise BeamInputError("--base-motion: moves the clamp; not with --hub")
+    motion = None
+    if args.base_motion_samples is not None:
+        from ..simulation.base_motion import BaseMotion
+
+        motion = BaseMotion.from_samples(*args.base_motion_samples)
     outputs = plant_outputs(plant, hub)
     out = Path(args.out)
     output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
@@ -244,14 +268,20 @@ def run(args: argparse.Namespace) -> int:
     tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
                   options=simulation_options(args, output_dt), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
-                  outputs=outputs,
+                  outputs=outputs, base_motion=motion,
                   gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None)
+    world = None
+    if motion is not None:  # the tip in the world frame too (the run's is the base frame's)
+        from ..simulation.base_motion import world_tip_positions
+
+        tip_w = world_tip_positions(model, motion, tr.t_s, tr.q_rad)
+        world = {f"tip_world_{a}_m": tip_w[:, i] for i, a in enumerate("xyz")}
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
-        atomic_write_text(stage / "trajectory.csv", trajectory_csv(tr, hub))
+        atomic_write_text(stage / "trajectory.csv", trajectory_csv(tr, hub, world))
         plot_response(model, tr, force, args.damping, stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
