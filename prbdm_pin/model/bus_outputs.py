@@ -7,8 +7,9 @@
 - ``bus_rate_x``, ``bus_rate_y``, ``bus_rate_z``: the bus's angular velocity in the bus frame
   (what a gyro on the bus reads), rad/s
 - every output of the clamped member (:mod:`prbdm_pin.model.outputs`: ``tip_z``, ``q[j]``...),
-  measured relative to the bus: in the bus frame, from the member's own coordinates (the
-  model's :attr:`~prbdm_pin.PrbdmModel.member`).
+  measured relative to the bus: in the clamp frame (the bus frame moved to the root,
+  ``FreeBus.root_m``), from the member's own coordinates, as the clamped model measures them
+  (the model's :attr:`~prbdm_pin.PrbdmModel.member`): ``tip_z`` is 0 on the unbent member.
 """
 
 from __future__ import annotations
@@ -104,7 +105,7 @@ def bus_output_samples(model, Q: np.ndarray, V: np.ndarray, tip_m: np.ndarray, n
     """Return the outputs along a trajectory, shape (s, p).
 
     From the coordinates ``Q`` (m, rad) and rates ``V`` (m/s, rad/s), (s, nv), with the
-    member's tip positions in the bus frame ``tip_m`` (s, 3), m.
+    member's tip positions in the clamp frame ``tip_m`` (s, 3), m.
     """
     names = parse_bus_outputs(names, model.n_springs)
     out = np.zeros((len(Q), len(names)))

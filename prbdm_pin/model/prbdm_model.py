@@ -117,7 +117,7 @@ class PrbdmModel(ChainKinematics):
 
     @property
     def member(self) -> PrbdmModel:
-        """The member's clamped chain (itself without a bus): its kinematics in the bus frame."""
+        """The member's clamped chain (itself without a bus): its kinematics on the bus."""
         return self if self.bus is None else self._cache["member"]
 
     @property

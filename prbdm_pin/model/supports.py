@@ -22,7 +22,8 @@ With no body on the base (``bus=None``) the same six coordinates carry a prescri
 
 Coordinates: q = [x, y, z, yaw, pitch, roll, q_member...] (m, rad); the member's joints follow
 in the clamped chain's order. The member's kinematics relative to the bus are the clamped
-chain's: a member output of a bus model (``tip_z``, ``q[j]``...) is measured in the bus frame.
+chain's: a member output of a bus model (``tip_z``, ``q[j]``...) is measured in the clamp frame
+(the bus frame moved to ``root_m``), as on the clamped model.
 
 Frequencies and modes: the six base coordinates have no spring, so the chain has six rigid
 modes (omega = 0 exactly) and n flexible ones from the Schur complement

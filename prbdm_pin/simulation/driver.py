@@ -104,7 +104,8 @@ def simulate(
         ``method="gauss"``): :mod:`prbdm_pin.simulation.base_motion`. The member's
         coordinates, tip and outputs are then relative to the base, in the base frame
         (:func:`~prbdm_pin.simulation.base_motion.world_tip_positions` gives the world tip).
-        On a model with a free bus the tip and the member's outputs are in the bus frame too.
+        On a model with a free bus the tip and the member's outputs are relative to the bus
+        too, in the clamp frame (the bus frame moved to ``FreeBus.root_m``).
     progress : bool
         Show a progress bar over the simulated time.
     **changes
@@ -167,7 +168,7 @@ def simulate(
         samples = integrate(stepper, output_dt, o.max_steps, report)
     finally:
         close()
-    if bus:  # the member's tip relative to the bus, in the bus frame
+    if bus:  # the member's tip relative to the bus, in the clamp frame
         member = model.member
         tip = tip_positions(member, member.new_data(), samples.q_rad[:, N_BASE:],
                             _planar_lengths(member))
