@@ -32,8 +32,8 @@ def _momentum(model, Q, V):
 
 
 @pytest.mark.parametrize("method,kw,rtol", [
-    ("DOP853", dict(rtol=1e-11), 1e-9),  # its rtol over ~200 steps
-    ("exponential", {}, 1e-5),  # its step tolerance 3e-4 of the motion (1e-6 measured)
+    ("DOP853", dict(rtol=1e-11), 1e-10),  # its rtol over ~470 steps (3e-13 measured)
+    ("exponential", {}, 1e-5),  # its step tolerance 3e-4 of the motion (1.7e-6 measured)
 ])
 def test_momentum_about_the_centre_of_mass_is_conserved(method, kw, rtol):
     model = build_model(BEAM, LENGTHS, SPRINGS, support=BUS)
