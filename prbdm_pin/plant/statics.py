@@ -96,6 +96,9 @@ def statics(model, tip_force_N=None, tip_moment_Nm=None, gravity_m_s2=None
     F = check_vector("tip_force_N", tip_force_N, "N")
     M = check_vector("tip_moment_Nm", tip_moment_Nm, "N m")
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
+    if model.bus is not None:
+        raise BeamInputError("model: has a free bus, which drifts under a static load; statics "
+                             "needs a clamped model (model.member)")
     if model.hub is not None:
         raise BeamInputError("model: has a hub, which turns under a static load; statics "
                              "needs a clamped model (linearize holds a hub with a trim torque)")

@@ -14,7 +14,15 @@ from central_differences import central_difference
 from paths import ROOT
 from tolerances import EPS
 
-from prbdm_pin import BeamInputError, Hub, InputTypeError, build_model, linearize
+from prbdm_pin import (
+    BeamInputError,
+    Hub,
+    InputTypeError,
+    build_model,
+    export_model,
+    linearize,
+    statics,
+)
 from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.model.supports import FreeBus
 
@@ -178,7 +186,7 @@ def test_bad_bus_is_refused_naming_the_field(kwargs, match):
         FreeBus(**kwargs)
 
 
-def test_bad_use_of_a_bus_is_refused():
+def test_bad_use_of_a_bus_is_refused(tmp_path):
     with pytest.raises(InputTypeError, match="mass_kg"):
         FreeBus("heavy", [1, 1, 1])
     with pytest.raises(InputTypeError, match="support"):
@@ -195,6 +203,12 @@ def test_bad_use_of_a_bus_is_refused():
             linearize(model, **kw)
     with pytest.raises(BeamInputError, match="free bus"):
         model.static_deflection(np.array([0.0, 0.0, -1.0]))
+    with pytest.raises(BeamInputError, match="free bus"):
+        statics(model)
+    for fmt in ("json", "urdf", "mjcf"):  # no format carries the bus: refused, nothing written
+        with pytest.raises(BeamInputError, match="free bus"):
+            export_model(model, tmp_path / f"bus.{fmt}", fmt)
+    assert list(tmp_path.iterdir()) == []
     # a Hub passed as the support is the hub model of hub=
     a = build_model(BEAM, LENGTHS, SPRINGS, support=Hub(200.0, 0.1)).natural_frequencies()
     b = build_model(BEAM, LENGTHS, SPRINGS, hub=Hub(200.0, 0.1)).natural_frequencies()
