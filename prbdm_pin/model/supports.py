@@ -66,12 +66,13 @@ class FreeBus:
     ----------
     mass_kg : float
         Bus mass, kg (> 0; the member's mass is added by the chain).
-    inertia_kg_m2 : ndarray (3, 3)
+    inertia_kg_m2 : tuple of 3 tuples of 3 floats
         Bus inertia tensor about its centre of mass, in the bus frame, kg m^2 (symmetric,
-        positive definite). Three numbers are its principal moments (a diagonal tensor).
-    com_m : ndarray (3,)
+        positive definite); given as a 3 x 3 array or three principal moments (a diagonal
+        tensor). Stored as tuples, so that buses compare and hash by value.
+    com_m : tuple of 3 floats
         Bus centre of mass in the bus frame, m (default the frame's origin).
-    root_m : ndarray (3,)
+    root_m : tuple of 3 floats
         Where the beam's root is clamped, in the bus frame, m; the beam leaves along the bus
         frame's x axis (default the origin).
 
@@ -89,16 +90,16 @@ class FreeBus:
         object.__setattr__(self, "mass_kg", m)
         object.__setattr__(self, "inertia_kg_m2", _inertia(self.inertia_kg_m2))
         for name in ("com_m", "root_m"):
-            object.__setattr__(self, name, real_vector(f"FreeBus {name}", getattr(self, name),
-                                                       "m", 3))
+            v = real_vector(f"FreeBus {name}", getattr(self, name), "m", 3)
+            object.__setattr__(self, name, tuple(float(x) for x in v))
 
     def inertia(self) -> pin.Inertia:
         """Return the bus body as a Pinocchio inertia in the bus frame."""
         return pin.Inertia(self.mass_kg, np.array(self.com_m), np.array(self.inertia_kg_m2))
 
 
-def _inertia(value) -> np.ndarray:
-    """Return the bus inertia as a read-only symmetric positive definite (3, 3), kg m^2."""
+def _inertia(value) -> tuple[tuple[float, ...], ...]:
+    """Return the bus inertia (symmetric positive definite, kg m^2) as 3 rows of 3 floats."""
     raw = np.asarray(value, dtype=object)
     if raw.shape == (3,):
         I = np.diag(real_vector("FreeBus inertia_kg_m2", value, "kg m^2", 3))
@@ -115,8 +116,7 @@ def _inertia(value) -> np.ndarray:
     if not w[0] > 0.0:
         raise BeamInputError(f"FreeBus inertia_kg_m2 = {I.tolist()}: must be positive definite "
                              f"(eigenvalues {w.tolist()} kg m^2)")
-    I.setflags(write=False)
-    return I
+    return tuple(tuple(float(x) for x in row) for row in I)
 
 
 def base_chain(chain: pin.Model, bus: FreeBus | None, name: str) -> pin.Model:

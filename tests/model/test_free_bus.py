@@ -209,6 +209,9 @@ def test_bad_use_of_a_bus_is_refused(tmp_path):
         with pytest.raises(BeamInputError, match="free bus"):
             export_model(model, tmp_path / f"bus.{fmt}", fmt)
     assert list(tmp_path.iterdir()) == []
+    # buses compare by value (their tensors are kept as tuples)
+    assert FreeBus(1.0, [1, 2, 3]) == FreeBus(1, np.diag([1.0, 2.0, 3.0]))
+    assert FreeBus(1.0, [1, 2, 3]) != FreeBus(1.0, [1, 2, 3], root_m=[0.1, 0, 0])
     # a Hub passed as the support is the hub model of hub=
     a = build_model(BEAM, LENGTHS, SPRINGS, support=Hub(200.0, 0.1)).natural_frequencies()
     b = build_model(BEAM, LENGTHS, SPRINGS, hub=Hub(200.0, 0.1)).natural_frequencies()
