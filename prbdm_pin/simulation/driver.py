@@ -60,7 +60,8 @@ def simulate(
     ----------
     model : PrbdmModel
         Provides ``pin_model``, ``tip_frame_id``, ``n_joints`` and ``stiffness_Nm_per_rad``;
-        with or without a hub.
+        clamped, on a hub or on a free bus (``build_model(..., support=FreeBus(...))``; no
+        plant inputs and no stiffness schedule there yet).
     duration_s : float
         Simulated time, s.
     q0, v0 : ndarray, shape (nv,), optional
@@ -94,7 +95,9 @@ def simulate(
         it.
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
-        ...: see :mod:`prbdm_pin.model.outputs`); the trajectory records them and the inputs.
+        ...: see :mod:`prbdm_pin.model.outputs`; on a free bus also ``bus_attitude_x|y|z``,
+        ``bus_rate_x|y|z``, ``bus_position_x|y|z``: :mod:`prbdm_pin.model.bus_outputs`); the
+        trajectory records them and the inputs.
     integrator : Integrator, optional
         The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
         ``Trapezoidal(...)``, ``ScipyIVP(...)`` from :mod:`prbdm_pin.options.integrators`),
