@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from paths import ROOT
+from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.cli import main
@@ -68,8 +69,9 @@ def test_a_sampled_acceleration_equals_gravity_and_the_world_tip_moves(model_fil
     base = 0.5 * np.outer(rows[:, 0] ** 2, ACCEL)
     tip = rows[:, [col["tip_x_m"], col["tip_y_m"], col["tip_z_m"]]]
     world = rows[:, [col["tip_world_x_m"], col["tip_world_y_m"], col["tip_world_z_m"]]]
-    # the spline reproduces the quadratic (roundings of ~1 m positions)
-    np.testing.assert_allclose(world, tip + base, rtol=0, atol=1e-12)
+    # the spline reproduces the quadratic: roundings of ~1 m positions and of the spline's
+    # solve (kept: 1e-12)
+    np.testing.assert_allclose(world, tip + base, rtol=0, atol=5000 * EPS)
 
 
 GOOD = ["t_s", "x_m", "y_m", "z_m"]

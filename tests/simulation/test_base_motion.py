@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 from paths import ROOT
+from tolerances import EPS
 
 from prbdm_pin import (
     BeamInputError,
@@ -153,8 +154,8 @@ def test_world_tip_is_the_base_frame_tip_moved_with_the_base():
     for t, local, world in zip(r.t_s, r.tip_position_m, tip_w, strict=True):
         th = 2.0 * t  # pitch about y, the base at the origin
         Ry = np.array([[np.cos(th), 0, np.sin(th)], [0, 1, 0], [-np.sin(th), 0, np.cos(th)]])
-        # rotations of ~1 m positions: roundings
-        np.testing.assert_allclose(world, Ry @ local, rtol=0, atol=1e-13)
+        # rotations of ~1 m positions: roundings (kept: 1e-13)
+        np.testing.assert_allclose(world, Ry @ local, rtol=0, atol=500 * EPS)
 
 
 def test_bad_base_motion_is_refused():

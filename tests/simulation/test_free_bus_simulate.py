@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from paths import ROOT
+from tolerances import EPS
 
 from prbdm_pin import BeamInputError, build_model, simulate, spatial_stiffness
 from prbdm_pin.files.beam_file import load_beam
@@ -72,10 +73,10 @@ def test_member_outputs_are_in_the_clamp_frame():
     for k, q in enumerate(r.q_rad):
         pin.framesForwardKinematics(pm, data, q)
         tip = ((data.oMf[fid] * clamp).inverse() * data.oMf[model.tip_frame_id]).translation
-        # two kinematic paths (planar closed form vs Pinocchio's placements): roundings of
-        # positions ~1 m
-        np.testing.assert_allclose(r.tip_position_m[k], tip, rtol=0, atol=1e-13)
-        np.testing.assert_allclose(r.output_values[k, :2], tip[[2, 0]], rtol=0, atol=1e-13)
+        # two kinematic paths (planar closed form vs Pinocchio's placements through the bus's
+        # six joints and its inverse): roundings of positions ~1 m (kept: 1e-13)
+        np.testing.assert_allclose(r.tip_position_m[k], tip, rtol=0, atol=500 * EPS)
+        np.testing.assert_allclose(r.output_values[k, :2], tip[[2, 0]], rtol=0, atol=500 * EPS)
     np.testing.assert_array_equal(r.output_values[:, 2], r.q_rad[:, 7])
     np.testing.assert_array_equal(r.output_values[:, 3], r.q_rad[:, 4])  # pitch
     np.testing.assert_array_equal(r.output_values[:, 4], r.q_rad[:, 0])
