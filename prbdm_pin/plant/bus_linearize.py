@@ -9,7 +9,7 @@ pose q_eq (default zero) at rest the linear plant is
 (the velocity terms of the dynamics are quadratic in v and vanish at rest) with the damping of
 :func:`prbdm_pin.simulation.hub_damping.plant_damping` on the flexible modes only. Inputs act
 in the world frame on the whole system (``tip_force_*``, ``tip_moment_*``, ``corner_force_*``)
-or on a member joint (``joint_torque[j]``, coordinate 6 + j); outputs are
+or on the member's joints (``joint_torque[j]``, ``strain[i]``: coordinates 6 + j); outputs are
 :mod:`prbdm_pin.model.bus_outputs`'s. The modal view takes the six rigid modes out exactly
 (:func:`prbdm_pin.model.supports.free_modes_of`).
 """
@@ -38,13 +38,11 @@ def linearize_bus(model, inputs, outputs, q_eq, load_N, damping_ratio, damping, 
                   gravity_m_s2) -> LinearModel:
     """Linearise ``model`` (a PrbdmModel with a FreeBus) about a pose at rest.
 
-    The arguments are :func:`prbdm_pin.linearize`'s; ``load_N`` and ``gravity_m_s2`` must be
-    absent or zero and ``actuators`` empty (BeamInputError naming them).
+    The arguments are :func:`prbdm_pin.linearize`'s (``actuators`` already checked); ``load_N``
+    and ``gravity_m_s2`` must be absent or zero (BeamInputError naming them).
     """
     from .linearize import first_order
 
-    if len(tuple(actuators)):
-        raise BeamInputError("actuators: strain actuators are not taken on a free bus")
     for field, value, unit in (("load_N", load_N, "N"), ("gravity_m_s2", gravity_m_s2,
                                                          "m/s^2")):
         v = check_vector(field, value, unit)
@@ -52,19 +50,15 @@ def linearize_bus(model, inputs, outputs, q_eq, load_N, damping_ratio, damping, 
             raise BeamInputError(f"{field} = {value!r}: a free bus has no equilibrium under a "
                                  "constant load or gravity (the whole system accelerates)")
     n = model.n_springs
-    parsed = parse_inputs(inputs, n, 0, False)
-    in_names = tuple(name for name, _, _ in parsed)
+    acts = tuple(actuators)
+    in_names = tuple(name for name, _, _ in parse_inputs(inputs, n, len(acts), False))
     out_names = parse_bus_outputs(outputs, n)
     check_corner_names(model, in_names, "inputs")
     check_corner_names(model.member, out_names, "outputs")
     q = _pose(model, q_eq)
-    nv = model.pin_model.nv
-    Bq = np.zeros((nv, len(parsed)))
-    for c, (name, base, idx) in enumerate(parsed):
-        if base == "joint_torque":
-            Bq[N_BASE + idx, c] = 1.0
-        else:  # a world force or moment on the tip: J^T of the whole system
-            Bq[:, c] = input_map(model, q, [name])[:, 0]
+    # world forces and moments through the whole system's Jacobians, torques and patch moments
+    # on the member's coordinates (after the six base ones)
+    Bq = input_map(model, q, in_names, acts)
     Cq, Cv = bus_output_maps(model, q, out_names)
     M = model.mass_matrix(q)
     K = model.stiffness_matrix()

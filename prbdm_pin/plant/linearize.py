@@ -133,16 +133,16 @@ def linearize(
 
     if not isinstance(model, PrbdmModel):
         raise InputTypeError(f"model = {model!r}: must be a PrbdmModel")
-    if model.bus is not None:  # six rigid coordinates: :mod:`.bus_linearize`
-        from .bus_linearize import linearize_bus
-
-        return linearize_bus(model, inputs, outputs, q_eq, load_N, damping_ratio, damping,
-                             actuators, gravity_m_s2)
     acts = _actuators(actuators)
     if acts and model.axes.spatial:
         # a patch's moment pair is defined on the bending joints of the planar chain
         raise BeamInputError(f"actuators: strain actuators act on the planar chain's bending "
                              f"joints (axes 'y'); this model has axes {model.axes.value!r}")
+    if model.bus is not None:  # six rigid coordinates: :mod:`.bus_linearize`
+        from .bus_linearize import linearize_bus
+
+        return linearize_bus(model, inputs, outputs, q_eq, load_N, damping_ratio, damping,
+                             acts, gravity_m_s2)
     hub = model.hub is not None
     # names first: refused before any work, and a bare string is not taken letter by letter;
     # joint_torque[j] and q[j] index every spring coordinate (n_joints on the planar chain)

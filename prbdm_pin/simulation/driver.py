@@ -61,7 +61,7 @@ def simulate(
     model : PrbdmModel
         Provides ``pin_model``, ``tip_frame_id``, ``n_joints`` and ``stiffness_Nm_per_rad``;
         clamped, on a hub or on a free bus (``build_model(..., support=FreeBus(...))``; no
-        plant inputs and no stiffness schedule there yet).
+        stiffness schedule there).
     duration_s : float
         Simulated time, s.
     q0, v0 : ndarray, shape (nv,), optional
@@ -246,9 +246,6 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator):
         if u is not None:
             raise BeamInputError("u: given without inputs; name the inputs it drives")
         return None, out_names
-    if bus:
-        raise BeamInputError("inputs: not yet on a model with a free bus (a tip_force acts "
-                             "on it)")
     names = tuple(n for n, _, _ in parse_inputs(inputs, n_springs, len(acts), hub))
     check_corner_names(model, names, "inputs")
     if not integrator.takes_inputs:
