@@ -173,7 +173,8 @@ class PrbdmModel(ChainKinematics):
     def stiffness_matrix(self) -> np.ndarray:
         """Return K = diag(stiffness), N m/rad, shape (nv, nv).
 
-        With a hub the first row and column are zero: the hub joint has no spring.
+        With a hub the first row and column are zero (the hub joint has no spring), on a free
+        bus the first six.
         """
         return np.diag(np.concatenate([np.zeros(self.n_free), self.stiffness_Nm_per_rad]))
 
