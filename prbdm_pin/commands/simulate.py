@@ -122,9 +122,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="a prescribed motion of the clamp (a robot flange): columns t_s,x_m,y_m,"
                         "z_m and optionally roll_rad,pitch_rad,yaw_rad (cubic-spline "
                         "interpolated; their derivatives give the rates and accelerations); "
-                        "the joint angles, tip and outputs are then relative to the base, and "
-                        "trajectory.csv adds the world tip tip_world_x_m, tip_world_y_m, "
-                        "tip_world_z_m; clamped models only")
+                        "the joint angles, tip, outputs and --tip-force are then in the base "
+                        "frame (--gravity stays in the world's), and trajectory.csv adds the "
+                        "world tip tip_world_x_m, tip_world_y_m, tip_world_z_m; clamped models "
+                        "only")
     p.add_argument("--outputs", default=None, metavar="NAMES",
                    help="plant outputs to record, comma-separated (default tip_z, and "
                         "hub_angle with a hub)")
