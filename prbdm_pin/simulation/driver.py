@@ -105,9 +105,10 @@ def simulate(
     base_motion : BaseMotion, optional
         A prescribed motion of the clamp (a robot flange; clamped models only, not with
         ``method="gauss"``): :mod:`prbdm_pin.simulation.base_motion`. The member's
-        coordinates, tip and outputs are then relative to the base, in the base frame, and
-        ``tip_force`` acts in the base frame (gravity stays in the world frame)
-        (:func:`~prbdm_pin.simulation.base_motion.world_tip_positions` gives the world tip).
+        coordinates, tip and outputs are then relative to the base, in the base frame
+        (:func:`~prbdm_pin.simulation.base_motion.world_tip_positions` gives the world tip);
+        ``tip_force`` and the tip and corner inputs act in the base frame too, gravity in the
+        world frame.
         On a model with a free bus the tip and the member's outputs are relative to the bus
         too, in the clamp frame (the bus frame moved to ``FreeBus.root_m``).
     progress : bool
