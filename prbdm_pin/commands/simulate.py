@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 from ..errors import BeamInputError
 from ..plant.truth_comparison import TRUTH_MODELS
 from . import add_common
+from .bus_option import add_bus_option, bus_option, with_bus
 from .fit_actuators import add_fit_actuators_option, fit_actuators
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
@@ -113,6 +114,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
     add_plant_options(p)
+    add_bus_option(p)
     add_fit_actuators_option(p)
     p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
@@ -192,6 +194,12 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
         samples = math.floor(ratio + 1e-9) + 1 if math.isfinite(ratio) else math.inf
         check_cap(f"output samples (--duration {args.duration:g} / --output-dt "
                   f"{args.output_dt:g} + 1)", samples, "max_output_samples")
+    args.bus_spec = bus_option(args.bus)
+    for given, name in ((args.hub, "--hub"), (args.base_motion, "--base-motion"),
+                        (args.compare_truth, "--compare-truth")):
+        if args.bus_spec is not None and given:
+            raise BeamInputError(f"--bus: not with {name} (one support at a time; the truth is "
+                                 "clamped)")
     args.base_motion_samples = None
     if args.base_motion is not None:
         from .base_motion_file import read_base_motion
@@ -240,6 +248,8 @@ def run(args: argparse.Namespace) -> int:
                              "a URDF does not carry it)")
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
+    if args.bus_spec is not None:
+        model = with_bus(model, args.bus_spec)
     if args.actuator:
         actuators_on_beam(model, plant["actuators"], args.actuator, args.fit_actuators)
     else:  # those a model JSON or URDF export records
@@ -262,7 +272,7 @@ def run(args: argparse.Namespace) -> int:
     output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
     nv = model.pin_model.nv
     q0 = np.full(nv, args.initial_angle)
-    q0[:int(hub)] = 0.0  # the hub starts at 0; --initial-angle bends the beam joints
+    q0[:model.n_free] = 0.0  # a hub or bus starts at 0; --initial-angle bends the beam joints
     # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
     # other forms are exact about the initial pose
     damping_pose = np.zeros(nv) if args.damping_form == "stiffness" else None
@@ -282,7 +292,8 @@ def run(args: argparse.Namespace) -> int:
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
-        atomic_write_text(stage / "trajectory.csv", trajectory_csv(tr, hub, world))
+        atomic_write_text(stage / "trajectory.csv",
+                          trajectory_csv(tr, hub, world, bus=model.bus is not None))
         plot_response(model, tr, force, args.damping, stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "
