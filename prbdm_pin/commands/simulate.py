@@ -11,10 +11,16 @@ from typing import TYPE_CHECKING
 from ..errors import BeamInputError
 from ..plant.truth_comparison import TRUTH_MODELS
 from . import add_common
-from .bus_option import add_bus_option, bus_option, with_bus
 from .fit_actuators import add_fit_actuators_option, fit_actuators
 from .plant_options import add_plant_options
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
+from .support_options import (
+    add_support_options,
+    base_motion_of,
+    check_support_options,
+    supported_model,
+    world_tip_columns,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -114,20 +120,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="truth cache folder, shared with `prbdm fit` (default $PRBDM_CACHE or "
                         "~/.cache/prbdm_pin)")
     add_plant_options(p)
-    add_bus_option(p)
     add_fit_actuators_option(p)
     p.add_argument("--input", action="append", default=[], metavar="NAME=SIGNAL",
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
                         "pulse:A:T1, sine:A:F (Hz) or FILE.csv (time s, value; linear "
                         "between samples); e.g. hub_torque=pulse:0.5:0.4")
-    p.add_argument("--base-motion", default=None, metavar="FILE.csv",
-                   help="a prescribed motion of the clamp (a robot flange): columns t_s,x_m,y_m,"
-                        "z_m and optionally roll_rad,pitch_rad,yaw_rad (cubic-spline "
-                        "interpolated; their derivatives give the rates and accelerations); "
-                        "the joint angles, tip, outputs and --tip-force are then in the base "
-                        "frame (--gravity stays in the world's), and trajectory.csv adds the "
-                        "world tip tip_world_x_m, tip_world_y_m, tip_world_z_m; clamped models "
-                        "only")
+    add_support_options(p)
     p.add_argument("--outputs", default=None, metavar="NAMES",
                    help="plant outputs to record, comma-separated (default tip_z, and "
                         "hub_angle with a hub)")
@@ -194,20 +192,7 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
         samples = math.floor(ratio + 1e-9) + 1 if math.isfinite(ratio) else math.inf
         check_cap(f"output samples (--duration {args.duration:g} / --output-dt "
                   f"{args.output_dt:g} + 1)", samples, "max_output_samples")
-    args.bus_spec = bus_option(args.bus)
-    for given, name in ((args.hub, "--hub"), (args.base_motion, "--base-motion"),
-                        (args.compare_truth, "--compare-truth")):
-        if args.bus_spec is not None and given:
-            raise BeamInputError(f"--bus: not with {name} (one support at a time; the truth is "
-                                 "clamped)")
-    args.base_motion_samples = None
-    if args.base_motion is not None:
-        from .base_motion_file import read_base_motion
-
-        if args.compare_truth:
-            raise BeamInputError("--base-motion: not with --compare-truth (the truth is clamped "
-                                 "to a fixed base)")
-        args.base_motion_samples = read_base_motion(args.base_motion)
+    check_support_options(args)
     writable_dir(args.out, "--out")
     if args.compare_truth:
         from .fit_checks import check_cache_dir
@@ -248,8 +233,7 @@ def run(args: argparse.Namespace) -> int:
                              "a URDF does not carry it)")
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
-    if args.bus_spec is not None:
-        model = with_bus(model, args.bus_spec)
+    model = supported_model(model, args)
     if args.actuator:
         actuators_on_beam(model, plant["actuators"], args.actuator, args.fit_actuators)
     else:  # those a model JSON or URDF export records
@@ -260,13 +244,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"strain[{i}] joint weights fitted to the truth: "
                   + " ".join(f"{v:.6g}" for v in a.joint_weights), file=sys.stderr)
     hub = model.hub is not None
-    if hub and args.base_motion is not None:
-        raise BeamInputError("--base-motion: moves the clamp; not with --hub")
-    motion = None
-    if args.base_motion_samples is not None:
-        from ..simulation.base_motion import BaseMotion
-
-        motion = BaseMotion.from_samples(*args.base_motion_samples)
+    motion = base_motion_of(args)
     outputs = plant_outputs(plant, hub)
     out = Path(args.out)
     output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
@@ -281,12 +259,7 @@ def run(args: argparse.Namespace) -> int:
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
                   outputs=outputs, base_motion=motion,
                   gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None)
-    world = None
-    if motion is not None:  # the tip in the world frame too (the run's is the base frame's)
-        from ..simulation.base_motion import world_tip_positions
-
-        tip_w = world_tip_positions(model, motion, tr.t_s, tr.q_rad)
-        world = {f"tip_world_{a}_m": tip_w[:, i] for i, a in enumerate("xyz")}
+    world = world_tip_columns(model, motion, tr)  # the run's tip is in the base frame
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
