@@ -45,6 +45,7 @@ _EXPORTS = {
     "ModelFile": "files.model_source",
     # the linear plant
     "Hub": "model.hub",
+    "FreeBus": "model.supports",
     "LightHubWarning": "model.hub_check",
     "StrainActuator": "model.inputs",
     "DistributedLoad": "model.loads",
@@ -113,6 +114,7 @@ _EXPORTS = {
     "StiffnessSchedule": "simulation",
     "Controller": "simulation",
     "StateFeedback": "simulation",
+    "BaseMotion": "simulation.base_motion",
     "dynamic_accuracy": "simulation.response",
     "compare_truth": "plant.truth_comparison",
     "TruthComparison": "plant.truth_comparison",

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 from ..errors import BeamInputError
 
-__all__ = ["InputSignal", "SampledSignal", "read_samples", "parse_input", "parse_inputs"]
+__all__ = ["InputSignal", "SampledSignal", "read_rows", "read_samples", "parse_input",
+           "parse_inputs"]
 
 _KINDS = {"step": 2, "pulse": 2, "sine": 2}
 
@@ -70,13 +71,18 @@ class SampledSignal:
         return v[i - 1] + w * (v[i] - v[i - 1])
 
 
-def read_samples(path: str, where: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    """Read (time s, value) rows of a CSV file; BeamInputError naming ``where`` otherwise."""
+def read_rows(path: str, where: str) -> list[list[str]]:
+    """Return the non-blank rows of a CSV file; BeamInputError naming ``where`` if unreadable."""
     try:
         with open(path, newline="", encoding="utf-8") as fh:
-            rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+            return [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
     except (OSError, UnicodeDecodeError) as exc:
         raise BeamInputError(f"{where}: cannot read {path!r} ({exc.strerror or exc})") from None
+
+
+def read_samples(path: str, where: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Read (time s, value) rows of a CSV file; BeamInputError naming ``where`` otherwise."""
+    rows = read_rows(path, where)
     t, v = [], []
     for i, row in enumerate(rows):
         try:

@@ -10,7 +10,9 @@ import json
 import sys
 from pathlib import Path
 
+from ..errors import BeamInputError
 from . import add_common
+from .bus_option import add_bus_option, bus_option, bus_record, state_units, with_bus
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
     actuators_on_beam,
@@ -104,6 +106,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="comma-separated output names (default tip_z)")
     add_plant_options(p)
     add_span_option(p)
+    add_bus_option(p)
     p.add_argument("--load", default="0,0,0", metavar="FX,FY,FZ",
                    help="dead tip load of the equilibrium, N, world (default 0,0,0)")
     p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
@@ -140,7 +143,10 @@ def check_options(args: argparse.Namespace) -> dict:
     out = {"inputs": names_option(args.inputs, "--inputs"),
            "outputs": names_option(args.outputs, "--outputs"),
            "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub),
-           "loads": spans_option(args.distributed_span)}
+           "loads": spans_option(args.distributed_span), "bus": bus_option(args.bus)}
+    if out["bus"] is not None and (args.hub or args.compare_truth):
+        raise BeamInputError(f"--bus: not with {'--hub' if args.hub else '--compare-truth'} "
+                             "(one support at a time; the truth is clamped)")
     out["load"] = xyz_option(args.load, "--load", "N")
     out["gravity"] = xyz_option(args.gravity, "--gravity", "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
@@ -237,6 +243,8 @@ def run(args: argparse.Namespace) -> int:
         request = truth_request_of(fitted, args.model)
     if opts["hub"] is not None:
         model = with_hub(model, opts["hub"])
+    if opts["bus"] is not None:
+        model = with_bus(model, opts["bus"])
     if args.actuator:
         actuators_on_beam(model, opts["actuators"], args.actuator, args.fit_actuators)
     else:  # those a model JSON or URDF export records
@@ -259,7 +267,8 @@ def run(args: argparse.Namespace) -> int:
         "distributed_spans_m": [[ld.x_start_m, ld.x_end_m] for ld in opts["loads"]],
         "load_N": opts["load"], "gravity_m_s2": opts["gravity"],
         "damping_ratio": args.damping_ratio, "damping_form": args.damping_form,
-        "state_units": ["rad"] * len(lin.q_eq) + ["rad/s"] * len(lin.q_eq),
+        "bus": bus_record(model),
+        "state_units": state_units(model),
     }
     cmp = None
     if args.compare_truth:  # before any file is written: a refusal leaves OUT as it was

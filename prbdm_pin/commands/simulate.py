@@ -14,6 +14,13 @@ from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
 from .plant_options import add_plant_options, add_span_option
 from .simulate_plant import check_plant_options, plant_comparison, plant_outputs
+from .support_options import (
+    add_support_options,
+    base_motion_of,
+    check_support_options,
+    supported_model,
+    world_tip_columns,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -35,7 +42,9 @@ examples:
       --input hub_torque=1 --compare-truth --out runs/ref/slew
 
 Writes OUT/trajectory.csv (t, joint angles, joint rates, tip position; with a hub the hub angle
-and rate first; then each input as u:NAME and each output as y:NAME in their units) and
+and rate first; then each input as u:NAME and each output as y:NAME in their units; with
+--base-motion the joint angles, tip and outputs relative to the moving base, in its frame, and
+the world tip last as tip_world_x_m, tip_world_y_m, tip_world_z_m) and
 OUT/response.png. Plant inputs (--input NAME=SIGNAL, repeatable): hub_torque (N m, needs
 --hub), joint_torque[j] (N m), strain[i] (N m, the i-th --actuator), tip_force_z, tip_force_x,
 tip_force_y (N), tip_moment_x, tip_moment_y, tip_moment_z (N m, about world x, y, z at the
@@ -122,6 +131,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="a plant input and its signal (repeat for more): A, step:A:T0, "
                         "pulse:A:T1, sine:A:F (Hz) or FILE.csv (time s, value; linear "
                         "between samples); e.g. hub_torque=pulse:0.5:0.4")
+    add_support_options(p)
     p.add_argument("--outputs", default=None, metavar="NAMES",
                    help="plant outputs to record, comma-separated (default tip_z, and "
                         "hub_angle with a hub)")
@@ -188,6 +198,7 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
         samples = math.floor(ratio + 1e-9) + 1 if math.isfinite(ratio) else math.inf
         check_cap(f"output samples (--duration {args.duration:g} / --output-dt "
                   f"{args.output_dt:g} + 1)", samples, "max_output_samples")
+    check_support_options(args)
     writable_dir(args.out, "--out")
     if args.compare_truth:
         from .fit_checks import check_cache_dir
@@ -228,6 +239,7 @@ def run(args: argparse.Namespace) -> int:
                              "a URDF does not carry it)")
     if plant["hub"] is not None:
         model = with_hub(model, plant["hub"])
+    model = supported_model(model, args)
     if args.actuator:
         actuators_on_beam(model, plant["actuators"], args.actuator, args.fit_actuators)
     else:  # those a model JSON or URDF export records
@@ -239,26 +251,29 @@ def run(args: argparse.Namespace) -> int:
             print(f"strain[{i}] joint weights fitted to the truth: "
                   + " ".join(f"{v:.6g}" for v in a.joint_weights), file=sys.stderr)
     hub = model.hub is not None
+    motion = base_motion_of(args)
     outputs = plant_outputs(plant, hub)
     out = Path(args.out)
     output_dt = args.output_dt or args.duration / DEFAULT_SAMPLES
     nv = model.pin_model.nv
     q0 = np.full(nv, args.initial_angle)
-    q0[:int(hub)] = 0.0  # the hub starts at 0; --initial-angle bends the beam joints
+    q0[:model.n_free] = 0.0  # a hub or bus starts at 0; --initial-angle bends the beam joints
     # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
     # other forms are exact about the initial pose
     damping_pose = np.zeros(nv) if args.damping_form == "stiffness" else None
     tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
                   options=simulation_options(args, output_dt), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
-                  loads=plant["loads"], outputs=outputs,
+                  loads=plant["loads"], outputs=outputs, base_motion=motion,
                   gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None)
+    world = world_tip_columns(model, motion, tr)  # the run's tip is in the base frame
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was
         plant_cmp = plant_comparison(model, fitted, plant, outputs, args)
     # every file replaces an earlier simulation's as one set (output_folder)
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
-        atomic_write_text(stage / "trajectory.csv", trajectory_csv(tr, hub))
+        atomic_write_text(stage / "trajectory.csv",
+                          trajectory_csv(tr, hub, world, bus=model.bus is not None))
         plot_response(model, tr, force, args.damping, stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "

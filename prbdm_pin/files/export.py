@@ -260,6 +260,9 @@ def export_model(model, path: str | os.PathLike, fmt: str,
         written; a bad format, damping or actuator.
     """
     check_model(model)
+    if getattr(model, "bus", None) is not None:  # no file format carries a free bus yet
+        raise BeamInputError("model: on a free bus, which no export format carries; export "
+                             "model.member (the clamped member)")
     check_out_file("path", path)
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")

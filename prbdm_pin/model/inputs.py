@@ -262,7 +262,7 @@ def input_map(model, q: np.ndarray, names, actuators: tuple[StrainActuator, ...]
     for i, ld in enumerate(loads):
         check_load(model.lengths_m, ld, f"loads[{i}]")
     parsed = parse_inputs(names, model.n_springs, len(actuators), hub, len(loads))
-    off = int(hub)
+    off = getattr(model, "n_free", int(hub))  # the coordinates without springs come first
     # Pinocchio's Jacobians only for the columns that need them (a time response calls this
     # for its pose-dependent columns at every evaluation)
     tip = {"tip_force_x", "tip_force_y", "tip_force_z"}

@@ -31,6 +31,7 @@ from .hub import Hub, hub_chain, hub_frequencies, hub_modes
 from .hub_check import warn_light_hub
 from .kinematics import ChainKinematics
 from .pin_chain import pin_chain
+from .supports import N_BASE, FreeBus, base_chain, free_frequencies, free_modes
 from .urdf import render_urdf
 
 __all__ = ["PrbdmModel", "build_model", "validate_stiffness"]
@@ -69,6 +70,12 @@ class PrbdmModel(ChainKinematics):
         export record, :func:`prbdm_pin.read_model_json` from its fields); () otherwise. They
         are carried, not applied: pass them on, ``linearize(model, ...,
         actuators=model.actuators)``.
+    bus : FreeBus or None
+        A free-floating bus the root is clamped to (:mod:`prbdm_pin.model.supports`), or None.
+        Its six base coordinates (x, y, z, yaw, pitch, roll; no springs) come first, the beam's
+        springs follow: ``pin_model.nv == 6 + n_springs``; the frequencies start with the six
+        rigid modes' exact zeros. :attr:`member` is the clamped chain: the member's kinematics
+        relative to the bus.
 
     As in Pinocchio, the model describes and a ``pinocchio.Data`` holds the workspace: every
     method that computes takes ``data``. Without one it uses a built-in workspace made on first
@@ -86,6 +93,7 @@ class PrbdmModel(ChainKinematics):
     hub: Hub | None = None
     actuators: tuple = ()
     axes: Axes = Axes.Y
+    bus: FreeBus | None = None
     _cache: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
@@ -100,7 +108,17 @@ class PrbdmModel(ChainKinematics):
         n for the planar chain, n times the number of axes for a spatial one (node-major:
         :meth:`spring_axes`).
         """
-        return int(self.pin_model.nv) - (self.hub is not None)
+        return int(self.pin_model.nv) - self.n_free
+
+    @property
+    def n_free(self) -> int:
+        """Number of coordinates without a spring: 1 with a hub, 6 with a free bus, else 0."""
+        return (self.hub is not None) + N_BASE * (self.bus is not None)
+
+    @property
+    def member(self) -> PrbdmModel:
+        """The member's clamped chain (itself without a bus): its kinematics on the bus."""
+        return self if self.bus is None else self._cache["member"]
 
     @property
     def spring_axes(self) -> tuple[str, ...]:
@@ -115,6 +133,9 @@ class PrbdmModel(ChainKinematics):
     def urdf(self) -> str:
         """The URDF string (rendered from ``urdf_templates/`` on first access, then cached)."""
         text = self._cache.get("urdf")
+        if self.bus is not None:
+            raise BeamInputError("urdf: a model on a free bus has no URDF export; export "
+                                 "model.member (the clamped member)")
         if text is None:
             name = "prbdm" if self.beam is None else f"prbdm_{self.beam.name}"
             text = render_urdf(self.sections, self.lengths_m, self.stiffness_Nm_per_rad, name,
@@ -142,6 +163,9 @@ class PrbdmModel(ChainKinematics):
         return self.default_data if data is None else data
 
     def _no_hub(self, what: str) -> None:
+        if self.bus is not None:
+            raise BeamInputError(f"bus = {self.bus!r:.60}: {what} is not defined for a model on "
+                                 "a free bus; use model.member (the clamped member)")
         if self.hub is not None:
             raise BeamInputError(f"hub = {self.hub!r}: {what} is not defined for a model with "
                                  "a hub; build it without the hub")
@@ -149,11 +173,10 @@ class PrbdmModel(ChainKinematics):
     def stiffness_matrix(self) -> np.ndarray:
         """Return K = diag(stiffness), N m/rad, shape (nv, nv).
 
-        With a hub the first row and column are zero: the hub joint has no spring.
+        With a hub the first row and column are zero (the hub joint has no spring), on a free
+        bus the first six.
         """
-        if self.hub is None:
-            return np.diag(self.stiffness_Nm_per_rad)
-        return np.diag(np.concatenate([[0.0], self.stiffness_Nm_per_rad]))
+        return np.diag(np.concatenate([np.zeros(self.n_free), self.stiffness_Nm_per_rad]))
 
     def mass_matrix(self, q: np.ndarray | None = None, data: pin.Data | None = None) -> np.ndarray:
         """M(q) by CRBA, kg m^2, shape (n, n) (default the straight pose)."""
@@ -170,6 +193,8 @@ class PrbdmModel(ChainKinematics):
         self, q: np.ndarray | None = None, squared: bool = False, data: pin.Data | None = None
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
+        if self.bus is not None:
+            return free_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
         if self.hub is not None:
             return hub_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
         return eig_scaled(self.mass_matrix(q, data), self._s, squared)
@@ -183,6 +208,8 @@ class PrbdmModel(ChainKinematics):
         ``stiffness`` (N m/rad) overrides the model's: (n,) for all poses or (m, n) per pose.
         """
         d = self._workspace(data)
+        if self.bus is not None:
+            raise BeamInputError("natural_frequencies_batch: not for a model on a free bus")
         if self.hub is not None:
             k = self.stiffness_Nm_per_rad if stiffness is None else \
                 dyn.checked_stiffness(stiffness, self.n_joints, np.shape(Q)[0])
@@ -195,6 +222,8 @@ class PrbdmModel(ChainKinematics):
         self, q: np.ndarray | None = None, data: pin.Data | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad/s) and mass-normalised mode shapes (columns) at pose ``q``."""
+        if self.bus is not None:
+            return free_modes(self.mass_matrix(q, data), self.stiffness_Nm_per_rad)
         if self.hub is not None:
             return hub_modes(self.mass_matrix(q, data), self.stiffness_Nm_per_rad)
         return dyn.modes(self.pin_model, self._workspace(data), self.stiffness_Nm_per_rad, q)
@@ -202,10 +231,13 @@ class PrbdmModel(ChainKinematics):
     def with_stiffness(self, stiffness_Nm_per_rad: np.ndarray) -> PrbdmModel:
         """Return the same chain with other springs (shares ``pin_model``)."""
         k = validate_stiffness(stiffness_Nm_per_rad, self.n_springs)
-        return PrbdmModel(
+        out = PrbdmModel(
             self.beam, self.lengths_m, k, self.sections, self.pin_model, self.tip_frame_id,
-            self.hub, self.actuators, self.axes,
+            self.hub, self.actuators, self.axes, self.bus,
         )
+        if self.bus is not None:
+            out._cache["member"] = self.member.with_stiffness(k)
+        return out
 
 
 def build_model(
@@ -216,6 +248,7 @@ def build_model(
     min_fraction: float = MIN_FRACTION,
     hub: Hub | None = None,
     axes: Axes | str = Axes.Y,
+    support: Hub | FreeBus | None = None,
 ) -> PrbdmModel:
     """Build a PRBDM of ``beam`` with the given link lengths and joint springs.
 
@@ -236,6 +269,10 @@ def build_model(
     hub : Hub, optional
         A rotating rigid hub the root is clamped to (see :class:`PrbdmModel`); default None,
         the beam clamped to the world.
+    support : Hub or FreeBus, optional
+        What holds the root: a Hub (as ``hub=``) or a :class:`~prbdm_pin.FreeBus`, a rigid bus
+        floating freely (:mod:`prbdm_pin.model.supports`); default None, the clamp. Not with
+        ``hub``.
     axes : {"y", "xy", "yz", "xyz"}
         The joint axes at each node (default ``"y"``: the planar chain, bending out of the
         plane). ``x`` adds torsion about the link axis, ``z`` bending in the plane; each axis
@@ -255,7 +292,8 @@ def build_model(
         the finite-segment springs E I / l the beam can have
         (:func:`prbdm_pin.validate_args.check_springs`).
     InputTypeError
-        ``beam`` not a Beam, ``hub`` not a Hub, lengths or springs not real numbers.
+        ``beam`` not a Beam, ``hub`` not a Hub, ``support`` not a Hub or FreeBus, lengths or
+        springs not real numbers.
 
     Warns
     -----
@@ -265,6 +303,12 @@ def build_model(
         (:mod:`prbdm_pin.plant.hub_check` says how it is estimated).
     """
     check_type("beam", beam, Beam)
+    if support is not None:
+        check_type("support", support, (Hub, FreeBus), "a prbdm_pin.Hub, FreeBus or None")
+        if hub is not None:
+            raise BeamInputError("support: given with hub; pass one of them")
+        if isinstance(support, Hub):
+            hub, support = support, None
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     lengths.setflags(write=False)
     check_joints(lengths.size - 1)  # the command line's --joints cap (PRBDM_MAX_JOINTS)
@@ -283,7 +327,14 @@ def build_model(
     sections = link_sections_unchecked(beam, lengths)
     if hub is None:
         model, tip = pin_chain(sections, lengths, f"prbdm_{beam.name}", axes)
-        return PrbdmModel(beam, lengths, k, sections, model, tip, axes=axes)
+        clamped = PrbdmModel(beam, lengths, k, sections, model, tip, axes=axes)
+        if support is None:
+            return clamped
+        full = base_chain(model, support, f"prbdm_{beam.name}_bus")
+        out = PrbdmModel(beam, lengths, k, sections, full, full.getFrameId("tip"), axes=axes,
+                         bus=support)
+        out._cache["member"] = clamped
+        return out
     model, tip = hub_chain(sections, lengths, hub, f"prbdm_{beam.name}_hub")
     out = PrbdmModel(beam, lengths, k, sections, model, tip, hub)
     warn_light_hub(out)  # mode 1 moved > 25 % toward the pinned-free beam

@@ -62,6 +62,29 @@ def _loads(model, loads) -> tuple:
     return tuple(loads)
 
 
+def first_order(M: np.ndarray, K: np.ndarray, Cd: np.ndarray, Bq: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return A (2 nv, 2 nv), B (2 nv, m) of M dv' + C_d dv + K dq = B_q u (SI units).
+
+    And X = M^-1 [K, C_d, B_q] (nv, 2 nv + m), which the outputs that read the acceleration
+    need. SolveError unless M is positive definite.
+    """
+    nv, m = M.shape[0], Bq.shape[1]
+    try:
+        np.linalg.cholesky(M)  # the check: M must be positive definite
+        # one solve for the three right-hand sides (small matrices: call overhead dominates)
+        X = np.linalg.solve(M, np.hstack([K, Cd, Bq]))
+    except np.linalg.LinAlgError as exc:
+        raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
+    A = np.zeros((2 * nv, 2 * nv))
+    A[:nv, nv:] = np.eye(nv)
+    A[nv:, :nv] = -X[:, :nv]
+    A[nv:, nv:] = -X[:, nv:2 * nv]
+    B = np.zeros((2 * nv, m))
+    B[nv:] = X[:, 2 * nv:]
+    return A, B, X
+
+
 def linearize(
     model,
     inputs: Sequence[str] = ("tip_force_z",),
@@ -104,11 +127,12 @@ def linearize(
         ``spring_torque[j]`` (every spring coordinate), ``hub_angle``, ``hub_rate``;
         ``slope@X``, ``twist@X`` (rad), ``point_x@X:Y``, ``point_y@X:Y``, ``point_z@X:Y`` (m),
         ``strain@X`` (microstrain) at station X m from the root (and Y m across);
-        ``root_force_x|y|z`` (N), ``root_moment_x|y|z`` (N m), the support's wrench on the
-        member (see :mod:`prbdm_pin.model.outputs`). Corner, strain and point signals need
-        the model's beam (its width, E I). The root reaction and the strain near the root
-        read the acceleration: their C and D carry it
-        (:mod:`prbdm_pin.plant.acceleration_outputs`).
+        ``root_force_x|y|z`` (N), ``root_moment_x|y|z`` (N m), the member's wrench on its
+        support (see :mod:`prbdm_pin.model.outputs`); on a free bus also
+        ``bus_attitude_x|y|z``, ``bus_rate_x|y|z``, ``bus_position_x|y|z``
+        (:mod:`prbdm_pin.model.bus_outputs`). Corner, strain and point signals need the
+        model's beam (its width, E I). The root reaction and the strain near the root read
+        the acceleration: their C and D carry it (:mod:`prbdm_pin.plant.acceleration_outputs`).
     q_eq : array_like (nv,), optional
         Pose to linearise about, rad, taken as given; default: the equilibrium under
         ``load_N`` and gravity (a hub held at angle 0 by a trim torque).
@@ -145,6 +169,11 @@ def linearize(
         # a patch's moment pair is defined on the bending joints of the planar chain
         raise BeamInputError(f"actuators: strain actuators act on the planar chain's bending "
                              f"joints (axes 'y'); this model has axes {model.axes.value!r}")
+    if model.bus is not None:  # six rigid coordinates: :mod:`.bus_linearize`
+        from .bus_linearize import linearize_bus
+
+        return linearize_bus(model, inputs, outputs, q_eq, load_N, damping_ratio, damping,
+                             acts, gravity_m_s2)
     hub = model.hub is not None
     # names first: refused before any work, and a bare string is not taken letter by letter;
     # joint_torque[j] and q[j] index every spring coordinate (n_joints on the planar chain)
@@ -174,19 +203,7 @@ def linearize(
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
-    nv, m = M.shape[0], Bq.shape[1]
-    try:
-        np.linalg.cholesky(M)  # the check: M must be positive definite
-        # one solve for the three right-hand sides (small matrices: call overhead dominates)
-        X = np.linalg.solve(M, np.hstack([K, Cd, Bq]))
-    except np.linalg.LinAlgError as exc:
-        raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
-    A = np.zeros((2 * nv, 2 * nv))
-    A[:nv, nv:] = np.eye(nv)
-    A[nv:, :nv] = -X[:, :nv]
-    A[nv:, nv:] = -X[:, nv:2 * nv]
-    B = np.zeros((2 * nv, m))
-    B[nv:] = X[:, 2 * nv:]
+    A, B, X = first_order(M, K, Cd, Bq)
     coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_springs)]
     states = tuple(coords + [f"{c}_rate" if c == "hub" else c.replace("q[", "q_rate[")
                              for c in coords])

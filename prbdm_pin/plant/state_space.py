@@ -23,6 +23,7 @@ import numpy as np
 
 from ..chain.eigen import generalized_eigh
 from ..model.hub import schur_mass
+from ..model.supports import free_modes_of, free_schur
 
 __all__ = ["LinearModel", "ModalData"]
 
@@ -86,6 +87,8 @@ class LinearModel:
         C_a, output per rad/s^2 (None: zero).
     output_map_input : ndarray (p, m) or None
         D_u, the inputs' direct part of the outputs (None: zero).
+    n_free : int
+        Coordinates without a spring at the start (1 for a hub, 6 for a free bus's base).
 
     The modal gains (:meth:`modal`) are of C_q and C_v only: an output that reads the
     acceleration has its C_a Phi path left out there (the state space has it).
@@ -112,6 +115,7 @@ class LinearModel:
     hub: bool = False
     output_map_acceleration: np.ndarray | None = None
     output_map_input: np.ndarray | None = None
+    n_free: int = 0
 
     def to_control(self):
         """Return the plant as a ``control.StateSpace`` (python-control), with signal names.
@@ -162,6 +166,7 @@ class LinearModel:
         rest solve the symmetric generalized eigenproblem, no inverse of M.
         """
         M, K = self.mass_kg_m2, self.stiffness_Nm_per_rad
+        nf = max(self.n_free, int(self.hub))
         if self.hub and not np.any(K[0]) and not np.any(K[:, 0]):
             w2f, Pf = generalized_eigh(K[1:, 1:], schur_mass(M), "plant modes")
             nv = M.shape[0]
@@ -170,6 +175,11 @@ class LinearModel:
             Phi[1:, 1:] = Pf
             Phi[0, 1:] = -(M[0, 1:] @ Pf) / M[0, 0]
             w2 = np.concatenate([[0.0], w2f])
+        elif nf > 1 and not np.any(K[:nf]) and not np.any(K[:, :nf]):
+            # the free bus's six rigid modes taken out exactly (:mod:`prbdm_pin.model.supports`)
+            w2f, Pf = generalized_eigh(K[nf:, nf:], free_schur(M, nf), "plant modes")
+            Phi = free_modes_of(M, Pf, nf)
+            w2 = np.concatenate([np.zeros(nf), w2f])
         else:
             w2, Phi = generalized_eigh(K, M, "plant modes")
         omega = np.sqrt(np.clip(w2, 0.0, None))

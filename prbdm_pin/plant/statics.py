@@ -131,6 +131,9 @@ def statics(model, tip_force_N=None, tip_moment_Nm=None, gravity_m_s2=None, *,
     F = check_vector("tip_force_N", tip_force_N, "N")
     M = check_vector("tip_moment_Nm", tip_moment_Nm, "N m")
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
+    if model.bus is not None:
+        raise BeamInputError("model: has a free bus, which drifts under a static load; statics "
+                             "needs a clamped model (model.member)")
     Mf = check_vector("tip_moment_follower_Nm", tip_moment_follower_Nm, "N m, tip frame")
     qd = check_vector("distributed_N_m", distributed_N_m, "N/m")
     if distributed_load is not None:

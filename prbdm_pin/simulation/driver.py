@@ -6,6 +6,7 @@ integrator's stepper and runs it under the shared loop (``loop``).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -14,7 +15,9 @@ from typing import Any
 import numpy as np
 
 from ..chain.eigen import generalized_eigh
+from ..chain.pin_dynamics import planar_lengths
 from ..errors import BeamInputError, InputTypeError
+from ..model.bus_outputs import bus_output_samples, bus_output_unit, parse_bus_outputs
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
@@ -22,8 +25,10 @@ from ..model.load_outputs import is_load_output
 from ..model.loads import check_load
 from ..model.outputs import check_output_stations, output_samples, output_unit, parse_outputs
 from ..model.reaction import check_load_inputs
+from ..model.supports import N_BASE, free_frequencies
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
+from .base_motion import BaseForce, BaseMotion
 from .damping import damping_ratios
 from .inputs import input_force
 from .load_samples import sample_accelerations, sample_loads
@@ -50,6 +55,7 @@ def simulate(
     outputs: Sequence[str] = (),
     gravity_m_s2: np.ndarray | None = None,
     integrator: Integrator | None = None,
+    base_motion: BaseMotion | None = None,
     progress: bool = False,
     **changes: Any,
 ) -> Trajectory:
@@ -59,12 +65,15 @@ def simulate(
     ----------
     model : PrbdmModel
         Provides ``pin_model``, ``tip_frame_id``, ``n_joints`` and ``stiffness_Nm_per_rad``;
-        with or without a hub.
+        clamped, on a hub or on a free bus (``build_model(..., support=FreeBus(...))``; no
+        stiffness schedule there).
     duration_s : float
         Simulated time, s.
     q0, v0 : ndarray, shape (nv,), optional
-        Initial joint angles (rad) and velocities (rad/s), the hub's first on a hub model;
-        default zero (straight, at rest).
+        Initial joint angles (rad) and velocities (rad/s), the hub's first on a hub model,
+        the bus's six coordinates first on a free-bus model (x, y, z m; yaw, pitch, roll rad:
+        :mod:`prbdm_pin.model.supports`); default zero (straight, at rest). Under a
+        ``base_motion`` they are the member's, relative to the base.
     tip_force : ndarray (3,) or callable t -> (3,), optional
         World-frame force at the tip point, N (a constant array is a step load applied at t = 0).
     options : SimulationOptions, optional
@@ -99,13 +108,24 @@ def simulate(
     outputs : sequence of str
         Plant outputs to record by name (``tip_z``, ``tip_z_rate``, ``hub_angle``, ``q[j]``,
         the sensors ``slope@X``, ``twist@X``, ``point_z@X:Y``, ``strain@X``,
-        ``root_force_z``, ``root_moment_y``, ...: see :mod:`prbdm_pin.model.outputs`); the
-        trajectory records them and the inputs. The strain and the root reaction read each
-        sample's acceleration (Pinocchio's ABA of the run's forces) and applied loads.
+        ``root_force_z``, ``root_moment_y``, ...: see :mod:`prbdm_pin.model.outputs`; on a
+        free bus also ``bus_attitude_x|y|z``, ``bus_rate_x|y|z``, ``bus_position_x|y|z``:
+        :mod:`prbdm_pin.model.bus_outputs`); the trajectory records them and the inputs. The
+        strain and the root reaction read each sample's acceleration (Pinocchio's ABA of the
+        run's forces) and applied loads.
     integrator : Integrator, optional
         The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
         ``Trapezoidal(...)``, ``ScipyIVP(...)`` from :mod:`prbdm_pin.options.integrators`),
         applied to ``options``; ``method="gauss"`` with ``dt_s``, ``rtol`` ... spells the same.
+    base_motion : BaseMotion, optional
+        A prescribed motion of the clamp (a robot flange; clamped models only, not with
+        ``method="gauss"``): :mod:`prbdm_pin.simulation.base_motion`. The member's
+        coordinates, tip and outputs are then relative to the base, in the base frame
+        (:func:`~prbdm_pin.simulation.base_motion.world_tip_positions` gives the world tip);
+        ``tip_force`` and the tip and corner inputs act in the base frame too, gravity in the
+        world frame.
+        On a model with a free bus the tip and the member's outputs are relative to the bus
+        too, in the clamp frame (the bus frame moved to ``FreeBus.root_m``).
     progress : bool
         Show a progress bar over the simulated time.
     **changes
@@ -122,6 +142,7 @@ def simulate(
     o = _options(options, changes)
     integ, dt, output_dt = o.integrator, o.dt_s, o.output_dt_s
     hub = getattr(model, "hub", None) is not None
+    bus = getattr(model, "bus", None) is not None
     n = int(model.pin_model.nv)
     # spring coordinates: a spatial chain has one per axis and node (n_springs)
     n_springs = int(getattr(model, "n_springs", model.n_joints))
@@ -136,6 +157,10 @@ def simulate(
         o.damping_ratio, tuple) else o.damping_ratio, n_springs)
     if stiffness_schedule is not None and not isinstance(stiffness_schedule, StiffnessSchedule):
         raise BeamInputError("stiffness_schedule: must be a StiffnessSchedule")
+    if stiffness_schedule is not None and bus:
+        raise BeamInputError("stiffness_schedule: not with a free bus")
+    if base_motion is not None:
+        _check_base_motion(base_motion, hub or bus, integ, duration_s)
     if stiffness_schedule is not None and hub:
         raise BeamInputError("stiffness_schedule: not with a hub (the schedule holds the beam "
                              "joints' springs of a clamped chain)")
@@ -149,9 +174,13 @@ def simulate(
                              schedule=stiffness_schedule, tip_force_N=force,
                              constant_force=constant_force, damping_pose=damping_pose,
                              inputs=plant[0], gravity_m_s2=g)
+    if base_motion is not None:
+        system = dataclasses.replace(system, inputs=BaseForce(base_motion, system.pin_model,
+                                                              system.inputs))
     if integ.default_steps_per_period is not None and dt is None:
         spp = integ.steps_per_period or integ.default_steps_per_period
-        dt = min(2.0 * math.pi / _lowest_frequency(system, q0, hub) / spp, duration_s)
+        dt = min(2.0 * math.pi / _lowest_frequency(system, q0, N_BASE if bus else int(hub))
+                 / spp, duration_s)
     stepper = start(integ, system, 0.0, np.concatenate((q0, v0)), duration_s, dt_s=dt,
                     output_dt_s=output_dt, max_steps=o.max_steps)
     report, close = progress_bar(duration_s, progress)
@@ -159,7 +188,12 @@ def simulate(
         samples = integrate(stepper, output_dt, o.max_steps, report)
     finally:
         close()
-    tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
+    if bus:  # the member's tip relative to the bus, in the clamp frame
+        member = model.member
+        tip = tip_positions(member, member.new_data(), samples.q_rad[:, N_BASE:],
+                            _planar_lengths(member))
+    else:
+        tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
     t, Q, V = samples.t_s, samples.q_rad, samples.v_rad_s
     recorded = _recorded(model, system, plant[1], t, Q, V, tip, force, g, tuple(loads))
     for arr in (t, Q, V, tip, recorded[2], recorded[5]):
@@ -170,10 +204,36 @@ def simulate(
                       integrator=integ)
 
 
-def _lowest_frequency(system, q0: np.ndarray, hub: bool) -> float:
-    """Return the lowest natural frequency at ``q0``, rad/s (lowest flexible one with a hub)."""
+def _planar_lengths(model) -> np.ndarray | None:
+    """Return the planar chain's lengths (m) for the closed-form tip, or None if not planar."""
+    try:
+        return planar_lengths(model.pin_model, model.tip_frame_id)
+    except BeamInputError:
+        return None
+
+
+def _check_base_motion(motion, free: bool, integ: Integrator, duration_s: float) -> None:
+    if not isinstance(motion, BaseMotion):
+        raise InputTypeError(f"base_motion = {motion!r:.60}: must be a "
+                             "prbdm_pin.BaseMotion")
+    if free:
+        raise BeamInputError("base_motion: moves the clamp of a clamped model; this model "
+                             "has a hub or a free bus")
+    if not integ.takes_inputs:
+        raise BeamInputError(f"base_motion: method {integ.method!r} takes a tip force only; "
+                             "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
+    motion.check_span(duration_s)
+
+
+def _lowest_frequency(system, q0: np.ndarray, n_free: int) -> float:
+    """Return the lowest natural frequency at ``q0``, rad/s.
+
+    The lowest flexible one on a hub or a free bus (``n_free`` coordinates without a spring).
+    """
     M = mass_matrix(system.pin_model, system.data, q0)
-    if hub:
+    if n_free > 1:
+        return float(free_frequencies(M, system.springs(q0)[n_free:], n_free=n_free)[n_free])
+    if n_free:
         return float(hub_frequencies(M, system.springs(q0)[1:])[1])
     w2 = generalized_eigh(np.diag(system.springs(q0)), M, "step size", vectors=False)
     return math.sqrt(max(w2[0], 1e-300))
@@ -191,7 +251,11 @@ def _plant(model, inputs, u, actuators, outputs, integrator: Integrator, loads=(
     hub = model.hub is not None
     n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
     out_names, loads_read = (), False
-    if not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
+    bus = getattr(model, "bus", None) is not None
+    if bus and not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
+        out_names = parse_bus_outputs(outputs, n_springs)
+        check_corner_names(model.member, out_names, "outputs")
+    elif not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
         parsed_out = parse_outputs(outputs, n_springs, hub)
         out_names = tuple(n for n, _, _ in parsed_out)
         check_corner_names(model, out_names, "outputs")
@@ -241,8 +305,13 @@ def _recorded(model, system, out_names, t, Q, V, tip, force, gravity, spans=()) 
         U = np.array([f.values(ti, q, v) for ti, q, v in zip(t, Q, V, strict=True)])
         U = U.reshape(len(t), len(f.names))
         in_names, in_units = f.names, f.units
-    Y = np.zeros((len(t), 0))
-    if out_names:
+    if not out_names:
+        Y = np.zeros((len(t), 0))
+    elif getattr(model, "bus", None) is not None:
+        Y = bus_output_samples(model, Q, V, tip, out_names)
+        return (in_names, in_units, U, out_names, tuple(bus_output_unit(s) for s in out_names),
+                Y)
+    else:
         A = loads = None
         if any(is_load_output(b) for _, b, _ in parse_outputs(out_names, model.n_springs,
                                                               model.hub is not None)):

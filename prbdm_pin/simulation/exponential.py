@@ -110,10 +110,12 @@ class ExponentialStepper:
         # the motion's scale: largest joint angle so far, at least the static deflection angle
         # of the initial force and the first step's travel (over the sprung coordinates: a
         # hub's rigid rotation is large, propagated exactly, and would loosen the tolerance of
-        # the panel's bending)
+        # the panel's bending), with a nanoradian floor as Gauss's and the trapezoidal rule's: a
+        # rigid spin of a hub or a free bus with the member straight bends it by nothing but
+        # roundings, and a tolerance relative to a 1e-300 scale chased those past max_steps
         self._flex = k_const > 0.0
         flex = self._flex
-        scale = max(float(np.abs(q0[flex]).max()), float(np.abs(v0[flex]).max()) * h0, 1e-300)
+        scale = max(float(np.abs(q0[flex]).max()), float(np.abs(v0[flex]).max()) * h0, 1e-9)
         springs0 = k_const if stiffness is None else stiffness(q0)
         if force is not None:
             scale = max(scale, static_angle_rad(self._tau_ext(q0, force(0.0)), springs0))

@@ -12,6 +12,8 @@ flexible mode) go to the n flexible modes only and the rigid mode stays undamped
 - ``"stiffness"``: C = beta K with beta = 2 xi_1 / omega_1, omega_1 the lowest flexible
   frequency; K's hub row is zero, so the rigid mode is undamped here too;
 - ``"eq5c"`` is per beam joint and has no hub version: refused.
+
+A free bus (:mod:`prbdm_pin.model.supports`) is handled alike with its six rigid modes.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..model.hub import hub_modes
+from ..model.supports import free_modes
 from .damping import DAMPING_FORMS, damping_matrix, damping_ratios
 
 __all__ = ["plant_damping"]
@@ -34,19 +37,20 @@ def plant_damping(model, M: np.ndarray, damping_ratio: float | np.ndarray, kind:
     """
     if kind not in DAMPING_FORMS:
         raise BeamInputError(f"damping = {kind!r}: must be one of {', '.join(DAMPING_FORMS)}")
-    if model.hub is None:
+    bus = getattr(model, "bus", None) is not None  # six free base coordinates, no spring
+    if model.hub is None and not bus:
         return damping_matrix(M, model.stiffness_matrix(), damping_ratio, kind)
     if kind == "eq5c":
         raise BeamInputError("damping = 'eq5c': the paper's per-joint form has no hub version; "
                              "use 'modal' or 'stiffness' with a hub")
-    n = model.n_joints
+    n, nf = model.n_springs, model.n_free
     xi = damping_ratios(damping_ratio, n)
-    omega, Phi = hub_modes(M, model.stiffness_Nm_per_rad)
+    omega, Phi = (free_modes if bus else hub_modes)(M, model.stiffness_Nm_per_rad)
     if kind == "stiffness":
         if np.any(xi != xi[0]):
             raise BeamInputError(f"damping_ratio = {xi.tolist()}: the stiffness form takes one "
                                  "ratio (the lowest flexible mode's)")
-        return (2.0 * xi[0] / omega[1]) * model.stiffness_matrix()
-    MP = M @ Phi[:, 1:]
-    C = (MP * (2.0 * xi * omega[1:])) @ MP.T
+        return (2.0 * xi[0] / omega[nf]) * model.stiffness_matrix()
+    MP = M @ Phi[:, nf:]
+    C = (MP * (2.0 * xi * omega[nf:])) @ MP.T
     return 0.5 * (C + C.T)

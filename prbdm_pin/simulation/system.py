@@ -209,7 +209,7 @@ def assemble_system(model, q0: np.ndarray, *, damping_ratios: np.ndarray, dampin
     C = None
     if np.any(damping_ratios > 0.0):
         qc = q0 if damping_pose is None else vector("damping_pose", damping_pose, q0.size)
-        if model.hub is not None:
+        if getattr(model, "n_free", model.hub is not None):  # a hub's or a bus's rigid modes
             C = plant_damping(model, mass_matrix(pm, data, qc), damping_ratios, damping)
         else:
             k_c = k_const if springs is None else springs(qc)

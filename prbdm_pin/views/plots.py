@@ -187,7 +187,8 @@ def plot_response(model, tr, force_N: np.ndarray, damping_ratio: float,
     rows = 2 + len(tr.output_names) + int(bool(tr.input_names))
     fig = new_figure((7.0, 2.2 + 1.6 * rows))
     axes = [fig.add_subplot(rows, 1, k + 1) for k in range(rows)]
-    rest = model.tip_position()
+    # the tip at rest in the frame the run records it in (a free bus's: relative to the bus)
+    rest = getattr(model, "member", model).tip_position()
     axes[0].plot(tr.t_s, (tr.tip_position_m[:, 2] - rest[2]) * 1e3, label="z")
     axes[0].plot(tr.t_s, (tr.tip_position_m[:, 0] - rest[0]) * 1e3, label="x")
     axes[0].set_ylabel("tip displacement (mm)")
@@ -203,7 +204,7 @@ def plot_response(model, tr, force_N: np.ndarray, damping_ratio: float,
         axes[k].set_ylabel("inputs")
         axes[k].legend(fontsize=7)
         k += 1
-    axes[k].plot(tr.t_s, tr.q_rad[:, int(model.hub is not None):])
+    axes[k].plot(tr.t_s, tr.q_rad[:, getattr(model, "n_free", int(model.hub is not None)):])
     axes[k].set_ylabel("joint angles (rad)")
     axes[k].set_xlabel("t (s)")
     hub = "" if model.hub is None else (f", hub {model.hub.inertia_kg_m2:g} kg m^2 at "

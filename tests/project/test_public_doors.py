@@ -60,6 +60,8 @@ FIELDS = [
     (pp.Hub, {"inertia_kg_m2": 1.0}, "inertia_kg_m2", "Hub inertia_kg_m2", "real",
      [0.0, -5.0], [1e21, 1e300]),
     (pp.Hub, {"inertia_kg_m2": 1.0}, "radius_m", "Hub radius_m", "real", [-0.1], [1e4, 1e300]),
+    (pp.FreeBus, {"mass_kg": 1.0, "inertia_kg_m2": [1.0, 1.0, 1.0]}, "mass_kg",
+     "FreeBus mass_kg", "real", [0.0, -5.0], []),
     (pp.StrainActuator, {"x_start_m": 0.1, "x_end_m": 0.5}, "x_start_m", "x_start_m", "real",
      [-0.1, -1e-9], [0.5, 2e3]),
     (pp.StrainActuator, {"x_start_m": 0.0, "x_end_m": 0.5}, "x_end_m", "x_end_m", "real",
