@@ -187,7 +187,7 @@ def compare_plant(prbdm, truth, omega_max_rad_s: float | None = None, n_points: 
     """
     _prbdm_unloaded(prbdm)
     p, t = second_order(prbdm, "prbdm"), second_order(truth, "truth")
-    if p.rigid != t.rigid:
+    if bool(p.rigid) != bool(t.rigid):
         raise BeamInputError(f"truth: {'has' if t.rigid else 'has no'} rigid-body mode while the "
                              f"prbdm {'has' if p.rigid else 'has no'} one: compare plants with "
                              "the same hub (or both clamped)")
@@ -241,7 +241,7 @@ def compare_plant(prbdm, truth, omega_max_rad_s: float | None = None, n_points: 
     modes = tuple(ModeComparison(k + 1, float(wt[k]), float(wp[k]),
                                  100.0 * (float(wp[k]) / float(wt[k]) - 1.0), float(zt[k]),
                                  float(zp[k])) for k in range(n))
-    return PlantComparison(p.rigid, modes, wt, (lo, hi), float(T), tuple(pairs), skipped,
+    return PlantComparison(bool(p.rigid), modes, wt, (lo, hi), float(T), tuple(pairs), skipped,
                            _notes(wp, zp, wt, zt, hi))
 
 

@@ -13,6 +13,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from ..errors import BeamInputError
 
 if TYPE_CHECKING:
@@ -115,9 +117,31 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     truth = request.compute(beam, cache_dir=cache_dir)
     stations = [(a.x_start_m, a.x_end_m) for a in actuators]
     hub = model.hub
-    if hub is None:
+    bus = getattr(model, "bus", None)
+    if bus is not None:
+        plant = _bus_truth(truth, beam, bus, stations, damping_ratio)
+    elif hub is None:
         plant = clamped_model(truth, beam, stations, damping_ratio)
     else:
         plant = hybrid_model(truth, beam, hub.inertia_kg_m2, hub.radius_m, stations,
                              damping_ratio, damping="modal")
     return TruthPlantComparison(request, truth, compare_plant(lin, plant), float(damping_ratio))
+
+
+def _bus_truth(truth, beam, bus, stations, damping_ratio):
+    """Return the truth on the PRBDM's free bus: the planar hybrid model (``truth.plant.bus``).
+
+    It holds the bus's translation along z and its turn about y, so the bus's centre of mass
+    must be its frame's origin, the root on the frame's x axis, and y a principal axis of its
+    inertia (no product of inertia coupling the pitch with the roll or the yaw).
+    """
+    from ..truth.plant.bus import bus_model
+
+    com, root, J = (np.asarray(a, dtype=float) for a in (bus.com_m, bus.root_m,
+                                                         bus.inertia_kg_m2))
+    if np.any(com) or np.any(root[1:]) or root[0] < 0.0 or J[0, 1] or J[1, 2]:
+        raise BeamInputError(f"model: bus {bus!r}: the truth's bus plant is planar: it needs "
+                             "the centre of mass at the bus frame's origin, the root at "
+                             "(r >= 0, 0, 0) and y a principal axis of the inertia")
+    return bus_model(truth, beam, bus.mass_kg, float(J[1, 1]), float(root[0]), stations,
+                     damping_ratio)

@@ -7,15 +7,17 @@ responses.
 
 A PRBDM ``LinearModel`` and the truth's ``HybridModel`` and ``ClampedModel`` all have this form
 (state x = [q, q'], y = C x with C = [C_q, C_v], D = 0). On a hub plant coordinate 0 is the hub
-angle, free of any spring (K's row and column 0 are zero) and undamped (C_d e_0 = 0), so
-phi_0 = e_0 / sqrt(M_00) is the rigid-body mode. Its modal coordinate r = phi_0^T M q obeys
-r'' = phi_0^T B_q u exactly, and q_f = q - phi_0 r stays in the M-orthogonal complement, spanned
-by T = [-M_0f / M_00; I]; there
+angle, on a free bus's the first r coordinates are the bus's: free of any spring (K's first r
+rows and columns are zero) and undamped (C_d E_R = 0, E_R those coordinates' unit vectors), so
+Phi_R = E_R M_RR^-1/2 are mass-normalised rigid-body modes. Their modal coordinates
+r = Phi_R^T M q obey r'' = Phi_R^T B_q u exactly, and q_f = q - Phi_R r stays in the
+M-orthogonal complement, spanned by T = [-M_RR^-1 M_Rf; I]; there
 
     T^T M T z'' + T^T C_d T z' + T^T K T z = T^T B_q u,   y_f = C_q T z + C_v T z'
 
 is positive definite, so the flexible part has a finite static gain and decaying transients:
-y = y_rigid + y_f with y_rigid = (C_q phi_0 + s C_v phi_0)(phi_0^T B_q) / s^2.
+y = y_rigid + y_f with y_rigid = (C_q + s C_v) E_R M_RR^-1 E_R^T B_q / s^2
+(Phi_R Phi_R^T = E_R M_RR^-1 E_R^T).
 """
 
 from __future__ import annotations
@@ -40,8 +42,9 @@ class SecondOrderPlant:
     input_map : ndarray (nq, m)
     output_map_position, output_map_rate : ndarray (p, nq)
     input_names, output_names : tuple of str
-    rigid : bool
-        Coordinate 0 is free (a hub): one rigid-body mode, phi_0 = e_0 / sqrt(M_00).
+    rigid : int
+        How many leading coordinates are free (0 clamped, 1 a hub, 6 a free bus's base): as
+        many rigid-body modes (module notes).
     """
 
     mass: np.ndarray
@@ -52,7 +55,7 @@ class SecondOrderPlant:
     output_map_rate: np.ndarray
     input_names: tuple[str, ...]
     output_names: tuple[str, ...]
-    rigid: bool
+    rigid: int
 
     def flexible(self) -> SecondOrderPlant:
         """Return the flexible part in the coordinates z (q_f = T z, see the module notes).
@@ -61,8 +64,9 @@ class SecondOrderPlant:
         """
         if not self.rigid:
             return self
-        M = self.mass
-        T = np.vstack([-M[0, 1:] / M[0, 0], np.eye(M.shape[0] - 1)])
+        M, r = self.mass, self.rigid
+        T = np.vstack([-sla.solve(M[:r, :r], M[:r, r:], assume_a="pos"),
+                       np.eye(M.shape[0] - r)])
 
         def sym(a):
             a = T.T @ a @ T
@@ -71,19 +75,20 @@ class SecondOrderPlant:
         return SecondOrderPlant(sym(M), sym(self.damping), sym(self.stiffness),
                                 T.T @ self.input_map, self.output_map_position @ T,
                                 self.output_map_rate @ T, self.input_names, self.output_names,
-                                rigid=False)
+                                rigid=0)
 
     def rigid_gains(self) -> tuple[np.ndarray, np.ndarray]:
         """Return the coefficients of 1/s^2 and 1/s of the rigid-body mode's transfer matrix.
 
-        They are (C_q phi_0)(phi_0^T B_q) and (C_v phi_0)(phi_0^T B_q), shape (p, m); zero
+        They are C_q E_R M_RR^-1 E_R^T B_q and C_v E_R M_RR^-1 E_R^T B_q, shape (p, m); zero
         without a rigid mode.
         """
         p, m = self.output_map_position.shape[0], self.input_map.shape[1]
-        if not self.rigid:
+        r = self.rigid
+        if not r:
             return np.zeros((p, m)), np.zeros((p, m))
-        b = self.input_map[0] / self.mass[0, 0]  # phi_0 phi_0^T = e_0 e_0^T / M_00
-        return np.outer(self.output_map_position[:, 0], b), np.outer(self.output_map_rate[:, 0], b)
+        b = sla.solve(self.mass[:r, :r], self.input_map[:r], assume_a="pos")
+        return self.output_map_position[:, :r] @ b, self.output_map_rate[:, :r] @ b
 
     def modes(self) -> tuple[np.ndarray, np.ndarray]:
         """Return the frequencies (rad/s, ascending) and damping ratios of the flexible modes.
@@ -160,6 +165,7 @@ def second_order(plant, name: str = "plant") -> SecondOrderPlant:
     C = np.asarray(plant.C, dtype=float)
     if C.shape[1] != 2 * nq or Bq.shape != (nq, len(plant.input_names)):
         raise BeamInputError(f"{name}: its state is not [q, dq/dt] with {nq} coordinates")
-    rigid = not np.any(K[0]) and not np.any(K[:, 0])
+    free = [not np.any(K[i]) and not np.any(K[:, i]) for i in range(nq)]
+    rigid = int(np.argmin(free)) if not all(free) else nq  # the leading spring-free coordinates
     return SecondOrderPlant(M, Cd, K, Bq, C[:, :nq], C[:, nq:], tuple(plant.input_names),
                             tuple(plant.output_names), rigid)
