@@ -115,6 +115,10 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     truth = request.compute(beam, cache_dir=cache_dir)
     stations = [(a.x_start_m, a.x_end_m) for a in actuators]
     hub = model.hub
+    if hub is not None and hub.axis != "y":
+        # the truth's hybrid plant turns the beam in its own bending plane only
+        raise BeamInputError(f"model: hub axis = {hub.axis!r}: the truth plant has a hub about "
+                             "y only (the beam turning in its bending plane)")
     if hub is None:
         plant = clamped_model(truth, beam, stations, damping_ratio)
     else:

@@ -20,6 +20,7 @@ from ..model.inputs import (
 from ..model.outputs import output_maps, output_unit, output_values, parse_outputs
 from ..simulation.hub_damping import plant_damping
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
+from .spin import check_spin, spin_terms
 from .state_space import LinearModel
 
 __all__ = ["linearize"]
@@ -56,6 +57,7 @@ def linearize(
     damping: str = "modal",
     actuators: Sequence[StrainActuator] = (),
     gravity_m_s2: np.ndarray | None = None,
+    spin_rad_s: float | None = None,
 ) -> LinearModel:
     """Linearise ``model`` about an equilibrium.
 
@@ -95,6 +97,14 @@ def linearize(
         The strain actuators ``strain[i]`` refers to.
     gravity_m_s2 : array_like (3,), optional
         Gravity, m/s^2, world; default none.
+    spin_rad_s : float, optional
+        Hub models: linearise about the steady spin of the hub at this rate, rad/s, about its
+        axis (default none: at rest). The states are then deviations from the spinning motion
+        (the hub angle less Omega t, the hub rate less Omega); the centrifugal stiffness dh/dq
+        enters ``stiffness_Nm_per_rad`` and the gyroscopic dh/dv ``damping_Nms_per_rad``, both
+        from Pinocchio's RNEA derivatives (:mod:`prbdm_pin.plant.spin`). The unloaded straight
+        pose is the relative equilibrium for every hub axis; a spin with ``load_N`` or
+        ``gravity_m_s2`` is refused (no steady equilibrium).
 
     Returns
     -------
@@ -124,6 +134,7 @@ def linearize(
     F = check_vector("load_N", load_N, "N")
     F = np.zeros(3) if F is None else F
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
+    spin = check_spin(model, spin_rad_s, F, g)
     pm_g = gravity_model(model, g)
     if q_eq is None:
         q, trim = equilibrium(model, F, pm_g)
@@ -137,6 +148,11 @@ def linearize(
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
+    if spin:
+        h, dh_dq, dh_dv = spin_terms(model, q, spin)
+        K = K + 0.5 * (dh_dq + dh_dq.T)  # -Omega^2/2 d2M_hh/dq2: symmetric but for roundings
+        Cd = Cd + dh_dv
+        trim += float(h[0])  # the hub torque that holds the rate at this pose
     nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
     try:
         np.linalg.cholesky(M)  # the check: M must be positive definite

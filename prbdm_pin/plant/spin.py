@@ -1,0 +1,81 @@
+"""A hub model in steady spin: the relative equilibrium and the spin terms of its linearisation.
+
+The hub turns at the constant rate Omega (rad/s) about its axis; the state of the linear plant
+is the deviation from that motion: the hub angle less Omega t, the hub rate less Omega, and the
+beam joints with their rates. Writing the equations of motion as M(q) a + h(q, v) + K q = tau,
+with h the Coriolis and centrifugal terms (Pinocchio's RNEA at a = 0 and no gravity, which the
+statics carry), a steady spin v = (Omega, 0, ..., 0), a = 0 needs K q + h(q, v) = tau_u on the
+beam joints; the hub's row is the torque that holds the rate (0 when no energy flows: a free hub
+with no torque keeps spinning at the relative equilibrium). Linearised about it::
+
+    M dv' + (C_d + dh/dv) dv + (K_e + dh/dq) dq = B_q u
+
+dh/dq and dh/dv come from ``pinocchio.computeRNEADerivatives`` at (q_eq, (Omega, 0...), 0):
+dh/dq is -Omega^2 / 2 d^2 M_hh / dq^2 on the beam joints (the hub angle is cyclic: M does not
+depend on it), the centrifugal stiffening (or softening, a negative term in the plane of
+rotation); dh/dv is Omega (dM_ih/dq_j - dM_jh/dq_i), the gyroscopic (Coriolis) coupling.
+
+When is the straight pose the relative equilibrium? The beam joints turn about y and the beam
+lies along x. Centrifugal forces act away from the hub axis through the origin: on the straight
+beam (in the xz-plane, on the x axis) they lie along x for a hub about y or z and vanish for a
+hub about x (the beam on the axis), so they exert no moment about any beam joint: h(0, v) = 0
+and the unloaded straight pose is the relative equilibrium for every hub axis. A dead tip load
+or gravity turns with the world, not with the hub, so the loaded spinning beam has no steady
+relative equilibrium in general (the load's direction in the hub frame goes round once a turn):
+:func:`check_spin` refuses them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import BeamInputError
+from ..options.checks import check_float
+
+__all__ = ["check_spin", "spin_terms"]
+
+
+def check_spin(model, spin_rad_s, load_N: np.ndarray | None, gravity_m_s2: np.ndarray | None
+               ) -> float:
+    """Return ``spin_rad_s`` (rad/s) checked for ``model``: a finite float, 0.0 for None.
+
+    A spin needs a hub, and no dead tip load or gravity (module notes).
+
+    Raises
+    ------
+    BeamInputError
+        Naming ``spin_rad_s`` (not finite, no hub, a load or gravity with it).
+    """
+    w = check_float("spin_rad_s", spin_rad_s, optional=True, unit="rad/s")
+    if w is None or w == 0.0:
+        return 0.0
+    if model.hub is None:
+        raise BeamInputError(f"spin_rad_s = {w!r}: needs a hub to spin (build the model with "
+                             "hub=Hub(...))")
+    for name, v in (("load_N", load_N), ("gravity_m_s2", gravity_m_s2)):
+        if v is not None and np.any(v):
+            raise BeamInputError(f"spin_rad_s = {w!r} with {name} = {np.asarray(v).tolist()}: "
+                                 "a dead load or gravity turns with the world, not the hub, so "
+                                 "the spinning beam has no steady equilibrium under it; "
+                                 "linearise the spinning beam unloaded")
+    return float(w)
+
+
+def spin_terms(model, q: np.ndarray, spin_rad_s: float
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return h, dh/dq and dh/dv of ``model`` at pose ``q`` (rad) spinning at ``spin_rad_s``.
+
+    h = RNEA(q, (Omega, 0, ...), 0) without gravity: the Coriolis and centrifugal generalized
+    forces, N m, shape (nv,); dh/dq, N m/rad, and dh/dv, N m s/rad, shape (nv, nv), from
+    ``pinocchio.computeRNEADerivatives``.
+    """
+    pm = model.pin_model  # gravity zero: the statics carry the weight
+    data = pm.createData()
+    q = np.asarray(q, dtype=float)
+    v = np.zeros(pm.nv)
+    v[0] = spin_rad_s
+    a = np.zeros(pm.nv)
+    h = np.array(pin.rnea(pm, data, q, v, a))
+    dq, dv, _ = pin.computeRNEADerivatives(pm, data, q, v, a)
+    return h, np.array(dq), np.array(dv)
