@@ -10,6 +10,7 @@ import json
 import sys
 from pathlib import Path
 
+from ..errors import BeamInputError
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
@@ -30,6 +31,8 @@ examples:
       --hub 0.5:0.05 --damping-ratio 0.01 --out runs/ref/hub
   prbdm linearize runs/ref/fit.json --inputs hub_torque,strain[0] --outputs hub_angle,tip_z \\
       --hub 5:0.1 --actuator 0:0.1 --compare-truth --out runs/ref/hub
+  prbdm linearize runs/ref/fit.json --inputs hub_torque --outputs hub_angle,tip_z \\
+      --hub 50:0.1 --hub-axis z --spin 20 --out runs/ref/spin
   prbdm linearize runs/ref/fit.json --inputs strain[0] --outputs tip_z --actuator 0.2:0.3 \\
       --fit-actuators --out runs/ref/patch
 
@@ -43,6 +46,12 @@ own axis), corner_z_left, corner_z_right (m, z of the tip corners), q[j] (rad), 
 (rad/s), spring_torque[j] (N m), hub_angle (rad), hub_rate (rad/s, with --hub). All are
 deviations from the equilibrium under --load and --gravity; a hub is held there by a trim
 torque. A spatial fit (axes xy, yz, xyz) is linearised through its general kinematics.
+
+Hub and spin: --hub-axis y (the default) turns the beam in its own bending plane, z sweeps it
+through the xy-plane with the bending out of that plane, x spins it about its own axis.
+--spin RAD_S linearises about the hub's steady spin (unloaded, straight pose): the centrifugal
+stiffness and the gyroscopic terms from Pinocchio's RNEA derivatives; the states are deviations
+from the spinning motion, and the omega listed (and the modal table) are the spinning plant's.
 
 Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
 ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.
@@ -92,6 +101,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="dead tip load of the equilibrium, N, world (default 0,0,0)")
     p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
                    help="gravity, m/s^2, world (default none)")
+    p.add_argument("--spin", type=float, default=None, metavar="RAD_S",
+                   help="linearise about the --hub spinning steadily at this rate, rad/s, about "
+                        "--hub-axis (unloaded, no gravity; the modes listed are the spinning "
+                        "plant's)")
     p.add_argument("--damping-ratio", type=float, default=0.02, metavar="ZETA",
                    help="damping ratio of every flexible mode (modal) or the lowest "
                         "(stiffness) (default 0.02)")
@@ -123,13 +136,23 @@ def check_options(args: argparse.Namespace) -> dict:
 
     out = {"inputs": names_option(args.inputs, "--inputs"),
            "outputs": names_option(args.outputs, "--outputs"),
-           "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub)}
+           "actuators": actuators_option(args.actuator),
+           "hub": hub_option(args.hub, args.hub_axis)}
     out["load"] = xyz_option(args.load, "--load", "N")
     out["gravity"] = xyz_option(args.gravity, "--gravity", "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
     if args.dt is not None:
         in_range("--dt", args.dt, 0.0, lo_open=True, unit="s")
+    if args.spin is not None:
+        in_range("--spin", args.spin, unit="rad/s")
+        if out["hub"] is None:
+            raise BeamInputError(f"--spin = {args.spin!r}: needs --hub INERTIA:RADIUS (the hub "
+                                 "spins)")
+        if any(out["load"]) or any(out["gravity"]):
+            raise BeamInputError(f"--spin = {args.spin!r}: a spinning hub has no steady "
+                                 "equilibrium under --load or --gravity (they turn with the "
+                                 "world, not the hub); drop them")
     writable_dir(args.out, "--out")
     from .compare_truth import check_compare_options
 
@@ -229,13 +252,15 @@ def run(args: argparse.Namespace) -> int:
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=args.damping_ratio,
                     damping=args.damping_form, actuators=opts["actuators"],
-                    gravity_m_s2=gravity)
+                    gravity_m_s2=gravity, spin_rad_s=args.spin)
     record = {
         **lin.to_dict(),
         "model": Path(args.model).name,
         "n_joints": model.n_joints,
         "hub": None if opts["hub"] is None else {
-            "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m},
+            "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m,
+            "axis": opts["hub"].axis},
+        "spin_rad_s": 0.0 if args.spin is None else args.spin,
         "actuators_m": [[a.x_start_m, a.x_end_m] for a in opts["actuators"]],
         **actuator_weights_record(model, opts["actuators"]),
         "load_N": opts["load"], "gravity_m_s2": opts["gravity"],

@@ -22,7 +22,8 @@ def check_plant_options(args: argparse.Namespace) -> dict:
 
     names, signal = parse_inputs(args.input)
     outputs = None if args.outputs is None else names_option(args.outputs, "--outputs")
-    opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
+    opts = {"hub": hub_option(args.hub, args.hub_axis),
+            "actuators": actuators_option(args.actuator),
             "inputs": names, "u": signal, "outputs": outputs}
     opts["plant"] = bool(args.hub or args.actuator or args.input)
     check_fit_actuators(args, len(opts["actuators"]))

@@ -30,10 +30,12 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..errors import BeamInputError
-from ..options.checks import check_float
+from ..chain.eigen import generalized_eigh
+from ..errors import BeamInputError, InputTypeError
+from ..model.hub import schur_mass
+from ..options.checks import check_bool, check_float
 
-__all__ = ["check_spin", "spin_terms"]
+__all__ = ["check_spin", "spin_terms", "spinning_frequencies"]
 
 
 def check_spin(model, spin_rad_s, load_N: np.ndarray | None, gravity_m_s2: np.ndarray | None
@@ -70,7 +72,10 @@ def spin_terms(model, q: np.ndarray, spin_rad_s: float
     forces, N m, shape (nv,); dh/dq, N m/rad, and dh/dv, N m s/rad, shape (nv, nv), from
     ``pinocchio.computeRNEADerivatives``.
     """
-    pm = model.pin_model  # gravity zero: the statics carry the weight
+    pm = model.pin_model
+    if np.any(pm.gravity.vector):  # a user's gravity: the statics carry the weight, not h
+        pm = pin.Model(pm)
+        pm.gravity = pin.Motion.Zero()
     data = pm.createData()
     q = np.asarray(q, dtype=float)
     v = np.zeros(pm.nv)
@@ -79,3 +84,56 @@ def spin_terms(model, q: np.ndarray, spin_rad_s: float
     h = np.array(pin.rnea(pm, data, q, v, a))
     dq, dv, _ = pin.computeRNEADerivatives(pm, data, q, v, a)
     return h, np.array(dq), np.array(dv)
+
+
+def spinning_frequencies(model, spin_rad_s: float, hub_free: bool = True,
+                         squared: bool = False) -> np.ndarray:
+    """Return the flexible frequencies of a hub model spinning unloaded at ``spin_rad_s``.
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        With a hub (any axis), at its straight pose (the relative equilibrium).
+    spin_rad_s : float
+        The hub's steady rate, rad/s (0: the model at rest).
+    hub_free : bool
+        True: the hub turns freely about the steady spin (no torque deviation), as
+        :func:`prbdm_pin.linearize` models it; the rigid mode is left out (the Schur complement
+        of the hub, :func:`prbdm_pin.model.hub.schur_mass`). False: the hub held at the constant
+        rate (a prescribed rotation, as the rotating-beam literature's Southwell coefficients
+        assume).
+    squared : bool
+        Return omega^2 (rad^2/s^2, negative for a mode the spin made unstable) instead of
+        omega (rad/s; such a mode then reads 0).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Ascending. The stiffness is K - Omega^2 / 2 d^2 M_hh / dq^2 (RNEA derivatives); the
+        gyroscopic term dh/dv vanishes at the straight pose of this chain (its beam joints turn
+        about y, so the hub's row of M is flat there), so the undamped modes of (K, M) are the
+        linear plant's.
+
+    Raises
+    ------
+    BeamInputError
+        ``model`` without a hub, a ``spin_rad_s`` that is not finite.
+    """
+    from ..model.prbdm_model import PrbdmModel
+
+    if not isinstance(model, PrbdmModel):
+        raise InputTypeError(f"model = {model!r:.60}: must be a PrbdmModel")
+    if model.hub is None:
+        raise BeamInputError("model: has no hub; spinning_frequencies needs a hub model "
+                             "(build_model(..., hub=Hub(...)))")
+    w = check_float("spin_rad_s", spin_rad_s, unit="rad/s")
+    free = check_bool("hub_free", hub_free)
+    q = np.zeros(model.pin_model.nv)
+    M = model.mass_matrix(q)
+    K = model.stiffness_matrix()
+    if w:
+        dh_dq = spin_terms(model, q, w)[1]
+        K = K + 0.5 * (dh_dq + dh_dq.T)
+    Mf = schur_mass(M) if free else M[1:, 1:]
+    w2 = generalized_eigh(K[1:, 1:], Mf, "spinning frequencies", vectors=False)
+    return w2 if check_bool("squared", squared) else np.sqrt(np.clip(w2, 0.0, None))
