@@ -70,7 +70,7 @@ def spin_terms(model, q: np.ndarray, spin_rad_s: float
 
     h = RNEA(q, (Omega, 0, ...), 0) without gravity: the Coriolis and centrifugal generalized
     forces, N m, shape (nv,); dh/dq, N m/rad, and dh/dv, N m s/rad, shape (nv, nv), from
-    ``pinocchio.computeRNEADerivatives``.
+    ``pinocchio.computeRNEADerivatives`` (dh/dq's hub row and column set to their exact 0).
     """
     pm = model.pin_model
     if np.any(pm.gravity.vector):  # a user's gravity: the statics carry the weight, not h
@@ -83,7 +83,13 @@ def spin_terms(model, q: np.ndarray, spin_rad_s: float
     a = np.zeros(pm.nv)
     h = np.array(pin.rnea(pm, data, q, v, a))
     dq, dv, _ = pin.computeRNEADerivatives(pm, data, q, v, a)
-    return h, np.array(dq), np.array(dv)
+    dq = np.array(dq)
+    # the hub angle is cyclic (M and h do not depend on it) and h_hub = 1/2 dM_hh/dq_hub
+    # Omega^2 = 0, so the hub's row and column of dh/dq are exactly zero; RNEA leaves roundings
+    # there, which would hide the plant's rigid mode (K e_hub = 0) from its modal view
+    dq[0, :] = 0.0
+    dq[:, 0] = 0.0
+    return h, dq, np.array(dv)
 
 
 def spinning_frequencies(model, spin_rad_s: float, hub_free: bool = True,

@@ -19,6 +19,7 @@ from ..model.checks import check_model
 from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
 from ..model.outputs import output_samples, output_unit, parse_outputs
+from ..options.checks import check_float
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
 from .damping import damping_ratios
@@ -46,6 +47,7 @@ def simulate(
     gravity_m_s2: np.ndarray | None = None,
     integrator: Integrator | None = None,
     progress: bool = False,
+    spin_rad_s: float | None = None,
     **changes: Any,
 ) -> Trajectory:
     """Integrate the PRBDM's equations of motion from (q0, v0) over ``duration_s``.
@@ -93,6 +95,12 @@ def simulate(
         applied to ``options``; ``method="gauss"`` with ``dt_s``, ``rtol`` ... spells the same.
     progress : bool
         Show a progress bar over the simulated time.
+    spin_rad_s : float, optional
+        Hub models: start from the hub's steady spin at this rate, rad/s: it is added to the
+        hub's entry of ``v0`` (which is then the deviation from the spin, as the states of
+        ``linearize(..., spin_rad_s=...)``). The hub stays free: with no ``hub_torque`` it keeps
+        spinning (the straight pose is the spinning chain's relative equilibrium), and a
+        ``hub_torque`` input changes its rate.
     **changes
         Options by name, applied to ``options`` (``simulate(model, 1.0, method="gauss")``).
 
@@ -116,6 +124,13 @@ def simulate(
     duration_s = float(duration_s)
     q0 = vector("q0", q0, n)
     v0 = vector("v0", v0, n)
+    spin = check_float("spin_rad_s", spin_rad_s, optional=True, unit="rad/s")
+    if spin:
+        if not hub:
+            raise BeamInputError(f"spin_rad_s = {spin!r}: needs a hub to spin (a model built "
+                                 "with hub=Hub(...))")
+        v0 = v0.copy()
+        v0[0] += spin
     force, constant_force = force_function(tip_force)
     xi = damping_ratios(np.asarray(o.damping_ratio, dtype=float) if isinstance(
         o.damping_ratio, tuple) else o.damping_ratio, n_springs)
