@@ -123,7 +123,7 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
         except BeamInputError as exc:
             raise BeamInputError(f"{what}: {exc}") from None
     else:
-        lengths = dyn.planar_lengths(model, tip)
+        lengths = dyn.planar_lengths(model, tip, hub_any_axis=True)
     hub = None
     if model.njoints > 2 and model.names[1] == HUB_JOINT:
         # the first offset is the hub's (0); the second is the radius plus link 0
