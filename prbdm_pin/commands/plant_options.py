@@ -23,7 +23,7 @@ def add_plant_options(p: argparse.ArgumentParser) -> None:
                         "strain[i] is the i-th)")
     p.add_argument("--hub", default=None, metavar="INERTIA:RADIUS",
                    help="a rotating hub at the root: inertia kg m^2, radius m")
-    p.add_argument("--hub-axis", default=None, choices=("x", "y", "z"),
+    p.add_argument("--hub-axis", default=None, metavar="{x,y,z}",
                    help="the world axis the --hub turns about (default y, in the beam's "
                         "bending plane; z: the beam sweeps the xy-plane and bends out of it; x: "
                         "the beam spins about its own axis)")
@@ -72,6 +72,9 @@ def hub_option(text: str | None, axis: str | None = None):
     """Return ``--hub INERTIA:RADIUS`` with ``--hub-axis`` as a Hub (None without ``--hub``)."""
     from ..model.hub import Hub
 
+    if axis is not None and axis not in ("x", "y", "z"):
+        raise BeamInputError(f"--hub-axis = {axis!r}: must be x, y or z (the world axis the "
+                             "hub turns about)")
     if text is None:
         if axis is not None:
             raise BeamInputError(f"--hub-axis = {axis!r}: needs --hub INERTIA:RADIUS")
