@@ -44,13 +44,14 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "scripts"))
 
+from docs_tables import write_table  # noqa: E402
 from rotating_beam import rotating_beam_frequencies  # noqa: E402
 
 from prbdm_pin.cli import main as prbdm  # noqa: E402
 from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.files.fit_file import load_fit  # noqa: E402
-from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 from prbdm_pin.io.record_checks import LINK_FLOOR_FRACTION  # noqa: E402
 from prbdm_pin.model.hub import Hub  # noqa: E402
 from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
@@ -145,11 +146,8 @@ def main() -> int:
         lines += rows(fitted(5, "eigen", work), "5R eigen-only fit", spin, refs)
     lines += ["", "Written by `python scripts/bench_spin.py`."]
     text = "\n".join(lines) + "\n"
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out, text)
-    if out.resolve() == (ROOT / "results" / "bench_spin.md").resolve():
-        atomic_write_text(ROOT / "docs" / "benchmarks" / "bench_spin.md", text)
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    write_table(args.out, text, ap.get_default("out"), "bench_spin")
     print(text)
     return 0
 
