@@ -20,6 +20,12 @@ hub about z, the strip sweeps the xy-plane and bends out of it (flapping, Southw
   Hermite elements with the centrifugal tension and, in plane, the -rho A Omega^2 softening;
   it reproduces Hodges & Rutkowski's table to its 5 digits): the error, %.
 
+Second table: Epps & Chandra's rotating aluminium strip (the unswept case; dimensions and
+measured frequencies from GXBeam.jl's test/examples/rotating.jl: 37.5 in from a 2.5 in hub
+radius, 1 in x 0.063 in, E = 1.06e7 psi, rho = 2.51e-4 lbf s^2/in^4), flapping at 0, 500 and
+750 rpm: 5R and 8R combined fits of it (the fit above, its tip load P L^2 / EI = 1) and the rotating
+cantilever against the measurements.
+
 Writes a Markdown table to results/bench_spin.md and docs/benchmarks/bench_spin.md (or the
 path given with --out). BLAS is pinned to one thread before numpy is imported.
 
@@ -64,15 +70,15 @@ PLANES = (("z", "out", "flapping (hub about z)"), ("y", "in", "lead-lag (hub abo
 H = 1e-4  # rad, the closed form's second-difference step
 
 
-def fitted(n: int, objective: str, work: Path):
-    """Return the nR fit of the strip (``prbdm fit``, 2 starts, joint springs)."""
-    out = work / f"{objective}-{n}"
-    rc = prbdm(["fit", str(BEAM_FILE), "--joints", str(n), "--truth-model", "beam",
+def fitted(n: int, objective: str, work: Path, beam_file: Path = BEAM_FILE):
+    """Return the nR fit of a strip (``prbdm fit``, 2 starts, joint springs)."""
+    out = work / f"{beam_file.stem}-{objective}-{n}"
+    rc = prbdm(["fit", str(beam_file), "--joints", str(n), "--truth-model", "beam",
                 "--objective", objective, "--stiffness", "joint", "--starts", "2",
                 "--cache-dir", str(work / "cache"), "--out", str(out), "-q"])
     if rc != 0:
         raise SystemExit(f"prbdm fit failed for n = {n} ({objective})")
-    return load_fit(out / "fit.json", beam=load_beam(BEAM_FILE))
+    return load_fit(out / "fit.json", beam=load_beam(beam_file))
 
 
 def held_frequencies(K: np.ndarray, M: np.ndarray) -> np.ndarray:
@@ -117,6 +123,51 @@ def rows(fit, label: str, spin: float, refs: dict) -> list[str]:
     return out
 
 
+# Epps & Chandra's strip, SI units (inch, lbf)
+INCH, LBF = 0.0254, 4.4482216152605
+EC = {"E": 1.06e7 * LBF / INCH**2, "rho": 2.51e-4 * LBF / INCH**4, "L": 37.5 * INCH,
+      "w": 1.0 * INCH, "h": 0.063 * INCH, "r": 2.5 * INCH}
+EC_MEASURED_HZ = {0: (1.4, 10.3, 27.7), 500: (10.2, 25.2, 47.0), 750: (14.8, 36.1, 62.9)}
+
+
+def epps_chandra(work: Path) -> list[str]:
+    """5R and 8R fits of Epps & Chandra's strip and the rotating cantilever against the test."""
+    from prbdm_pin.files.beam_file import beam_from_dict, save_beam
+
+    L, w, h = EC["L"], EC["w"], EC["h"]
+    EIs, rA = EC["E"] * w * h**3 / 12.0, EC["rho"] * w * h
+    # the combined fit's tip load: P L^2 / (E I) = 1, as uniform-narrow.json has it
+    beam = beam_from_dict({"name": "epps-chandra", "length": L, "x": [0.0, L],
+                           "half_width": [w / 2, w / 2], "thickness": h,
+                           "tip_force": [0.0, 0.0, -EIs / L**2],
+                           "material": {"name": "aluminium", "E": EC["E"], "rho": EC["rho"],
+                                        "nu": 0.325}})
+    path = save_beam(beam, work / "epps-chandra.json")
+    lines = ["", "## Epps & Chandra's rotating strip (unswept), flapping", "",
+             "| model | rpm | measured 1/2/3 (Hz) | rotating beam (Hz) | model (Hz) | "
+             "model vs measured (%) | model vs rotating beam (%) |",
+             "|---|---|---|---|---|---|---|"]
+
+    def fmt(v, d=2):
+        return " / ".join(f"{x:.{d}f}" for x in v)
+
+    for n in (5, 8):
+        fit = fitted(n, "combined", work, path)
+        model = build_model(beam, fit.lengths_m, fit.stiffness_Nm_per_rad,
+                            hub=Hub(1e3, EC["r"], "z"), min_fraction=LINK_FLOOR_FRACTION)
+        for rpm, f_exp in EC_MEASURED_HZ.items():
+            spin = rpm * 2 * np.pi / 60
+            lin = linearize(model, inputs=("hub_torque",), outputs=("hub_angle",),
+                            spin_rad_s=spin, damping_ratio=0.0)
+            f = held_frequencies(lin.stiffness_Nm_per_rad, lin.mass_kg_m2)[:3] / (2 * np.pi)
+            ref = rotating_beam_frequencies(L, EIs, rA, spin, EC["r"], "out") / (2 * np.pi)
+            lines.append(
+                f"| {n}R combined fit | {rpm} | {fmt(f_exp, 1)} | {fmt(ref)} | {fmt(f)} | "
+                f"{' / '.join(f'{x:+.1f}' for x in 100 * (f / np.array(f_exp) - 1))} | "
+                f"{' / '.join(f'{x:+.2f}' for x in 100 * (f / ref - 1))} |")
+    return lines
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(ROOT / "results" / "bench_spin.md"))
@@ -144,6 +195,7 @@ def main() -> int:
         for n in (3, 5, 8):
             lines += rows(fitted(n, "combined", work), f"{n}R combined fit", spin, refs)
         lines += rows(fitted(5, "eigen", work), "5R eigen-only fit", spin, refs)
+        lines += epps_chandra(work)
     lines += ["", "Written by `python scripts/bench_spin.py`."]
     text = "\n".join(lines) + "\n"
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)

@@ -15,7 +15,7 @@ from paths import BEAMS
 from rotating_beam import rotating_beam_frequencies, southwell_coefficients
 from tolerances import EPS
 
-from prbdm_pin import BeamInputError, Hub, build_model, linearize, simulate
+from prbdm_pin import BeamInputError, Hub, beam_from_dict, build_model, linearize, simulate
 from prbdm_pin.files.beam_file import load_beam
 from prbdm_pin.io.record_checks import LINK_FLOOR_FRACTION
 from prbdm_pin.plant.spin import spinning_frequencies
@@ -139,6 +139,37 @@ def test_fine_chain_converges_to_the_rotating_cantilever(axis, plane):
     w2_0 = spinning_frequencies(m, 0.0, hub_free=False, squared=True)[0]
     k_ref_at_spin = (ref[0] ** 2 - w0[0] ** 2) / spin**2
     assert (w2 - w2_0) / spin**2 == pytest.approx(k_ref_at_spin, abs=0.005)
+
+
+def test_epps_chandra_strip_within_the_experiment_scatter():
+    # Epps & Chandra's rotating aluminium strip (the unswept case; dimensions and measured
+    # frequencies as GXBeam.jl's test/examples/rotating.jl gives them): 37.5 in from a hub
+    # radius of 2.5 in, 1 in x 0.063 in, E = 1.06e7 psi, rho = 2.51e-4 lbf s^2/in^4, flapping
+    # (hub about z) at 0, 500 and 750 rpm; modes 1-3, Hz
+    inch, lbf = 0.0254, 4.4482216152605
+    E, rho = 1.06e7 * lbf / inch**2, 2.51e-4 * lbf / inch**4
+    L, w, h, r = 37.5 * inch, 1.0 * inch, 0.063 * inch, 2.5 * inch
+    beam = beam_from_dict({"name": "epps-chandra", "length": L, "x": [0.0, L],
+                           "half_width": [w / 2, w / 2], "thickness": h,
+                           "material": {"name": "aluminium", "E": E, "rho": rho, "nu": 0.325}})
+    EIs = E * w * h**3 / 12.0
+    n = 20
+    l = L / n
+    model = build_model(beam, l * np.array([0.5] + [1.0] * (n - 1) + [0.5]), np.full(n, EIs / l),
+                        hub=Hub(1e3, r, "z"), min_fraction=LINK_FLOOR_FRACTION)
+    measured = {0: (1.4, 10.3, 27.7), 500: (10.2, 25.2, 47.0), 750: (14.8, 36.1, 62.9)}
+    for rpm, f_exp in measured.items():
+        spin = rpm * 2 * np.pi / 60
+        f = spinning_frequencies(model, spin, hub_free=False)[:3] / (2 * np.pi)
+        ref = rotating_beam_frequencies(L, EIs, rho * w * h, spin, r, "out") / (2 * np.pi)
+        # the chain against the beam theory: its 20-segment discretisation, O(1/n^2) (3.7-3.8
+        # times smaller than at n = 10), growing with the centrifugal share of the stiffness:
+        # 0.06-0.33 % at rest, up to 1.07 % at 750 rpm (Omega = 8.4 omega_1)
+        np.testing.assert_allclose(f, ref, rtol=0.012)
+        # the experiment: its mode 1 at rest reads 1.4 to 1.8 Hz over the four tip sweeps that
+        # share this straight root, a scatter of +-12 %; beam theory and chain are within 10 %
+        # of every measurement (measured -9.6 to +6.3 %)
+        np.testing.assert_array_less(np.abs(f / np.array(f_exp) - 1.0), 0.12)
 
 
 def test_spin_about_the_beam_axis_softens_by_omega_squared():
