@@ -72,3 +72,13 @@ def test_spin_refusals_exit_2_with_one_line(model_json, tmp_path, capsys, argv, 
     assert err.count("\n") == 1 and err.startswith("prbdm linearize: error: "), err
     assert needle in err
     assert not out.exists()
+
+
+def test_export_carries_the_hub_axis(model_json, tmp_path):
+    from prbdm_pin import load_urdf
+
+    out = tmp_path / "hub.urdf"
+    rc = main(["export", str(model_json), "--format", "urdf", "--hub", "50:0.1",
+               "--hub-axis", "x", "--out", str(out), "-q"])
+    assert rc == 0
+    assert load_urdf(out).hub == Hub(50.0, 0.1, "x")

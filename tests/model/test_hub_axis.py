@@ -124,3 +124,21 @@ def test_loaded_hub_about_z_balances_as_the_clamped_chain():
 def test_hub_axis_refusals(bad):
     with pytest.raises(BeamInputError, match="Hub axis"):
         Hub(1.0, 0.1, bad)
+
+
+@pytest.mark.parametrize("axis", ["x", "z"])
+def test_hub_out_of_the_bending_plane_leaves_the_clamped_modes(axis):
+    # a hub about x or z moves the beam along y, which no bending joint (about y) does, and
+    # turns it about an axis orthogonal to theirs: at the straight pose M_hf = 0, so the
+    # flexible modes are the clamped chain's (its own scaled eigensolver; a few roundings of
+    # the spread (w_max / w_min)^2 = 1e3 apart)
+    hub = build_model(BEAM, LENGTHS, SPRINGS, hub=Hub(50.0, 0.1, axis))
+    clamped = build_model(BEAM, LENGTHS, SPRINGS)
+    assert not np.any(hub.mass_matrix()[0, 1:])
+    w = hub.natural_frequencies()
+    w_c = clamped.natural_frequencies()
+    assert w[0] == 0.0
+    np.testing.assert_allclose(w[1:], w_c, rtol=5000 * EPS * (w_c[-1] / w_c[0]) ** 2)
+    omega, Phi = hub.modes()
+    np.testing.assert_allclose(Phi.T @ hub.mass_matrix() @ Phi, np.eye(4), atol=5000 * EPS)
+    np.testing.assert_allclose(omega, w, rtol=5000 * EPS * (w_c[-1] / w_c[0]) ** 2)
