@@ -82,3 +82,44 @@ def test_export_carries_the_hub_axis(model_json, tmp_path):
                "--hub-axis", "x", "--out", str(out), "-q"])
     assert rc == 0
     assert load_urdf(out).hub == Hub(50.0, 0.1, "x")
+
+
+def test_simulate_spin_keeps_the_free_hub_spinning(model_json, tmp_path):
+    out = tmp_path / "sim"
+    spin, T = 20.0, 0.2
+    rc = main(["simulate", str(model_json), "--duration", str(T), "--hub", "50:0.1",
+               "--hub-axis", "z", "--spin", str(spin), "--outputs", "hub_angle,hub_rate",
+               "--out", str(out), "-q"])
+    assert rc == 0
+    rows = (out / "trajectory.csv").read_text().splitlines()
+    head = rows[0].split(",")
+    data = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
+    t = data[:, head.index("t_s")]
+    # the straight pose is the spinning chain's relative equilibrium: the hub turns at the
+    # constant rate (the default method with --spin is gauss: its rounding over the run)
+    np.testing.assert_allclose(data[:, head.index("hub_angle_rad")], spin * t, rtol=0.0,
+                               atol=1000 * EPS * spin * T)
+    np.testing.assert_allclose(data[:, head.index("hub_rate_rad_s")], spin, rtol=1000 * EPS)
+    # the tip runs round the circle of radius r + L = 1.1 m in the xy-plane
+    x, y = data[:, head.index("tip_x_m")], data[:, head.index("tip_y_m")]
+    np.testing.assert_allclose(np.hypot(x, y), 1.1, rtol=1000 * EPS)
+    np.testing.assert_allclose(np.arctan2(y, x), np.arctan2(np.sin(spin * t), np.cos(spin * t)),
+                               atol=1000 * EPS * spin * T)
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["--spin", "10"], "--spin = 10.0: needs --hub"),
+    (["--hub", "50:0.1", "--spin", "10", "--compare-truth"], "--spin = 10.0: --compare-truth"),
+    (["--hub", "50:0.1", "--spin", "inf"], "--spin = inf"),
+    (["--hub", "50:0.1", "--spin", "10", "--method", "exponential"],
+     "spin_rad_s = 10.0: the exponential integrator"),
+])
+def test_simulate_spin_refusals(model_json, tmp_path, capsys, argv, needle):
+    out = tmp_path / "never"
+    rc = main(["simulate", str(model_json), "--duration", "0.1", "--out", str(out), "-q",
+               *argv])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert err.count("\n") == 1 and err.startswith("prbdm simulate: error: "), err
+    assert needle in err
+    assert not out.exists()
