@@ -104,7 +104,9 @@ def linearize(
         enters ``stiffness_Nm_per_rad`` and the gyroscopic dh/dv ``damping_Nms_per_rad``, both
         from Pinocchio's RNEA derivatives (:mod:`prbdm_pin.plant.spin`). The unloaded straight
         pose is the relative equilibrium for every hub axis; a spin with ``load_N`` or
-        ``gravity_m_s2`` is refused (no steady equilibrium).
+        ``gravity_m_s2`` is refused (no steady equilibrium). ``lin.modal()`` solves (K_e, M)
+        and so leaves the gyroscopic term out: it is zero at the straight pose (a ``q_eq``
+        elsewhere: the eigenvalues of ``lin.A`` carry it).
 
     Returns
     -------
