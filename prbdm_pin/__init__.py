@@ -51,6 +51,7 @@ _EXPORTS = {
     "linearize": "plant.linearize",
     "statics": "plant.statics",
     "spinning_frequencies": "plant.spin",
+    "gyroscopic_frequencies": "plant.spin",
     "StaticEquilibrium": "plant.statics",
     "LinearModel": "plant.state_space",
     "ModalData": "plant.state_space",

@@ -10,7 +10,6 @@ import json
 import sys
 from pathlib import Path
 
-from ..errors import BeamInputError
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
 from .plant_options import (
@@ -21,6 +20,7 @@ from .plant_options import (
     names_option,
     with_hub,
 )
+from .spin_options import check_spin_option, spin_record
 
 EXAMPLES = """\
 examples:
@@ -49,9 +49,11 @@ torque. A spatial fit (axes xy, yz, xyz) is linearised through its general kinem
 
 Hub and spin: --hub-axis y (the default) turns the beam in its own bending plane, z sweeps it
 through the xy-plane with the bending out of that plane, x spins it about its own axis.
---spin RAD_S linearises about the hub's steady spin (unloaded, straight pose): the centrifugal
-stiffness and the gyroscopic terms from Pinocchio's RNEA derivatives; the states are deviations
-from the spinning motion, and the omega listed (and the modal table) are the spinning plant's.
+--spin RAD_S linearises about the hub's steady spin (straight, or coned under a --load or
+--gravity along the hub axis; off the axis they are refused): the centrifugal stiffness and the
+gyroscopic terms from Pinocchio's RNEA derivatives; the states are deviations from the spinning
+motion; linear_model.json's spin_frequencies_rad_s (and the omega printed) are the spinning
+plant's undamped flexible frequencies with its gyroscopic coupling.
 
 Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
 ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.
@@ -103,8 +105,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="gravity, m/s^2, world (default none)")
     p.add_argument("--spin", type=float, default=None, metavar="RAD_S",
                    help="linearise about the --hub spinning steadily at this rate, rad/s, about "
-                        "--hub-axis (unloaded, no gravity; the modes listed are the spinning "
-                        "plant's)")
+                        "--hub-axis (--load and --gravity only along that axis; writes the "
+                        "spinning plant's frequencies)")
     p.add_argument("--damping-ratio", type=float, default=0.02, metavar="ZETA",
                    help="damping ratio of every flexible mode (modal) or the lowest "
                         "(stiffness) (default 0.02)")
@@ -144,15 +146,7 @@ def check_options(args: argparse.Namespace) -> dict:
              why="a damping ratio of underdamped modes")
     if args.dt is not None:
         in_range("--dt", args.dt, 0.0, lo_open=True, unit="s")
-    if args.spin is not None:
-        in_range("--spin", args.spin, unit="rad/s")
-        if out["hub"] is None:
-            raise BeamInputError(f"--spin = {args.spin!r}: needs --hub INERTIA:RADIUS (the hub "
-                                 "spins)")
-        if any(out["load"]) or any(out["gravity"]):
-            raise BeamInputError(f"--spin = {args.spin!r}: a spinning hub has no steady "
-                                 "equilibrium under --load or --gravity (they turn with the "
-                                 "world, not the hub); drop them")
+    check_spin_option(args.spin, out)
     writable_dir(args.out, "--out")
     from .compare_truth import check_compare_options
 
@@ -260,7 +254,7 @@ def run(args: argparse.Namespace) -> int:
         "hub": None if opts["hub"] is None else {
             "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m,
             "axis": opts["hub"].axis},
-        "spin_rad_s": 0.0 if args.spin is None else args.spin,
+        **spin_record(args.spin, lin),
         "actuators_m": [[a.x_start_m, a.x_end_m] for a in opts["actuators"]],
         **actuator_weights_record(model, opts["actuators"]),
         "load_N": opts["load"], "gravity_m_s2": opts["gravity"],
@@ -296,7 +290,8 @@ def run(args: argparse.Namespace) -> int:
                               json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
         atomic_write_text(stage / "linear_model.json", json.dumps(record, indent=2) + "\n")
     if not args.quiet:
-        w = ", ".join(f"{x:.4g}" for x in lin.modal().omega_rad_s)
+        w = ", ".join(f"{x:.4g}" for x in (record["spin_frequencies_rad_s"] if args.spin
+                                             else lin.modal().omega_rad_s))
         print(f"{lin.A.shape[0]} states, {len(lin.input_names)} inputs, "
               f"{len(lin.output_names)} outputs; omega = [{w}] rad/s; wrote "
               f"{out / 'linear_model.json'}", file=sys.stderr)

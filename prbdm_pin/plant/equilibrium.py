@@ -26,6 +26,7 @@ from ..chain.planar import force_and_load_stiffness
 from ..chain.spatial_tangent import residual_and_tangent, wrench_tangent
 from ..chain.statics import static_deflection_planar
 from ..errors import BeamInputError, SolveError
+from .spin import spin_terms
 
 __all__ = ["check_vector", "planar_lengths_with_hub", "gravity_model", "static_terms",
            "equilibrium"]
@@ -101,13 +102,16 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
 
 
 def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float = 1e-10,
-                max_iter: int = 60, moment_Nm: np.ndarray | None = None
-                ) -> tuple[np.ndarray, float]:
+                max_iter: int = 60, moment_Nm: np.ndarray | None = None,
+                spin_rad_s: float = 0.0) -> tuple[np.ndarray, float]:
     """Return the equilibrium pose (rad, (nv,)) and the trim hub torque (N m).
 
     The pose is under the dead tip load (N), the dead tip moment ``moment_Nm`` (N m, world;
     default none) and the gravity of ``pm_g``; the trim torque holds the hub at 0 (0.0
-    without a hub).
+    without a hub). With ``spin_rad_s`` (rad/s, a hub model) it is the relative equilibrium of
+    the hub spinning at that rate: the centrifugal terms h(q, (Omega, 0...)) join the static
+    ones (:mod:`prbdm_pin.plant.spin`; the caller checks that the loads do not turn
+    relative to the hub).
 
     Without gravity and hub this is :meth:`PrbdmModel.static_deflection`; otherwise damped
     Newton steps on the beam joints from the planar statics' pose.
@@ -137,6 +141,9 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
 
     def norm(q: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         r, H = static_terms(model, q, load_N, pm_g, data_g, moment)
+        if spin_rad_s:
+            h, dh_dq, _ = spin_terms(model, q, spin_rad_s)
+            r, H = r + h, H + dh_dq
         return math.sqrt(float(r[free] @ r[free])), r, H
 
     def converged(q: np.ndarray, r: np.ndarray, rn: float, rel: float) -> bool:

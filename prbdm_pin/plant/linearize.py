@@ -103,10 +103,13 @@ def linearize(
         (the hub angle less Omega t, the hub rate less Omega); the centrifugal stiffness dh/dq
         enters ``stiffness_Nm_per_rad`` and the gyroscopic dh/dv ``damping_Nms_per_rad``, both
         from Pinocchio's RNEA derivatives (:mod:`prbdm_pin.plant.spin`). The unloaded straight
-        pose is the relative equilibrium for every hub axis; a spin with ``load_N`` or
-        ``gravity_m_s2`` is refused (no steady equilibrium). ``lin.modal()`` solves (K_e, M)
-        and so leaves the gyroscopic term out: it is zero at the straight pose (a ``q_eq``
-        elsewhere: the eigenvalues of ``lin.A`` carry it).
+        pose is the relative equilibrium for every hub axis; ``load_N`` and ``gravity_m_s2``
+        along the hub axis give a coned one (solved with the centrifugal terms), and off it
+        they are refused (no steady equilibrium). ``lin.modal()`` solves (K_e, M) and so
+        leaves the gyroscopic term G out: zero at the straight pose, not at a coned one
+        (Omega dM_hh/dq couples the flapping rates to the hub's); ``lin.A`` carries it, and
+        :func:`prbdm_pin.plant.spin.gyroscopic_frequencies` gives the undamped frequencies
+        with it.
 
     Returns
     -------
@@ -139,7 +142,7 @@ def linearize(
     spin = check_spin(model, spin_rad_s, F, g)
     pm_g = gravity_model(model, g)
     if q_eq is None:
-        q, trim = equilibrium(model, F, pm_g)
+        q, trim = equilibrium(model, F, pm_g, spin_rad_s=spin)
     else:
         q = _pose(model, q_eq)
         r = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[0]
@@ -150,11 +153,13 @@ def linearize(
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
+    G = None
     if spin:
-        h, dh_dq, dh_dv = spin_terms(model, q, spin)
+        h, dh_dq, G = spin_terms(model, q, spin)
         K = K + 0.5 * (dh_dq + dh_dq.T)  # -Omega^2/2 d2M_hh/dq2: symmetric but for roundings
-        Cd = Cd + dh_dv
+        Cd = Cd + G
         trim += float(h[0])  # the hub torque that holds the rate at this pose
+        G.setflags(write=False)
     nv, m, p = M.shape[0], Bq.shape[1], Cq.shape[0]
     try:
         np.linalg.cholesky(M)  # the check: M must be positive definite
@@ -185,5 +190,6 @@ def linearize(
         output_names=out_names, input_units=tuple(input_unit(s) for s in in_names),
         output_units=tuple(output_unit(s) for s in out_names), q_eq=q, u_eq=u_eq, y_eq=y_eq,
         mass_kg_m2=M, stiffness_Nm_per_rad=K, damping_Nms_per_rad=Cd, input_map=Bq,
-        output_map_position=Cq, output_map_rate=Cv, hub=hub,
+        output_map_position=Cq, output_map_rate=Cv, hub=hub, spin_rad_s=spin,
+        gyroscopic_Nms_per_rad=G,
     )

@@ -13,7 +13,9 @@ with no torque keeps spinning at the relative equilibrium). Linearised about it:
 dh/dq and dh/dv come from ``pinocchio.computeRNEADerivatives`` at (q_eq, (Omega, 0...), 0):
 dh/dq is -Omega^2 / 2 d^2 M_hh / dq^2 on the beam joints (the hub angle is cyclic: M does not
 depend on it), the centrifugal stiffening (or softening, a negative term in the plane of
-rotation); dh/dv is Omega (dM_ih/dq_j - dM_jh/dq_i), the gyroscopic (Coriolis) coupling.
+rotation); dh/dv is Omega (dM_ih/dq_j - dM_jh/dq_i), the gyroscopic (Coriolis) coupling
+(skew; on the hub's row and column Omega dM_hh/dq_j, zero at the straight pose where M_hh is
+stationary, not at a coned one).
 
 When is the straight pose the relative equilibrium? The beam joints turn about y and the beam
 lies along x. Centrifugal forces act away from the hub axis through the origin: on the straight
@@ -22,7 +24,10 @@ hub about x (the beam on the axis), so they exert no moment about any beam joint
 and the unloaded straight pose is the relative equilibrium for every hub axis. A dead tip load
 or gravity turns with the world, not with the hub, so the loaded spinning beam has no steady
 relative equilibrium in general (the load's direction in the hub frame goes round once a turn):
-:func:`check_spin` refuses them.
+:func:`check_spin` refuses them, unless they lie along the hub axis, where a turn leaves them
+as they are (a rotor about z under gravity or a tip lift along z: the beam cones). Then the
+relative equilibrium solves K q + g(q) - J^T F + h(q, (Omega, 0...)) = 0 on the beam joints
+(:func:`prbdm_pin.plant.equilibrium.equilibrium`, Newton with the tangent K_e + dh/dq).
 """
 
 from __future__ import annotations
@@ -35,19 +40,19 @@ from ..errors import BeamInputError, InputTypeError
 from ..model.hub import schur_mass
 from ..options.checks import check_bool, check_float
 
-__all__ = ["check_spin", "spin_terms", "spinning_frequencies"]
+__all__ = ["check_spin", "gyroscopic_frequencies", "spin_terms", "spinning_frequencies"]
 
 
 def check_spin(model, spin_rad_s, load_N: np.ndarray | None, gravity_m_s2: np.ndarray | None
                ) -> float:
     """Return ``spin_rad_s`` (rad/s) checked for ``model``: a finite float, 0.0 for None.
 
-    A spin needs a hub, and no dead tip load or gravity (module notes).
+    A spin needs a hub, and a dead tip load or gravity only along the hub axis (module notes).
 
     Raises
     ------
     BeamInputError
-        Naming ``spin_rad_s`` (not finite, no hub, a load or gravity with it).
+        Naming ``spin_rad_s`` (not finite, no hub, a load or gravity off the hub axis).
     """
     w = check_float("spin_rad_s", spin_rad_s, optional=True, unit="rad/s")
     if w is None or w == 0.0:
@@ -55,12 +60,14 @@ def check_spin(model, spin_rad_s, load_N: np.ndarray | None, gravity_m_s2: np.nd
     if model.hub is None:
         raise BeamInputError(f"spin_rad_s = {w!r}: needs a hub to spin (build the model with "
                              "hub=Hub(...))")
+    off_axis = [i for i, a in enumerate("xyz") if a != model.hub.axis]
     for name, v in (("load_N", load_N), ("gravity_m_s2", gravity_m_s2)):
-        if v is not None and np.any(v):
+        if v is not None and np.any(np.asarray(v)[off_axis]):
             raise BeamInputError(f"spin_rad_s = {w!r} with {name} = {np.asarray(v).tolist()}: "
-                                 "a dead load or gravity turns with the world, not the hub, so "
-                                 "the spinning beam has no steady equilibrium under it; "
-                                 "linearise the spinning beam unloaded")
+                                 "a dead load or gravity off the hub axis "
+                                 f"({model.hub.axis}) turns relative to the spinning hub, so "
+                                 "the beam has no steady equilibrium under it; give it along "
+                                 "the hub axis, or none")
     return float(w)
 
 
@@ -143,3 +150,35 @@ def spinning_frequencies(model, spin_rad_s: float, hub_free: bool = True,
     Mf = schur_mass(M) if free else M[1:, 1:]
     w2 = generalized_eigh(K[1:, 1:], Mf, "spinning frequencies", vectors=False)
     return w2 if check_bool("squared", squared) else np.sqrt(np.clip(w2, 0.0, None))
+
+
+def gyroscopic_frequencies(lin) -> np.ndarray:
+    """Return the undamped flexible frequencies of a linearised spinning plant, rad/s.
+
+    The eigenvalues +-i omega of M q'' + G q' + K_e q = 0 (``lin`` from
+    :func:`prbdm_pin.linearize` with ``spin_rad_s``; G its ``gyroscopic_Nms_per_rad``),
+    ascending, one per pair, the rigid mode's zeros left out. At the straight pose G = 0 and
+    they are ``lin.modal()``'s; at a coned pose G couples the hub to the flapping.
+
+    Raises
+    ------
+    BeamInputError
+        ``lin`` not linearised about a spin (InputTypeError: not a LinearModel).
+    """
+    from .state_space import LinearModel
+
+    if not isinstance(lin, LinearModel):
+        raise InputTypeError(f"lin = {lin!r:.60}: must be a prbdm_pin.LinearModel (linearize)")
+    G = lin.gyroscopic_Nms_per_rad
+    if G is None:
+        raise BeamInputError("lin: not linearised about a spin (linearize(..., spin_rad_s=...))")
+    M, K = lin.mass_kg_m2, lin.stiffness_Nm_per_rad
+    n = M.shape[0]
+    X = np.linalg.solve(M, np.hstack([K, G]))
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-X[:, :n], -X[:, n:]]])
+    lam = np.linalg.eigvals(A)
+    # a gyroscopic conservative system: purely imaginary pairs (and the rigid mode's zeros)
+    w = np.sort(np.abs(lam.imag[lam.imag > 0.0]))
+    if lin.hub:
+        w = w[w > 1e-9 * max(float(w.max(initial=0.0)), 1e-300)]
+    return w

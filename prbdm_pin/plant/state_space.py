@@ -77,6 +77,13 @@ class LinearModel:
         C_q and C_v.
     hub : bool
         Whether coordinate 0 is a hub joint.
+    spin_rad_s : float
+        The hub's steady rate the plant was linearised about, rad/s (0: at rest).
+    gyroscopic_Nms_per_rad : ndarray (nv, nv) or None
+        G = dh/dv of a spinning plant (skew; part of ``damping_Nms_per_rad``, which is
+        C_d + G); None at rest. :meth:`modal` leaves it out (it solves (K_e, M)); G is zero
+        at the straight pose, and :func:`prbdm_pin.plant.spin.gyroscopic_frequencies` takes
+        it in elsewhere.
     """
 
     A: np.ndarray
@@ -98,6 +105,8 @@ class LinearModel:
     output_map_position: np.ndarray
     output_map_rate: np.ndarray
     hub: bool = False
+    spin_rad_s: float = 0.0
+    gyroscopic_Nms_per_rad: np.ndarray | None = None
 
     def to_control(self):
         """Return the plant as a ``control.StateSpace`` (python-control), with signal names."""

@@ -46,6 +46,9 @@ def test_spin_writes_the_spinning_plant(model_json, tmp_path, axis):
     # two solves of one pencil (the plant's modal view, scipy's eigvalsh of the Schur
     # complement): EPS (w_max / w_min)^2 each, ~1e-12 here
     np.testing.assert_allclose(omega[1:], ref, rtol=50 * EPS * (ref[-1] / ref[0]) ** 2)
+    # straight: no gyroscopic coupling, the record's spinning frequencies are the modal ones
+    np.testing.assert_allclose(d["spin_frequencies_rad_s"], ref,
+                               rtol=50 * EPS * (ref[-1] / ref[0]) ** 2)
     # the state matrix's undamped part has the same frequencies: the spin is in A
     A = np.load(out / "linear_model.npz")["A"]
     ev = np.linalg.eigvals(A)
@@ -62,7 +65,9 @@ def test_spin_writes_the_spinning_plant(model_json, tmp_path, axis):
     (["--hub", "50:0.1", "--spin", "nan"], "--spin = nan"),
     (["--hub", "50:0.1", "--spin", "10", "--load", "0,0,-1"], "--spin = 10.0: a spinning hub"),
     (["--hub", "50:0.1", "--spin", "10", "--gravity", "0,0,-9.81"],
-     "--spin = 10.0: a spinning hub"),
+     "off its axis (y"),
+    (["--hub", "50:0.1", "--hub-axis", "z", "--spin", "10", "--gravity", "0,-9.81,0"],
+     "off its axis (z"),
 ])
 def test_spin_refusals_exit_2_with_one_line(model_json, tmp_path, capsys, argv, needle):
     out = tmp_path / "never"
