@@ -123,9 +123,9 @@ def spinning_frequencies(model, spin_rad_s: float, hub_free: bool = True,
     -------
     ndarray, shape (n,)
         Ascending. The stiffness is K - Omega^2 / 2 d^2 M_hh / dq^2 (RNEA derivatives); the
-        gyroscopic term dh/dv vanishes at the straight pose of this chain (its beam joints turn
-        about y, so the hub's row of M is flat there), so the undamped modes of (K, M) are the
-        linear plant's.
+        gyroscopic term dh/dv vanishes at the straight pose (the hub's row of M, M_hh
+        included, is even in every joint angle there, so stationary), so the undamped modes
+        of (K, M) are the linear plant's.
 
     Raises
     ------

@@ -76,8 +76,8 @@ def test_spin_stiffness_is_minus_half_omega_squared_hessian_of_hub_inertia(axis)
     closed = -0.5 * spin**2 * H1
     assert np.all(np.abs(Ks - closed) <= 0.5 * spin**2 * bound + 1e-9 * np.abs(Ks).max())
     assert not np.any(Ks[0]) and not np.any(Ks[:, 0])  # the hub angle is cyclic
-    # the gyroscopic term: the hub's row of M is flat at the straight pose (its derivatives
-    # are products of sines of the joint angles), so dh/dv is zero there
+    # the gyroscopic term: the hub's row of M (M_hh included) is even in every joint angle
+    # about the straight pose, so stationary there, and dh/dv is zero
     base = linearize(model, inputs=("hub_torque",), outputs=("hub_angle",))
     np.testing.assert_array_equal(lin.damping_Nms_per_rad, base.damping_Nms_per_rad)
 
