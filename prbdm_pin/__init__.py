@@ -52,6 +52,8 @@ _EXPORTS = {
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
     "statics": "plant.statics",
+    "spinning_frequencies": "plant.spin",
+    "gyroscopic_frequencies": "plant.spin",
     "StaticEquilibrium": "plant.statics",
     "LinearModel": "plant.state_space",
     "ModalData": "plant.state_space",

@@ -206,15 +206,24 @@ def tip_kinematics(
     return p, J[:3].reshape(3, pin_model.nv).copy()
 
 
-def planar_lengths(pin_model: pin.Model, tip_frame_id: int) -> np.ndarray:
+def planar_lengths(pin_model: pin.Model, tip_frame_id: int, hub_any_axis: bool = False
+                   ) -> np.ndarray:
     """Link lengths (m) of a serial chain of y-revolute joints laid out along x, shape (n+1,).
+
+    With ``hub_any_axis`` a first joint named ``hub`` may turn about x or z instead (a hub
+    model's layout, as a file reader needs it; the planar formulas need every joint about y).
 
     Raises BeamInputError when the model is not such a chain (the planar statics need it).
     """
     n = pin_model.njoints - 1
     out = np.empty(n + 1)
     for j in range(1, n + 1):
-        if pin_model.parents[j] != j - 1 or pin_model.joints[j].shortname() != "JointModelRY":
+        kind = pin_model.joints[j].shortname()
+        if hub_any_axis and j == 1 and pin_model.names[1] == "hub" and kind != "JointModelRY":
+            # a hub may turn about world x or z too: its placement is still the origin
+            if kind not in ("JointModelRX", "JointModelRZ"):
+                raise BeamInputError("joint 'hub': its axis must be world x, y or z")
+        elif pin_model.parents[j] != j - 1 or kind != "JointModelRY":
             raise BeamInputError(f"joint {pin_model.names[j]!r}: must be a serial RY joint")
         out[j - 1] = _along_x(pin_model.jointPlacements[j], pin_model.names[j])
     frame = pin_model.frames[tip_frame_id]

@@ -30,7 +30,8 @@ from ..errors import BeamInputError
 from .pin_dynamics import checked_stiffness
 from .statics_guard import require_finite
 
-__all__ = ["ChainLoad", "checked_wrench", "check_chain", "residual_and_tangent"]
+__all__ = ["ChainLoad", "checked_wrench", "check_chain", "residual_and_tangent",
+           "wrench_tangent"]
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _REVOLUTE = ("JointModelRX", "JointModelRY", "JointModelRZ")
@@ -120,6 +121,15 @@ def _tangent(k: np.ndarray, J: np.ndarray, w: np.ndarray) -> np.ndarray:
     upper = -np.cross(A, f) @ V.T  # [i, j] = f.(a_i x v_j)
     D = np.tril(lower) + np.triu(upper, 1)
     return np.diag(k) - D
+
+
+def wrench_tangent(k: np.ndarray, J: np.ndarray, wrench: np.ndarray) -> np.ndarray:
+    """Return K - d(J^T w)/dq (N m/rad, (nv, nv)) of a serial revolute chain.
+
+    ``k`` the springs (N m/rad, (nv,), 0 allowed: a free joint such as a hub), ``J`` the tip's
+    world-aligned Jacobian (6, nv) at the pose, ``wrench`` the dead tip force and moment (6,).
+    """
+    return _tangent(np.asarray(k, dtype=float), J, np.asarray(wrench, dtype=float))
 
 
 def residual_and_tangent(

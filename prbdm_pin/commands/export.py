@@ -107,7 +107,8 @@ def check_options(args: argparse.Namespace) -> dict:
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
              why="the damping_ratio of mode 1 (stiffness form) or of every mode (modal); "
                  "0: none")
-    opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
+    opts = {"hub": hub_option(args.hub, args.hub_axis),
+            "actuators": actuators_option(args.actuator),
             "inputs": None if args.inputs is None else names_option(args.inputs, "--inputs")}
     if opts["inputs"] is not None and args.format != "mjcf":
         raise BeamInputError(f"--inputs = {args.inputs!r}: only the MJCF carries actuators; "

@@ -25,6 +25,7 @@ from .plant_options import (
     spans_option,
     with_hub,
 )
+from .spin_options import check_spin_option, spin_record
 
 EXAMPLES = """\
 examples:
@@ -35,6 +36,8 @@ examples:
       --hub 0.5:0.05 --damping-ratio 0.01 --out runs/ref/hub
   prbdm linearize runs/ref/fit.json --inputs hub_torque,strain[0] --outputs hub_angle,tip_z \\
       --hub 5:0.1 --actuator 0:0.1 --compare-truth --out runs/ref/hub
+  prbdm linearize runs/ref/fit.json --inputs hub_torque --outputs hub_angle,tip_z \\
+      --hub 50:0.1 --hub-axis z --spin 20 --out runs/ref/spin
   prbdm linearize runs/ref/fit.json --inputs strain[0] --outputs tip_z --actuator 0.2:0.3 \\
       --fit-actuators --out runs/ref/patch
 
@@ -60,6 +63,14 @@ acceleration: their C and D carry it (the modal table's output gains do not: C_q
 only). All are deviations from the equilibrium under --load and --gravity; a hub is held there
 by a trim torque. A spatial fit (axes xy, yz, xyz) is linearised through its general
 kinematics.
+
+Hub and spin: --hub-axis y (the default) turns the beam in its own bending plane, z sweeps it
+through the xy-plane with the bending out of that plane, x spins it about its own axis.
+--spin RAD_S linearises about the hub's steady spin (straight, or coned under a --load or
+--gravity along the hub axis; off the axis they are refused): the centrifugal stiffness and the
+gyroscopic terms from Pinocchio's RNEA derivatives; the states are deviations from the spinning
+motion; linear_model.json's spin_frequencies_rad_s (and the omega printed) are the spinning
+plant's undamped flexible frequencies with its gyroscopic coupling.
 
 Strain actuators: by default a patch's moment goes to the joints inside it (1) and under its
 ends (1/2), the virtual-work map of the chain; a patch shorter than a link then moves no joint.
@@ -112,6 +123,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="dead tip load of the equilibrium, N, world (default 0,0,0)")
     p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
                    help="gravity, m/s^2, world (default none)")
+    p.add_argument("--spin", type=float, default=None, metavar="RAD_S",
+                   help="linearise about the --hub spinning steadily at this rate, rad/s, about "
+                        "--hub-axis (--load and --gravity only along that axis; writes the "
+                        "spinning plant's frequencies)")
     p.add_argument("--damping-ratio", type=float, default=0.02, metavar="ZETA",
                    help="damping ratio of every flexible mode (modal) or the lowest "
                         "(stiffness) (default 0.02)")
@@ -143,7 +158,8 @@ def check_options(args: argparse.Namespace) -> dict:
 
     out = {"inputs": names_option(args.inputs, "--inputs"),
            "outputs": names_option(args.outputs, "--outputs"),
-           "actuators": actuators_option(args.actuator), "hub": hub_option(args.hub),
+           "actuators": actuators_option(args.actuator),
+           "hub": hub_option(args.hub, args.hub_axis),
            "loads": spans_option(args.distributed_span), "bus": bus_option(args.bus)}
     if out["bus"] is not None and args.hub:
         raise BeamInputError("--bus: not with --hub (one support at a time)")
@@ -153,6 +169,7 @@ def check_options(args: argparse.Namespace) -> dict:
              why="a damping ratio of underdamped modes")
     if args.dt is not None:
         in_range("--dt", args.dt, 0.0, lo_open=True, unit="s")
+    check_spin_option(args.spin, out)
     writable_dir(args.out, "--out")
     from .compare_truth import check_compare_options
 
@@ -255,13 +272,15 @@ def run(args: argparse.Namespace) -> int:
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=args.damping_ratio,
                     damping=args.damping_form, actuators=opts["actuators"],
-                    gravity_m_s2=gravity, loads=opts["loads"])
+                    gravity_m_s2=gravity, loads=opts["loads"], spin_rad_s=args.spin)
     record = {
         **lin.to_dict(),
         "model": Path(args.model).name,
         "n_joints": model.n_joints,
         "hub": None if opts["hub"] is None else {
-            "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m},
+            "inertia_kg_m2": opts["hub"].inertia_kg_m2, "radius_m": opts["hub"].radius_m,
+            "axis": opts["hub"].axis},
+        **spin_record(args.spin, lin),
         "actuators_m": [[a.x_start_m, a.x_end_m] for a in opts["actuators"]],
         **actuator_weights_record(model, opts["actuators"]),
         "distributed_spans_m": [[ld.x_start_m, ld.x_end_m] for ld in opts["loads"]],
@@ -299,7 +318,8 @@ def run(args: argparse.Namespace) -> int:
                               json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
         atomic_write_text(stage / "linear_model.json", json.dumps(record, indent=2) + "\n")
     if not args.quiet:
-        w = ", ".join(f"{x:.4g}" for x in lin.modal().omega_rad_s)
+        w = ", ".join(f"{x:.4g}" for x in (record["spin_frequencies_rad_s"] if args.spin
+                                             else lin.modal().omega_rad_s))
         print(f"{lin.A.shape[0]} states, {len(lin.input_names)} inputs, "
               f"{len(lin.output_names)} outputs; omega = [{w}] rad/s; wrote "
               f"{out / 'linear_model.json'}", file=sys.stderr)

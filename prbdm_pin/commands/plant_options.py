@@ -1,6 +1,7 @@
 """Plant options shared by ``prbdm linearize`` and ``prbdm export``.
 
-Input names, strain actuators (``--actuator XA:XB``) and a hub (``--hub INERTIA:RADIUS``), each
+Input names, strain actuators (``--actuator XA:XB``) and a hub (``--hub INERTIA:RADIUS``,
+``--hub-axis {x,y,z}``), each
 refused with a message naming the option and the value.
 """
 
@@ -17,12 +18,16 @@ __all__ = ["add_plant_options", "names_option", "pair_option", "actuators_option
 
 
 def add_plant_options(p: argparse.ArgumentParser) -> None:
-    """Add ``--actuator`` (repeatable) and ``--hub`` to a subparser."""
+    """Add ``--actuator`` (repeatable), ``--hub`` and ``--hub-axis`` to a subparser."""
     p.add_argument("--actuator", action="append", default=[], metavar="XA:XB",
                    help="a strain actuator from XA to XB m along the beam (repeat for more; "
                         "strain[i] is the i-th)")
     p.add_argument("--hub", default=None, metavar="INERTIA:RADIUS",
                    help="a rotating hub at the root: inertia kg m^2, radius m")
+    p.add_argument("--hub-axis", default=None, metavar="{x,y,z}",
+                   help="the world axis the --hub turns about (default y, in the beam's "
+                        "bending plane; z: the beam sweeps the xy-plane and bends out of it; x: "
+                        "the beam spins about its own axis)")
 
 
 def names_option(text: str, option: str) -> tuple[str, ...]:
@@ -64,15 +69,20 @@ def actuators_option(texts: list[str]) -> list:
     return acts
 
 
-def hub_option(text: str | None):
-    """Return the ``--hub INERTIA:RADIUS`` value as a Hub (None without the option)."""
+def hub_option(text: str | None, axis: str | None = None):
+    """Return ``--hub INERTIA:RADIUS`` with ``--hub-axis`` as a Hub (None without ``--hub``)."""
     from ..model.hub import Hub
 
+    if axis is not None and axis not in ("x", "y", "z"):
+        raise BeamInputError(f"--hub-axis = {axis!r}: must be x, y or z (the world axis the "
+                             "hub turns about)")
     if text is None:
+        if axis is not None:
+            raise BeamInputError(f"--hub-axis = {axis!r}: needs --hub INERTIA:RADIUS")
         return None
     J, r = pair_option(text, "--hub", "INERTIA:RADIUS (kg m^2, m)")
     try:
-        return Hub(J, r)
+        return Hub(J, r, "y" if axis is None else axis)
     except BeamInputError as exc:
         raise BeamInputError(f"--hub = {text!r}: {exc}") from None
 

@@ -106,10 +106,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "stiffness-proportional C = beta K (mode 1 of the straight pose gets "
                         "ZETA, mode k ZETA omega_k/omega_1: what MJCF/URDF exports carry, so a "
                         "run matches MuJoCo's). Modal and eq5c are computed at the initial pose")
-    p.add_argument("--method", default="exponential",
+    p.add_argument("--method", default=None,
                    help="exponential (default: exact linear modes, step T1/10), gauss "
-                        "(symplectic; long undamped runs, violent starts), trapezoidal, or a "
-                        "solve_ivp method: DOP853, Radau, BDF ...")
+                        "(symplectic; long undamped runs, violent starts; the default with "
+                        "--spin), trapezoidal, or a solve_ivp method: DOP853, Radau, BDF ...")
     p.add_argument("--dt", type=float, default=None, metavar="S",
                    help="trapezoidal step, s (default: lowest period / 100)")
     p.add_argument("--output-dt", type=float, default=None, metavar="S",
@@ -132,6 +132,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "pulse:A:T1, sine:A:F (Hz) or FILE.csv (time s, value; linear "
                         "between samples); e.g. hub_torque=pulse:0.5:0.4")
     add_support_options(p)
+    p.add_argument("--spin", type=float, default=None, metavar="RAD_S",
+                   help="start the --hub spinning at this rate, rad/s, about --hub-axis (the "
+                        "hub free: without a hub_torque it keeps spinning)")
     p.add_argument("--outputs", default=None, metavar="NAMES",
                    help="plant outputs to record, comma-separated (default tip_z, and "
                         "hub_angle with a hub)")
@@ -188,6 +191,8 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
              why="a damping ratio of an underdamped response" if not args.compare_truth else
              "--compare-truth needs an underdamped step response")
     methods = FIXED_STEP_METHODS + IVP_METHODS
+    if args.method is None:  # the exponential integrator does not take a spinning hub
+        args.method = "gauss" if args.spin is not None else "exponential"
     if args.method not in methods:
         raise BeamInputError(f"--method = {args.method!r}: must be one of {', '.join(methods)}")
     for name, dt in (("--dt", args.dt), ("--output-dt", args.output_dt)):
@@ -265,7 +270,8 @@ def run(args: argparse.Namespace) -> int:
                   options=simulation_options(args, output_dt), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
                   loads=plant["loads"], outputs=outputs, base_motion=motion,
-                  gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None)
+                  gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None,
+                  spin_rad_s=args.spin)
     world = world_tip_columns(model, motion, tr)  # the run's tip is in the base frame
     plant_cmp = None
     if args.compare_truth and plant["plant"]:  # before any file: a refusal leaves OUT as it was

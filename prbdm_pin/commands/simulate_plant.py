@@ -1,7 +1,7 @@
 """``prbdm simulate``'s plant options and ``--compare-truth`` of a plant.
 
-The options (``--hub``, ``--actuator``, ``--input``, ``--outputs``) are checked before any
-work; the outputs recorded by default.
+The options (``--hub``, ``--hub-axis``, ``--spin``, ``--actuator``, ``--input``, ``--outputs``)
+are checked before any work; the outputs recorded by default.
 """
 
 from __future__ import annotations
@@ -22,10 +22,21 @@ def check_plant_options(args: argparse.Namespace) -> dict:
 
     names, signal = parse_inputs(args.input)
     outputs = None if args.outputs is None else names_option(args.outputs, "--outputs")
-    opts = {"hub": hub_option(args.hub), "actuators": actuators_option(args.actuator),
+    opts = {"hub": hub_option(args.hub, args.hub_axis),
+            "actuators": actuators_option(args.actuator),
             "inputs": names, "u": signal, "outputs": outputs,
             "loads": spans_option(args.distributed_span)}
     opts["plant"] = bool(args.hub or args.actuator or args.input)
+    if args.spin is not None:
+        from .checks import in_range
+
+        in_range("--spin", args.spin, unit="rad/s")
+        if args.hub is None:
+            raise BeamInputError(f"--spin = {args.spin!r}: needs --hub INERTIA:RADIUS (the hub "
+                                 "spins)")
+        if args.compare_truth:
+            raise BeamInputError(f"--spin = {args.spin!r}: --compare-truth compares the plant "
+                                 "at rest; drop one")
     check_fit_actuators(args, len(opts["actuators"]))
     if args.compare_truth and opts["plant"]:
         if args.damping_form != "modal":

@@ -52,11 +52,11 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     Parameters
     ----------
     model : PrbdmModel
-        With a hub, the hub is a body turning on a hinge ``hub`` about y (no spring, no damping,
-        inertia J_h about its axis) and the beam root sits on it at ``radius_m`` along x. A
-        spatial chain's body ``link_j`` has one hinge per axis, ``joint_j_y``, ``joint_j_z``,
-        ``joint_j_x`` (those of ``model.axes``, in that order, at the body's origin), each with
-        its own spring.
+        With a hub, the hub is a body turning on a hinge ``hub`` about ``hub.axis`` (no
+        spring, no damping, inertia J_h about its axis) and the beam root sits on it at
+        ``radius_m`` along x. A spatial chain's body ``link_j`` has one hinge per axis,
+        ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` (those of ``model.axes``, in that order, at the
+        body's origin), each with its own spring.
     damping_ratio : float or ndarray (n,)
         Mode 1's damping ratio (the lowest flexible mode with a hub): every hinge's
         ``damping`` is beta K_ii (N m s/rad), the stiffness form (see :func:`export_record`);
@@ -112,7 +112,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
 
     root = ["link 0 is", "       clamped to the world;"] if hub is None else [
         "link 0 is",
-        "       clamped to the hub, which turns on the hinge 'hub' about y (no spring, no",
+        f"       clamped to the hub, which turns on the hinge 'hub' about {hub.axis} (no "
+        "spring, no",
         "       damping); the actuators carry the plant's inputs (see the record's inputs);"]
     hinges = ["       hinge joints about y carry the torsional springs and the"] \
         if not model.axes.spatial else [
@@ -141,7 +142,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         J = _f(hub.inertia_kg_m2)
         lines += [
             f'{indent}<body name="hub_body" pos="0 0 0">',
-            f'{indent}  <joint name="hub" type="hinge" axis="0 1 0" pos="0 0 0" damping="0"/>',
+            f'{indent}  <joint name="hub" type="hinge" axis="{_AXIS[hub.axis]}" pos="0 0 0" '
+            'damping="0"/>',
             f'{indent}  <inertial pos="0 0 0" mass="0" diaginertia="{J} {J} {J}"/>',
         ]
         indent += "  "

@@ -3,9 +3,10 @@
 The file is written by :func:`model_dict` and read back, validated, by :func:`read_model_json`
 and :func:`read_plant_json`.
 
-Plant fields: ``hub`` is null or ``{"inertia_kg_m2": J, "radius_m": r}``; ``actuators`` is a
-list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b), with
-``"joint_weights": [w_1, ..., w_n]`` (one finite number per joint) for an actuator whose map
+Plant fields: ``hub`` is null or ``{"inertia_kg_m2": J, "radius_m": r, "axis": a}`` (``a`` the
+world axis "x", "y" or "z" it turns about; a file without ``axis`` has a hub about y);
+``actuators`` is a list of ``{"x_start_m": a, "x_end_m": b}`` (m from the root, on the beam, a < b),
+with ``"joint_weights": [w_1, ..., w_n]`` (one finite number per joint) for an actuator whose map
 was fitted to the truth. A file written before they existed has neither and reads as the
 clamped beam without actuators.
 
@@ -59,7 +60,7 @@ def model_dict(model, damping_ratio: float | np.ndarray = 0.02, *,
         "lengths_m": [float(v) for v in model.lengths_m],
         "stiffness_Nm_per_rad": [float(v) for v in model.stiffness_Nm_per_rad],
         "hub": None if hub is None else {"inertia_kg_m2": hub.inertia_kg_m2,
-                                         "radius_m": hub.radius_m},
+                                         "radius_m": hub.radius_m, "axis": hub.axis},
         "actuators": [_actuator_dict(a) for a in rec.actuators()],
         "links": [
             {
@@ -101,7 +102,7 @@ def _fields(what: str, field: str, value: Any, keys: tuple[str, ...]) -> list[fl
 
 
 def _hub(what: str, value: Any):
-    from ..model.hub import Hub
+    from ..model.hub import HUB_AXES, Hub
 
     if value is None:
         return None
@@ -110,7 +111,11 @@ def _hub(what: str, value: Any):
         raise BeamInputError(f"{what}: hub.inertia_kg_m2 = {J!r}: must be > 0 (kg m^2)")
     if r < 0.0:
         raise BeamInputError(f"{what}: hub.radius_m = {r!r}: must be >= 0 (m)")
-    return Hub(J, r)
+    # files written before the hub had an axis turn it about y
+    axis = value.get("axis", "y")
+    if axis not in HUB_AXES:
+        raise BeamInputError(f"{what}: hub.axis = {axis!r:.60}: must be 'x', 'y' or 'z'")
+    return Hub(J, r, axis)
 
 
 def _axes(what: str, value: Any) -> Axes:

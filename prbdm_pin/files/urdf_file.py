@@ -26,6 +26,9 @@ from .export_comment import read_export_record
 
 __all__ = ["load_urdf", "chain_axes"]
 
+# the hub's axis from the joint type Pinocchio's parser gives a revolute joint about x, y or z
+_HUB_AXIS = {"JointModelRX": "x", "JointModelRY": "y", "JointModelRZ": "z"}
+
 
 def chain_axes(names: list[str], what: str = "urdf") -> Axes:
     """Tell the joint axes of a chain from its joints' names, in Pinocchio's order.
@@ -81,9 +84,9 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
 
     The file is one written by :attr:`PrbdmModel.urdf` or the URDF export; ``path`` is a str or
     path-like. A file with the revolute joint ``hub`` reads as a hub model (``hub`` set: the
-    inertia of link ``hub_body``, the radius of the ``clamp`` offset). A spatial chain (joints
-    ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` at node j joined by massless links) reads with
-    its ``axes`` (:func:`chain_axes`), its springs node-major in that order.
+    inertia of link ``hub_body``, the radius of the ``clamp`` offset, the axis of ``hub``). A
+    spatial chain (joints ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` at node j joined by massless
+    links) reads with its ``axes`` (:func:`chain_axes`), its springs node-major in that order.
 
     The springs come from the Gazebo ``<springStiffness>`` tags; the strain actuators the
     file's export record lists (``strain_actuators_m``, with their fitted joint weights) become
@@ -123,14 +126,18 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
         except BeamInputError as exc:
             raise BeamInputError(f"{what}: {exc}") from None
     else:
-        lengths = dyn.planar_lengths(model, tip)
+        lengths = dyn.planar_lengths(model, tip, hub_any_axis=True)
     hub = None
     if model.njoints > 2 and model.names[1] == HUB_JOINT:
         # the first offset is the hub's (0); the second is the radius plus link 0
         if not model.existFrame("clamp"):
             raise BeamInputError(f"{what}: a joint 'hub' but no fixed joint 'clamp' to link_0")
         radius = float(model.frames[model.getFrameId("clamp")].placement.translation[0])
-        hub = Hub(hub_inertia(text, what), radius)
+        axis = _HUB_AXIS.get(model.joints[1].shortname())
+        if axis is None:  # Pinocchio names a revolute joint about a tilted axis otherwise
+            raise BeamInputError(f"{what}: joint {HUB_JOINT!r}: its <axis> must be world x, y "
+                                 "or z (1 0 0, 0 1 0 or 0 0 1)")
+        hub = Hub(hub_inertia(text, what), radius, axis)
         lengths = np.concatenate([[lengths[1] - hub.radius_m], lengths[2:]])
     lengths.setflags(write=False)
     names = [model.names[j] for j in range(1 + (hub is not None), model.njoints)]

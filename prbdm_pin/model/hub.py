@@ -3,9 +3,13 @@
 Its description, its Pinocchio chain, and the frequencies and modes of a chain whose first
 joint has no spring.
 
-The hub turns about the bending axis y through its centre (the world origin); the beam root is
-clamped to it at ``radius_m`` along x. In the Pinocchio model the hub joint comes first
-(velocity index 0, no spring) and joint j + 1 of the beam follows as velocity index j + 1.
+The hub turns about world x, y or z (``Hub.axis``) through its centre, the world origin; the
+beam root is clamped to it at ``radius_m`` along x and the beam bends about y (deflecting in z).
+So a hub about y turns the beam in its own bending plane (the lead-lag, in-plane case), a hub
+about z turns it in the xy-plane with the bending out of that plane (flapping), and a hub about
+x spins the beam about its own axis (with the radius along that axis too). In the Pinocchio model
+the hub joint comes first (velocity index 0, no spring) and joint j + 1 of the beam follows as
+velocity index j + 1.
 
 The hub's rigid mode is taken out exactly rather than left to the eigensolver: with
 K = diag(0, K_f) the hub row of K phi = omega^2 M phi reads omega^2 (m_hh phi_h + m_hf phi_f) = 0,
@@ -24,17 +28,20 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.eigen import eig_scaled, modes_from_mass
+from ..errors import BeamInputError
 from ..options.checks import check_float
 from ..options.validate import MAX_HUB_INERTIA_KG_M2, check_size
 
-__all__ = ["Hub", "hub_chain", "hub_frequencies", "hub_modes", "schur_mass"]
+__all__ = ["HUB_AXES", "Hub", "hub_chain", "hub_frequencies", "hub_modes", "schur_mass"]
 
 HUB_JOINT = "hub"
+HUB_AXES = ("x", "y", "z")
+_JOINT = {"x": pin.JointModelRX, "y": pin.JointModelRY, "z": pin.JointModelRZ}
 
 
 @dataclass(frozen=True)
 class Hub:
-    """A rigid hub turning about y at the root of the beam.
+    """A rigid hub turning about world ``axis`` at the root of the beam.
 
     Attributes
     ----------
@@ -42,11 +49,16 @@ class Hub:
         Rotational inertia of the hub about its axis, kg m^2 (> 0; the beam's own inertia is
         added by the chain).
     radius_m : float
-        Distance from the hub axis to the beam's root along x, m (>= 0).
+        Distance from the hub centre to the beam's root along x, m (>= 0).
+    axis : {"x", "y", "z"}
+        The world axis the hub turns about, through the origin (default ``"y"``: in the
+        beam's bending plane). ``"z"``: the beam sweeps the xy-plane and bends out of it;
+        ``"x"``: the beam spins about its own axis (the radius then lies along the axis).
     """
 
     inertia_kg_m2: float
     radius_m: float = 0.0
+    axis: str = "y"
 
     def __post_init__(self) -> None:
         """Check the inertia and the radius (BeamInputError naming the field).
@@ -57,6 +69,9 @@ class Hub:
         J = check_float("Hub inertia_kg_m2", self.inertia_kg_m2, low=0.0, low_open=True,
                         high=MAX_HUB_INERTIA_KG_M2, unit="kg m^2")
         r = check_size("Hub radius_m", self.radius_m, low=0.0)
+        if not isinstance(self.axis, str) or self.axis not in HUB_AXES:
+            raise BeamInputError(f"Hub axis = {self.axis!r}: must be one of 'x', 'y', 'z' "
+                                 "(the world axis the hub turns about)")
         object.__setattr__(self, "inertia_kg_m2", J)
         object.__setattr__(self, "radius_m", r)
 
@@ -64,7 +79,8 @@ class Hub:
 def hub_chain(sections, lengths: np.ndarray, hub: Hub, name: str) -> tuple[pin.Model, int]:
     """Build the link chain of ``sections`` (cut at ``lengths``, m) on a hub joint at the origin.
 
-    Returns the ``pinocchio.Model`` (gravity zero) and the tip frame id.
+    The hub joint turns about ``hub.axis``; the beam joints about y. Returns the
+    ``pinocchio.Model`` (gravity zero) and the tip frame id.
     """
     from .pin_chain import TIP_FRAME
 
@@ -79,7 +95,7 @@ def hub_chain(sections, lengths: np.ndarray, hub: Hub, name: str) -> tuple[pin.M
         return pin.Inertia(float(sections.mass_kg[i]), c, sections.inertia_com_kg_m2[i])
 
     world = model.addBodyFrame("world", 0, ident, 0)
-    hid = model.addJoint(0, pin.JointModelRY(), ident, HUB_JOINT)
+    hid = model.addJoint(0, _JOINT[hub.axis](), ident, HUB_JOINT)
     prev = model.addJointFrame(hid, world)
     model.appendBodyToJoint(hid, pin.Inertia(0.0, np.zeros(3), hub.inertia_kg_m2 * eye), ident)
     prev = model.addBodyFrame("hub_body", hid, ident, prev)

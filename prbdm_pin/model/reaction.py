@@ -133,9 +133,12 @@ def _base(model, q: np.ndarray, data) -> tuple[np.ndarray, np.ndarray]:
     """World rotation of the base (the hub's, or I) and the root point's world position, m."""
     if model.hub is None:
         return np.eye(3), np.zeros(3)
-    c, s = np.cos(q[0]), np.sin(q[0])
-    R = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])  # about y
+    R = pin.exp3(_hub_axis(model) * q[0])  # the hub's turn about its axis
     return R, R @ np.array([model.hub.radius_m, 0.0, 0.0])
+
+
+def _hub_axis(model) -> np.ndarray:
+    return np.eye(3)["xyz".index(getattr(model.hub, "axis", "y"))]
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -178,7 +181,7 @@ def applied_wrench(model, q: np.ndarray, loads: dict[str, np.ndarray],
         if derivative:
             dp = J.copy()
             if model.hub is not None:  # the root point turns with the hub
-                dp[:, 0] -= _cross(np.array([0.0, 1.0, 0.0]), p0)
+                dp[:, 0] -= _cross(_hub_axis(model), p0)
             dW[3:] += -pin.skew(f) @ dp  # d(r x f) = dr x f = -f x dr
     for base, idx, value in loads.get("extra", ()):
         if value:  # the pose derivative is not needed: these hold no load at an equilibrium
@@ -187,10 +190,10 @@ def applied_wrench(model, q: np.ndarray, loads: dict[str, np.ndarray],
     if not derivative:
         return Wb
     dWb = np.vstack([R.T @ dW[:3], R.T @ dW[3:]])
-    if model.hub is not None:  # d(R^T w)/d(hub angle) = -e_y x (R^T w)
-        ey = np.array([0.0, 1.0, 0.0])
-        dWb[:3, 0] -= _cross(ey, Wb[:3])
-        dWb[3:, 0] -= _cross(ey, Wb[3:])
+    if model.hub is not None:  # d(R^T w)/d(hub angle) = -e x (R^T w), e the hub's axis
+        e = _hub_axis(model)
+        dWb[:3, 0] -= _cross(e, Wb[:3])
+        dWb[3:, 0] -= _cross(e, Wb[3:])
     return Wb, dWb
 
 

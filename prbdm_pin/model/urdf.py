@@ -1,8 +1,8 @@
 """Render the URDF of a PRBDM from ``urdf_templates/`` and read its springs back.
 
 Layout of the URDF: a ``world`` link, a fixed joint ``clamp`` to ``link_0`` (the clamped link;
-on a hub model ``world`` -> revolute ``hub`` about y -> massless link ``hub_body`` carrying the
-hub inertia -> ``clamp`` at the hub radius along x -> ``link_0``),
+on a hub model ``world`` -> revolute ``hub`` about its axis x, y or z -> massless link
+``hub_body`` carrying the hub inertia -> ``clamp`` at the hub radius along x -> ``link_0``),
 revolute joints ``joint_1`` ... ``joint_n`` about y (each with a generous ``<limit>`` tag, which
 Pinocchio's parser requires, and ``<dynamics damping>``, N m s/rad, 0 unless given), links
 ``link_1`` ... ``link_n`` with their inertia about the centre of mass, and a fixed joint
@@ -105,9 +105,9 @@ def render_urdf(
     comment : str
         Text of an XML comment placed before ``<robot>`` (must not contain ``--``).
     hub : Hub, optional
-        A rotating hub: the revolute joint ``hub`` about y from ``world`` to the massless link
-        ``hub_body`` (inertia ``inertia_kg_m2`` about every axis, as the Pinocchio hub model
-        holds it), and ``clamp`` from ``hub_body`` to ``link_0`` at ``radius_m`` along x.
+        A rotating hub: the revolute joint ``hub`` about ``hub.axis`` from ``world`` to the
+        massless link ``hub_body`` (inertia ``inertia_kg_m2`` about every axis, as the Pinocchio hub
+        model holds it), and ``clamp`` from ``hub_body`` to ``link_0`` at ``radius_m`` along x.
     axes : Axes or str
         The joint axes per node (default ``"y"``). A spatial node j is revolute joints
         ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` (those in ``axes``, in that order) at one
@@ -158,7 +158,8 @@ def render_urdf(
     if hub is not None:
         hub_text = _t("hub.urdf.tmpl").substitute(
             lower=_f(-HUB_LIMIT_RAD), upper=_f(HUB_LIMIT_RAD), effort=_f(JOINT_EFFORT_LIMIT_NM),
-            velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S), inertia=_f(hub.inertia_kg_m2))
+            velocity=_f(JOINT_VELOCITY_LIMIT_RAD_S), inertia=_f(hub.inertia_kg_m2),
+            axis=_AXIS[hub.axis])
         clamp_parent, clamp_x = "hub_body", _f(hub.radius_m)
     return _t("robot.urdf.tmpl").substitute(
         hub=hub_text, clamp_parent=clamp_parent, clamp_x=clamp_x,

@@ -120,6 +120,14 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     bus = getattr(model, "bus", None)
     if bus is not None:
         plant = _bus_truth(truth, beam, bus, stations, damping_ratio)
+    elif hub is not None and hub.axis != "y":
+        # the rotation about x or z does not move the strip along z: uncoupled at first order
+        from ..truth.plant import truth_modal_gains
+        from ..truth.plant.hub_axis import decoupled_hub_from_gains
+
+        plant = decoupled_hub_from_gains(truth_modal_gains(truth, beam, stations), beam,
+                                         hub.inertia_kg_m2, hub.radius_m, hub.axis,
+                                         damping_ratio, damping="modal")
     elif hub is None:
         plant = clamped_model(truth, beam, stations, damping_ratio)
     else:

@@ -3,13 +3,13 @@
 Static balance: K q + g(q) - J(q)^T F = tau_u, with g the generalized gravity (Pinocchio's
 ``computeGeneralizedGravity`` of the model with the given gravity) and F the dead tip force.
 Linearised: the effective stiffness is K + dg/dq - d(J^T F)/dq. The dead-load term comes from
-the closed-form planar chain (:func:`prbdm_pin.chain.planar.load_stiffness`); a hub model is the
-planar
-chain whose first joint is the hub at the origin, reaching the first beam joint over
-radius + L_0, so the same formula covers it. A spatial chain (no hub) takes the exact tangent of
-the general serial chain (:func:`prbdm_pin.chain.spatial_tangent.residual_and_tangent`) and
-starts from its static deflection (:meth:`PrbdmModel.static_deflection`); gravity enters
-through Pinocchio either way.
+the closed-form planar chain (:func:`prbdm_pin.chain.planar.load_stiffness`); a hub model about y
+is the planar chain whose first joint is the hub at the origin, reaching the first beam joint
+over radius + L_0, so the same formula covers it (a hub about x or z takes the general serial
+chain's tangent, :func:`prbdm_pin.chain.spatial_tangent.wrench_tangent`). A spatial chain (no
+hub) takes the exact tangent of the general serial chain
+(:func:`prbdm_pin.chain.spatial_tangent.residual_and_tangent`) and starts from its static deflection
+(:meth:`PrbdmModel.static_deflection`); gravity enters through Pinocchio either way.
 
 A hub model has no equilibrium of its own under a load that turns the hub: the hub is held at
 angle 0 by a trim hub torque (returned), and the beam joints are balanced.
@@ -23,9 +23,10 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.planar import force_and_load_stiffness
-from ..chain.spatial_tangent import residual_and_tangent
+from ..chain.spatial_tangent import residual_and_tangent, wrench_tangent
 from ..chain.statics import static_deflection_planar
 from ..errors import BeamInputError, SolveError
+from .spin import spin_terms
 
 __all__ = ["check_vector", "planar_lengths_with_hub", "gravity_model", "static_terms",
            "equilibrium"]
@@ -81,6 +82,14 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
         # the chain's data workspace: only the gravity copy's is passed in
         r, H = residual_and_tangent(model.pin_model, model.default_data,
                                     model.stiffness_Nm_per_rad, model.tip_frame_id, q, w)
+    elif model.hub is not None and model.hub.axis != "y":
+        # a hub about x or z leaves the plane of the beam joints: the general serial chain,
+        # the hub joint without a spring
+        w = np.concatenate([load_N, moment])
+        K = model.stiffness_matrix()
+        J = model.tip_frame_jacobian(q)
+        r = K @ q - J.T @ w
+        H = wrench_tangent(np.diag(K), J, w)
     else:
         K = model.stiffness_matrix()
         jtf, T = force_and_load_stiffness(planar_lengths_with_hub(model), q, load_N)
@@ -99,13 +108,17 @@ def static_terms(model, q: np.ndarray, load_N: np.ndarray, pm_g: pin.Model | Non
 
 def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float = 1e-10,
                 max_iter: int = 60, moment_Nm: np.ndarray | None = None, extra=None,
-                q0: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+                q0: np.ndarray | None = None, spin_rad_s: float = 0.0
+                ) -> tuple[np.ndarray, float]:
     """Return the equilibrium pose (rad, (nv,)) and the trim hub torque (N m).
 
     The pose is under the dead tip load (N), the dead tip moment ``moment_Nm`` (N m, world;
     default none), the gravity of ``pm_g`` and the loads ``extra`` (:func:`static_terms`;
     those start from ``q0``, default the pose under the others); the trim torque holds the hub
-    at 0 (0.0 without a hub).
+    at 0 (0.0 without a hub). With ``spin_rad_s`` (rad/s, a hub model) it is the relative
+    equilibrium of the hub spinning at that rate: the centrifugal terms h(q, (Omega, 0...))
+    join the static ones (:mod:`prbdm_pin.plant.spin`; the caller checks that the loads do not
+    turn relative to the hub).
 
     Without gravity and hub this is :meth:`PrbdmModel.static_deflection`; otherwise damped
     Newton steps on the beam joints from the planar statics' pose.
@@ -137,6 +150,9 @@ def equilibrium(model, load_N: np.ndarray, pm_g: pin.Model | None, rtol: float =
 
     def norm(q: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         r, H = static_terms(model, q, load_N, pm_g, data_g, moment, extra)
+        if spin_rad_s:
+            h, dh_dq, _ = spin_terms(model, q, spin_rad_s)
+            r, H = r + h, H + dh_dq
         return math.sqrt(float(r[free] @ r[free])), r, H
 
     def converged(q: np.ndarray, r: np.ndarray, rn: float, rel: float) -> bool:

@@ -17,6 +17,7 @@ from ..model.inputs import (
     input_unit,
     parse_inputs,
 )
+from ..model.load_outputs import is_load_output
 from ..model.loads import check_load
 from ..model.outputs import (
     check_output_stations,
@@ -28,6 +29,7 @@ from ..model.outputs import (
 from ..simulation.hub_damping import plant_damping
 from .acceleration_outputs import load_rows, output_matrices
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
+from .spin import check_spin, spin_terms
 from .state_space import LinearModel
 
 __all__ = ["linearize"]
@@ -96,6 +98,7 @@ def linearize(
     actuators: Sequence[StrainActuator] = (),
     gravity_m_s2: np.ndarray | None = None,
     loads: Sequence = (),
+    spin_rad_s: float | None = None,
 ) -> LinearModel:
     """Linearise ``model`` about an equilibrium.
 
@@ -150,6 +153,20 @@ def linearize(
         Gravity, m/s^2, world; default none.
     loads : sequence of DistributedLoad
         The spans (and profiles) ``distributed_force_z[i]`` (and ``_x``, ``_y``) refer to.
+    spin_rad_s : float, optional
+        Hub models: linearise about the steady spin of the hub at this rate, rad/s, about its
+        axis (default none: at rest). The states are then deviations from the spinning motion
+        (the hub angle less Omega t, the hub rate less Omega); the centrifugal stiffness dh/dq
+        enters ``stiffness_Nm_per_rad`` and the gyroscopic dh/dv ``damping_Nms_per_rad``, both
+        from Pinocchio's RNEA derivatives (:mod:`prbdm_pin.plant.spin`). The unloaded straight
+        pose is the relative equilibrium for every hub axis; ``load_N`` and ``gravity_m_s2``
+        along the hub axis give a coned one (solved with the centrifugal terms), and off it
+        they are refused (no steady equilibrium). ``lin.modal()`` solves (K_e, M) and so
+        leaves the gyroscopic term G out: zero at the straight pose, not at a coned one
+        (Omega dM_hh/dq couples the flapping rates to the hub's); ``lin.A`` carries it, and
+        :func:`prbdm_pin.plant.spin.gyroscopic_frequencies` gives the undamped frequencies
+        with it. The root reaction and the strain (which read the acceleration) are refused
+        with a spin.
 
     Returns
     -------
@@ -187,9 +204,14 @@ def linearize(
     F = check_vector("load_N", load_N, "N")
     F = np.zeros(3) if F is None else F
     g = check_vector("gravity_m_s2", gravity_m_s2, "m/s^2")
+    spin = check_spin(model, spin_rad_s, F, g)
+    if spin and any(is_load_output(b) for _, b, _ in parse_outputs(out_names, model.n_springs,
+                                                                   hub)):
+        raise BeamInputError("outputs: the root reaction and the strain read the acceleration "
+                             "of a plant at rest; not with spin_rad_s")
     pm_g = gravity_model(model, g)
     if q_eq is None:
-        q, trim = equilibrium(model, F, pm_g)
+        q, trim = equilibrium(model, F, pm_g, spin_rad_s=spin)
     else:
         q = _pose(model, q_eq)
         r = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[0]
@@ -203,6 +225,13 @@ def linearize(
     K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
     K = 0.5 * (K + K.T)
     Cd = plant_damping(model, M, damping_ratio, damping)
+    G = None
+    if spin:
+        h, dh_dq, G = spin_terms(model, q, spin)
+        K = K + 0.5 * (dh_dq + dh_dq.T)  # -Omega^2/2 d2M_hh/dq2: symmetric but for roundings
+        Cd = Cd + G
+        trim += float(h[0])  # the hub torque that holds the rate at this pose
+        G.setflags(write=False)
     A, B, X = first_order(M, K, Cd, Bq)
     coords = (["hub"] if hub else []) + [f"q[{j}]" for j in range(model.n_springs)]
     states = tuple(coords + [f"{c}_rate" if c == "hub" else c.replace("q[", "q_rate[")
@@ -220,6 +249,6 @@ def linearize(
         output_names=out_names, input_units=tuple(input_unit(s) for s in in_names),
         output_units=tuple(output_unit(s) for s in out_names), q_eq=q, u_eq=u_eq, y_eq=y_eq,
         mass_kg_m2=M, stiffness_Nm_per_rad=K, damping_Nms_per_rad=Cd, input_map=Bq,
-        output_map_position=Cq, output_map_rate=Cv, hub=hub,
-        output_map_acceleration=Ca, output_map_input=Du,
+        output_map_position=Cq, output_map_rate=Cv, hub=hub, spin_rad_s=spin,
+        gyroscopic_Nms_per_rad=G, output_map_acceleration=Ca, output_map_input=Du,
     )

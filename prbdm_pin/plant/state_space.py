@@ -89,6 +89,13 @@ class LinearModel:
         D_u, the inputs' direct part of the outputs (None: zero).
     n_free : int
         Coordinates without a spring at the start (1 for a hub, 6 for a free bus's base).
+    spin_rad_s : float
+        The hub's steady rate the plant was linearised about, rad/s (0: at rest).
+    gyroscopic_Nms_per_rad : ndarray (nv, nv) or None
+        G = dh/dv of a spinning plant (skew; part of ``damping_Nms_per_rad``, which is
+        C_d + G); None at rest. :meth:`modal` leaves it out (it solves (K_e, M)); G is zero
+        at the straight pose, and :func:`prbdm_pin.plant.spin.gyroscopic_frequencies` takes
+        it in elsewhere.
 
     The modal gains (:meth:`modal`) are of C_q and C_v only: an output that reads the
     acceleration has its C_a Phi path left out there (the state space has it).
@@ -116,6 +123,8 @@ class LinearModel:
     output_map_acceleration: np.ndarray | None = None
     output_map_input: np.ndarray | None = None
     n_free: int = 0
+    spin_rad_s: float = 0.0
+    gyroscopic_Nms_per_rad: np.ndarray | None = None
 
     def to_control(self):
         """Return the plant as a ``control.StateSpace`` (python-control), with signal names.

@@ -26,6 +26,7 @@ from ..model.loads import check_load
 from ..model.outputs import check_output_stations, output_samples, output_unit, parse_outputs
 from ..model.reaction import check_load_inputs
 from ..model.supports import N_BASE, free_frequencies
+from ..options.checks import check_float
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
 from .base_motion import BaseForce, BaseMotion
@@ -57,6 +58,7 @@ def simulate(
     integrator: Integrator | None = None,
     base_motion: BaseMotion | None = None,
     progress: bool = False,
+    spin_rad_s: float | None = None,
     **changes: Any,
 ) -> Trajectory:
     """Integrate the PRBDM's equations of motion from (q0, v0) over ``duration_s``.
@@ -128,6 +130,14 @@ def simulate(
         too, in the clamp frame (the bus frame moved to ``FreeBus.root_m``).
     progress : bool
         Show a progress bar over the simulated time.
+    spin_rad_s : float, optional
+        Hub models: start from the hub's steady spin at this rate, rad/s: it is added to the
+        hub's entry of ``v0`` (which is then the deviation from the spin, as the states of
+        ``linearize(..., spin_rad_s=...)``). The hub stays free: with no ``hub_torque`` it keeps
+        spinning (the straight pose is the spinning chain's relative equilibrium), and a
+        ``hub_torque`` input changes its rate. Needs ``method="gauss"`` or a solve_ivp method:
+        the exponential integrator is refused (its step control takes its smallest steps on
+        a spinning hub).
     **changes
         Options by name, applied to ``options`` (``simulate(model, 1.0, method="gauss")``).
 
@@ -152,6 +162,21 @@ def simulate(
     duration_s = float(duration_s)
     q0 = vector("q0", q0, n)
     v0 = vector("v0", v0, n)
+    spin = check_float("spin_rad_s", spin_rad_s, optional=True, unit="rad/s")
+    if spin:
+        if not hub:
+            raise BeamInputError(f"spin_rad_s = {spin!r}: needs a hub to spin (a model built "
+                                 "with hub=Hub(...))")
+        if integ.method == "exponential":
+            # its step control measures the correction against the panel's motion, and the
+            # weak spring its linearisation puts on the free hub makes a correction that grows
+            # with the hub's rate: from a steady spin (the panel straight) it takes its
+            # smallest steps
+            raise BeamInputError(f"spin_rad_s = {spin!r}: the exponential integrator cannot "
+                                 "follow a spinning hub efficiently; use method='gauss' (or "
+                                 "a solve_ivp method such as 'DOP853')")
+        v0 = v0.copy()
+        v0[0] += spin
     force, constant_force = force_function(tip_force)
     xi = damping_ratios(np.asarray(o.damping_ratio, dtype=float) if isinstance(
         o.damping_ratio, tuple) else o.damping_ratio, n_springs)

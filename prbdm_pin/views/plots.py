@@ -208,7 +208,7 @@ def plot_response(model, tr, force_N: np.ndarray, damping_ratio: float,
     axes[k].set_ylabel("joint angles (rad)")
     axes[k].set_xlabel("t (s)")
     hub = "" if model.hub is None else (f", hub {model.hub.inertia_kg_m2:g} kg m^2 at "
-                                        f"{model.hub.radius_m:g} m")
+                                        f"{model.hub.radius_m:g} m about {model.hub.axis}")
     fig.suptitle(f"{model.n_joints}R PRBDM{hub}, F = {np.asarray(force_N).tolist()} N, "
                  f"zeta = {damping_ratio}", fontsize=9)
     fig.tight_layout()

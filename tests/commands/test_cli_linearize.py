@@ -63,7 +63,8 @@ def test_hub_option(fit_json, tmp_path):
                "hub_angle,tip_z", "--hub", "0.5:0.05", "--out", str(out), "-q"])
     assert rc == 0
     d = json.loads((out / "linear_model.json").read_text())
-    assert d["hub"] == {"inertia_kg_m2": 0.5, "radius_m": 0.05}
+    assert d["hub"] == {"inertia_kg_m2": 0.5, "radius_m": 0.05, "axis": "y"}
+    assert d["spin_rad_s"] == 0.0
     assert d["modes"][0]["omega_rad_s"] == 0.0
     ref = _model(fit_json, Hub(0.5, 0.05)).natural_frequencies()
     # two solves of the hub model's modes (the plant's on the hub's Schur complement, the

@@ -268,7 +268,7 @@ def test_urdf_hub_reads_back_in_every_consumer(hub_model, tmp_path):
 def test_json_round_trip_rebuilds_hub_and_actuators(hub_model, tmp_path):
     path = export_model(hub_model, tmp_path / "m.json", "json", actuators=ACTUATORS)
     d = json.loads(path.read_text())
-    assert d["hub"] == {"inertia_kg_m2": 2.0, "radius_m": 0.1}
+    assert d["hub"] == {"inertia_kg_m2": 2.0, "radius_m": 0.1, "axis": "y"}
     assert d["actuators"][0] == {"x_start_m": 0.05 * BEAM.length_m,
                                  "x_end_m": 0.45 * BEAM.length_m}
     model, acts = read_plant_json(path)

@@ -208,6 +208,8 @@ DOORS = {
     "fit_strain_actuators": ("model", lambda v: pp.fit_strain_actuators(v, None, BEAM, [])),
     "linearize": ("model", lambda v: pp.linearize(v)),
     "statics": ("model", lambda v: pp.statics(v)),
+    "spinning_frequencies": ("model", lambda v: pp.spinning_frequencies(v, 1.0)),
+    "gyroscopic_frequencies": ("lin", lambda v: pp.gyroscopic_frequencies(v)),
     "compare_plant": ("prbdm", lambda v: pp.compare_plant(v, None)),
     "compare_truth": ("model", lambda v: pp.compare_truth(v)),
     "compare_truth_plant": ("lin", lambda v: pp.compare_truth_plant(v, None, None)),
