@@ -158,6 +158,19 @@ def run_reported(prog: str, call: Callable[[], int | None]) -> int:
 
 
 
+def gravity_option(text: str | None, source, bus: bool = False) -> list[float]:
+    """Return ``--gravity`` (m/s^2, world), or the gravity ``source``'s model was fitted in.
+
+    ``text`` None (the option not given): the model file's recorded gravity (a fit in gravity
+    has its springs fitted about the sag, so it runs in that gravity unless told otherwise),
+    none for a model fitted without one or put on a free bus (``bus``).
+    """
+    if text is not None:
+        return xyz_option(text, "--gravity", "m/s^2")
+    g = getattr(source, "gravity_m_s2", None)
+    return [0.0, 0.0, 0.0] if g is None or bus else [float(x) for x in g]
+
+
 def xyz_option(text: str, option: str, unit: str) -> list[float]:
     """Return ``"X,Y,Z"`` as three finite floats; BeamInputError naming ``option`` otherwise."""
     parts = text.split(",")

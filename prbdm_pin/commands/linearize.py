@@ -121,8 +121,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_bus_option(p)
     p.add_argument("--load", default="0,0,0", metavar="FX,FY,FZ",
                    help="dead tip load of the equilibrium, N, world (default 0,0,0)")
-    p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
-                   help="gravity, m/s^2, world (default none)")
+    p.add_argument("--gravity", default=None, metavar="GX,GY,GZ",
+                   help="gravity, m/s^2, world (default: the gravity the model was fitted in, "
+                        "none for most models)")
     p.add_argument("--spin", type=float, default=None, metavar="RAD_S",
                    help="linearise about the --hub spinning steadily at this rate, rad/s, about "
                         "--hub-axis (--load and --gravity only along that axis; writes the "
@@ -164,7 +165,8 @@ def check_options(args: argparse.Namespace) -> dict:
     if out["bus"] is not None and args.hub:
         raise BeamInputError("--bus: not with --hub (one support at a time)")
     out["load"] = xyz_option(args.load, "--load", "N")
-    out["gravity"] = xyz_option(args.gravity, "--gravity", "m/s^2")
+    out["gravity"] = None if args.gravity is None else xyz_option(args.gravity, "--gravity",
+                                                                  "m/s^2")
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
     if args.dt is not None:
@@ -250,6 +252,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io.atomic import atomic_write_bytes, atomic_write_text
     from ..io.output_folder import output_folder
     from ..plant.linearize import linearize
+    from .checks import gravity_option
 
     opts = check_options(args)
     source = load_model(args.model, args.beam)
@@ -268,6 +271,7 @@ def run(args: argparse.Namespace) -> int:
         opts["actuators"] = source.actuators
     opts["actuators"] = fit_actuators(args, model, fitted, opts["actuators"])
     spans_on_beam(model, opts["loads"], args.distributed_span)
+    opts["gravity"] = gravity_option(args.gravity, source, opts["bus"] is not None)
     gravity = opts["gravity"] if any(opts["gravity"]) else None
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=args.damping_ratio,

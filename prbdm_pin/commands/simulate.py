@@ -93,9 +93,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="simulated time, s")
     p.add_argument("--tip-force", default="0,0,0", metavar="FX,FY,FZ",
                    help="step tip force in world axes, N (default 0,0,0)")
-    p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
-                   help="gravity, m/s^2, world (default none); from the straight pose at rest "
-                        "the member falls into its sag")
+    p.add_argument("--gravity", default=None, metavar="GX,GY,GZ",
+                   help="gravity, m/s^2, world (default: the gravity the model was fitted in, "
+                        "none for most models); from the straight pose at rest the member "
+                        "falls into its sag")
     p.add_argument("--initial-angle", type=float, default=0.0, metavar="RAD",
                    help="start with every joint at this angle, rad (default 0)")
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
@@ -179,8 +180,9 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     from .checks import in_range, xyz_option
 
     force = parse_force(args.tip_force)
-    args.gravity_m_s2 = xyz_option(args.gravity, "--gravity", "m/s^2")
-    if args.compare_truth and any(args.gravity_m_s2):
+    args.gravity_m_s2 = None if args.gravity is None else xyz_option(args.gravity, "--gravity",
+                                                                     "m/s^2")
+    if args.compare_truth and args.gravity_m_s2 is not None and any(args.gravity_m_s2):
         raise BeamInputError("--compare-truth: compares the unloaded plant; run it without "
                              "--gravity")
     in_range("--duration", args.duration, 0.0, lo_open=True, unit="s")
@@ -233,12 +235,15 @@ def run(args: argparse.Namespace) -> int:
     from ..io.output_folder import output_folder
     from ..simulation import simulate
     from ..views.plots import plot_response
+    from .checks import gravity_option
     from .plant_options import actuators_on_beam, spans_on_beam, with_hub
 
     force = check_options(args)
     plant = check_plant_options(args)
     source = load_model(args.model, args.beam)
     model, fitted = source.model, source.fit
+    args.gravity_m_s2 = gravity_option(args.gravity, source,
+                                       getattr(args, "bus_spec", None) is not None)
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")

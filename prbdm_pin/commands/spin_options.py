@@ -21,7 +21,8 @@ def check_spin_option(spin: float | None, opts: dict) -> None:
         raise BeamInputError(f"--spin = {spin!r}: needs --hub INERTIA:RADIUS (the hub spins)")
     axis = opts["hub"].axis
     off = [i for i, a in enumerate("xyz") if a != axis]
-    if any(opts["load"][i] for i in off) or any(opts["gravity"][i] for i in off):
+    gravity = opts["gravity"] or (0.0, 0.0, 0.0)  # None: not given (the model's comes later)
+    if any(opts["load"][i] for i in off) or any(gravity[i] for i in off):
         raise BeamInputError(f"--spin = {spin!r}: a spinning hub has no steady equilibrium "
                              f"under a --load or --gravity off its axis ({axis}: they turn "
                              "with the world, not the hub); give them along the hub axis, or "

@@ -60,8 +60,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "0,0,0)")
     p.add_argument("--distributed-span", default=None, metavar="XA:XB",
                    help="span of --distributed-load, m from the root (default the whole beam)")
-    p.add_argument("--gravity", default="0,0,0", metavar="GX,GY,GZ",
-                   help="gravity, m/s^2, world (default none)")
+    p.add_argument("--gravity", default=None, metavar="GX,GY,GZ",
+                   help="gravity, m/s^2, world (default: the gravity the model was fitted in, "
+                        "none for most models)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     add_common(p)
     p.set_defaults(func=run)
@@ -75,19 +76,20 @@ def run(args: argparse.Namespace) -> int:
     from ..io.output_folder import output_folder
     from ..io.paths import writable_dir
     from ..plant.statics import statics
-    from .checks import xyz_option
+    from .checks import gravity_option, xyz_option
     from .plant_options import spans_on_beam, spans_option
 
     loads = {"tip_force_N": xyz_option(args.tip_force, "--tip-force", "N"),
              "tip_moment_Nm": xyz_option(args.tip_moment, "--tip-moment", "N m"),
-             "gravity_m_s2": xyz_option(args.gravity, "--gravity", "m/s^2"),
              "tip_moment_follower_Nm": xyz_option(args.tip_moment_follower,
                                                   "--tip-moment-follower", "N m"),
              "distributed_N_m": xyz_option(args.distributed_load, "--distributed-load", "N/m")}
     texts = [] if args.distributed_span is None else [args.distributed_span]
     spans = spans_option(texts)
     writable_dir(args.out, "--out")
-    model = load_model(args.model, args.beam).model
+    source = load_model(args.model, args.beam)
+    model = source.model
+    loads["gravity_m_s2"] = gravity_option(args.gravity, source)
     spans_on_beam(model, spans, texts)
     span = spans[0] if spans else None
     eq = statics(model, **loads, distributed_load=span)

@@ -84,3 +84,33 @@ def test_bad_gravity_exit_2(tmp_path, capsys, argv, msg):
     err = capsys.readouterr().err.strip()
     assert msg in err and len(err.splitlines()) == 1
     assert not (tmp_path / "x").exists()
+
+
+def test_plant_commands_run_a_gravity_fit_in_its_gravity(tmp_path):
+    """statics, linearize and simulate of a fit made in gravity default to that gravity (its
+    springs hold the member about the sag): the same numbers as with --gravity given, and the
+    straight member with --gravity 0,0,0."""
+    out = tmp_path / "fit"
+    assert main([*FIT, "--objective", "eigen", "--gravity", "0,0,-9.81",
+                 "--out", str(out)]) == 0
+    fit = str(out / "fit.json")
+
+    def statics(*extra):
+        d = tmp_path / f"s{len(list(tmp_path.iterdir()))}"
+        assert main(["statics", fit, *extra, "--out", str(d), "-q"]) == 0
+        return json.loads((d / "statics.json").read_text())
+
+    default, given, none = statics(), statics("--gravity", "0,0,-9.81"), \
+        statics("--gravity", "0,0,0")
+    # the same solve either way: equal to the last bit
+    assert default["q_rad"] == given["q_rad"] and default["tip_position_m"][2] < 0.0
+    assert not any(none["q_rad"])
+
+    def linearize(*extra):
+        d = tmp_path / f"l{len(list(tmp_path.iterdir()))}"
+        assert main(["linearize", fit, *extra, "--out", str(d), "-q"]) == 0
+        return json.loads((d / "linear_model.json").read_text())
+
+    lin_default, lin_given = linearize(), linearize("--gravity", "0,0,-9.81")
+    assert lin_default["gravity_m_s2"] == lin_given["gravity_m_s2"] == [0.0, 0.0, -9.81]
+    assert lin_default["q_eq_rad"] == lin_given["q_eq_rad"]
