@@ -107,6 +107,7 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     check_model(model)
     from ..truth.plant import clamped_model, hybrid_model
     from .comparison import compare_plant
+    from .truth_loads import TIP_MOMENTS, with_truth_loads
 
     if request.model not in PLANT_TRUTH_MODELS:
         raise BeamInputError(f"request.model = {request.model!r}: has no modal plant; use one "
@@ -116,6 +117,11 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
         raise BeamInputError("model: has no beam (a URDF does not carry it), so no truth")
     truth = request.compute(beam, cache_dir=cache_dir)
     stations = [(a.x_start_m, a.x_end_m) for a in actuators]
+    # a tip moment's modal column is an actuator's over (0, L) (:mod:`.truth_loads`)
+    tip_column = None
+    if any(n in TIP_MOMENTS for n in lin.input_names):
+        tip_column = f"strain[{len(stations)}]"
+        stations = [*stations, (0.0, float(beam.length_m))]
     hub = model.hub
     bus = getattr(model, "bus", None)
     if bus is not None:
@@ -133,6 +139,7 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     else:
         plant = hybrid_model(truth, beam, hub.inertia_kg_m2, hub.radius_m, stations,
                              damping_ratio, damping="modal")
+    plant = with_truth_loads(plant, beam, lin.input_names, tip_column)
     return TruthPlantComparison(request, truth, compare_plant(lin, plant), float(damping_ratio))
 
 
