@@ -22,7 +22,7 @@ def check_compare_options(args, opts: dict) -> None:
         return
     from .fit_checks import check_cache_dir
 
-    if any(opts["load"]) or any(opts["gravity"]):
+    if any(opts["load"]) or any(opts["gravity"] or ()):  # None: --gravity not given
         raise BeamInputError("--compare-truth: the truth plant is the unloaded straight beam; "
                              "drop --load and --gravity")
     if args.damping_form != "modal":
