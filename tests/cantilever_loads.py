@@ -107,6 +107,8 @@ def elastica_self_weight(L: float, EI: float, q: float) -> np.ndarray:
         return [k, -q * (L - s) * np.cos(th) / EI, np.cos(th), -np.sin(th)]
 
     def shoot(k0):
+        # the reference's own accuracy (integrator and root tolerances, not comparison bounds):
+        # far below the 1e-3 L the chain is compared at
         sol = solve_ivp(rhs, (0.0, L), [0.0, k0, 0.0, 0.0], method="DOP853", rtol=1e-12,
                         atol=1e-14)
         return sol.y[:, -1]

@@ -90,7 +90,8 @@ def shoot_self_weight(EI: float, rhoA: float, L: float, g, F=(0.0, 0.0, 0.0)) ->
         return [y[1] / EI, nx * np.sin(y[0]) - nz * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])]
 
     def run(m0):
-        # the integrator's request: rtol 1e-12, atol 45 EPS (1e-14)
+        # the integrator's request (not a comparison bound): rtol 1e-12, atol 45 EPS (1e-14),
+        # the shooting reference's accuracy, below what the truth is compared at
         return solve_ivp(rhs, (0.0, L), [0.0, m0, 0.0, 0.0], rtol=1e-12, atol=45 * EPS,
                          method="DOP853")
 

@@ -17,24 +17,18 @@ import numpy as np
 from ..chain.eigen import generalized_eigh
 from ..chain.pin_dynamics import planar_lengths
 from ..errors import BeamInputError, InputTypeError
-from ..model.bus_outputs import bus_output_samples, bus_output_unit, parse_bus_outputs
 from ..model.checks import check_model
 from ..model.hub import hub_frequencies
-from ..model.inputs import StrainActuator, check_corner_names, parse_inputs, strain_map
-from ..model.load_outputs import is_load_output
-from ..model.loads import check_load
-from ..model.outputs import check_output_stations, output_samples, output_unit, parse_outputs
-from ..model.reaction import check_load_inputs
+from ..model.inputs import StrainActuator
 from ..model.supports import N_BASE, free_frequencies
 from ..options.checks import check_float
 from ..options.integrators import Integrator
 from ..options.simulation import SimulationOptions
 from .base_motion import BaseForce, BaseMotion
 from .damping import damping_ratios
-from .inputs import input_force
-from .load_samples import sample_accelerations, sample_loads
 from .loop import check_grid, integrate, progress_bar, start
 from .schedule import StiffnessSchedule
+from .signals import plant_signals, recorded
 from .system import assemble_system, force_function, mass_matrix, tip_positions, vector
 from .trajectory import Trajectory
 
@@ -189,7 +183,7 @@ def simulate(
     if stiffness_schedule is not None and hub:
         raise BeamInputError("stiffness_schedule: not with a hub (the schedule holds the beam "
                              "joints' springs of a clamped chain)")
-    plant = _plant(model, inputs, u, actuators, outputs, integ, loads)
+    plant = plant_signals(model, inputs, u, actuators, outputs, integ, loads)
     if stiffness_schedule is not None and stiffness_schedule.stiffness_Nm_per_rad.shape[1] != n:
         raise BeamInputError(f"stiffness_schedule: needs {n} joint stiffnesses per pose")
     # the options' dt_s, whether or not the integrator has a step (as always)
@@ -220,12 +214,12 @@ def simulate(
     else:
         tip = tip_positions(model, system.data, samples.q_rad, system.lengths_m)
     t, Q, V = samples.t_s, samples.q_rad, samples.v_rad_s
-    recorded = _recorded(model, system, plant[1], t, Q, V, tip, force, g, tuple(loads))
-    for arr in (t, Q, V, tip, recorded[2], recorded[5]):
+    signals = recorded(model, system, plant[1], t, Q, V, tip, force, g, tuple(loads))
+    for arr in (t, Q, V, tip, signals[2], signals[5]):
         arr.setflags(write=False)
     return Trajectory(t, Q, V, tip, int(samples.steps), integ.method,
                       time.perf_counter() - wall0, int(samples.rhs_evaluations),
-                      int(samples.jacobian_updates), time.process_time() - cpu0, *recorded,
+                      int(samples.jacobian_updates), time.process_time() - cpu0, *signals,
                       integrator=integ)
 
 
@@ -262,88 +256,6 @@ def _lowest_frequency(system, q0: np.ndarray, n_free: int) -> float:
         return float(hub_frequencies(M, system.springs(q0)[1:])[1])
     w2 = generalized_eigh(np.diag(system.springs(q0)), M, "step size", vectors=False)
     return math.sqrt(max(w2[0], 1e-300))
-
-
-def _plant(model, inputs, u, actuators, outputs, integrator: Integrator, loads=()):
-    """Check the plant inputs and outputs before any work.
-
-    Returns (a maker of the system's InputForce or None, the output names).
-    """
-    acts = tuple(actuators) if isinstance(actuators, (list, tuple)) else actuators
-    if not isinstance(acts, tuple) or not all(isinstance(a, StrainActuator) for a in acts):
-        raise BeamInputError(f"actuators = {actuators!r:.80}: must be a sequence of "
-                             "StrainActuator")
-    hub = model.hub is not None
-    n_springs = int(getattr(model, "n_springs", model.n_joints))  # spatial: per axis and node
-    out_names, loads_read = (), False
-    bus = getattr(model, "bus", None) is not None
-    if bus and not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
-        out_names = parse_bus_outputs(outputs, n_springs)
-        check_corner_names(model.member, out_names, "outputs")
-    elif not (isinstance(outputs, (list, tuple)) and len(outputs) == 0):
-        parsed_out = parse_outputs(outputs, n_springs, hub)
-        out_names = tuple(n for n, _, _ in parsed_out)
-        check_corner_names(model, out_names, "outputs")
-        check_output_stations(model, out_names)
-        loads_read = any(is_load_output(b) for _, b, _ in parsed_out)
-    if isinstance(inputs, (list, tuple)) and len(inputs) == 0:
-        if u is not None:
-            raise BeamInputError("u: given without inputs; name the inputs it drives")
-        return None, out_names
-    lds = _loads(model, loads)
-    parsed_in = parse_inputs(inputs, n_springs, len(acts), hub, len(lds))
-    names = tuple(n for n, _, _ in parsed_in)
-    check_corner_names(model, names, "inputs")
-    if loads_read:  # the root reaction and the strain must know every input's load
-        check_load_inputs(parsed_in)
-    if not integrator.takes_inputs:
-        raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
-                             "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
-    if acts and getattr(getattr(model, "axes", None), "spatial", False):
-        raise BeamInputError(f"actuators: strain actuators act on the planar chain's bending "
-                             f"joints; this model has axes {model.axes.value!r}")
-    for i, a in enumerate(acts):
-        strain_map(model.lengths_m, a, f"actuators[{i}]")
-    return (lambda tip_terms: input_force(model, names, u, acts, tip_terms, lds)), out_names
-
-
-def _loads(model, loads) -> tuple:
-    """Check the DistributedLoad spans against the model's beam (naming ``loads[i]``)."""
-    if isinstance(loads, (str, bytes)) or not isinstance(loads, (list, tuple)):
-        raise InputTypeError(f"loads = {loads!r:.80}: must be a sequence of DistributedLoad")
-    for i, ld in enumerate(loads):
-        check_load(model.lengths_m, ld, f"loads[{i}]")
-    return tuple(loads)
-
-
-def _recorded(model, system, out_names, t, Q, V, tip, force, gravity, spans=()) -> tuple:
-    """(input names, units, values, output names, units, values) of the samples.
-
-    The root reaction and the strain read the samples' accelerations and applied loads (the
-    tip force ``force`` of time, N, and the inputs, the distributed ones over ``spans``) under
-    the gravity (m/s^2, world).
-    """
-    f = system.inputs
-    if f is None:
-        U, in_names, in_units = np.zeros((len(t), 0)), (), ()
-    else:
-        U = np.array([f.values(ti, q, v) for ti, q, v in zip(t, Q, V, strict=True)])
-        U = U.reshape(len(t), len(f.names))
-        in_names, in_units = f.names, f.units
-    if not out_names:
-        Y = np.zeros((len(t), 0))
-    elif getattr(model, "bus", None) is not None:
-        Y = bus_output_samples(model, Q, V, tip, out_names)
-        return (in_names, in_units, U, out_names, tuple(bus_output_unit(s) for s in out_names),
-                Y)
-    else:
-        A = loads = None
-        if any(is_load_output(b) for _, b, _ in parse_outputs(out_names, model.n_springs,
-                                                              model.hub is not None)):
-            A = sample_accelerations(system, t, Q, V)
-            loads = sample_loads(model, system, force, t, U, spans)
-        Y = output_samples(model, Q, V, tip, out_names, A, loads, gravity)
-    return (in_names, in_units, U, out_names, tuple(output_unit(s) for s in out_names), Y)
 
 
 def _options(options: SimulationOptions | None, changes: dict[str, Any]) -> SimulationOptions:
