@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputTypeError
 from ..fitting.calibrate import CalibrationResult
 from ..io.atomic import atomic_write_text
 from ..io.output_folder import output_folder
@@ -89,6 +90,8 @@ def write_calibration(result: CalibrationResult, out: str | os.PathLike,
     Path
         The folder written.
     """
+    if not isinstance(result, CalibrationResult):
+        raise InputTypeError(f"result = {result!r:.60}: must be a CalibrationResult")
     record = calibration_record(result)
     model = model_dict(result.model, model_damping_ratios(result, damping_ratio),
                        damping_form="modal")

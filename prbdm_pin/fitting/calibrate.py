@@ -106,11 +106,8 @@ def _parse(parameters) -> tuple[tuple[str, ...], list[int]]:
 
 def _chain_modes(model, channels: tuple[str, ...]):
     """Return omega0 (n,) and the modal Cq, Cv (c, n) of the clamped planar chain."""
-    from ..model.prbdm_model import PrbdmModel
     from ..plant.linearize import linearize
 
-    if not isinstance(model, PrbdmModel):
-        raise InputTypeError(f"model = {model!r:.60}: must be a PrbdmModel")
     if model.hub is not None or model.bus is not None or model.axes.spatial:
         raise BeamInputError("model: calibrate takes a clamped planar chain (no hub, bus or "
                              "spatial axes) for now")
@@ -264,8 +261,10 @@ def calibrate(model, data: RingDown | str | os.PathLike,
         Naming the argument: unknown parameters, too few samples for the unknowns, a
         constant channel, a parameter the data cannot determine (and which).
     """
-    from ..model.prbdm_model import build_model
+    from ..model.prbdm_model import PrbdmModel, build_model
 
+    if not isinstance(model, PrbdmModel):
+        raise InputTypeError(f"model = {model!r:.60}: must be a PrbdmModel")
     names, modes = _parse(parameters)
     if isinstance(data, (str, os.PathLike)):
         data = read_ring_down(data)
