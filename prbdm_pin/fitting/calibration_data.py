@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import BeamInputError, InputTypeError
 
-__all__ = ["RingDown", "ring_down", "read_ring_down"]
+__all__ = ["RingDown", "channel_name", "ring_down", "read_ring_down"]
 
 # the unit suffixes the trajectory CSV writes (longest first: ``_m_s`` before ``_m``)
 _SUFFIXES = ("_rad_s", "_m_s", "_rad", "_m", "_N_m", "_N")
@@ -41,7 +41,8 @@ class RingDown:
     channels: tuple[str, ...]
 
 
-def _channel(name: str) -> str:
+def channel_name(name: str) -> str:
+    """Return ``name`` without the unit suffix the trajectory CSV appends (``tip_z_m``)."""
     for s in _SUFFIXES:
         if name.endswith(s):
             return name[: -len(s)]
@@ -69,7 +70,7 @@ def ring_down(t_s, y, channels, what: str = "data") -> RingDown:
     if t.ndim != 1 or Y.shape != (t.size, len(channels)) or not channels:
         raise BeamInputError(f"{what}: t_s {t.shape} and y {Y.shape}: need N times and N rows "
                              f"of {len(channels)} channel(s)")
-    names = tuple(_channel(str(c)) for c in channels)
+    names = tuple(channel_name(str(c)) for c in channels)
     if len(set(names)) != len(names):
         raise BeamInputError(f"{what}: channels {list(channels)}: a channel is repeated")
     for j, name in enumerate(("t_s", *channels)):
