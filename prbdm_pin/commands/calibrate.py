@@ -11,8 +11,8 @@ EXAMPLES = """\
 examples:
   prbdm calibrate runs/ref/fit.json --data ringdown.csv \\
       --parameters E,damping[0],damping[1] --out runs/cal
-  prbdm calibrate model.json --data ringdown.csv --parameters rho,damping[0] --modes 2 \\
-      --out runs/cal
+  prbdm calibrate model.json --data ringdown.csv \\
+      --parameters rho,damping[0],offset[tip_z_m] --modes 2 --out runs/cal
 
 Data: a CSV with a header, t_s (s, increasing) then one column per measured output named as
 `prbdm linearize` names outputs, with or without the unit the trajectory CSV appends (tip_z or
@@ -20,8 +20,9 @@ tip_z_m, tip_z_rate or tip_z_rate_m_s, q[0] or q[0]_rad): a free ring-down of th
 member. Its initial state (each mode's amplitude and phase) is fitted with the parameters.
 
 Parameters: E and rho (scales of the model's: springs scale with E, link masses and inertias
-with rho), damping[k] (the modal damping ratio of mode k + 1). A ring-down's frequencies see
-E/rho only: asking for both is refused, as is any parameter the data cannot determine.
+with rho), damping[k] (the modal damping ratio of mode k + 1), offset[CHANNEL] (a constant
+sensor offset of a data channel, its unit). A ring-down's frequencies see E/rho only: asking
+for both is refused, as is any parameter the data cannot determine.
 
 Writes OUT/calibration.json ("parameters": {NAME: {"value", "std_error"}}, E in Pa, rho in
 kg/m^3; the residual RMS per channel), OUT/model.json (the calibrated model JSON, the fitted
@@ -43,7 +44,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="the beam a fit.json was fitted to (default: the one it carries)")
     p.add_argument("--data", required=True, metavar="FILE", help="ring-down CSV (t_s, outputs)")
     p.add_argument("--parameters", required=True, metavar="NAMES",
-                   help="comma-separated: E, rho, damping[k]")
+                   help="comma-separated: E, rho, damping[k], offset[CHANNEL]")
     p.add_argument("--modes", type=int, default=None, metavar="N",
                    help="modes in the response (default: those damping[k] names, at least 1)")
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
