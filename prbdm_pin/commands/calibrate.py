@@ -20,8 +20,9 @@ tip_z_m, tip_z_rate or tip_z_rate_m_s, q[0] or q[0]_rad): a free ring-down of th
 member. Its initial state (each mode's amplitude and phase) is fitted with the parameters.
 
 Parameters: E and rho (scales of the model's: springs scale with E, link masses and inertias
-with rho), damping[k] (the modal damping ratio of mode k + 1), offset[CHANNEL] (a constant
-sensor offset of a data channel, its unit). A ring-down's frequencies see E/rho only: asking
+with rho), damping[k] (the modal damping ratio of mode k + 1), or rayleigh_alpha (1/s) and
+rayleigh_beta (s) of C = alpha M + beta K instead, offset[CHANNEL] (a constant sensor offset
+of a data channel, its unit). A ring-down's frequencies see E/rho only: asking
 for both is refused, as is any parameter the data cannot determine.
 
 Writes OUT/calibration.json ("parameters": {NAME: {"value", "std_error"}}, E in Pa, rho in
@@ -44,9 +45,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="the beam a fit.json was fitted to (default: the one it carries)")
     p.add_argument("--data", required=True, metavar="FILE", help="ring-down CSV (t_s, outputs)")
     p.add_argument("--parameters", required=True, metavar="NAMES",
-                   help="comma-separated: E, rho, damping[k], offset[CHANNEL]")
+                   help="comma-separated: E, rho, damping[k], rayleigh_alpha, rayleigh_beta, "
+                        "offset[CHANNEL]")
     p.add_argument("--modes", type=int, default=None, metavar="N",
-                   help="modes in the response (default: those damping[k] names, at least 1)")
+                   help="modes in the response (default: those damping[k] names; 2 with both "
+                        "Rayleigh coefficients; at least 1)")
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
                    help="ratio of the modes not fitted, and the fitted ones' start "
                         "(default 0.02)")
@@ -72,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model, args.beam).model
     result = calibrate(model, data, args.parameters, n_modes=args.modes,
                        damping_ratio=args.damping)
-    write_calibration(result, out, args.damping)
+    write_calibration(result, out)
     if not args.quiet:
         for n, v, s in zip(result.parameters, result.values, result.std_errors, strict=True):
             print(f"{n} = {v:.6g} +/- {s:.2g}", file=sys.stderr)

@@ -15,8 +15,6 @@ import json
 import os
 from pathlib import Path
 
-import numpy as np
-
 from ..errors import InputTypeError
 from ..fitting.calibrate import CalibrationResult
 from ..io.atomic import atomic_write_text
@@ -25,18 +23,9 @@ from ..version import __version__
 from ..views.plots import new_figure, save_png
 from .model_json import model_dict
 
-__all__ = ["CALIBRATION_FILES", "calibration_record", "model_damping_ratios",
-           "write_calibration"]
+__all__ = ["CALIBRATION_FILES", "calibration_record", "write_calibration"]
 
 CALIBRATION_FILES = ("calibration.json", "model.json", "calibration.png")
-
-
-def model_damping_ratios(result: CalibrationResult, damping_ratio: float) -> np.ndarray:
-    """Return the ratio of every mode of the calibrated chain (fitted ones first)."""
-    n = result.model.n_springs
-    z = np.full(n, float(damping_ratio))
-    z[:result.damping_ratio.size] = result.damping_ratio
-    return z
 
 
 def calibration_record(result: CalibrationResult) -> dict:
@@ -49,6 +38,7 @@ def calibration_record(result: CalibrationResult) -> dict:
         "E_scale": result.E_scale,
         "rho_scale": result.rho_scale,
         "damping_ratio": [float(v) for v in result.damping_ratio],
+        "model_damping_ratio": [float(v) for v in result.model_damping_ratio],
         "omega_rad_s": [float(v) for v in result.omega_rad_s],
         "residual_rms": dict(result.residual_rms),
         "samples": int(result.data.t_s.size),
@@ -71,8 +61,7 @@ def _plot(result: CalibrationResult, path: Path) -> None:
     save_png(fig, path)
 
 
-def write_calibration(result: CalibrationResult, out: str | os.PathLike,
-                      damping_ratio: float = 0.02) -> Path:
+def write_calibration(result: CalibrationResult, out: str | os.PathLike) -> Path:
     """Write ``calibration.json``, ``model.json`` and ``calibration.png`` into ``out``.
 
     All together or none (:func:`~prbdm_pin.io.output_folder.output_folder`).
@@ -82,8 +71,6 @@ def write_calibration(result: CalibrationResult, out: str | os.PathLike,
     result : CalibrationResult
     out : path
         The folder.
-    damping_ratio : float
-        The ratio of the modes the calibration did not fit, dimensionless.
 
     Returns
     -------
@@ -93,8 +80,7 @@ def write_calibration(result: CalibrationResult, out: str | os.PathLike,
     if not isinstance(result, CalibrationResult):
         raise InputTypeError(f"result = {result!r:.60}: must be a CalibrationResult")
     record = calibration_record(result)
-    model = model_dict(result.model, model_damping_ratios(result, damping_ratio),
-                       damping_form="modal")
+    model = model_dict(result.model, result.model_damping_ratio, damping_form="modal")
     with output_folder(out, CALIBRATION_FILES) as stage:
         atomic_write_text(stage / "calibration.json", json.dumps(record, indent=2) + "\n")
         atomic_write_text(stage / "model.json", json.dumps(model, indent=2) + "\n")

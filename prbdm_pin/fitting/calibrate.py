@@ -32,11 +32,11 @@ from ..errors import BeamInputError, InputTypeError
 from ..options.choices import LINK_FLOOR_FRACTION
 from ..options.validate import check_damping_ratio
 from .calibration_data import RingDown, channel_name, read_ring_down
-from .calibration_problem import DAMPING, OFFSET, Problem, rank_check, start
+from .calibration_problem import DAMPING, OFFSET, RAYLEIGH, Problem, rank_check, start
 
 __all__ = ["CalibrationResult", "calibrate", "PARAMETER_NAMES"]
 
-PARAMETER_NAMES = ("E", "rho", "damping[k]", "offset[CHANNEL]")
+PARAMETER_NAMES = ("E", "rho", "damping[k]", *RAYLEIGH, "offset[CHANNEL]")
 _SCALE_BOUNDS = (1e-3, 1e3)
 _ZETA_MAX = 0.99
 
@@ -66,6 +66,9 @@ class CalibrationResult:
     data : RingDown
     model : PrbdmModel
         The calibrated chain: its beam's E and rho scaled, its springs scaled with E.
+    model_damping_ratio : ndarray (n_springs,)
+        The modal ratio of every mode of the calibrated chain: the fitted ones, the given
+        ``damping_ratio`` for the others (with Rayleigh damping, its ratio at each mode).
     """
 
     parameters: tuple[str, ...]
@@ -79,6 +82,7 @@ class CalibrationResult:
     fitted: np.ndarray
     data: RingDown
     model: object
+    model_damping_ratio: np.ndarray
 
 
 def _parse(parameters) -> tuple[tuple[str, ...], list[int]]:
@@ -92,14 +96,18 @@ def _parse(parameters) -> tuple[tuple[str, ...], list[int]]:
         if not isinstance(p, str):
             raise InputTypeError(f"parameters[{i}] = {p!r:.40}: must be a string")
         m = DAMPING.match(p)
-        if p not in ("E", "rho") and m is None and OFFSET.match(p) is None:
+        if p not in ("E", "rho", *RAYLEIGH) and m is None and OFFSET.match(p) is None:
             raise BeamInputError(f"parameters[{i}] = {p!r:.40}: must be E, rho, damping[k] "
-                                 "(k = 0 for mode 1) or offset[CHANNEL]")
+                                 "(k = 0 for mode 1), rayleigh_alpha, rayleigh_beta or "
+                                 "offset[CHANNEL]")
         if p in names:
             raise BeamInputError(f"parameters[{i}] = {p!r}: named twice")
         names.append(p)
         if m is not None:
             modes.append(int(m.group(1)))
+    if modes and set(RAYLEIGH) & set(names):
+        raise BeamInputError("parameters: damping[k] and rayleigh_alpha/rayleigh_beta are two "
+                             "damping forms; fit one")
     return tuple(names), modes
 
 
@@ -138,11 +146,14 @@ def calibrate(model, data: RingDown | str | os.PathLike,
         The measured ring-down (:func:`~prbdm_pin.fitting.calibration_data.read_ring_down`).
     parameters : sequence of str or str
         Names from ``E``, ``rho``, ``damping[k]`` (the ratio of mode k + 1),
+        ``rayleigh_alpha`` (1/s) and ``rayleigh_beta`` (s) of C = alpha M + beta K (mode k's
+        ratio alpha / (2 omega_k) + beta omega_k / 2; not with ``damping[k]``),
         ``offset[CHANNEL]`` (a constant sensor offset of that data channel), or one
         comma-separated string.
     n_modes : int, optional
-        The lowest modes in the response (default: enough for every ``damping[k]``, at
-        least 1). The ring-down's amplitude and phase of each is fitted too.
+        The lowest modes in the response (default: enough for every ``damping[k]``, two
+        with both Rayleigh coefficients, else 1). The ring-down's amplitude and phase of
+        each is fitted too.
     damping_ratio : float
         The ratio of the modes whose damping is not fitted, and the fitted ones' start.
 
@@ -168,7 +179,7 @@ def calibrate(model, data: RingDown | str | os.PathLike,
     zeta = check_damping_ratio("damping_ratio", damping_ratio)
     need = max(modes, default=-1) + 1
     if n_modes is None:
-        n_modes = max(need, 1)
+        n_modes = max(need, 2 if set(RAYLEIGH) <= set(names) else 1)
     if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) \
             or not need <= n_modes:
         raise BeamInputError(f"n_modes = {n_modes!r:.40}: must be an integer >= {max(need, 1)}"
@@ -203,13 +214,11 @@ def calibrate(model, data: RingDown | str | os.PathLike,
     # the Jacobian's columns: the nonlinear parameters, the initial state, the offsets
     labels = [*nonlinear, *([None] * 2 * n_modes),
               *(n for n in names if OFFSET.match(n) is not None)]
-    x0 = start(prob, np.array([zeta if n.startswith("damping") else 1.0 for n in nonlinear]))
+    x0 = start(prob, _initial(nonlinear, zeta, omega0[:n_modes]))
     if p:
         B, _, dy = prob.model_jacobian(x0)
         rank_check(labels, np.hstack([dy, B]))
-        lo = np.array([0.0 if n.startswith("damping") else _SCALE_BOUNDS[0] for n in nonlinear])
-        hi = np.array([_ZETA_MAX if n.startswith("damping") else _SCALE_BOUNDS[1]
-                       for n in nonlinear])
+        lo, hi = _bounds(nonlinear)
         x = least_squares(prob.residual, np.clip(x0, lo, hi), jac=prob.projected_jacobian,
                           bounds=(lo, hi), x_scale="jac", method="trf").x
         B, coef, dy = prob.model_jacobian(x)
@@ -237,11 +246,41 @@ def calibrate(model, data: RingDown | str | os.PathLike,
     new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
                       np.asarray(model.stiffness_Nm_per_rad) * sE,
                       min_fraction=LINK_FLOOR_FRACTION)
-    for a in (values, std, z, fitted):
+    all_z = np.full(omega0.size, zeta)
+    all_z[:n_modes] = z
+    ab = prob.rayleigh(x)
+    if ab is not None:  # every mode of the calibrated chain takes the fitted Rayleigh ratio
+        w_all = omega0 * np.sqrt(sE / sR)
+        all_z = ab[0] / (2.0 * w_all) + ab[1] * w_all / 2.0
+        over = np.flatnonzero(all_z >= 1.0)
+        if over.size:
+            raise BeamInputError(f"parameters: the fitted Rayleigh damping gives mode "
+                                 f"{over[0] + 1} of the chain a ratio {all_z[over[0]]:.3g} >= 1 "
+                                 "(over-damped); fit damping[k] instead")
+    for a in (values, std, z, fitted, all_z):
         a.setflags(write=False)
     return CalibrationResult(
         parameters=names, values=values, std_errors=std, E_scale=float(sE),
         rho_scale=float(sR), damping_ratio=z, omega_rad_s=omega0[:n_modes] * np.sqrt(sE / sR),
         residual_rms={ch: float(np.sqrt(np.mean(res[:, j] ** 2)))
                       for j, ch in enumerate(data.channels)},
-        fitted=fitted, data=data, model=new)
+        fitted=fitted, data=data, model=new, model_damping_ratio=all_z)
+
+
+def _initial(names, zeta: float, w: np.ndarray) -> np.ndarray:
+    """Return the start: scales 1, ratios zeta, Rayleigh giving modes 1 and n the ratio zeta."""
+    w1, wn = w[0], w[-1]
+    if w.size > 1 and {"rayleigh_alpha", "rayleigh_beta"} <= set(names):
+        ab = (2 * zeta * w1 * wn / (w1 + wn), 2 * zeta / (w1 + wn))
+    else:  # one coefficient alone carries mode 1's zeta
+        ab = (2 * zeta * w1, 2 * zeta / w1)
+    start_of = {"rayleigh_alpha": ab[0], "rayleigh_beta": ab[1], "E": 1.0, "rho": 1.0}
+    return np.array([start_of.get(n, zeta) for n in names])
+
+
+def _bounds(names) -> tuple[np.ndarray, np.ndarray]:
+    lo = {"E": _SCALE_BOUNDS[0], "rho": _SCALE_BOUNDS[0]}
+    hi = {"E": _SCALE_BOUNDS[1], "rho": _SCALE_BOUNDS[1], "rayleigh_alpha": np.inf,
+          "rayleigh_beta": np.inf}
+    return (np.array([lo.get(n, 0.0) for n in names]),
+            np.array([hi.get(n, _ZETA_MAX) for n in names]))

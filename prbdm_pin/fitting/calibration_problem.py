@@ -18,7 +18,10 @@ import numpy as np
 from ..errors import BeamInputError
 from .calibration_basis import ring_basis
 
-__all__ = ["DAMPING", "OFFSET", "COND_MAX", "Problem", "rank_check", "start"]
+__all__ = ["DAMPING", "OFFSET", "RAYLEIGH", "COND_MAX", "Problem", "rank_check", "start"]
+
+# C = alpha M + beta K: mode k gets zeta_k = alpha / (2 omega_k) + beta omega_k / 2
+RAYLEIGH = ("rayleigh_alpha", "rayleigh_beta")
 
 DAMPING = re.compile(r"^damping\[(\d+)\]$")
 OFFSET = re.compile(r"^offset\[(.+)\]$")
@@ -39,6 +42,13 @@ class Problem:
     zeta0: np.ndarray
     offsets: tuple[int, ...] = ()  # the channels with an offset
 
+    def rayleigh(self, x) -> tuple[float, float] | None:
+        """Return (alpha 1/s, beta s) at x, or None without Rayleigh damping."""
+        d = dict(zip(self.names, x, strict=True))
+        if RAYLEIGH[0] not in d and RAYLEIGH[1] not in d:
+            return None
+        return float(d.get(RAYLEIGH[0], 0.0)), float(d.get(RAYLEIGH[1], 0.0))
+
     def unpack(self, x):
         """Return s_E, s_rho and the ratio of every mode at x."""
         sE = sR = 1.0
@@ -48,8 +58,12 @@ class Problem:
                 sE = v
             elif name == "rho":
                 sR = v
-            else:
+            elif name not in RAYLEIGH:
                 z[int(DAMPING.match(name).group(1))] = v
+        ab = self.rayleigh(x)
+        if ab is not None:
+            w = self.omega0 * np.sqrt(sE / sR)
+            z = ab[0] / (2.0 * w) + ab[1] * w / 2.0
         return sE, sR, z
 
     def _offset_columns(self) -> np.ndarray:
@@ -90,12 +104,20 @@ class Problem:
         B = np.hstack([Bm, self._offset_columns()])
         c = self.coefficients(B)
         per_w = (dBw * c[:2 * n]).reshape(-1, n, 2).sum(axis=2)  # d y / d omega_k (Nc, n)
+        per_z = (dBz * c[:2 * n]).reshape(-1, n, 2).sum(axis=2)  # d y / d zeta_k (Nc, n)
+        ab = self.rayleigh(x)
+        if ab is not None:  # Rayleigh: zeta_k moves with omega_k too
+            per_w = per_w + per_z * (-ab[0] / (2.0 * w**2) + ab[1] / 2.0)
         cols = []
         for name in self.names:
             if name == "E":
                 cols.append(per_w @ (w / (2.0 * sE)))  # omega ~ sqrt(sE / sR)
             elif name == "rho":
                 cols.append(per_w @ (-w / (2.0 * sR)))
+            elif name == RAYLEIGH[0]:
+                cols.append(per_z @ (1.0 / (2.0 * w)))
+            elif name == RAYLEIGH[1]:
+                cols.append(per_z @ (w / 2.0))
             else:
                 k = int(DAMPING.match(name).group(1))
                 cols.append(dBz[:, 2 * k:2 * k + 2] @ c[2 * k:2 * k + 2])

@@ -165,3 +165,33 @@ def test_a_sensor_offset_is_recovered_with_e(chain, plant, narrow):
     np.testing.assert_array_less(np.abs(r.values - want), 3 * r.std_errors)
     with pytest.raises(BeamInputError, match=r"parameters\[1\] = 'offset\[tip_x\]': no channel"):
         calibrate(chain, data, ["E", "offset[tip_x]"])
+
+
+def test_the_rayleigh_jacobian_is_central_differences(chain):
+    from prbdm_pin.fitting.calibrate import _chain_modes
+
+    t = np.arange(400) / 250.0
+    w0, cq, cv = _chain_modes(chain, ("tip_z",))
+    prob = Problem(("E", "rayleigh_alpha", "rayleigh_beta"), t, np.ones(t.size),
+                   np.array([1.0]), w0[:2], cq[:, :2], cv[:, :2], np.full(2, 0.02))
+    x = np.array([1.1, 0.8, 3e-5])
+    B, c, dy = prob.model_jacobian(x)
+    # rounding as the parameter test above (the phase omega t)
+    noise = 4 * EPS * np.abs(B @ c).max() * prob.omega0.max() * 1.1 * t.max()
+    D, bound = central_difference(lambda v: prob.basis(v) @ c, x, 1e-4 * x, noise)
+    np.testing.assert_array_less(np.abs(dy - D), bound + noise)
+
+
+def test_rayleigh_damping_is_recovered(chain, plant, narrow):
+    alpha, beta = 0.9, 3.0e-5  # 1/s, s
+    w = plant.frequencies_rad_s[:2] * np.sqrt(S_E / S_RHO)
+    zeta = alpha / (2 * w) + beta * w / 2  # C = alpha M + beta K on the truth's modes
+    t = np.arange(500) / 250.0
+    y = truth_ring_down(plant, S_E, S_RHO, zeta, t, ETA0)
+    y = y + 0.02 * np.abs(y).max() * np.random.default_rng(5).standard_normal(y.shape)
+    r = calibrate(chain, ring_down(t, y, ["tip_z"]), "E,rayleigh_alpha,rayleigh_beta")
+    want = [narrow.material.E_Pa * S_E / S_RHO, alpha, beta]
+    # one seed: a 3-sigma miss has probability 0.3 % per parameter
+    np.testing.assert_array_less(np.abs(r.values - want), 3 * r.std_errors)
+    with pytest.raises(BeamInputError, match="two damping forms"):
+        calibrate(chain, ring_down(t, y, ["tip_z"]), "E,rayleigh_alpha,damping[0]")
