@@ -70,6 +70,8 @@ def run(args: argparse.Namespace) -> int:
 
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
              why="the ratio of the modes not fitted")
+    if args.modes is not None:
+        in_range("--modes", args.modes, 1, None, integer=True, why="modes in the response")
     out = writable_dir(args.out, "--out")
     data = read_ring_down(args.data)
     model = load_model(args.model, args.beam).model

@@ -181,9 +181,9 @@ def calibrate(model, data: RingDown | str | os.PathLike,
     if n_modes is None:
         n_modes = max(need, 2 if set(RAYLEIGH) <= set(names) else 1)
     if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) \
-            or not need <= n_modes:
+            or not max(need, 1) <= n_modes:
         raise BeamInputError(f"n_modes = {n_modes!r:.40}: must be an integer >= {max(need, 1)}"
-                             " (every damping[k] needs mode k + 1)")
+                             " (at least 1; every damping[k] needs mode k + 1)")
     offsets = []
     for i, n in enumerate(names):
         m = OFFSET.match(n)
@@ -194,6 +194,9 @@ def calibrate(model, data: RingDown | str | os.PathLike,
                                      f"(its channels: {', '.join(data.channels)})")
             offsets.append(data.channels.index(ch))
     omega0, cq, cv = _chain_modes(model, data.channels)
+    if need > omega0.size:
+        raise BeamInputError(f"parameters: damping[{need - 1}] is mode {need}'s; the model has "
+                             f"{omega0.size} modes")
     if n_modes > omega0.size:
         raise BeamInputError(f"n_modes = {n_modes}: the model has {omega0.size} modes")
     N, c = data.y.shape

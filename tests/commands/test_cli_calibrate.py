@@ -83,3 +83,20 @@ def test_bad_data_exits_2_with_one_line_and_writes_nothing(fit_json, tmp_path, c
     assert err.count("\n") == 1 and err.startswith("prbdm calibrate: error: "), err
     assert needle in err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("extra, needle", [
+    (["--parameters", "E", "--modes", "0"], "--modes = 0"),
+    (["--parameters", "E,nu"], "parameters[1] = 'nu'"),
+    (["--parameters", "E,offset[tip_x_m]"], "no channel 'tip_x'"),
+])
+def test_bad_options_exit_2_with_one_line_and_write_nothing(fit_json, tmp_path, capsys, extra,
+                                                            needle):
+    t = np.arange(100) / 250.0
+    data = _csv(tmp_path / "ring.csv", t, np.exp(-t) * np.cos(52 * t), ["tip_z_m"])
+    out = tmp_path / "never"
+    assert main(["calibrate", str(fit_json), "--data", str(data), *extra, "--out",
+                 str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err, err
+    assert not out.exists()

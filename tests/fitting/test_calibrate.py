@@ -153,6 +153,10 @@ def test_too_few_samples_for_the_unknowns_and_bad_names_are_refused(chain):
         calibrate(chain, data, ["E", "damping[0]", "damping[1]"], n_modes=3)
     with pytest.raises(BeamInputError, match=r"parameters\[1\] = 'nu'"):
         calibrate(chain, data, ["E", "nu"])
+    with pytest.raises(BeamInputError, match=r"n_modes = 0: must be an integer >= 1"):
+        calibrate(chain, data, ["E"], n_modes=0)
+    with pytest.raises(BeamInputError, match=r"damping\[5\] is mode 6's; the model has 5"):
+        calibrate(chain, data, ["damping[5]"])
 
 
 def test_a_sensor_offset_is_recovered_with_e(chain, plant, narrow):
