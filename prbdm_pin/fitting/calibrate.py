@@ -121,7 +121,11 @@ def _chain_modes(model, channels: tuple[str, ...]):
     if model.beam is None:
         raise BeamInputError("model: has no beam (a URDF): E and rho are scaled on the beam; "
                              "give a model JSON or a fit.json")
-    lin = linearize(model, inputs=("tip_force_z",), outputs=channels, damping_ratio=0.0)
+    try:
+        lin = linearize(model, inputs=("tip_force_z",), outputs=channels, damping_ratio=0.0)
+    except BeamInputError as exc:  # the channels are linearize's outputs: say it is the data's
+        raise BeamInputError(f"data: the channels ({', '.join(channels)}) are outputs: "
+                             f"{exc}") from None
     Ca = lin.output_map_acceleration
     if Ca is not None and np.any(Ca):
         bad = [c for c, row in zip(channels, Ca, strict=True) if np.any(row)]

@@ -18,7 +18,7 @@ from ..errors import BeamInputError, InputTypeError
 __all__ = ["RingDown", "channel_name", "ring_down", "read_ring_down"]
 
 # the unit suffixes the trajectory CSV writes (longest first: ``_m_s`` before ``_m``)
-_SUFFIXES = ("_rad_s", "_m_s", "_rad", "_m", "_N_m", "_N")
+_SUFFIXES = ("_rad_s", "_N_m", "_m_s", "_rad", "_m", "_N")
 MIN_SAMPLES = 8  # below this no spectrum, whatever the parameters asked
 
 

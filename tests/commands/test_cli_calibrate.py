@@ -85,15 +85,17 @@ def test_bad_data_exits_2_with_one_line_and_writes_nothing(fit_json, tmp_path, c
     assert not out.exists()
 
 
-@pytest.mark.parametrize("extra, needle", [
-    (["--parameters", "E", "--modes", "0"], "--modes = 0"),
-    (["--parameters", "E,nu"], "parameters[1] = 'nu'"),
-    (["--parameters", "E,offset[tip_x_m]"], "no channel 'tip_x'"),
+@pytest.mark.parametrize("column, extra, needle", [
+    ("tip_z_m", ["--parameters", "E", "--modes", "0"], "--modes = 0"),
+    ("tip_z_m", ["--parameters", "E,nu"], "parameters[1] = 'nu'"),
+    ("tip_z_m", ["--parameters", "E,offset[tip_x_m]"], "no channel 'tip_x'"),
+    ("foo_m", ["--parameters", "E"], "data: the channels (foo) are outputs: outputs[0] = 'foo': "
+                                     "unknown"),
 ])
-def test_bad_options_exit_2_with_one_line_and_write_nothing(fit_json, tmp_path, capsys, extra,
-                                                            needle):
+def test_bad_options_exit_2_with_one_line_and_write_nothing(fit_json, tmp_path, capsys, column,
+                                                            extra, needle):
     t = np.arange(100) / 250.0
-    data = _csv(tmp_path / "ring.csv", t, np.exp(-t) * np.cos(52 * t), ["tip_z_m"])
+    data = _csv(tmp_path / "ring.csv", t, np.exp(-t) * np.cos(52 * t), [column])
     out = tmp_path / "never"
     assert main(["calibrate", str(fit_json), "--data", str(data), *extra, "--out",
                  str(out)]) == 2
