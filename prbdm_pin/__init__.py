@@ -123,6 +123,12 @@ _EXPORTS = {
     "export_model": "files.export",
     "read_model_json": "files.export",
     "read_plant_json": "files.export",
+    # calibration to measurements
+    "calibrate": "fitting.calibrate",
+    "CalibrationResult": "fitting.calibrate",
+    "read_ring_down": "fitting.calibration_data",
+    "RingDown": "fitting.calibration_data",
+    "write_calibration": "files.calibration_file",
     # batch studies
     "run_batch": "batch",
     "BatchSpec": "batch",

@@ -19,6 +19,7 @@ from paths import ROOT
 
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError, InputTypeError
+from prbdm_pin.fitting.calibration_data import ring_down
 
 BEAM = pp.load_beam(ROOT / "examples" / "beams" / "uniform-narrow.json")
 LENGTHS = np.array([0.2, 0.3, 0.3, 0.2])  # joints at 0.2, 0.5, 0.8 m
@@ -185,6 +186,10 @@ def _lin():
     return pp.build_model(BEAM, LENGTHS, SPRINGS)
 
 
+# a ring-down of one mode, 2 s at 100 Hz (the data a calibrate door check passes)
+_T = np.arange(200) / 100.0
+RING = ring_down(_T, np.exp(-_T) * np.cos(50 * _T), ["tip_z"])
+
 # public function -> (argument, call with the bad value in that argument's place)
 DOORS = {
     "load_beam": ("path", lambda v: pp.load_beam(v)),
@@ -238,6 +243,9 @@ DOORS = {
     "read_model_json": ("path", lambda v: pp.read_model_json(v)),
     "read_plant_json": ("path", lambda v: pp.read_plant_json(v)),
     "run_batch": ("spec", lambda v: pp.run_batch(v, "never-batch")),
+    "calibrate": ("model", lambda v: pp.calibrate(v, RING, "E")),
+    "read_ring_down": ("path", lambda v: pp.read_ring_down(v)),
+    "write_calibration": ("result", lambda v: pp.write_calibration(v, "never-calibration")),
 }
 # a path argument takes a str: the other wrong types are for it
 PATH_WRONG = [None, 3, 2.5, [1.0], {"p": 1}, b"beam.json", object()]

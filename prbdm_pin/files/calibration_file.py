@@ -1,0 +1,88 @@
+"""A calibration's files: ``calibration.json``, the calibrated ``model.json`` and a plot.
+
+``calibration.json`` holds ``"parameters": {NAME: {"value": ..., "std_error": ...}}`` (``E`` in
+Pa, ``rho`` in kg/m^3, ``damping[k]`` the ratio of mode k + 1), the scales, the calibrated
+frequencies, the residual RMS per channel and the data's size. ``model.json`` is the calibrated
+chain as ``prbdm export --format json`` writes it (a model JSON every loader reads), with the
+per-mode ratios in its ``damping`` record (``form`` ``"modal"``: fitted ratios for the fitted
+modes, the given ratio for the others). ``calibration.png`` draws each channel's data and the
+calibrated model's response.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+from ..errors import InputTypeError
+from ..fitting.calibrate import CalibrationResult
+from ..io.atomic import atomic_write_text
+from ..io.output_folder import output_folder
+from ..version import __version__
+from ..views.plots import new_figure, save_png
+from .model_json import model_dict
+
+__all__ = ["CALIBRATION_FILES", "calibration_record", "write_calibration"]
+
+CALIBRATION_FILES = ("calibration.json", "model.json", "calibration.png")
+
+
+def calibration_record(result: CalibrationResult) -> dict:
+    """Return the JSON-ready record of ``result`` (module notes)."""
+    return {
+        "format": "prbdm-calibration/1",
+        "version": __version__,
+        "parameters": {n: {"value": float(v), "std_error": float(s)} for n, v, s in
+                       zip(result.parameters, result.values, result.std_errors, strict=True)},
+        "E_scale": result.E_scale,
+        "rho_scale": result.rho_scale,
+        "damping_ratio": [float(v) for v in result.damping_ratio],
+        "model_damping_ratio": [float(v) for v in result.model_damping_ratio],
+        "omega_rad_s": [float(v) for v in result.omega_rad_s],
+        "residual_rms": dict(result.residual_rms),
+        "samples": int(result.data.t_s.size),
+        "channels": list(result.data.channels),
+    }
+
+
+def _plot(result: CalibrationResult, path: Path) -> None:
+    d = result.data
+    c = len(d.channels)
+    fig = new_figure((7.0, 2.2 * c + 0.6))
+    for j, ch in enumerate(d.channels):
+        ax = fig.add_subplot(c, 1, j + 1)
+        ax.plot(d.t_s, d.y[:, j], ".", ms=2, color="0.5", label="data")
+        ax.plot(d.t_s, result.fitted[:, j], "-", lw=0.8, color="C0", label="calibrated model")
+        ax.set_ylabel(ch)
+        ax.legend(loc="upper right", fontsize="small")
+    ax.set_xlabel("t (s)")
+    fig.tight_layout()
+    save_png(fig, path)
+
+
+def write_calibration(result: CalibrationResult, out: str | os.PathLike) -> Path:
+    """Write ``calibration.json``, ``model.json`` and ``calibration.png`` into ``out``.
+
+    All together or none (:func:`~prbdm_pin.io.output_folder.output_folder`).
+
+    Parameters
+    ----------
+    result : CalibrationResult
+    out : path
+        The folder.
+
+    Returns
+    -------
+    Path
+        The folder written.
+    """
+    if not isinstance(result, CalibrationResult):
+        raise InputTypeError(f"result = {result!r:.60}: must be a CalibrationResult")
+    record = calibration_record(result)
+    model = model_dict(result.model, result.model_damping_ratio, damping_form="modal")
+    with output_folder(out, CALIBRATION_FILES) as stage:
+        atomic_write_text(stage / "calibration.json", json.dumps(record, indent=2) + "\n")
+        atomic_write_text(stage / "model.json", json.dumps(model, indent=2) + "\n")
+        _plot(result, stage / "calibration.png")
+    return Path(os.path.abspath(out))
