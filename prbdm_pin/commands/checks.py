@@ -158,6 +158,20 @@ def run_reported(prog: str, call: Callable[[], int | None]) -> int:
 
 
 
+def modal_damping_option(given: float | None, source, form: str, support: bool):
+    """Return the damping ratio a plant command runs with: ``given``, or the model file's.
+
+    A model JSON that records one ratio per mode in the modal form (a calibration's, ``prbdm
+    calibrate``) gives those (an array, mode 1 first) when the option was not given, the form
+    is ``"modal"`` and no support was added (a hub or bus changes the modes); else ``given``
+    (default 0.02).
+    """
+    z = getattr(source, "modal_damping_ratio", None)
+    if given is None and z is not None and form == "modal" and not support:
+        return z
+    return 0.02 if given is None else given
+
+
 def gravity_option(text: str | None, source, bus: bool = False) -> list[float]:
     """Return ``--gravity`` (m/s^2, world), or the gravity ``source``'s model was fitted in.
 

@@ -128,9 +128,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="linearise about the --hub spinning steadily at this rate, rad/s, about "
                         "--hub-axis (--load and --gravity only along that axis; writes the "
                         "spinning plant's frequencies)")
-    p.add_argument("--damping-ratio", type=float, default=0.02, metavar="ZETA",
+    p.add_argument("--damping-ratio", type=float, default=None, metavar="ZETA",
                    help="damping ratio of every flexible mode (modal) or the lowest "
-                        "(stiffness) (default 0.02)")
+                        "(stiffness) (default 0.02, or the per-mode ratios a calibrated model "
+                        "JSON records)")
     p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c"), default="modal",
                    help="damping form (default modal; a hub's rigid mode is never damped)")
     p.add_argument("--dt", type=float, default=None, metavar="S",
@@ -167,6 +168,8 @@ def check_options(args: argparse.Namespace) -> dict:
     out["load"] = xyz_option(args.load, "--load", "N")
     out["gravity"] = None if args.gravity is None else xyz_option(args.gravity, "--gravity",
                                                                   "m/s^2")
+    args.damping_given = args.damping_ratio
+    args.damping_ratio = 0.02 if args.damping_ratio is None else args.damping_ratio
     in_range("--damping-ratio", args.damping_ratio, 0.0, 1.0, hi_open=True,
              why="a damping ratio of underdamped modes")
     if args.dt is not None:
@@ -252,7 +255,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io.atomic import atomic_write_bytes, atomic_write_text
     from ..io.output_folder import output_folder
     from ..plant.linearize import linearize
-    from .checks import gravity_option
+    from .checks import gravity_option, modal_damping_option
 
     opts = check_options(args)
     source = load_model(args.model, args.beam)
@@ -273,8 +276,10 @@ def run(args: argparse.Namespace) -> int:
     spans_on_beam(model, opts["loads"], args.distributed_span)
     opts["gravity"] = gravity_option(args.gravity, source, opts["bus"] is not None)
     gravity = opts["gravity"] if any(opts["gravity"]) else None
+    ratio = modal_damping_option(args.damping_given, source, args.damping_form,
+                                 opts["hub"] is not None or opts["bus"] is not None)
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
-                    load_N=opts["load"], damping_ratio=args.damping_ratio,
+                    load_N=opts["load"], damping_ratio=ratio,
                     damping=args.damping_form, actuators=opts["actuators"],
                     gravity_m_s2=gravity, loads=opts["loads"], spin_rad_s=args.spin)
     record = {
@@ -289,7 +294,7 @@ def run(args: argparse.Namespace) -> int:
         **actuator_weights_record(model, opts["actuators"]),
         "distributed_spans_m": [[ld.x_start_m, ld.x_end_m] for ld in opts["loads"]],
         "load_N": opts["load"], "gravity_m_s2": opts["gravity"],
-        "damping_ratio": args.damping_ratio, "damping_form": args.damping_form,
+        "damping_ratio": np.asarray(ratio).tolist(), "damping_form": args.damping_form,
         "bus": bus_record(model),
         "state_units": state_units(model),
     }

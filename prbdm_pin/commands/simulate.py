@@ -99,9 +99,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "falls into its sag")
     p.add_argument("--initial-angle", type=float, default=0.0, metavar="RAD",
                    help="start with every joint at this angle, rad (default 0)")
-    p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
+    p.add_argument("--damping", type=float, default=None, metavar="ZETA",
                    help="damping ratio: of every mode (modal), of mode 1 (stiffness), per-joint "
-                        "factor (eq5c) (default 0.02)")
+                        "factor (eq5c) (default 0.02, or the per-mode ratios a calibrated model "
+                        "JSON records)")
     p.add_argument("--damping-form", choices=("modal", "eq5c", "stiffness"), default="modal",
                    help="modal damping (default: every mode gets ZETA), the paper's Eq. 5c, or "
                         "stiffness-proportional C = beta K (mode 1 of the straight pose gets "
@@ -189,6 +190,8 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     in_range("--initial-angle", args.initial_angle, -math.pi, math.pi, unit="rad")
     # the integrators and the truth comparison take underdamped modes (over-damped runs: an
     # equivalent viscous model is out of the PRBDM's scope)
+    args.damping_given = args.damping
+    args.damping = 0.02 if args.damping is None else args.damping
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
              why="a damping ratio of an underdamped response" if not args.compare_truth else
              "--compare-truth needs an underdamped step response")
@@ -214,15 +217,17 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
     return force
 
 
-def simulation_options(args, output_dt_s: float):
+def simulation_options(args, output_dt_s: float, damping_ratio=None):
     """Return the SimulationOptions of a ``prbdm simulate`` command line.
 
-    ``output_dt_s`` is the sample interval, s: ``--output-dt`` or its default.
+    ``output_dt_s`` is the sample interval, s: ``--output-dt`` or its default;
+    ``damping_ratio`` the ratios to run with (default ``--damping``).
     """
     from ..options.objects import SimulationOptions
 
+    zeta = args.damping if damping_ratio is None else damping_ratio
     return SimulationOptions(method=args.method, dt_s=args.dt, output_dt_s=output_dt_s,
-                             damping_ratio=args.damping, damping=args.damping_form)
+                             damping_ratio=zeta, damping=args.damping_form)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -235,7 +240,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io.output_folder import output_folder
     from ..simulation import simulate
     from ..views.plots import plot_response
-    from .checks import gravity_option
+    from .checks import gravity_option, modal_damping_option
     from .plant_options import actuators_on_beam, spans_on_beam, with_hub
 
     force = check_options(args)
@@ -244,6 +249,9 @@ def run(args: argparse.Namespace) -> int:
     model, fitted = source.model, source.fit
     args.gravity_m_s2 = gravity_option(args.gravity, source,
                                        getattr(args, "bus_spec", None) is not None)
+    ratio = modal_damping_option(args.damping_given, source, args.damping_form,
+                                 plant["hub"] is not None
+                                 or getattr(args, "bus_spec", None) is not None)
     if args.compare_truth and model.beam is None:
         raise BeamInputError("--compare-truth: needs the beam (give a fit.json or a model JSON; "
                              "a URDF does not carry it)")
@@ -272,7 +280,7 @@ def run(args: argparse.Namespace) -> int:
     # other forms are exact about the initial pose
     damping_pose = np.zeros(nv) if args.damping_form == "stiffness" else None
     tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
-                  options=simulation_options(args, output_dt), damping_pose=damping_pose,
+                  options=simulation_options(args, output_dt, ratio), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),
                   loads=plant["loads"], outputs=outputs, base_motion=motion,
                   gravity_m_s2=args.gravity_m_s2 if any(args.gravity_m_s2) else None,

@@ -56,6 +56,9 @@ class ModelFile:
     gravity_m_s2 : ndarray (3,) or None
         The gravity the model was fitted in, m/s^2, world: a fit.json's ``gravity_m_s2``, a
         model JSON's, or the one a URDF's comment states; None for a model fitted without.
+    modal_damping_ratio : ndarray (n,) or None
+        The per-mode damping ratios a model JSON records in the modal form (a calibration's
+        fitted ratios: ``prbdm calibrate``), mode 1 first; None otherwise.
     """
 
     path: Path
@@ -66,6 +69,7 @@ class ModelFile:
     omega_truth_rad_s: np.ndarray | None
     beam_given: bool = False
     gravity_m_s2: np.ndarray | None = None
+    modal_damping_ratio: np.ndarray | None = None
 
 
 def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = None
@@ -118,7 +122,9 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
         model, actuators = read_plant_json(p)
         return ModelFile(p, "model", model, None, tuple(actuators),
                          _recorded_frequencies(str(path), d.get("omega_truth_rad_s")),
-                         gravity_m_s2=_gravity(str(path), d.get("gravity_m_s2")))
+                         gravity_m_s2=_gravity(str(path), d.get("gravity_m_s2")),
+                         modal_damping_ratio=_modal_damping(str(path), d.get("damping"),
+                                                            model.n_springs))
     if kind == "beam":
         raise BeamInputError(f"MODEL {str(path)!r}: is a beam file, not a fit.json or model: "
                              f"run `prbdm fit {path} --joints N --out DIR` first and pass "
@@ -190,3 +196,21 @@ def _gravity(path: str, value) -> np.ndarray | None:
         return None
     g = check_gravity(value, f"MODEL {path!r}: gravity_m_s2", planar=False)
     return g if g.any() else None
+
+
+def _modal_damping(path: str, record, n: int) -> np.ndarray | None:
+    """Return the per-mode ratios of a model JSON's modal ``damping`` record (None without)."""
+    import numpy as np
+
+    if not isinstance(record, dict) or record.get("form") != "modal":
+        return None
+    try:
+        z = np.asarray(record.get("ratio"), dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        z = np.array([np.nan])
+    if z.size == 1:  # one ratio for every mode: what the package assumes anyway
+        return None
+    if z.size != n or not np.all((z >= 0.0) & (z < 1.0)):
+        raise BeamInputError(f"MODEL {path!r}: damping.ratio = {record.get('ratio')!r}: must "
+                             f"be {n} ratios in [0, 1), one per mode")
+    return z

@@ -78,7 +78,7 @@ def ring_down(t_s, y, channels, what: str = "data") -> RingDown:
         bad = np.flatnonzero(~np.isfinite(col))
         if bad.size:
             raise BeamInputError(f"{what}: {name}: not finite at row {int(bad[0])} "
-                                 f"({col[bad[0]]!r})")
+                                 f"({float(col[bad[0]])})")
     if t.size < MIN_SAMPLES:
         raise BeamInputError(f"{what}: t_s: {t.size} samples; need at least {MIN_SAMPLES}")
     step = np.flatnonzero(np.diff(t) <= 0.0)
