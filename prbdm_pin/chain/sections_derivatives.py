@@ -94,7 +94,7 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     mass, offset, Iyy, area_moment = sections
     nl = lengths.size
     n = nl - 1
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the sections' length derivatives")
     rho_t = beam.material.rho_kg_m3 * t
     # moments about each link's start: A = ∫ 2w, P1 = ∫ 2w (x - a) (P2 = ∫ 2w (x - a)^2 enters
     # only through its derivative)
@@ -166,7 +166,7 @@ def roll_yaw_inertia_gradient(beam: Beam, lengths_m: np.ndarray,
     sec = link_sections_unchecked(beam, lengths)
     Ixx, Izz = sec.inertia_com_kg_m2[:, 0, 0], sec.inertia_com_kg_m2[:, 2, 2]
     n = lengths.size - 1
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the sections' length derivatives")
     rho_t = beam.material.rho_kg_m3 * t
     x = stations_from_lengths(lengths)
     left, right = beam.half_width_at(x, "left"), beam.half_width_at(x, "right")
@@ -197,7 +197,8 @@ def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
     if K is None:
         K = finite_segment_stiffness_unchecked(beam, lengths)
     n = K.size
-    C = beam.material.E_Pa * 2.0 * beam.thickness_m**3 / 12.0
+    t_u = beam.uniform_thickness_m("the sections' length derivatives")
+    C = beam.material.E_Pa * 2.0 * t_u**3 / 12.0
     ends = np.add.accumulate(lengths)
     centres = ends - 0.5 * lengths
     if n == 1:

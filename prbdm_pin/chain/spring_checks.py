@@ -21,7 +21,7 @@ def check_springs(beam, stiffness_Nm_per_rad) -> None:
     ``SPRING_WINDOW`` beyond either end is no joint of this beam (a unit slip, or a value meant
     for another model), and its products with the link inertias would leave double precision.
     """
-    t3 = beam.thickness_m**3
+    t3 = beam.uniform_thickness_m("the spring checks")**3
     E, L = beam.material.E_Pa, beam.length_m
     EI_min = E * 2.0 * float(beam.half_width_m.min()) * t3 / 12.0
     EI_max = E * 2.0 * float(beam.half_width_m.max()) * t3 / 12.0
@@ -44,7 +44,7 @@ def check_spatial_springs(beam, stiffness_Nm_per_rad, axes) -> None:
     :func:`check_springs` does for bending about y.
     """
     b = 2.0 * beam.half_width_m
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the spring checks")
     E, G, L = beam.material.E_Pa, beam.material.G_Pa, beam.length_m
     section = {
         "y": E * b * t**3 / 12.0,

@@ -190,7 +190,7 @@ def elastica_primal(
         raise BeamInputError(f"load_steps = {load_steps!r}: must be an integer >= 1")
 
     t0 = time.perf_counter()
-    xv, wv, t = beam.x_m, beam.half_width_m, beam.thickness_m
+    xv, wv, t = beam.x_m, beam.half_width_m, beam.uniform_thickness_m("the elastica")
     # Scale: moments by P L (or EI_root / L when unloaded), lengths by L.
     m_scale = max(P * L, beam.root_EI_Nm2 / L)
 

@@ -24,7 +24,8 @@ def section_at(pr: ElasticaPrimal, beam: Beam, w: np.ndarray,
 
     The sections are the primal's, of half-widths ``w`` (m) under moments ``m`` (N m).
     """
-    return section_state(m, pr.ei_per_width * w, w, beam.thickness_m, beam.material.nu,
+    t_u = beam.uniform_thickness_m("the elastica")
+    return section_state(m, pr.ei_per_width * w, w, t_u, beam.material.nu,
                          pr.anticlastic)
 
 
