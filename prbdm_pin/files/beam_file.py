@@ -36,6 +36,12 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     """
     if not isinstance(d, dict):
         raise InputTypeError(f"beam = {type(d).__name__}: must be a JSON object (a dict)")
+    if "section" in d:  # the issue's spelling for round and table sections, not built yet
+        kind = d["section"].get("kind") if isinstance(d["section"], dict) else d["section"]
+        raise BeamInputError(
+            f"section = {{'kind': {kind!r}, ...}}: round and table sections are not supported "
+            "yet; give the planform (half_width) and thickness (a number or a list aligned "
+            "with x)")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
     if unknown:
         raise BeamInputError(f"unknown key(s) {sorted(unknown)}: allowed are "
