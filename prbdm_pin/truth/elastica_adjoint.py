@@ -62,6 +62,7 @@ def adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray,
         segment i, scaled by ``lam_scale`` = L^2 / EI_root (lam, 1/N) and ``mom_scale`` = L
         (mom, m).
     """
+    beam.uniform_thickness_m("the elastica's sensitivities")  # pr.ei_per_width: one t
     L = beam.length_m
     cuts = pr.cuts
     a, ell = cuts[:-1], np.diff(cuts) / L
