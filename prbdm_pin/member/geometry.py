@@ -33,7 +33,7 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class Beam:
-    """A clamped-free compliant member of uniform thickness and symmetric planform.
+    """A clamped-free compliant member: symmetric planform, uniform or piecewise-linear thickness.
 
     Attributes
     ----------
