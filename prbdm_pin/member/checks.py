@@ -159,8 +159,8 @@ def thickness_law(x: np.ndarray, thickness: Any,
                 f"thickness = {thickness!r} m with thickness_law: must be the law's largest "
                 f"value {float(arr.max())!r} m")
         thickness = arr
-    if isinstance(thickness, (int, float, np.integer, np.floating)) or isinstance(thickness, bool):
-        return finite_positive("thickness", thickness), None
+    if not isinstance(thickness, (list, tuple, np.ndarray)) or np.ndim(thickness) == 0:
+        return finite_positive("thickness", thickness), None  # a number, or its type error
     t = float_array("thickness", thickness, "m")
     if t.size != x.size:
         raise BeamInputError(

@@ -8,6 +8,7 @@ the springs; field names written in the tests for bad input.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -156,6 +157,11 @@ def test_beam_json_round_trip(tapered, tmp_path):
     assert np.array_equal(link_sections(back, lengths).inertia_com_kg_m2,
                           link_sections(tapered, lengths).inertia_com_kg_m2)
     assert beam_to_dict(Beam([0, 1], [0.05, 0.05], 0.01))["thickness"] == 0.01
+    # copies keep the law (dataclasses.replace passes it back through the checks)
+    assert np.array_equal(dataclasses.replace(tapered, name="c").thickness_law_m,
+                          tapered.thickness_law_m)
+    assert np.array_equal(tapered.with_tip_force([0.0, 0.0, -2.0]).thickness_law_m,
+                          tapered.thickness_law_m)
 
 
 @pytest.mark.parametrize("thickness, words", [
@@ -163,6 +169,8 @@ def test_beam_json_round_trip(tapered, tmp_path):
     ([0.01, -0.002], "thickness[1] = -0.002 m at x = 1.0 m"),
     ([0.01], "thickness has 1 entries: a thickness law must be aligned with x"),
     ([0.01, 0.005, 0.002], "thickness has 3 entries"),
+    ([0.01, "a"], "thickness[1] = 'a': must be a number (m)"),
+    ("0.01", "thickness = '0.01': must be a number"),
 ])
 def test_bad_thickness_law_is_refused_by_name(thickness, words):
     with pytest.raises(BeamInputError) as e:
