@@ -6,6 +6,10 @@ degree <= 3 on each vertex interval. Two-point Gauss-Legendre quadrature is exac
 splitting the link spans at the planform vertices and summing gives the exact integrals (to
 rounding) without sampling or polygon clipping. A width step (two vertices at one station) splits
 the axis there too, so a link that straddles or ends on a step integrates each side exactly.
+
+A thickness law t(x), linear between the same stations, raises the degrees: the mass density
+2 w t is quadratic, its second moment in x and the y^2 and z^2 moments (2 w^3 t / 3, 2 w t^3 / 12)
+are quartic, so three-point Gauss-Legendre (exact to degree 5) integrates them exactly.
 """
 
 from __future__ import annotations
@@ -23,6 +27,9 @@ __all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_s
 # two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
 _GAUSS_T = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
 _ROWS = np.arange(4)
+# three-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 5 (the thickness law)
+_GAUSS3_T = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
+_GAUSS3_W = np.array([5.0, 8.0, 5.0]) / 18.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -135,6 +142,8 @@ def _integrals(beam: Beam, lengths: np.ndarray):
         link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
         link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
     h = v - u
+    if beam.thickness_law_m is not None:
+        return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
     xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
     wg = np.interp(xg, xv, beam.half_width_m)
     xl = xg - mids.ravel()[link][..., None]  # about the mid-span
@@ -152,23 +161,59 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
 
 
-def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
-    """:func:`link_sections` for lengths (m, shape (n+1,)) already validated."""
+def _law_integrals(beam: Beam, shape, starts, ends, mids, link, u, h, nbins):
+    """:func:`_integrals` under a thickness law: every row weighted by t(x), plus ∫ 2 w t^3.
+
+    Rows: ∫ 2 w t, its first and second moment in x about the mid-span, ∫ 2 w^3 t / 3 and
+    ∫ 2 w t^3 / 12 (m^2 ... m^6), each quartic at most on a sub-interval: 3-point Gauss is exact.
+    """
+    xg = u[..., None] + h[..., None] * _GAUSS3_T
+    wg = np.interp(xg, beam.x_m, beam.half_width_m)
+    tg = np.interp(xg, beam.x_m, beam.thickness_law_m)
+    xl = xg - mids.ravel()[link][..., None]
+    a = 2.0 * wg * tg
+    rows = np.stack([a, a * xl, a * xl * xl, a * wg * wg / 3.0, a * tg * tg / 12.0])
+    f = np.sum(rows * _GAUSS3_W, axis=-1) * h
+    out = np.stack([np.bincount(link.ravel(), r.ravel(), nbins) for r in f])
+    return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape),
+            *out.reshape((5,) + shape))
+
+
+def _properties(beam: Beam, lengths: np.ndarray):
+    """Return the links' properties from the exact integrals, with or without a thickness law.
+
+    Mass (kg), COM offset from mid-span (m), second moments about the COM in x and y times
+    rho (kg m^2), the z^2 (thickness) term (kg m^2), the mean area moment (m^4) and Izz about the
+    COM (kg m^2) of each link.
+    """
+    rho = beam.material.rho_kg_m3
+    if beam.thickness_law_m is not None:
+        starts, ends, mids, A, S1, S2, Syy, T3 = _integrals(beam, lengths)
+        dx = S1 / A
+        Sxx_c = S2 - A * dx * dx
+        return (starts, ends, mids, rho * A, dx, rho * Sxx_c, rho * Syy, rho * T3,
+                T3 / (ends - starts), rho * (Sxx_c + Syy))
     starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
-    nl = lengths.size
     t = beam.thickness_m
-    rho_t = beam.material.rho_kg_m3 * t
+    rho_t = rho * t
     mass = rho_t * A
     dx = S1 / A  # COM offset from mid-span
+    Sxx_c = S2 - A * dx * dx  # second moment about the COM
+    area_moment = A * (t**3 / 12.0) / (ends - starts)  # mean of 2 w t^3 / 12 over the span
+    return (starts, ends, mids, mass, dx, rho_t * Sxx_c, rho_t * Syy, mass * (t * t / 12.0),
+            area_moment, rho_t * (Sxx_c + Syy))
+
+
+def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
+    """:func:`link_sections` for lengths (m, shape (n+1,)) already validated."""
+    starts, ends, mids, mass, dx, Ixx_c, Iyy, thick, area_moment, Izz = _properties(beam, lengths)
+    nl = lengths.size
     com = np.zeros((nl, 3))
     com[:, 0] = mids + dx
-    Sxx_c = S2 - A * dx * dx  # second moment about the COM
-    thick = mass * (t * t / 12.0)
     inertia = np.zeros((nl, 3, 3))
-    inertia[:, 0, 0] = rho_t * Syy + thick
-    inertia[:, 1, 1] = rho_t * Sxx_c + thick
-    inertia[:, 2, 2] = rho_t * (Sxx_c + Syy)
-    area_moment = A * (t**3 / 12.0) / (ends - starts)  # mean of 2 w t^3 / 12 over the span
+    inertia[:, 0, 0] = Iyy + thick
+    inertia[:, 1, 1] = Ixx_c + thick
+    inertia[:, 2, 2] = Izz
     return LinkSections(
         start_m=_ro(starts), end_m=_ro(ends), mass_kg=_ro(mass), com_m=_ro(com),
         inertia_com_kg_m2=_ro(inertia), area_moment_m4=_ro(area_moment),
@@ -183,12 +228,5 @@ def planar_sections(
     With the same arithmetic: mass (kg), centre-of-mass distance from the link's start (m),
     inertia about the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,).
     """
-    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
-    t = beam.thickness_m
-    rho_t = beam.material.rho_kg_m3 * t
-    mass = rho_t * A
-    dx = S1 / A
-    offset = (mids + dx) - starts
-    Iyy = rho_t * (S2 - A * dx * dx) + mass * (t * t / 12.0)
-    area_moment = A * (t**3 / 12.0) / (ends - starts)
-    return mass, offset, Iyy, area_moment
+    starts, ends, mids, mass, dx, Ixx_c, _, thick, area_moment, _ = _properties(beam, lengths)
+    return mass, mids + dx - starts, Ixx_c + thick, area_moment

@@ -94,7 +94,9 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     mass, offset, Iyy, area_moment = sections
     nl = lengths.size
     n = nl - 1
-    t = beam.thickness_m
+    law = beam.thickness_law_m is not None
+    # under a thickness law rho_t is rho and A, w2 carry t(x) (A = ∫ 2 w t)
+    t = 1.0 if law else beam.thickness_m
     rho_t = beam.material.rho_kg_m3 * t
     # moments about each link's start: A = ∫ 2w, P1 = ∫ 2w (x - a) (P2 = ∫ 2w (x - a)^2 enters
     # only through its derivative)
@@ -106,6 +108,8 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     np.subtract(x[1:], x[:-1], out=h[1:-1])
     h[-1] = beam.length_m - x[-1]
     w2 = 2.0 * _mean_width(beam, x)
+    if law:
+        w2 = w2 * beam.thickness_at(x)
     # each link moves with two stations only: its end (station j + 1 ends link j, the first n
     # entries) and its start (station j + 1 starts link j + 1, the last n), both bands at once
     links, cols, dh = _bands(n)
@@ -126,8 +130,15 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     v = np.empty((4, 2 * n))
     np.multiply(rho_t, dA, out=v[0])
     np.divide(dP1 - off * dA, Al, out=v[1])
-    np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), v[0] * t * t / 12.0, out=v[2])
-    np.multiply(t**3 / 12.0, dA / hl - Al / hl**2 * dh, out=v[3])
+    if law:  # the z^2 term and the mean area moment: T = ∫ 2 w t^3 / 12 moves by its integrand
+        g = w2 * beam.thickness_at(x) ** 2 / 12.0
+        dT = np.r_[g, -g]
+        T = area_moment[links] * hl
+        np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), rho_t * dT, out=v[2])
+        np.subtract(dT / hl, T / hl**2 * dh, out=v[3])
+    else:
+        np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), v[0] * t * t / 12.0, out=v[2])
+        np.multiply(t**3 / 12.0, dA / hl - Al / hl**2 * dh, out=v[3])
     out = np.zeros((4, nl, n))
     out[:, links, cols] = v
     return SectionGradient(mass, offset, Iyy, area_moment, *out)
@@ -166,15 +177,24 @@ def roll_yaw_inertia_gradient(beam: Beam, lengths_m: np.ndarray,
     sec = link_sections_unchecked(beam, lengths)
     Ixx, Izz = sec.inertia_com_kg_m2[:, 0, 0], sec.inertia_com_kg_m2[:, 2, 2]
     n = lengths.size - 1
-    t = beam.thickness_m
+    law = beam.thickness_law_m is not None
+    t = 1.0 if law else beam.thickness_m  # a law's t(x) goes into the integrands below
     rho_t = beam.material.rho_kg_m3 * t
     x = stations_from_lengths(lengths)
     left, right = beam.half_width_at(x, "left"), beam.half_width_at(x, "right")
     g = (left**3 + right**3) / 3.0  # the mean one-sided 2 w^3 / 3 at each station
     links, cols, sign = _bands(n)
+    if law:
+        tx = beam.thickness_at(x)
+        g = g * tx
     dSyy = np.zeros((n + 1, n))
     dSyy[links, cols] = sign * np.r_[g, g]  # a station ends link j (+), starts link j + 1 (-)
-    thick = sections.d_mass_kg_per_m * (t * t / 12.0)
+    if law:  # rho ∫ 2 w t^3 / 12 moves by its integrand (the mean one-sided w at a step)
+        gt = rho_t * (left + right) * tx**3 / 12.0
+        thick = np.zeros((n + 1, n))
+        thick[links, cols] = sign * np.r_[gt, gt]
+    else:
+        thick = sections.d_mass_kg_per_m * (t * t / 12.0)
     d_xx = rho_t * dSyy + thick
     d_zz = (sections.d_inertia_yy_kg_m - thick) + rho_t * dSyy
     return Ixx, Izz, d_xx, d_zz
@@ -197,13 +217,17 @@ def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
     if K is None:
         K = finite_segment_stiffness_unchecked(beam, lengths)
     n = K.size
-    C = beam.material.E_Pa * 2.0 * beam.thickness_m**3 / 12.0
+    law = beam.thickness_law_m is not None
+    # under a law the integral is of 1 / (w t^3): t^3 leaves C for the integrand
+    C = beam.material.E_Pa * 2.0 * (1.0 if law else beam.thickness_m**3) / 12.0
     ends = np.add.accumulate(lengths)
     centres = ends - 0.5 * lengths
     if n == 1:
         return K, np.zeros((1, 1))
     inner = centres[1:n]  # c_1 .. c_(n-1), each the mean of stations j and j + 1
     dI_dc = 0.5 / _mean_width(beam, inner)  # (n-1,): 1 / w(c) times dc/dx = 1/2
+    if law:
+        dI_dc = dI_dc / beam.thickness_at(inner) ** 3
     # spring j's integral ends at c_(j+1) (+) and spring j + 1's starts there (-): dI is
     # tridiagonal, written through views of its diagonals
     dI = np.zeros((n, n))

@@ -203,7 +203,7 @@ def section_design_gradient(beam: Beam, design: Design, lengths_m: np.ndarray,
     _check_design(beam, design)
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     sec = link_sections_unchecked(beam, lengths)
-    t, rho = beam.thickness_m, beam.material.rho_kg_m3
+    t, rho = beam.uniform_thickness_m("the design derivatives"), beam.material.rho_kg_m3
     rho_t = rho * t
     mass, h = sec.mass_kg, sec.length_m
     Ixx, Iyy, Izz = (sec.inertia_com_kg_m2[:, a, a] for a in range(3))
@@ -300,11 +300,12 @@ def finite_segment_design_gradient(beam: Beam, design: Design, lengths_m: np.nda
     for row, _, wl, wr, spans in _steps(beam, design, bounds):
         for s, weight in spans:
             dI[s, row] += weight * (1.0 / wl - 1.0 / wr)
-    integral = beam.material.E_Pa * (2.0 * beam.thickness_m**3 / 12.0) / K
+    t_u = beam.uniform_thickness_m("the design derivatives")
+    integral = beam.material.E_Pa * (2.0 * t_u**3 / 12.0) / K
     dK = -(K / integral)[:, None] * dI
     for row, (kind, _) in enumerate(design.kinds):
         if kind == "thickness":
-            dK[:, row] = 3.0 * K / beam.thickness_m
+            dK[:, row] = 3.0 * K / beam.uniform_thickness_m("the design derivatives")
         elif kind == "E":
             dK[:, row] = K / beam.material.E_Pa
     return K, readonly_array(dK)

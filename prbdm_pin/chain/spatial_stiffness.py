@@ -52,7 +52,7 @@ def _span_integrals(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarray:
     # one-sided widths at the sub-interval ends (a width step jumps between them)
     wu = 2.0 * np.asarray(beam.half_width_at(u, "right"), dtype=float)
     wv = 2.0 * np.asarray(beam.half_width_at(v, "left"), dtype=float)
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the spatial chain")
     if axis == "z":
         # ∫ dx / (t b^3 / 12) with b linear from wu to wv: 12 (v - u) (wu + wv) / (2 t wu^2 wv^2)
         part = 6.0 * (v - u) * (wu + wv) / (t * wu * wu * wv * wv)
@@ -135,7 +135,7 @@ def link_mean_section_m4(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarr
     s = 0.5 * (_GL_T + 1.0)
     x = u[:, None] + (v - u)[:, None] * s
     b = 2.0 * np.asarray(beam.half_width_at(x.ravel()), dtype=float).reshape(x.shape)
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the spatial chain")
     section = {"y": lambda w: w * t**3 / 12.0, "z": lambda w: t * w**3 / 12.0,
                "x": lambda w: torsion_constant_thin_m4(w, t)}[axis]
     part = (v - u) * (0.5 * _GL_W * section(b)).sum(axis=1)

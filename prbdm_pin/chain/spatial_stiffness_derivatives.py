@@ -58,7 +58,8 @@ def _modulus(beam: Beam, axis: str) -> float:
 
 def _inverse_section(beam: Beam, half_width_m: np.ndarray, axis: str) -> np.ndarray:
     """1 / S of the section of half-width ``half_width_m`` (m): 1 / I_z or 1 / J, 1/m^4."""
-    b, t = 2.0 * np.asarray(half_width_m, dtype=float), beam.thickness_m
+    t_u = beam.uniform_thickness_m("the spatial springs' derivatives")
+    b, t = 2.0 * np.asarray(half_width_m, dtype=float), t_u
     if axis == "z":
         return 12.0 / (t * b**3)
     return 1.0 / torsion_constant_m4(b, t)
@@ -157,7 +158,7 @@ def axis_stiffness_design_gradient(beam: Beam, design: Design, lengths_m: np.nda
     u, v, span, k = _pieces(beam, bounds)
     x, w = beam.x_m, beam.half_width_m
     slope = (w[k + 1] - w[k]) / (x[k + 1] - x[k])  # a piece lies in one vertex interval
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the spatial springs' derivatives")
     d_thick = np.zeros(K.size)  # dI/dt at fixed widths
     if axis == "z":
         bu, bv = 2.0 * (w[k] + slope * (u - x[k])), 2.0 * (w[k] + slope * (v - x[k]))

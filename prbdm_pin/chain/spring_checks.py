@@ -21,10 +21,14 @@ def check_springs(beam, stiffness_Nm_per_rad) -> None:
     ``SPRING_WINDOW`` beyond either end is no joint of this beam (a unit slip, or a value meant
     for another model), and its products with the link inertias would leave double precision.
     """
-    t3 = beam.thickness_m**3
     E, L = beam.material.E_Pa, beam.length_m
-    EI_min = E * 2.0 * float(beam.half_width_m.min()) * t3 / 12.0
-    EI_max = E * 2.0 * float(beam.half_width_m.max()) * t3 / 12.0
+    if beam.thickness_law_m is None:
+        t3 = beam.thickness_m**3
+        EI_min = E * 2.0 * float(beam.half_width_m.min()) * t3 / 12.0
+        EI_max = E * 2.0 * float(beam.half_width_m.max()) * t3 / 12.0
+    else:  # the sections at the stations bound the window (it is SPRING_WINDOW wide anyway)
+        EI = E * 2.0 * beam.half_width_m * beam.thickness_law_m**3 / 12.0
+        EI_min, EI_max = float(EI.min()), float(EI.max())
     lo = EI_min / L / SPRING_WINDOW
     hi = EI_max / (LINK_FLOOR_FRACTION * L) * SPRING_WINDOW
     for i, k in enumerate(stiffness_Nm_per_rad):
@@ -44,7 +48,7 @@ def check_spatial_springs(beam, stiffness_Nm_per_rad, axes) -> None:
     :func:`check_springs` does for bending about y.
     """
     b = 2.0 * beam.half_width_m
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the spring checks")
     E, G, L = beam.material.E_Pa, beam.material.G_Pa, beam.length_m
     section = {
         "y": E * b * t**3 / 12.0,

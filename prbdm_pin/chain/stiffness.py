@@ -17,6 +17,7 @@ from ..options.choices import EPS_RAD, MIN_FRACTION, XI_RAD
 from ..options.validate import check_joints, check_modulus, check_type
 from .layout import validate_lengths
 from .sections import LinkSections
+from .stiffness_law import inverse_moment_integral
 
 __all__ = [
     "MAX_POSES",
@@ -122,6 +123,9 @@ def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
 def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m.
 
+    Under a thickness law the integrand is 1 / (w t^3) (m^-3, to rounding: see
+    :mod:`~prbdm_pin.chain.stiffness_law`).
+
     ``a``, ``b`` are (k,) or stacks (B, k) of interval ends. All intervals at once: their ends
     and the planform vertices cut the axis into sub-intervals where w is linear; each
     sub-interval's integral is added to every interval containing it (called in the fit's
@@ -149,6 +153,9 @@ def _sub_integrals(beam: Beam, cuts: np.ndarray):
     The sub-intervals [u, v] lie between consecutive sorted ``cuts`` (B, c), m, which include
     the planform vertices, so w is linear on each; empty sub-intervals give exact zeros.
     """
+    if beam.thickness_law_m is not None:
+        # under a thickness law the integral is of 1 / (w t^3) (m^-3), see stiffness_law
+        return inverse_moment_integral(beam, cuts)
     u, v = cuts[:, :-1], cuts[:, 1:]
     # w on [u, v] from its ends' one-sided limits (they differ at a width step)
     if beam.step_index.size:
@@ -224,6 +231,8 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
         above = centres.searchsorted(mid)
         span = np.where(above == centres.searchsorted(mid, "right"), above - 1, n)
         integral = np.bincount(span, part[0], n + 1)[:n]
+    if beam.thickness_law_m is not None:  # the integral holds 1 / t^3 already
+        return beam.material.E_Pa * (2.0 / 12.0) / integral
     t = beam.thickness_m
     return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
 

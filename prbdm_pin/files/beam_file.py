@@ -36,6 +36,12 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     """
     if not isinstance(d, dict):
         raise InputTypeError(f"beam = {type(d).__name__}: must be a JSON object (a dict)")
+    if "section" in d:  # the issue's spelling for round and table sections, not built yet
+        kind = d["section"].get("kind") if isinstance(d["section"], dict) else d["section"]
+        raise BeamInputError(
+            f"section = {{'kind': {kind!r}, ...}}: round and table sections are not supported "
+            "yet; give the planform (half_width) and thickness (a number or a list aligned "
+            "with x)")
     unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
     if unknown:
         raise BeamInputError(f"unknown key(s) {sorted(unknown)}: allowed are "
@@ -44,7 +50,7 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     if missing:
         raise BeamInputError(f"missing key(s) {sorted(missing)}")
     # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
-    for key in ("x", "half_width") if check_caps else ():
+    for key in ("x", "half_width", "thickness") if check_caps else ():
         if isinstance(d[key], list):
             check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
     mat_d = d.get("material", {})
@@ -85,7 +91,8 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
 def load_beam(path: str | os.PathLike) -> Beam:
     """Read a beam JSON file; any defect raises :class:`BeamInputError` naming the field.
 
-    Required keys: ``x``, ``half_width`` (m), ``thickness`` (m). Optional: ``length`` (m, checked
+    Required keys: ``x``, ``half_width`` (m), ``thickness`` (m: a number, or a list aligned with
+    ``x``, the piecewise-linear law t(x), > 0 at every station). Optional: ``length`` (m, checked
     against the last x), ``material`` (default steel AISI 4340), ``name``, ``description`` and
     ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
     enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.

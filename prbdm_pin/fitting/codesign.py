@@ -106,7 +106,7 @@ def panel_mass(design: Design, p: np.ndarray) -> tuple[float, np.ndarray]:
     """
     beam = design.beam_at(p)
     x, w = beam.x_m, beam.half_width_m
-    t, rho = beam.thickness_m, beam.material.rho_kg_m3
+    t, rho = beam.uniform_thickness_m("co-design"), beam.material.rho_kg_m3
     area = beam.planform_area_m2
     mass = beam.mass_kg
     gaps = np.diff(x)

@@ -17,7 +17,8 @@ from ..options.checks import shown
 if TYPE_CHECKING:
     from .material import Material
 
-__all__ = ["finite_positive", "float_array", "check_representable", "check_stations"]
+__all__ = ["finite_positive", "float_array", "check_representable", "check_stations",
+           "thickness_law"]
 
 
 def finite_positive(name: str, value: Any) -> float:
@@ -138,3 +139,45 @@ def check_stations(x: np.ndarray, w: np.ndarray) -> None:
                 f"x[{i}] = x[{i - 1}] = {x[i]} m with half_width {w[i]} m on both: a repeated "
                 "vertex, not a width step (remove one, or give the two half-widths)"
             )
+
+
+def thickness_law(x: np.ndarray, thickness: Any,
+                  law: Any = None) -> tuple[float, np.ndarray | None]:
+    """Return (t, law): the uniform thickness, or the largest of a varying law and the law, m.
+
+    ``thickness`` is a number or a list aligned with the stations ``x`` (m); a list of equal
+    entries is the number (so a uniform law computes exactly as today's thickness). ``law``
+    is the stored law of a copy (``dataclasses.replace``): it must match ``thickness``.
+    Errors name the field and the station: a thickness at or below zero anywhere (a law that
+    reaches zero leaves the member without a section there), a list not aligned with x, or a
+    jump at a width step (t is continuous).
+    """
+    if law is not None:
+        arr = float_array("thickness_law", law, "m")
+        if np.any(arr != arr.max()) and float(thickness) != float(arr.max()):
+            raise BeamInputError(
+                f"thickness = {thickness!r} m with thickness_law: must be the law's largest "
+                f"value {float(arr.max())!r} m")
+        thickness = arr
+    if not isinstance(thickness, (list, tuple, np.ndarray)) or np.ndim(thickness) == 0:
+        return finite_positive("thickness", thickness), None  # a number, or its type error
+    t = float_array("thickness", thickness, "m")
+    if t.size != x.size:
+        raise BeamInputError(
+            f"thickness has {t.size} entries: a thickness law must be aligned with x "
+            f"({x.size} entries, one thickness per station)")
+    bad = np.flatnonzero(t <= 0.0)
+    if bad.size:
+        i = int(bad[0])
+        raise BeamInputError(
+            f"thickness[{i}] = {t[i]} m at x = {x[i]} m: must be > 0 (a law reaching zero "
+            "leaves no section there)")
+    same = np.flatnonzero((np.diff(x) == 0.0) & (np.diff(t) != 0.0))
+    if same.size:
+        i = int(same[0]) + 1
+        raise BeamInputError(
+            f"thickness[{i}] = {t[i]} m at the width step x = {x[i]} m differs from "
+            f"thickness[{i - 1}] = {t[i - 1]} m: the thickness is continuous (give one value)")
+    if np.all(t == t[0]):
+        return float(t[0]), None
+    return float(t.max()), t

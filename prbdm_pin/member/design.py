@@ -141,7 +141,8 @@ class Design:
     def values(self) -> np.ndarray:
         """The current design's values (SI units), shape (size,)."""
         b, mat = self.beam, self.beam.material
-        scalar = {"thickness": b.thickness_m, "E": mat.E_Pa, "rho": mat.rho_kg_m3, "nu": mat.nu}
+        t_u = b.uniform_thickness_m("design variations")
+        scalar = {"thickness": t_u, "E": mat.E_Pa, "rho": mat.rho_kg_m3, "nu": mat.nu}
         out = np.array([scalar[k] if i < 0 else (b.half_width_m if k == "half_width"
                                                  else b.x_m)[i] for k, i in self._parsed])
         out.setflags(write=False)
@@ -268,7 +269,7 @@ class Design:
         a = self.check(p)
         b = self.beam
         x, w = b.x_m.copy(), b.half_width_m.copy()
-        t = b.thickness_m
+        t = b.uniform_thickness_m("design variations")
         mat = {}
         for (kind, i), v in zip(self._parsed, a, strict=True):
             if kind == "thickness":

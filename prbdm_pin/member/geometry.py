@@ -2,7 +2,8 @@
 
 Conventions: the beam axis is x with the clamped root at x = 0 and the tip at x = L; the
 planform is symmetric about the x axis with a piecewise-linear half-width w(x) through the
-vertices (x_k, w_k); the thickness t is uniform and bending is out of plane (deflection along z).
+vertices (x_k, w_k); the thickness t is uniform or a piecewise-linear law t(x) through the same
+stations (x_k, t_k), and bending is out of plane (deflection along z).
 Two vertices may share a station x_k (never more, and never at the root or the tip): a width step,
 where the half-width jumps; w(x) is right-continuous there (the tip-side value).
 """
@@ -18,7 +19,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..io.jsonfile import field_str
 from ..options.validate import check_planform, check_type
-from .checks import check_representable, check_stations, finite_positive, float_array
+from .checks import check_representable, check_stations, float_array, thickness_law
 from .material import Material
 
 __all__ = ["Beam", "beam_to_dict"]
@@ -32,7 +33,7 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class Beam:
-    """A clamped-free compliant member of uniform thickness and symmetric planform.
+    """A clamped-free compliant member: symmetric planform, uniform or piecewise-linear thickness.
 
     Attributes
     ----------
@@ -42,8 +43,12 @@ class Beam:
         w_k to w_(k+1) there.
     half_width_m : ndarray, shape (k,)
         Half-width w(x_k) in m (> 0); the width is 2 w, linear between vertices.
-    thickness_m : float
-        Uniform thickness t in m.
+    thickness_m : float or array_like
+        Thickness t in m: a number (uniform), or a list aligned with ``x_m`` (a piecewise-linear
+        law t(x_k), > 0 at every station). A list of equal entries is the uniform thickness
+        (stored as the number, so it computes exactly as a number does). For a varying law,
+        ``thickness_m`` holds its largest value after construction and the law is in
+        ``thickness_law_m``; a width step is not a thickness step (t is continuous).
 
     Sizes lie in [1e-5, 1e3] m and the planform is at most 20 times as wide as long
     (:func:`prbdm_pin.validate.check_planform`): outside, the error names the field and the
@@ -52,6 +57,9 @@ class Beam:
     tip_force_N : ndarray, shape (3,)
         The load case: a force at the tip in world axes, N.
     name, description : str
+    thickness_law_m : ndarray, shape (k,), or None
+        The thickness at the stations ``x_m``, m, when it varies; None when uniform. Given
+        directly (e.g. by :func:`dataclasses.replace`) it must agree with ``thickness_m``.
     """
 
     x_m: np.ndarray
@@ -61,6 +69,7 @@ class Beam:
     tip_force_N: np.ndarray = field(default_factory=lambda: np.zeros(3))
     name: str = "beam"
     description: str = ""
+    thickness_law_m: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         """Validate the fields (errors name the field and the value); freeze the arrays."""
@@ -81,16 +90,19 @@ class Beam:
         if bad.size:
             i = int(bad[0])
             raise BeamInputError(f"half_width[{i}] = {w[i]} m: must be > 0")
-        t = finite_positive("thickness", self.thickness_m)
-        check_planform(x, w, t)  # sizes in 1e-5 ... 1e3 m: a size in mm is named
+        t, law = thickness_law(x, self.thickness_m, self.thickness_law_m)
+        for tk in (t,) if law is None else (float(law.min()), t):
+            check_planform(x, w, tk)  # sizes in 1e-5 ... 1e3 m: a size in mm is named
         check_type("material", self.material, Material)
         f = float_array("tip_force", self.tip_force_N, "N")
         if f.size != 3:
             raise BeamInputError(f"tip_force has {f.size} entries: must be [Fx, Fy, Fz] in N")
-        check_representable(x, w, t, self.material)
+        for tk in (t,) if law is None else (float(law.min()), t):
+            check_representable(x, w, tk, self.material)
         object.__setattr__(self, "x_m", _readonly(x))
         object.__setattr__(self, "half_width_m", _readonly(w))
         object.__setattr__(self, "thickness_m", t)
+        object.__setattr__(self, "thickness_law_m", None if law is None else _readonly(law))
         object.__setattr__(self, "tip_force_N", _readonly(f))
         steps = np.flatnonzero(np.diff(x) == 0.0)
         steps.setflags(write=False)
@@ -136,12 +148,41 @@ class Beam:
             w[x == xs] = ws
         return w[()] if w.ndim == 0 else w
 
+    def thickness_at(self, x_m: np.ndarray | float) -> np.ndarray | float:
+        """Thickness t(x) in m at stations ``x_m`` (m): linear between stations, continuous."""
+        if self.thickness_law_m is None:
+            return self.thickness_m + 0.0 * np.asarray(x_m, dtype=float)
+        return np.interp(x_m, self.x_m, self.thickness_law_m)
+
+    def uniform_thickness_m(self, what: str) -> float:
+        """Return the uniform thickness t in m; a thickness law is refused for ``what``.
+
+        Parameters
+        ----------
+        what : str
+            The model that takes one thickness only (named in the error).
+
+        Raises
+        ------
+        BeamInputError
+            When the thickness varies along x.
+        """
+        if self.thickness_law_m is not None:
+            law = self.thickness_law_m
+            raise BeamInputError(
+                f"thickness = {float(law.min()):g} ... {float(law.max()):g} m varies along x: "
+                f"{what} takes a uniform thickness only (the 1D beam truth, the elastica and "
+                "the planar chain take the law)")
+        return self.thickness_m
+
     def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
-        """Bending area moment I_yy(x) = 2 w(x) t^3 / 12 in m^4.
+        """Bending area moment I_yy(x) = 2 w(x) t(x)^3 / 12 in m^4.
 
         ``x_m`` in m; ``side`` as in :meth:`half_width_at`.
         """
-        return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
+        if self.thickness_law_m is None:
+            return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
+        return 2.0 * self.half_width_at(x_m, side) * self.thickness_at(x_m) ** 3 / 12.0
 
     @property
     def planform_area_m2(self) -> float:
@@ -153,8 +194,13 @@ class Beam:
 
     @property
     def mass_kg(self) -> float:
-        """Total mass in kg."""
-        return self.planform_area_m2 * self.thickness_m * self.material.rho_kg_m3
+        """Total mass in kg (exact for a thickness law: 2 w t is quadratic between stations)."""
+        if self.thickness_law_m is None:
+            return self.planform_area_m2 * self.thickness_m * self.material.rho_kg_m3
+        w, t, h = self.half_width_m, self.thickness_law_m, np.diff(self.x_m)
+        # Simpson's rule is exact for the quadratic w t on each interval
+        wt = (w[:-1] * t[:-1] + w[1:] * t[1:] + (w[:-1] + w[1:]) * (t[:-1] + t[1:])) / 6.0
+        return float(2.0 * np.sum(h * wt) * self.material.rho_kg_m3)
 
     @property
     def root_EI_Nm2(self) -> float:
@@ -215,6 +261,7 @@ class Beam:
         return Beam(
             self.x_m, self.half_width_m, self.thickness_m, self.material,
             np.asarray(tip_force_N, dtype=float), self.name, self.description,
+            self.thickness_law_m,
         )
 
     def fingerprint(self) -> str:
@@ -236,7 +283,8 @@ def beam_to_dict(beam: Beam) -> dict[str, Any]:
         "length": beam.length_m,
         "x": [float(v) for v in beam.x_m],
         "half_width": [float(v) for v in beam.half_width_m],
-        "thickness": beam.thickness_m,
+        "thickness": (beam.thickness_m if beam.thickness_law_m is None
+                      else [float(v) for v in beam.thickness_law_m]),
         "material": {"name": m.name, "E": m.E_Pa, "rho": m.rho_kg_m3, "nu": m.nu},
         "tip_force": [float(v) for v in beam.tip_force_N],
     }

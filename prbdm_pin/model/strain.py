@@ -69,7 +69,7 @@ def strain_terms(model, x_m: float, field: str) -> tuple[float, float, tuple, fl
     weights = {i: 1.0 - wb, i + 1: wb}
     beam = model.beam
     EI = float(beam.material.E_Pa * beam.area_moment_at(x))
-    scale = -MICROSTRAIN * beam.thickness_m / (2.0 * EI)
+    scale = -MICROSTRAIN * float(beam.thickness_at(x)) / (2.0 * EI)
     y_springs = model.axis_index("y") + int(model.hub is not None)
     n = nodes.size - 1  # node n is the tip
     joints = tuple((int(y_springs[k - 1]), w) for k, w in weights.items() if 0 < k < n and w)

@@ -78,7 +78,8 @@ def with_truth_loads(plant, beam, wanted, tip_column: str | None):
         elif name == LINE_LOAD and np.ptp(beam.half_width_m) == 0.0:
             M = np.asarray(plant.mass, dtype=float)
             t = M[0, n_r:] if n_r == 2 else -Bq[n_r:, names.index("base_accel_z")]
-            rho_t_width = beam.material.rho_kg_m3 * beam.thickness_m * 2 * beam.half_width_m[0]
+            t_u = beam.uniform_thickness_m("the truth's line load")
+            rho_t_width = beam.material.rho_kg_m3 * t_u * 2 * beam.half_width_m[0]
             cols.append(np.concatenate([rigid_q, t / rho_t_width]))
             new.append(name)
     keep = [i for i, n in enumerate(names) if n != tip_column]

@@ -2,7 +2,9 @@
 
 Element edges sit on every planform vertex (a width step is an element edge, where EI and rho A
 jump), so EI(x) = E 2 w(x) t^3 / 12 and rho A(x) = rho 2 w(x) t are linear inside each element;
-the quadrature order below integrates both matrices exactly.
+the quadrature order below integrates both matrices exactly. A thickness law t(x), linear between
+the same stations, makes E I quartic and rho A quadratic: the mass integrand then has degree
+2 + 3 + 3 = 8 and a higher order (``_INTORDER_LAW``) keeps both exact.
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ __all__ = ["beam_stations", "beam_modal", "beam_modes", "beam_modal_solution",
 
 # w(x) linear, Hermite cubic: the mass integrand has degree 1 + 3 + 3 = 7, stiffness 1 + 1 + 1 = 3.
 _INTORDER = 7
+# t(x) linear: mass integrand 1 + 1 + 3 + 3 = 8, stiffness 1 + 3 + 1 + 1 = 6
+_INTORDER_LAW = 8
 # shortest element, relative to L: below it the stiffness loses more than ~1e-5 of the frequencies
 # to rounding (an element of 1e-4 L next to ones of 5e-3 L: 6e-6)
 MIN_ELEMENT_REL = 1e-4
@@ -106,9 +110,10 @@ def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None,
     # given stations: a mesh that moved with the planform (shape sensitivities keep its topology)
     xs = beam_stations(beam, n_elements) if stations_m is None else np.asarray(stations_m, float)
     mesh = MeshLine(xs)
-    basis = Basis(mesh, ElementLineHermite(), intorder=_INTORDER)
+    law = beam.thickness_law_m is not None
+    basis = Basis(mesh, ElementLineHermite(), intorder=_INTORDER_LAW if law else _INTORDER)
     xq = basis.global_coordinates()[0]
-    t = beam.thickness_m
+    t = beam.thickness_at(xq) if law else beam.thickness_m
     width = 2.0 * beam.half_width_at(xq)
     # in-plane bending: E I_z = E t (2 w)^3 / 12, cubic in x: stiffness integrand of degree 5
     E = beam.material.E_Pa

@@ -43,7 +43,7 @@ def _forms(beam, xa, xb, w, a, b):
     The elements are [xa, xb], the half-width w (nel, 4) is given at the quadrature points (m;
     all may be complex).
     """
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the 1D truth's shape derivatives")
     return hermite_forms(xa, xb, beam.material.E_Pa * 2.0 * w * t**3 / 12.0,
                          beam.material.rho_kg_m3 * 2.0 * w * t, a, b)
 

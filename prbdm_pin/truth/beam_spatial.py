@@ -59,7 +59,7 @@ def _torsion_assemble(beam: Beam, n_elements: int):
     basis = Basis(mesh, ElementLineP2(), intorder=_INTORDER)
     xq = basis.global_coordinates()[0]
     b = 2.0 * beam.half_width_at(xq)
-    t = beam.thickness_m
+    t = beam.uniform_thickness_m("the 1D torsion truth")
     rho = beam.material.rho_kg_m3
     K = asm(_torsion_stiffness, basis, GJ=beam.material.G_Pa * torsion_constant_m4(b, t))
     M = asm(_rotary_mass, basis, rhoI=rho * polar_area_moment_m4(b, t))

@@ -180,7 +180,8 @@ def _plate(beam: Beam, F, Mc, level):
     fb = FacetBasis(mesh, ElementTriArgyrisLocal(),
                     facets=mesh.facets_satisfying(lambda x: np.abs(x[0] - L) < tol))
     mat = beam.material
-    K, _ = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * beam.thickness_m)
+    t_u = beam.uniform_thickness_m("the plate truth")
+    K, _ = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * t_u)
     # q(y) = F_z / (2 w) + Mc_x y / I, I = int y^2 dy = 2 w^3 / 3 over the edge (N/m)
     a, b = F[2] / (2.0 * w), Mc[0] / (2.0 * w**3 / 3.0)
     f = asm(LinearForm(lambda v, p: (a + b * p.x[1]) * v), fb)

@@ -65,7 +65,7 @@ def material_forms(kind: str, beam: Beam, plate: bool, qk: np.ndarray, qm: np.nd
     mat = beam.material
     zero = np.zeros_like(np.asarray(qk, dtype=float))
     if kind == "thickness":
-        t = beam.thickness_m
+        t = beam.uniform_thickness_m("the truth derivatives")
         return 3.0 * qk / t, qm / t
     if kind == "E":
         return qk / mat.E_Pa, zero
@@ -75,7 +75,7 @@ def material_forms(kind: str, beam: Beam, plate: bool, qk: np.ndarray, qm: np.nd
         if not plate:
             return zero, zero
         nu = mat.nu
-        D = mat.E_Pa * beam.thickness_m**3 / (12.0 * (1.0 - nu**2))
+        D = mat.E_Pa * beam.uniform_thickness_m("the truth derivatives")**3 / (12.0 * (1.0 - nu**2))
         return 2.0 * nu / (1.0 - nu**2) * qk + D * (qk2 - qk1), zero
     raise ValueError(f"kind = {kind!r}: not a thickness or material variable")
 

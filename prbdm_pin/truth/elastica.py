@@ -191,6 +191,7 @@ def elastica_primal(
 
     t0 = time.perf_counter()
     xv, wv, t = beam.x_m, beam.half_width_m, beam.thickness_m
+    law = beam.thickness_law_m  # t(s) continuous: interpolated over all stations
     # Scale: moments by P L (or EI_root / L when unloaded), lengths by L.
     m_scale = max(P * L, beam.root_EI_Nm2 / L)
 
@@ -209,7 +210,11 @@ def elastica_primal(
         seg_w.append(wv[lo:hi])
     EI_factor = E * 2.0 * t**3 / 12.0
 
-    def curvature(half_width: np.ndarray, m: np.ndarray) -> np.ndarray:
+    def curvature(half_width: np.ndarray, m: np.ndarray, sg) -> np.ndarray:
+        if law is not None:  # E I = E 2 w t(s)^3 / 12, the section's own thickness
+            ts = np.interp(sg, xv, law)
+            ei = E * 2.0 * ts**3 / 12.0 * half_width
+            return m / ei if not anticlastic else section_curvature(m, ei, half_width, ts, nu)
         if not anticlastic:
             return m / (EI_factor * half_width)
         return section_curvature(m, EI_factor * half_width, half_width, t, nu)
@@ -222,7 +227,7 @@ def elastica_primal(
             for i in range(nseg):
                 phi, m = y[4 * i], y[4 * i + 1] * m_scale
                 sg = a[i] + ell[i] * tau
-                out[4 * i] = ell[i] * curvature(np.interp(sg, seg_x[i], seg_w[i]), m)
+                out[4 * i] = ell[i] * curvature(np.interp(sg, seg_x[i], seg_w[i]), m, sg)
                 nx, nz = fx, fz  # the internal force at s: the tip force and the outboard weight
                 if weight:
                     m_out = outboard_mass_kg(beam, sg)

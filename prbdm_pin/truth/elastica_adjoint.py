@@ -24,7 +24,8 @@ def section_at(pr: ElasticaPrimal, beam: Beam, w: np.ndarray,
 
     The sections are the primal's, of half-widths ``w`` (m) under moments ``m`` (N m).
     """
-    return section_state(m, pr.ei_per_width * w, w, beam.thickness_m, beam.material.nu,
+    t_u = beam.uniform_thickness_m("the elastica")
+    return section_state(m, pr.ei_per_width * w, w, t_u, beam.material.nu,
                          pr.anticlastic)
 
 
@@ -61,6 +62,7 @@ def adjoint(pr: ElasticaPrimal, beam: Beam, F: np.ndarray,
         segment i, scaled by ``lam_scale`` = L^2 / EI_root (lam, 1/N) and ``mom_scale`` = L
         (mom, m).
     """
+    beam.uniform_thickness_m("the elastica's sensitivities")  # pr.ei_per_width: one t
     L = beam.length_m
     cuts = pr.cuts
     a, ell = cuts[:-1], np.diff(cuts) / L

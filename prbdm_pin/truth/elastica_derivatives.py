@@ -209,7 +209,7 @@ def elastica_gradient(
     nseg = ell.size
     first = [0] + [int(k) + 1 for k in beam.step_index]  # global index of each segment's vertex 0
     gx, gw = _GAUSS
-    t, nu = beam.thickness_m, beam.material.nu
+    t, nu = beam.uniform_thickness_m("the elastica"), beam.material.nu
     n = d.size
     d_tip = np.zeros((3, n))
     d_force = np.zeros((3, 2))

@@ -284,8 +284,9 @@ def planform_quad_mesh(beam: Beam, level: int = 2, corner_passes: int = 2,
     if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or level < 0:
         raise ValueError(f"level = {level!r}: must be an integer >= 0")
     h = 2.0 * element_size(beam, level)
-    size = size_field(beam, h, GROWTH, FLOOR_THICKNESSES * beam.thickness_m)
-    tri = feature_size_tri_mesh(beam, h, GROWTH, FLOOR_THICKNESSES * beam.thickness_m)
+    t_u = beam.uniform_thickness_m("the plate truth")
+    size = size_field(beam, h, GROWTH, FLOOR_THICKNESSES * t_u)
+    tri = feature_size_tri_mesh(beam, h, GROWTH, FLOOR_THICKNESSES * t_u)
     w0 = beam.half_width_m[0]
     corners = np.hstack([reentrant_vertices(beam), [[0.0, 0.0], [w0, -w0]]])
     local = size(np.vstack([corners[0], np.abs(corners[1])]))  # the field is of the upper half

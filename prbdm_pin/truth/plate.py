@@ -41,7 +41,7 @@ ROOT_CLAMP_DOFS = {
 def plate_rigidity_Nm(beam: Beam) -> float:
     """Flexural rigidity D = E t^3 / (12 (1 - nu^2)) of the beam's plate, N m."""
     mat = beam.material
-    return mat.E_Pa * beam.thickness_m**3 / (12.0 * (1.0 - mat.nu**2))
+    return mat.E_Pa * beam.uniform_thickness_m("the plate truth")**3 / (12.0 * (1.0 - mat.nu**2))
 
 
 def plate_forms(D_Nm: float, nu: float, rho_h_kg_m2: float):
@@ -195,7 +195,8 @@ def plate_modes(
     basis = Basis(mesh, elem)
     t2 = time.perf_counter()
     mat = beam.material
-    K, M = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * beam.thickness_m)
+    t_u = beam.uniform_thickness_m("the plate truth")
+    K, M = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * t_u)
     x0 = float(mesh.p[0].min())
     tol = 1e-9 * float(np.ptp(mesh.p[0]))
     clamped = basis.get_dofs(lambda x: np.abs(x[0] - x0) < tol).all(ROOT_CLAMP_DOFS[element])

@@ -68,7 +68,7 @@ def plate_sensitivity(design: Design, level: int, modes: int, selection: str,
     omega = pm.omega_rad_s[index]
     mat = beam.material
     D = plate_rigidity_Nm(beam)
-    rho_h = mat.rho_kg_m3 * beam.thickness_m
+    rho_h = mat.rho_kg_m3 * beam.uniform_thickness_m("the plate truth")
     L = beam.length_m
     Fz = float(beam.tip_force_N[2])
     if static:

@@ -103,7 +103,8 @@ def plate_static(
     fbasis = FacetBasis(mesh, ElementTriArgyrisLocal(), facets=tip_facets)
     t2 = time.perf_counter()
     mat = beam.material
-    K, _ = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * beam.thickness_m)
+    t_u = beam.uniform_thickness_m("the plate truth")
+    K, _ = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * t_u)
     f = tip_edge_load(beam, fbasis, F[2])
     clamped = basis.get_dofs(lambda x: np.abs(x[0]) < tol).all(ROOT_CLAMP_DOFS["argyris"])
     free = np.setdiff1d(np.arange(basis.N), clamped)

@@ -67,7 +67,7 @@ def outboard_mass_kg(beam: Beam, x_m) -> np.ndarray:
     """
     x = np.clip(np.asarray(x_m, dtype=float), 0.0, beam.length_m)
     xv, wv = beam.x_m, beam.half_width_m
-    rho_t = beam.material.rho_kg_m3 * beam.thickness_m
+    rho_t = beam.material.rho_kg_m3 * beam.uniform_thickness_m("the self-weight truth")
     # mass of each vertex interval (trapezoid of 2 w: exact for linear w), summed from the tip
     seg = rho_t * (wv[:-1] + wv[1:]) * np.diff(xv)
     tail = np.concatenate([np.cumsum(seg[::-1])[::-1], [0.0]])  # mass outboard of vertex i

@@ -55,7 +55,8 @@ VTK_HEX = [0, 3, 6, 2, 1, 5, 7, 4]
 
 def default_solid_level(beam: Beam) -> int:
     """Mesh level whose in-plane element size is closest to 2.5 thicknesses."""
-    return max(0, int(round(np.log2(element_size(beam, 0) / (2.5 * beam.thickness_m)))))
+    t_u = beam.uniform_thickness_m("the 3D solid truth")
+    return max(0, int(round(np.log2(element_size(beam, 0) / (2.5 * t_u)))))
 
 
 def solid_level(beam: Beam, level: int | None) -> int:
@@ -70,11 +71,11 @@ def solid_mesh(beam: Beam, level: int | None = None) -> MeshHex:
 
     Nodes in m, z in [-t/2, t/2] (mid-surface at z = 0).
     """
-    quad = planform_quad_mesh(beam, solid_level(beam, level),
-                              root_size_m=ROOT_THICKNESSES * beam.thickness_m)
+    t_u = beam.uniform_thickness_m("the 3D solid truth")
+    quad = planform_quad_mesh(beam, solid_level(beam, level), root_size_m=ROOT_THICKNESSES * t_u)
     p2, t2 = quad.p, quad.t
     n = p2.shape[1]
-    h = 0.5 * beam.thickness_m
+    h = 0.5 * t_u
     p = np.hstack([np.vstack([p2, np.full(n, -h)]), np.vstack([p2, np.full(n, h)])])
     a, b, c, d = t2
     # Reference hex vertices (0,0,0), (0,0,1), (0,1,0), (1,0,0), (0,1,1), (1,0,1), (1,1,0), (1,1,1)

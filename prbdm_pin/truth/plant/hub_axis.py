@@ -55,7 +55,7 @@ def axis_inertia_kg_m2(beam: Beam, radius_m: float, axis: str) -> float:
     x = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * _NODES[None, :]
     wq = 0.5 * (b - a)[:, None] * _WEIGHTS[None, :]
     w = beam.half_width_at(x)
-    t, rho = beam.thickness_m, beam.material.rho_kg_m3
+    t, rho = beam.uniform_thickness_m("the hub truth"), beam.material.rho_kg_m3
     # per unit length: int y^2 dy over the width = 2 w^3 / 3, the width itself 2 w
     y2 = 2.0 * w**3 / 3.0
     if axis == "z":

@@ -136,7 +136,7 @@ def plate_mode_fields(beam: Beam, level: int, n_modes: int, element: str,
     rows = [line_average_matrix(basis, x, _half_width_over(beam, x), d_dx=True)
             for x in st.ravel()]
     rot = section_rotation_sign() * (np.vstack(rows) @ phi if rows else np.zeros((0, phi.shape[1])))
-    rho_h = beam.material.rho_kg_m3 * beam.thickness_m
+    rho_h = beam.material.rho_kg_m3 * beam.uniform_thickness_m("the plate truth")
     return ModeFields(
         model=f"plate-{element}",
         omega_rad_s=pm.omega_rad_s,
