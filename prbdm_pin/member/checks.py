@@ -159,7 +159,9 @@ def thickness_law(x: np.ndarray, thickness: Any,
                 f"thickness = {thickness!r} m with thickness_law: must be the law's largest "
                 f"value {float(arr.max())!r} m")
         thickness = arr
-    if not isinstance(thickness, (list, tuple, np.ndarray)) or np.ndim(thickness) == 0:
+    # a ragged list is not asked for its ndim (numpy raises): float_array names it
+    if not isinstance(thickness, (list, tuple, np.ndarray)) or (
+            isinstance(thickness, np.ndarray) and thickness.ndim == 0):
         return finite_positive("thickness", thickness), None  # a number, or its type error
     t = float_array("thickness", thickness, "m")
     if t.size != x.size:

@@ -171,6 +171,8 @@ def test_beam_json_round_trip(tapered, tmp_path):
     ([0.01, 0.005, 0.002], "thickness has 3 entries"),
     ([0.01, "a"], "thickness[1] = 'a': must be a number (m)"),
     ("0.01", "thickness = '0.01': must be a number"),
+    ([None, []], "thickness[0] = None: must be a number (m)"),  # ragged: no numpy traceback
+    ([[0.01], [0.02]], "thickness[0] = [0.01]: must be a number (m)"),
 ])
 def test_bad_thickness_law_is_refused_by_name(thickness, words):
     with pytest.raises(BeamInputError) as e:
