@@ -12,6 +12,7 @@ import numpy as np
 from reference import BETA_L
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
+from tolerances import REFERENCE_ATOL, REFERENCE_RTOL, ROOT_RTOL
 
 __all__ = ["strip_properties", "equal_lengths", "polygon_arc_tip", "arc_tip",
            "partial_load_tip", "base_transmissibility", "elastica_self_weight"]
@@ -109,8 +110,8 @@ def elastica_self_weight(L: float, EI: float, q: float) -> np.ndarray:
     def shoot(k0):
         # the reference's own accuracy (integrator and root tolerances, not comparison bounds):
         # far below the 1e-3 L the chain is compared at
-        sol = solve_ivp(rhs, (0.0, L), [0.0, k0, 0.0, 0.0], method="DOP853", rtol=1e-12,
-                        atol=1e-14)
+        sol = solve_ivp(rhs, (0.0, L), [0.0, k0, 0.0, 0.0], method="DOP853",
+                        rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
         return sol.y[:, -1]
 
     # the linear root curvature: the large deflection's is less (theta'(L) >= 0 there); step
@@ -120,6 +121,6 @@ def elastica_self_weight(L: float, EI: float, q: float) -> np.ndarray:
     lo = 0.8 * hi
     while shoot(lo)[1] >= 0.0:
         hi, lo = lo, 0.8 * lo
-    k0 = brentq(lambda k: shoot(k)[1], lo, hi, xtol=1e-14, rtol=1e-13)
+    k0 = brentq(lambda k: shoot(k)[1], lo, hi, xtol=1e-14, rtol=ROOT_RTOL)
     end = shoot(k0)
     return np.array([end[2], end[3]])

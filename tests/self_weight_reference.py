@@ -21,7 +21,7 @@ import scipy.linalg
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from scipy.special import jv
-from tolerances import EPS
+from tolerances import EPS, REFERENCE_ATOL, REFERENCE_RTOL
 
 __all__ = ["ritz_frequencies", "ritz_planform_frequencies", "shoot_self_weight", "GREENHILL",
            "GREENHILL_PUBLISHED"]
@@ -90,10 +90,10 @@ def shoot_self_weight(EI: float, rhoA: float, L: float, g, F=(0.0, 0.0, 0.0)) ->
         return [y[1] / EI, nx * np.sin(y[0]) - nz * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])]
 
     def run(m0):
-        # the integrator's request (not a comparison bound): rtol 1e-12, atol 45 EPS (1e-14),
-        # the shooting reference's accuracy, below what the truth is compared at
-        return solve_ivp(rhs, (0.0, L), [0.0, m0, 0.0, 0.0], rtol=1e-12, atol=45 * EPS,
-                         method="DOP853")
+        # the integrator's request (not a comparison bound: tests/tolerances.py), the
+        # shooting reference's accuracy, below what the truth is compared at
+        return solve_ivp(rhs, (0.0, L), [0.0, m0, 0.0, 0.0], rtol=REFERENCE_RTOL,
+                         atol=REFERENCE_ATOL, method="DOP853")
 
     # the root moment lies between 0 and the straight member's |M(0)|, times a margin
     m_lin = abs(F[2]) * L + abs(rhoA * g[2]) * L**2 / 2.0 + abs(F[0]) * L

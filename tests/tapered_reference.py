@@ -11,6 +11,7 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import brentq
 from scipy.special import iv, jv
+from tolerances import ROOT_RTOL
 
 
 def complete_taper_lambda1(order: int) -> float:
@@ -26,7 +27,7 @@ def complete_taper_lambda1(order: int) -> float:
         return jv(n, z) * iv(n + 1, z) + iv(n, z) * jv(n + 1, z)
 
     lo, hi = {1: (3.0, 6.0), 2: (5.0, 6.5)}[n]  # brackets of the first root only
-    z = brentq(f, lo, hi, xtol=1e-15, rtol=1e-15)
+    z = brentq(f, lo, hi, xtol=1e-15, rtol=ROOT_RTOL)
     return (z / 2.0) ** 2
 
 

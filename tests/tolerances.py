@@ -23,9 +23,17 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["EPS", "eig_rtol", "hermite_basis_cond"]
+__all__ = ["EPS", "REFERENCE_ATOL", "REFERENCE_RTOL", "ROOT_RTOL", "eig_rtol",
+           "hermite_basis_cond"]
 
 EPS = float(np.finfo(float).eps)  # 2.2e-16: one rounding, relative
+# What an independent reference asks of its own solvers (not a comparison bound): an
+# integrator's relative and absolute error per step, 4500 and 45 EPS (1e-12 and 1e-14), and a
+# scalar root's, 8 EPS (twice brentq's floor of 4 EPS). Each reference is then accurate to a few
+# thousand roundings, far inside the bounds the package is compared at (1e-9 and wider).
+REFERENCE_RTOL = 4500 * EPS
+REFERENCE_ATOL = 45 * EPS
+ROOT_RTOL = 8 * EPS
 
 
 def eig_rtol(omega: np.ndarray) -> float:

@@ -6,6 +6,7 @@ follower moment, a base acceleration: the member's inertia -m a at its centre of
 import numpy as np
 import pytest
 from paths import ROOT
+from tolerances import REFERENCE_ATOL, REFERENCE_RTOL
 
 import prbdm_pin as pp
 from prbdm_pin.files.beam_file import load_beam
@@ -75,7 +76,7 @@ def test_simulated_reaction_follows_the_linear_plant_at_small_amplitude(name):
     # O(u^2) difference the test bounds at 1e-5 of the peak
     run = pp.simulate(model, 0.05, inputs=(name,), u=np.array([u]), outputs=outs,
                       loads=(span,), output_dt_s=t[1], damping_ratio=0.05, method="DOP853",
-                      rtol=1e-11, atol=1e-14)
+                      rtol=10 * REFERENCE_RTOL, atol=REFERENCE_ATOL)
     n = lin.A.shape[0]
     aug = np.zeros((n + 1, n + 1))
     aug[:n, :n], aug[:n, n] = lin.A, lin.B[:, 0] * u
