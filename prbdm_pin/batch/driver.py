@@ -202,7 +202,9 @@ def run_batch(
                 signal.signal(signal.SIGTERM, previous)
             run.writer.close()
             bar.close()
-            write_csv(run.records, out / RESULTS_CSV)
+            # the CSV is rebuilt from the file, not from memory: a signal can land between a
+            # record's durable write and its append to run.records
+            write_csv(read_records(jsonl), out / RESULTS_CSV)
             backend.close()
     return BatchSummary(out, len(tasks), len(tasks) - len(todo), run.n_ok, run.n_failed,
                         run.n_retried, time.perf_counter() - t0, interrupted)
