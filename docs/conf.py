@@ -26,6 +26,8 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "sphinx_copybutton",
 ]
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
@@ -48,6 +50,9 @@ napoleon_google_docstring = False
 napoleon_numpy_docstring = True
 napoleon_use_rtype = False
 
-html_theme = "alabaster"
+# furo: a fluid body (wide diagrams and CLI tables are not cut at a fixed width), light and dark
+html_theme = "furo"
 html_title = f"prbdm_pin {release}"
-html_theme_options = {"description": "Pseudo-rigid-body dynamic models on Pinocchio"}
+# copy a command without its prompt or a doctest's output
+copybutton_prompt_text = r">>> |\.\.\. |\$ "
+copybutton_prompt_is_regexp = True

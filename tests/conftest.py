@@ -8,9 +8,17 @@ hunt for new failures: ``python -m pytest -m stress --hypothesis-profile explore
 found there becomes a named regression test.
 """
 
-import pytest
-from hypothesis import settings
-from paths import BEAMS
+import os
+
+# One BLAS/OpenMP thread, as the package's workers and benchmarks pin it: a threaded reduction's
+# last bits depend on the thread count, and some tests compare a worker's result with the same
+# computation in this process (set before numpy is first imported, which is below).
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
+from paths import BEAMS  # noqa: E402
 
 settings.register_profile("reproducible", derandomize=True, database=None)
 settings.register_profile("explore", derandomize=False, database=None)

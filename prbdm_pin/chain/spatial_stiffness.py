@@ -145,7 +145,7 @@ def link_mean_section_m4(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarr
 
 def paper_axis_unit_stiffness(beam: Beam, lengths: np.ndarray, mass_kg: np.ndarray,
                               axis: str) -> np.ndarray:
-    """Return the paper's Eq. 14 on any axis at unit factor, N m/rad, shape (n,).
+    """Return the paper's equation 14 on any axis at unit factor, N m/rad, shape (n,).
 
     Joint j drives link j + 1: K_j = sqrt(C S_(j+1) / m_(j+1)) with S the link's mean section
     constant of the axis (:func:`link_mean_section_m4`), C = E for bending (y, z) and G for

@@ -1,4 +1,4 @@
-"""Pose sweep (the paper's Eqs. 10-11) and joint stiffness laws (Eq. 14, finite segments).
+"""Pose sweep (the paper's equations 10-11) and joint stiffness laws (equation 14, finite segments).
 
 Also the check of a model's joint springs.
 """
@@ -38,7 +38,7 @@ MAX_POSES = 1000
 def pose_sweep(
     n_joints: int, xi: float = XI_RAD, eps: float = EPS_RAD, max_tip_angle_rad: float = math.pi / 2
 ) -> np.ndarray:
-    """Return the poses of the paper's sweep (Eqs. 10-11), rad, shape (m, n_joints).
+    """Return the poses of the paper's sweep (equations 10-11), rad, shape (m, n_joints).
 
     Pose i = 0, 1, ... has every joint at ``xi + i * eps`` while the tip link's world angle
     ``n_joints * (xi + i * eps)`` stays within ``max_tip_angle_rad`` (a 1e-12 relative slack keeps
@@ -80,7 +80,7 @@ def pose_sweep(
 
 
 def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) -> np.ndarray:
-    """Joint stiffness of the paper's Eq. 14, N m/rad.
+    """Joint stiffness of the paper's equation 14, N m/rad.
 
     Joint j (0-based) drives link j + 1 and uses its properties: K_j = k sqrt(E I_(j+1) / m_(j+1)),
     with I the link's mean bending area moment (m^4) and m its mass (kg).
@@ -112,7 +112,7 @@ def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) 
 
 def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
                          mass_kg: np.ndarray) -> np.ndarray:
-    """Eq. 14 at unit SCF, ``sqrt(E I_(j+1) / m_(j+1))``, N m/rad, shape (..., n).
+    """Equation 14 at unit SCF, ``sqrt(E I_(j+1) / m_(j+1))``, N m/rad, shape (..., n).
 
     ``area_moment_m4`` (m^4) and ``mass_kg`` (kg) are the links' mean bending area moments and
     masses, shape (..., n+1): one design, or a stack of designs (the fit's inner loop).

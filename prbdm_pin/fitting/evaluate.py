@@ -72,12 +72,12 @@ class Evaluation:
 
     @property
     def eigen_loss_pct(self) -> float:
-        """Eigen loss: the per-pose relative eigen errors averaged over the poses (Eq. 17), %."""
+        """Eigen loss: the per-pose relative eigen errors averaged over poses (equation 17), %."""
         return float(100.0 * np.mean(self.eigen_errors))
 
     @property
     def deflection_loss_pct(self) -> float:
-        """Tip error normalised by the truth tip position (Eq. 19), %; NaN without statics."""
+        """Tip error normalised by the truth tip position (equation 19), %; NaN without statics."""
         return math.nan if self.position_errors is None else float(
             100.0 * np.mean(self.position_errors))
 
@@ -89,7 +89,7 @@ class Evaluation:
 
     @property
     def combined_loss_pct(self) -> float:
-        """Combined loss sqrt(eigen^2 + deflection^2) (Eq. 27), %."""
+        """Combined loss sqrt(eigen^2 + deflection^2) (equation 27), %."""
         return float(math.hypot(self.eigen_loss_pct, self.deflection_loss_pct))
 
     def tip_loss_pct(self, norm: DeflectionNorm | str = DeflectionNorm.POSITION) -> float:
@@ -232,12 +232,12 @@ class BatchLosses:
 
     @property
     def eigen_pct(self) -> np.ndarray:
-        """Eigen loss of each design (Eq. 17), %."""
+        """Eigen loss of each design (equation 17), %."""
         return 100.0 * self.eigen_errors.mean(axis=1)
 
     @property
     def position_pct(self) -> np.ndarray:
-        """Deflection loss of each design (Eqs. 18-19), %."""
+        """Deflection loss of each design (equations 18-19), %."""
         return 100.0 * self.position_errors.mean(axis=1)
 
     @property

@@ -37,7 +37,7 @@ class JointSprings:
     export_advice: ClassVar[str] = ""
 
     def poses(self, joints: int, options: Any) -> np.ndarray:
-        """Return the straight pose, shape (1, n), or the sweep of Eqs. 10-11 (``joint_sweep``)."""
+        """Return the straight pose (1, n), or the sweep of equations 10-11 (``joint_sweep``)."""
         if options.joint_sweep:
             return np.asarray(pose_sweep(joints, xi=options.xi_rad, eps=options.eps_rad),
                               dtype=float)

@@ -1,4 +1,4 @@
-"""Fit objectives of the paper (Eqs. 16-19, 25-27) as pure functions over arrays.
+"""Fit objectives of the paper (equations 16-19, 25-27) as pure functions over arrays.
 
 Every function takes plain arrays (model quantities over the pose sweep and the truth) and returns
 fractions or percentages; none builds a model. Errors are relative l2 norms:
@@ -147,7 +147,7 @@ def eigen_errors(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
     norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> np.ndarray:
-    """Relative eigen error of every pose (Eq. 16 or the per-mode rms), as a fraction.
+    """Relative eigen error of every pose (equation 16 or the per-mode rms), as a fraction.
 
     Parameters
     ----------
@@ -172,7 +172,7 @@ def eigen_loss_pct(
     omega_model_rad_s: np.ndarray, omega_truth_rad_s: np.ndarray, squared: bool = False,
     norm: EigenNorm | str = EigenNorm.PAPER,
 ) -> float:
-    """Eigen loss (Eqs. 15a, 17): the per-pose error averaged over the poses, in %."""
+    """Eigen loss (equations 15a, 17): the per-pose error averaged over the poses, in %."""
     return float(100.0 * np.mean(eigen_errors(omega_model_rad_s, omega_truth_rad_s, squared,
                                               norm)))
 
@@ -276,7 +276,7 @@ def tip_errors(tip_model_m: np.ndarray, tip_truth_m: np.ndarray, scale_m: float)
 
 
 def tip_position_errors(tip_model_m: np.ndarray, tip_truth_m: np.ndarray) -> np.ndarray:
-    """Relative tip-position error (Eq. 19) of each model tip, as a fraction.
+    """Relative tip-position error (equation 19) of each model tip, as a fraction.
 
     Parameters
     ----------
@@ -302,23 +302,23 @@ def tip_displacement_errors(
 
 
 def combined_loss_pct(eigen_pct: float | np.ndarray, deflection_pct: float | np.ndarray):
-    """Compute the combined loss of Eq. 27, ``sqrt(eigen^2 + deflection^2)`` (inputs, output %)."""
+    """Return the combined loss of equation 27, ``sqrt(eigen^2 + deflection^2)``, %."""
     return np.hypot(eigen_pct, deflection_pct)
 
 
 def scf_mean(k: np.ndarray) -> float:
-    """Mean stiffness correction factor over the poses (Eq. 25; the sum has m terms)."""
+    """Mean stiffness correction factor over the poses (equation 25; the sum has m terms)."""
     return float(np.mean(np.asarray(k, dtype=float)))
 
 
 def scf_deviation_pct(k: np.ndarray) -> np.ndarray:
-    """Each pose's SCF deviation from the mean, P_i of Eq. 26, in %."""
+    """Each pose's SCF deviation from the mean, P_i of equation 26, in %."""
     k = np.asarray(k, dtype=float)
     m = np.mean(k)
     return (k - m) / m * 100.0
 
 
 def knee_index(F: np.ndarray) -> int:
-    """Index of the Pareto point closest to the origin (Eq. 27) among rows (eigen, deflection)."""
+    """Index of the Pareto point nearest the origin (equation 27) among rows (eigen, deflection)."""
     F = np.atleast_2d(np.asarray(F, dtype=float))
     return int(np.argmin(np.hypot(F[:, 0], F[:, 1])))

@@ -1,4 +1,4 @@
-"""Losses of the ``paper`` parametrisation (Eq. 14: one SCF k_i per pose on ``sqrt(E I / m)``).
+"""Losses of the ``paper`` parametrisation (equation 14: one SCF k_i per pose on ``sqrt(E I / m)``).
 
 They are the variable-projected eigen residuals over u (n) and the scalar loss with a
 deflection term over x = [u, ln k].

@@ -1,4 +1,4 @@
-"""The ``paper`` parametrisation (Eq. 14): one stiffness correction factor per pose of the sweep.
+"""The ``paper`` parametrisation (equation 14): one stiffness correction factor per sweep pose.
 
 Pose i uses the springs ``K_j(i) = k_i sqrt(E I_{j+1} / m_{j+1})``, one SCF k_i per pose; the
 design vector is [gamma, k] (Eq. 22) and the frequencies are compared over the pose sweep of
@@ -30,7 +30,7 @@ __all__ = ["PaperSprings"]
 
 
 class PaperSprings:
-    """One SCF per pose on ``sqrt(E I / m)`` of each joint's outboard link (Eq. 14)."""
+    """One SCF per pose on ``sqrt(E I / m)`` of each joint's outboard link (equation 14)."""
 
     name: ClassVar[str] = StiffnessKind.PAPER.value
     pose_independent: ClassVar[bool] = False
@@ -39,7 +39,7 @@ class PaperSprings:
         "joint springs (stiffness='joint') fit each joint")
 
     def poses(self, joints: int, options: Any) -> np.ndarray:
-        """Return the pose sweep of Eqs. 10-11, rad, shape (m, n)."""
+        """Return the pose sweep of equations 10-11, rad, shape (m, n)."""
         return np.asarray(pose_sweep(joints, xi=options.xi_rad, eps=options.eps_rad),
                           dtype=float)
 
@@ -48,11 +48,11 @@ class PaperSprings:
         return n_poses
 
     def chain_unit_springs(self, beam, lengths_m, area_moment_m4, mass_kg) -> np.ndarray:
-        """Return Eq. 14 at unit SCF from the links' sections, N m/rad, shape (..., n)."""
+        """Return equation 14 at unit SCF from the links' sections, N m/rad, shape (..., n)."""
         return paper_unit_stiffness(beam.material.E_Pa, area_moment_m4, mass_kg)
 
     def build(self, problem: FitProblem, lengths_m: np.ndarray):
-        """Return the model with Eq. 14's springs at unit SCF, and those springs (N m/rad)."""
+        """Return the model with equation 14's springs at unit SCF, and those springs (N m/rad)."""
         from ..model.prbdm_model import build_model  # Pinocchio loads with the first model
 
         lengths = np.asarray(lengths_m, dtype=float)
@@ -75,7 +75,7 @@ class PaperSprings:
         return f[..., :, None] * K0[..., None, :]
 
     def n_static_rows(self, n_poses: int) -> int:
-        """Return m: every pose's springs are solved (Eq. 18 averages over them)."""
+        """Return m: every pose's springs are solved (equation 18 averages over them)."""
         return n_poses
 
     def static_rows(self, springs: np.ndarray) -> np.ndarray:

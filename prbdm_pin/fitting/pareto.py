@@ -243,7 +243,7 @@ def _initial_population(beam, target, problem: FitProblem, o: ParetoOptions, log
 
 
 def _polish_knee(problem: FitProblem, x: np.ndarray, log10_bounds):
-    """Run the Eq. 27 local solver from a front design.
+    """Run the equation 27 local solver from a front design.
 
     Returns (design row, (eigen %, deflection %), nfev).
     """

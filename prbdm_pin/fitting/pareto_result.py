@@ -1,4 +1,4 @@
-"""The result of a two-objective fit: the NSGA-II front and its knee (Eq. 27), with provenance.
+"""The result of a two-objective fit: the NSGA-II front and its knee (equation 27), with provenance.
 
 A frozen dataclass in the conventions of :class:`prbdm_pin.fitting.results.FitResult` (``success``,
 ``message``); its JSON form drops the knee, which is written as its own fit.json. Losses in %.
@@ -23,7 +23,7 @@ __all__ = ["ParetoResult"]
 
 @dataclass(frozen=True, eq=False)
 class ParetoResult(JsonRecord):
-    """The whole NSGA-II front and its knee (Eq. 27).
+    """The whole NSGA-II front and its knee (equation 27).
 
     Attributes
     ----------

@@ -112,7 +112,7 @@ class FitProblem:
 
     @property
     def min_fraction(self) -> float:
-        """Lower bound of a link length as a fraction of L, Eq. 15c (``options.min_fraction``)."""
+        """A link length's lower bound over L, equation 15c (``options.min_fraction``)."""
         return self.options.min_fraction
 
     @property

@@ -1,4 +1,4 @@
-"""Random planforms as in the paper's Sec. 2.1, the beams of the batch studies."""
+"""Random planforms as in the paper's Section 2.1, the beams of the batch studies."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ def random_beam(
     tip_force_N: tuple[float, float, float] = (0.0, 0.0, -2500.0),
     name: str | None = None,
 ) -> Beam:
-    """Draw a random planform as in the paper's Sec. 2.1.
+    """Draw a random planform as in the paper's Section 2.1.
 
     ``p`` sorted uniform stations in (0, 1) plus 0 and 1 give x (scaled by ``length_m``); ``p + 2``
     uniform numbers scaled by ``width_scale`` (the published code's 0.5, so the panel is at most

@@ -53,7 +53,7 @@ class Choice(str, Enum):
 
 
 class Objective(Choice):
-    """What a fit minimises: Eq. 17, Eq. 19 or Eq. 27.
+    """What a fit minimises: equation 17, equation 19 or equation 27.
 
     The fit asks an objective which terms it has (:attr:`has_eigen_term`,
     :attr:`has_deflection_term`) instead of testing its name.
@@ -65,31 +65,31 @@ class Objective(Choice):
 
     @property
     def has_eigen_term(self) -> bool:
-        """Whether the loss has the frequency term (Eq. 17): ``eigen`` and ``combined``."""
+        """Whether the loss has the frequency term (equation 17): ``eigen`` and ``combined``."""
         return self is not Objective.DEFLECTION
 
     @property
     def has_deflection_term(self) -> bool:
-        """Whether the loss has the tip term (Eq. 19): ``deflection`` and ``combined``."""
+        """Whether the loss has the tip term (equation 19): ``deflection`` and ``combined``."""
         return self is not Objective.EIGEN
 
 
 class StiffnessKind(Choice):
-    """One SCF per pose on Eq. 14 (``paper``), or one factor per joint (``joint``)."""
+    """One SCF per pose on equation 14 (``paper``), or one factor per joint (``joint``)."""
 
     PAPER = "paper"
     JOINT = "joint"
 
 
 class EigenNorm(Choice):
-    """The eigen error per pose: Eq. 16's l2 norm, or the rms of the per-mode relative errors."""
+    """The eigen error per pose: equation 16's l2 norm, or the rms of per-mode relative errors."""
 
     PAPER = "paper"
     RELATIVE = "relative"
 
 
 class DeflectionNorm(Choice):
-    """What a tip error is divided by: the truth tip position (Eq. 19) or its displacement."""
+    """What a tip error is divided by: the truth tip position (equation 19) or its displacement."""
 
     POSITION = "position"
     DISPLACEMENT = "displacement"

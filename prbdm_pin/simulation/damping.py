@@ -121,7 +121,7 @@ def spring_modal_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray, xi: np.n
 
 
 def eq5c_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray) -> np.ndarray:
-    """Compute the paper's Eq. 5c damping, C = 2 diag(xi_j) (M K)^(1/2), per-joint xi_j.
+    """Compute the paper's equation 5c damping, C = 2 diag(xi_j) (M K)^(1/2), per-joint xi_j.
 
     Not symmetric in general and does not give mode k the ratio xi_k (use :func:`modal_damping`
     for that). The principal square root is computed as L (L^T K L)^(1/2) L^-1 with M = L L^T.

@@ -11,7 +11,7 @@ from ..errors import BeamInputError
 
 @dataclass(frozen=True, eq=False)
 class StiffnessSchedule:
-    """Pose-dependent joint stiffness of the paper's parametrisation (Eq. 14, one SCF per pose).
+    """Pose-dependent joint stiffness of the paper's parametrisation (equation 14: an SCF per pose).
 
     The pose sweep (Eqs. 10-11) puts every joint at the same angle theta_i; a general pose q is
     mapped to the mean absolute joint angle, and each joint's stiffness is interpolated linearly

@@ -127,7 +127,7 @@ def plot_planform(beam, lengths_m: np.ndarray, path, title: str = "") -> Path:
 
 
 def plot_scf(result, path) -> Path:
-    """Plot SCF k_i against the pose's joint angle (deg), with P_i (Eq. 26) on the right axis.
+    """Plot SCF k_i against the pose's joint angle (deg), with P_i (equation 26) on the right axis.
 
     The exported pose's SCF is circled, SCF_mean (a diagnostic, not exported) dotted.
     """
@@ -153,7 +153,7 @@ def plot_scf(result, path) -> Path:
 
 
 def plot_pareto(pareto, path) -> Path:
-    """Plot the front (eigen %, deflection %) with the knee of Eq. 27 starred.
+    """Plot the front (eigen %, deflection %) with the knee of equation 27 starred.
 
     ``pareto`` may be a list of ParetoResults, drawn together (as the paper's Fig. 11).
     """
