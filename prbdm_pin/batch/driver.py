@@ -183,10 +183,10 @@ def run_batch(
         done = {r["beam_index"] for r in latest_records(records)
                 if r.get("status") == "ok" or not retry_failed}
         todo = [t for t in tasks if t.index not in done]
-        from tqdm.auto import tqdm
+        from ..io.progress import progress_bar
 
-        bar = tqdm(total=len(tasks), initial=len(tasks) - len(todo), unit="beam",
-                   desc="batch", disable=not progress, dynamic_ncols=True)
+        bar = progress_bar(len(tasks), enabled=progress, initial=len(tasks) - len(todo),
+                           unit="beam", desc="batch")
         run = _Run(RecordWriter(jsonl), records, bar)
         interrupted = False
         previous = _stop_on_sigterm()

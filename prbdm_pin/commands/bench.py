@@ -70,9 +70,9 @@ def run(args) -> int:
     cache = Path(args.cache_dir) if args.cache_dir else out / "truth-cache"
     bar = None
     if not args.quiet:
-        from tqdm import tqdm
+        from ..io.progress import progress_bar
 
-        bar = tqdm(total=work_units(config), desc="bench", unit="step")
+        bar = progress_bar(work_units(config), desc="bench", unit="step")
 
     def tick(label: str) -> None:
         if bar is not None:

@@ -108,10 +108,10 @@ def fit_spatial(beam: Beam, target, joints: int, options: FitOptions, *,
     hi = np.r_[np.ones(joints), np.full(d.n_factors, LOG_FACTOR_BOUND)]
     tasks = _starts(d, options.starts, options.seed)
     if progress:
-        from tqdm.auto import tqdm
+        from ..io.progress import progress_bar
 
-        tasks = tqdm(tasks, desc=f"fit {joints}R {options.axes.value}", unit="start",
-                     leave=False)
+        tasks = progress_bar(iterable=tasks, desc=f"fit {joints}R {options.axes.value}",
+                             unit="start", leave=False)
     runs: list[tuple[float, float, int, np.ndarray, bool, str]] = []
     jac = spatial_jacobian(d)
     for i, x0 in enumerate(tasks):

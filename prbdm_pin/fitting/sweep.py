@@ -169,7 +169,7 @@ def fit_sweep(
     BeamInputError
         On a path that cannot be continuous, or parameters or targets that do not match it.
     """
-    from tqdm.auto import tqdm
+    from ..io.progress import progress_bar
 
     check_path(designs)
     o = resolve_options(options, FitOptions, changes)
@@ -183,7 +183,7 @@ def fit_sweep(
     fits: list[FitResult] = []
     times, warm = np.zeros(S), np.zeros(S, dtype=bool)
     prev = start
-    for i in tqdm(range(S), disable=not progress, desc="sweep", unit="design"):
+    for i in progress_bar(iterable=range(S), enabled=progress, desc="sweep", unit="design"):
         beam = designs[i]
         target = targets(beam) if callable(targets) else targets[i]
         t0 = time.perf_counter()

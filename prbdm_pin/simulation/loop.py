@@ -141,10 +141,10 @@ def progress_bar(duration_s: float, enabled: bool):
     """
     if not enabled:
         return None, lambda: None
-    from tqdm.auto import tqdm
+    from ..io.progress import progress_bar
 
-    bar = tqdm(total=duration_s, desc="simulate", unit="s",
-               bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
+    bar = progress_bar(duration_s, desc="simulate", unit="s",
+                       bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
 
     def update(t_s: float) -> None:
         bar.update(t_s - bar.n)
