@@ -17,6 +17,7 @@ _EXPORTS = {
     "Beam": "member.geometry",
     "load_beam": "files.beam_file",
     "save_beam": "files.beam_file",
+    "load_schema": "schemas",
     "random_beam": "member.random_beams",
     "beam_from_dict": "files.beam_file",
     # errors

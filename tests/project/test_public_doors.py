@@ -194,6 +194,7 @@ RING = ring_down(_T, np.exp(-_T) * np.cos(50 * _T), ["tip_z"])
 DOORS = {
     "load_beam": ("path", lambda v: pp.load_beam(v)),
     "save_beam": ("beam", lambda v: pp.save_beam(v, "never.json")),
+    "load_schema": ("name", lambda v: pp.load_schema(v)),
     "random_beam": ("rng", lambda v: pp.random_beam(v)),
     "beam_from_dict": ("beam", lambda v: pp.beam_from_dict(v)),
     "link_sections": ("beam", lambda v: pp.link_sections(v, LENGTHS)),
