@@ -37,7 +37,8 @@ from ..chain.eigen import modes_from_mass
 from ..errors import BeamInputError, SolveError
 from .damping import damping_ratios
 
-__all__ = ["ModalFitDamping", "modal_fit_damping", "damped_ratios", "flexible_modes"]
+__all__ = ["ModalFitDamping", "fit_joint_damping", "modal_fit_damping", "damped_ratios",
+           "flexible_modes"]
 
 # An eigenvalue with |Im| below this fraction of |lambda| is real (an overdamped mode's root)
 _REAL_EIG = 1e-9
@@ -197,3 +198,36 @@ def modal_fit_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray,
         raise BeamInputError(f"{name}: {n} ratios for {achieved.size} modes")
     return ModalFitDamping(c, xi, Gk @ s, achieved, achieved - xi, omega, float(residual),
                            float(np.linalg.norm(beta * g - xi)))
+
+
+def fit_joint_damping(model, damping_ratio: float | np.ndarray) -> ModalFitDamping:
+    """Fit the diagonal joint damping of ``model`` to per-mode ratios, at the straight pose.
+
+    What a URDF or MJCF export with ``damping_form="modal_fit"`` writes, and what
+    ``simulate``/``linearize(..., damping="modal_fit")`` run (module notes).
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        Clamped, on a hub or on a free bus (their coordinates stay undamped).
+    damping_ratio : float or ndarray, shape (n,)
+        The ratio asked of each flexible mode (ascending frequency), in [0, 1); n is
+        ``model.n_springs``.
+
+    Returns
+    -------
+    ModalFitDamping
+        c (N m s/rad, one per coordinate), the asked, projected and achieved ratios.
+
+    Raises
+    ------
+    InputTypeError
+        ``model`` not a PrbdmModel.
+    BeamInputError
+        A ratio out of range, or not one per mode (naming ``damping_ratio``).
+    """
+    from ..model.checks import check_model
+
+    check_model(model)
+    return modal_fit_damping(model.mass_matrix(), model.stiffness_Nm_per_rad, damping_ratio,
+                             int(model.n_free))

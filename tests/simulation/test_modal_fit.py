@@ -13,6 +13,7 @@ import pytest
 import scipy.optimize as so
 from tolerances import EPS, eig_rtol
 
+import prbdm_pin as pp
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.model.hub import Hub
@@ -117,6 +118,9 @@ def test_hub_joint_stays_undamped_and_the_stiffness_case_holds(chain):
     C = plant_damping(model, M, xi, "modal_fit")
     ref = plant_damping(model, M, xi[0], "stiffness")
     assert C[0, 0] == 0.0
+    # the public door: the same fit at the straight pose (the same arithmetic)
+    np.testing.assert_array_equal(pp.fit_joint_damping(model, xi).joint_damping_Nms_per_rad,
+                                  np.diag(C))
     tol = np.linalg.cond(_fit_matrix(M, k, 1)) * eig_rtol(w)  # as for the clamped chain
     np.testing.assert_allclose(np.diag(C), np.diag(ref), rtol=tol)
     _, z = damped_ratios(M, model.stiffness_matrix(), C, n_free=1)
