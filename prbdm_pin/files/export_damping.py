@@ -97,6 +97,7 @@ def export_damping(model, M: np.ndarray, fmt: str, requested: str, xi: np.ndarra
             "modal_fit: " + ", ".join(
                 f"mode {i + 1} gets {fit.achieved_ratios[i]:.4g} for {xi[i]:.4g}" for i in bad)
             + f" (off by more than {MODAL_FIT_WARN_PCT:g} % of the asked ratio; a diagonal "
-            "joint damping c >= 0 carries no closer fit)")
+            "joint damping c >= 0 carries no closer fit in least squares; the stiffness form "
+            "gives mode 1 its ratio exactly and the higher modes more)")
     return ExportDamping(requested, "modal_fit", xi, None, c, fit.achieved_ratios,
                          fit.ratio_errors, tuple(notes))
