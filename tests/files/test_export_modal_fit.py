@@ -18,6 +18,7 @@ from prbdm_pin.files.export import (
     mjcf_text,
     read_export_record,
 )
+from prbdm_pin.model.hub import Hub
 from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.plant.linearize import linearize
 
@@ -76,6 +77,20 @@ def test_mujoco_free_decay_has_the_recorded_ratios(chain):
     np.testing.assert_allclose(rec.damping_ratio_errors, rec.modal_damping_ratios - xi,
                                rtol=0, atol=0)  # stored as computed: a subtraction
     print(f"{chain.n_joints}R asked {xi}, MuJoCo decay {measured}")
+
+
+def test_mujoco_free_decay_on_a_hub(chain):
+    """On a hub the hinge ``hub`` stays undamped (its rigid mode leaves the decay fit at
+    s = 0) and the flexible modes have the recorded ratios."""
+    model = build_model(chain.beam, chain.lengths_m, chain.stiffness_Nm_per_rad,
+                        hub=Hub(50.0, 0.05))
+    text = mjcf_text(model, CALIBRATED[:chain.n_joints])
+    rec = read_export_record(text)
+    assert rec.damping_form == "modal_fit"
+    assert mujoco.MjModel.from_xml_string(text).dof_damping[0] == 0.0
+    # as above: the amplitude's nonlinearity bounds the agreement
+    np.testing.assert_allclose(_mujoco_decay_ratios(text), rec.modal_damping_ratios,
+                               rtol=AMPLITUDE)
 
 
 def test_pinocchio_reads_the_fitted_damping_from_the_urdf(chain, tmp_path):
