@@ -159,6 +159,19 @@ def test_record_round_trips_and_warns_on_a_miss(chain, tmp_path):
     assert d["damping"]["form"] == "modal" and d["damping"]["ratio"] == xi.tolist()
 
 
+def test_asked_forms_for_a_diagonal_file(chain):
+    """Per-mode ratios asked as "modal" of a URDF get the fitted form and say so; as
+    "stiffness" they are refused (that form takes one ratio); one ratio stays the stiffness
+    form by default."""
+    xi = CALIBRATED[:chain.n_joints]
+    rec = export_record(chain, "urdf", xi, "modal")
+    assert rec.damping_requested == "modal" and rec.damping_form == "modal_fit"
+    assert "wrote the diagonal damping fitted to the ratios" in rec.warnings[0]
+    with pytest.raises(BeamInputError, match="damping_ratio"):
+        export_record(chain, "urdf", xi, "stiffness")
+    assert export_record(chain, "urdf", 0.02).damping_form == "stiffness"
+
+
 @pytest.mark.parametrize("bad, match", [
     ("neg", r"damping_ratio\[1\]"), ("count", "damping_ratio has shape")])
 def test_bad_ratios_refused_before_writing(chain, tmp_path, bad, match):
