@@ -44,12 +44,13 @@ stiffness-proportional form C = beta K (default): mode 1 gets ZETA, mode k ZETA 
 `--damping-form modal` (every mode ZETA) is only recorded in JSON; asked for a URDF or MJCF, the
 stiffness form is written instead, with a warning giving the modal ratios it produces.
 `prbdm simulate --damping-form stiffness` simulates what the file carries.
-A calibrated model JSON (prbdm calibrate: one ratio per mode) exports with its ratios unless
---damping is given: JSON keeps them (modal form); URDF and MJCF get `--damping-form modal_fit`,
-the diagonal joint damping c >= 0 fitted by least squares to them, and record the ratios it
-achieves (from the damped model's eigenvalues) and each mode's error; a mode off by more than
-10 % of its ratio is warned about. `prbdm simulate/linearize --damping-form modal_fit` runs
-the same damping. With --damping-form stiffness such a model's mode-1 ratio is used.
+A calibrated model JSON (prbdm calibrate: one ratio per mode), or a URDF exported from one,
+exports with its ratios unless --damping is given: JSON keeps them (modal form); URDF and MJCF
+get `--damping-form modal_fit`, the diagonal joint damping c >= 0 fitted by least squares to
+them, and record the ratios it achieves (from the damped model's eigenvalues) and each mode's
+error; a mode off by more than 10 % of its ratio is warned about. `prbdm simulate/linearize
+--damping-form modal_fit` runs the same damping. With --damping-form stiffness such a model's
+mode-1 ratio is used.
 
 Every file records (XML comment; JSON fields) the exported model's natural frequencies at the
 straight pose and, when the truth is known (a fit.json, or an export of one), its signed per-mode

@@ -55,6 +55,20 @@ def test_urdf_and_mjcf_get_the_fitted_form_json_keeps_the_ratios(calibrated, tmp
     assert pp.load_model(tmp_path / "j.json").modal_damping_ratio.tolist() == RATIOS
 
 
+def test_the_ratios_travel_through_a_urdf(calibrated, tmp_path):
+    """calibrated JSON -> URDF (modal_fit) -> MJCF: the URDF's record carries the asked ratios
+    on, so the MJCF gets the same fitted damping (the same arithmetic on the same model: the
+    URDF holds the model's numbers with repr)."""
+    path, _ = calibrated
+    urdf, xml = tmp_path / "m.urdf", tmp_path / "m.xml"
+    assert main(["export", str(path), "--format", "urdf", "--out", str(urdf), "-q"]) == 0
+    np.testing.assert_array_equal(pp.load_model(urdf).modal_damping_ratio, RATIOS)
+    assert main(["export", str(urdf), "--format", "mjcf", "--out", str(xml), "-q"]) == 0
+    a, b = (read_export_record(f.read_text()) for f in (urdf, xml))
+    assert b.damping_form == "modal_fit"
+    np.testing.assert_array_equal(b.joint_damping_Nms_per_rad, a.joint_damping_Nms_per_rad)
+
+
 def test_options_replace_the_recorded_ratios(calibrated, tmp_path):
     path, _ = calibrated
     out = tmp_path / "m.xml"
