@@ -129,7 +129,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "--hub-axis (--load and --gravity only along that axis; writes the "
                         "spinning plant's frequencies)")
     p.add_argument("--damping-ratio", type=float, default=None, metavar="ZETA",
-                   help="damping ratio of every flexible mode (modal) or the lowest "
+                   help="damping ratio of every flexible mode (modal, modal_fit) or the lowest "
                         "(stiffness) (default 0.02, or the per-mode ratios a calibrated model "
                         "JSON records)")
     p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c", "modal_fit"),

@@ -100,9 +100,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--initial-angle", type=float, default=0.0, metavar="RAD",
                    help="start with every joint at this angle, rad (default 0)")
     p.add_argument("--damping", type=float, default=None, metavar="ZETA",
-                   help="damping ratio: of every mode (modal), of mode 1 (stiffness), per-joint "
-                        "factor (eq5c) (default 0.02, or the per-mode ratios a calibrated model "
-                        "JSON records)")
+                   help="damping ratio: of every mode (modal, modal_fit), of mode 1 (stiffness), "
+                        "per-joint factor (eq5c) (default 0.02, or the per-mode ratios a "
+                        "calibrated model JSON records)")
     p.add_argument("--damping-form", choices=("modal", "eq5c", "stiffness", "modal_fit"),
                    default="modal",
                    help="modal damping (default: every mode gets ZETA), the paper's Eq. 5c, "
