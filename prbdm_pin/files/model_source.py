@@ -58,8 +58,8 @@ class ModelFile:
         model JSON's, or the one a URDF's comment states; None for a model fitted without.
     modal_damping_ratio : ndarray (n,) or None
         The per-mode damping ratios a model JSON records in the modal form (a calibration's
-        fitted ratios: ``prbdm calibrate``), or those a URDF export's ``modal_fit`` damping
-        was fitted to, mode 1 first; None otherwise.
+        fitted ratios: ``prbdm calibrate``), or those a model JSON's or URDF's ``modal_fit``
+        damping was fitted to, mode 1 first; None otherwise.
     """
 
     path: Path
@@ -204,14 +204,18 @@ def _fitted_damping(path: str, rec, n: int) -> np.ndarray | None:
     """Return the per-mode ratios a URDF export's ``modal_fit`` damping was fitted to, or None."""
     if rec is None or rec.damping_form != "modal_fit":
         return None
-    return _modal_damping(path, {"form": "modal", "ratio": rec.damping_ratio.tolist()}, n)
+    return _modal_damping(path, {"form": "modal_fit", "ratio": rec.damping_ratio.tolist()}, n)
 
 
 def _modal_damping(path: str, record, n: int) -> np.ndarray | None:
-    """Return the per-mode ratios of a model JSON's modal ``damping`` record (None without)."""
+    """Return the per-mode ratios of a model JSON's modal or modal_fit ``damping`` record.
+
+    None without one, or with one ratio for every mode.
+    """
     import numpy as np
 
-    if not isinstance(record, dict) or record.get("form") != "modal":
+    # the modal form's ratios, or those a modal_fit damping was fitted to
+    if not isinstance(record, dict) or record.get("form") not in ("modal", "modal_fit"):
         return None
     try:
         z = np.asarray(record.get("ratio"), dtype=float).reshape(-1)

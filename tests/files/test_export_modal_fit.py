@@ -18,6 +18,7 @@ from prbdm_pin.files.export import (
     mjcf_text,
     read_export_record,
 )
+from prbdm_pin.files.model_source import load_model
 from prbdm_pin.model.hub import Hub
 from prbdm_pin.model.prbdm_model import build_model
 from prbdm_pin.plant.linearize import linearize
@@ -155,6 +156,8 @@ def test_record_round_trips_and_warns_on_a_miss(chain, tmp_path):
                                 damping_form="modal_fit").read_text())
     assert d["damping"]["form"] == "modal_fit"
     assert d["damping"]["ratio_errors"] == rec.damping_ratio_errors.tolist()
+    # the asked ratios travel on with the file (as a calibrated model JSON's do)
+    np.testing.assert_array_equal(load_model(tmp_path / "m.json").modal_damping_ratio, xi)
     d = json.loads(export_model(chain, tmp_path / "n.json", "json", xi).read_text())
     assert d["damping"]["form"] == "modal" and d["damping"]["ratio"] == xi.tolist()
 
