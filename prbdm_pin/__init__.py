@@ -121,6 +121,8 @@ _EXPORTS = {
     "dynamic_accuracy": "simulation.response",
     "compare_truth": "plant.truth_comparison",
     "TruthComparison": "plant.truth_comparison",
+    "fit_joint_damping": "simulation.modal_fit",
+    "ModalFitDamping": "simulation.modal_fit",
     "export_model": "files.export",
     "read_model_json": "files.export",
     "read_plant_json": "files.export",

@@ -163,11 +163,12 @@ def modal_damping_option(given: float | None, source, form: str, support: bool):
 
     A model JSON that records one ratio per mode in the modal form (a calibration's, ``prbdm
     calibrate``) gives those (an array, mode 1 first) when the option was not given, the form
-    is ``"modal"`` and no support was added (a hub or bus changes the modes); else ``given``
-    (default 0.02).
+    is ``"modal"`` or ``"modal_fit"`` (the diagonal damping fitted to them, what an MJCF or URDF
+    export of the model carries) and no support was added (a hub or bus changes the modes);
+    else ``given`` (default 0.02).
     """
     z = getattr(source, "modal_damping_ratio", None)
-    if given is None and z is not None and form == "modal" and not support:
+    if given is None and z is not None and form in ("modal", "modal_fit") and not support:
         return z
     return 0.02 if given is None else given
 

@@ -44,6 +44,13 @@ stiffness-proportional form C = beta K (default): mode 1 gets ZETA, mode k ZETA 
 `--damping-form modal` (every mode ZETA) is only recorded in JSON; asked for a URDF or MJCF, the
 stiffness form is written instead, with a warning giving the modal ratios it produces.
 `prbdm simulate --damping-form stiffness` simulates what the file carries.
+A calibrated model JSON (prbdm calibrate: one ratio per mode), or a URDF exported from one,
+exports with its ratios unless --damping is given: JSON keeps them (modal form); URDF and MJCF
+get `--damping-form modal_fit`, the diagonal joint damping c >= 0 fitted by least squares to
+them, and record the ratios it achieves (from the damped model's eigenvalues) and each mode's
+error; a mode off by more than 10 % of its ratio is warned about. `prbdm simulate/linearize
+--damping-form modal_fit` runs the same damping. With --damping-form stiffness such a model's
+mode-1 ratio is used.
 
 Every file records (XML comment; JSON fields) the exported model's natural frequencies at the
 straight pose and, when the truth is known (a fit.json, or an export of one), its signed per-mode
@@ -75,12 +82,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--beam", metavar="BEAM.json",
                    help="the beam a fit.json was fitted to (default: the one it carries)")
     p.add_argument("--format", choices=FORMATS, required=True)
-    p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
-                   help="damping ratio of mode 1 (stiffness form) or of every mode (modal); "
-                        "0: none (default 0.02)")
+    p.add_argument("--damping", type=float, default=None, metavar="ZETA",
+                   help="damping ratio of mode 1 (stiffness form) or of every mode (modal, "
+                        "modal_fit); 0: none (default 0.02, or the per-mode ratios a "
+                        "calibrated model JSON records)")
     p.add_argument("--damping-form", choices=EXPORT_DAMPING_FORMS, default=None,
-                   help="stiffness (C = beta K; default for urdf and mjcf) or modal (default "
-                        "for json; urdf/mjcf write the stiffness form instead and warn)")
+                   help="stiffness (C = beta K; default for urdf and mjcf), modal (default "
+                        "for json; urdf/mjcf write the stiffness form instead and warn) or "
+                        "modal_fit (the diagonal joint damping fitted to the per-mode ratios; "
+                        "the urdf/mjcf default for a calibrated model JSON)")
     add_plant_options(p)
     add_fit_actuators_option(p, cache_dir=True)
     p.add_argument("--inputs", default=None, metavar="NAMES",
@@ -121,6 +131,19 @@ def check_options(args: argparse.Namespace) -> dict:
     return opts
 
 
+def damping_option(args: argparse.Namespace, source, hub: bool):
+    """Return the damping ratio(s) to export with: ``--damping``, or the model file's.
+
+    A calibrated model JSON's per-mode ratios (``ModelFile.modal_damping_ratio``) when
+    ``--damping`` is not given and no hub is added (a hub changes the modes): all of them for
+    the modal and fitted forms, mode 1's for the stiffness form; else ``--damping`` (0.02).
+    """
+    recorded = getattr(source, "modal_damping_ratio", None)
+    if args.damping is not None or recorded is None or hub:
+        return 0.02 if args.damping is None else args.damping
+    return float(recorded[0]) if args.damping_form == "stiffness" else recorded
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm export``."""
     from ..files.export import export_model, export_record
@@ -141,10 +164,10 @@ def run(args: argparse.Namespace) -> int:
     plant = {"actuators": actuators}
     if args.format == "mjcf":
         plant["inputs"] = opts["inputs"]
-    rec = export_record(model, args.format, args.damping, args.damping_form, omega_truth,
-                        **plant)
+    ratio = damping_option(args, source, opts["hub"] is not None)
+    rec = export_record(model, args.format, ratio, args.damping_form, omega_truth, **plant)
     # a model fitted in gravity carries it on (MJCF option, URDF comment, JSON field)
-    path = export_model(model, args.out, args.format, damping_ratio=args.damping,
+    path = export_model(model, args.out, args.format, damping_ratio=ratio,
                         damping_form=args.damping_form, omega_truth_rad_s=omega_truth,
                         gravity_m_s2=source.gravity_m_s2, **plant)
     if not args.quiet:

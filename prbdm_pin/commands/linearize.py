@@ -129,11 +129,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "--hub-axis (--load and --gravity only along that axis; writes the "
                         "spinning plant's frequencies)")
     p.add_argument("--damping-ratio", type=float, default=None, metavar="ZETA",
-                   help="damping ratio of every flexible mode (modal) or the lowest "
+                   help="damping ratio of every flexible mode (modal, modal_fit) or the lowest "
                         "(stiffness) (default 0.02, or the per-mode ratios a calibrated model "
                         "JSON records)")
-    p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c"), default="modal",
-                   help="damping form (default modal; a hub's rigid mode is never damped)")
+    p.add_argument("--damping-form", choices=("modal", "stiffness", "eq5c", "modal_fit"),
+                   default="modal",
+                   help="damping form (default modal; modal_fit: the diagonal joint damping "
+                        "fitted to the per-mode ratios, what an MJCF/URDF export of a "
+                        "calibrated model carries; a hub's rigid mode is never damped)")
     p.add_argument("--dt", type=float, default=None, metavar="S",
                    help="also the zero-order-hold discrete-time plant at this sample time, s "
                         "(Ad, Bd in linear_model.npz and .mat; C, D unchanged)")

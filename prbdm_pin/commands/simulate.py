@@ -100,14 +100,18 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--initial-angle", type=float, default=0.0, metavar="RAD",
                    help="start with every joint at this angle, rad (default 0)")
     p.add_argument("--damping", type=float, default=None, metavar="ZETA",
-                   help="damping ratio: of every mode (modal), of mode 1 (stiffness), per-joint "
-                        "factor (eq5c) (default 0.02, or the per-mode ratios a calibrated model "
-                        "JSON records)")
-    p.add_argument("--damping-form", choices=("modal", "eq5c", "stiffness"), default="modal",
-                   help="modal damping (default: every mode gets ZETA), the paper's Eq. 5c, or "
+                   help="damping ratio: of every mode (modal, modal_fit), of mode 1 (stiffness), "
+                        "per-joint factor (eq5c) (default 0.02, or the per-mode ratios a "
+                        "calibrated model JSON records)")
+    p.add_argument("--damping-form", choices=("modal", "eq5c", "stiffness", "modal_fit"),
+                   default="modal",
+                   help="modal damping (default: every mode gets ZETA), the paper's Eq. 5c, "
                         "stiffness-proportional C = beta K (mode 1 of the straight pose gets "
                         "ZETA, mode k ZETA omega_k/omega_1: what MJCF/URDF exports carry, so a "
-                        "run matches MuJoCo's). Modal and eq5c are computed at the initial pose")
+                        "run matches MuJoCo's), or modal_fit (the diagonal joint damping fitted "
+                        "at the straight pose to the per-mode ratios: what MJCF/URDF exports of "
+                        "a calibrated model carry). Modal and eq5c are computed at the initial "
+                        "pose")
     p.add_argument("--method", default=None,
                    help="exponential (default: exact linear modes, step T1/10), gauss "
                         "(symplectic; long undamped runs, violent starts; the default with "
@@ -276,9 +280,10 @@ def run(args: argparse.Namespace) -> int:
     nv = model.pin_model.nv
     q0 = np.full(nv, args.initial_angle)
     q0[:model.n_free] = 0.0  # a hub or bus starts at 0; --initial-angle bends the beam joints
-    # the stiffness form's beta from the straight pose, as the MJCF/URDF exports set it; the
-    # other forms are exact about the initial pose
-    damping_pose = np.zeros(nv) if args.damping_form == "stiffness" else None
+    # the stiffness form's beta and the fitted diagonal damping from the straight pose, as the
+    # MJCF/URDF exports set them; the other forms are exact about the initial pose
+    diagonal = args.damping_form in ("stiffness", "modal_fit")
+    damping_pose = np.zeros(nv) if diagonal else None
     tr = simulate(model, args.duration, q0=q0, tip_force=force if np.any(force) else None,
                   options=simulation_options(args, output_dt, ratio), damping_pose=damping_pose,
                   inputs=plant["inputs"], u=plant["u"], actuators=tuple(plant["actuators"]),

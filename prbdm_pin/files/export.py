@@ -30,6 +30,13 @@ the default (``damping_form="stiffness"``) of those two formats. The modal form 
 is not diagonal and no joint damping carries it: asked for a URDF or MJCF, the stiffness form with
 mode 1's ratio is written instead and the record's ``warnings`` say so, with the modal ratios that
 result. ``prbdm_pin.simulate(..., damping="stiffness")`` simulates the damping these files carry.
+Per-mode ratios that differ (a calibrated model's, ``prbdm calibrate``) go to URDF and MJCF as
+``damping_form="modal_fit"`` (their default for such ratios): the diagonal joint damping c >= 0
+fitted by least squares to the ratios (:mod:`prbdm_pin.simulation.modal_fit`); the record
+holds the ratios it achieves (from the damped model's complex eigenvalues) and each mode's
+error against the asked ratio (``damping_ratio_errors``), and warns about a mode off by more
+than ``MODAL_FIT_WARN_PCT`` % of its ratio (:mod:`prbdm_pin.files.export_damping`);
+``simulate``/``linearize(..., damping="modal_fit")`` run the same damping.
 
 Spatial chains (``build_model(..., axes="xy" | "yz" | "xyz")``): node j is the revolute joints
 ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` (those of ``axes``, in that order) at one point, each
@@ -123,6 +130,7 @@ from .export_plant import mujoco_name
 from .export_record import (
     EXPORT_DAMPING_FORMS,
     FORMATS,
+    MODAL_FIT_WARN_PCT,
     WORST_MODE_WARN_PCT,
     ExportRecord,
     export_record,
@@ -134,6 +142,7 @@ __all__ = [
     "FORMATS",
     "EXPORT_DAMPING_FORMS",
     "WORST_MODE_WARN_PCT",
+    "MODAL_FIT_WARN_PCT",
     "JSON_FORMAT",
     "ExportRecord",
     "export_record",

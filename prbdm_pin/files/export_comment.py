@@ -57,6 +57,14 @@ def comment_text(record: ExportRecord) -> str:
         f"     joint_damping_Nms_per_rad: {vals(record.joint_damping_Nms_per_rad)}",
         f"     modal_damping_ratios: {vals(record.modal_damping_ratios)}",
     ]
+    if record.damping_ratio_errors is not None:
+        lines += [
+            "     modal_fit: the joint damping is the diagonal c >= 0 fitted by least squares",
+            "     to the asked ratios; modal_damping_ratios are the ratios it achieves (from",
+            "     the damped model's complex eigenvalues), and each mode's achieved minus",
+            "     asked ratio is:",
+            f"     damping_ratio_errors: {vals(record.damping_ratio_errors)}",
+        ]
     if record.hub_frequencies_rad_s is not None:
         lines += [
             "     The model turns on a hub: the frequencies and errors above are the",

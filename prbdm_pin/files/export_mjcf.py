@@ -60,7 +60,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     damping_ratio : float or ndarray (n,)
         Mode 1's damping ratio (the lowest flexible mode with a hub): every hinge's
         ``damping`` is beta K_ii (N m s/rad), the stiffness form (see :func:`export_record`);
-        n is the number of springs. 0 writes undamped joints.
+        or each mode's, and the hinges get the diagonal damping fitted to them (``modal_fit``,
+        the default for ratios that differ). n is the number of springs. 0 writes undamped
+        joints.
     timestep_s : float, optional
         MuJoCo time step, s (default: a twentieth of the shortest natural period, of the
         clamped and the hub model; the integrator is RK4).
@@ -125,7 +127,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         f"  <!-- Pseudo-rigid-body dynamic model written by prbdm_pin {__version__}: {root[0]}",
         *root[1:],
         *hinges,
-        "       stiffness-proportional damping beta K. -->",
+        "       stiffness-proportional damping beta K. -->" if rec.damping_form != "modal_fit"
+        else "       diagonal joint damping fitted to per-mode ratios (modal_fit). -->",
         f"  <!--{rec.comment_text()}  -->",
         '  <compiler angle="radian" autolimits="true"/>',
         # RK4: at T_n/20 its step response is within 0.02 % of the peak of an accurate

@@ -16,12 +16,14 @@ from ..chain.eigen import eig_scaled
 from ..errors import BeamInputError
 from ..options.choices import EXPORT_DAMPING_FORMS, FORMATS
 from ..simulation.damping import damping_ratios
-from .export_plant import plant_inputs, stiffness_form
+from .export_damping import MODAL_FIT_WARN_PCT, default_form, export_damping
+from .export_plant import plant_inputs
 
 __all__ = [
     "FORMATS",
     "EXPORT_DAMPING_FORMS",
     "WORST_MODE_WARN_PCT",
+    "MODAL_FIT_WARN_PCT",
     "ExportRecord",
     "export_record",
     "read_export_record",
@@ -31,7 +33,7 @@ __all__ = [
 WORST_MODE_WARN_PCT = 1.0
 FLOAT_FIELDS = ("natural_frequencies_rad_s", "omega_truth_rad_s", "omega_errors_pct",
            "damping_ratio", "joint_damping_Nms_per_rad", "modal_damping_ratios",
-           "hub_frequencies_rad_s", "strain_actuators_m")
+           "hub_frequencies_rad_s", "strain_actuators_m", "damping_ratio_errors")
 
 
 def _ro(a: np.ndarray | None) -> np.ndarray | None:
@@ -62,17 +64,20 @@ class ExportRecord:
     worst_mode : int or None
         The mode (1-based) of the worst error.
     damping_requested : str
-        ``"stiffness"``, ``"modal"`` or ``"none"`` (ratio 0).
+        ``"stiffness"``, ``"modal"``, ``"modal_fit"`` or ``"none"`` (ratio 0).
     damping_form : str
-        The form the file carries: ``"stiffness"``, ``"modal"`` (JSON only) or ``"none"``.
+        The form the file carries: ``"stiffness"``, ``"modal"`` (JSON only), ``"modal_fit"``
+        (:mod:`~prbdm_pin.files.export_damping`) or ``"none"``.
     damping_ratio : ndarray, shape (n,)
-        The asked ratios: mode 1's (stiffness form; every entry equal) or each mode's (modal).
+        The asked ratios: mode 1's (stiffness form; every entry equal) or each mode's (modal,
+        modal_fit).
     damping_beta_s : float or None
         beta of C = beta K (stiffness form), s.
     joint_damping_Nms_per_rad : ndarray, shape (n,)
         The diagonal joint damping written (zeros for modal or none), N m s/rad.
     modal_damping_ratios : ndarray, shape (n,)
-        The ratio each mode of the straight pose gets from that damping (ascending frequency).
+        The ratio each mode of the straight pose gets from that damping (ascending frequency);
+        for ``modal_fit`` the achieved ratios from the damped chain's complex eigenvalues.
     warnings : tuple of str
         A form asked for and not written; a worst mode off by more than ``WORST_MODE_WARN_PCT``.
     hub_frequencies_rad_s : ndarray, shape (n,) or None
@@ -88,6 +93,8 @@ class ExportRecord:
     strain_actuator_weights : tuple
         Per strain actuator, its fitted joint weights (a tuple, N m per N m) or None (the
         virtual-work map); empty when no actuator has weights.
+    damping_ratio_errors : ndarray, shape (n,) or None
+        ``modal_fit`` only: each mode's achieved minus asked ratio (absolute, dimensionless).
     """
 
     natural_frequencies_rad_s: np.ndarray
@@ -106,6 +113,7 @@ class ExportRecord:
     strain_actuators_m: np.ndarray | None = None
     inputs: tuple = ()
     strain_actuator_weights: tuple = ()
+    damping_ratio_errors: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         """Shape the actuator spans, check one weight entry per actuator, freeze the arrays."""
@@ -153,6 +161,8 @@ class ExportRecord:
                 "beta_s": self.damping_beta_s,
                 "joint_damping_Nms_per_rad": lst(self.joint_damping_Nms_per_rad),
                 "modal_ratios": lst(self.modal_damping_ratios),
+                **({} if self.damping_ratio_errors is None else
+                   {"ratio_errors": lst(self.damping_ratio_errors)}),
             },
             "warnings": list(self.warnings),
             "hub_frequencies_rad_s": lst(self.hub_frequencies_rad_s),
@@ -185,6 +195,9 @@ class ExportRecord:
             beta = "" if self.damping_beta_s is None else f", beta {self.damping_beta_s:.6g} s"
             out.append(f"damping: {self.damping_form}{beta}; modal ratios "
                        + " ".join(f"{x:.4g}" for x in self.modal_damping_ratios))
+            if self.damping_ratio_errors is not None:
+                out.append("damping ratio errors (achieved - asked): "
+                           + " ".join(f"{x:+.3g}" for x in self.damping_ratio_errors))
         return out
 
 
@@ -220,9 +233,12 @@ def export_record(
     damping_ratio : float or ndarray (n,)
         Mode 1's ratio (stiffness form) or each mode's (modal form); 0 writes no damping. With a
         hub, mode 1 is the lowest flexible mode and the hub joint is undamped.
-    damping_form : {"stiffness", "modal"}, optional
-        Default: ``"stiffness"`` for URDF and MJCF, ``"modal"`` for JSON. URDF and MJCF asked
-        for ``"modal"`` get the stiffness form with mode 1's ratio, and a warning says so.
+    damping_form : {"stiffness", "modal", "modal_fit"}, optional
+        Default: ``"modal"`` for JSON; for URDF and MJCF ``"stiffness"`` with one ratio,
+        ``"modal_fit"`` (a diagonal joint damping fitted to the ratios) with ratios that differ
+        between modes. URDF and MJCF asked for ``"modal"`` get the stiffness form with one
+        ratio, the fitted form with several, and a warning says so
+        (:mod:`~prbdm_pin.files.export_damping`).
     omega_truth_rad_s : ndarray, optional
         Truth frequencies the model was fitted to (fit.json's ``omega_truth_rad_s``), rad/s.
     actuators : sequence of StrainActuator
@@ -234,8 +250,8 @@ def export_record(
     """
     if fmt not in FORMATS:
         raise BeamInputError(f"format = {fmt!r}: must be one of {', '.join(FORMATS)}")
-    requested = damping_form or ("modal" if fmt == "json" else "stiffness")
-    if requested not in EXPORT_DAMPING_FORMS:
+    requested = damping_form
+    if requested is not None and requested not in EXPORT_DAMPING_FORMS:
         raise BeamInputError(f"damping_form = {requested!r}: must be one of "
                              f"{', '.join(EXPORT_DAMPING_FORMS)}")
     spans, weights, names = plant_inputs(model, fmt, actuators, inputs)
@@ -249,29 +265,14 @@ def export_record(
         np.asarray(model.natural_frequencies(), dtype=float)
     omega_hub = np.asarray(model.natural_frequencies(), dtype=float)[1:] if hub else None
     wt, err, worst, worst_mode = _errors(omega, omega_truth_rad_s)
-    notes = []
-    beta = None
-    c = np.zeros(n)
-    if not np.any(xi > 0.0):
-        form = requested = "none"
-        ratios = np.zeros(n)
-    elif requested == "modal" and fmt == "json":
-        form, ratios = "modal", xi
-    else:
-        form = "stiffness"
-        if requested == "modal":
-            xi = np.full(n, xi[0])
-        beta, c, ratios = stiffness_form(model, M, xi, omega_hub)
-        if requested == "modal":
-            notes.append(
-                f"modal damping (every mode {xi[0]:g}) cannot be carried by a diagonal joint "
-                f"damping: wrote the stiffness form C = beta K (beta = {beta:.6g} s), whose "
-                "modal ratios are " + " ".join(f"{x:.4g}" for x in ratios))
+    dmp = export_damping(model, M, fmt, requested or default_form(fmt, xi), xi, omega_hub)
+    notes = list(dmp.notes)
     if worst is not None and worst > WORST_MODE_WARN_PCT:
         notes.append(f"mode {worst_mode} of the exported model is {err[worst_mode - 1]:+.3f} % "
                      f"off the truth (straight pose); more than {WORST_MODE_WARN_PCT:g} %")
-    return ExportRecord(omega, wt, err, worst, worst_mode, requested, form, xi, beta, c,
-                        ratios, tuple(notes), omega_hub, spans, names, weights)
+    return ExportRecord(omega, wt, err, worst, worst_mode, dmp.requested, dmp.form, dmp.ratio,
+                        dmp.beta_s, dmp.joint_damping_Nms_per_rad, dmp.modal_ratios,
+                        tuple(notes), omega_hub, spans, names, weights, dmp.ratio_errors)
 
 
 def read_export_record(text: str) -> ExportRecord | None:

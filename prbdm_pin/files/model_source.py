@@ -58,7 +58,8 @@ class ModelFile:
         model JSON's, or the one a URDF's comment states; None for a model fitted without.
     modal_damping_ratio : ndarray (n,) or None
         The per-mode damping ratios a model JSON records in the modal form (a calibration's
-        fitted ratios: ``prbdm calibrate``), mode 1 first; None otherwise.
+        fitted ratios: ``prbdm calibrate``), or those a model JSON's or URDF's ``modal_fit``
+        damping was fitted to, mode 1 first; None otherwise.
     """
 
     path: Path
@@ -113,7 +114,8 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
         rec = read_export_record(text)
         return ModelFile(p, "urdf", model, None, () if rec is None else rec.actuators(),
                          None if rec is None else rec.omega_truth_rad_s,
-                         gravity_m_s2=_gravity(str(path), read_gravity_comment(text)))
+                         gravity_m_s2=_gravity(str(path), read_gravity_comment(text)),
+                         modal_damping_ratio=_fitted_damping(str(path), rec, model.n_springs))
     d = read_json(p, "MODEL")
     kind = file_kind(d)
     if kind == "model":
@@ -198,11 +200,22 @@ def _gravity(path: str, value) -> np.ndarray | None:
     return g if g.any() else None
 
 
+def _fitted_damping(path: str, rec, n: int) -> np.ndarray | None:
+    """Return the per-mode ratios a URDF export's ``modal_fit`` damping was fitted to, or None."""
+    if rec is None or rec.damping_form != "modal_fit":
+        return None
+    return _modal_damping(path, {"form": "modal_fit", "ratio": rec.damping_ratio.tolist()}, n)
+
+
 def _modal_damping(path: str, record, n: int) -> np.ndarray | None:
-    """Return the per-mode ratios of a model JSON's modal ``damping`` record (None without)."""
+    """Return the per-mode ratios of a model JSON's modal or modal_fit ``damping`` record.
+
+    None without one, or with one ratio for every mode.
+    """
     import numpy as np
 
-    if not isinstance(record, dict) or record.get("form") != "modal":
+    # the modal form's ratios, or those a modal_fit damping was fitted to
+    if not isinstance(record, dict) or record.get("form") not in ("modal", "modal_fit"):
         return None
     try:
         z = np.asarray(record.get("ratio"), dtype=float).reshape(-1)

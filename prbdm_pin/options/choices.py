@@ -148,11 +148,12 @@ DEFAULT_EIGEN_NORM = EigenNorm.RELATIVE.value
 TRUTH_MODELS = ("plate", "plate-morley", "solid", "beam")
 # files ``export_model`` writes
 FORMATS = ("urdf", "mjcf", "json")
-# joint damping an export carries: C = beta K, or every mode the same ratio (JSON only)
-EXPORT_DAMPING_FORMS = ("stiffness", "modal")
+# joint damping an export carries: C = beta K, the per-mode ratios (JSON only), or a diagonal
+# joint damping fitted to the per-mode ratios (simulation/modal_fit.py)
+EXPORT_DAMPING_FORMS = ("stiffness", "modal", "modal_fit")
 
 # joint damping forms of a simulation (``prbdm_pin.simulation.damping``)
-DAMPING_FORMS = ("modal", "eq5c", "stiffness")
+DAMPING_FORMS = ("modal", "eq5c", "stiffness", "modal_fit")
 # time integrators: fixed-step schemes of our own, and scipy's solve_ivp methods
 FIXED_STEP_METHODS = ("gauss", "exponential", "trapezoidal")
 IVP_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")

@@ -55,11 +55,12 @@ class SimulationOptions:
         ``"exponential"``: rebuild the linearisation when a joint angle has moved by more than
         this since the last one, rad (0: every step).
     damping_ratio : float or tuple of float
-        Modal ratios (``"modal"``), per-joint factors (``"eq5c"``) or mode 1's ratio
-        (``"stiffness"``), each in [0, 1) as ``prbdm simulate --damping`` (an over-damped
+        Modal ratios (``"modal"``, ``"modal_fit"``), per-joint factors (``"eq5c"``) or mode 1's
+        ratio (``"stiffness"``), each in [0, 1) as ``prbdm simulate --damping`` (an over-damped
         ratio is refused); 0 disables damping.
     damping : str
-        Damping form: ``"modal"``, ``"eq5c"`` or ``"stiffness"`` (``prbdm_pin.simulation.damping``).
+        Damping form: ``"modal"``, ``"eq5c"``, ``"stiffness"`` or ``"modal_fit"`` (the diagonal
+        joint damping fitted to the per-mode ratios; ``prbdm_pin.simulation.damping``).
     integrator : Integrator or None
         The integrator whole, with the fields no other option spells (its step control's
         tolerances and caps); None: built from ``method`` and the fields beside it.

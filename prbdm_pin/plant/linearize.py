@@ -143,8 +143,9 @@ def linearize(
         Dead tip force, N, world (default none), at the tip centre. Its load stiffness enters
         K_e = K - d(J^T F)/dq (+ dg/dq under gravity).
     damping_ratio : float or array (n,)
-        Damping ratio of each flexible mode (``"modal"``), of the lowest (``"stiffness"``), or
-        per joint (``"eq5c"``, no hub); dimensionless.
+        Damping ratio of each flexible mode (``"modal"``; ``"modal_fit"``, the diagonal joint
+        damping fitted to them), of the lowest (``"stiffness"``), or per joint (``"eq5c"``, no
+        hub); dimensionless.
     damping : str
         Damping form, see :mod:`prbdm_pin.simulation.hub_damping`.
     actuators : sequence of StrainActuator

@@ -17,6 +17,9 @@ The paper adds damping only to make simulations tractable (its Eq. 5). Three for
   diagonal joint damping (MJCF ``damping``, URDF ``<dynamics damping>``) carries exactly, and
   it does not depend on the pose once beta is set. High modes are damped heavily (beyond
   critical when omega_k / omega_1 > 1 / xi_1).
+- ``"modal_fit"``: a diagonal C = diag(c), c >= 0 fitted by least squares to per-mode ratios
+  (:mod:`.modal_fit`): the per-mode ratios as closely as a joint damping can carry them, what
+  URDF and MJCF exports of a calibrated model carry.
 
 All take matrices evaluated at one pose; see ``prbdm_pin.simulation`` for how the pose is chosen.
 ``modal_ratios(M, K, C)`` gives the ratio of each mode for a damping matrix that the modes
@@ -223,7 +226,8 @@ def damping_matrix(
 ) -> np.ndarray:
     """Compute the damping matrix of ``kind``, N m s/rad.
 
-    ``kind`` is ``"modal"`` (default), ``"eq5c"`` or ``"stiffness"``.
+    ``kind`` is ``"modal"`` (default), ``"eq5c"``, ``"stiffness"`` or ``"modal_fit"`` (K
+    diagonal and positive: the joint springs).
     """
     if kind == "modal":
         return modal_damping(M, K, damping_ratio)
@@ -231,4 +235,10 @@ def damping_matrix(
         return eq5c_damping(M, K, damping_ratio)
     if kind == "stiffness":
         return stiffness_damping(M, K, damping_ratio)
+    if kind == "modal_fit":
+        from .modal_fit import modal_fit_damping
+
+        M, K = _check_pair(M, K)
+        fit = modal_fit_damping(M, np.diagonal(K), damping_ratio)
+        return np.diag(fit.joint_damping_Nms_per_rad)
     raise BeamInputError(f"damping = {kind!r}: must be one of {', '.join(DAMPING_FORMS)}")

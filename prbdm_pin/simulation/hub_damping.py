@@ -11,6 +11,8 @@ flexible mode) go to the n flexible modes only and the rigid mode stays undamped
   rigid mode is taken out exactly, :mod:`.hub`, so nothing divides by its zero frequency);
 - ``"stiffness"``: C = beta K with beta = 2 xi_1 / omega_1, omega_1 the lowest flexible
   frequency; K's hub row is zero, so the rigid mode is undamped here too;
+- ``"modal_fit"``: the diagonal beam-joint damping fitted to the flexible modes' ratios
+  (:mod:`.modal_fit`), the hub's or bus's coordinates undamped;
 - ``"eq5c"`` is per beam joint and has no hub version: refused.
 
 A free bus (:mod:`prbdm_pin.model.supports`) is handled alike with its six rigid modes.
@@ -42,9 +44,14 @@ def plant_damping(model, M: np.ndarray, damping_ratio: float | np.ndarray, kind:
         return damping_matrix(M, model.stiffness_matrix(), damping_ratio, kind)
     if kind == "eq5c":
         raise BeamInputError("damping = 'eq5c': the paper's per-joint form has no hub version; "
-                             "use 'modal' or 'stiffness' with a hub")
+                             "use 'modal', 'stiffness' or 'modal_fit' with a hub")
     n, nf = model.n_springs, model.n_free
     xi = damping_ratios(damping_ratio, n)
+    if kind == "modal_fit":
+        from .modal_fit import modal_fit_damping
+
+        return np.diag(modal_fit_damping(M, model.stiffness_Nm_per_rad, xi, nf)
+                       .joint_damping_Nms_per_rad)
     omega, Phi = (free_modes if bus else hub_modes)(M, model.stiffness_Nm_per_rad)
     if kind == "stiffness":
         if np.any(xi != xi[0]):

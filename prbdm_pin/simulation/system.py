@@ -6,8 +6,10 @@ with h the Coriolis/centrifugal terms and the weight (gravity, when given), K th
 joint stiffness (constant or a ``StiffnessSchedule``), C a damping matrix
 (``prbdm_pin.simulation.damping``) and J the world-aligned linear Jacobian of the tip point.
 
-Damping: ``damping="modal"`` (default), ``"eq5c"`` (the paper's Eq. 5c) or ``"stiffness"``
-(C = beta K, beta = 2 xi_1 / omega_1: what the MJCF and URDF exports carry as joint damping). C
+Damping: ``damping="modal"`` (default), ``"eq5c"`` (the paper's Eq. 5c), ``"stiffness"``
+(C = beta K, beta = 2 xi_1 / omega_1: what the MJCF and URDF exports carry as joint damping) or
+``"modal_fit"`` (the diagonal joint damping fitted to per-mode ratios, ``.modal_fit``: what
+they carry for a calibrated model; fitted at ``damping_pose``, the straight pose for theirs). C
 depends on the pose through M(q) (the stiffness form only through omega_1, hence beta); it is
 computed once, at ``damping_pose`` (default: ``q0``), from M there and K there (the schedule's
 springs at that pose, if any), and frozen for the run: it then gives the modes of the system

@@ -241,6 +241,7 @@ DOORS = {
     "simulate": ("model", lambda v: pp.simulate(v, 0.01)),
     "dynamic_accuracy": ("model", lambda v: pp.dynamic_accuracy(v, None)),
     "export_model": ("model", lambda v: pp.export_model(v, "never.urdf", "urdf")),
+    "fit_joint_damping": ("model", lambda v: pp.fit_joint_damping(v, 0.02)),
     "read_model_json": ("path", lambda v: pp.read_model_json(v)),
     "read_plant_json": ("path", lambda v: pp.read_plant_json(v)),
     "run_batch": ("spec", lambda v: pp.run_batch(v, "never-batch")),
