@@ -1,5 +1,6 @@
-"""Section laws of a Timoshenko beam along x, the shear coefficients of Cowper, and the adapter
-from today's rectangular planform :class:`~prbdm_pin.member.geometry.Beam`.
+"""Section laws of a Timoshenko beam along x, and Cowper's shear coefficients.
+
+Also the adapter from today's rectangular planform :class:`~prbdm_pin.member.geometry.Beam`.
 
 A law is a number (uniform), a callable ``f(x_m) -> values`` or a pair ``(stations_m, values)``
 linear between stations; :func:`section_law` turns each into a callable that checks its values
@@ -147,7 +148,7 @@ class SectionLaws:
 
 
 def rectangle_section_laws(beam: Beam) -> SectionLaws:
-    """The section laws of a planform beam's rectangle b(x) = 2 w(x) by t(x), out-of-plane bending.
+    """Return the laws of a planform beam's rectangle b(x) = 2 w(x) by t(x), bending about y.
 
     E I_y = E b t^3 / 12, kappa G A with Cowper's rectangle kappa, rho A = rho b t,
     rho I_y = rho b t^3 / 12. At a width step w is right-continuous; the element edges sit on
