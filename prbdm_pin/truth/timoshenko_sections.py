@@ -115,7 +115,8 @@ def _check_values(name: str, x: np.ndarray, v: np.ndarray) -> None:
     bad = np.flatnonzero(~(np.isfinite(v) & (v > 0.0)))
     if bad.size:
         i = int(bad[0])
-        raise BeamInputError(f"{name} = {np.ravel(v)[i]!r} at x = {np.ravel(x)[i]!r} m: must be "
+        xi = float(np.ravel(np.broadcast_to(x, np.shape(v)))[i])
+        raise BeamInputError(f"{name} = {float(np.ravel(v)[i])!r} at x = {xi!r} m: must be "
                              "finite and > 0")
 
 
