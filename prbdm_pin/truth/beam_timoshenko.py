@@ -106,20 +106,18 @@ def _check_length(length_m) -> float:
     return float(length_m)
 
 
-def timoshenko_modal(length_m: float, EI_Nm2, kappaGA_N, rhoA_kg_m, rhoI_kg_m,
-                     n_modes: int = 5, n_elements: int = 100,
-                     stations_m: np.ndarray | None = None,
+def timoshenko_modal(sections: SectionLaws, length_m: float, n_modes: int = 5,
+                     n_elements: int = 100, stations_m: np.ndarray | None = None,
                      element: str = "quadratic") -> TimoshenkoModes:
     """Bending modes of the clamped-free Timoshenko beam with section laws along x.
 
     Parameters
     ----------
+    sections : SectionLaws
+        Bending stiffness (N m^2), shear stiffness (N), mass per length (kg/m) and rotary
+        inertia per length (kg m) along x.
     length_m : float
         Length L, m (ignored when ``stations_m`` is given: its last entry is L).
-    EI_Nm2, kappaGA_N, rhoA_kg_m, rhoI_kg_m
-        Bending stiffness (N m^2), shear stiffness (N), mass per length (kg/m) and rotary
-        inertia per length (kg m): each a number, a callable of x (m) or a pair
-        (stations_m, values) linear between stations (:func:`section_law`).
     n_modes : int
         Number of modes, lowest first.
     n_elements : int
@@ -135,9 +133,14 @@ def timoshenko_modal(length_m: float, EI_Nm2, kappaGA_N, rhoA_kg_m, rhoI_kg_m,
     -------
     TimoshenkoModes
     """
-    laws = SectionLaws.of(EI_Nm2, kappaGA_N, rhoA_kg_m, rhoI_kg_m)
-    return _modal(_stations(length_m, n_elements, stations_m), laws,
+    return _modal(_stations(length_m, n_elements, stations_m), _check_sections(sections),
                   _check_count("n_modes", n_modes), _check_element(element))
+
+
+def _check_sections(sections) -> SectionLaws:
+    if not isinstance(sections, SectionLaws):
+        raise InputTypeError(f"sections = {sections!r}: must be a prbdm_pin.SectionLaws")
+    return sections
 
 
 def _check_element(element) -> str:
@@ -176,17 +179,17 @@ def _modal(xs: np.ndarray, laws: SectionLaws, n_modes: int, element: str) -> Tim
                                                                   solve_s=t2 - t1))
 
 
-def timoshenko_static(length_m: float, EI_Nm2, kappaGA_N, tip_force_N: float,
+def timoshenko_static(sections: SectionLaws, length_m: float, tip_force_N: float,
                       n_elements: int = 100, stations_m: np.ndarray | None = None,
                       element: str = "quadratic") -> TimoshenkoStatic:
     """Linear tip deflection and rotation of the clamped-free Timoshenko beam under a tip force.
 
     Parameters
     ----------
+    sections : SectionLaws
+        Only the stiffness laws enter.
     length_m : float
         Length L, m.
-    EI_Nm2, kappaGA_N
-        Bending (N m^2) and shear (N) stiffness laws, as in :func:`timoshenko_modal`.
     tip_force_N : float
         Transverse force at the tip, N.
     n_elements : int
@@ -206,8 +209,7 @@ def timoshenko_static(length_m: float, EI_Nm2, kappaGA_N, tip_force_N: float,
         raise InputTypeError(f"tip_force_N = {tip_force_N!r}: must be a number in N")
     if not np.isfinite(tip_force_N):
         raise BeamInputError(f"tip_force_N = {tip_force_N!r}: must be finite")
-    # the mass laws do not enter the statics: unit placeholders
-    laws = SectionLaws.of(EI_Nm2, kappaGA_N, 1.0, 1.0)
+    laws = _check_sections(sections)
     xs = _stations(length_m, n_elements, stations_m)
     K, _, free = assemble(xs, laws, _check_element(element))
     f = np.zeros(K.shape[0])

@@ -51,6 +51,8 @@ def shear_coefficient(kind: str, nu: float, inner_ratio: float = 0.0) -> float:
     float
         kappa, with kappa G A the shear stiffness (N) of the section.
     """
+    if not isinstance(kind, str):
+        raise InputTypeError(f"kind = {kind!r}: must be one of {SHEAR_KINDS}")
     if kind not in SHEAR_KINDS:
         raise BeamInputError(f"kind = {kind!r}: must be one of {SHEAR_KINDS}")
     if not isinstance(nu, (int, float, np.floating)) or isinstance(nu, bool):
@@ -122,7 +124,11 @@ def _check_values(name: str, x: np.ndarray, v: np.ndarray) -> None:
 
 @dataclass(frozen=True)
 class SectionLaws:
-    """The four section laws of a plane Timoshenko beam, callables of x (m).
+    """The four section laws of a plane Timoshenko beam.
+
+    Each field is given as a number (uniform), a callable of x (m) or a pair
+    (stations_m, values) linear between stations, and is stored as a checked callable of x
+    (:func:`section_law`: a value that is not finite and > 0 is refused naming the law and x).
 
     Attributes
     ----------
@@ -141,11 +147,10 @@ class SectionLaws:
     rhoA_kg_m: Law
     rhoI_kg_m: Law
 
-    @classmethod
-    def of(cls, EI_Nm2, kappaGA_N, rhoA_kg_m, rhoI_kg_m) -> SectionLaws:
-        """Build from numbers, callables or (stations_m, values) pairs (see :func:`section_law`)."""
-        return cls(section_law("EI_Nm2", EI_Nm2), section_law("kappaGA_N", kappaGA_N),
-                   section_law("rhoA_kg_m", rhoA_kg_m), section_law("rhoI_kg_m", rhoI_kg_m))
+    def __post_init__(self) -> None:
+        """Turn every law into a checked callable (errors name the field)."""
+        for name in ("EI_Nm2", "kappaGA_N", "rhoA_kg_m", "rhoI_kg_m"):
+            object.__setattr__(self, name, section_law(name, getattr(self, name)))
 
 
 def rectangle_section_laws(beam: Beam) -> SectionLaws:

@@ -25,7 +25,7 @@ from prbdm_pin.truth.timoshenko_criterion import (
     eb_error_estimate_pct,
     timoshenko_criterion,
 )
-from prbdm_pin.truth.timoshenko_sections import shear_coefficient
+from prbdm_pin.truth.timoshenko_sections import SectionLaws, shear_coefficient
 
 E, NU, RHO = 205e9, 0.28, 7850.0
 G = E / (2 * (1 + NU))
@@ -49,7 +49,8 @@ def _exact(L, laws, n=4):
 def test_frequencies_converge_like_h4_to_the_frequency_equation(slenderness):
     L, laws = _uniform(slenderness)
     exact = _exact(L, laws)
-    err = [timoshenko_modal(L, n_modes=4, n_elements=n, **laws).omega_rad_s / exact - 1.0
+    err = [timoshenko_modal(SectionLaws(**laws), L, n_modes=4, n_elements=n).omega_rad_s
+           / exact - 1.0
            for n in (20, 40)]
     # from above (consistent mass, conforming): Rayleigh-Ritz bound; 1e-9: the reference's
     # root tolerance and the eigensolve's rounding, both below 1e-12 here
@@ -72,7 +73,7 @@ def test_the_slender_limit_is_euler_bernoulli():
     # 1.01: the estimate's second-order term (1e-2 of itself at most at this slenderness);
     # 1e-9: the reference's rounding (the determinant cancels to ~1e-11 of its terms)
     assert np.all(np.abs(exact / eb - 1.0) <= 1.01 * bound + 1e-9)
-    fe = timoshenko_modal(L, n_modes=4, n_elements=40, **laws).omega_rad_s
+    fe = timoshenko_modal(SectionLaws(**laws), L, n_modes=4, n_elements=40).omega_rad_s
     # + 1.2e-5: the discretisation at 40 elements (previous test)
     assert np.all(np.abs(fe / eb - 1.0) <= 1.01 * bound + 1.2e-5)
 
@@ -81,7 +82,8 @@ def test_no_locking_on_a_coarse_mesh_of_a_slender_beam():
     # a locking element on L / r_g = 1000 with 10 elements would be stiffer by (L / (h r_g))^2-ish
     # factors; this one is within its h^4 error (2.6e-6 measured on mode 1, 2.9e-3 on mode 4)
     L, laws = _uniform(1000.0)
-    rel = timoshenko_modal(L, n_modes=4, n_elements=10, **laws).omega_rad_s / _exact(L, laws) - 1
+    rel = (timoshenko_modal(SectionLaws(**laws), L, n_modes=4, n_elements=10).omega_rad_s
+           / _exact(L, laws) - 1)
     assert np.all(rel > -1e-9) and np.all(rel < [1e-5, 2e-4, 1e-3, 4e-3]), rel
 
 
@@ -89,7 +91,7 @@ def test_no_locking_on_a_coarse_mesh_of_a_slender_beam():
 def test_uniform_tip_deflection_is_the_closed_form(element):
     L, laws = _uniform(10.0)
     F = 120.0
-    s = timoshenko_static(L, laws["EI_Nm2"], laws["kappaGA_N"], F, n_elements=3, element=element)
+    s = timoshenko_static(SectionLaws(**laws), L, F, n_elements=3, element=element)
     w = F * L**3 / (3 * E * I) + F * L / (KAPPA * G * A)
     th = F * L**2 / (2 * E * I)
     # both elements are nodally exact for a tip force (their fields hold the static solution):
@@ -106,8 +108,9 @@ def test_tapered_tip_deflection_is_the_unit_load_integral():
     GA = lambda x: KAPPA * G * B * t(x)  # noqa: E731
     ref = (quad(lambda x: (L - x) ** 2 / EI(x), 0, L, epsabs=0, epsrel=1e-13)[0]
            + quad(lambda x: 1 / GA(x), 0, L, epsabs=0, epsrel=1e-13)[0])
-    fine = timoshenko_static(L, EI, GA, 1.0, n_elements=80).tip_deflection_m
-    coarse = timoshenko_static(L, EI, GA, 1.0, n_elements=40).tip_deflection_m
+    sections = SectionLaws(EI, GA, 1.0, 1.0)  # the mass laws do not enter
+    fine = timoshenko_static(sections, L, 1.0, n_elements=80).tip_deflection_m
+    coarse = timoshenko_static(sections, L, 1.0, n_elements=40).tip_deflection_m
     # h^4 (the 1/t^3 law is not in the element's space): 1e-8 bounds the 80-element error
     # (measured 1.6e-10), and the error shrinks with h
     assert fine == pytest.approx(ref, rel=1e-8)
@@ -124,9 +127,10 @@ def test_the_two_elements_agree_on_a_tapered_thick_beam():
 
     laws = dict(EI_Nm2=lambda x: E * B * tl(x) ** 3 / 12, kappaGA_N=lambda x: KAPPA * G * B * tl(x),
                 rhoA_kg_m=lambda x: RHO * B * tl(x), rhoI_kg_m=lambda x: RHO * B * tl(x) ** 3 / 12)
-    q = timoshenko_modal(L, n_modes=4, n_elements=160, **laws).omega_rad_s
-    f1 = timoshenko_modal(L, n_modes=4, n_elements=160, element="interdependent", **laws)
-    f2 = timoshenko_modal(L, n_modes=4, n_elements=320, element="interdependent", **laws)
+    q = timoshenko_modal(SectionLaws(**laws), L, n_modes=4, n_elements=160).omega_rad_s
+    sections = SectionLaws(**laws)
+    f1 = timoshenko_modal(sections, L, n_modes=4, n_elements=160, element="interdependent")
+    f2 = timoshenko_modal(sections, L, n_modes=4, n_elements=320, element="interdependent")
     e1, e2 = f1.omega_rad_s / q - 1, f2.omega_rad_s / q - 1
     # the quadratic element at 160 is within 5e-8 of converged (h^4: it moves 7e-7 on mode 4
     # from 80 elements, so 7e-7 / 15 is left), so the differences are the interdependent
@@ -206,23 +210,27 @@ def test_thickness_law_timoshenko_tends_to_the_euler_bernoulli_truth():
 def test_bad_input_names_the_argument():
     L, laws = _uniform(10.0)
     with pytest.raises(BeamInputError, match="rhoA_kg_m"):
-        timoshenko_modal(L, **{**laws, "rhoA_kg_m": -1.0})
+        timoshenko_modal(SectionLaws(**{**laws, "rhoA_kg_m": -1.0}), L)
     with pytest.raises(BeamInputError, match="EI_Nm2.*station 2"):
-        timoshenko_modal(L, **{**laws, "EI_Nm2": ([0.0, 0.5 * L, 0.4 * L], [1.0, 1.0, 1.0])})
+        SectionLaws(**{**laws, "EI_Nm2": ([0.0, 0.5 * L, 0.4 * L], [1.0, 1.0, 1.0])})
     with pytest.raises(BeamInputError, match=r"kappaGA_N = 0\.0 at x"):
-        timoshenko_modal(L, **{**laws, "kappaGA_N": lambda x: 1e6 * (x < 0.5 * L)})
+        timoshenko_modal(SectionLaws(**{**laws, "kappaGA_N": lambda x: 1e6 * (x < 0.5 * L)}), L)
     with pytest.raises(InputTypeError, match="rhoI_kg_m"):
-        timoshenko_modal(L, **{**laws, "rhoI_kg_m": "heavy"})
+        SectionLaws(**{**laws, "rhoI_kg_m": "heavy"})
     with pytest.raises(BeamInputError, match="element"):
-        timoshenko_modal(L, **laws, element="linear")
+        timoshenko_modal(SectionLaws(**laws), L, element="linear")
     with pytest.raises(BeamInputError, match="n_modes"):
-        timoshenko_modal(L, **laws, n_modes=0)
+        timoshenko_modal(SectionLaws(**laws), L, n_modes=0)
     with pytest.raises(BeamInputError, match="stations_m"):
-        timoshenko_modal(L, **laws, stations_m=[0.0, 0.2, 0.1])
+        timoshenko_modal(SectionLaws(**laws), L, stations_m=[0.0, 0.2, 0.1])
     with pytest.raises(BeamInputError, match="length_m"):
-        timoshenko_modal(-1.0, **laws)
+        timoshenko_modal(SectionLaws(**laws), -1.0)
+    with pytest.raises(InputTypeError, match="sections"):
+        timoshenko_modal(laws, L)
     with pytest.raises(BeamInputError, match="tip_force_N"):
-        timoshenko_static(L, laws["EI_Nm2"], laws["kappaGA_N"], float("nan"))
+        timoshenko_static(SectionLaws(**laws), L, float("nan"))
+    with pytest.raises(InputTypeError, match="kind"):
+        shear_coefficient(3, 0.3)
     with pytest.raises(BeamInputError, match="kind"):
         shear_coefficient("I-beam", 0.3)
     with pytest.raises(BeamInputError, match="nu"):
