@@ -243,3 +243,23 @@ def test_bad_input_names_the_argument():
         timoshenko_criterion("beam.json")
     with pytest.raises(BeamInputError, match="rg_over_L"):
         eb_error_estimate_pct(3, -0.1, 3.0)
+
+
+def test_the_1d_truth_warns_past_one_percent_and_says_by_how_much(narrow):
+    from prbdm_pin.truth import compute_truth
+
+    L = 0.2
+    thick = Beam([0.0, L], [B / 2, B / 2], T, Material(E_Pa=E, rho_kg_m3=RHO, nu=NU))  # L/r_g 69
+    r = compute_truth(thick, model="beam", modes=3, static=False, error_tol_pct=None)
+    notes = [w for w in r.warnings if "Euler-Bernoulli truth" in w]
+    assert len(notes) == 1 and "mode 2 by about" in notes[0] and "mode 3 by about" in notes[0]
+    quoted = float(notes[0].split("mode 3 by about ")[1].split(" %")[0])
+    # the quoted estimate against the exact equation's gap: first order (1.5 est / 100 of
+    # itself, above) and the quote's 2 significant digits (5 % of it)
+    _, laws = _uniform(L / RG)
+    eb = BETA_L[2] ** 2 / L**2 * np.sqrt(E * I / (RHO * A))
+    exact_gap = 100 * (eb / _exact(L, laws, 3)[2] - 1)
+    assert quoted == pytest.approx(exact_gap, rel=0.05 + 1.5 * exact_gap / 100)
+    # the shipped strip (L / r_g = 346) at 5 modes: 0.38 % on mode 5, below the warning
+    slender = compute_truth(narrow, model="beam", modes=5, static=False, error_tol_pct=None)
+    assert not any("Euler-Bernoulli truth" in w for w in slender.warnings)
