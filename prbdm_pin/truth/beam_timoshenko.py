@@ -6,7 +6,8 @@ Two locking-free elements (DOFs per node: deflection w, m, and section rotation 
   shear at the 2 reduced points, where the quadratic theta is replaced by its linear projection,
   the space of dw/dx: pure bending costs no shear energy at any slenderness (Prathap & Bhashyam
   1982). Its frequencies converge like h^4 (the ratio of errors at h and h/2 is 16, measured on
-  the uniform cantilever at L / r_g = 10 ... 1000), so 40 elements give mode 4 to 4e-6.
+  the uniform cantilever at L / r_g = 10 ... 1000), so 40 elements give mode 4 to 1.2e-5 and
+  mode 1 to 1.5e-8 (scripts/bench_timoshenko.py).
 - ``"interdependent"``: the two-node element of Friedman & Kosmatka (1993, Computers & Structures
   47, 473-481), cubic w and quadratic theta tied by phi = 12 E I / (kappa G A h^2) so that they
   solve the static equations of a uniform element: its stiffness is exact (the tip under a tip
@@ -15,11 +16,12 @@ Two locking-free elements (DOFs per node: deflection w, m, and section rotation 
   beam (the tie between the third derivative of w and theta holds statically, not under inertia
   loading: 3.7e-4 on mode 4 at L / r_g = 10 with 80 elements). It is kept as the cross-check.
 
-Why not linear elements with reduced integration: h^2 as well, so about 50 times the elements of
-the quadratic one for 1e-6. The price of the quadratic element is rounding on slender members:
-the shear stiffness kappa G A is (kappa G / E) (L / r_g)^2 times the bending one, and it costs
-about 1e-7 of the frequency at L / r_g = 1000 with 160 elements (where Timoshenko differs from
-Euler-Bernoulli by 1e-5 %, and the Euler-Bernoulli truth is the one to use).
+Why not linear elements with reduced integration: they converge like h^2 too (one order of the
+interpolation less), so the quadratic element reaches a given accuracy with far fewer DOFs.
+The price of the quadratic element is rounding on slender members: the shear stiffness
+kappa G A is (kappa G / E) (L / r_g)^2 times the bending one, and it costs about 2e-8 of mode 1
+at L / r_g = 1000 with 80 elements (where Timoshenko differs from Euler-Bernoulli by 2e-4 % on
+mode 1, and the Euler-Bernoulli truth is the one to use).
 
 On an element whose section varies, the laws are sampled at the Gauss points; put every kink or
 jump of a law on an element edge (``beam_timoshenko_modal`` uses the planform's vertices).
