@@ -55,8 +55,9 @@ class TimoshenkoModes:
     x_m : ndarray, shape (n,)
         Nodes along the axis, m (root first).
     deflection_m : ndarray, shape (k, n)
-        Deflection w of each mode at the nodes, mass-normalised (phi^T M phi = 1 kg... in the
-        units of the DOFs), sign such that the tip deflection is >= 0.
+        Deflection w of each mode at the nodes (element ends and, for the quadratic element,
+        middles), scaled so that phi^T M phi = 1 with M the consistent mass matrix, sign such
+        that the tip deflection is >= 0.
     rotation_rad : ndarray, shape (k, n)
         Section rotation theta of each mode at the nodes, same scale.
     dofs : int

@@ -26,10 +26,11 @@ L / r_g = 44.8 sqrt(c_n) (97, 255, 394, 536, 677 for modes 1-5), i.e. above t / 
 0.014, 0.0088, 0.0065, 0.0051 for a solid rectangle (r_g = t / sqrt(12)). Against the exact
 frequency equation the estimate is within 0.1 % of the error at L / r_g = 400 and 2 % at 100,
 and above it at every slenderness tabulated, 10 ... 400 (scripts/bench_timoshenko.py): the
-criterion errs on the safe side. For a member whose section varies, the thickest section's r_g is used, and a taper also
-changes c_n (examples/beams/tapered.json, a width taper: 0.0054 % estimated, 0.0065 % solved on
-mode 1), so :func:`timoshenko_criterion` also solves both 1D theories and flags a mode when the
-larger of the estimate and the solved difference exceeds the tolerance.
+criterion errs on the safe side. For a member whose section varies, the thickest section's r_g
+is used, and a taper also changes c_n (examples/beams/tapered.json, a width taper: 0.0054 %
+estimated, 0.0065 % solved on mode 1), so :func:`timoshenko_criterion` also solves both 1D
+theories and flags a mode when the larger of the estimate and the solved difference exceeds the
+tolerance.
 """
 
 from __future__ import annotations
