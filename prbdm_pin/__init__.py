@@ -75,6 +75,7 @@ _EXPORTS = {
     "timoshenko_modal": "truth.beam_timoshenko",
     "timoshenko_static": "truth.beam_timoshenko",
     "beam_timoshenko_modal": "truth.beam_timoshenko",
+    "beam_timoshenko_static": "truth.beam_timoshenko",
     "TimoshenkoModes": "truth.beam_timoshenko",
     "TimoshenkoStatic": "truth.beam_timoshenko",
     "timoshenko_criterion": "truth.timoshenko_criterion",

@@ -42,7 +42,7 @@ from .timoshenko_elements import ELEMENTS, assemble
 from .timoshenko_sections import SectionLaws, rectangle_section_laws
 
 __all__ = ["TimoshenkoModes", "TimoshenkoStatic", "timoshenko_modal", "timoshenko_static",
-           "beam_timoshenko_modal"]
+           "beam_timoshenko_modal", "beam_timoshenko_static"]
 
 @dataclass(frozen=True, eq=False)
 class TimoshenkoModes:
@@ -244,3 +244,29 @@ def beam_timoshenko_modal(beam: Beam, n_modes: int = 5, n_elements: int = 200,
     laws = rectangle_section_laws(beam)
     return _modal(beam_stations(beam, n_elements), laws, _check_count("n_modes", n_modes),
                   _check_element(element))
+
+
+def beam_timoshenko_static(beam: Beam, tip_force_N: np.ndarray | None = None,
+                           n_elements: int = 200) -> TimoshenkoStatic:
+    """Linear Timoshenko tip deflection of a planform beam under the z component of a tip force.
+
+    Parameters
+    ----------
+    beam : Beam
+    tip_force_N : array_like, shape (3,), optional
+        Tip force in N (default: ``beam.tip_force_N``); only F_z bends the beam here, as in
+        :func:`~prbdm_pin.truth.beam.beam_static`.
+    n_elements : int
+        About this many elements along the span (the planform's vertices are edges).
+
+    Returns
+    -------
+    TimoshenkoStatic
+        The tip's z deflection (m) and rotation about y (rad, positive with a positive slope).
+    """
+    laws = rectangle_section_laws(beam)
+    F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)
+    if F.shape != (3,) or not np.all(np.isfinite(F)):
+        raise BeamInputError(f"tip_force_N = {F.tolist()}: must be 3 finite numbers in N")
+    return timoshenko_static(laws, beam.length_m, float(F[2]),
+                             stations_m=beam_stations(beam, n_elements))

@@ -228,6 +228,7 @@ DOORS = {
     "timoshenko_modal": ("sections", lambda v: pp.timoshenko_modal(v, 1.0)),
     "timoshenko_static": ("sections", lambda v: pp.timoshenko_static(v, 1.0, 1.0)),
     "beam_timoshenko_modal": ("beam", lambda v: pp.beam_timoshenko_modal(v)),
+    "beam_timoshenko_static": ("beam", lambda v: pp.beam_timoshenko_static(v)),
     "rectangle_section_laws": ("beam", lambda v: pp.rectangle_section_laws(v)),
     "shear_coefficient": ("kind", lambda v: pp.shear_coefficient(v, 0.3)),
     "truth_gradient": ("beam", lambda v: pp.truth_gradient(v, ("thickness",))),
