@@ -26,6 +26,7 @@ from .modal import compute_modal
 from .modes import label_modes, select_modes, selection_warnings
 from .request import TruthRequest, request_of
 from .result import TruthResult
+from .timoshenko_criterion import timoshenko_warnings
 from .tip_response import elastica_warnings, tip_response
 
 __all__ = ["compute_truth"]
@@ -116,6 +117,10 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
     notes = list(selection_warnings(modal, index, labels))
     if model in ("plate", "plate-morley"):
         notes += beam.kirchhoff_warnings(modes)
+    elif model == "beam":
+        # warned, not switched to Timoshenko: the beam truth's tip, design gradients and the
+        # chain's springs are Euler-Bernoulli's, and a switched truth would mix two theories
+        notes += timoshenko_warnings(beam, modes)
     if estimate is None and estimate_skipped(model, modal):
         notes.append(f"no discretisation error estimate: the next mesh level of this {model} "
                      f"truth would have about {4 * int(modal.dofs):,} DOFs (above "

@@ -225,6 +225,13 @@ DOORS = {
     "beam_gravity_static": ("beam", lambda v: pp.beam_gravity_static(v, [0.0, 0.0, -9.81])),
     "beam_self_weight_buckling": ("beam", lambda v: pp.beam_self_weight_buckling(v)),
     "elastica_gravity_modes": ("beam", lambda v: pp.elastica_gravity_modes(v, [0, 0, -9.81])),
+    "timoshenko_criterion": ("beam", lambda v: pp.timoshenko_criterion(v)),
+    "timoshenko_modal": ("sections", lambda v: pp.timoshenko_modal(v, 1.0)),
+    "timoshenko_static": ("sections", lambda v: pp.timoshenko_static(v, 1.0, 1.0)),
+    "beam_timoshenko_modal": ("beam", lambda v: pp.beam_timoshenko_modal(v)),
+    "beam_timoshenko_static": ("beam", lambda v: pp.beam_timoshenko_static(v)),
+    "rectangle_section_laws": ("beam", lambda v: pp.rectangle_section_laws(v)),
+    "shear_coefficient": ("kind", lambda v: pp.shear_coefficient(v, 0.3)),
     "truth_gradient": ("beam", lambda v: pp.truth_gradient(v, ("thickness",))),
     "elastica_gradient": ("beam", lambda v: pp.elastica_gradient(v, ("thickness",))),
     "target_from_truth": ("truth", lambda v: pp.target_from_truth(v, [0.0, 0.0, -1.0])),
@@ -277,6 +284,8 @@ def test_a_wrong_type_at_a_public_door_is_a_type_error_naming_the_argument(
         wrong = [v for v in wrong if v != [1.0]] + [["a", "b"]]
     if name == "beam_from_dict":
         wrong = [v for v in wrong if not isinstance(v, dict)]
+    if name == "shear_coefficient":  # a section kind is a str: an unknown one is a value error
+        wrong = [v for v in wrong if not isinstance(v, str)]
     value = data.draw(st.sampled_from(wrong))
     _refused(InputTypeError, f"{arg}", call, value)
     assert os.listdir(".") == []  # nothing written
