@@ -8,8 +8,12 @@ and turns input errors into one clear line and exit code 2.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import io
+import json
 import os
+import sys
 
 from .commands.checks import CliParser, one_line, run_reported
 from .version import __version__
@@ -43,6 +47,10 @@ def build_parser() -> argparse.ArgumentParser:
                 continue
             raise
         module.add_parser(sub)
+    from .commands.json_summary import add_json_option
+
+    for command in {id(p): p for p in sub.choices.values()}.values():
+        add_json_option(command)
     return parser
 
 
@@ -58,7 +66,23 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
-    return run_reported(f"prbdm {args.command}", lambda: args.func(args))
+    prog = f"prbdm {args.command}"
+    if not getattr(args, "json", False):
+        return run_reported(prog, lambda: args.func(args))
+    # --json: stdout holds the JSON object only; what the command says goes to stderr
+    from .commands.json_summary import json_summary
+
+    err = io.StringIO()
+    with contextlib.redirect_stdout(sys.stderr), contextlib.redirect_stderr(err):
+        rc = run_reported(prog, lambda: args.func(args))
+    text = err.getvalue()
+    sys.stderr.write(text)
+    error = next((line.split("error: ", 1)[-1].split("failed: ", 1)[-1]
+                  for line in text.splitlines()
+                  if line.startswith(f"{prog}: error:") or line.startswith(f"{prog}: failed:")),
+                 None)
+    print(json.dumps(json_summary(args.command, args, rc, error), indent=2))
+    return rc
 
 if __name__ == "__main__":  # ``python -m prbdm_pin.cli``, as ``python -m prbdm_pin``
     raise SystemExit(main())

@@ -60,6 +60,7 @@ def run(args) -> int:
     from ..bench.run import run_benchmark, work_units
     from ..io.atomic import atomic_write_json, atomic_write_text
     from ..io.output_folder import output_folder
+    from ..io.provenance import provenance
 
     check_options(args)
     config = QUICK if args.quick else FULL
@@ -91,7 +92,9 @@ def run(args) -> int:
     with output_folder(out, BENCH_FILES, marker="results.json") as stage:
         atomic_write_text(stage / "results.md", markdown_report(result, machine))
         plot_error_vs_cost(result, stage / "error_vs_cost.png")
-        atomic_write_json(stage / "results.json", result_dict(result), indent=1)
+        # each model's fit seed is in its row; the run as a whole draws nothing of its own
+        atomic_write_json(stage / "results.json", {**provenance(), **result_dict(result)},
+                          indent=1)
     md, png = out / "results.md", out / "error_vs_cost.png"
     if not args.quiet:
         print(f"wrote {md} and {png} ({result.wall_time_s:.1f} s)")

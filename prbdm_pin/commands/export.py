@@ -169,7 +169,8 @@ def run(args: argparse.Namespace) -> int:
     # a model fitted in gravity carries it on (MJCF option, URDF comment, JSON field)
     path = export_model(model, args.out, args.format, damping_ratio=ratio,
                         damping_form=args.damping_form, omega_truth_rad_s=omega_truth,
-                        gravity_m_s2=source.gravity_m_s2, **plant)
+                        gravity_m_s2=source.gravity_m_s2, seed=getattr(fitted, "seed", None),
+                        **plant)
     if not args.quiet:
         for note in rec.warnings:
             print(f"export warning: {note}", file=sys.stderr)

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from ..errors import BeamInputError
+from ..io.provenance import provenance
 from . import add_common
 from .bus_option import add_bus_option, bus_option, bus_record, state_units, with_bus
 from .fit_actuators import add_fit_actuators_option, check_fit_actuators, fit_actuators
@@ -285,7 +286,9 @@ def run(args: argparse.Namespace) -> int:
                     load_N=opts["load"], damping_ratio=ratio,
                     damping=args.damping_form, actuators=opts["actuators"],
                     gravity_m_s2=gravity, loads=opts["loads"], spin_rad_s=args.spin)
+    record_provenance = provenance(getattr(fitted, "seed", None))
     record = {
+        **record_provenance,
         **lin.to_dict(),
         "model": Path(args.model).name,
         "n_joints": model.n_joints,
@@ -326,8 +329,8 @@ def run(args: argparse.Namespace) -> int:
             from ..plant.comparison_plot import plot_plant_comparison
 
             plot_plant_comparison(cmp.comparison, stage / "comparison.png")
-            atomic_write_text(stage / "comparison.json",
-                              json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
+            atomic_write_text(stage / "comparison.json", json.dumps(
+                {**record_provenance, **cmp.to_dict(Path(args.model).name)}, indent=2) + "\n")
         atomic_write_text(stage / "linear_model.json", json.dumps(record, indent=2) + "\n")
     if not args.quiet:
         w = ", ".join(f"{x:.4g}" for x in (record["spin_frequencies_rad_s"] if args.spin

@@ -7,6 +7,7 @@ import json
 import time
 from pathlib import Path
 
+from ..io.provenance import provenance
 from . import add_common
 
 EXAMPLE = """example:
@@ -89,6 +90,7 @@ def run(args) -> int:
     rel = g.relative_d_omega
     rel_tip = g.relative_d_tip_z
     doc = {
+        **provenance(),
         "beam": beam.name, "beam_fingerprint": beam.fingerprint(), "model": g.model,
         "mesh_level": g.mesh_level, "selection": args.selection, "dofs": g.dofs,
         "variables": [{"name": n, "unit": u, "value": float(v)}

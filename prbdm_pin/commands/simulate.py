@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import BeamInputError
+from ..io.provenance import provenance
 from ..plant.truth_comparison import TRUTH_MODELS
 from . import add_common
 from .fit_actuators import add_fit_actuators_option, fit_actuators
@@ -307,9 +308,9 @@ def run(args: argparse.Namespace) -> int:
             from ..plant.comparison_record import comparison_summary
 
             plot_plant_comparison(plant_cmp.comparison, stage / "comparison.png")
-            atomic_write_text(stage / "comparison.json",
-                              json.dumps(plant_cmp.to_dict(Path(args.model).name), indent=2)
-                              + "\n")
+            atomic_write_text(stage / "comparison.json", json.dumps(
+                {**provenance(getattr(fitted, "seed", None)),
+                 **plant_cmp.to_dict(Path(args.model).name)}, indent=2) + "\n")
             if not args.quiet:
                 for line in comparison_summary(plant_cmp.comparison):
                     print(line, file=sys.stderr)
@@ -324,8 +325,9 @@ def run(args: argparse.Namespace) -> int:
             print_truth_warnings(cmp.truth, args.quiet)
             plot_truth_comparison(cmp, stage / "truth_comparison.png")
             # the JSON last: its presence marks a complete comparison
-            atomic_write_text(stage / "truth_comparison.json",
-                              json.dumps(cmp.to_dict(Path(args.model).name), indent=2) + "\n")
+            atomic_write_text(stage / "truth_comparison.json", json.dumps(
+                {**provenance(getattr(fitted, "seed", None)),
+                 **cmp.to_dict(Path(args.model).name)}, indent=2) + "\n")
             if not args.quiet:
                 print(f"against the {request.model} truth: step error "
                       f"{100 * cmp.accuracy.step_error:.3g} %, FRF error "

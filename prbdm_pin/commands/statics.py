@@ -11,6 +11,7 @@ import json
 import sys
 from pathlib import Path
 
+from ..io.provenance import provenance
 from . import add_common
 
 EXAMPLES = """\
@@ -93,8 +94,8 @@ def run(args: argparse.Namespace) -> int:
     spans_on_beam(model, spans, texts)
     span = spans[0] if spans else None
     eq = statics(model, **loads, distributed_load=span)
-    record = {"model": Path(args.model).name, "n_joints": model.n_joints,
-              "axes": model.axes.value, **eq.to_dict()}
+    record = {**provenance(getattr(source.fit, "seed", None)), "model": Path(args.model).name,
+              "n_joints": model.n_joints, "axes": model.axes.value, **eq.to_dict()}
     out = Path(args.out)
     with output_folder(out, STATICS_FILES) as stage:
         atomic_write_text(stage / "statics.json", json.dumps(record, indent=2) + "\n")

@@ -7,6 +7,7 @@ import json
 import time
 from pathlib import Path
 
+from ..io.provenance import provenance
 from . import add_common
 
 EXAMPLE = """example:
@@ -90,6 +91,7 @@ def run(args) -> int:
         return None if a is None else [float(v) for v in a]
 
     doc = {
+        **provenance(),
         "beam": beam.name, "beam_fingerprint": r.beam_fingerprint, "model": r.model,
         "mesh_level": r.mesh_level,
         "selection": r.selection, "dofs": int(r.modal.dofs),

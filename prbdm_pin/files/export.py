@@ -122,6 +122,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
 from ..io.paths import check_out_file
+from ..io.provenance import provenance
 from ..model.checks import check_model
 from ..truth.self_weight import check_gravity
 from .export_comment import gravity_comment
@@ -219,10 +220,15 @@ def write_mjcf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray
 
 def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
                damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-               actuators=(), gravity_m_s2=None) -> Path:
-    """Write :func:`model_dict` as JSON atomically (with ``gravity_m_s2`` when given)."""
+               actuators=(), gravity_m_s2=None, seed: int | None = None) -> Path:
+    """Write :func:`model_dict` as JSON atomically (with ``gravity_m_s2`` when given).
+
+    The file also records the package's ``versions`` and the ``seed`` of the fit the model came
+    from (None when not known).
+    """
     d = model_dict(model, damping_ratio, damping_form=damping_form,
                    omega_truth_rad_s=omega_truth_rad_s, actuators=actuators)
+    d.update(provenance(seed))
     if gravity_m_s2 is not None:
         d["gravity_m_s2"] = check_gravity(gravity_m_s2, planar=False).tolist()
     return atomic_write_text(path, json.dumps(d, indent=2) + "\n")
@@ -231,7 +237,7 @@ def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray
 def export_model(model, path: str | os.PathLike, fmt: str,
                  damping_ratio: float | np.ndarray = 0.02, *, damping_form: str | None = None,
                  omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None,
-                 gravity_m_s2=None) -> Path:
+                 gravity_m_s2=None, seed: int | None = None) -> Path:
     """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt``.
 
     Parameters
@@ -253,6 +259,9 @@ def export_model(model, path: str | os.PathLike, fmt: str,
         The gravity the model was fitted in, m/s^2, world (``FitResult.gravity_m_s2``; default
         none): the MJCF's ``<option gravity>``, stated in the URDF's comment (URDF has no
         gravity element); a model JSON records it as ``gravity_m_s2``.
+    seed : int, optional
+        The seed of the fit the model came from, recorded in a model JSON beside the package's
+        versions (every JSON the package writes says what made it).
 
     Returns
     -------
@@ -283,5 +292,6 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     if inputs is not None and len(inputs):
         raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
                              "(only the MJCF does)")
-    writer = write_urdf if fmt == "urdf" else write_json
-    return writer(model, path, damping_ratio, **kw)
+    if fmt == "urdf":
+        return write_urdf(model, path, damping_ratio, **kw)
+    return write_json(model, path, damping_ratio, seed=seed, **kw)

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from ..io.provenance import package_versions
 from ..io.records import JsonRecord, readonly_array
 from ..options.checks import check_choice
 from ..options.choices import MIN_FRACTION, Objective, StiffnessKind
@@ -42,19 +43,6 @@ _OLD_EXPORTS = {
                           "recorded their export pose; no pose was fitted with these springs)"),
     StiffnessKind.JOINT: "joint: pose-independent springs",
 }
-
-
-def package_versions() -> tuple[tuple[str, str], ...]:
-    """(name, version) of the packages a fit depends on."""
-    from importlib import metadata
-
-    out = []
-    for name in ("prbdm_pin", "pin", "numpy", "scipy", "pymoo", "scikit-fem"):
-        try:
-            out.append((name, metadata.version(name)))
-        except metadata.PackageNotFoundError:
-            out.append((name, "unknown"))
-    return tuple(out)
 
 
 def result_readers() -> dict[str, Any]:
