@@ -128,8 +128,8 @@ def calibrate(model, data: RingDown | DrivenTrajectory | FrequencyResponse | str
     ring = isinstance(data, RingDown)
     free = ring or bool(initial_state) and isinstance(data, DrivenTrajectory)
     if initial_state is not None and free != initial_state:
-        raise BeamInputError(f"initial_state = {initial_state}: a "
-                             f"{'ring-down always has' if ring else 'FRF has no'} initial "
+        raise BeamInputError(f"initial_state = {initial_state}: "
+                             f"{'a ring-down always has' if ring else 'an FRF has no'} initial "
                              "state fitted")
     zeta = check_damping_ratio("damping_ratio", damping_ratio)
     need = max(modes, default=-1) + 1

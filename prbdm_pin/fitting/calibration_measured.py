@@ -33,7 +33,7 @@ from .calibration_data import MIN_SAMPLES, RingDown, channel_name, read_table, r
 __all__ = ["DrivenTrajectory", "FrequencyResponse", "driven_trajectory", "frequency_response",
            "is_input", "read_calibration_data"]
 
-STEP_RTOL = 1e-6  # uniform steps: each within this of the mean (a printed time's rounding)
+STEP_RTOL = 1e-6  # uniform steps: each within this of the median (a printed time's rounding)
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,12 +129,13 @@ def driven_trajectory(t_s, u, inputs, y, channels, what: str = "data") -> Driven
     for j, name in enumerate(inputs):
         _finite(what, name, U[:, j])
     dt = np.diff(base.t_s)
-    off = np.flatnonzero(np.abs(dt - dt.mean()) > STEP_RTOL * dt.mean())
+    typical = float(np.median(dt))
+    off = np.flatnonzero(np.abs(dt - typical) > STEP_RTOL * typical)
     if off.size:
         i = int(off[0]) + 1
-        raise BeamInputError(f"{what}: t_s: step {dt[i - 1]!r} at row {i} is not the mean step "
-                             f"{dt.mean()!r}: a driven trajectory needs uniform samples (the "
-                             "input is held between them)")
+        raise BeamInputError(f"{what}: t_s: step {float(dt[i - 1])!r} to row {i} is not the "
+                             f"median step {typical!r}: a driven trajectory needs uniform "
+                             "samples (the input is held between them)")
     U.setflags(write=False)
     return DrivenTrajectory(t_s=base.t_s, u=U, inputs=names, y=base.y, channels=base.channels)
 
@@ -176,12 +177,13 @@ def frequency_response(f_hz, H, outputs, inputs, what: str = "data") -> Frequenc
     if f.size < MIN_SAMPLES:
         raise BeamInputError(f"{what}: f_hz: {f.size} frequencies; need at least {MIN_SAMPLES}")
     if f[0] <= 0.0:
-        raise BeamInputError(f"{what}: f_hz: {f[0]!r} at row 0: frequencies must be positive")
+        raise BeamInputError(f"{what}: f_hz: {float(f[0])!r} at row 0: frequencies must be "
+                             "positive")
     step = np.flatnonzero(np.diff(f) <= 0.0)
     if step.size:
         i = int(step[0]) + 1
-        raise BeamInputError(f"{what}: f_hz: not increasing at row {i} ({f[i - 1]!r} then "
-                             f"{f[i]!r})")
+        raise BeamInputError(f"{what}: f_hz: not increasing at row {i} ({float(f[i - 1])!r} "
+                             f"then {float(f[i])!r})")
     for a in (f, G):
         a.setflags(write=False)
     return FrequencyResponse(f_hz=f, H=G, outputs=outs, inputs=ins)
