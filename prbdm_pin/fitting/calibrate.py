@@ -167,12 +167,12 @@ def calibrate(model, data: RingDown | DrivenTrajectory | FrequencyResponse | str
         _check_modes(need, n_free, omega0.size)
     unknowns = len(names) + 2 * n_free  # the offsets are among the names
     if prob.yw.size <= unknowns:
-        axis = "f_hz" if isinstance(data, FrequencyResponse) else "t_s"
-        rows = prob.yw.size // len(data.channels)
-        raise BeamInputError(f"data: {axis}: {rows} {'samples' if axis == 't_s' else 'values'} x "
-                             f"{len(data.channels)} channel(s) for {unknowns} unknowns "
-                             f"({len(names)} parameters, {2 * n_free} of the initial state); "
-                             "need more")
+        c = len(data.channels)
+        size = (f"f_hz: {data.f_hz.size} frequencies x {c} transfer function(s) x 2 (real, "
+                "imaginary)" if isinstance(data, FrequencyResponse)
+                else f"t_s: {data.y.shape[0]} samples x {c} channel(s)")
+        raise BeamInputError(f"data: {size} for {unknowns} unknowns ({len(names)} parameters, "
+                             f"{2 * n_free} of the initial state); need more")
     # the Jacobian's columns: the nonlinear parameters, the initial state, the offsets
     labels = [*nonlinear, *([None] * 2 * n_free),
               *(n for n in names if OFFSET.match(n) is not None)]

@@ -230,6 +230,8 @@ def read_calibration_data(path: str | os.PathLike
     what, head, vals = read_table(path)
     if head and head[0] == "f_hz":
         pairs = _frf_columns(what, head)
+        for j, h in enumerate(head):  # each column named, before re and im are combined
+            _finite(what, h, vals[:, j])
         H = np.column_stack([vals[:, r] + 1j * vals[:, i] for _, _, r, i in pairs])
         return frequency_response(vals[:, 0], H, [p[0] for p in pairs], [p[1] for p in pairs],
                                   what)
