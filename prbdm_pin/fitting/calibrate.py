@@ -1,4 +1,7 @@
-"""``calibrate``: a clamped planar PRBDM's E, rho and modal damping fitted to a free ring-down.
+"""``calibrate``: a clamped planar PRBDM's E, rho and damping fitted to measurements.
+
+The data: a free ring-down, a trajectory driven by measured inputs or an FRF
+(:mod:`.calibration_measured`; the last two's model: :mod:`.calibrate_measured`).
 
 The parameters are scale factors of E (every spring scales with E) and of rho (every link's mass
 and inertia), the ratio ``damping[k]`` of mode k + 1 (the modal damping of
@@ -14,7 +17,8 @@ together), s^2 the residual's mean square over N - p degrees of freedom: the lin
 covariance, which the projected problem gives too. Each channel is weighted by 1 / its data's
 standard deviation, so channels of different units count alike. A Jacobian whose columns (each
 scaled to unit length) have a condition number beyond 1 / sqrt(EPS) is refused, naming the
-parameters of its near-null direction: a free ring-down sees E / rho only.
+parameters of its near-null direction: a free ring-down sees E / rho only, and so does a
+response to a base acceleration (its load scales with rho); a response to a force sees both.
 """
 
 from __future__ import annotations
