@@ -156,8 +156,9 @@ def rank_check(labels, J_full) -> None:
     if s[-1] <= s[0] / COND_MAX:
         v = Vt[-1]
         which = [lab for lab, vi in zip(labels, v, strict=True) if lab and abs(vi) > 0.1]
-        hint = (" (a free ring-down sees E/rho only: frequencies scale with sqrt(E/rho) and "
-                "the unknown amplitudes take the rest; fit one of them)"
+        hint = (" (a free ring-down, or a response to a base acceleration, sees E/rho only: "
+                "frequencies scale with sqrt(E/rho), and the unknown amplitudes or the load's "
+                "own rho take the rest; fit one of them)"
                 if {"E", "rho"} <= set(which) else "")
         raise BeamInputError(f"parameters: {', '.join(which) or 'the initial state'} not "
                              f"determined by this data (the Jacobian's condition "
