@@ -81,6 +81,20 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+def _check_kind(args: argparse.Namespace, data) -> None:
+    """Refuse --modes and --initial-state where the data has no initial state, by option."""
+    from ..errors import BeamInputError
+    from ..fitting.calibration_measured import DrivenTrajectory, FrequencyResponse
+
+    if args.initial_state and isinstance(data, FrequencyResponse):
+        raise BeamInputError("--initial-state: an FRF has no initial state")
+    if args.modes is not None and (isinstance(data, FrequencyResponse) or isinstance(
+            data, DrivenTrajectory) and not args.initial_state):
+        raise BeamInputError(f"--modes = {args.modes}: the modes whose initial state is "
+                             "fitted; this data has none (an FRF, or a driven trajectory "
+                             "without --initial-state)")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prbdm calibrate``."""
     from ..files.calibration_file import write_calibration
@@ -96,6 +110,7 @@ def run(args: argparse.Namespace) -> int:
         in_range("--modes", args.modes, 1, None, integer=True, why="modes in the response")
     out = writable_dir(args.out, "--out")
     data = read_calibration_data(args.data)
+    _check_kind(args, data)
     model = load_model(args.model, args.beam).model
     result = calibrate(model, data, args.parameters, n_modes=args.modes,
                        damping_ratio=args.damping,

@@ -113,6 +113,23 @@ def test_bad_files_exit_2_with_one_line_and_write_nothing(fit_json, tmp_path, ca
     assert not out.exists()
 
 
+@pytest.mark.parametrize("extra, needle", [
+    (["--modes", "2"], "--modes = 2: the modes whose initial state is fitted"),
+    (["--initial-state"], "--initial-state: an FRF has no initial state"),
+])
+def test_initial_state_options_on_an_frf_exit_2(fit_json, tmp_path, capsys, extra, needle):
+    f = np.linspace(5.0, 12.0, 10)
+    H = 1.0 / (52.0**2 - (2 * np.pi * f) ** 2 + 2j * 0.01 * 52.0 * 2 * np.pi * f)
+    data = _csv(tmp_path / "frf.csv", ["f_hz", "tip_z/tip_force_z_re", "tip_z/tip_force_z_im"],
+                np.column_stack([f, H.real, H.imag]))
+    out = tmp_path / "never"
+    assert main(["calibrate", str(fit_json), "--data", str(data), "--parameters", "E", *extra,
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err, err
+    assert not out.exists()
+
+
 def test_too_few_samples_for_the_unknowns_exit_2(fit_json, tmp_path, capsys):
     t = np.arange(8) / 250.0
     data = _csv(tmp_path / "run.csv", ["t_s", "tip_force_z_N", "tip_z_m"],

@@ -284,3 +284,37 @@ def test_bad_driven_data_is_refused_naming_the_column():
         driven_trajectory(np.r_[t[:5], t[4:19]], u, ["tip_force_z"], y, ["tip_z_m"])
     with pytest.raises(BeamInputError, match=r"t_s: 6 samples; need at least 8"):
         driven_trajectory(t[:6], u[:6], ["tip_force_z"], y[:6], ["tip_z_m"])
+
+
+def test_the_header_tells_the_kind_and_the_values_read_back_exactly(tmp_path):
+    from prbdm_pin.fitting.calibration_data import RingDown
+    from prbdm_pin.fitting.calibration_measured import (
+        DrivenTrajectory,
+        FrequencyResponse,
+        read_calibration_data,
+    )
+
+    rng = np.random.default_rng(7)
+    t, v = np.arange(10) / 100.0, rng.standard_normal((10, 4))
+
+    def write(name, head, cols):
+        rows = [",".join(head)] + [",".join(repr(float(x)) for x in r) for r in cols]
+        (tmp_path / name).write_text("\n".join(rows) + "\n")
+        return read_calibration_data(tmp_path / name)
+
+    ring = write("ring.csv", ["t_s", "tip_z_m", "y:tip_z_rate"], np.column_stack([t, v[:, :2]]))
+    assert isinstance(ring, RingDown) and ring.channels == ("tip_z", "tip_z_rate")
+    run = write("run.csv", ["t_s", "y:tip_z", "u:tip_force_z", "base_accel_z_m_s2"],
+                np.column_stack([t, v[:, :3]]))
+    assert isinstance(run, DrivenTrajectory)
+    assert run.inputs == ("tip_force_z", "base_accel_z") and run.channels == ("tip_z",)
+    # repr round trip: lossless, so equal to the last bit
+    np.testing.assert_array_equal(run.u, v[:, 1:3])
+    f = 1.0 + np.arange(10)
+    frf = write("frf.csv", ["f_hz", "tip_z_m/tip_force_z_N_im", "tip_z_m/tip_force_z_N_re",
+                            "tip_z/base_accel_z_re", "tip_z/base_accel_z_im"],
+                np.column_stack([f, v]))
+    assert isinstance(frf, FrequencyResponse)
+    assert frf.channels == ("tip_z/tip_force_z", "tip_z/base_accel_z")
+    np.testing.assert_array_equal(frf.H, np.column_stack([v[:, 1] + 1j * v[:, 0],
+                                                          v[:, 2] + 1j * v[:, 3]]))
