@@ -142,6 +142,9 @@ _EXPORTS = {
     "CalibrationResult": "fitting.calibrate",
     "read_ring_down": "fitting.calibration_data",
     "RingDown": "fitting.calibration_data",
+    "read_calibration_data": "fitting.calibration_measured",
+    "DrivenTrajectory": "fitting.calibration_measured",
+    "FrequencyResponse": "fitting.calibration_measured",
     "write_calibration": "files.calibration_file",
     # batch studies
     "run_batch": "batch",

@@ -2,11 +2,13 @@
 
 ``calibration.json`` holds ``"parameters": {NAME: {"value": ..., "std_error": ...}}`` (``E`` in
 Pa, ``rho`` in kg/m^3, ``damping[k]`` the ratio of mode k + 1), the scales, the calibrated
-frequencies, the residual RMS per channel and the data's size. ``model.json`` is the calibrated
+frequencies, the residual RMS per channel, the data's kind (``"data"``: ``"ring-down"``,
+``"driven"`` or ``"frf"``), its size and its channels (and inputs). ``model.json`` is the calibrated
 chain as ``prbdm export --format json`` writes it (a model JSON every loader reads), with the
 per-mode ratios in its ``damping`` record (``form`` ``"modal"``: fitted ratios for the fitted
 modes, the given ratio for the others). ``calibration.png`` draws each channel's data and the
-calibrated model's response.
+calibrated model's response against time, or for an FRF its magnitude and phase against
+frequency.
 """
 
 from __future__ import annotations
@@ -15,8 +17,11 @@ import json
 import os
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import InputTypeError
 from ..fitting.calibrate import CalibrationResult
+from ..fitting.calibration_measured import DrivenTrajectory, FrequencyResponse
 from ..io.atomic import atomic_write_text
 from ..io.output_folder import output_folder
 from ..version import __version__
@@ -41,13 +46,45 @@ def calibration_record(result: CalibrationResult) -> dict:
         "model_damping_ratio": [float(v) for v in result.model_damping_ratio],
         "omega_rad_s": [float(v) for v in result.omega_rad_s],
         "residual_rms": dict(result.residual_rms),
-        "samples": int(result.data.t_s.size),
+        "data": _kind(result.data),
+        "samples": int(result.data.y.shape[0] if hasattr(result.data, "y")
+                       else result.data.f_hz.size),
         "channels": list(result.data.channels),
+        **({"inputs": list(result.data.inputs)} if hasattr(result.data, "inputs") else {}),
     }
+
+
+def _kind(data) -> str:
+    if isinstance(data, FrequencyResponse):
+        return "frf"
+    return "driven" if isinstance(data, DrivenTrajectory) else "ring-down"
+
+
+def _plot_frf(result: CalibrationResult, path: Path) -> None:
+    d = result.data
+    c = len(d.channels)
+    fig = new_figure((7.0, 3.6 * c + 0.6))
+    for j, ch in enumerate(d.channels):
+        mag = fig.add_subplot(2 * c, 1, 2 * j + 1)
+        mag.semilogy(d.f_hz, np.abs(d.H[:, j]), ".", ms=2, color="0.5", label="data")
+        mag.semilogy(d.f_hz, np.abs(result.fitted[:, j]), "-", lw=0.8, color="C0",
+                     label="calibrated model")
+        mag.set_ylabel(f"|{ch}|")
+        mag.legend(loc="upper right", fontsize="small")
+        ph = fig.add_subplot(2 * c, 1, 2 * j + 2, sharex=mag)
+        ph.plot(d.f_hz, np.degrees(np.angle(d.H[:, j])), ".", ms=2, color="0.5")
+        ph.plot(d.f_hz, np.degrees(np.angle(result.fitted[:, j])), "-", lw=0.8, color="C0")
+        ph.set_ylabel("phase (deg)")
+    ph.set_xlabel("f (Hz)")
+    fig.tight_layout()
+    save_png(fig, path)
 
 
 def _plot(result: CalibrationResult, path: Path) -> None:
     d = result.data
+    if isinstance(d, FrequencyResponse):
+        _plot_frf(result, path)
+        return
     c = len(d.channels)
     fig = new_figure((7.0, 2.2 * c + 0.6))
     for j, ch in enumerate(d.channels):

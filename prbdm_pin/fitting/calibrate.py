@@ -1,4 +1,7 @@
-"""``calibrate``: a clamped planar PRBDM's E, rho and modal damping fitted to a free ring-down.
+"""``calibrate``: a clamped planar PRBDM's E, rho and damping fitted to measurements.
+
+The data: a free ring-down, a trajectory driven by measured inputs or an FRF
+(:mod:`.calibration_measured`; the last two's model: :mod:`.calibrate_measured`).
 
 The parameters are scale factors of E (every spring scales with E) and of rho (every link's mass
 and inertia), the ratio ``damping[k]`` of mode k + 1 (the modal damping of
@@ -14,75 +17,31 @@ together), s^2 the residual's mean square over N - p degrees of freedom: the lin
 covariance, which the projected problem gives too. Each channel is weighted by 1 / its data's
 standard deviation, so channels of different units count alike. A Jacobian whose columns (each
 scaled to unit length) have a condition number beyond 1 / sqrt(EPS) is refused, naming the
-parameters of its near-null direction: a free ring-down sees E / rho only.
+parameters of its near-null direction: a free ring-down sees E / rho only, and so does a
+response to a base acceleration (its load scales with rho); a response to a force sees both.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..chain.eigen import generalized_eigh
 from ..errors import BeamInputError, InputTypeError
-from ..options.choices import LINK_FLOOR_FRACTION
 from ..options.validate import check_damping_ratio
-from .calibration_data import RingDown, channel_name, read_ring_down
+from .calibrate_measured import chain_gains, forced_start, measured_problem
+from .calibration_data import RingDown, channel_name
+from .calibration_measured import DrivenTrajectory, FrequencyResponse, read_calibration_data
 from .calibration_problem import DAMPING, OFFSET, RAYLEIGH, Problem, rank_check, start
+from .calibration_result import CalibrationResult, calibration_result
 
 __all__ = ["CalibrationResult", "calibrate", "PARAMETER_NAMES"]
 
 PARAMETER_NAMES = ("E", "rho", "damping[k]", *RAYLEIGH, "offset[CHANNEL]")
 _SCALE_BOUNDS = (1e-3, 1e3)
 _ZETA_MAX = 0.99
-
-
-@dataclass(frozen=True, eq=False)
-class CalibrationResult:
-    """The fitted parameters, their standard errors and the calibrated model.
-
-    Attributes
-    ----------
-    parameters : tuple of str
-        The names fitted, as asked (``E``, ``rho``, ``damping[k]``, ``offset[CHANNEL]``).
-    values, std_errors : ndarray (p,)
-        ``E`` in Pa, ``rho`` in kg/m^3 (the model's times the fitted scale), ``damping[k]``
-        the ratio of mode k + 1 (dimensionless), ``offset[CHANNEL]`` the sensor's constant
-        offset (the channel's unit); one standard error each, same units.
-    E_scale, rho_scale : float
-        The fitted scales (1 for one not fitted).
-    damping_ratio : ndarray (n,)
-        The ratio of each mode in the fit (fitted or the given ``damping_ratio``).
-    omega_rad_s : ndarray (n,)
-        The calibrated undamped frequencies, rad/s.
-    residual_rms : dict of str to float
-        Per channel, the RMS of data less model, in the channel's unit.
-    fitted : ndarray (N, c)
-        The calibrated model's response on the data's times.
-    data : RingDown
-    model : PrbdmModel
-        The calibrated chain: its beam's E and rho scaled, its springs scaled with E.
-    model_damping_ratio : ndarray (n_springs,)
-        The modal ratio of every mode of the calibrated chain: the fitted ones, the given
-        ``damping_ratio`` for the others (with Rayleigh damping, its ratio at each mode).
-    """
-
-    parameters: tuple[str, ...]
-    values: np.ndarray
-    std_errors: np.ndarray
-    E_scale: float
-    rho_scale: float
-    damping_ratio: np.ndarray
-    omega_rad_s: np.ndarray
-    residual_rms: dict
-    fitted: np.ndarray
-    data: RingDown
-    model: object
-    model_damping_ratio: np.ndarray
 
 
 def _parse(parameters) -> tuple[tuple[str, ...], list[int]]:
@@ -113,53 +72,40 @@ def _parse(parameters) -> tuple[tuple[str, ...], list[int]]:
 
 def _chain_modes(model, channels: tuple[str, ...]):
     """Return omega0 (n,) and the modal Cq, Cv (c, n) of the clamped planar chain."""
-    from ..plant.linearize import linearize
-
-    if model.hub is not None or model.bus is not None or model.axes.spatial:
-        raise BeamInputError("model: calibrate takes a clamped planar chain (no hub, bus or "
-                             "spatial axes) for now")
-    if model.beam is None:
-        raise BeamInputError("model: has no beam (a URDF): E and rho are scaled on the beam; "
-                             "give a model JSON or a fit.json")
-    try:
-        lin = linearize(model, inputs=("tip_force_z",), outputs=channels, damping_ratio=0.0)
-    except BeamInputError as exc:  # the channels are linearize's outputs: say it is the data's
-        raise BeamInputError(f"data: the channels ({', '.join(channels)}) are outputs: "
-                             f"{exc}") from None
-    Ca = lin.output_map_acceleration
-    if Ca is not None and np.any(Ca):
-        bad = [c for c, row in zip(channels, Ca, strict=True) if np.any(row)]
-        raise BeamInputError(f"data: channel {bad[0]!r} reads the acceleration; a ring-down "
-                             "channel must be a position or a rate")
-    n = lin.mass_kg_m2.shape[0]
-    w2, phi = generalized_eigh(lin.stiffness_Nm_per_rad, lin.mass_kg_m2, "calibrate")
-    C = np.asarray(lin.C)
-    return np.sqrt(w2), C[:, :n] @ phi, C[:, n:] @ phi
+    w0, cq, cv, _ = chain_gains(model, ("tip_force_z",), channels,
+                                f"data: the channels ({', '.join(channels)}) are outputs")
+    return w0, cq, cv
 
 
-def calibrate(model, data: RingDown | str | os.PathLike,
+def calibrate(model, data: RingDown | DrivenTrajectory | FrequencyResponse | str | os.PathLike,
               parameters: Sequence[str] | str = ("E", "damping[0]", "damping[1]"), *,
-              n_modes: int | None = None, damping_ratio: float = 0.02) -> CalibrationResult:
-    """Fit E, rho and modal damping ratios of ``model`` to a free ring-down.
+              n_modes: int | None = None, damping_ratio: float = 0.02,
+              initial_state: bool | None = None) -> CalibrationResult:
+    """Fit E, rho and the damping of ``model`` to a ring-down, a driven trajectory or an FRF.
 
     Parameters
     ----------
     model : PrbdmModel
         A clamped planar chain with its beam (the E and rho it has are the starting values).
-    data : RingDown or path
-        The measured ring-down (:func:`~prbdm_pin.fitting.calibration_data.read_ring_down`).
+    data : RingDown, DrivenTrajectory, FrequencyResponse or path
+        The measurement (a CSV path: its kind told by its header,
+        :func:`~prbdm_pin.fitting.calibration_measured.read_calibration_data`).
     parameters : sequence of str or str
         Names from ``E``, ``rho``, ``damping[k]`` (the ratio of mode k + 1),
         ``rayleigh_alpha`` (1/s) and ``rayleigh_beta`` (s) of C = alpha M + beta K (mode k's
         ratio alpha / (2 omega_k) + beta omega_k / 2; not with ``damping[k]``),
-        ``offset[CHANNEL]`` (a constant sensor offset of that data channel), or one
-        comma-separated string.
+        ``offset[CHANNEL]`` (a constant sensor offset of that data channel; not for an FRF),
+        or one comma-separated string.
     n_modes : int, optional
-        The lowest modes in the response (default: enough for every ``damping[k]``, two
-        with both Rayleigh coefficients, else 1). The ring-down's amplitude and phase of
-        each is fitted too.
+        The lowest modes whose initial state (amplitude and phase) is fitted: a ring-down's
+        response (default: enough for every ``damping[k]``, two with both Rayleigh
+        coefficients, else 1), a driven trajectory's with ``initial_state`` (same default).
+        An FRF and a trajectory from rest take none: every chain mode is in their response.
     damping_ratio : float
         The ratio of the modes whose damping is not fitted, and the fitted ones' start.
+    initial_state : bool, optional
+        A driven trajectory: fit the initial state of its lowest ``n_modes`` modes (default
+        False: from rest). A ring-down always has it fitted, an FRF never.
 
     Returns
     -------
@@ -171,107 +117,106 @@ def calibrate(model, data: RingDown | str | os.PathLike,
         Naming the argument: unknown parameters, too few samples for the unknowns, a
         constant channel, a parameter the data cannot determine (and which).
     """
-    from ..model.prbdm_model import PrbdmModel, build_model
+    from ..model.prbdm_model import PrbdmModel
 
     if not isinstance(model, PrbdmModel):
         raise InputTypeError(f"model = {model!r:.60}: must be a PrbdmModel")
     names, modes = _parse(parameters)
     if isinstance(data, (str, os.PathLike)):
-        data = read_ring_down(data)
-    if not isinstance(data, RingDown):
-        raise InputTypeError(f"data = {data!r:.60}: must be a RingDown or a CSV path")
+        data = read_calibration_data(data)
+    if not isinstance(data, (RingDown, DrivenTrajectory, FrequencyResponse)):
+        raise InputTypeError(f"data = {data!r:.60}: must be a RingDown, DrivenTrajectory, "
+                             "FrequencyResponse or a CSV path")
+    if initial_state is not None and not isinstance(initial_state, bool):
+        raise InputTypeError(f"initial_state = {initial_state!r:.40}: must be True or False")
+    ring = isinstance(data, RingDown)
+    free = ring or bool(initial_state) and isinstance(data, DrivenTrajectory)
+    if initial_state is not None and free != initial_state:
+        raise BeamInputError(f"initial_state = {initial_state}: "
+                             f"{'a ring-down always has' if ring else 'an FRF has no'} initial "
+                             "state fitted")
     zeta = check_damping_ratio("damping_ratio", damping_ratio)
     need = max(modes, default=-1) + 1
-    if n_modes is None:
-        n_modes = max(need, 2 if set(RAYLEIGH) <= set(names) else 1)
-    if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) \
-            or not max(need, 1) <= n_modes:
-        raise BeamInputError(f"n_modes = {n_modes!r:.40}: must be an integer >= {max(need, 1)}"
-                             " (at least 1; every damping[k] needs mode k + 1)")
-    offsets = []
-    for i, n in enumerate(names):
-        m = OFFSET.match(n)
-        if m is not None:
-            ch = channel_name(m.group(1))
-            if ch not in data.channels:
-                raise BeamInputError(f"parameters[{i}] = {n!r}: no channel {ch!r} in the data "
-                                     f"(its channels: {', '.join(data.channels)})")
-            offsets.append(data.channels.index(ch))
-    omega0, cq, cv = _chain_modes(model, data.channels)
-    if need > omega0.size:
-        raise BeamInputError(f"parameters: damping[{need - 1}] is mode {need}'s; the model has "
-                             f"{omega0.size} modes")
-    if n_modes > omega0.size:
-        raise BeamInputError(f"n_modes = {n_modes}: the model has {omega0.size} modes")
-    N, c = data.y.shape
-    unknowns = len(names) + 2 * n_modes  # the offsets are among the names
-    if N * c <= unknowns:
-        raise BeamInputError(f"data: t_s: {N} samples x {c} channel(s) for {unknowns} unknowns "
-                             f"({len(names)} parameters, {2 * n_modes} of the initial state); "
-                             "need more")
-    sd = data.y.std(axis=0)
+    if not free and n_modes is not None:
+        raise BeamInputError(f"n_modes = {n_modes!r:.40}: the modes whose initial state is "
+                             "fitted; this data has none (an FRF, or a driven trajectory "
+                             "without initial_state)")
+    if free and n_modes is None:
+        n_modes = max(need if ring else 0, 2 if set(RAYLEIGH) <= set(names) else 1)
+    low = max(need, 1) if ring else 1
+    if free and (isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer))
+                 or not low <= n_modes):
+        raise BeamInputError(f"n_modes = {n_modes!r:.40}: must be an integer >= {low}"
+                             + (" (at least 1; every damping[k] needs mode k + 1)" if ring
+                                else ""))
+    n_free = int(n_modes) if free else 0
+    offsets = _offsets(names, data)
+    nonlinear = tuple(n for n in names if OFFSET.match(n) is None)
+    sd = (np.sqrt(np.mean(np.abs(data.H) ** 2, axis=0)) if isinstance(data, FrequencyResponse)
+          else data.y.std(axis=0))
     if np.any(sd == 0.0):
         raise BeamInputError(f"data: {data.channels[int(np.argmin(sd))]}: constant; nothing to "
                              "fit")
-    nonlinear = tuple(n for n in names if OFFSET.match(n) is None)
-    prob = Problem(nonlinear, data.t_s - data.t_s[0], (data.y / sd).ravel(), 1.0 / sd,
-                   omega0[:n_modes], cq[:, :n_modes], cv[:, :n_modes], np.full(n_modes, zeta),
-                   tuple(offsets))
-    p = len(nonlinear)
+    if ring:
+        omega0, cq, cv = _chain_modes(model, data.channels)
+        omega0_all = omega0
+        _check_modes(need, n_free, omega0.size)
+        prob = Problem(nonlinear, data.t_s - data.t_s[0], (data.y / sd).ravel(), 1.0 / sd,
+                       omega0[:n_free], cq[:, :n_free], cv[:, :n_free], np.full(n_free, zeta),
+                       offsets)
+    else:
+        prob = measured_problem(model, data, nonlinear, offsets, zeta, n_free)
+        omega0 = prob.omega0
+        omega0_all = omega0
+        _check_modes(need, n_free, omega0.size)
+    unknowns = len(names) + 2 * n_free  # the offsets are among the names
+    if prob.yw.size <= unknowns:
+        c = len(data.channels)
+        size = (f"f_hz: {data.f_hz.size} frequencies x {c} transfer function(s) x 2 (real, "
+                "imaginary)" if isinstance(data, FrequencyResponse)
+                else f"t_s: {data.y.shape[0]} samples x {c} channel(s)")
+        raise BeamInputError(f"data: {size} for {unknowns} unknowns ({len(names)} parameters, "
+                             f"{2 * n_free} of the initial state); need more")
     # the Jacobian's columns: the nonlinear parameters, the initial state, the offsets
-    labels = [*nonlinear, *([None] * 2 * n_modes),
+    labels = [*nonlinear, *([None] * 2 * n_free),
               *(n for n in names if OFFSET.match(n) is not None)]
-    x0 = start(prob, _initial(nonlinear, zeta, omega0[:n_modes]))
-    if p:
-        B, _, dy = prob.model_jacobian(x0)
+    x0 = _initial(nonlinear, zeta, omega0[:n_free] if ring else omega0[:2])
+    x0 = start(prob, x0) if ring else forced_start(prob, x0)
+    B, coef, dy = prob.model_jacobian(x0)
+    x = x0
+    if nonlinear:
         rank_check(labels, np.hstack([dy, B]))
         lo, hi = _bounds(nonlinear)
         x = least_squares(prob.residual, np.clip(x0, lo, hi), jac=prob.projected_jacobian,
                           bounds=(lo, hi), x_scale="jac", method="trf").x
         B, coef, dy = prob.model_jacobian(x)
-    else:  # offsets alone: a linear problem
-        x = x0
-        B = prob.basis(x)
-        coef, dy = prob.coefficients(B), np.zeros((B.shape[0], 0))
-    J = np.hstack([dy, B])
-    rank_check(labels, J)
-    r = prob.yw - B @ coef
-    s2 = float(r @ r) / (r.size - J.shape[1])
-    cov = s2 * np.linalg.pinv(J.T @ J)
-    sE, sR, z = prob.unpack(x)
-    beam = model.beam
-    base = {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3}
-    # the offsets' coefficients multiply a weighted column: they are in the data's units
-    column = {n: i for i, n in enumerate(labels) if n}
-    est = np.r_[x, coef]
-    values = np.array([base.get(n, 1.0) * est[column[n]] for n in names])
-    std = np.array([base.get(n, 1.0) * np.sqrt(cov[column[n], column[n]]) for n in names])
-    fitted = (B @ coef).reshape(N, c) * sd
-    res = data.y - fitted
-    mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * sE,
-                              rho_kg_m3=beam.material.rho_kg_m3 * sR)
-    new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
-                      np.asarray(model.stiffness_Nm_per_rad) * sE,
-                      min_fraction=LINK_FLOOR_FRACTION)
-    all_z = np.full(omega0.size, zeta)
-    all_z[:n_modes] = z
-    ab = prob.rayleigh(x)
-    if ab is not None:  # every mode of the calibrated chain takes the fitted Rayleigh ratio
-        w_all = omega0 * np.sqrt(sE / sR)
-        all_z = ab[0] / (2.0 * w_all) + ab[1] * w_all / 2.0
-        over = np.flatnonzero(all_z >= 1.0)
-        if over.size:
-            raise BeamInputError(f"parameters: the fitted Rayleigh damping gives mode "
-                                 f"{over[0] + 1} of the chain a ratio {all_z[over[0]]:.3g} >= 1 "
-                                 "(over-damped); fit damping[k] instead")
-    for a in (values, std, z, fitted, all_z):
-        a.setflags(write=False)
-    return CalibrationResult(
-        parameters=names, values=values, std_errors=std, E_scale=float(sE),
-        rho_scale=float(sR), damping_ratio=z, omega_rad_s=omega0[:n_modes] * np.sqrt(sE / sR),
-        residual_rms={ch: float(np.sqrt(np.mean(res[:, j] ** 2)))
-                      for j, ch in enumerate(data.channels)},
-        fitted=fitted, data=data, model=new, model_damping_ratio=all_z)
+    return calibration_result(model, data, names, labels, prob, x, B, coef, dy, zeta,
+                              omega0_all)
+
+
+def _check_modes(need: int, n_free: int, n: int) -> None:
+    if need > n:
+        raise BeamInputError(f"parameters: damping[{need - 1}] is mode {need}'s; the model has "
+                             f"{n} modes")
+    if n_free > n:
+        raise BeamInputError(f"n_modes = {n_free}: the model has {n} modes")
+
+
+def _offsets(names, data) -> tuple[int, ...]:
+    """Return the data channel of each ``offset[CHANNEL]`` in ``names``."""
+    out = []
+    for i, n in enumerate(names):
+        m = OFFSET.match(n)
+        if m is None:
+            continue
+        if isinstance(data, FrequencyResponse):
+            raise BeamInputError(f"parameters[{i}] = {n!r}: an FRF has no sensor offset")
+        ch = channel_name(m.group(1))
+        if ch not in data.channels:
+            raise BeamInputError(f"parameters[{i}] = {n!r}: no channel {ch!r} in the data "
+                                 f"(its channels: {', '.join(data.channels)})")
+        out.append(data.channels.index(ch))
+    return tuple(out)
 
 
 def _initial(names, zeta: float, w: np.ndarray) -> np.ndarray:

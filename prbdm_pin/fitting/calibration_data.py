@@ -15,10 +15,10 @@ import numpy as np
 
 from ..errors import BeamInputError, InputTypeError
 
-__all__ = ["RingDown", "channel_name", "ring_down", "read_ring_down"]
+__all__ = ["RingDown", "channel_name", "ring_down", "read_ring_down", "read_table"]
 
 # the unit suffixes the trajectory CSV writes (longest first: ``_m_s`` before ``_m``)
-_SUFFIXES = ("_rad_s", "_N_m", "_m_s", "_rad", "_m", "_N")
+_SUFFIXES = ("_m_s2", "_rad_s", "_N_m", "_m_s", "_rad", "_m", "_N")
 MIN_SAMPLES = 8  # below this no spectrum, whatever the parameters asked
 
 
@@ -42,7 +42,12 @@ class RingDown:
 
 
 def channel_name(name: str) -> str:
-    """Return ``name`` without the unit suffix the trajectory CSV appends (``tip_z_m``)."""
+    """Return ``name`` without the unit suffix the trajectory CSV appends (``tip_z_m``).
+
+    And without the ``y:`` or ``u:`` prefix it gives outputs and inputs.
+    """
+    if name.startswith(("y:", "u:")):
+        name = name[2:]
     for s in _SUFFIXES:
         if name.endswith(s):
             return name[: -len(s)]
@@ -91,6 +96,39 @@ def ring_down(t_s, y, channels, what: str = "data") -> RingDown:
     return RingDown(t_s=t, y=Y, channels=names)
 
 
+def read_table(path: str | os.PathLike) -> tuple[str, list[str], np.ndarray]:
+    """Return (the message prefix, the header's names, the values (rows, columns)) of a CSV.
+
+    Raises
+    ------
+    BeamInputError
+        Naming the file, the column and the row: unreadable, a row of another length, a
+        field that is not a number.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputTypeError(f"path = {path!r:.60}: must be a path to a CSV file")
+    what = f"data {str(path)!r}"
+    try:
+        with open(path, encoding="utf-8") as fh:
+            head = fh.readline().strip().split(",")
+            rows = [ln.strip().split(",") for ln in fh if ln.strip()]
+    except (OSError, UnicodeDecodeError) as exc:
+        raise BeamInputError(f"{what}: cannot read ({exc.__class__.__name__}: {exc})") from None
+    head = [h.strip() for h in head]
+    vals = np.full((len(rows), len(head)), np.nan)
+    for i, r in enumerate(rows):
+        if len(r) != len(head):
+            raise BeamInputError(f"{what}: row {i}: {len(r)} fields, the header has "
+                                 f"{len(head)}")
+        for j, s in enumerate(r):
+            try:
+                vals[i, j] = float(s)
+            except ValueError:
+                raise BeamInputError(f"{what}: {head[j]}: {s!r:.30} at row {i} is not a "
+                                     "number") from None
+    return what, head, vals
+
+
 def read_ring_down(path: str | os.PathLike) -> RingDown:
     """Read a ring-down CSV (module notes) into a :class:`RingDown`.
 
@@ -103,28 +141,8 @@ def read_ring_down(path: str | os.PathLike) -> RingDown:
     -------
     RingDown
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise InputTypeError(f"path = {path!r:.60}: must be a path to a CSV file")
-    what = f"data {str(path)!r}"
-    try:
-        with open(path, encoding="utf-8") as fh:
-            head = fh.readline().strip().split(",")
-            rows = [ln.strip().split(",") for ln in fh if ln.strip()]
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BeamInputError(f"{what}: cannot read ({exc.__class__.__name__}: {exc})") from None
-    head = [h.strip() for h in head]
+    what, head, vals = read_table(path)
     if not head or head[0] != "t_s" or len(head) < 2:
         raise BeamInputError(f"{what}: header {','.join(head)!r:.80}: must be t_s then one "
                              "column per output (e.g. t_s,tip_z_m)")
-    vals = np.full((len(rows), len(head)), np.nan)
-    for i, r in enumerate(rows):
-        if len(r) != len(head):
-            raise BeamInputError(f"{what}: row {i}: {len(r)} fields, the header has "
-                                 f"{len(head)}")
-        for j, s in enumerate(r):
-            try:
-                vals[i, j] = float(s)
-            except ValueError:
-                raise BeamInputError(f"{what}: {head[j]}: {s!r:.30} at row {i} is not a "
-                                     "number") from None
     return ring_down(vals[:, 0], vals[:, 1:], head[1:], what)

@@ -18,7 +18,8 @@ import numpy as np
 from ..errors import BeamInputError
 from .calibration_basis import ring_basis
 
-__all__ = ["DAMPING", "OFFSET", "RAYLEIGH", "COND_MAX", "Problem", "rank_check", "start"]
+__all__ = ["DAMPING", "OFFSET", "RAYLEIGH", "COND_MAX", "Problem", "parameter_columns",
+           "rank_check", "start"]
 
 # C = alpha M + beta K: mode k gets zeta_k = alpha / (2 omega_k) + beta omega_k / 2
 RAYLEIGH = ("rayleigh_alpha", "rayleigh_beta")
@@ -105,29 +106,39 @@ class Problem:
         c = self.coefficients(B)
         per_w = (dBw * c[:2 * n]).reshape(-1, n, 2).sum(axis=2)  # d y / d omega_k (Nc, n)
         per_z = (dBz * c[:2 * n]).reshape(-1, n, 2).sum(axis=2)  # d y / d zeta_k (Nc, n)
-        ab = self.rayleigh(x)
-        if ab is not None:  # Rayleigh: zeta_k moves with omega_k too
-            per_w = per_w + per_z * (-ab[0] / (2.0 * w**2) + ab[1] / 2.0)
-        cols = []
-        for name in self.names:
-            if name == "E":
-                cols.append(per_w @ (w / (2.0 * sE)))  # omega ~ sqrt(sE / sR)
-            elif name == "rho":
-                cols.append(per_w @ (-w / (2.0 * sR)))
-            elif name == RAYLEIGH[0]:
-                cols.append(per_z @ (1.0 / (2.0 * w)))
-            elif name == RAYLEIGH[1]:
-                cols.append(per_z @ (w / 2.0))
-            else:
-                k = int(DAMPING.match(name).group(1))
-                cols.append(dBz[:, 2 * k:2 * k + 2] @ c[2 * k:2 * k + 2])
-        return B, c, np.column_stack(cols)
+        return B, c, parameter_columns(self.names, x, w, sE, sR, per_w, per_z)
 
     def projected_jacobian(self, x):
         """Return Kaufman's Jacobian of :meth:`residual` (N c, p)."""
         B, _, dy = self.model_jacobian(x)
         Q = np.linalg.qr(B)[0]
         return -(dy - Q @ (Q.T @ dy))
+
+
+def parameter_columns(names, x, w: np.ndarray, sE: float, sR: float, per_w: np.ndarray,
+                      per_z: np.ndarray, per_rho: np.ndarray | None = None) -> np.ndarray:
+    """Return dy/dx (R, p) from the response's derivatives in each mode's omega and zeta.
+
+    ``per_w``, ``per_z`` (R, n): dy/domega_k and dy/dzeta_k; ``per_rho`` (R,): the response's
+    own dependence on s_rho beyond the frequencies (a forced response's gain), if any.
+    """
+    d = dict(zip(names, x, strict=True))
+    if RAYLEIGH[0] in d or RAYLEIGH[1] in d:  # Rayleigh: zeta_k moves with omega_k too
+        a, b = d.get(RAYLEIGH[0], 0.0), d.get(RAYLEIGH[1], 0.0)
+        per_w = per_w + per_z * (-a / (2.0 * w**2) + b / 2.0)
+    cols = []
+    for name in names:
+        if name == "E":
+            cols.append(per_w @ (w / (2.0 * sE)))  # omega ~ sqrt(sE / sR)
+        elif name == "rho":
+            cols.append(per_w @ (-w / (2.0 * sR)) + (0.0 if per_rho is None else per_rho))
+        elif name == RAYLEIGH[0]:
+            cols.append(per_z @ (1.0 / (2.0 * w)))
+        elif name == RAYLEIGH[1]:
+            cols.append(per_z @ (w / 2.0))
+        else:
+            cols.append(per_z[:, int(DAMPING.match(name).group(1))])
+    return np.column_stack(cols)
 
 
 def rank_check(labels, J_full) -> None:
@@ -145,8 +156,9 @@ def rank_check(labels, J_full) -> None:
     if s[-1] <= s[0] / COND_MAX:
         v = Vt[-1]
         which = [lab for lab, vi in zip(labels, v, strict=True) if lab and abs(vi) > 0.1]
-        hint = (" (a free ring-down sees E/rho only: frequencies scale with sqrt(E/rho) and "
-                "the unknown amplitudes take the rest; fit one of them)"
+        hint = (" (a free ring-down, or a response to a base acceleration, sees E/rho only: "
+                "frequencies scale with sqrt(E/rho), and the unknown amplitudes or the load's "
+                "own rho take the rest; fit one of them)"
                 if {"E", "rho"} <= set(which) else "")
         raise BeamInputError(f"parameters: {', '.join(which) or 'the initial state'} not "
                              f"determined by this data (the Jacobian's condition "

@@ -254,6 +254,7 @@ DOORS = {
     "run_batch": ("spec", lambda v: pp.run_batch(v, "never-batch")),
     "calibrate": ("model", lambda v: pp.calibrate(v, RING, "E")),
     "read_ring_down": ("path", lambda v: pp.read_ring_down(v)),
+    "read_calibration_data": ("path", lambda v: pp.read_calibration_data(v)),
     "write_calibration": ("result", lambda v: pp.write_calibration(v, "never-calibration")),
 }
 # a path argument takes a str: the other wrong types are for it

@@ -1,0 +1,128 @@
+"""The result of :func:`~prbdm_pin.fitting.calibrate.calibrate`: values, standard errors, model.
+
+Standard errors are s^2 (J^T J)^-1 of the full problem (the parameters and the linear terms
+together), s^2 the residual's mean square over N - p degrees of freedom: the linearised
+covariance. The calibrated model is the chain with its beam's E and rho scaled and its springs
+scaled with E.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import BeamInputError
+from ..options.choices import LINK_FLOOR_FRACTION
+from .calibration_data import RingDown
+from .calibration_measured import DrivenTrajectory, FrequencyResponse
+from .calibration_problem import rank_check
+
+__all__ = ["CalibrationResult", "calibration_result"]
+
+
+@dataclass(frozen=True, eq=False)
+class CalibrationResult:
+    """The fitted parameters, their standard errors and the calibrated model.
+
+    Attributes
+    ----------
+    parameters : tuple of str
+        The names fitted, as asked (``E``, ``rho``, ``damping[k]``, ``offset[CHANNEL]``).
+    values, std_errors : ndarray (p,)
+        ``E`` in Pa, ``rho`` in kg/m^3 (the model's times the fitted scale), ``damping[k]``
+        the ratio of mode k + 1 (dimensionless), ``offset[CHANNEL]`` the sensor's constant
+        offset (the channel's unit); one standard error each, same units.
+    E_scale, rho_scale : float
+        The fitted scales (1 for one not fitted).
+    damping_ratio : ndarray (n,)
+        The ratio of each mode in the fit (fitted or the given ``damping_ratio``): a
+        ring-down's ``n_modes``, every chain mode for an FRF or a driven trajectory.
+    omega_rad_s : ndarray (n,)
+        The calibrated undamped frequencies of those modes, rad/s.
+    residual_rms : dict of str to float
+        Per channel, the RMS of data less model, in the channel's unit (for an FRF the RMS
+        of the complex difference's magnitude, per ``OUTPUT/INPUT``).
+    fitted : ndarray (N, c)
+        The calibrated model's response on the data's times (complex on an FRF's
+        frequencies).
+    data : RingDown, DrivenTrajectory or FrequencyResponse
+    model : PrbdmModel
+        The calibrated chain: its beam's E and rho scaled, its springs scaled with E.
+    model_damping_ratio : ndarray (n_springs,)
+        The modal ratio of every mode of the calibrated chain: the fitted ones, the given
+        ``damping_ratio`` for the others (with Rayleigh damping, its ratio at each mode).
+    """
+
+    parameters: tuple[str, ...]
+    values: np.ndarray
+    std_errors: np.ndarray
+    E_scale: float
+    rho_scale: float
+    damping_ratio: np.ndarray
+    omega_rad_s: np.ndarray
+    residual_rms: dict
+    fitted: np.ndarray
+    data: RingDown | DrivenTrajectory | FrequencyResponse
+    model: object
+    model_damping_ratio: np.ndarray
+
+
+def calibration_result(model, data, names, labels, prob, x, B, coef, dy, zeta: float,
+                       omega0: np.ndarray) -> CalibrationResult:
+    """Return the result: values, standard errors, the fitted response, the new model.
+
+    ``labels`` names the Jacobian's columns (None for the initial state's); ``x``, ``B``,
+    ``coef`` and ``dy`` the solution, its linear terms, their coefficients and dy/dx;
+    ``omega0`` (n,) every mode of the chain before calibration, rad/s.
+    """
+    from ..model.prbdm_model import build_model
+
+    J = np.hstack([dy, B])
+    rank_check(labels, J)
+    r = prob.residual(x)
+    s2 = float(r @ r) / (r.size - J.shape[1])
+    cov = s2 * np.linalg.pinv(J.T @ J)
+    sE, sR, z = prob.unpack(x)
+    beam = model.beam
+    base = {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3}
+    # the offsets' coefficients multiply a weighted column: they are in the data's units
+    column = {n: i for i, n in enumerate(labels) if n}
+    est = np.r_[x, coef]
+    values = np.array([base.get(n, 1.0) * est[column[n]] for n in names])
+    std = np.array([base.get(n, 1.0) * np.sqrt(cov[column[n], column[n]]) for n in names])
+    c = prob.weights.size
+    model_w = prob.yw - r
+    if isinstance(data, FrequencyResponse):
+        fitted = model_w.reshape(-1, c, 2) / prob.weights[None, :, None]
+        fitted = fitted[..., 0] + 1j * fitted[..., 1]
+        res = np.abs(data.H - fitted)
+    else:
+        fitted = model_w.reshape(-1, c) / prob.weights
+        res = data.y - fitted
+    mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * sE,
+                              rho_kg_m3=beam.material.rho_kg_m3 * sR)
+    new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
+                      np.asarray(model.stiffness_Nm_per_rad) * sE,
+                      min_fraction=LINK_FLOOR_FRACTION)
+    w_all = np.asarray(omega0) * np.sqrt(sE / sR)
+    all_z = np.full(w_all.size, zeta)
+    all_z[:z.size] = z
+    n_fit = z.size
+    ab = prob.rayleigh(x)
+    if ab is not None:  # every mode of the calibrated chain takes the fitted Rayleigh ratio
+        all_z = ab[0] / (2.0 * w_all) + ab[1] * w_all / 2.0
+        over = np.flatnonzero(all_z >= 1.0)
+        if over.size:
+            raise BeamInputError(f"parameters: the fitted Rayleigh damping gives mode "
+                                 f"{over[0] + 1} of the chain a ratio {all_z[over[0]]:.3g} >= 1 "
+                                 "(over-damped); fit damping[k] instead")
+    for a in (values, std, z, fitted, all_z):
+        a.setflags(write=False)
+    return CalibrationResult(
+        parameters=names, values=values, std_errors=std, E_scale=float(sE),
+        rho_scale=float(sR), damping_ratio=z, omega_rad_s=w_all[:n_fit],
+        residual_rms={ch: float(np.sqrt(np.mean(res[:, j] ** 2)))
+                      for j, ch in enumerate(data.channels)},
+        fitted=fitted, data=data, model=new, model_damping_ratio=all_z)
