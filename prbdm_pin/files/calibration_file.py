@@ -24,6 +24,7 @@ from ..fitting.calibrate import CalibrationResult
 from ..fitting.calibration_measured import DrivenTrajectory, FrequencyResponse
 from ..io.atomic import atomic_write_text
 from ..io.output_folder import output_folder
+from ..io.provenance import provenance
 from ..version import __version__
 from ..views.plots import new_figure, save_png
 from .model_json import model_dict
@@ -119,7 +120,10 @@ def write_calibration(result: CalibrationResult, out: str | os.PathLike) -> Path
     record = calibration_record(result)
     model = model_dict(result.model, result.model_damping_ratio, damping_form="modal")
     with output_folder(out, CALIBRATION_FILES) as stage:
-        atomic_write_text(stage / "calibration.json", json.dumps(record, indent=2) + "\n")
-        atomic_write_text(stage / "model.json", json.dumps(model, indent=2) + "\n")
+        # a calibration draws nothing at random: the seed is null
+        atomic_write_text(stage / "calibration.json",
+                          json.dumps({**provenance(), **record}, indent=2) + "\n")
+        atomic_write_text(stage / "model.json", json.dumps({**model, **provenance()}, indent=2)
+                          + "\n")
         _plot(result, stage / "calibration.png")
     return Path(os.path.abspath(out))
