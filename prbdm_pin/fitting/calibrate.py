@@ -116,8 +116,8 @@ def _chain_modes(model, channels: tuple[str, ...]):
     from ..plant.linearize import linearize
 
     if model.hub is not None or model.bus is not None or model.axes.spatial:
-        raise BeamInputError("model: calibrate takes a clamped planar chain (no hub, bus or "
-                             "spatial axes) for now")
+        raise BeamInputError("model: calibrate takes a planar chain, clamped or on a hub (no "
+                             "bus or spatial axes) for now")
     if model.beam is None:
         raise BeamInputError("model: has no beam (a URDF): E and rho are scaled on the beam; "
                              "give a model JSON or a fit.json")
@@ -182,6 +182,7 @@ def calibrate(model, data: RingDown | str | os.PathLike,
         raise InputTypeError(f"data = {data!r:.60}: must be a RingDown or a CSV path")
     zeta = check_damping_ratio("damping_ratio", damping_ratio)
     need = max(modes, default=-1) + 1
+    n_given = n_modes  # a hub counts its flexible modes: calibrate_hub checks its own
     if n_modes is None:
         n_modes = max(need, 2 if set(RAYLEIGH) <= set(names) else 1)
     if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) \
@@ -197,6 +198,10 @@ def calibrate(model, data: RingDown | str | os.PathLike,
                 raise BeamInputError(f"parameters[{i}] = {n!r}: no channel {ch!r} in the data "
                                      f"(its channels: {', '.join(data.channels)})")
             offsets.append(data.channels.index(ch))
+    if model.hub is not None and model.bus is None:  # E and rho apart: calibrate_hub
+        from .calibrate_hub import calibrate_on_hub
+
+        return calibrate_on_hub(model, data, names, modes, n_given, zeta, _initial, _bounds)
     omega0, cq, cv = _chain_modes(model, data.channels)
     if need > omega0.size:
         raise BeamInputError(f"parameters: damping[{need - 1}] is mode {need}'s; the model has "
