@@ -143,7 +143,7 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
     nonlinear = tuple(n for n in names if OFFSET.match(n) is None)
     prob = HubProblem(nonlinear, data.t_s - data.t_s[0], (data.y / sd).ravel(), 1.0 / sd, K,
                       M_beam, M_hub, Cq, Cv, np.full(n_modes, zeta), tuple(offsets))
-    n_rigid = prob._fixed_columns().shape[1] - len(offsets)
+    n_rigid = prob.fixed_columns().shape[1] - len(offsets)
     unknowns = len(names) + 2 * n_modes + n_rigid
     if N * c <= unknowns:
         raise BeamInputError(f"data: t_s: {N} samples x {c} channel(s) for {unknowns} unknowns "

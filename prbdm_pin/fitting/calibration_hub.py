@@ -152,8 +152,8 @@ class HubProblem:
                 z[int(m.group(1))] = v
         return z
 
-    def _fixed_columns(self) -> np.ndarray:
-        """The rigid mode's a and b columns the data can see, then the offsets' (N c, .)."""
+    def fixed_columns(self) -> np.ndarray:
+        """Return the rigid mode's a and b columns the data sees, then the offsets' (N c, .)."""
         N, c = self.t.size, self.weights.size
         qh, vh = self.Cq[:, 0] * self.weights, self.Cv[:, 0] * self.weights
         cols = []
@@ -173,7 +173,7 @@ class HubProblem:
         w, cq, cv = self.modes(*self.scales(x))
         wt = self.weights[:, None]
         Bm = ring_basis(self.t, w, self.ratios(x, w), cq * wt, cv * wt)
-        return np.hstack([Bm.reshape(-1, 2 * w.size), self._fixed_columns()])
+        return np.hstack([Bm.reshape(-1, 2 * w.size), self.fixed_columns()])
 
     def coefficients(self, B):
         """Return the least-squares linear coefficients for basis B."""
@@ -193,7 +193,7 @@ class HubProblem:
         n = w.size
         Bm, dBw, dBz = (a.reshape(-1, 2 * n) for a in
                         ring_basis(self.t, w, z, cq * wt, cv * wt, derivatives=True))
-        B = np.hstack([Bm, self._fixed_columns()])
+        B = np.hstack([Bm, self.fixed_columns()])
         c = self.coefficients(B)
         cm = c[:2 * n]
         per_w = (dBw * cm).reshape(-1, n, 2).sum(axis=2)  # d y / d omega_k (N c, n)
