@@ -2,7 +2,9 @@
 
 ``calibration.json`` holds ``"parameters": {NAME: {"value": ..., "std_error": ...}}`` (``E`` in
 Pa, ``rho`` in kg/m^3, ``damping[k]`` the ratio of mode k + 1), the scales, the calibrated
-frequencies, the residual RMS per channel and the data's size. ``model.json`` is the calibrated
+frequencies, the residual RMS per channel, the data's size and the ``hub`` the model was
+calibrated on (null when clamped; ``{"inertia_kg_m2", "radius_m", "axis"}``, its ratios then
+those of the flexible modes). ``model.json`` is the calibrated
 chain as ``prbdm export --format json`` writes it (a model JSON every loader reads), with the
 per-mode ratios in its ``damping`` record (``form`` ``"modal"``: fitted ratios for the fitted
 modes, the given ratio for the others). ``calibration.png`` draws each channel's data and the
@@ -42,8 +44,15 @@ def calibration_record(result: CalibrationResult) -> dict:
         "omega_rad_s": [float(v) for v in result.omega_rad_s],
         "residual_rms": dict(result.residual_rms),
         "samples": int(result.data.t_s.size),
+        "hub": _hub(result.model),
         "channels": list(result.data.channels),
     }
+
+
+def _hub(model) -> dict | None:
+    hub = getattr(model, "hub", None)
+    return None if hub is None else {"inertia_kg_m2": hub.inertia_kg_m2,
+                                     "radius_m": hub.radius_m, "axis": hub.axis}
 
 
 def _plot(result: CalibrationResult, path: Path) -> None:

@@ -180,9 +180,15 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
     res = data.y - fitted
     mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * sE,
                               rho_kg_m3=beam.material.rho_kg_m3 * sR)
-    new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
-                      np.asarray(model.stiffness_Nm_per_rad) * sE,
-                      min_fraction=LINK_FLOOR_FRACTION, hub=model.hub)
+    try:
+        new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
+                          np.asarray(model.stiffness_Nm_per_rad) * sE,
+                          min_fraction=LINK_FLOOR_FRACTION, hub=model.hub)
+    except BeamInputError as exc:  # a runaway along the weakly determined E-rho direction
+        raise BeamInputError(f"parameters: the fit drove E and rho to {sE:.3g} and {sR:.3g} "
+                             f"times the model's, which no member has ({exc}); this data "
+                             "barely separates them (a hub heavy against the beam's own "
+                             "inertia about its axis): fit one of them") from None
     w_all = dataclasses.replace(prob, zeta0=np.full(n_flex, zeta)).modes(sE, sR)[0]
     z = prob.ratios(x, w_all[:n_modes])
     all_z = np.full(n_flex, zeta)
