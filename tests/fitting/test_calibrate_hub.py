@@ -170,6 +170,17 @@ def test_a_hub_that_does_not_couple_refuses_e_with_rho(narrow, truth):
         calibrate(about_z, ring_down(t, y[:, :1], ["tip_z_m"]), PARAMS)
 
 
+def test_a_hub_far_heavier_than_the_beam_refuses_e_with_rho(narrow):
+    J_heavy = 5e6  # kg m^2: 3.3e6 times the strip's own inertia about the axis
+    M, K, Cq = hub_truth(narrow, S_E, S_RHO, J_heavy, RADIUS)
+    t, y = _ring((M, K, Cq), T=2.0)
+    heavy = _on_hub(finite_segment_chain(narrow, 12), Hub(J_heavy, RADIUS))
+    # the condition the message gives (1.31e8 here) is past 1 / sqrt(EPS) = 6.71e7
+    with pytest.raises(BeamInputError, match=r"E, rho not determined .*condition \S+ > "
+                                             r"6.71e\+07.*J_b = 1.514 kg m\^2.*J_h = 5e\+06"):
+        calibrate(heavy, ring_down(t, y[:, :1], ["tip_z_m"]), PARAMS)
+
+
 def test_damping_beyond_the_flexible_modes_and_a_zero_hub_are_refused(narrow, truth):
     t, y = _ring(truth, T=1.0)
     small = _on_hub(finite_segment_chain(narrow, 3), Hub(J_H, RADIUS))
