@@ -14,7 +14,8 @@ together), s^2 the residual's mean square over N - p degrees of freedom: the lin
 covariance, which the projected problem gives too. Each channel is weighted by 1 / its data's
 standard deviation, so channels of different units count alike. A Jacobian whose columns (each
 scaled to unit length) have a condition number beyond 1 / sqrt(EPS) is refused, naming the
-parameters of its near-null direction: a free ring-down sees E / rho only.
+parameters of its near-null direction: a free ring-down sees E / rho only. On a hub of known
+inertia it sees them apart: a model with a hub goes to :mod:`.calibrate_hub`.
 """
 
 from __future__ import annotations
@@ -145,7 +146,9 @@ def calibrate(model, data: RingDown | str | os.PathLike,
     Parameters
     ----------
     model : PrbdmModel
-        A clamped planar chain with its beam (the E and rho it has are the starting values).
+        A planar chain with its beam (the E and rho it has are the starting values), clamped
+        or on a hub of known inertia (E and rho then fitted apart; ``damping[k]`` and
+        ``n_modes`` count the flexible modes, the hub's rigid rotation undamped).
     data : RingDown or path
         The measured ring-down (:func:`~prbdm_pin.fitting.calibration_data.read_ring_down`).
     parameters : sequence of str or str

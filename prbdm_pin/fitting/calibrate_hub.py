@@ -95,7 +95,7 @@ def _start(prob: HubProblem, x0: np.ndarray, lo, hi) -> np.ndarray:
     return x
 
 
-def _rank_check(labels, J, model, M_beam) -> None:
+def _rank_check(labels, J, model, M_beam, Cq) -> None:
     try:
         rank_check(labels, J)
     except BeamInputError as exc:
@@ -107,6 +107,10 @@ def _rank_check(labels, J, model, M_beam) -> None:
                      f"J_h = {model.hub.inertia_kg_m2:.4g} kg m^2: a hub much heavier than the "
                      "beam holds it as a clamp, and a hub turning about x or z does not couple "
                      "to the bending at all; fit one of them)")
+        if "offset[" in text and np.any(Cq[:, 0]):
+            text += (" (on a hub the rigid rotation's rest angle is a constant in every channel "
+                     "that reads the hub's angle: offsets on all of those cannot be told from "
+                     "it)")
         raise BeamInputError(text) from None
 
 
@@ -155,7 +159,7 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
     x = initial(nonlinear, zeta, w_start)
     if nonlinear:
         B, _, dy = prob.model_jacobian(x)
-        _rank_check(labels, np.hstack([dy, B]), model, M_beam)
+        _rank_check(labels, np.hstack([dy, B]), model, M_beam, Cq)
         lo, hi = bounds(nonlinear)
         x = _start(prob, x, lo, hi)
         x = least_squares(prob.residual, np.clip(x, lo, hi), jac=prob.projected_jacobian,
@@ -165,7 +169,7 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
         B = prob.basis(x)
         coef, dy = prob.coefficients(B), np.zeros((B.shape[0], 0))
     J = np.hstack([dy, B])
-    _rank_check(labels, J, model, M_beam)
+    _rank_check(labels, J, model, M_beam, Cq)
     r = prob.yw - B @ coef
     s2 = float(r @ r) / (r.size - J.shape[1])
     cov = s2 * np.linalg.pinv(J.T @ J)

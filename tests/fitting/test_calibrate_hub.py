@@ -192,3 +192,11 @@ def test_damping_beyond_the_flexible_modes_and_a_zero_hub_are_refused(narrow, tr
     with pytest.raises(BeamInputError, match=r"Hub inertia_kg_m2 = 0.0: must be a finite "
                                              r"number > 0"):
         Hub(0.0, RADIUS)
+
+
+def test_an_offset_on_the_hub_s_angle_channel_is_refused_as_its_rest_angle(chain, truth):
+    t, y = _ring(truth, T=1.0)
+    # the rest angle a reads Cq_h a in tip z: a constant, as the offset is
+    with pytest.raises(BeamInputError, match=r"offset\[tip_z_m\] not determined.*rest angle"):
+        calibrate(chain, ring_down(t, y[:, :1], ["tip_z_m"]), "E,offset[tip_z_m]")
+
