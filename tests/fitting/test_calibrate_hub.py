@@ -200,3 +200,15 @@ def test_an_offset_on_the_hub_s_angle_channel_is_refused_as_its_rest_angle(chain
     with pytest.raises(BeamInputError, match=r"offset\[tip_z_m\] not determined.*rest angle"):
         calibrate(chain, ring_down(t, y[:, :1], ["tip_z_m"]), "E,offset[tip_z_m]")
 
+
+
+def test_rho_alone_is_rho_on_a_hub_not_its_ratio_to_e(chain, narrow):
+    # E as the model's: the grid runs along s_rho alone
+    t, clean = _ring(hub_truth(narrow, 1.0, S_RHO, J_H, RADIUS), T=3.0)
+    y = clean + 0.02 * np.abs(clean).max(axis=0) \
+        * np.random.default_rng(8).standard_normal(clean.shape)
+    r = calibrate(chain, ring_down(t, y, ["tip_z_m", "hub_angle_rad"]), "rho,damping[0]")
+    # one seed, 3 sigma (0.3 %); the chain's model-form error is a fraction of it (above)
+    want = narrow.material.rho_kg_m3 * S_RHO
+    assert abs(r.values[0] - want) <= 3 * r.std_errors[0], (r.values[0], want)
+    assert r.model.beam.material.E_Pa == narrow.material.E_Pa
