@@ -13,6 +13,8 @@ examples:
       --parameters E,damping[0],damping[1] --out runs/cal
   prbdm calibrate model.json --data ringdown.csv \\
       --parameters rho,damping[0],offset[tip_z_m] --modes 2 --out runs/cal
+  prbdm calibrate runs/ref/fit.json --data hub_ringdown.csv --hub 0.5:0.05 \
+      --parameters E,rho,damping[0],damping[1] --out runs/cal_hub
 
   prbdm calibrate model.json --data driven.csv --parameters E,rho,damping[0] --out runs/cal
   prbdm calibrate model.json --data frf.csv --parameters E,rho,damping[0],damping[1] \
@@ -38,6 +40,12 @@ rayleigh_beta (s) of C = alpha M + beta K instead, offset[CHANNEL] (a constant s
 of a data channel, its unit; not for an FRF). A ring-down's frequencies see E/rho only, and
 so does a response to a base acceleration: asking for both is refused, as is any parameter
 the data cannot determine. A response to a force or a moment sees E and rho apart.
+
+On a hub of known inertia (--hub INERTIA:RADIUS [--hub-axis y], or a model JSON that has one)
+the coupled modes depend on the beam's mass against the hub's, so E and rho are fitted apart;
+damping[k] is then the ratio of flexible mode k + 1 (the hub's rigid rotation is undamped, its
+angle a + b t fitted with the initial state). A hub much heavier than the beam's own inertia
+about its axis, or one turning about x or z, holds the beam as a clamp: E with rho is refused.
 
 Writes OUT/calibration.json ("parameters": {NAME: {"value", "std_error"}}, E in Pa, rho in
 kg/m^3; the residual RMS per channel), OUT/model.json (the calibrated model JSON, the fitted
@@ -75,6 +83,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--damping", type=float, default=0.02, metavar="ZETA",
                    help="ratio of the modes not fitted, and the fitted ones' start "
                         "(default 0.02)")
+    p.add_argument("--hub", default=None, metavar="INERTIA:RADIUS",
+                   help="the member on a free hub of known inertia (kg m^2) at radius (m): E "
+                        "and rho apart (default: the model's own hub, if any)")
+    p.add_argument("--hub-axis", default=None, metavar="{x,y,z}",
+                   help="the world axis the --hub turns about (default y, the bending plane)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     add_common(p)
     p.set_defaults(func=run)
@@ -103,15 +116,19 @@ def run(args: argparse.Namespace) -> int:
     from ..fitting.calibration_measured import read_calibration_data
     from ..io.paths import writable_dir
     from .checks import in_range
+    from .plant_options import hub_option, with_hub
 
     in_range("--damping", args.damping, 0.0, 1.0, hi_open=True,
              why="the ratio of the modes not fitted")
     if args.modes is not None:
         in_range("--modes", args.modes, 1, None, integer=True, why="modes in the response")
+    hub = hub_option(args.hub, args.hub_axis)
     out = writable_dir(args.out, "--out")
     data = read_calibration_data(args.data)
     _check_kind(args, data)
     model = load_model(args.model, args.beam).model
+    if hub is not None:
+        model = with_hub(model, hub)
     result = calibrate(model, data, args.parameters, n_modes=args.modes,
                        damping_ratio=args.damping,
                        initial_state=True if args.initial_state else None)

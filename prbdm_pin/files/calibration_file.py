@@ -3,7 +3,9 @@
 ``calibration.json`` holds ``"parameters": {NAME: {"value": ..., "std_error": ...}}`` (``E`` in
 Pa, ``rho`` in kg/m^3, ``damping[k]`` the ratio of mode k + 1), the scales, the calibrated
 frequencies, the residual RMS per channel, the data's kind (``"data"``: ``"ring-down"``,
-``"driven"`` or ``"frf"``), its size and its channels (and inputs). ``model.json`` is the calibrated
+``"driven"`` or ``"frf"``), its size and its channels (and inputs), and the ``hub`` the model was
+calibrated on (null when clamped; ``{"inertia_kg_m2", "radius_m", "axis"}``, its ratios then
+those of the flexible modes). ``model.json`` is the calibrated
 chain as ``prbdm export --format json`` writes it (a model JSON every loader reads), with the
 per-mode ratios in its ``damping`` record (``form`` ``"modal"``: fitted ratios for the fitted
 modes, the given ratio for the others). ``calibration.png`` draws each channel's data and the
@@ -50,9 +52,16 @@ def calibration_record(result: CalibrationResult) -> dict:
         "data": _kind(result.data),
         "samples": int(result.data.y.shape[0] if hasattr(result.data, "y")
                        else result.data.f_hz.size),
+        "hub": _hub(result.model),
         "channels": list(result.data.channels),
         **({"inputs": list(result.data.inputs)} if hasattr(result.data, "inputs") else {}),
     }
+
+
+def _hub(model) -> dict | None:
+    hub = getattr(model, "hub", None)
+    return None if hub is None else {"inertia_kg_m2": hub.inertia_kg_m2,
+                                     "radius_m": hub.radius_m, "axis": hub.axis}
 
 
 def _kind(data) -> str:

@@ -18,7 +18,8 @@ covariance, which the projected problem gives too. Each channel is weighted by 1
 standard deviation, so channels of different units count alike. A Jacobian whose columns (each
 scaled to unit length) have a condition number beyond 1 / sqrt(EPS) is refused, naming the
 parameters of its near-null direction: a free ring-down sees E / rho only, and so does a
-response to a base acceleration (its load scales with rho); a response to a force sees both.
+response to a base acceleration (its load scales with rho); a response to a force sees both,
+and so does a ring-down on a hub of known inertia (:mod:`.calibrate_hub`).
 """
 
 from __future__ import annotations
@@ -86,7 +87,9 @@ def calibrate(model, data: RingDown | DrivenTrajectory | FrequencyResponse | str
     Parameters
     ----------
     model : PrbdmModel
-        A clamped planar chain with its beam (the E and rho it has are the starting values).
+        A planar chain with its beam (the E and rho it has are the starting values), clamped
+        or on a hub of known inertia (a ring-down then fits E and rho apart; ``damping[k]`` and
+        ``n_modes`` count the flexible modes, the hub's rigid rotation undamped).
     data : RingDown, DrivenTrajectory, FrequencyResponse or path
         The measurement (a CSV path: its kind told by its header,
         :func:`~prbdm_pin.fitting.calibration_measured.read_calibration_data`).
@@ -137,6 +140,16 @@ def calibrate(model, data: RingDown | DrivenTrajectory | FrequencyResponse | str
                              "state fitted")
     zeta = check_damping_ratio("damping_ratio", damping_ratio)
     need = max(modes, default=-1) + 1
+    n_given = n_modes  # a hub counts its flexible modes: calibrate_hub checks its own
+    if model.hub is not None and model.bus is None:  # E and rho apart: calibrate_hub
+        if not ring:
+            raise BeamInputError("data: a model on a hub is calibrated from a free ring-down "
+                                 "(its FRF and driven runs are not built yet); give a "
+                                 "ring-down, or the clamped model")
+        from .calibrate_hub import calibrate_on_hub
+
+        _offsets(names, data)  # the offsets name channels of the data
+        return calibrate_on_hub(model, data, names, modes, n_given, zeta, _initial, _bounds)
     if not free and n_modes is not None:
         raise BeamInputError(f"n_modes = {n_modes!r:.40}: the modes whose initial state is "
                              "fitted; this data has none (an FRF, or a driven trajectory "
