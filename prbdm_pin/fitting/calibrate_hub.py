@@ -20,7 +20,6 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..errors import BeamInputError
-from ..options.choices import LINK_FLOOR_FRACTION
 from .calibration_hub import HubProblem, hub_matrices
 from .calibration_problem import OFFSET, RAYLEIGH, rank_check
 
@@ -121,8 +120,7 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
     (``initial`` and ``bounds`` its start and bounds of the nonlinear parameters); returns
     its :class:`~prbdm_pin.fitting.calibration_result.CalibrationResult`, the model on its hub.
     """
-    from ..model.prbdm_model import build_model
-    from .calibration_result import CalibrationResult
+    from .calibration_result import estimates, frozen_result, over_damped, scaled_model
 
     need = max(modes, default=-1) + 1
     n_flex = model.n_springs
@@ -171,23 +169,11 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
     J = np.hstack([dy, B])
     _rank_check(labels, J, model, M_beam, Cq)
     r = prob.yw - B @ coef
-    s2 = float(r @ r) / (r.size - J.shape[1])
-    cov = s2 * np.linalg.pinv(J.T @ J)
+    values, std = estimates(model, names, labels, J, r, np.r_[x, coef])
     sE, sR = prob.scales(x)
-    beam = model.beam
-    base = {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3}
-    column = {n: i for i, n in enumerate(labels) if n}
-    est = np.r_[x, coef]
-    values = np.array([base.get(n, 1.0) * est[column[n]] for n in names])
-    std = np.array([base.get(n, 1.0) * np.sqrt(cov[column[n], column[n]]) for n in names])
     fitted = (B @ coef).reshape(N, c) * sd
-    res = data.y - fitted
-    mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * sE,
-                              rho_kg_m3=beam.material.rho_kg_m3 * sR)
     try:
-        new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
-                          np.asarray(model.stiffness_Nm_per_rad) * sE,
-                          min_fraction=LINK_FLOOR_FRACTION, hub=model.hub)
+        new = scaled_model(model, sE, sR)
     except BeamInputError as exc:  # a runaway along the weakly determined E-rho direction
         raise BeamInputError(f"parameters: the fit drove E and rho to {sE:.3g} and {sR:.3g} "
                              f"times the model's, which no member has ({exc}); this data "
@@ -199,19 +185,9 @@ def calibrate_on_hub(model, data, names, modes, n_modes, zeta: float, initial, b
     all_z[:n_modes] = z
     if set(RAYLEIGH) & set(names):  # every flexible mode takes the fitted Rayleigh ratio
         all_z = prob.ratios(x, w_all)
-        over = np.flatnonzero(all_z >= 1.0)
-        if over.size:
-            raise BeamInputError(f"parameters: the fitted Rayleigh damping gives flexible mode "
-                                 f"{over[0] + 1} a ratio {all_z[over[0]]:.3g} >= 1 "
-                                 "(over-damped); fit damping[k] instead")
-    for a in (values, std, z, fitted, all_z):
-        a.setflags(write=False)
-    return CalibrationResult(
-        parameters=tuple(names), values=values, std_errors=std, E_scale=sE, rho_scale=sR,
-        damping_ratio=z, omega_rad_s=w_all[:n_modes],
-        residual_rms={ch: float(np.sqrt(np.mean(res[:, j] ** 2)))
-                      for j, ch in enumerate(data.channels)},
-        fitted=fitted, data=data, model=new, model_damping_ratio=all_z)
+        over_damped(all_z, "flexible mode")
+    return frozen_result(names, values, std, sE, sR, z, w_all[:n_modes], data.y - fitted,
+                         fitted, data, new, all_z)
 
 
 def _channel(name: str) -> str:

@@ -19,7 +19,8 @@ from .calibration_data import RingDown
 from .calibration_measured import DrivenTrajectory, FrequencyResponse
 from .calibration_problem import rank_check
 
-__all__ = ["CalibrationResult", "calibration_result"]
+__all__ = ["CalibrationResult", "calibration_result", "estimates", "scaled_model",
+           "frozen_result"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,6 +70,61 @@ class CalibrationResult:
     model_damping_ratio: np.ndarray
 
 
+def estimates(model, names, labels, J: np.ndarray, r: np.ndarray, est: np.ndarray):
+    """Return the values and standard errors of ``names`` (SI units, see CalibrationResult).
+
+    ``J`` (N, q) the Jacobian of the full problem (nonlinear parameters, then linear terms),
+    its columns named by ``labels`` (None for an unnamed linear term); ``r`` the residual at the
+    solution; ``est`` (q,) the estimates of those columns (E and rho as scales).
+    """
+    s2 = float(r @ r) / (r.size - J.shape[1])
+    cov = s2 * np.linalg.pinv(J.T @ J)
+    beam = model.beam
+    base = {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3}
+    # the offsets' coefficients multiply a weighted column: they are in the data's units
+    column = {n: i for i, n in enumerate(labels) if n}
+    values = np.array([base.get(n, 1.0) * est[column[n]] for n in names])
+    std = np.array([base.get(n, 1.0) * np.sqrt(cov[column[n], column[n]]) for n in names])
+    return values, std
+
+
+def scaled_model(model, s_E: float, s_rho: float):
+    """Return ``model`` with its beam's E and rho scaled and its springs scaled with E.
+
+    A model on a hub keeps its hub (unscaled: its inertia is known).
+    """
+    from ..model.prbdm_model import build_model
+
+    beam = model.beam
+    mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * s_E,
+                              rho_kg_m3=beam.material.rho_kg_m3 * s_rho)
+    return build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
+                       np.asarray(model.stiffness_Nm_per_rad) * s_E,
+                       min_fraction=LINK_FLOOR_FRACTION, hub=model.hub)
+
+
+def over_damped(all_z: np.ndarray, what: str = "mode") -> None:
+    """Refuse a Rayleigh fit that leaves a mode over-damped."""
+    over = np.flatnonzero(all_z >= 1.0)
+    if over.size:
+        raise BeamInputError(f"parameters: the fitted Rayleigh damping gives {what} "
+                             f"{over[0] + 1} a ratio {all_z[over[0]]:.3g} >= 1 "
+                             "(over-damped); fit damping[k] instead")
+
+
+def frozen_result(names, values, std, s_E, s_rho, z, w, res, fitted, data, model, all_z
+                  ) -> CalibrationResult:
+    """Return the CalibrationResult, its arrays read-only (``res``: data less model, (N, c))."""
+    for a in (values, std, z, fitted, all_z):
+        a.setflags(write=False)
+    return CalibrationResult(
+        parameters=tuple(names), values=values, std_errors=std, E_scale=float(s_E),
+        rho_scale=float(s_rho), damping_ratio=z, omega_rad_s=w,
+        residual_rms={ch: float(np.sqrt(np.mean(res[:, j] ** 2)))
+                      for j, ch in enumerate(data.channels)},
+        fitted=fitted, data=data, model=model, model_damping_ratio=all_z)
+
+
 def calibration_result(model, data, names, labels, prob, x, B, coef, dy, zeta: float,
                        omega0: np.ndarray) -> CalibrationResult:
     """Return the result: values, standard errors, the fitted response, the new model.
@@ -77,21 +133,11 @@ def calibration_result(model, data, names, labels, prob, x, B, coef, dy, zeta: f
     ``coef`` and ``dy`` the solution, its linear terms, their coefficients and dy/dx;
     ``omega0`` (n,) every mode of the chain before calibration, rad/s.
     """
-    from ..model.prbdm_model import build_model
-
     J = np.hstack([dy, B])
     rank_check(labels, J)
     r = prob.residual(x)
-    s2 = float(r @ r) / (r.size - J.shape[1])
-    cov = s2 * np.linalg.pinv(J.T @ J)
+    values, std = estimates(model, names, labels, J, r, np.r_[x, coef])
     sE, sR, z = prob.unpack(x)
-    beam = model.beam
-    base = {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3}
-    # the offsets' coefficients multiply a weighted column: they are in the data's units
-    column = {n: i for i, n in enumerate(labels) if n}
-    est = np.r_[x, coef]
-    values = np.array([base.get(n, 1.0) * est[column[n]] for n in names])
-    std = np.array([base.get(n, 1.0) * np.sqrt(cov[column[n], column[n]]) for n in names])
     c = prob.weights.size
     model_w = prob.yw - r
     if isinstance(data, FrequencyResponse):
@@ -101,28 +147,13 @@ def calibration_result(model, data, names, labels, prob, x, B, coef, dy, zeta: f
     else:
         fitted = model_w.reshape(-1, c) / prob.weights
         res = data.y - fitted
-    mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * sE,
-                              rho_kg_m3=beam.material.rho_kg_m3 * sR)
-    new = build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
-                      np.asarray(model.stiffness_Nm_per_rad) * sE,
-                      min_fraction=LINK_FLOOR_FRACTION)
+    new = scaled_model(model, sE, sR)
     w_all = np.asarray(omega0) * np.sqrt(sE / sR)
     all_z = np.full(w_all.size, zeta)
     all_z[:z.size] = z
-    n_fit = z.size
     ab = prob.rayleigh(x)
     if ab is not None:  # every mode of the calibrated chain takes the fitted Rayleigh ratio
         all_z = ab[0] / (2.0 * w_all) + ab[1] * w_all / 2.0
-        over = np.flatnonzero(all_z >= 1.0)
-        if over.size:
-            raise BeamInputError(f"parameters: the fitted Rayleigh damping gives mode "
-                                 f"{over[0] + 1} of the chain a ratio {all_z[over[0]]:.3g} >= 1 "
-                                 "(over-damped); fit damping[k] instead")
-    for a in (values, std, z, fitted, all_z):
-        a.setflags(write=False)
-    return CalibrationResult(
-        parameters=names, values=values, std_errors=std, E_scale=float(sE),
-        rho_scale=float(sR), damping_ratio=z, omega_rad_s=w_all[:n_fit],
-        residual_rms={ch: float(np.sqrt(np.mean(res[:, j] ** 2)))
-                      for j, ch in enumerate(data.channels)},
-        fitted=fitted, data=data, model=new, model_damping_ratio=all_z)
+        over_damped(all_z, "mode")
+    return frozen_result(names, values, std, sE, sR, z, w_all[:z.size], res, fitted, data, new,
+                         all_z)
