@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import BeamInputError
 from ..io.atomic import atomic_path
 from ..options.choices import MIN_FRACTION
 
@@ -51,25 +52,48 @@ def new_figure(figsize_in: tuple[float, float], dpi: float = DPI):
     return fig
 
 
-def save_png(fig, path: str | os.PathLike, bbox_inches: str | None = None) -> Path:
-    """Write ``fig`` as a PNG (``DPI``) to ``path`` atomically; the figure stays open.
+# the formats a figure is written in, by the path's suffix
+FIGURE_FORMATS = ("png", "pdf", "svg")
 
-    ``bbox_inches="tight"`` trims the margins; the default keeps the figure's own size.
+
+def figure_format(path: str | os.PathLike) -> str:
+    """Return the format of a figure file by its suffix: ``png``, ``pdf`` or ``svg``.
+
+    Raises
+    ------
+    BeamInputError
+        Another suffix (naming the path and the formats).
+    """
+    fmt = Path(path).suffix.lower().lstrip(".")
+    if fmt not in FIGURE_FORMATS:
+        raise BeamInputError(f"path = {str(path)!r}: a figure is written as "
+                             f"{', '.join('.' + f for f in FIGURE_FORMATS)} (by the suffix)")
+    return fmt
+
+
+def save_png(fig, path: str | os.PathLike, bbox_inches: str | None = None) -> Path:
+    """Write ``fig`` (``DPI``) to ``path`` atomically; the figure stays open.
+
+    PNG, PDF or SVG by the suffix (:func:`figure_format`). ``bbox_inches="tight"`` trims the
+    margins; the default keeps the figure's own size.
     """
     p = Path(path)
+    fmt = figure_format(p)
     with atomic_path(p) as tmp:
-        fig.savefig(tmp, format="png", dpi=DPI, bbox_inches=bbox_inches)
+        fig.savefig(tmp, format=fmt, dpi=DPI, bbox_inches=bbox_inches)
     return p
 
 
 def save_figure(fig, path: str | os.PathLike) -> Path:
-    """Write ``fig`` as a PNG (``DPI``) cropped to its artists to ``path`` atomically.
+    """Write ``fig`` (``DPI``) cropped to its artists to ``path`` atomically.
 
-    The crop is that of ``bbox_inches="tight"``; a pyplot figure is closed.
+    PNG, PDF or SVG by the suffix (:func:`figure_format`). The crop is that of
+    ``bbox_inches="tight"``; a pyplot figure is closed.
     """
     import matplotlib
 
     p = Path(path)
+    fmt = figure_format(p)
     try:
         # "tight" lays the figure out in a dry-run draw before the real one; the tight box
         # measured with the canvas's renderer, without that draw, is the same box
@@ -77,7 +101,7 @@ def save_figure(fig, path: str | os.PathLike) -> Path:
         bbox = fig.get_tightbbox(fig.canvas.get_renderer())
         bbox = bbox.padded(matplotlib.rcParams["savefig.pad_inches"])
         with atomic_path(p) as tmp:
-            fig.savefig(tmp, format="png", dpi=DPI, bbox_inches=bbox)
+            fig.savefig(tmp, format=fmt, dpi=DPI, bbox_inches=bbox)
     finally:
         plt = sys.modules.get("matplotlib.pyplot")
         if plt is not None:
