@@ -137,9 +137,8 @@ def plot_mode_shapes(model, n_modes: int | None = None, truth: TruthShapes | Non
     """
     from .plots import new_figure, save_figure
 
-    n_all = int(model.modes()[0].size) - int(getattr(model, "hub", None) is not None)
     if n_modes is None:
-        n_modes = min(n_all, 6)
+        n_modes = min(chain_modes(model).omega_rad_s.size, 6)
     modes = chain_modes(model, n_modes)
     if axes is None:
         ncol = min(n_modes, 3)

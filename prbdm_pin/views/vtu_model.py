@@ -4,7 +4,7 @@ The chain is its points (root, nodes, tip) at the straight pose joined by one li
 link. A modes file holds per mode the point fields ``displacement_mode_<k>`` (the full
 displacement vector, m per unit modal coordinate of the mass-normalised mode: ParaView's "Warp
 By Vector" draws it) and ``twist_mode_<k>`` (rotation about x of the link starting at the
-point, rad), and as field data the frequencies (rad/s). A trajectory is one VTU per frame, each
+point, rad). A trajectory is one VTU per frame, each
 with the point field ``displacement`` (m, from the straight pose) and ``twist`` (rad), and a
 ParaView collection (``.pvd``) naming each file with its time (s).
 """
@@ -25,13 +25,13 @@ from .chain_geometry import chain_frames, chain_modes, chain_points
 __all__ = ["write_model_modes_vtu", "write_trajectory_vtu"]
 
 
-def _mesh(points: np.ndarray, point_data: dict, field_data: dict | None = None):
+def _mesh(points: np.ndarray, point_data: dict):
     import meshio
 
     n = points.shape[0]
     lines = np.column_stack([np.arange(n - 1), np.arange(1, n)])
     return meshio.Mesh(np.asarray(points, dtype=float), [("line", lines)],
-                       point_data=point_data, field_data=field_data or {})
+                       point_data=point_data)
 
 
 def _write(mesh, path: Path) -> Path:
@@ -64,8 +64,7 @@ def write_model_modes_vtu(model, path: str | os.PathLike, n_modes: int | None = 
     for k in range(m.omega_rad_s.size):
         data[f"displacement_mode_{k + 1}"] = m.displacement_m[k]
         data[f"twist_mode_{k + 1}"] = m.twist_rad[k]
-    field = {"omega_rad_s": np.asarray(m.omega_rad_s, dtype=float)}
-    return _write(_mesh(m.points_m, data, field), Path(path))
+    return _write(_mesh(m.points_m, data), Path(path))
 
 
 def _vtu_path(path) -> None:
