@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..io.atomic import atomic_path
-from .chain_geometry import chain_points
+from .chain_geometry import chain_points, check_model
 
 __all__ = ["ANIMATION_FORMATS", "animation_format", "animate_response", "frame_samples"]
 
@@ -90,6 +90,7 @@ def animate_response(model, trajectory, path: str | os.PathLike, *, frames: int 
 
     from .plots import new_figure
 
+    check_model(model)
     fmt = animation_format(path)
     if not (isinstance(fps, (int, float)) and np.isfinite(fps) and 0.0 < fps <= 100.0):
         raise BeamInputError(f"fps = {fps!r}: must be a number in (0, 100] (frames per second)")

@@ -17,7 +17,7 @@ import pinocchio as pin
 from ..errors import BeamInputError
 from ..options.validate import check_type
 
-__all__ = ["ChainModes", "chain_frames", "chain_points", "chain_modes", "mode_kinds"]
+__all__ = ["ChainModes", "check_model", "chain_frames", "chain_points", "chain_modes", "mode_kinds"]
 
 AXIS_KINDS = {"y": "bending", "z": "in-plane", "x": "torsion"}
 
@@ -55,6 +55,13 @@ class ChainModes:
         return self.points_m[:, 0]
 
 
+def check_model(model) -> None:
+    """Refuse anything but a PrbdmModel (InputTypeError naming ``model``)."""
+    from ..model.prbdm_model import PrbdmModel
+
+    check_type("model", model, PrbdmModel, "a prbdm_pin.PrbdmModel")
+
+
 def chain_frames(model) -> list[int]:
     """Return the frame ids of the root, each node and the tip of ``model`` (n + 2 of them).
 
@@ -63,9 +70,7 @@ def chain_frames(model) -> list[int]:
     BeamInputError
         A model on a free bus (its member is ``model.member``).
     """
-    from ..model.prbdm_model import PrbdmModel
-
-    check_type("model", model, PrbdmModel, "a prbdm_pin.PrbdmModel")
+    check_model(model)
     if model.bus is not None:
         raise BeamInputError("model: on a free bus; pass model.member (the clamped member)")
     pm = model.pin_model

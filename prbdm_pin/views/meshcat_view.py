@@ -11,7 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import BeamInputError
-from .chain_geometry import chain_frames
+from .chain_geometry import chain_frames, check_model
 
 __all__ = ["check_meshcat", "link_boxes", "open_meshcat"]
 
@@ -47,10 +47,11 @@ def open_meshcat(model, trajectory=None, *, open_browser: bool = True):
 
     Returns the ``pinocchio.visualize.MeshcatVisualizer`` (its ``viewer.url()`` is the page).
     """
+    check_model(model)
+    check_meshcat()
     import coal
     from pinocchio.visualize import MeshcatVisualizer
 
-    check_meshcat()
     pm = model.pin_model
     geom = pin.GeometryModel()
     for i, (f, centre, size) in enumerate(link_boxes(model)):

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..options.validate import real_vector
-from .chain_geometry import ChainModes, chain_modes
+from .chain_geometry import ChainModes, chain_modes, check_model
 
 __all__ = ["TruthShapes", "plot_mode_shapes", "mode_curve"]
 
@@ -135,8 +135,11 @@ def plot_mode_shapes(model, n_modes: int | None = None, truth: TruthShapes | Non
     matplotlib.figure.Figure
         The figure (of ``axes`` when given).
     """
-    from .plots import new_figure, save_figure
+    from .plots import figure_format, new_figure, save_figure
 
+    check_model(model)
+    if path is not None:
+        figure_format(path)  # a bad suffix refused before drawing
     if n_modes is None:
         n_modes = min(chain_modes(model).omega_rad_s.size, 6)
     modes = chain_modes(model, n_modes)

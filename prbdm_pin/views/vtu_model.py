@@ -20,7 +20,7 @@ import pinocchio as pin
 from ..chain.points import twist_angle
 from ..errors import BeamInputError
 from ..io.atomic import atomic_path, atomic_write_text
-from .chain_geometry import chain_frames, chain_modes, chain_points
+from .chain_geometry import chain_frames, chain_modes, chain_points, check_model
 
 __all__ = ["write_model_modes_vtu", "write_trajectory_vtu"]
 
@@ -58,6 +58,7 @@ def write_model_modes_vtu(model, path: str | os.PathLike, n_modes: int | None = 
     -------
     Path
     """
+    check_model(model)
     _vtu_path(path)
     m = chain_modes(model, n_modes)
     data = {}
@@ -103,6 +104,7 @@ def write_trajectory_vtu(model, trajectory, folder: str | os.PathLike, *, frames
     """
     from .animate import frame_samples
 
+    check_model(model)
     idx = frame_samples(int(trajectory.t_s.size), frames)
     d = model.new_data()
     rest = chain_points(model, None, d)
