@@ -121,3 +121,32 @@ def test_meshcat_absent_is_refused_before_anything_is_written(urdf, tmp_path, ca
     out = tmp_path / "view"
     _refused(["view", str(path), "--meshcat", "--no-truth", "--force", "0,0,-1", "--out",
               str(out)], "meshcat is not installed", capsys, out)
+
+
+def test_a_fit_is_drawn_beside_its_truth_from_the_cache(strip_fit, tmp_path, capsys):
+    from prbdm_pin.commands.view_truth import view_truth
+    from prbdm_pin.files.model_source import load_model
+
+    root = strip_fit(2)
+    fit = root / "fit" / "fit.json"
+    out = tmp_path / "view"
+    rc = main(["view", str(fit), "--cache-dir", str(root / "cache"), "--response", "none",
+               "--out", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "truth: beam" in err
+    assert sorted(p.name for p in out.iterdir()) == ["model_modes.vtu", "modes.png",
+                                                     "truth_modes.vtu"]
+    # the pairs: the fit's records; the shapes: the truth's centreline (a 1D beam has no width)
+    source = load_model(fit)
+    seen = view_truth(source, 2, str(root / "cache"), True, True)
+    records = {r["omega_model_rad_s"]: r["omega_truth_rad_s"] for r in source.fit.modes}
+    omega = source.model.natural_frequencies()
+    np.testing.assert_array_equal(seen.shapes.omega_rad_s,
+                                  [records[min(records, key=lambda m: abs(m - w))]
+                                   for w in omega[:2]])
+    modal = seen.truth.modal
+    for k, w in enumerate(seen.shapes.omega_rad_s):
+        i = int(np.flatnonzero(modal.omega_rad_s == w)[0])  # the same cached numbers
+        np.testing.assert_array_equal(seen.shapes.deflection[k], modal.centerline_uz[i])
+    assert seen.shapes.twist is None
