@@ -111,3 +111,24 @@ def test_the_bode_figure_draws_into_given_axes(model):
     axes = fig.subplots(2, 1)
     assert plot_bode(lin, axes=axes) is fig
     assert axes[0].get_ylabel() == "|H| (m/N)"
+
+
+def test_the_response_draws_into_given_axes_with_a_labelled_line_per_joint(model, tmp_path):
+    from prbdm_pin.simulation.trajectory import Trajectory
+    from prbdm_pin.views.plots import plot_response
+
+    t = np.linspace(0.0, 0.1, 20)
+    q = np.outer(np.sin(40 * t), [0.01, 0.02])
+    tip = np.array([model.tip_position(row) for row in q])
+    tr = Trajectory(t, q, np.zeros_like(q), tip, 20, "by hand", 0.0)
+    fig = new_figure((6, 5))
+    axes = fig.subplots(2, 1)
+    assert plot_response(model, tr, [0, 0, -1], 0.02, tmp_path / "r.svg", axes=axes) is fig
+    for ax in axes:
+        assert ax.get_legend() is not None and "(" in ax.get_ylabel()
+    assert [line.get_label() for line in axes[1].lines] == ["joint 1", "joint 2"]
+    assert axes[1].get_xlabel() == "t (s)"
+    # the tip's z line: its drawn data are the tip z from the straight pose in mm
+    z = axes[0].lines[0].get_ydata()
+    np.testing.assert_array_equal(z, (tip[:, 2] - model.tip_position()[2]) * 1e3)
+    assert (tmp_path / "r.svg").read_bytes().startswith(b"<?xml")
