@@ -51,10 +51,11 @@ def run(out: Path) -> None:
         for name in ("modes.png", "response.gif"):
             shutil.copyfile(work / "view" / name, out / name)
         d = json.loads((work / "fit" / "fit.json").read_text())
-    rows = ["| mode | kind | model (rad/s) | truth (rad/s) | error (%) |", "|---|---|---|---|---|"]
-    for k, r in enumerate(d["modes"]):
-        if r["omega_model_rad_s"] is None:
-            continue
+    rows = ["| model mode | kind | model (rad/s) | truth (rad/s) | error (%) |",
+            "|---|---|---|---|---|"]
+    matched = sorted((r for r in d["modes"] if r["omega_model_rad_s"] is not None),
+                     key=lambda r: r["omega_model_rad_s"])
+    for k, r in enumerate(matched):
         rows.append(f"| {k + 1} | {r['kind']} | {r['omega_model_rad_s']:.6g} | "
                     f"{r['omega_truth_rad_s']:.6g} | {r['error_pct']:+.3g} |")
     text = ("<!-- written by scripts/view_figures.py: do not edit -->\n\n"

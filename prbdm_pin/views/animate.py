@@ -107,7 +107,9 @@ def animate_response(model, trajectory, path: str | os.PathLike, *, frames: int 
     side.plot(rest[:, 0], rest[:, 2], ":", color="0.6", label="straight pose")
     (line,) = side.plot([], [], "o-", color="C0", label="chain")
     side.set_xlim(rest[:, 0].min() - pad, pts[..., 0].max() + pad)
-    side.set_ylim(lo - pad, hi + pad)
+    # the motion's own range: small deflections fill the view (the axes give the scale)
+    pad_z = 0.15 * (hi - lo) if hi > lo else 0.01 * span
+    side.set_ylim(lo - pad_z, hi + pad_z)
     side.set_xlabel("x (m)")
     side.set_ylabel("z (m)")
     side.legend(fontsize=7, loc="lower left")

@@ -113,8 +113,9 @@ def mode_kinds(model, phi: np.ndarray) -> tuple[str, ...]:
 def chain_modes(model, n_modes: int | None = None) -> ChainModes:
     """Return the first ``n_modes`` flexible modes of ``model`` at its points.
 
-    Each mode's sign is chosen so that its largest point displacement (or, for a mode that
-    moves no point, its largest twist) is positive: a drawing and a file agree on it.
+    Each mode's sign is chosen so that the largest value of what its kind moves (the z
+    displacement of a bending mode, the y displacement of an in-plane one, the twist of a
+    torsion mode) is positive: a drawing and a file agree on it.
 
     Parameters
     ----------
@@ -144,12 +145,12 @@ def chain_modes(model, n_modes: int | None = None) -> ChainModes:
     J = np.array([pin.getFrameJacobian(pm, d, f, pin.LOCAL_WORLD_ALIGNED) for f in frames])
     disp = np.einsum("pij,jk->kpi", J[:, :3, :], phi)  # (k, P, 3)
     twist = np.einsum("pj,jk->kp", J[:, 3, :], phi)  # (k, P)
-    for m in range(phi.shape[1]):
-        flat = disp[m].ravel()
-        ref = flat if np.max(np.abs(flat)) > 0.0 else twist[m]
+    kinds = mode_kinds(model, phi)
+    for m, kind in enumerate(kinds):
+        # the quantity the kind moves (a torsion mode's points move by rounding only)
+        ref = {"bending": disp[m, :, 2], "in-plane": disp[m, :, 1]}.get(kind, twist[m])
         if ref[np.argmax(np.abs(ref))] < 0.0:
             disp[m] *= -1.0
             twist[m] *= -1.0
-            phi[:, m] *= -1.0
     points = np.array([d.oMf[f].translation for f in frames])
-    return ChainModes(omega, points, disp, twist, mode_kinds(model, phi))
+    return ChainModes(omega, points, disp, twist, kinds)
