@@ -132,3 +132,39 @@ def test_the_response_draws_into_given_axes_with_a_labelled_line_per_joint(model
     z = axes[0].lines[0].get_ydata()
     np.testing.assert_array_equal(z, (tip[:, 2] - model.tip_position()[2]) * 1e3)
     assert (tmp_path / "r.svg").read_bytes().startswith(b"<?xml")
+
+
+def _pair(inp: str, out: str, w: np.ndarray):
+    h = 1.0 / (100.0 ** 2 - w ** 2 + 2j * 0.02 * 100.0 * w)
+    return SimpleNamespace(input_name=inp, output_name=out, omega_rad_s=w, frf_truth=h,
+                           frf_prbdm=1.01 * h, frf_error_pct=1.0)
+
+
+def test_the_plant_comparisons_draw_into_given_axes_with_units():
+    from prbdm_pin.plant.comparison_plot import plot_plant_comparison
+    from prbdm_pin.plant.truth_comparison_plot import plot_truth_comparison
+
+    w = np.linspace(10.0, 300.0, 50)
+    cmp = SimpleNamespace(pairs=[_pair("tip_force_z", "tip_z", w),
+                                 _pair("hub_torque", "hub_angle", w)],
+                          truth_omega_rad_s=np.array([100.0]), band_rad_s=(10.0, 300.0),
+                          modes=[])
+    fig = new_figure((8, 5))
+    axes = fig.subplots(2, 2)
+    assert plot_plant_comparison(cmp, axes=axes) is fig
+    assert axes[0, 0].get_ylabel() == "|H| (m/N)"
+    assert axes[0, 1].get_ylabel() == "|H| (rad/(N m))"
+    for ax in axes.ravel():
+        assert ax.get_legend() is not None and "(" in ax.get_ylabel()
+    t = np.linspace(0.0, 0.1, 20)
+    acc = SimpleNamespace(t_s=t, step_truth_m_per_N=t, step_model_m_per_N=t, omega_band_rad_s=w,
+                          frf_truth_m_per_N=cmp.pairs[0].frf_truth,
+                          frf_model_m_per_N=cmp.pairs[0].frf_prbdm, step_error=0.01,
+                          frf_error=0.01)
+    tc = SimpleNamespace(accuracy=acc, truth_model="plate",
+                         prbdm=SimpleNamespace(omega_rad_s=np.ones(3)), damping_ratio=0.02)
+    fig2 = new_figure((5, 8))
+    axes2 = fig2.subplots(3, 1)
+    assert plot_truth_comparison(tc, axes=axes2) is fig2
+    for ax in axes2:
+        _labelled(ax)
