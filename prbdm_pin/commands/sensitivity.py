@@ -154,7 +154,7 @@ def plot_sensitivity(g, path: Path | None = None, title: str = "", *, ax=None):
                label=f"mode {k + 1} ({g.omega_rad_s[k]:.4g} rad/s)")
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xticks(x, g.names, rotation=20)
-    ax.set_xlabel("design variable p")
+    ax.set_xlabel("design variable p (each in its unit: the ratio is unitless)")
     ax.set_ylabel("p / omega  d omega / dp (-)")
     ax.set_title(f"{title}: relative frequency sensitivities ({g.model} truth)")
     ax.legend(fontsize=8)

@@ -168,3 +168,16 @@ def test_the_plant_comparisons_draw_into_given_axes_with_units():
     assert plot_truth_comparison(tc, axes=axes2) is fig2
     for ax in axes2:
         _labelled(ax)
+
+
+def test_the_sensitivity_bars_draw_into_a_given_axes():
+    from prbdm_pin.commands.sensitivity import plot_sensitivity
+
+    g = SimpleNamespace(relative_d_omega=np.array([[0.5, -0.5], [0.4, -0.6]]),
+                        omega_rad_s=np.array([10.0, 60.0]), names=("thickness", "rho"),
+                        model="beam")
+    fig = new_figure((5, 3))
+    ax = fig.subplots()
+    assert plot_sensitivity(g, title="strip", ax=ax) is fig
+    assert len(ax.patches) == 4  # 2 modes x 2 variables
+    _labelled(ax)
