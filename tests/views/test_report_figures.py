@@ -115,7 +115,7 @@ def test_the_bode_figure_draws_into_given_axes(model):
 
 def test_the_response_draws_into_given_axes_with_a_labelled_line_per_joint(model, tmp_path):
     from prbdm_pin.simulation.trajectory import Trajectory
-    from prbdm_pin.views.plots import plot_response
+    from prbdm_pin.views.response_plot import plot_response
 
     t = np.linspace(0.0, 0.1, 20)
     q = np.outer(np.sin(40 * t), [0.01, 0.02])
