@@ -150,3 +150,24 @@ def test_a_fit_is_drawn_beside_its_truth_from_the_cache(strip_fit, tmp_path, cap
         i = int(np.flatnonzero(modal.omega_rad_s == w)[0])  # the same cached numbers
         np.testing.assert_array_equal(seen.shapes.deflection[k], modal.centerline_uz[i])
     assert seen.shapes.twist is None
+
+
+def test_a_model_json_gives_the_truth_frequencies_it_recorded_without_shapes(urdf, tmp_path,
+                                                                             capsys):
+    from prbdm_pin.commands.view_truth import view_truth
+    from prbdm_pin.files.model_source import load_model
+
+    _, model = urdf
+    omega = model.natural_frequencies()
+    recorded = omega * np.array([1.01, 0.98])  # a truth 1 % below and 2 % above the model
+    path = pp.export_model(model, tmp_path / "model.json", "json",
+                           omega_truth_rad_s=recorded)
+    seen = view_truth(load_model(path), 2, None, True, True)
+    assert seen.shapes.stations_m is None and seen.truth is None
+    np.testing.assert_array_equal(seen.shapes.omega_rad_s, recorded)  # read back from JSON
+    assert "truth shapes not available" in seen.note
+    out = tmp_path / "view"
+    rc = main(["view", str(path), "--response", "none", "--out", str(out)])
+    assert rc == 0
+    assert "truth shapes not available" in capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == ["model_modes.vtu", "modes.png"]
