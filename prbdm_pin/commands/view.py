@@ -100,10 +100,14 @@ def check_options(args: argparse.Namespace) -> None:
     in_range("--fps", args.fps, 0.0, 100.0, lo_open=True, unit="frames per second")
     if args.force is not None:
         xyz_option(args.force, "--force", "N")
-    if args.format == "mp4":
-        from ..views.animate import animation_format
+    if args.format == "mp4" and args.response != "none":
+        from matplotlib.animation import FFMpegWriter
 
-        animation_format(f"response.{args.format}")  # refused where ffmpeg is absent
+        from ..errors import BeamInputError
+
+        if not FFMpegWriter.isAvailable():
+            raise BeamInputError("--format mp4: needs ffmpeg, which is not installed here; "
+                                 "use --format gif")
     if args.meshcat:
         from ..views.meshcat_view import check_meshcat
 

@@ -103,6 +103,11 @@ def test_bad_input_is_refused_by_name_with_nothing_written(urdf, tmp_path, capsy
              "--modes = 9", capsys, out)
     _refused(["view", str(path), "--frames", "0", "--out", str(out)], "--frames = 0", capsys,
              out)
+    from matplotlib.animation import FFMpegWriter
+
+    if not FFMpegWriter.isAvailable():
+        _refused(["view", str(path), "--format", "mp4", "--force", "0,0,-1", "--out", str(out)],
+                 "--format mp4: needs ffmpeg", capsys, out)
     a_file = tmp_path / "a_file"
     a_file.write_text("mine")
     _refused(["view", str(path), "--no-truth", "--out", str(a_file)], "--out", capsys,
