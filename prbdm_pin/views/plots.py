@@ -1,10 +1,10 @@
 """Figures of a fit and of a simulation.
 
 The planform with its links and joints (paper Figs. 5, 7, 9, 12), SCF against joint angle
-(Figs. 8, 10), the Pareto front with its knee (Fig. 11); a simulated response is
-:mod:`prbdm_pin.views.response_plot`'s. Every function
-draws into the axes it is given (``ax=``, ``axes=``) or a new figure, writes it when given a
-path (PNG, PDF or SVG by the suffix, atomically) and returns the Figure.
+(Figs. 8, 10), the Pareto front with its knee (Fig. 11); a simulated response is drawn by
+:mod:`prbdm_pin.views.response_plot`. Every function draws into the axes it is given (``ax=``)
+or a new figure, writes it when given a path (PNG, PDF or SVG by the suffix, atomically) and
+returns the Figure.
 
 matplotlib is imported lazily and without pyplot: each figure is a ``Figure`` on its own Agg
 canvas, so no backend is chosen and no figure manager holds it.
@@ -123,7 +123,7 @@ def own_axes(ax, figsize_in: tuple[float, float]):
 
 
 def _finish(fig, path, own: bool):
-    """Check ``path``'s suffix, write the figure there when given; return the figure."""
+    """Write the figure to ``path`` when given (a new one cropped and closed); return it."""
     if path is not None and own:
         save_figure(fig, path)
     elif path is not None:  # a caller's figure: written whole, cropped, left open
