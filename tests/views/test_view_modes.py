@@ -136,3 +136,42 @@ def test_bad_input_is_refused_by_name(chain, tmp_path):
     with pytest.raises(pp.BeamInputError, match="path"):
         plot_mode_shapes(chain, 1, path=tmp_path / "f.jpg")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_vtu_series_holds_each_frames_displacement_and_twist(tapered, tmp_path):
+    import xml.etree.ElementTree as ET
+
+    from prbdm_pin.simulation.trajectory import Trajectory
+    from prbdm_pin.views.vtu_model import write_trajectory_vtu
+
+    lengths = LENGTHS * tapered.length_m / LENGTHS.sum()
+    model = pp.build_model(tapered, lengths, pp.spatial_stiffness(tapered, lengths, "xy"),
+                           axes="xy")
+    # coordinates node-major (y, x) per node: frame 0 bends only, frame 1 twists only
+    bend = np.array([0.1, 0.0, 0.2, 0.0])
+    twist = np.array([0.0, 0.3, 0.0, -0.1])
+    q = np.array([bend, twist])
+    tr = Trajectory(np.array([0.0, 0.5]), q, np.zeros_like(q), np.zeros((2, 3)), 2, "by hand",
+                    0.0)
+    pvd = write_trajectory_vtu(model, tr, tmp_path, frames=2)
+    files = [d.get("file") for d in ET.parse(pvd).getroot().iter("DataSet")]
+    f0, f1 = (meshio.read(tmp_path / f) for f in files)
+    x = np.r_[0.0, np.cumsum(lengths)]  # root, nodes, tip
+    # bending by hand: phi_i = th_1 + ... + th_i; the point after link i moves by
+    # l_i (cos phi_i - 1, 0, -sin phi_i) on top of the earlier links' motion
+    phi = np.cumsum(bend[0::2])
+    step = np.zeros((x.size, 3))
+    step[2:, 0] = np.cumsum(lengths[1:] * (np.cos(phi) - 1.0))
+    step[2:, 2] = np.cumsum(-lengths[1:] * np.sin(phi))
+    # forward kinematics through Pinocchio's products against sums of sines: a few EPS of
+    # the span
+    np.testing.assert_allclose(f0.point_data["displacement"], step, rtol=0,
+                               atol=10 * EPS * x[-1])
+    np.testing.assert_allclose(f0.point_data["twist"], 0.0, rtol=0, atol=10 * EPS)
+    # twisting moves no point of the axis; each link's twist is the sum of the node twists
+    # before it (rotations about one axis add)
+    np.testing.assert_allclose(f1.point_data["displacement"], 0.0, rtol=0,
+                               atol=10 * EPS * x[-1])
+    np.testing.assert_allclose(f1.point_data["twist"],
+                               np.r_[0.0, np.cumsum(twist[1::2]), twist[1::2].sum()],
+                               rtol=0, atol=10 * EPS)
