@@ -131,14 +131,27 @@ def _force(args, model) -> np.ndarray:
     return np.asarray(model.beam.tip_force_N, dtype=float)
 
 
-def _response(args, model, n_modes: int):
-    """Simulate the response ``--response`` asks for; None for ``none``."""
+def _check_response(args, model) -> np.ndarray | None:
+    """Return the tip force (N) of the response asked for (None: none); refuse what cannot run.
+
+    Run before the truth is read, so that a refusal costs nothing.
+    """
     from ..errors import BeamInputError
-    from ..simulation.driver import simulate
 
     if args.response == "none":
         return None
-    force = _force(args, model)
+    if args.response == "release" and model.hub is not None:
+        raise BeamInputError("--response release: a model on a hub has no static pose under a "
+                             "tip force; use --response step")
+    return _force(args, model)
+
+
+def _response(args, model, n_modes: int, force: np.ndarray | None):
+    """Simulate the response ``--response`` asks for under ``force`` (N); None for ``none``."""
+    from ..simulation.driver import simulate
+
+    if force is None:
+        return None
     omega = model.modes()[0]
     w1 = float(omega[omega > 0.0][0])
     duration = args.duration or 3.0 * 2.0 * np.pi / w1
@@ -148,9 +161,6 @@ def _response(args, model, n_modes: int):
     opts = {"damping_ratio": args.damping_ratio, "damping": "modal",
             "output_dt_s": duration / (samples - 1)}
     if args.response == "release":
-        if model.hub is not None:
-            raise BeamInputError("--response release: a model on a hub has no static pose "
-                                 "under a tip force; use --response step")
         q0, _ = model.static_deflection(force)
         return simulate(model, duration, q0=q0, progress=_tty(args), **opts)
     return simulate(model, duration, tip_force=force, progress=_tty(args), **opts)
@@ -181,9 +191,10 @@ def run(args: argparse.Namespace) -> int:
 
         raise BeamInputError(f"--modes = {args.modes}: the model has {n_all} flexible modes")
     n_modes = args.modes or min(n_all, 6)
+    force = _check_response(args, model)
     seen = view_truth(source, n_modes, cache_dir(args) if not args.no_truth else None,
                       not args.no_truth, args.quiet)
-    tr = _response(args, model, n_modes)
+    tr = _response(args, model, n_modes, force)
     owned = VIEW_FILES + tuple(f"trajectory_{i:04d}.vtu" for i in range(MAX_FRAMES))
     written = []
     with output_folder(args.out, owned, marker="modes.png") as stage:
@@ -196,8 +207,8 @@ def run(args: argparse.Namespace) -> int:
             anim = f"response.{args.format}"
             animate_response(model, tr, stage / anim, frames=args.frames, fps=args.fps,
                              title=f"{model.n_joints}R PRBDM: {args.response} under "
-                                   f"{_force(args, model).tolist()} N, zeta = "
-                                   f"{args.damping_ratio}", progress=_tty(args))
+                                   f"{force.tolist()} N, zeta = {args.damping_ratio}",
+                             progress=_tty(args))
             write_trajectory_vtu(model, tr, stage, frames=args.frames)
             written += [anim, "trajectory.pvd", f"trajectory_NNNN.vtu ({args.frames})"]
         plot_mode_shapes(model, n_modes, seen.shapes, path=stage / "modes.png")

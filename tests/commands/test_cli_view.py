@@ -9,7 +9,7 @@ import meshio
 import numpy as np
 import pytest
 import scipy.optimize
-from paths import BEAMS
+from paths import BEAMS, ROOT
 from PIL import Image
 from tolerances import EPS
 
@@ -115,6 +115,10 @@ def test_bad_input_is_refused_by_name_with_nothing_written(urdf, tmp_path, capsy
     assert a_file.read_text() == "mine"
     # a URDF has no beam, so no tip force to release from
     _refused(["view", str(path), "--no-truth", "--out", str(out)], "--force", capsys, out)
+    # a hub turns under a tip force: no static pose to release from
+    hub = ROOT / "tests" / "files" / "planar_golden" / "tapered_3R_hub.urdf"
+    _refused(["view", str(hub), "--force", "0,0,-1", "--out", str(out)],
+             "--response release", capsys, out)
 
 
 def test_meshcat_absent_is_refused_before_anything_is_written(urdf, tmp_path, capsys):
