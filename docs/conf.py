@@ -36,6 +36,8 @@ exclude_patterns = [
     "_build",
     # the benchmark tables are included into benchmarks.md, not pages of their own
     "benchmarks/*.md",
+    # the viewing page's table (scripts/view_figures.py) is included there
+    "guide/viewing/*.md",
 ]
 
 myst_enable_extensions = ["dollarmath", "colon_fence"]

@@ -150,6 +150,15 @@ _EXPORTS = {
     "run_batch": "batch",
     "BatchSpec": "batch",
     "FitSettings": "batch",
+    # seeing a model: mode shapes, animations, ParaView files, meshcat
+    "ChainModes": "views.chain_geometry",
+    "chain_modes": "views.chain_geometry",
+    "TruthShapes": "views.modes",
+    "plot_mode_shapes": "views.modes",
+    "animate_response": "views.animate",
+    "write_model_modes_vtu": "views.vtu_model",
+    "write_trajectory_vtu": "views.vtu_model",
+    "open_meshcat": "views.meshcat_view",
 }
 
 __all__ = ["__version__", *_EXPORTS]

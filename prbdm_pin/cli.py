@@ -20,7 +20,7 @@ from .version import __version__
 
 # Order is the order of `prbdm --help`.
 COMMANDS = ("truth", "sensitivity", "fit", "pareto", "simulate", "linearize", "statics", "export",
-            "calibrate", "batch", "batch_report", "bench")
+            "calibrate", "view", "batch", "batch_report", "bench")
 
 
 def _pin_threads() -> None:

@@ -12,22 +12,44 @@ from .report import frontier_mask, plot_modes, summary_points
 __all__ = ["plot_error_vs_cost"]
 
 
-def plot_error_vs_cost(result: BenchResult, path: str | Path) -> Path:
-    """Plot error against simulation cost (log-log) and write a PNG atomically.
+def plot_error_vs_cost(result: BenchResult, path: str | Path | None = None, *, axes=None):
+    """Plot error against simulation cost (log-log); return the Figure.
 
     One panel per k (first k modes), frontier marked; a last panel shows the FE truth levels
     (modal-solve CPU against error vs the finest level).
-    """
-    from ..views.plots import pyplot, save_figure
 
-    plt = pyplot()
+    Parameters
+    ----------
+    result : BenchResult
+    path : path-like, optional
+        Also write the figure there (PNG, PDF or SVG by the suffix, atomically).
+    axes : sequence of matplotlib Axes, optional
+        One per panel (default: a new figure with a grid of them).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from ..errors import BeamInputError
+    from ..views.plots import figure_format, new_figure, save_figure, save_png
+
+    if path is not None:
+        figure_format(path)
     ks = plot_modes(result)
     fe = [t for t in result.truths if t.errors_pct is not None]
     panels = len(ks) + (1 if fe else 0)
-    ncol = min(panels, 3)  # a grid, so that the figure stays readable at any k
-    nrow = -(-panels // ncol)
-    fig, grid = plt.subplots(nrow, ncol, figsize=(4.6 * ncol, 3.9 * nrow), squeeze=False)
-    axes = grid.ravel()
+    if axes is None:
+        ncol = min(panels, 3)  # a grid, so that the figure stays readable at any k
+        nrow = -(-panels // ncol)
+        fig = new_figure((4.6 * ncol, 3.9 * nrow))
+        axes = fig.subplots(nrow, ncol, squeeze=False).ravel()
+        own = True
+    else:
+        axes = np.ravel(axes)
+        if axes.size < panels:
+            raise BeamInputError(f"axes: {axes.size} given for {panels} panels; give one per "
+                                 "panel")
+        fig, own = axes[0].figure, False
     for ax in axes[panels:]:
         ax.set_visible(False)
     style = {"fitted": ("o", "C0"), "chain": ("s", "C1"), "MuJoCo": ("^", "C2")}
@@ -53,14 +75,19 @@ def plot_error_vs_cost(result: BenchResult, path: str | Path) -> Path:
     if fe:
         ax = axes[panels - 1]
         for t in fe:
-            ax.loglog(t.cpu_s, max(float(np.max(np.abs(t.errors_pct))), 1e-10), "d")
+            ax.loglog(t.cpu_s, max(float(np.max(np.abs(t.errors_pct))), 1e-10), "d", color="C0")
             ax.annotate(f"{t.beam} L{t.level}", (t.cpu_s, float(np.max(np.abs(t.errors_pct)))),
                         fontsize=7)
         ax.set_xlabel("modal solve CPU s")
         ax.set_ylabel("max error vs finest level (%)")
         ax.set_title("FE truth (plate)")
         ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    out = save_figure(fig, path)
-    plt.close(fig)
-    return out
+        ax.plot([], [], "d", color="C0", label="FE truth level")
+        ax.legend(fontsize=7)
+    if own:
+        fig.tight_layout()
+    if path is not None and own:
+        save_figure(fig, path)
+    elif path is not None:  # a caller's figure is written whole, cropped
+        save_png(fig, path, bbox_inches="tight")
+    return fig

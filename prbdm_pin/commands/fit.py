@@ -196,11 +196,13 @@ def write_fit_files(result, beam, folder: Path, plots: bool = True) -> list[Path
     if plots:
         from ..views.plots import plot_planform, plot_scf
 
-        written.append(plot_planform(beam, result.lengths_m, out / "planform.png",
-                                     title=f"{beam.name}: {result.joints}R, {result.stiffness}, "
-                                           f"{result.objective}"))
+        plot_planform(beam, result.lengths_m, out / "planform.png",
+                      title=f"{beam.name}: {result.joints}R, {result.stiffness}, "
+                            f"{result.objective}")
+        written.append(out / "planform.png")
         if result.stiffness == "paper":
-            written.append(plot_scf(result, out / "scf.png"))
+            plot_scf(result, out / "scf.png")
+            written.append(out / "scf.png")
     # fit.json last: its presence marks a complete output folder
     from ..files.fit_file import save_fit
 

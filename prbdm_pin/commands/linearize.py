@@ -188,31 +188,9 @@ def check_options(args: argparse.Namespace) -> dict:
 
 
 def _bode(lin, path: Path) -> None:
-    import numpy as np
+    from ..views.bode import plot_bode
 
-    from ..views.plots import new_figure, save_png
-
-    md = lin.modal()
-    flex = md.omega_rad_s[md.omega_rad_s > 0.0]
-    lo = 0.1 * float(flex.min()) if flex.size else 0.1
-    hi = 3.0 * float(flex.max()) if flex.size else 100.0
-    w = np.logspace(np.log10(lo), np.log10(hi), 800)
-    H = lin.frequency_response(w)
-    fig = new_figure((7.5, 6.0))
-    mag, ph = fig.add_subplot(2, 1, 1), fig.add_subplot(2, 1, 2)
-    for i, yn in enumerate(lin.output_names):
-        for j, un in enumerate(lin.input_names):
-            h = H[:, i, j]
-            if not np.any(h):
-                continue
-            mag.loglog(w, np.abs(h), label=f"{yn} / {un}")
-            ph.semilogx(w, np.degrees(np.unwrap(np.angle(h))))
-    mag.set_ylabel("|H| (output unit / input unit)")
-    mag.legend(fontsize=7)
-    ph.set_ylabel("phase (deg)")
-    ph.set_xlabel("omega (rad/s)")
-    fig.suptitle(f"linearised PRBDM: {len(lin.q_eq)} coordinates")
-    save_png(fig, path)
+    plot_bode(lin, path=path)
 
 
 def actuator_weights_record(model, actuators) -> dict:

@@ -112,7 +112,7 @@ def run(args) -> int:
     }
     out = Path(args.out)
     with output_folder(out, SENSITIVITY_FILES, marker="sensitivity.json") as stage:
-        _bar_plot(g, stage / "sensitivity.png", beam.name)
+        plot_sensitivity(g, stage / "sensitivity.png", beam.name)
         atomic_write_text(stage / "sensitivity.json", json.dumps(doc, indent=2) + "\n")
     if not args.quiet:
         print(_summary(g))
@@ -133,15 +133,22 @@ def _summary(g) -> str:
     return "\n".join(lines)
 
 
-def _bar_plot(g, path: Path, title: str) -> None:
+def plot_sensitivity(g, path: Path | None = None, title: str = "", *, ax=None):
+    """Draw the relative frequency sensitivities p/omega d omega/dp as bars; return the Figure.
+
+    One group of bars per design variable, one bar per mode. ``g`` is a
+    :class:`~prbdm_pin.TruthGradient`; drawn into ``ax`` or a new figure, written to ``path``
+    when given (PNG, PDF or SVG by the suffix).
+    """
     import numpy as np
 
-    from ..views.plots import new_figure, save_png
+    from ..views.plots import figure_format, own_axes, save_png
 
+    if path is not None:
+        figure_format(path)
     rel = g.relative_d_omega
     n_modes, n_vars = rel.shape
-    fig = new_figure((max(5.0, 1.2 * n_vars + 2.0), 3.6))
-    ax = fig.add_subplot(111)
+    fig, ax, own = own_axes(ax, (max(5.0, 1.2 * n_vars + 2.0), 3.6))
     width = 0.8 / n_modes
     x = np.arange(n_vars)
     for k in range(n_modes):
@@ -149,8 +156,12 @@ def _bar_plot(g, path: Path, title: str) -> None:
                label=f"mode {k + 1} ({g.omega_rad_s[k]:.4g} rad/s)")
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xticks(x, g.names, rotation=20)
-    ax.set_ylabel("p / omega  d omega / dp")
+    ax.set_xlabel("design variable p (each in its unit: the ratio is unitless)")
+    ax.set_ylabel("p / omega  d omega / dp (-)")
     ax.set_title(f"{title}: relative frequency sensitivities ({g.model} truth)")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    save_png(fig, path)
+    if own:
+        fig.tight_layout()
+    if path is not None:  # a caller's figure is written whole, cropped
+        save_png(fig, path, bbox_inches=None if own else "tight")
+    return fig

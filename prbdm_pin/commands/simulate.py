@@ -244,7 +244,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
     from ..simulation import simulate
-    from ..views.plots import plot_response
+    from ..views.response_plot import plot_response
     from .checks import gravity_option, modal_damping_option
     from .plant_options import actuators_on_beam, spans_on_beam, with_hub
 

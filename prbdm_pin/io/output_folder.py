@@ -50,6 +50,8 @@ OUTPUT_NAMES = frozenset({
     "results.md", "results.json", "error_vs_cost.png",  # bench
     "linear_model.npz", "linear_model.json", "bode.png",  # linearize
     "comparison.json", "comparison.png",  # linearize --compare-truth
+    "modes.png", "model_modes.vtu", "truth_modes.vtu", "response.gif", "response.mp4",
+    "trajectory.pvd",  # view (and its trajectory_NNNN.vtu)
 })
 _RENAME_EXCHANGE = 2
 _AT_FDCWD = -100

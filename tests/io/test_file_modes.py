@@ -45,8 +45,9 @@ def write_every_kind(folder: Path) -> list[Path]:
     from prbdm_pin.views.plots import plot_planform, save_png
 
     beam = load_beam(BEAM_FILE)
+    plot_planform(beam, np.array([0.25, 0.5, 0.25]), folder / "planform.png")
     paths = [atomic_write_text(folder / "results.csv", "a,b\n1,2\n"),
-             plot_planform(beam, np.array([0.25, 0.5, 0.25]), folder / "planform.png"),
+             folder / "planform.png",
              write_modes_vtu(compute_truth(beam, model="beam", modes=2, static=False).modal,
                              folder / "modes.vtu")]
     fig = plt.figure()

@@ -256,6 +256,12 @@ DOORS = {
     "read_ring_down": ("path", lambda v: pp.read_ring_down(v)),
     "read_calibration_data": ("path", lambda v: pp.read_calibration_data(v)),
     "write_calibration": ("result", lambda v: pp.write_calibration(v, "never-calibration")),
+    "chain_modes": ("model", lambda v: pp.chain_modes(v)),
+    "plot_mode_shapes": ("model", lambda v: pp.plot_mode_shapes(v, path="never.png")),
+    "animate_response": ("model", lambda v: pp.animate_response(v, None, "never.gif")),
+    "write_model_modes_vtu": ("model", lambda v: pp.write_model_modes_vtu(v, "never.vtu")),
+    "write_trajectory_vtu": ("model", lambda v: pp.write_trajectory_vtu(v, None, "never")),
+    "open_meshcat": ("model", lambda v: pp.open_meshcat(v)),
 }
 # a path argument takes a str: the other wrong types are for it
 PATH_WRONG = [None, 3, 2.5, [1.0], {"p": 1}, b"beam.json", object()]
