@@ -35,7 +35,8 @@ _STRINGS = ("beam", "model", "selection", "version", "large_deflection")
 _VECTORS_3 = ("tip_position_m", "tip_displacement_m", "linear_tip_displacement_m")
 _KNOWN = {"omega_rad_s", "beam_fingerprint", "mode_index", "mpf_z_fraction", "mac", "labels",
           "all_omega_rad_s", "static_theory_gap_pct", "mesh_level", "error_estimate_level",
-          "dofs", "wall_time_s", *_FLOAT_LISTS_N, *_STR_LISTS, *_STRINGS, *_VECTORS_3}
+          "dofs", "wall_time_s", "versions", "seed", *_FLOAT_LISTS_N, *_STR_LISTS, *_STRINGS,
+          *_VECTORS_3}
 
 
 @dataclass(frozen=True)
@@ -84,6 +85,13 @@ def truth_file_from_dict(d: Any, what: str = "truth.json") -> TruthFile:
     if unknown:
         raise BeamInputError(f"{what}: {unknown[0]} = {d[unknown[0]]!r:.60}: not a truth.json "
                              f"field (known: {', '.join(sorted(_KNOWN))})")
+    # what made the file (every JSON the package writes says): checked, not used
+    if _opt(d, "versions") is not None:
+        for k, v in require_mapping(d["versions"], f"{what}: versions").items():
+            field_str(f"versions.{k}", v)
+    seed = _opt(d, "seed")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
+        raise BeamInputError(f"seed = {seed!r:.40}: must be an integer or null")
     if "omega_rad_s" not in d:
         raise BeamInputError(f"{what}: omega_rad_s: missing (the bending frequencies, rad/s)")
     w = np.array(field_floats("omega_rad_s", d["omega_rad_s"], positive=True, min_length=1))
