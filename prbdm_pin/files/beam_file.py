@@ -29,7 +29,7 @@ _ROUND_KEYS = {"kind", "outer_diameter", "inner_diameter"}
 
 
 def _section(d: dict) -> dict:
-    """The ``"section"`` mapping of a round member, its keys checked (values: by the Beam)."""
+    """Return the ``"section"`` mapping of a round member, keys checked (values: by the Beam)."""
     sec = d["section"]
     if not isinstance(sec, dict):
         raise InputTypeError(f"section = {sec!r}: must be an object such as "

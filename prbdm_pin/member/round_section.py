@@ -93,7 +93,7 @@ class RoundSection:
         return not np.any(self.inner_diameter_m)
 
     def to_dict(self) -> dict:
-        """The beam-JSON ``"section"`` mapping (m); a solid rod leaves out the inner diameter."""
+        """Return the beam-JSON ``"section"`` mapping (m); a rod leaves out the inner diameter."""
         out = {"kind": "round", "outer_diameter": [float(v) for v in self.outer_diameter_m]}
         if not self.solid:
             out["inner_diameter"] = [float(v) for v in self.inner_diameter_m]
@@ -101,9 +101,10 @@ class RoundSection:
 
 
 def check_round_member(x: np.ndarray, w: np.ndarray, t, section) -> None:
-    """A round member: the section aligned with x, no width step, w = D / 2 and t = D."""
+    """Check a round member: section aligned with x, no width step, w = D / 2 and t = D."""
     if not isinstance(section, RoundSection):
-        raise InputTypeError(f"section = {type(section).__name__}: must be a RoundSection or None")
+        raise InputTypeError(
+            f"section = {type(section).__name__}: must be a RoundSection or None")
     D = section.outer_diameter_m
     if D.size != x.size:
         raise BeamInputError(
