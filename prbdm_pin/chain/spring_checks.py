@@ -22,7 +22,10 @@ def check_springs(beam, stiffness_Nm_per_rad) -> None:
     for another model), and its products with the link inertias would leave double precision.
     """
     E, L = beam.material.E_Pa, beam.length_m
-    if beam.thickness_law_m is None:
+    if beam.section is not None:  # the section law at the stations (linear D, d: its extremes)
+        EI = E * beam.area_moment_at(beam.x_m)
+        EI_min, EI_max = float(EI.min()), float(EI.max())
+    elif beam.thickness_law_m is None:
         t3 = beam.thickness_m**3
         EI_min = E * 2.0 * float(beam.half_width_m.min()) * t3 / 12.0
         EI_max = E * 2.0 * float(beam.half_width_m.max()) * t3 / 12.0
