@@ -61,11 +61,13 @@ def inverse_moment_integral(beam: Beam, cuts: np.ndarray):
     return u, v, (v - u) * inner
 
 
-def inverse_section_integral(beam: Beam, cuts: np.ndarray):
-    """Return u, v (m) and ∫_u^v dx / E I_y(x) (1/(N m)) of each sub-interval between ``cuts``.
+def inverse_section_integral(beam: Beam, cuts: np.ndarray, stiffness: str = "EI_y_Nm2"):
+    """Return u, v (m) and ∫_u^v dx / S(x) (1/(N m)) of each sub-interval between ``cuts``.
 
     For a member with a section law (``beam.section``); ``cuts`` (B, c), m, sorted, include
-    the stations, so the diameters are linear on each sub-interval.
+    the stations, so the diameters are linear on each sub-interval. ``stiffness`` names the
+    :class:`~prbdm_pin.member.section_law.SectionProperties` field S: ``"EI_y_Nm2"`` (the
+    planar springs), ``"EI_z_Nm2"`` or ``"GJ_Nm2"`` (N m^2), all proportional to D^4 - d^4.
     """
     u, v = cuts[:, :-1], cuts[:, 1:]
     sec = beam.section
@@ -80,6 +82,6 @@ def inverse_section_integral(beam: Beam, cuts: np.ndarray):
     a, b = s[..., :-1], s[..., 1:]
     sg = a[..., None] + (b - a)[..., None] * _GX  # (B, subs, pieces, 8)
     x = u[..., None, None] + (v - u)[..., None, None] * sg
-    EI = section_properties(beam, x).EI_y_Nm2
-    inner = np.sum((b - a)[..., None] * _GW / EI, axis=(-1, -2))
+    S = getattr(section_properties(beam, x), stiffness)
+    inner = np.sum((b - a)[..., None] * _GW / S, axis=(-1, -2))
     return u, v, (v - u) * inner

@@ -101,6 +101,8 @@ class Beam:
             i = int(bad[0])
             raise BeamInputError(f"half_width[{i}] = {w[i]} m: must be > 0")
         t, law = thickness_law(x, self.thickness_m, self.thickness_law_m)
+        if self.section is not None:  # first: its errors name the diameters, not w and t
+            check_round_member(x, w, t if law is None else law, self.section)
         for tk in (t,) if law is None else (float(law.min()), t):
             check_planform(x, w, tk)  # sizes in 1e-5 ... 1e3 m: a size in mm is named
         check_type("material", self.material, Material)
@@ -109,8 +111,6 @@ class Beam:
             raise BeamInputError(f"tip_force has {f.size} entries: must be [Fx, Fy, Fz] in N")
         for tk in (t,) if law is None else (float(law.min()), t):
             check_representable(x, w, tk, self.material)
-        if self.section is not None:
-            check_round_member(x, w, t if law is None else law, self.section)
         object.__setattr__(self, "x_m", _readonly(x))
         object.__setattr__(self, "half_width_m", _readonly(w))
         object.__setattr__(self, "thickness_m", t)
@@ -178,7 +178,8 @@ class Beam:
             raise BeamInputError(
                 f"section = {{'kind': {self.section.kind!r}, ...}}: {what} takes the planform "
                 "rectangle (half_width, thickness) only; a round member takes the 1D beam "
-                "truth (--truth-model beam) and the planar chain")
+                "truth (prbdm truth --model beam, prbdm fit --truth-model beam) and the planar "
+                "chain")
 
     def uniform_thickness_m(self, what: str) -> float:
         """Return the uniform thickness t in m; a thickness law is refused for ``what``.

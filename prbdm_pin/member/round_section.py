@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import BeamInputError, InputTypeError
+from ..options.validate import check_size
 from .checks import float_array
 
 __all__ = ["RoundSection", "check_round_member", "round_area_m2", "round_area_moment_m4"]
@@ -106,6 +107,8 @@ def check_round_member(x: np.ndarray, w: np.ndarray, t, section) -> None:
         raise InputTypeError(
             f"section = {type(section).__name__}: must be a RoundSection or None")
     D = section.outer_diameter_m
+    for i in (int(D.argmin()), int(D.argmax())):  # in 1e-5 ... 1e3 m: a size in mm is named
+        check_size(f"section.outer_diameter[{i}]", float(D[i]))
     if D.size != x.size:
         raise BeamInputError(
             f"section.outer_diameter has {D.size} entries: must be aligned with x "
