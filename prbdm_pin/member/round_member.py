@@ -45,6 +45,14 @@ def round_beam(x_m, outer_diameter_m, inner_diameter_m=None, material: Material 
         raise BeamInputError(
             f"section.outer_diameter has {D.size} entries: must be aligned with x "
             f"({x.size} entries, one diameter per station)")
+    steps = np.flatnonzero(np.diff(x) == 0.0)
+    if steps.size:  # before the thickness law would call it a thickness jump
+        from ..errors import BeamInputError
+
+        i = int(steps[0]) + 1
+        raise BeamInputError(
+            f"x[{i}] = x[{i - 1}] = {x[i]} m: a round member has no width steps (the "
+            "diameters are continuous); give each station once")
     thickness = float(D[0]) if np.all(D == D[0]) else D.copy()
     return Beam(x, 0.5 * D, thickness, Material() if material is None else material,
                 np.zeros(3) if tip_force_N is None else tip_force_N, name, description,

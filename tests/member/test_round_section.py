@@ -28,13 +28,15 @@ from prbdm_pin.chain.sections_derivatives import (
     planar_sections_gradient,
     roll_yaw_inertia_gradient,
 )
-from prbdm_pin.chain.spatial_stiffness import spatial_stiffness
+from prbdm_pin.chain.spatial_stiffness import axis_stiffness, spatial_stiffness
+from prbdm_pin.chain.spatial_stiffness_derivatives import axis_stiffness_gradient
 from prbdm_pin.chain.stiffness import finite_segment_stiffness, finite_segment_stiffness_unchecked
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam, save_beam
 from prbdm_pin.fitting import fit
 from prbdm_pin.fitting.target import FitTarget
+from prbdm_pin.member.design import Design
 from prbdm_pin.member.geometry import beam_to_dict
 from prbdm_pin.member.material import Material
 from prbdm_pin.member.round_member import round_beam
@@ -42,6 +44,7 @@ from prbdm_pin.truth.beam import beam_modal
 from prbdm_pin.truth.beam_spatial import beam_in_plane_modes, beam_torsion_modes
 from prbdm_pin.truth.elastica import elastica_static
 from prbdm_pin.truth.plate import plate_modal
+from prbdm_pin.truth.solid import solid_modal
 
 ALU = Material("aluminium 6061", 69e9, 2700.0, 0.33)
 L, D, DI = 1.0, 0.03, 0.026  # m: a 1 m aluminium tube boom, 30 mm outer, 2 mm wall
@@ -155,6 +158,12 @@ def test_link_sections_match_frustum_formulas_and_quadrature(frustum):
     def dx(x):
         return float(np.interp(x, frustum.x_m, sec.inner_diameter_m))
 
+    def I4(x):
+        return np.pi * (Dx(x) ** 4 - dx(x) ** 4) / 64.0
+
+    def _area(x):
+        return np.pi * (Dx(x) ** 2 - dx(x) ** 2) / 4.0
+
     for i, (a, b) in enumerate(zip(s.start_m, s.end_m, strict=True)):
         # a tube frustum is an outer solid frustum less an inner one (both diameters linear);
         # the straddling link is two such pieces
@@ -167,9 +176,7 @@ def test_link_sections_match_frustum_formulas_and_quadrature(frustum):
             mx += mo * (u + xo) - mi * (u + xi)
             Ix += Io - Ii
         xc = mx / m
-        I4 = lambda x: np.pi * (Dx(x) ** 4 - dx(x) ** 4) / 64.0  # noqa: E731
-        A = lambda x: np.pi * (Dx(x) ** 2 - dx(x) ** 2) / 4.0  # noqa: E731
-        Iyy = rho * _quad(lambda x, xc=xc: A(x) * (x - xc) ** 2 + I4(x), a, b)
+        Iyy = rho * _quad(lambda x, xc=xc: _area(x) * (x - xc) ** 2 + I4(x), a, b)
         I_mean = _quad(I4, a, b) / (b - a)
         got = [s.mass_kg[i], s.com_m[i, 0], *np.diag(s.inertia_com_kg_m2[i]),
                s.area_moment_m4[i]]
@@ -313,7 +320,8 @@ def test_round_member_refuses_planform_keys_and_width_steps():
     with pytest.raises(BeamInputError, match=r"x\[2\] = x\[1\] = 0.5 m: a round member has no "
                                              "width steps"):
         round_beam([0.0, 0.5, 0.5, 1.0], [0.02, 0.02, 0.01, 0.01])
-    with pytest.raises(BeamInputError, match=r"x\[1\] = 0.5 m: must not decrease"):
+    with pytest.raises(BeamInputError,
+                       match=r"x\[2\] = 0.4 m: must not decrease \(x\[1\] = 0.5 m\)"):
         round_beam([0.0, 0.5, 0.4, 1.0], [0.02, 0.02, 0.01, 0.01])
 
 
@@ -332,11 +340,39 @@ def test_cli_refuses_a_bad_tube_in_one_line(tmp_path, capsys, argv):
     assert not (tmp_path / "o").exists()  # nothing half-written
 
 
+def test_spatial_springs_match_quadrature(frustum):
+    lengths = np.array([0.2, 0.3, 0.3, 0.2])
+    K = spatial_stiffness(frustum, lengths, "xyz").reshape(3, 3)  # node-major: y, z, x
+    c = [0.0, 0.35, 0.65, 1.0]
+    sec = frustum.section
+    G = ALU.E_Pa / (2.0 * (1.0 + ALU.nu))
+
+    def I4(x):
+        Dx = np.interp(x, frustum.x_m, sec.outer_diameter_m)
+        dx = np.interp(x, frustum.x_m, sec.inner_diameter_m)
+        return np.pi * (Dx**4 - dx**4) / 64.0
+
+    comp = np.array([_quad(lambda x: 1.0 / I4(x), c[j], c[j + 1]) for j in range(3)])
+    # E I_z = E I_y about the two diameters; G J with J = 2 I (a circle does not warp); quad's
+    # request 1e-13 and the cut 8-point Gauss: 1e-12 relative
+    np.testing.assert_allclose(K[:, 0], ALU.E_Pa / comp, rtol=5000 * EPS)
+    np.testing.assert_allclose(K[:, 1], ALU.E_Pa / comp, rtol=5000 * EPS)
+    np.testing.assert_allclose(K[:, 2], 2.0 * G / comp, rtol=5000 * EPS)
+    for axis in ("z", "x"):
+        _, dK = axis_stiffness_gradient(frustum, _lengths(STATIONS), axis)
+
+        def f(x, axis=axis):
+            return axis_stiffness(frustum, _lengths(x), axis)
+        _check(dK, f, np.max(np.abs(f(STATIONS))))
+
+
 def test_rectangle_models_refuse_a_round_member_by_name(frustum):
     with pytest.raises(BeamInputError, match="the plate truth takes the planform rectangle"):
         plate_modal(frustum)
-    with pytest.raises(BeamInputError, match="the spatial chain takes the planform rectangle"):
-        spatial_stiffness(frustum, np.array([0.5, 0.5]), "y")
+    with pytest.raises(BeamInputError, match="the 3D solid truth takes the planform rectangle"):
+        solid_modal(frustum)
+    with pytest.raises(BeamInputError, match="design variations takes the planform rectangle"):
+        Design(frustum, ("E",))
     with pytest.raises(BeamInputError, match="the anticlastic elastica takes the planform"):
         elastica_static(frustum, anticlastic=True)
     assert frustum.kirchhoff_warnings() == ()  # no plate of a rod to warn about
