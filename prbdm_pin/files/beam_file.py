@@ -73,7 +73,7 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     if missing:
         raise BeamInputError(f"missing key(s) {sorted(missing)}")
     # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
-    for key in sorted(required) if check_caps else ():
+    for key in (("x",) if section else ("x", "half_width", "thickness")) if check_caps else ():
         if isinstance(d[key], list):
             check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
     for key in ("outer_diameter", "inner_diameter") if check_caps and section else ():
