@@ -71,9 +71,13 @@ def inverse_section_integral(beam: Beam, cuts: np.ndarray, stiffness: str = "EI_
     """
     u, v = cuts[:, :-1], cuts[:, 1:]
     sec = beam.section
-    Du, Dv = (np.interp(z, beam.x_m, sec.outer_diameter_m) for z in (u, v))
-    du, dv = (np.interp(z, beam.x_m, sec.inner_diameter_m) for z in (u, v))
-    factors = ((Du + du, Dv + dv), (Du - du, Dv - dv))
+    if sec.kind == "table":  # S itself is linear: its pole is cut away from
+        table = getattr(sec, stiffness)
+        factors = (tuple(np.interp(z, beam.x_m, table) for z in (u, v)),)
+    else:
+        Du, Dv = (np.interp(z, beam.x_m, sec.outer_diameter_m) for z in (u, v))
+        du, dv = (np.interp(z, beam.x_m, sec.inner_diameter_m) for z in (u, v))
+        factors = ((Du + du, Dv + dv), (Du - du, Dv - dv))
     spread = max(float(np.max(np.maximum(a / b, b / a))) for a, b in factors)
     m = max(1, int(np.ceil(np.log(spread) / np.log(_RATIO))))
     k = np.arange(m + 1) / m

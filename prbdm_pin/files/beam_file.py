@@ -16,7 +16,8 @@ from ..io.jsonfile import field_str, read_json
 from ..member.checks import finite_positive
 from ..member.geometry import Beam, beam_to_dict
 from ..member.material import STEEL_4340, Material
-from ..member.round_member import round_beam
+from ..member.section_member import round_beam, table_beam
+from ..member.section_table import TABLE_FIELDS, TABLE_REQUIRED, SectionTable
 from ..options.limits import check_cap
 
 __all__ = ["beam_from_dict", "load_beam", "save_beam"]
@@ -35,9 +36,11 @@ def _section(d: dict) -> dict:
         raise InputTypeError(f"section = {sec!r}: must be an object such as "
                              '{"kind": "round", "outer_diameter": [...]}')
     kind = sec.get("kind")
+    if kind == "table":
+        return _table(sec)
     if kind != "round":
         raise BeamInputError(f"section.kind = {kind!r}: unknown; use \"round\" (outer_diameter, "
-                             "inner_diameter lists aligned with x)")
+                             "inner_diameter lists aligned with x) or \"table\" (EI_y_Nm2, ...)")
     unknown = set(sec) - _ROUND_KEYS
     if unknown:
         raise BeamInputError(f"unknown key(s) in section {sorted(unknown)}: allowed are "
@@ -49,6 +52,25 @@ def _section(d: dict) -> dict:
         if key in sec and not isinstance(sec[key], list):
             raise InputTypeError(f"section.{key} = {sec[key]!r}: must be a list aligned with "
                                  "x (m)")
+    return sec
+
+
+def _table(sec: dict) -> dict:
+    """Check a table section's keys: the required lists present, no unknown key."""
+    allowed = {"kind", *TABLE_FIELDS}
+    unknown = set(sec) - allowed
+    if unknown:
+        raise BeamInputError(f"unknown key(s) in section {sorted(unknown)}: allowed are "
+                             f"{sorted(allowed)}")
+    missing = [k for k in TABLE_REQUIRED if k not in sec]
+    if missing:
+        raise BeamInputError(f"section.{missing[0]} missing: a section table needs "
+                             f"{', '.join(TABLE_REQUIRED)} (lists aligned with x; rhoI_x_kg_m "
+                             "optional, rhoI_y_kg_m + rhoI_z_kg_m by default)")
+    for key in set(sec) - {"kind"}:
+        if not isinstance(sec[key], list):
+            raise InputTypeError(f"section.{key} = {sec[key]!r}: must be a list aligned with "
+                                 f"x ({TABLE_FIELDS[key]})")
     return sec
 
 
@@ -76,7 +98,7 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     for key in (("x",) if section else ("x", "half_width", "thickness")) if check_caps else ():
         if isinstance(d[key], list):
             check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
-    for key in ("outer_diameter", "inner_diameter") if check_caps and section else ():
+    for key in (set(section) - {"kind"}) if check_caps and section else ():
         if isinstance(section.get(key), list):
             check_cap(f"section.{key} (stations)", len(section[key]), "max_vertices")
     mat_d = d.get("material", {})
@@ -96,7 +118,11 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     for key in ("name", "description"):
         if key in d:
             field_str(key, d[key])
-    if section is not None:
+    if section is not None and section["kind"] == "table":
+        table = SectionTable(**{k: v for k, v in section.items() if k != "kind"})
+        beam = table_beam(d["x"], table, material, d.get("tip_force", [0.0, 0.0, 0.0]),
+                          d.get("name", "beam"), d.get("description", ""))
+    elif section is not None:
         beam = round_beam(d["x"], section["outer_diameter"], section.get("inner_diameter"),
                           material, d.get("tip_force", [0.0, 0.0, 0.0]),
                           d.get("name", "beam"), d.get("description", ""))
@@ -131,8 +157,11 @@ def load_beam(path: str | os.PathLike) -> Beam:
     length, finiteness). A round member replaces ``half_width`` and ``thickness`` by
     ``"section": {"kind": "round", "outer_diameter": [...], "inner_diameter": [...]}`` (m,
     lists aligned with ``x``; the inner one optional, a solid rod without it); its material
-    gives E, G and rho. At most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
-    names hold no control characters.
+    gives E, G and rho. A table member gives ``"section": {"kind": "table", "EI_y_Nm2": [...],
+    "EI_z_Nm2", "GJ_Nm2", "rhoA_kg_m", "rhoI_y_kg_m", "rhoI_z_kg_m": [...]}`` (lists aligned
+    with ``x``, units in the names; ``rhoI_x_kg_m`` optional, rhoI_y + rhoI_z by default); its
+    material is optional and changes no result. At most ``limits().max_vertices`` vertices
+    (``PRBDM_MAX_VERTICES``); names hold no control characters.
 
     Parameters
     ----------

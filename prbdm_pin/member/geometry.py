@@ -22,6 +22,7 @@ from ..options.validate import check_planform, check_type
 from .checks import check_representable, check_stations, float_array, thickness_law
 from .material import Material
 from .round_section import RoundSection, check_round_member
+from .section_table import SectionTable, check_table_member
 
 __all__ = ["Beam", "beam_to_dict"]
 
@@ -64,11 +65,14 @@ class Beam:
     section : RoundSection or None
         None: the planform rectangle 2 w(x) x t(x). A :class:`RoundSection`: a rod or tube
         whose section law replaces the rectangle (build it with
-        :func:`~prbdm_pin.member.round_member.round_beam`); its half-width is then the outer
+        :func:`~prbdm_pin.member.section_member.round_beam`); its half-width is then the outer
         radius and its thickness the outer diameter (so the strain sensor's half thickness is
         the outer radius), the stations have no width steps, and every model that needs a
-        rectangle (the plate, the solid, the spatial chain) refuses it by name
-        (:meth:`rectangle_only`).
+        rectangle (the plate, the solid, the elastica's anticlastic strips) refuses it by name
+        (:meth:`rectangle_only`). A :class:`SectionTable`: section properties at the stations
+        (build it with :func:`~prbdm_pin.member.section_member.table_beam`); its half-width
+        and thickness are those of the square of the same E I_y / E (side (12 E I_y / E)^(1/4)),
+        for the size checks only: :meth:`half_width_at` and :meth:`thickness_at` refuse it.
     """
 
     x_m: np.ndarray
@@ -79,7 +83,7 @@ class Beam:
     name: str = "beam"
     description: str = ""
     thickness_law_m: np.ndarray | None = None
-    section: RoundSection | None = None
+    section: RoundSection | SectionTable | None = None
 
     def __post_init__(self) -> None:
         """Validate the fields (errors name the field and the value); freeze the arrays."""
@@ -101,7 +105,9 @@ class Beam:
             i = int(bad[0])
             raise BeamInputError(f"half_width[{i}] = {w[i]} m: must be > 0")
         t, law = thickness_law(x, self.thickness_m, self.thickness_law_m)
-        if self.section is not None:  # first: its errors name the diameters, not w and t
+        if isinstance(self.section, SectionTable):  # w, t: the equivalent square's, unchecked
+            check_table_member(x, self.section)
+        elif self.section is not None:  # first: its errors name the diameters, not w and t
             check_round_member(x, w, t if law is None else law, self.section)
         for tk in (t,) if law is None else (float(law.min()), t):
             check_planform(x, w, tk)  # sizes in 1e-5 ... 1e3 m: a size in mm is named
@@ -148,6 +154,7 @@ class Beam:
         """
         if side not in ("left", "right"):
             raise ValueError(f"side = {side!r}: must be 'left' or 'right'")
+        self._not_table("half_width")
         w = np.interp(x_m, self.x_m, self.half_width_m)
         k = self.step_index
         if not k.size:
@@ -162,9 +169,16 @@ class Beam:
 
     def thickness_at(self, x_m: np.ndarray | float) -> np.ndarray | float:
         """Thickness t(x) in m at stations ``x_m`` (m): linear between stations, continuous."""
+        self._not_table("thickness")
         if self.thickness_law_m is None:
             return self.thickness_m + 0.0 * np.asarray(x_m, dtype=float)
         return np.interp(x_m, self.x_m, self.thickness_law_m)
+
+    def _not_table(self, what: str) -> None:
+        if isinstance(self.section, SectionTable):
+            raise BeamInputError(
+                f"section = {{'kind': 'table', ...}}: a section table has no {what} (it gives "
+                "stiffnesses and inertias only); this use needs a planform or round member")
 
     def rectangle_only(self, what: str) -> None:
         """Refuse a round member for ``what``, a model of the planform rectangle only.
@@ -177,7 +191,7 @@ class Beam:
         if self.section is not None:
             raise BeamInputError(
                 f"section = {{'kind': {self.section.kind!r}, ...}}: {what} takes the planform "
-                "rectangle (half_width, thickness) only; a round member takes the 1D beam "
+                "rectangle (half_width, thickness) only; a round or table member takes the 1D beam "
                 "truth (prbdm truth --model beam, prbdm fit --truth-model beam) and the planar "
                 "chain")
 

@@ -105,4 +105,4 @@ def section_properties(beam: Beam, x_m: np.ndarray | float,
         return _rectangle(beam, x, side, mat.E_Pa, mat.G_Pa, mat.rho_kg_m3)
     if isinstance(section, RoundSection):
         return _round(section, beam.x_m, x, mat.E_Pa, mat.G_Pa, mat.rho_kg_m3)
-    return section.at(beam.x_m, x)
+    return section.at(beam.x_m, x)  # a SectionTable: its own values, linear in x

@@ -39,7 +39,7 @@ from prbdm_pin.fitting.target import FitTarget
 from prbdm_pin.member.design import Design
 from prbdm_pin.member.geometry import beam_to_dict
 from prbdm_pin.member.material import Material
-from prbdm_pin.member.round_member import round_beam
+from prbdm_pin.member.section_member import round_beam
 from prbdm_pin.truth.beam import beam_modal
 from prbdm_pin.truth.beam_spatial import beam_in_plane_modes, beam_torsion_modes
 from prbdm_pin.truth.elastica import elastica_static

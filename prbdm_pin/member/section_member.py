@@ -1,4 +1,4 @@
-"""Build a round member (solid rod or tube): a :class:`Beam` whose section law is round."""
+"""Build a round member (rod or tube) or a table member: a :class:`Beam` with a section law."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ from .checks import float_array
 from .geometry import Beam
 from .material import Material
 from .round_section import RoundSection
+from .section_table import SectionTable
 
-__all__ = ["round_beam"]
+__all__ = ["round_beam", "table_beam"]
 
 
 def round_beam(x_m, outer_diameter_m, inner_diameter_m=None, material: Material | None = None,
@@ -55,5 +56,47 @@ def round_beam(x_m, outer_diameter_m, inner_diameter_m=None, material: Material 
             "diameters are continuous); give each station once")
     thickness = float(D[0]) if np.all(D == D[0]) else D.copy()
     return Beam(x, 0.5 * D, thickness, Material() if material is None else material,
+                np.zeros(3) if tip_force_N is None else tip_force_N, name, description,
+                section=section)
+
+
+def table_beam(x_m, section: SectionTable, material: Material | None = None, tip_force_N=None,
+               name: str = "beam", description: str = "") -> Beam:
+    """Return a clamped-free member known by its section table.
+
+    Parameters
+    ----------
+    x_m : array_like, shape (k,)
+        Stations, m: 0 at the clamp, strictly increasing to L.
+    section : SectionTable
+        The properties at the stations (N m^2, kg/m, kg m), linear between them.
+    material : Material, optional
+        Only its E converts E I_y to the area moment the paper-style springs use (no result
+        depends on it); default steel AISI 4340.
+    tip_force_N : array_like, shape (3,), optional
+        The load case at the tip, N; default none.
+    name, description : str
+
+    Returns
+    -------
+    Beam
+        With ``section`` the table; half-width and thickness those of the square of the same
+        area moment E I_y / E (side (12 E I_y / E)^(1/4), m), for the size checks only.
+    """
+    from ..options.validate import check_type
+
+    check_type("section", section, SectionTable)
+    material = Material() if material is None else material
+    check_type("material", material, Material)
+    x = float_array("x", x_m, "m")
+    if x.size != section.size:
+        from ..errors import BeamInputError
+
+        raise BeamInputError(
+            f"section.EI_y_Nm2 has {section.size} entries: must be aligned with x "
+            f"({x.size} entries, one per station)")
+    side = (12.0 * section.EI_y_Nm2 / material.E_Pa) ** 0.25
+    thickness = float(side[0]) if np.all(side == side[0]) else side
+    return Beam(x, 0.5 * side, thickness, material,
                 np.zeros(3) if tip_force_N is None else tip_force_N, name, description,
                 section=section)
