@@ -19,6 +19,12 @@ _EXPORTS = {
     "save_beam": "files.beam_file",
     "random_beam": "member.random_beams",
     "beam_from_dict": "files.beam_file",
+    "RoundSection": "member.round_section",
+    "SectionTable": "member.section_table",
+    "SectionProperties": "member.section_law",
+    "round_beam": "member.section_member",
+    "table_beam": "member.section_member",
+    "section_properties": "member.section_law",
     # errors
     "BeamInputError": "errors",
     "InputTypeError": "errors",

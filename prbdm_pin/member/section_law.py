@@ -98,6 +98,12 @@ def section_properties(beam: Beam, x_m: np.ndarray | float,
     SectionProperties
         Arrays of the shape of ``x_m``: N m^2 for stiffnesses, kg/m and kg m per length.
     """
+    from .geometry import Beam  # at call time: geometry imports this module
+
+    if not isinstance(beam, Beam):
+        from ..options.validate import check_type
+
+        check_type("beam", beam, Beam)
     x = np.asarray(x_m, dtype=float)
     mat = beam.material
     section = beam.section
