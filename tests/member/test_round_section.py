@@ -42,6 +42,7 @@ from prbdm_pin.member.material import Material
 from prbdm_pin.member.section_member import round_beam
 from prbdm_pin.truth.beam import beam_modal, beam_stations
 from prbdm_pin.truth.beam_spatial import beam_in_plane_modes, beam_torsion_modes
+from prbdm_pin.truth.corner_static import corner_static
 from prbdm_pin.truth.elastica import elastica_static
 from prbdm_pin.truth.plate import plate_modal
 from prbdm_pin.truth.solid import solid_modal
@@ -380,4 +381,8 @@ def test_rectangle_models_refuse_a_round_member_by_name(frustum):
         Design(frustum, ("E",))
     with pytest.raises(BeamInputError, match="the anticlastic elastica takes the planform"):
         elastica_static(frustum, anticlastic=True)
+    with pytest.raises(BeamInputError, match="the self-weight truth takes the planform"):
+        elastica_static(frustum, gravity_m_s2=[0.0, 0.0, -9.81])
+    with pytest.raises(BeamInputError, match="section = {'kind': 'round', ...}: the plate truth"):
+        corner_static(frustum)
     assert frustum.kirchhoff_warnings() == ()  # no plate of a rod to warn about

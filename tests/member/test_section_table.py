@@ -161,3 +161,20 @@ def test_cli_refuses_a_bad_table_in_one_line(tmp_path, capsys):
     assert code == 2 and len(err.splitlines()) == 1, err
     assert "section.EI_y_Nm2[1] = 0.0 N m^2 (station 1)" in err, err
     assert not (tmp_path / "o").exists()  # nothing half-written
+
+
+def test_strain_of_a_table_member_is_refused_and_of_a_round_one_uses_the_outer_radius():
+    from prbdm_pin import build_model
+    from prbdm_pin.member.section_member import round_beam
+    from prbdm_pin.model.strain import MICROSTRAIN, strain_terms
+
+    table = beam_from_dict(_table_of(Beam([0.0, 1.0], [0.03, 0.03], 0.004)))
+    springs = finite_segment_stiffness(table, LENGTHS)
+    with pytest.raises(BeamInputError, match="a section table has no thickness"):
+        strain_terms(build_model(table, LENGTHS, springs), 0.5, "strain")
+    rod = round_beam([0.0, 1.0], [0.02, 0.02], [0.01, 0.01])
+    model = build_model(rod, LENGTHS, finite_segment_stiffness(rod, LENGTHS))
+    scale = strain_terms(model, 0.5, "strain")[0]
+    # strain = M c / (E I) with c = D / 2 and I = pi (D^4 - d^4) / 64, written out here
+    ref = -MICROSTRAIN * 0.01 / (rod.material.E_Pa * np.pi * (0.02**4 - 0.01**4) / 64.0)
+    assert abs(scale / ref - 1.0) < 10 * EPS  # a few roundings of the same product
