@@ -178,3 +178,45 @@ def test_strain_of_a_table_member_is_refused_and_of_a_round_one_uses_the_outer_r
     # strain = M c / (E I) with c = D / 2 and I = pi (D^4 - d^4) / 64, written out here
     ref = -MICROSTRAIN * 0.01 / (rod.material.E_Pa * np.pi * (0.02**4 - 0.01**4) / 64.0)
     assert abs(scale / ref - 1.0) < 10 * EPS  # a few roundings of the same product
+
+
+def test_table_station_derivatives_match_central_differences(trapezoid):
+    from central_differences import central_difference
+
+    from prbdm_pin.chain.sections import link_sections_unchecked, planar_sections
+    from prbdm_pin.chain.sections_derivatives import (
+        finite_segment_stiffness_gradient,
+        planar_sections_gradient,
+        roll_yaw_inertia_gradient,
+    )
+    from prbdm_pin.chain.spatial_stiffness import axis_stiffness
+    from prbdm_pin.chain.spatial_stiffness_derivatives import axis_stiffness_gradient
+    from prbdm_pin.chain.stiffness import finite_segment_stiffness_unchecked
+
+    table = beam_from_dict(_table_of(trapezoid))
+    stations = np.array([0.2, 0.55, 0.8])  # m: off the table's station at 0.4 m
+
+    def lengths(x):
+        return np.diff(np.r_[0.0, x, 1.0])
+
+    def check(analytic, f):
+        # each value of f carries ~100 EPS of its scale in rounding (sums over Gauss points)
+        scale = np.max(np.abs(f(stations)))
+        fd, bound = central_difference(f, stations, 1e-4, 100 * EPS * scale)
+        assert np.all(np.abs(analytic - fd) <= bound + 100 * EPS * np.abs(fd)), (analytic, fd)
+
+    g = planar_sections_gradient(table, lengths(stations))
+    for k, d in enumerate((g.d_mass_kg_per_m, g.d_com_offset, g.d_inertia_yy_kg_m,
+                           g.d_area_moment_m3)):
+        check(d, lambda x, k=k: planar_sections(table, lengths(x))[k])
+    _, _, d_xx, d_zz = roll_yaw_inertia_gradient(table, lengths(stations))
+    def inertia(x):
+        return link_sections_unchecked(table, lengths(x)).inertia_com_kg_m2
+
+    for a, d in ((0, d_xx), (2, d_zz)):
+        check(d, lambda x, a=a: inertia(x)[:, a, a])
+    check(finite_segment_stiffness_gradient(table, lengths(stations))[1],
+          lambda x: finite_segment_stiffness_unchecked(table, lengths(x)))
+    for axis in ("z", "x"):
+        check(axis_stiffness_gradient(table, lengths(stations), axis)[1],
+              lambda x, axis=axis: axis_stiffness(table, lengths(x), axis))
