@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from ..errors import BeamInputError
 from ..io.jsonfile import field_str
 from ..options.validate import check_planform, check_type
+from .beam_dict import beam_to_dict
 from .checks import check_representable, check_stations, float_array, thickness_law
 from .material import Material
 from .round_section import RoundSection, check_round_member
@@ -296,24 +296,3 @@ class Beam:
         d.pop("name", None)
         d.pop("description", None)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()
-
-
-def beam_to_dict(beam: Beam) -> dict[str, Any]:
-    """Return the beam-JSON mapping of ``beam`` (SI units)."""
-    m = beam.material
-    out = {
-        "name": beam.name,
-        "description": beam.description,
-        "length": beam.length_m,
-        "x": [float(v) for v in beam.x_m],
-        "half_width": [float(v) for v in beam.half_width_m],
-        "thickness": (beam.thickness_m if beam.thickness_law_m is None
-                      else [float(v) for v in beam.thickness_law_m]),
-        "material": {"name": m.name, "E": m.E_Pa, "rho": m.rho_kg_m3, "nu": m.nu},
-        "tip_force": [float(v) for v in beam.tip_force_N],
-    }
-    if beam.section is not None:  # the section replaces the planform's half_width, thickness
-        del out["half_width"], out["thickness"]
-        out["section"] = beam.section.to_dict()
-    return out
-

@@ -31,6 +31,7 @@ TRUTH_MODULES = (
     "prbdm_pin/io/jsonfile.py",
     "prbdm_pin/io/records.py",
     "prbdm_pin/member/__init__.py",
+    "prbdm_pin/member/beam_dict.py",
     "prbdm_pin/member/checks.py",
     "prbdm_pin/member/design.py",
     "prbdm_pin/member/geometry.py",
