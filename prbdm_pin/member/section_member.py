@@ -81,9 +81,10 @@ def table_beam(x_m, section: SectionTable, material: Material | None = None, tip
     -------
     Beam
         With ``section`` the table; half-width and thickness those of the square of the same
-        area moment E I_y / E (side (12 E I_y / E)^(1/4), m), for the size checks only.
+        area moment E I_y / E (side (12 E I_y / E)^(1/4), m, clipped into the size range),
+        for the size checks only.
     """
-    from ..options.validate import check_type
+    from ..options.validate import SIZE_RANGE_M, check_type
 
     check_type("section", section, SectionTable)
     material = Material() if material is None else material
@@ -95,7 +96,11 @@ def table_beam(x_m, section: SectionTable, material: Material | None = None, tip
         raise BeamInputError(
             f"section.EI_y_Nm2 has {section.size} entries: must be aligned with x "
             f"({x.size} entries, one per station)")
-    side = (12.0 * section.EI_y_Nm2 / material.E_Pa) ** 0.25
+    # placeholders for the planform's size checks only: kept inside their range, so that a
+    # soft or stiff table is never refused under the name "thickness" it does not have
+    lo, hi = SIZE_RANGE_M
+    top = min(hi, 10.0 * abs(float(x[-1]))) if x.size else hi  # the width ratio's bound: 20 L
+    side = np.clip((12.0 * section.EI_y_Nm2 / material.E_Pa) ** 0.25, 2.0 * lo, max(top, 2 * lo))
     thickness = float(side[0]) if np.all(side == side[0]) else side
     return Beam(x, 0.5 * side, thickness, material,
                 np.zeros(3) if tip_force_N is None else tip_force_N, name, description,

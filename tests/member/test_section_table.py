@@ -220,3 +220,19 @@ def test_table_station_derivatives_match_central_differences(trapezoid):
     for axis in ("z", "x"):
         check(axis_stiffness_gradient(table, lengths(stations), axis)[1],
               lambda x, axis=axis: axis_stiffness(table, lengths(x), axis))
+
+
+def test_a_very_soft_uniform_table_is_taken_and_matches_the_cantilever():
+    from prbdm_pin.member.section_member import table_beam
+    from prbdm_pin.member.section_table import SectionTable
+
+    # E I = 1e-12 N m^2: its "equivalent square" would be 4 um, below the planform's size
+    # range; a table has no such geometry, so it is not refused under a size it does not have
+    one = [1.0, 1.0]
+    b = table_beam([0.0, 1.0], SectionTable(np.multiply(one, 1e-12), one, one,
+                                            np.multiply(one, 1e-6), one, one))
+    bl = np.array([1.8751040687, 4.6940911330])  # roots of cos cosh = -1 to 11 digits
+    ref = bl**2 * np.sqrt(1e-12 / 1e-6)
+    # discretisation (O(h^4), ~1e-9) plus the Hermite basis' rounding, as above
+    rtol = 1e-8 + EPS * hermite_basis_cond(beam_stations(b))
+    np.testing.assert_allclose(beam_modal(b, 2).omega_rad_s, ref, rtol=rtol)
