@@ -72,7 +72,8 @@ class Beam:
         (:meth:`rectangle_only`). A :class:`SectionTable`: section properties at the stations
         (build it with :func:`~prbdm_pin.member.section_member.table_beam`); its half-width
         and thickness are those of the square of the same E I_y / E (side (12 E I_y / E)^(1/4),
-        clipped into the size range), for the size checks only: :meth:`half_width_at` and :meth:`thickness_at` refuse it.
+        clipped into the size range), for the size checks only: :meth:`half_width_at` and
+        :meth:`thickness_at` refuse it.
     """
 
     x_m: np.ndarray
