@@ -236,3 +236,19 @@ def test_a_very_soft_uniform_table_is_taken_and_matches_the_cantilever():
     # discretisation (O(h^4), ~1e-9) plus the Hermite basis' rounding, as above
     rtol = 1e-8 + EPS * hermite_basis_cond(beam_stations(b))
     np.testing.assert_allclose(beam_modal(b, 2).omega_rad_s, ref, rtol=rtol)
+
+
+def test_tip_corners_need_a_width_a_table_does_not_have():
+    from prbdm_pin import build_model
+    from prbdm_pin.member.section_member import round_beam
+
+    table = beam_from_dict(_table_of(Beam([0.0, 1.0], [0.03, 0.03], 0.004)))
+    model = build_model(table, LENGTHS, finite_segment_stiffness(table, LENGTHS))
+    tip, _ = model.point_kinematics("tip")
+    assert tip[0] == pytest.approx(1.0, rel=10 * EPS)  # the straight chain's tip at x = L
+    with pytest.raises(BeamInputError, match="a section table has no half_width"):
+        model.point_kinematics("tip_corner_left")
+    rod = round_beam([0.0, 1.0], [0.02, 0.01])
+    corner, _ = build_model(rod, LENGTHS, finite_segment_stiffness(rod, LENGTHS)
+                            ).point_kinematics("tip_corner_left")
+    assert abs(abs(corner[1]) - 0.005) < 10 * EPS  # the outer radius at the tip, 5 mm
