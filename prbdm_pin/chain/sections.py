@@ -14,8 +14,9 @@ are quartic, so three-point Gauss-Legendre (exact to degree 5) integrates them e
 A round member (outer and inner diameters linear between stations: conical frusta) reads its
 section law from :func:`~prbdm_pin.member.section_law.section_properties`: rho A is quadratic,
 rho A (x - c)^2, the rotary inertias rho I and E I_y quartic, so the same three-point rule is
-exact. The roll inertia is then ∫ rho I_x (the polar moment), pitch ∫ rho A (x - x_c)^2 +
-∫ rho I_y and yaw ∫ rho A (x - x_c)^2 + ∫ rho I_z.
+exact; a section table's laws are linear, so exact too. The roll inertia is then ∫ rho I_x
+(the polar moment), pitch ∫ rho A (x - x_c)^2 + ∫ rho I_y and yaw ∫ rho A (x - x_c)^2 +
+∫ rho I_z.
 """
 
 from __future__ import annotations

@@ -10,8 +10,8 @@ its derivative with respect to a cut station is the integrand at the cut:
     d/da ∫_a^b f(x) (x - a)^p dx = -[p = 0] f(a) - p ∫_a^b f (x - a)^(p-1).
 
 At a width step the half-width jumps, the integrals have different one-sided derivatives there,
-and the derivative returned is their mean (the limit of a central difference). A round
-member's section law (:mod:`~prbdm_pin.member.section_law`) is continuous: its integrands
+and the derivative returned is their mean (the limit of a central difference). A round or
+table member's section law (:mod:`~prbdm_pin.member.section_law`) is continuous: its integrands
 (rho A, rho I, E I_y and 1 / E I_y) at the cut are the derivatives.
 """
 

@@ -11,6 +11,8 @@ A round member's 1 / E I_y = 64 / (E pi (D - d) (D + d) (D^2 + d^2)) is cut the 
 D - d or D + d has changed by ``_RATIO``: on a piece where both p = D + d and q = D - d change by
 at most that factor, the complex roots of D^2 + d^2 = (p^2 + q^2) / 2 lie at least
 1 / (_RATIO - 1) piece lengths away too (|p'| <= (_RATIO - 1) p, |q'| <= (_RATIO - 1) q).
+A section table's stiffness S is itself linear between stations: it is cut where S has changed
+by ``_RATIO``, its one pole as far away.
 """
 
 from __future__ import annotations
