@@ -62,7 +62,7 @@ class Beam:
     thickness_law_m : ndarray, shape (k,), or None
         The thickness at the stations ``x_m``, m, when it varies; None when uniform. Given
         directly (e.g. by :func:`dataclasses.replace`) it must agree with ``thickness_m``.
-    section : RoundSection or None
+    section : RoundSection, SectionTable or None
         None: the planform rectangle 2 w(x) x t(x). A :class:`RoundSection`: a rod or tube
         whose section law replaces the rectangle (build it with
         :func:`~prbdm_pin.member.section_member.round_beam`); its half-width is then the outer
@@ -182,7 +182,7 @@ class Beam:
                 "stiffnesses and inertias only); this use needs a planform or round member")
 
     def rectangle_only(self, what: str) -> None:
-        """Refuse a round member for ``what``, a model of the planform rectangle only.
+        """Refuse a round or table member for ``what``, a model of the planform rectangle only.
 
         Raises
         ------
@@ -194,7 +194,7 @@ class Beam:
                 f"section = {{'kind': {self.section.kind!r}, ...}}: {what} takes the planform "
                 "rectangle (half_width, thickness) only; a round or table member takes the 1D beam "
                 "truth (prbdm truth --model beam, prbdm fit --truth-model beam) and the planar "
-                "chain")
+                "and spatial chains")
 
     def uniform_thickness_m(self, what: str) -> float:
         """Return the uniform thickness t in m; a thickness law is refused for ``what``.
@@ -207,7 +207,8 @@ class Beam:
         Raises
         ------
         BeamInputError
-            When the thickness varies along x, or the member is round (:meth:`rectangle_only`).
+            When the thickness varies along x, or the member has a section (round or table:
+            :meth:`rectangle_only`).
         """
         self.rectangle_only(what)
         if self.thickness_law_m is not None:
@@ -222,7 +223,8 @@ class Beam:
         """Bending area moment I_yy(x) = 2 w(x) t(x)^3 / 12 in m^4.
 
         ``x_m`` in m; ``side`` as in :meth:`half_width_at`. A round member's is
-        pi (D^4 - d^4) / 64 (:func:`~prbdm_pin.member.section_law.section_properties`).
+        pi (D^4 - d^4) / 64, a table's E I_y / E
+        (:func:`~prbdm_pin.member.section_law.section_properties`).
         """
         if self.section is not None:
             from .section_law import section_properties
@@ -244,7 +246,8 @@ class Beam:
     def mass_kg(self) -> float:
         """Total mass in kg (exact for a thickness law: 2 w t is quadratic between stations).
 
-        A round member's rho A is quadratic between stations too: Simpson's rule is exact.
+        A round member's rho A is quadratic between stations too (a table's linear): Simpson's
+        rule is exact.
         """
         if self.section is not None:
             from .section_law import section_properties
