@@ -28,7 +28,11 @@ from prbdm_pin.chain.sections_derivatives import (
     planar_sections_gradient,
     roll_yaw_inertia_gradient,
 )
-from prbdm_pin.chain.spatial_stiffness import axis_stiffness, spatial_stiffness
+from prbdm_pin.chain.spatial_stiffness import (
+    axis_stiffness,
+    link_mean_section_m4,
+    spatial_stiffness,
+)
 from prbdm_pin.chain.spatial_stiffness_derivatives import axis_stiffness_gradient
 from prbdm_pin.chain.stiffness import finite_segment_stiffness, finite_segment_stiffness_unchecked
 from prbdm_pin.cli import main
@@ -370,6 +374,24 @@ def test_spatial_springs_match_quadrature(frustum):
         def f(x, axis=axis):
             return axis_stiffness(frustum, _lengths(x), axis)
         _check(dK, f, np.max(np.abs(f(STATIONS))))
+
+
+def test_link_mean_sections_of_the_spatial_paper_springs_match_quadrature(frustum):
+    lengths = np.array([0.2, 0.3, 0.3, 0.2])
+    starts = np.r_[0.0, np.cumsum(lengths)[:-1]]
+    ends = np.cumsum(lengths)
+    sec = frustum.section
+
+    def I4(x):
+        Dx = np.interp(x, frustum.x_m, sec.outer_diameter_m)
+        dx = np.interp(x, frustum.x_m, sec.inner_diameter_m)
+        return np.pi * (Dx**4 - dx**4) / 64.0
+
+    mean = np.array([_quad(I4, a, b) / (b - a) for a, b in zip(starts, ends, strict=True)])
+    # 16-point Gauss, exact for the quartic I (and J = 2 I of a circle); quad's 1e-13
+    for axis, factor in (("y", 1.0), ("z", 1.0), ("x", 2.0)):
+        np.testing.assert_allclose(link_mean_section_m4(frustum, lengths, axis), factor * mean,
+                                   rtol=1e3 * EPS)
 
 
 def test_rectangle_models_refuse_a_round_member_by_name(frustum):
