@@ -20,6 +20,12 @@ _EXPORTS = {
     "load_schema": "schemas",
     "random_beam": "member.random_beams",
     "beam_from_dict": "files.beam_file",
+    "RoundSection": "member.round_section",
+    "SectionTable": "member.section_table",
+    "SectionProperties": "member.section_law",
+    "round_beam": "member.section_member",
+    "table_beam": "member.section_member",
+    "section_properties": "member.section_law",
     # errors
     "BeamInputError": "errors",
     "InputTypeError": "errors",

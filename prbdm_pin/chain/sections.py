@@ -10,6 +10,13 @@ the axis there too, so a link that straddles or ends on a step integrates each s
 A thickness law t(x), linear between the same stations, raises the degrees: the mass density
 2 w t is quadratic, its second moment in x and the y^2 and z^2 moments (2 w^3 t / 3, 2 w t^3 / 12)
 are quartic, so three-point Gauss-Legendre (exact to degree 5) integrates them exactly.
+
+A round member (outer and inner diameters linear between stations: conical frusta) reads its
+section law from :func:`~prbdm_pin.member.section_law.section_properties`: rho A is quadratic,
+rho A (x - c)^2, the rotary inertias rho I and E I_y quartic, so the same three-point rule is
+exact; a section table's laws are linear, so exact too. The roll inertia is then ∫ rho I_x
+(the polar moment), pitch ∫ rho A (x - x_c)^2 + ∫ rho I_y and yaw ∫ rho A (x - x_c)^2 +
+∫ rho I_z.
 """
 
 from __future__ import annotations
@@ -19,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..member.geometry import Beam
+from ..member.section_law import section_properties
 from ..options.choices import MIN_FRACTION
 from .layout import validate_lengths
 
@@ -142,6 +150,8 @@ def _integrals(beam: Beam, lengths: np.ndarray):
         link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
         link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
     h = v - u
+    if beam.section is not None:
+        return _section_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
     if beam.thickness_law_m is not None:
         return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
     xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
@@ -179,6 +189,25 @@ def _law_integrals(beam: Beam, shape, starts, ends, mids, link, u, h, nbins):
             *out.reshape((5,) + shape))
 
 
+def _section_integrals(beam: Beam, shape, starts, ends, mids, link, u, h, nbins):
+    """:func:`_integrals` of a section law (round): mass, inertia and stiffness per length.
+
+    Rows: ∫ rho A, its first and second moment in x about the mid-span (kg, kg m, kg m^2),
+    ∫ rho I_x, ∫ rho I_y, ∫ rho I_z (kg m^2) and ∫ E I_y (N m^3). With D, d linear between
+    stations rho A is quadratic and the rest quartic at most: 3-point Gauss is exact.
+    """
+    xg = u[..., None] + h[..., None] * _GAUSS3_T
+    sp = section_properties(beam, xg)
+    xl = xg - mids.ravel()[link][..., None]
+    a = sp.rhoA_kg_m
+    rows = np.stack([a, a * xl, a * xl * xl, sp.rhoI_x_kg_m, sp.rhoI_y_kg_m, sp.rhoI_z_kg_m,
+                     sp.EI_y_Nm2])
+    f = np.sum(rows * _GAUSS3_W, axis=-1) * h
+    out = np.stack([np.bincount(link.ravel(), r.ravel(), nbins) for r in f])
+    return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape),
+            *out.reshape((7,) + shape))
+
+
 def _properties(beam: Beam, lengths: np.ndarray):
     """Return the links' properties from the exact integrals, with or without a thickness law.
 
@@ -187,6 +216,12 @@ def _properties(beam: Beam, lengths: np.ndarray):
     COM (kg m^2) of each link.
     """
     rho = beam.material.rho_kg_m3
+    if beam.section is not None:  # rows carry rho and E already; the roll inertia is ∫ rho I_x
+        starts, ends, mids, m, S1, S2, Rx, Ry, Rz, EIy = _integrals(beam, lengths)
+        dx = S1 / m
+        Sxx_c = S2 - m * dx * dx
+        return (starts, ends, mids, m, dx, Sxx_c, Rx - Ry, Ry,
+                EIy / beam.material.E_Pa / (ends - starts), Sxx_c + Rz)
     if beam.thickness_law_m is not None:
         starts, ends, mids, A, S1, S2, Syy, T3 = _integrals(beam, lengths)
         dx = S1 / A

@@ -10,7 +10,9 @@ its derivative with respect to a cut station is the integrand at the cut:
     d/da ∫_a^b f(x) (x - a)^p dx = -[p = 0] f(a) - p ∫_a^b f (x - a)^(p-1).
 
 At a width step the half-width jumps, the integrals have different one-sided derivatives there,
-and the derivative returned is their mean (the limit of a central difference).
+and the derivative returned is their mean (the limit of a central difference). A round or
+table member's section law (:mod:`~prbdm_pin.member.section_law`) is continuous: its integrands
+(rho A, rho I, E I_y and 1 / E I_y) at the cut are the derivatives.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..member.geometry import Beam
+from ..member.section_law import section_properties
 from .sections import link_sections_unchecked, planar_sections
 from .stiffness import finite_segment_stiffness_unchecked
 
@@ -94,10 +97,12 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     mass, offset, Iyy, area_moment = sections
     nl = lengths.size
     n = nl - 1
-    law = beam.thickness_law_m is not None
-    # under a thickness law rho_t is rho and A, w2 carry t(x) (A = ∫ 2 w t)
+    sec = beam.section is not None
+    law = beam.thickness_law_m is not None or sec
+    # under a thickness law rho_t is rho and A, w2 carry t(x) (A = ∫ 2 w t); a section law's
+    # rows carry rho already (A = ∫ rho A is the mass, w2 the mass per length)
     t = 1.0 if law else beam.thickness_m
-    rho_t = beam.material.rho_kg_m3 * t
+    rho_t = 1.0 if sec else beam.material.rho_kg_m3 * t
     # moments about each link's start: A = ∫ 2w, P1 = ∫ 2w (x - a) (P2 = ∫ 2w (x - a)^2 enters
     # only through its derivative)
     A = mass / rho_t
@@ -107,8 +112,12 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     h[0] = x[0]
     np.subtract(x[1:], x[:-1], out=h[1:-1])
     h[-1] = beam.length_m - x[-1]
-    w2 = 2.0 * _mean_width(beam, x)
-    if law:
+    if sec:
+        sp = section_properties(beam, x)
+        w2 = sp.rhoA_kg_m
+    else:
+        w2 = 2.0 * _mean_width(beam, x)
+    if law and not sec:
         w2 = w2 * beam.thickness_at(x)
     # each link moves with two stations only: its end (station j + 1 ends link j, the first n
     # entries) and its start (station j + 1 starts link j + 1, the last n), both bands at once
@@ -131,10 +140,14 @@ def planar_sections_gradient(beam: Beam, lengths_m: np.ndarray,
     np.multiply(rho_t, dA, out=v[0])
     np.divide(dP1 - off * dA, Al, out=v[1])
     if law:  # the z^2 term and the mean area moment: T = ∫ 2 w t^3 / 12 moves by its integrand
-        g = w2 * beam.thickness_at(x) ** 2 / 12.0
+        if sec:  # ∫ rho I_y and ∫ E I_y / E move by theirs
+            gm, g = sp.rhoI_y_kg_m, sp.EI_y_Nm2 / beam.material.E_Pa
+        else:
+            g = w2 * beam.thickness_at(x) ** 2 / 12.0
+            gm = rho_t * g
         dT = np.r_[g, -g]
         T = area_moment[links] * hl
-        np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), rho_t * dT, out=v[2])
+        np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), np.r_[gm, -gm], out=v[2])
         np.subtract(dT / hl, T / hl**2 * dh, out=v[3])
     else:
         np.add(rho_t * (dP2 - 2.0 * r * dP1 + r * r * dA), v[0] * t * t / 12.0, out=v[2])
@@ -177,6 +190,8 @@ def roll_yaw_inertia_gradient(beam: Beam, lengths_m: np.ndarray,
     sec = link_sections_unchecked(beam, lengths)
     Ixx, Izz = sec.inertia_com_kg_m2[:, 0, 0], sec.inertia_com_kg_m2[:, 2, 2]
     n = lengths.size - 1
+    if beam.section is not None:  # ∫ rho I_x, ∫ rho I_z and ∫ rho I_y move by their integrands
+        return (Ixx, Izz, *_section_roll_yaw(beam, lengths, sections.d_inertia_yy_kg_m))
     law = beam.thickness_law_m is not None
     t = 1.0 if law else beam.thickness_m  # a law's t(x) goes into the integrands below
     rho_t = beam.material.rho_kg_m3 * t
@@ -200,6 +215,20 @@ def roll_yaw_inertia_gradient(beam: Beam, lengths_m: np.ndarray,
     return Ixx, Izz, d_xx, d_zz
 
 
+def _section_roll_yaw(beam: Beam, lengths: np.ndarray, d_inertia_yy: np.ndarray):
+    """Return d I_xx (∫ rho I_x) and d I_zz (I_yy - ∫ rho I_y + ∫ rho I_z), kg m."""
+    n = lengths.size - 1
+    sp = section_properties(beam, stations_from_lengths(lengths))
+    links, cols, sign = _bands(n)
+
+    def band(g):
+        out = np.zeros((n + 1, n))
+        out[links, cols] = sign * np.r_[g, g]  # a station ends link j (+), starts j + 1 (-)
+        return out
+
+    return band(sp.rhoI_x_kg_m), d_inertia_yy + band(sp.rhoI_z_kg_m - sp.rhoI_y_kg_m)
+
+
 def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
                                       K: np.ndarray | None = None
                                       ) -> tuple[np.ndarray, np.ndarray]:
@@ -218,15 +247,20 @@ def finite_segment_stiffness_gradient(beam: Beam, lengths_m: np.ndarray,
         K = finite_segment_stiffness_unchecked(beam, lengths)
     n = K.size
     law = beam.thickness_law_m is not None
-    # under a law the integral is of 1 / (w t^3): t^3 leaves C for the integrand
+    # under a law the integral is of 1 / (w t^3): t^3 leaves C for the integrand; a section
+    # law's is of 1 / E I_y (C = 1)
     C = beam.material.E_Pa * 2.0 * (1.0 if law else beam.thickness_m**3) / 12.0
+    if beam.section is not None:
+        C = 1.0
     ends = np.add.accumulate(lengths)
     centres = ends - 0.5 * lengths
     if n == 1:
         return K, np.zeros((1, 1))
     inner = centres[1:n]  # c_1 .. c_(n-1), each the mean of stations j and j + 1
     dI_dc = 0.5 / _mean_width(beam, inner)  # (n-1,): 1 / w(c) times dc/dx = 1/2
-    if law:
+    if beam.section is not None:
+        dI_dc = 0.5 / section_properties(beam, inner).EI_y_Nm2
+    elif law:
         dI_dc = dI_dc / beam.thickness_at(inner) ** 3
     # spring j's integral ends at c_(j+1) (+) and spring j + 1's starts there (-): dI is
     # tridiagonal, written through views of its diagonals

@@ -13,6 +13,9 @@ the section stiffness C S(x) of the axis:
   (:func:`prbdm_pin.member.section.torsion_constant_m4`), integrated by 16-point
   Gauss-Legendre on each vertex interval (1 / J is smooth there; the rule's error is below
   1e-13 relative for every interval whose end widths differ by less than a factor 10).
+
+A round member's E I_z and G J (:mod:`~prbdm_pin.member.section_law`) are integrated as its
+E I_y is (:func:`~prbdm_pin.chain.stiffness_law.inverse_section_integral`).
 """
 
 from __future__ import annotations
@@ -21,10 +24,12 @@ import numpy as np
 
 from ..member.geometry import Beam
 from ..member.section import torsion_constant_m4
+from ..member.section_law import section_properties
 from ..options.choices import MIN_FRACTION, Axes
 from ..options.validate import check_axes, check_type
 from .layout import validate_lengths
 from .stiffness import finite_segment_stiffness_unchecked
+from .stiffness_law import inverse_section_integral
 
 __all__ = ["axis_stiffness", "spatial_stiffness", "spring_axes", "link_mean_section_m4",
            "paper_axis_unit_stiffness"]
@@ -73,6 +78,12 @@ def axis_stiffness(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarray:
         return finite_segment_stiffness_unchecked(beam, lengths)
     if axis not in ("z", "x"):
         raise ValueError(f"axis = {axis!r}: must be 'x', 'y' or 'z'")
+    if beam.section is not None:  # ∫ dx / (E I_z or G J) of the section law, 1/(N m)
+        c = _spans(lengths)
+        u, v, part = inverse_section_integral(beam, np.union1d(c, beam.x_m)[None],
+                                              "EI_z_Nm2" if axis == "z" else "GJ_Nm2")
+        span = np.clip(np.searchsorted(c, 0.5 * (u[0] + v[0])) - 1, 0, c.size - 2)
+        return 1.0 / np.bincount(span, part[0], c.size - 1)
     modulus = beam.material.E_Pa if axis == "z" else beam.material.G_Pa
     return modulus / _span_integrals(beam, lengths, axis)
 
@@ -134,11 +145,18 @@ def link_mean_section_m4(beam: Beam, lengths: np.ndarray, axis: str) -> np.ndarr
     u, v = u[keep], v[keep]
     s = 0.5 * (_GL_T + 1.0)
     x = u[:, None] + (v - u)[:, None] * s
-    b = 2.0 * np.asarray(beam.half_width_at(x.ravel()), dtype=float).reshape(x.shape)
-    t = beam.uniform_thickness_m("the spatial chain")
-    section = {"y": lambda w: w * t**3 / 12.0, "z": lambda w: t * w**3 / 12.0,
-               "x": lambda w: torsion_constant_thin_m4(w, t)}[axis]
-    part = (v - u) * (0.5 * _GL_W * section(b)).sum(axis=1)
+    if beam.section is not None:  # the section law's constants: quartic at most, exact
+        sp = section_properties(beam, x)
+        mat = beam.material
+        S = {"y": sp.EI_y_Nm2 / mat.E_Pa, "z": sp.EI_z_Nm2 / mat.E_Pa,
+             "x": sp.GJ_Nm2 / mat.G_Pa}[axis]
+        part = (v - u) * (0.5 * _GL_W * S).sum(axis=1)
+    else:
+        b = 2.0 * np.asarray(beam.half_width_at(x.ravel()), dtype=float).reshape(x.shape)
+        t = beam.uniform_thickness_m("the spatial chain")
+        section = {"y": lambda w: w * t**3 / 12.0, "z": lambda w: t * w**3 / 12.0,
+                   "x": lambda w: torsion_constant_thin_m4(w, t)}[axis]
+        part = (v - u) * (0.5 * _GL_W * section(b)).sum(axis=1)
     link = np.clip(np.searchsorted(ends, 0.5 * (u + v)), 0, lengths.size - 1)
     return np.bincount(link, part, lengths.size) / (ends - starts)
 

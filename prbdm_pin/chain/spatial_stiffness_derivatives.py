@@ -37,6 +37,7 @@ from ..member.design import Design
 from ..member.geometry import Beam
 from ..member.section import torsion_constant_m4
 from ..member.section_derivatives import torsion_constant_gradient
+from ..member.section_law import section_properties
 from ..options.choices import MIN_FRACTION
 from .layout import validate_lengths
 from .sections_derivatives import finite_segment_stiffness_gradient
@@ -102,7 +103,11 @@ def axis_stiffness_gradient(beam: Beam, lengths_m: np.ndarray, axis: str,
         return K, np.zeros((1, 1))
     ends = np.add.accumulate(lengths)
     inner = (ends - 0.5 * lengths)[1:n]  # c_1 .. c_(n-1)
-    if beam.step_index.size:  # the mean of the one-sided integrands at a step
+    C = _modulus(beam, axis)
+    if beam.section is not None:  # the integrand 1 / (E I_z or G J) of the section law: C = 1
+        sp = section_properties(beam, inner)
+        g, C = 1.0 / (sp.EI_z_Nm2 if axis == "z" else sp.GJ_Nm2), 1.0
+    elif beam.step_index.size:  # the mean of the one-sided integrands at a step
         g = 0.5 * (_inverse_section(beam, beam.half_width_at(inner, "left"), axis)
                    + _inverse_section(beam, beam.half_width_at(inner, "right"), axis))
     else:  # the fit's inner loop: one interpolation
@@ -115,7 +120,6 @@ def axis_stiffness_gradient(beam: Beam, lengths_m: np.ndarray, axis: str,
     for col in (j, j + 1):
         dI[j, col] += dI_dc
         dI[j + 1, col] -= dI_dc
-    C = _modulus(beam, axis)
     return K, -(K * K / C)[:, None] * dI
 
 

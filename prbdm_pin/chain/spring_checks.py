@@ -6,6 +6,7 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..member.section import area_moment_z_m4, torsion_constant_m4
+from ..member.section_law import section_properties
 from ..options.choices import LINK_FLOOR_FRACTION
 from ..options.validate import SPRING_WINDOW
 
@@ -22,7 +23,10 @@ def check_springs(beam, stiffness_Nm_per_rad) -> None:
     for another model), and its products with the link inertias would leave double precision.
     """
     E, L = beam.material.E_Pa, beam.length_m
-    if beam.thickness_law_m is None:
+    if beam.section is not None:  # the section law at the stations (linear D, d: its extremes)
+        EI = E * beam.area_moment_at(beam.x_m)
+        EI_min, EI_max = float(EI.min()), float(EI.max())
+    elif beam.thickness_law_m is None:
         t3 = beam.thickness_m**3
         EI_min = E * 2.0 * float(beam.half_width_m.min()) * t3 / 12.0
         EI_max = E * 2.0 * float(beam.half_width_m.max()) * t3 / 12.0
@@ -47,14 +51,18 @@ def check_spatial_springs(beam, stiffness_Nm_per_rad, axes) -> None:
     gives (E I_y, E I_z or G J over the span from the shortest link to the whole member), as
     :func:`check_springs` does for bending about y.
     """
-    b = 2.0 * beam.half_width_m
-    t = beam.uniform_thickness_m("the spring checks")
     E, G, L = beam.material.E_Pa, beam.material.G_Pa, beam.length_m
-    section = {
-        "y": E * b * t**3 / 12.0,
-        "z": E * area_moment_z_m4(b, t),
-        "x": G * torsion_constant_m4(b, t),
-    }
+    if beam.section is not None:  # the section law at the stations: its extremes
+        sp = section_properties(beam, beam.x_m)
+        section = {"y": sp.EI_y_Nm2, "z": sp.EI_z_Nm2, "x": sp.GJ_Nm2}
+    else:
+        b = 2.0 * beam.half_width_m
+        t = beam.uniform_thickness_m("the spring checks")
+        section = {
+            "y": E * b * t**3 / 12.0,
+            "z": E * area_moment_z_m4(b, t),
+            "x": G * torsion_constant_m4(b, t),
+        }
     order = axes.joint_order
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     for i, ki in enumerate(k):

@@ -17,7 +17,7 @@ from ..options.choices import EPS_RAD, MIN_FRACTION, XI_RAD
 from ..options.validate import check_joints, check_modulus, check_type
 from .layout import validate_lengths
 from .sections import LinkSections
-from .stiffness_law import inverse_moment_integral
+from .stiffness_law import inverse_moment_integral, inverse_section_integral
 
 __all__ = [
     "MAX_POSES",
@@ -124,7 +124,7 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m.
 
     Under a thickness law the integrand is 1 / (w t^3) (m^-3, to rounding: see
-    :mod:`~prbdm_pin.chain.stiffness_law`).
+    :mod:`~prbdm_pin.chain.stiffness_law`); for a round member it is 1 / E I_y (1/(N m)).
 
     ``a``, ``b`` are (k,) or stacks (B, k) of interval ends. All intervals at once: their ends
     and the planform vertices cut the axis into sub-intervals where w is linear; each
@@ -153,6 +153,8 @@ def _sub_integrals(beam: Beam, cuts: np.ndarray):
     The sub-intervals [u, v] lie between consecutive sorted ``cuts`` (B, c), m, which include
     the planform vertices, so w is linear on each; empty sub-intervals give exact zeros.
     """
+    if beam.section is not None:  # a section law: the integral is of 1 / E I_y (1/(N m))
+        return inverse_section_integral(beam, cuts)
     if beam.thickness_law_m is not None:
         # under a thickness law the integral is of 1 / (w t^3) (m^-3), see stiffness_law
         return inverse_moment_integral(beam, cuts)
@@ -231,6 +233,8 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
         above = centres.searchsorted(mid)
         span = np.where(above == centres.searchsorted(mid, "right"), above - 1, n)
         integral = np.bincount(span, part[0], n + 1)[:n]
+    if beam.section is not None:  # the integral holds 1 / E I_y already
+        return 1.0 / integral
     if beam.thickness_law_m is not None:  # the integral holds 1 / t^3 already
         return beam.material.E_Pa * (2.0 / 12.0) / integral
     t = beam.thickness_m

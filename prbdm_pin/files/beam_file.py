@@ -16,14 +16,62 @@ from ..io.jsonfile import field_str, read_json
 from ..member.checks import finite_positive
 from ..member.geometry import Beam, beam_to_dict
 from ..member.material import STEEL_4340, Material
+from ..member.section_member import round_beam, table_beam
+from ..member.section_table import TABLE_FIELDS, TABLE_REQUIRED, SectionTable
 from ..options.limits import check_cap
 
 __all__ = ["beam_from_dict", "load_beam", "save_beam"]
 
 _KEYS_REQUIRED = {"x", "half_width", "thickness"}
 _KEYS_OPTIONAL = {"length", "material", "tip_force", "name", "description"}
+_KEYS_SECTION = {"x", "section"}
 _MATERIAL_KEYS = {"name", "E", "rho", "nu"}
+_ROUND_KEYS = {"kind", "outer_diameter", "inner_diameter"}
 
+
+def _section(d: dict) -> dict:
+    """Return the ``"section"`` mapping of a round member, keys checked (values: by the Beam)."""
+    sec = d["section"]
+    if not isinstance(sec, dict):
+        raise InputTypeError(f"section = {sec!r}: must be an object such as "
+                             '{"kind": "round", "outer_diameter": [...]}')
+    kind = sec.get("kind")
+    if kind == "table":
+        return _table(sec)
+    if kind != "round":
+        raise BeamInputError(f"section.kind = {kind!r}: unknown; use \"round\" (outer_diameter, "
+                             "inner_diameter lists aligned with x) or \"table\" (EI_y_Nm2, ...)")
+    unknown = set(sec) - _ROUND_KEYS
+    if unknown:
+        raise BeamInputError(f"unknown key(s) in section {sorted(unknown)}: allowed are "
+                             f"{sorted(_ROUND_KEYS)}")
+    if "outer_diameter" not in sec:
+        raise BeamInputError("section.outer_diameter missing: a round section needs the "
+                             "outer diameters (m, a list aligned with x)")
+    for key in ("outer_diameter", "inner_diameter"):
+        if key in sec and not isinstance(sec[key], list):
+            raise InputTypeError(f"section.{key} = {sec[key]!r}: must be a list aligned with "
+                                 "x (m)")
+    return sec
+
+
+def _table(sec: dict) -> dict:
+    """Check a table section's keys: the required lists present, no unknown key."""
+    allowed = {"kind", *TABLE_FIELDS}
+    unknown = set(sec) - allowed
+    if unknown:
+        raise BeamInputError(f"unknown key(s) in section {sorted(unknown)}: allowed are "
+                             f"{sorted(allowed)}")
+    missing = [k for k in TABLE_REQUIRED if k not in sec]
+    if missing:
+        raise BeamInputError(f"section.{missing[0]} missing: a section table needs "
+                             f"{', '.join(TABLE_REQUIRED)} (lists aligned with x; rhoI_x_kg_m "
+                             "optional, rhoI_y_kg_m + rhoI_z_kg_m by default)")
+    for key in set(sec) - {"kind"}:
+        if not isinstance(sec[key], list):
+            raise InputTypeError(f"section.{key} = {sec[key]!r}: must be a list aligned with "
+                                 f"x ({TABLE_FIELDS[key]})")
+    return sec
 
 
 def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
@@ -36,23 +84,23 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     """
     if not isinstance(d, dict):
         raise InputTypeError(f"beam = {type(d).__name__}: must be a JSON object (a dict)")
-    if "section" in d:  # the issue's spelling for round and table sections, not built yet
-        kind = d["section"].get("kind") if isinstance(d["section"], dict) else d["section"]
-        raise BeamInputError(
-            f"section = {{'kind': {kind!r}, ...}}: round and table sections are not supported "
-            "yet; give the planform (half_width) and thickness (a number or a list aligned "
-            "with x)")
-    unknown = set(d) - _KEYS_REQUIRED - _KEYS_OPTIONAL
+    section = _section(d) if "section" in d else None
+    required = _KEYS_SECTION if section is not None else _KEYS_REQUIRED
+    unknown = set(d) - required - _KEYS_OPTIONAL
     if unknown:
-        raise BeamInputError(f"unknown key(s) {sorted(unknown)}: allowed are "
-                             f"{sorted(_KEYS_REQUIRED | _KEYS_OPTIONAL)}")
-    missing = _KEYS_REQUIRED - set(d)
+        why = " (a section replaces half_width and thickness)" if section is not None else ""
+        raise BeamInputError(f"unknown key(s) {sorted(unknown)}{why}: allowed are "
+                             f"{sorted(required | _KEYS_OPTIONAL)}")
+    missing = required - set(d)
     if missing:
         raise BeamInputError(f"missing key(s) {sorted(missing)}")
     # before any array is built: a 200k-vertex planform exhausts the solvers, not the parser
-    for key in ("x", "half_width", "thickness") if check_caps else ():
+    for key in (("x",) if section else ("x", "half_width", "thickness")) if check_caps else ():
         if isinstance(d[key], list):
             check_cap(f"{key} (vertices)", len(d[key]), "max_vertices")
+    for key in (set(section) - {"kind"}) if check_caps and section else ():
+        if isinstance(section.get(key), list):
+            check_cap(f"section.{key} (stations)", len(section[key]), "max_vertices")
     mat_d = d.get("material", {})
     if not isinstance(mat_d, dict):
         raise BeamInputError(f"material = {mat_d!r}: must be an object with E, rho, nu")
@@ -70,15 +118,24 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
     for key in ("name", "description"):
         if key in d:
             field_str(key, d[key])
-    beam = Beam(
-        x_m=d["x"],
-        half_width_m=d["half_width"],
-        thickness_m=d["thickness"],
-        material=material,
-        tip_force_N=d.get("tip_force", [0.0, 0.0, 0.0]),
-        name=d.get("name", "beam"),
-        description=d.get("description", ""),
-    )
+    if section is not None and section["kind"] == "table":
+        table = SectionTable(**{k: v for k, v in section.items() if k != "kind"})
+        beam = table_beam(d["x"], table, material, d.get("tip_force", [0.0, 0.0, 0.0]),
+                          d.get("name", "beam"), d.get("description", ""))
+    elif section is not None:
+        beam = round_beam(d["x"], section["outer_diameter"], section.get("inner_diameter"),
+                          material, d.get("tip_force", [0.0, 0.0, 0.0]),
+                          d.get("name", "beam"), d.get("description", ""))
+    else:
+        beam = Beam(
+            x_m=d["x"],
+            half_width_m=d["half_width"],
+            thickness_m=d["thickness"],
+            material=material,
+            tip_force_N=d.get("tip_force", [0.0, 0.0, 0.0]),
+            name=d.get("name", "beam"),
+            description=d.get("description", ""),
+        )
     if "length" in d:
         length = finite_positive("length", d["length"])
         if not math.isclose(length, beam.length_m, rel_tol=1e-12, abs_tol=0.0):
@@ -97,8 +154,14 @@ def load_beam(path: str | os.PathLike) -> Beam:
     ``tip_force`` ([Fx, Fy, Fz] in N): without it the beam has no load, [0, 0, 0] N, which is
     enough for eigen (frequency) fits; deflection, combined and Pareto fits refuse a zero load.
     The file is read by :func:`prbdm_pin.io.jsonfile.read_json` (size, UTF-8, depth, integer
-    length, finiteness); at most ``limits().max_vertices`` vertices (``PRBDM_MAX_VERTICES``);
-    names hold no control characters.
+    length, finiteness). A round member replaces ``half_width`` and ``thickness`` by
+    ``"section": {"kind": "round", "outer_diameter": [...], "inner_diameter": [...]}`` (m,
+    lists aligned with ``x``; the inner one optional, a solid rod without it); its material
+    gives E, G and rho. A table member gives ``"section": {"kind": "table", "EI_y_Nm2": [...],
+    "EI_z_Nm2", "GJ_Nm2", "rhoA_kg_m", "rhoI_y_kg_m", "rhoI_z_kg_m": [...]}`` (lists aligned
+    with ``x``, units in the names; ``rhoI_x_kg_m`` optional, rhoI_y + rhoI_z by default); its
+    material is optional and changes no result. At most ``limits().max_vertices`` vertices
+    (``PRBDM_MAX_VERTICES``); names hold no control characters.
 
     Parameters
     ----------

@@ -97,6 +97,7 @@ class Design:
         """Check the beam and the names, and parse every name once."""
         if not isinstance(self.beam, Beam):
             raise InputTypeError(f"beam = {self.beam!r}: must be a prbdm_pin.Beam")
+        self.beam.rectangle_only("design variations")  # its variables are w, t, x of a planform
         if isinstance(self.variables, str) or not hasattr(self.variables, "__iter__"):
             raise BeamInputError(f"variables = {self.variables!r}: must be a sequence of names "
                                  "such as ('thickness', 'half_width[2]')")

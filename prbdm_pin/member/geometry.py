@@ -12,15 +12,17 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from ..errors import BeamInputError
 from ..io.jsonfile import field_str
 from ..options.validate import check_planform, check_type
+from .beam_dict import beam_to_dict
 from .checks import check_representable, check_stations, float_array, thickness_law
 from .material import Material
+from .round_section import RoundSection, check_round_member
+from .section_table import SectionTable, check_table_member
 
 __all__ = ["Beam", "beam_to_dict"]
 
@@ -60,6 +62,18 @@ class Beam:
     thickness_law_m : ndarray, shape (k,), or None
         The thickness at the stations ``x_m``, m, when it varies; None when uniform. Given
         directly (e.g. by :func:`dataclasses.replace`) it must agree with ``thickness_m``.
+    section : RoundSection, SectionTable or None
+        None: the planform rectangle 2 w(x) x t(x). A :class:`RoundSection`: a rod or tube
+        whose section law replaces the rectangle (build it with
+        :func:`~prbdm_pin.member.section_member.round_beam`); its half-width is then the outer
+        radius and its thickness the outer diameter (so the strain sensor's half thickness is
+        the outer radius), the stations have no width steps, and every model that needs a
+        rectangle (the plate, the solid, the elastica's anticlastic strips) refuses it by name
+        (:meth:`rectangle_only`). A :class:`SectionTable`: section properties at the stations
+        (build it with :func:`~prbdm_pin.member.section_member.table_beam`); its half-width
+        and thickness are those of the square of the same E I_y / E (side (12 E I_y / E)^(1/4),
+        clipped into the size range), for the size checks only: :meth:`half_width_at` and
+        :meth:`thickness_at` refuse it.
     """
 
     x_m: np.ndarray
@@ -70,6 +84,7 @@ class Beam:
     name: str = "beam"
     description: str = ""
     thickness_law_m: np.ndarray | None = None
+    section: RoundSection | SectionTable | None = None
 
     def __post_init__(self) -> None:
         """Validate the fields (errors name the field and the value); freeze the arrays."""
@@ -91,6 +106,10 @@ class Beam:
             i = int(bad[0])
             raise BeamInputError(f"half_width[{i}] = {w[i]} m: must be > 0")
         t, law = thickness_law(x, self.thickness_m, self.thickness_law_m)
+        if isinstance(self.section, SectionTable):  # w, t: the equivalent square's, unchecked
+            check_table_member(x, self.section)
+        elif self.section is not None:  # first: its errors name the diameters, not w and t
+            check_round_member(x, w, t if law is None else law, self.section)
         for tk in (t,) if law is None else (float(law.min()), t):
             check_planform(x, w, tk)  # sizes in 1e-5 ... 1e3 m: a size in mm is named
         check_type("material", self.material, Material)
@@ -136,6 +155,7 @@ class Beam:
         """
         if side not in ("left", "right"):
             raise ValueError(f"side = {side!r}: must be 'left' or 'right'")
+        self._not_table("half_width")
         w = np.interp(x_m, self.x_m, self.half_width_m)
         k = self.step_index
         if not k.size:
@@ -150,9 +170,31 @@ class Beam:
 
     def thickness_at(self, x_m: np.ndarray | float) -> np.ndarray | float:
         """Thickness t(x) in m at stations ``x_m`` (m): linear between stations, continuous."""
+        self._not_table("thickness")
         if self.thickness_law_m is None:
             return self.thickness_m + 0.0 * np.asarray(x_m, dtype=float)
         return np.interp(x_m, self.x_m, self.thickness_law_m)
+
+    def _not_table(self, what: str) -> None:
+        if isinstance(self.section, SectionTable):
+            raise BeamInputError(
+                f"section = {{'kind': 'table', ...}}: a section table has no {what} (it gives "
+                "stiffnesses and inertias only); this use needs a planform or round member")
+
+    def rectangle_only(self, what: str) -> None:
+        """Refuse a round or table member for ``what``, a model of the planform rectangle only.
+
+        Raises
+        ------
+        BeamInputError
+            When ``section`` is set (the message names the section and ``what``).
+        """
+        if self.section is not None:
+            raise BeamInputError(
+                f"section = {{'kind': {self.section.kind!r}, ...}}: {what} takes the planform "
+                "rectangle (half_width, thickness) only; a round or table member takes the 1D beam "
+                "truth (prbdm truth --model beam, prbdm fit --truth-model beam) and the planar "
+                "and spatial chains")
 
     def uniform_thickness_m(self, what: str) -> float:
         """Return the uniform thickness t in m; a thickness law is refused for ``what``.
@@ -165,8 +207,10 @@ class Beam:
         Raises
         ------
         BeamInputError
-            When the thickness varies along x.
+            When the thickness varies along x, or the member has a section (round or table:
+            :meth:`rectangle_only`).
         """
+        self.rectangle_only(what)
         if self.thickness_law_m is not None:
             law = self.thickness_law_m
             raise BeamInputError(
@@ -178,8 +222,14 @@ class Beam:
     def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:
         """Bending area moment I_yy(x) = 2 w(x) t(x)^3 / 12 in m^4.
 
-        ``x_m`` in m; ``side`` as in :meth:`half_width_at`.
+        ``x_m`` in m; ``side`` as in :meth:`half_width_at`. A round member's is
+        pi (D^4 - d^4) / 64, a table's E I_y / E
+        (:func:`~prbdm_pin.member.section_law.section_properties`).
         """
+        if self.section is not None:
+            from .section_law import section_properties
+
+            return section_properties(self, x_m).EI_y_Nm2 / self.material.E_Pa
         if self.thickness_law_m is None:
             return 2.0 * self.half_width_at(x_m, side) * self.thickness_m**3 / 12.0
         return 2.0 * self.half_width_at(x_m, side) * self.thickness_at(x_m) ** 3 / 12.0
@@ -194,7 +244,19 @@ class Beam:
 
     @property
     def mass_kg(self) -> float:
-        """Total mass in kg (exact for a thickness law: 2 w t is quadratic between stations)."""
+        """Total mass in kg (exact for a thickness law: 2 w t is quadratic between stations).
+
+        A round member's rho A is quadratic between stations too (a table's linear): Simpson's
+        rule is exact.
+        """
+        if self.section is not None:
+            from .section_law import section_properties
+
+            x = np.concatenate([self.x_m, 0.5 * (self.x_m[:-1] + self.x_m[1:])])
+            a = section_properties(self, x).rhoA_kg_m
+            k = self.x_m.size
+            h = np.diff(self.x_m)
+            return float(np.sum(h * (a[:k - 1] + 4.0 * a[k:] + a[1:k]) / 6.0))
         if self.thickness_law_m is None:
             return self.planform_area_m2 * self.thickness_m * self.material.rho_kg_m3
         w, t, h = self.half_width_m, self.thickness_law_m, np.diff(self.x_m)
@@ -215,53 +277,19 @@ class Beam:
     def kirchhoff_warnings(self, modes: int = 5, tol_pct: float = 1.0) -> tuple[str, ...]:
         """Where a Kirchhoff plate (the ``plate`` truths) misrepresents this beam, as warnings.
 
-        Kirchhoff theory neglects transverse shear and rotary inertia. By Timoshenko (and
-        Mindlin) theory they lower bending mode m of wavenumber k_m = beta_m / L by about
-        (k_m r)^2 (1 + E / (kappa G)) / 2 (r^2 = t^2 / 12, kappa = 5/6): 0.60 (t/L)^2 for
-        mode 1 and a factor beta_m^2 / beta_1^2 more for mode m (about 0.6 % at t = L/10 on
-        mode 1, 1 % at t = L/45 on mode 4). A warning when that exceeds ``tol_pct`` (%) for the
-        highest of ``modes`` modes. Across the width a Kirchhoff plate needs the width to exceed
-        the thickness: a section thicker than wide is a bar whose softer, lateral bending in the
-        plane of the planform a plate cannot have (at t/width = 0.2, the shipped narrow
-        strips, the plate stays within a few tenths of a percent of Euler-Bernoulli theory).
-
-        Parameters
-        ----------
-        modes : int
-            Bending modes the truth selects.
-        tol_pct : float
-            Estimated shear and rotary-inertia error that triggers a warning, %.
+        See :func:`~prbdm_pin.member.kirchhoff.kirchhoff_warnings` (``modes``: bending modes
+        the truth selects; ``tol_pct``: the estimated error, %, that triggers a warning).
         """
-        m = max(int(modes), 1)
-        roots = (1.8751040687, 4.6940911330, 7.8547574382, 10.9955407349)
-        beta = roots[m - 1] if m <= 4 else (m - 0.5) * np.pi
-        t, L = self.thickness_m, self.length_m
-        shear = 1.0 + self.material.E_Pa / (5.0 / 6.0 * self.material.G_Pa)
-        est = 100.0 * 0.5 * (beta * t / L) ** 2 / 12.0 * shear
-        out = []
-        advice = "use the 3D solid (prbdm truth --model solid, prbdm fit --truth-model solid)"
-        if est > tol_pct:
-            out.append(
-                f"thickness = {t:g} m is {t / L:.3g} L: past Kirchhoff plate theory for "
-                f"{m} mode{'s' if m > 1 else ''} (transverse shear and rotary inertia, which "
-                f"it neglects, lower mode {m} by "
-                f"{f'about {est:.2g} %' if est < 10 else 'far more than 10 %'}); {advice}"
-            )
-        b = 2.0 * float(self.half_width_m.min())
-        if t > b:
-            out.append(
-                f"thickness = {t:g} m exceeds the narrowest width {b:g} m: that section is a bar, "
-                f"not a plate (Kirchhoff theory needs t << width; its lateral, in-plane bending "
-                f"is softer than the plate's and absent from it); {advice}"
-            )
-        return tuple(out)
+        from .kirchhoff import kirchhoff_warnings
+
+        return kirchhoff_warnings(self, modes, tol_pct)
 
     def with_tip_force(self, tip_force_N: np.ndarray) -> Beam:
         """Return a copy with another tip force (N)."""
         return Beam(
             self.x_m, self.half_width_m, self.thickness_m, self.material,
             np.asarray(tip_force_N, dtype=float), self.name, self.description,
-            self.thickness_law_m,
+            self.thickness_law_m, self.section,
         )
 
     def fingerprint(self) -> str:
@@ -272,19 +300,3 @@ class Beam:
         d.pop("name", None)
         d.pop("description", None)
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()
-
-
-def beam_to_dict(beam: Beam) -> dict[str, Any]:
-    """Return the beam-JSON mapping of ``beam`` (SI units)."""
-    m = beam.material
-    return {
-        "name": beam.name,
-        "description": beam.description,
-        "length": beam.length_m,
-        "x": [float(v) for v in beam.x_m],
-        "half_width": [float(v) for v in beam.half_width_m],
-        "thickness": (beam.thickness_m if beam.thickness_law_m is None
-                      else [float(v) for v in beam.thickness_law_m]),
-        "material": {"name": m.name, "E": m.E_Pa, "rho": m.rho_kg_m3, "nu": m.nu},
-        "tip_force": [float(v) for v in beam.tip_force_N],
-    }

@@ -49,7 +49,9 @@ class ChainKinematics:
         """
         if self.beam is None and point != "tip":
             raise BeamInputError(f"point = {point!r}: this model carries no beam, so no width")
-        w = 0.0 if self.beam is None else float(self.beam.half_width_m[-1])
+        # the corners need a width: a section table has none and refuses by name
+        w = 0.0 if self.beam is None or point == "tip" else float(
+            self.beam.half_width_at(self.beam.length_m))
         qv = np.zeros(self.pin_model.nq) if q is None else np.asarray(q, dtype=float)
         return point_kinematics(self.pin_model, self._workspace(data), qv, self.tip_frame_id,
                                 point_offset_m(point, w))
@@ -129,7 +131,8 @@ class ChainKinematics:
             if self.beam is None:
                 raise BeamInputError(f"point = {point!r}: this model carries no beam, so no "
                                      "width")
-            off = point_offset_m(point, float(self.beam.half_width_m[-1]))
+            off = point_offset_m(point, 0.0 if point == "tip" else float(
+                self.beam.half_width_at(self.beam.length_m)))
             pm, fid = point_frame(self.pin_model, self.tip_frame_id, off)
             self._cache[key] = (pm, pm.createData(), fid)
         return self._cache[key]

@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import BeamInputError
+from ..member.section_law import section_properties
 from ..model.checks import check_model
 from ..options.validate import check_type
 from .damping import damping_ratios
@@ -135,7 +136,7 @@ def centerline_modal_tip(modal, beam, indices: np.ndarray | None = None) -> Moda
     # section moves rigidly (true for beam-like modes only); refine by linear interpolation so
     # the quadrature of mu phi^2 is accurate
     xf = np.union1d(np.linspace(0.0, beam.length_m, 4001), x)
-    mu = beam.material.rho_kg_m3 * 2.0 * beam.half_width_at(xf) * beam.thickness_at(xf)
+    mu = section_properties(beam, xf).rhoA_kg_m
     gains, checks = [], []
     for k in idx:
         phi = np.interp(xf, x, np.asarray(modal.centerline_uz[k], dtype=float)[order])
@@ -185,8 +186,7 @@ def euler_bernoulli_modal_tip(beam, n_modes: int) -> ModalTip:
     shapes normalised to int phi^2 = L the tip value is 2 in magnitude, so g_k = 4 / (mu L).
     """
     L = beam.length_m
-    root_t = float(beam.thickness_at(0.0))
-    mu = beam.material.rho_kg_m3 * 2.0 * float(beam.half_width_at(0.0)) * root_t
+    mu = float(section_properties(beam, 0.0).rhoA_kg_m)
     EI = beam.root_EI_Nm2
     roots = []
     for k in range(1, n_modes + 1):

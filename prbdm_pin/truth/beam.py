@@ -4,7 +4,9 @@ Element edges sit on every planform vertex (a width step is an element edge, whe
 jump), so EI(x) = E 2 w(x) t^3 / 12 and rho A(x) = rho 2 w(x) t are linear inside each element;
 the quadrature order below integrates both matrices exactly. A thickness law t(x), linear between
 the same stations, makes E I quartic and rho A quadratic: the mass integrand then has degree
-2 + 3 + 3 = 8 and a higher order (``_INTORDER_LAW``) keeps both exact.
+2 + 3 + 3 = 8 and a higher order (``_INTORDER_LAW``) keeps both exact. A round member's laws
+(:func:`~prbdm_pin.member.section_law.section_properties`: D, d linear between stations, which
+are element edges) are of the same degrees: E I quartic, rho A quadratic, exact at that order.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from skfem.helpers import dd
 
 from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
+from ..member.section_law import section_properties
 from ..options.limits import check_cap
 from .result import ModalSolution, StaticSolution, Timings
 from .settings import lanczos_start
@@ -110,9 +113,14 @@ def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None,
     # given stations: a mesh that moved with the planform (shape sensitivities keep its topology)
     xs = beam_stations(beam, n_elements) if stations_m is None else np.asarray(stations_m, float)
     mesh = MeshLine(xs)
-    law = beam.thickness_law_m is not None
+    law = beam.thickness_law_m is not None or beam.section is not None
     basis = Basis(mesh, ElementLineHermite(), intorder=_INTORDER_LAW if law else _INTORDER)
     xq = basis.global_coordinates()[0]
+    if beam.section is not None:
+        sp = section_properties(beam, xq)
+        K = asm(_stiffness, basis, EI=sp.EI_z_Nm2 if in_plane else sp.EI_y_Nm2)
+        M = asm(_mass, basis, rhoA=sp.rhoA_kg_m)
+        return _clamped(mesh, basis, K, M)
     t = beam.thickness_at(xq) if law else beam.thickness_m
     width = 2.0 * beam.half_width_at(xq)
     # in-plane bending: E I_z = E t (2 w)^3 / 12, cubic in x: stiffness integrand of degree 5
@@ -120,6 +128,10 @@ def _assemble(beam: Beam, n_elements: int, stations_m: np.ndarray | None = None,
     EI = E * t * width**3 / 12.0 if in_plane else E * width * t**3 / 12.0
     K = asm(_stiffness, basis, EI=EI)
     M = asm(_mass, basis, rhoA=beam.material.rho_kg_m3 * width * t)
+    return _clamped(mesh, basis, K, M)
+
+
+def _clamped(mesh, basis, K, M):
     # DOF order: nodal [u, u_x] per node; clamp u and u_x at the root node.
     u_dofs = basis.nodal_dofs[0]
     root = int(np.argmin(mesh.p[0]))

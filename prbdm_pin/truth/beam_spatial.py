@@ -9,7 +9,8 @@ straight clamped member are uncoupled and solved one by one on the same element 
   same mass rho A(x);
 - ``torsion`` (about x): Saint-Venant torsion, G J(x) theta'' = rho I_p(x) theta_tt, clamped at
   the root, free at the tip, on quadratic Lagrange elements; J the exact Saint-Venant constant
-  of the local rectangle 2 w(x) x t (``member.section.torsion_constant_m4``), I_p = I_y + I_z.
+  of the local rectangle 2 w(x) x t (``member.section.torsion_constant_m4``), I_p = I_y + I_z;
+  a round member's J = I_p = pi (D^4 - d^4) / 32 (``member.section_law``; no warping).
   Warping restraint at the clamp (Vlasov) is left out: with the strip's warping constant
   Gamma = b^3 t^3 / 144 it stiffens the torsion modes by a fraction of order
   sqrt(E Gamma / (G J)) / L = (b / L) sqrt(E / (48 G)) (1 % for L = 20 b), which the plate and
@@ -31,6 +32,7 @@ from skfem.helpers import grad
 
 from ..member.geometry import Beam
 from ..member.section import area_moment_z_m4, polar_area_moment_m4, torsion_constant_m4
+from ..member.section_law import section_properties
 from .beam import DENSE_MAX_DOFS, _assemble, _check_count, _eigh, beam_modal, beam_stations
 from .result import ModalSolution, Timings
 
@@ -42,6 +44,8 @@ BEAM_KINDS = ("bending", "torsion", "in-plane")
 # is smooth on an element (linear in b for b >> t) against P1 x P1 gradients: the 4-point rule
 # integrates it far below the discretisation error
 _INTORDER = 7
+# a round member: G J and rho I_x quartic in x (D, d linear), P2 x P2 mass: degree 8, exact
+_INTORDER_SECTION = 8
 
 
 @BilinearForm
@@ -56,6 +60,14 @@ def _rotary_mass(u, v, w):
 
 def _torsion_assemble(beam: Beam, n_elements: int):
     mesh = MeshLine(beam_stations(beam, n_elements))
+    if beam.section is not None:  # a section law: G J, rho I_x, rho I_z from it
+        basis = Basis(mesh, ElementLineP2(), intorder=_INTORDER_SECTION)
+        sp = section_properties(beam, basis.global_coordinates()[0])
+        K = asm(_torsion_stiffness, basis, GJ=sp.GJ_Nm2)
+        M = asm(_rotary_mass, basis, rhoI=sp.rhoI_x_kg_m)
+        Mz = asm(_rotary_mass, basis, rhoI=sp.rhoI_z_kg_m)
+        root = int(np.argmin(mesh.p[0]))
+        return mesh, basis, K, M, Mz, np.setdiff1d(np.arange(basis.N), basis.nodal_dofs[:, root])
     basis = Basis(mesh, ElementLineP2(), intorder=_INTORDER)
     xq = basis.global_coordinates()[0]
     b = 2.0 * beam.half_width_at(xq)

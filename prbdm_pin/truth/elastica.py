@@ -38,6 +38,7 @@ from scipy.integrate import solve_bvp
 
 from ..errors import BeamInputError, SolveError
 from ..member.geometry import Beam
+from ..member.section_law import section_properties
 from .anticlastic import anticlastic_factor, section_curvature
 from .result import StaticSolution, Timings
 from .self_weight import check_gravity, outboard_mass_kg
@@ -189,6 +190,8 @@ def elastica_primal(
     if not isinstance(load_steps, (int, np.integer)) or load_steps < 1:
         raise BeamInputError(f"load_steps = {load_steps!r}: must be an integer >= 1")
 
+    if anticlastic:
+        beam.rectangle_only("the anticlastic elastica")  # its sections are 2 w x t strips
     t0 = time.perf_counter()
     xv, wv, t = beam.x_m, beam.half_width_m, beam.thickness_m
     law = beam.thickness_law_m  # t(s) continuous: interpolated over all stations
@@ -211,6 +214,8 @@ def elastica_primal(
     EI_factor = E * 2.0 * t**3 / 12.0
 
     def curvature(half_width: np.ndarray, m: np.ndarray, sg) -> np.ndarray:
+        if beam.section is not None:  # a round member: E I_y(s) of its section law
+            return m / (float(ei_scale) * section_properties(beam, sg).EI_y_Nm2)
         if law is not None:  # E I = E 2 w t(s)^3 / 12, the section's own thickness
             ts = np.interp(sg, xv, law)
             ei = E * 2.0 * ts**3 / 12.0 * half_width

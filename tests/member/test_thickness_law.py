@@ -180,12 +180,6 @@ def test_bad_thickness_law_is_refused_by_name(thickness, words):
     assert words in str(e.value)
 
 
-def test_round_section_is_refused_cleanly():
-    d = {"x": [0.0, 1.0], "section": {"kind": "round", "outer_diameter": [0.02, 0.01]}}
-    with pytest.raises(BeamInputError, match="section = {'kind': 'round', ...}: round and table"):
-        beam_from_dict(d)
-
-
 def test_thickness_jump_at_a_width_step_is_refused():
     with pytest.raises(BeamInputError, match=r"thickness\[2\] = 0.004 m at the width step"):
         Beam([0.0, 0.5, 0.5, 1.0], [0.05, 0.05, 0.03, 0.03], [0.01, 0.006, 0.004, 0.002])

@@ -197,6 +197,9 @@ DOORS = {
     "load_schema": ("name", lambda v: pp.load_schema(v)),
     "random_beam": ("rng", lambda v: pp.random_beam(v)),
     "beam_from_dict": ("beam", lambda v: pp.beam_from_dict(v)),
+    "round_beam": ("outer_diameter", lambda v: pp.round_beam([0.0, 1.0], v)),
+    "table_beam": ("section", lambda v: pp.table_beam([0.0, 1.0], v)),
+    "section_properties": ("beam", lambda v: pp.section_properties(v, 0.5)),
     "link_sections": ("beam", lambda v: pp.link_sections(v, LENGTHS)),
     "validate_lengths": ("beam", lambda v: pp.validate_lengths(v, LENGTHS)),
     "sample_lengths": ("rng", lambda v: pp.sample_lengths(v, 1.0, 3, 2)),
@@ -287,7 +290,7 @@ def test_a_wrong_type_at_a_public_door_is_a_type_error_naming_the_argument(
     # mapping with unknown keys) are not this test's
     if name == "pose_sweep":
         wrong = [v for v in wrong if v != 3]
-    if name in ("repair_lengths", "fit_sweep"):
+    if name in ("repair_lengths", "fit_sweep", "round_beam"):
         wrong = [v for v in wrong if v != [1.0]] + [["a", "b"]]
     if name == "beam_from_dict":
         wrong = [v for v in wrong if not isinstance(v, dict)]
