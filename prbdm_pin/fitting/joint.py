@@ -24,7 +24,7 @@ from ..errors import BeamInputError, SolveError
 from .evaluate import chain_frequencies
 from .joint_jacobian import joint_residual_jacobian
 from .objectives import eigen_residuals, eigen_weights
-from .planar_gains import gain_jacobian, planar_gain_term, straight_modes
+from .planar_gains import planar_gain_term, straight_modes
 from .problem import lengths_from_unit
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
@@ -135,12 +135,6 @@ class JointResiduals:
         points = chain_points(lengths[None], sec[1][None], p.poses_rad)
         return sec, K0, planar_mass_matrices(lengths, *sec[:3], p.poses_rad, points), points
 
-    def gain_residuals(self, x):
-        """Return the amplitude rows alone at x (dimensionless, :mod:`.planar_gains`)."""
-        lengths, s = self.design(x)
-        _, K0, M, _ = self._chain(lengths)
-        return self.gains.residual(lengths, straight_modes(M[0], s * K0))
-
     def size(self):
         """Return the length of the residual vector."""
         p = self.p
@@ -173,11 +167,7 @@ class JointResiduals:
         if self._last is None:
             return np.zeros((self.size(), x.size))
         try:
-            out = joint_residual_jacobian(self, x, *self._last[1:])
-            if self.gains is not None:  # central differences (planar_gains)
-                out[-self.n_gains:] = gain_jacobian(self.gain_residuals, x, self.p.n_joints,
-                                                    self.n_gains)
-            return out
+            return joint_residual_jacobian(self, x, *self._last[1:])
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
             return np.zeros((self.size(), x.size))
 

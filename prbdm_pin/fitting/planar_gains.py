@@ -1,7 +1,8 @@
 """The planar joint fit's modal-gain term: each mode's tip amplitude beside its frequency.
 
 A frequency-only planar fit matches every frequency but not how far each mode moves the tip
-(the 5R eigen fit of the uniform strip is about 11 % off in mode 1), which biases everything
+(the 5R eigen fit of the uniform strip: mode 1's tip amplitude +5.4 %, so its residue a^2
++11 %; mode 2's +7.8 % and +16 %), which biases everything
 that reads absolute gains: an E and rho calibrated from a tip-force FRF or a driven run, tip
 FRFs for control. ``gain_points=("tip",)`` adds, for the lowest ``gain_modes`` fitted modes, the
 error of the mass-normalised tip z amplitude with the residual and weights of the spatial term
@@ -11,33 +12,28 @@ error of the mass-normalised tip z amplitude with the residual and weights of th
 
 with a_model,k = J_tip phi_k: phi_k the chain's k-th mode at the straight pose (phi^T M phi = 1,
 M in kg m^2) and J_tip the z row of the tip's Jacobian (m/rad; the chain's closed-form tip,
-``chain.planar.tip_terms``), in 1/sqrt(kg) as the truth's. A planar chain moves its tip
-corners as its tip, so only ``tip`` is a planar gain point (the corners are refused by name:
-their difference is the plate's torsion, which a planar chain does not have).
+:mod:`prbdm_pin.chain.amplitude_derivatives`), in 1/sqrt(kg) as the truth's. A planar chain
+moves its tip corners as its tip, so only ``tip`` is a planar gain point (the corners are
+refused by name: their difference is the plate's torsion, which a planar chain does not have).
 
-The amplitude rows of the Jacobian are central differences of these residuals in the fit
-coordinates [u, ln s] (one-sided at a bound of u); the frequency and tip rows stay analytic
-(:mod:`.joint_jacobian`).
+The amplitude rows of the Jacobian are analytic as the frequency rows (:mod:`.joint_jacobian`):
+the modal expansion of each mode's derivative in the stations and springs
+(:func:`prbdm_pin.chain.amplitude_derivatives.tip_amplitude_gradients`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..chain.amplitude_derivatives import tip_amplitudes
 from ..chain.eigen import modes_from_mass
-from ..chain.planar import tip_terms
 from ..chain.planar_mass import chain_points, planar_mass_matrices
 from ..chain.sections import planar_sections
 from ..errors import BeamInputError
 from .spatial_gains import GainsTerm, gain_records
 from .spatial_target import SpatialSelection
 
-__all__ = ["PlanarGainsTerm", "planar_gain_term", "planar_gain_records", "gain_jacobian"]
-
-# central-difference step in the fit coordinates (u on [0, 1], ln s): EPS^(1/3) balances the
-# O(h^2) truncation against the O(EPS / h) rounding of the amplitudes
-FD_STEP = float(np.finfo(float).eps) ** (1.0 / 3.0)
-
+__all__ = ["PlanarGainsTerm", "planar_gain_term", "planar_gain_records", "straight_modes"]
 
 def _selection(target, n_freq: int) -> SpatialSelection:
     """Return the fitted truth modes as a selection of the truth's computed modes (axis y)."""
@@ -68,10 +64,7 @@ class PlanarGainsTerm(GainsTerm):
         modes : ndarray, shape (n, n)
             Mass-normalised modes at the straight pose (columns, ascending), rad/sqrt(kg m^2).
         """
-        n = modes.shape[0]
-        J = tip_terms(lengths_m, np.zeros(n), np.zeros(3))[1][2]  # tip z per joint, m/rad
-        g = J @ modes[:, : self.sel.axis.size]
-        return g[:, None][self.rows]
+        return tip_amplitudes(lengths_m, modes[:, : self.sel.axis.size])[:, None][self.rows]
 
 
 def planar_gain_term(target, options, n_freq: int) -> PlanarGainsTerm | None:
@@ -85,35 +78,6 @@ def planar_gain_term(target, options, n_freq: int) -> PlanarGainsTerm | None:
 def straight_modes(M0: np.ndarray, springs_Nm_per_rad: np.ndarray) -> np.ndarray:
     """Return the mass-normalised modes (n, n) of mass matrix ``M0`` (kg m^2) and the springs."""
     return modes_from_mass(M0[None], springs_Nm_per_rad)[1][0]
-
-
-def gain_jacobian(residual, x: np.ndarray, n: int, size: int) -> np.ndarray:
-    """Return d r / d x of the amplitude rows by central differences (one-sided at u's bounds).
-
-    Parameters
-    ----------
-    residual : callable
-        x -> the amplitude residuals (size,) (dimensionless).
-    x : ndarray, shape (2n,)
-        [u (unit box), ln s].
-    n : int
-        The joints: the first n coordinates are bounded by [0, 1].
-    size : int
-        The number of amplitude rows.
-    """
-    out = np.empty((size, x.size))
-    h = FD_STEP
-    for i in range(x.size):
-        lo, hi = x.copy(), x.copy()
-        a = b = h
-        if i < n and x[i] - h < 0.0:
-            a = 0.0  # forward difference at u = 0
-        if i < n and x[i] + h > 1.0:
-            b = 0.0  # backward difference at u = 1
-        lo[i] -= a
-        hi[i] += b
-        out[:, i] = (residual(hi) - residual(lo)) / (a + b)
-    return out
 
 
 def planar_gain_records(problem, lengths_m, springs_Nm_per_rad) -> tuple[dict, ...]:

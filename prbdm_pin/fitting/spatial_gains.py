@@ -126,11 +126,14 @@ class GainsTerm:
             out[rows] = (J @ shapes[:, : rows.size]).T
         return out[self.rows]
 
+    def signs(self, gains: np.ndarray) -> np.ndarray:
+        """Return s_k = +-1, aligning each mode's model amplitudes (N, P) with the truth's."""
+        return np.where(np.sum(gains * self.truth, axis=1) < 0.0, -1.0, 1.0)
+
     def aligned(self, design, model) -> np.ndarray:
         """Return the model's amplitudes with each mode's sign aligned to the truth's."""
         g = self.model_gains(design, model)
-        s = np.where(np.sum(g * self.truth, axis=1) < 0.0, -1.0, 1.0)
-        return g * s[:, None]
+        return g * self.signs(g)[:, None]
 
     def residual(self, design, model) -> np.ndarray:
         """Return the weighted relative amplitude errors (dimensionless), (N P,)."""

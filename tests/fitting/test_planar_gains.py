@@ -1,7 +1,8 @@
 """The planar joint fit's modal-gain term (``gain_points=("tip",)``): the 1D beam truth's tip
 amplitudes against the closed-form Euler-Bernoulli modes (2 / sqrt(m) for every mode), the
 chain's amplitudes against Pinocchio's (its CRBA mass matrix and point Jacobian), the amplitude
-rows of the Jacobian against central differences of the Pinocchio amplitudes, the 5R fit of the
+rows of the Jacobian (modal expansion of the mode derivatives) against central differences of
+the Pinocchio amplitudes, the 5R fit of the
 strip against the truth's amplitudes, a tip-force FRF of the truth's modal model calibrated with
 it, and the refusals."""
 
@@ -14,6 +15,11 @@ from central_differences import central_difference
 from forced_truth import truth_frf
 from tolerances import EPS
 
+from prbdm_pin.chain.amplitude_derivatives import tip_amplitude_gradients
+from prbdm_pin.chain.planar_mass import chain_points, planar_mass_matrices
+from prbdm_pin.chain.sections import planar_sections
+from prbdm_pin.chain.sections_derivatives import planar_sections_gradient
+from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.cli import main
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.fitting.calibrate import calibrate
@@ -61,13 +67,17 @@ def test_the_1d_truth_tip_amplitudes_are_the_closed_form_modes(narrow, target):
     np.testing.assert_allclose(tip, 2.0 / math.sqrt(narrow.mass_kg), rtol=1e-7, atol=0)
 
 
-def _pinocchio_gains(beam, lengths, springs, k):
-    """The chain's tip amplitudes of its k lowest modes from the Pinocchio model."""
+def _pinocchio_gains(beam, lengths, springs, k, signs=1.0):
+    """The chain's tip amplitudes of its k lowest modes from the Pinocchio model, (k, 1).
+
+    A mode's sign is arbitrary: each is returned with the sign of ``signs`` (default all > 0,
+    as the 1D truth's tip amplitudes here).
+    """
     model = build_model(beam, lengths, springs, min_fraction=0.02)
     M = model.mass_matrix(np.zeros(lengths.size - 1))
     _, phi = scipy.linalg.eigh(np.diag(springs), M)  # phi^T M phi = I
     g = model.point_kinematics("tip")[1][2] @ phi[:, :k]
-    return np.abs(g)[:, None]  # signs aligned: the truth's tip amplitudes are all > 0 here
+    return (np.abs(g) * signs)[:, None]
 
 
 def _residuals(narrow, target, x, n=4):
@@ -100,12 +110,41 @@ def test_the_chain_s_amplitudes_and_their_rows_of_the_jacobian_against_pinocchio
     # the reference: central differences at h = 1e-3 of the Pinocchio amplitudes, each value
     # rounded by ~1e-15 (above; 1e-12 to spare), with their truncation bound
     d, bound = central_difference(reference, x, 1e-3, 1e-12)
-    # the rows are central differences at h = EPS^(1/3) of the closed-form amplitudes: their
-    # own error ~ EPS^(2/3) = 4e-11, far below the reference's bound (measured error / bound
-    # at most 0.33, error 3.3e-6 against derivatives up to 0.43)
+    # the analytic rows (modal expansion of the mode derivatives) within that bound (measured
+    # error / bound at most 0.33: the reference's truncation, a third of its bound)
     err = np.abs(jac[-n:] - d)
     assert np.all(err <= bound), (err.max(), bound.max())
     assert np.abs(d).max() > 0.1  # the reference moves: the check is not of zeros
+
+
+def test_the_amplitude_derivatives_of_a_tapered_chain_are_central_differences(tapered):
+    lengths = np.array([0.22, 0.17, 0.2, 0.25, 0.16]) * tapered.length_m
+    n = lengths.size - 1
+    k = finite_segment_stiffness(tapered, lengths) * np.exp([0.2, -0.3, 0.1, 0.25])
+    x0 = np.cumsum(lengths)[:-1]
+    straight = np.zeros((1, n))
+    L = lengths
+    sec = planar_sections(tapered, L)
+    pts = chain_points(L[None], sec[1][None], straight)
+    M = planar_mass_matrices(L, *sec[:3], straight, pts)[0]
+    a, d_x, d_k = tip_amplitude_gradients(L, planar_sections_gradient(tapered, L, sec), k, M,
+                                          pts)
+
+    def reference(v):  # stations then springs, the amplitudes from Pinocchio
+        Lv = np.diff(np.r_[0.0, v[:n], tapered.length_m])
+        return _pinocchio_gains(tapered, Lv, v[n:], n, signs=np.sign(a))[:, 0]
+
+    v0 = np.r_[x0, k]
+    # the closed-form amplitudes are Pinocchio's to the eigensolve's rounding: the spread of
+    # the spectrum times EPS, x10 for the constants the first-order figure drops (measured
+    # 3.4e-13 relative against a spread of 6.8e2)
+    lam = scipy.linalg.eigh(np.diag(k), M, eigvals_only=True)
+    noise = 10.0 * lam.max() / lam.min() * EPS * np.abs(a).max()
+    np.testing.assert_allclose(a, reference(v0), rtol=0, atol=noise)
+    # steps: 1e-4 m on the stations, 1e-4 of each spring; each value rounded by that noise
+    d, bound = central_difference(reference, v0, np.r_[np.full(n, 1e-4), 1e-4 * k], noise)
+    assert np.all(np.abs(np.c_[d_x, d_k] - d) <= bound), np.max(np.abs(np.c_[d_x, d_k] - d))
+    assert np.abs(d[:, :n]).max() > 1.0  # the reference moves: the check is not of zeros
 
 
 def test_the_5r_gain_fit_reaches_the_truth_s_tip_amplitudes_at_no_frequency_cost(narrow, target,
