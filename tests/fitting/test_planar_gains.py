@@ -171,6 +171,23 @@ def test_the_5r_gain_fit_reaches_the_truth_s_tip_amplitudes_at_no_frequency_cost
     assert abs(e[0]["model_per_sqrt_kg"] / want - 1) > 0.04
 
 
+def test_a_combined_fit_takes_the_term_too(narrow, truth_of):
+    truth = truth_of(narrow, model="beam", modes=5, error_tol_pct=None)
+    target = with_point_gains(target_from_truth(truth, narrow.tip_force_N), truth, narrow)
+    opts = {**JOINT, "objective": "combined", "starts": 4}
+    plain = fit(narrow, target, 5, **opts)
+    r = fit(narrow, target, 5, gain_points=("tip",), **opts)
+    want = 2.0 / math.sqrt(narrow.mass_kg)
+    model = np.array([g["model_per_sqrt_kg"] for g in r.gains])
+    # the brief's 1 % on modes 1-3 (measured -0.001, +0.010, -0.014 %; modes 4-5 -0.24 and
+    # -0.36 %, weighted less by their share of the FRF)
+    np.testing.assert_allclose(model[:3], want, rtol=0.01)
+    # the frequencies pay for it within the combined fit's own trade against the large-
+    # deflection tip: worst mode 0.023 % with the term against 0.018 % without (measured)
+    assert r.worst_mode_error_pct < 2.0 * plain.worst_mode_error_pct, (
+        r.worst_mode_error_pct, plain.worst_mode_error_pct)
+
+
 def test_a_tip_force_frf_calibrated_with_the_gain_fit_gives_e_and_rho(narrow, truth_of, fits):
     plant = clamped_model(truth_of(narrow, model="beam", modes=4, static=False,
                                    error_tol_pct=None), narrow, damping_ratio=0.0)
