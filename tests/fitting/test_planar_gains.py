@@ -250,4 +250,9 @@ def test_the_cli_fits_the_planar_gains(narrow, tmp_path, capsys):
                "--out", str(tmp_path / "bad")])
     err = capsys.readouterr().err
     assert rc == 2 and "stiffness" in err and len(err.strip().splitlines()) == 1
+    # a truth file carries no amplitudes: refused before it is read
+    rc = main(["fit", beam, "--stiffness", "joint", "--gain-points", "tip", "--joints", "3",
+               "--truth", str(tmp_path / "truth.json"), "--out", str(tmp_path / "bad"), "-q"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "--gain-points" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "bad").exists()
