@@ -80,25 +80,28 @@ def _pinocchio_gains(beam, lengths, springs, k, signs=1.0):
     return (np.abs(g) * signs)[:, None]
 
 
-def _residuals(narrow, target, x, n=4):
-    o = FitOptions(stiffness="joint", gain_points=("tip",))
+def _residuals(narrow, target, x, n=4, gain_modes=None):
+    o = FitOptions(stiffness="joint", gain_points=("tip",), gain_modes=gain_modes)
     J = JointResiduals(FitSpec(make_problem(narrow, target, n, o), "eigen", 100))
     return J, J.residuals(x), J.jac(x)
 
 
-def test_the_chain_s_amplitudes_and_their_rows_of_the_jacobian_against_pinocchio(narrow,
-                                                                                   target):
+@pytest.mark.parametrize("gain_modes", [None, 2])
+def test_the_chain_s_amplitudes_and_their_rows_of_the_jacobian_against_pinocchio(narrow, target,
+                                                                                   gain_modes):
     n = 4
     lengths = np.array([0.22, 0.17, 0.2, 0.25, 0.16]) * narrow.length_m
     x = np.r_[unit_from_lengths(lengths, narrow.length_m, 0.02), [0.2, -0.3, 0.1, 0.25]]
-    J, r, jac = _residuals(narrow, target, x, n)
+    J, r, jac = _residuals(narrow, target, x, n, gain_modes)
     term = J.gains
+    rows = n if gain_modes is None else gain_modes
+    assert term.size == rows and r.size == n + rows
     norm = term.norm[:, None] / term.weight
 
     def reference(xv):
         L, sv = J.design(xv)
         # the rows as the term defines them, the amplitudes from Pinocchio
-        return ((_pinocchio_gains(narrow, L, sv * J._chain(L)[1], n) - term.truth)
+        return ((_pinocchio_gains(narrow, L, sv * J._chain(L)[1], rows) - term.truth)
                 / norm).ravel()
 
     ref = reference(x)
@@ -106,13 +109,13 @@ def test_the_chain_s_amplitudes_and_their_rows_of_the_jacobian_against_pinocchio
     # of the spectrum, (omega_4 / omega_1)^2 = 1.2e3, times EPS, x10 for the constants the
     # first-order figure drops (measured 1.3e-15)
     w = J.p.target.omega_truth_rad_s[:n]
-    np.testing.assert_allclose(r[-n:], ref, rtol=0, atol=10.0 * (w[-1] / w[0]) ** 2 * EPS)
+    np.testing.assert_allclose(r[-rows:], ref, rtol=0, atol=10.0 * (w[-1] / w[0]) ** 2 * EPS)
     # the reference: central differences at h = 1e-3 of the Pinocchio amplitudes, each value
     # rounded by ~1e-15 (above; 1e-12 to spare), with their truncation bound
     d, bound = central_difference(reference, x, 1e-3, 1e-12)
     # the analytic rows (modal expansion of the mode derivatives) within that bound (measured
     # error / bound at most 0.33: the reference's truncation, a third of its bound)
-    err = np.abs(jac[-n:] - d)
+    err = np.abs(jac[-rows:] - d)
     assert np.all(err <= bound), (err.max(), bound.max())
     assert np.abs(d).max() > 0.1  # the reference moves: the check is not of zeros
 
