@@ -92,7 +92,8 @@ class JointResiduals:
         -------
         ndarray, shape (size(),)
             The frequency residuals over the poses, scaled by ``1/sqrt(m)`` (fractions), then
-            each load case's tip error over its tip scale (dimensionless).
+            each load case's tip error over its tip scale, then with ``gain_points`` each
+            mode's weighted tip amplitude error (:mod:`.planar_gains`) (dimensionless).
         """
         self.nfev += 1
         p, spec = self.p, self.spec
