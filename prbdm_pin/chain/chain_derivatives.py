@@ -42,7 +42,8 @@ from .spring_checks import check_springs
 from .statics import static_deflection_planar
 from .stiffness import validate_stiffness
 
-__all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "static_tip_gradient"]
+__all__ = ["ModelGradient", "model_gradient", "frequency_gradients", "mass_form_gradient",
+           "static_tip_gradient"]
 
 
 def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
@@ -79,14 +80,29 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
     Q = np.atleast_2d(np.asarray(poses_rad, dtype=float))
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
     s = sections
-    n = k.size
     if points is None:
         points = chain_points(L[None], s.com_offset_m[None], Q)
     M = mass_matrices if mass_matrices is not None else planar_mass_matrices(
         L, s.mass_kg, s.com_offset_m, s.inertia_yy_kg_m2, Q, points)
     omega, Phi = modes_from_mass(M, k)  # Phi[pose, joint, mode]
     lam = omega**2
-    w, v, u = motion = mode_motion(L, s.com_offset_m, Q, Phi, points)
+    dE = mass_form_gradient(L, s, Q, Phi, points)
+    d_station = -lam[..., None] * dE
+    d_stiffness = Phi.swapaxes(1, 2) ** 2
+    return lam, d_station, d_stiffness
+
+
+def mass_form_gradient(lengths_m: np.ndarray, sections: SectionGradient, poses_rad: np.ndarray,
+                       vectors: np.ndarray, points: tuple) -> np.ndarray:
+    """Return d(v^T M v) / d x_j at fixed v for each column v of ``vectors``, kg m^2 per m.
+
+    M moves with the stations through the link sections and the chain's geometry (module
+    notes); ``vectors`` (m, n, cols) in rad, one set per pose of ``poses_rad`` (m, n);
+    ``points``: ``planar_mass.chain_points`` of the chain at those poses. Shape (m, cols, n).
+    """
+    s = sections
+    n = vectors.shape[1]
+    w, v, u = motion = mode_motion(lengths_m, s.com_offset_m, poses_rad, vectors, points)
     m1 = s.mass_kg[1:]
     dE = kinetic_energy_change(motion, m1, s.d_mass_kg_per_m, s.d_inertia_yy_kg_m,
                                s.d_com_offset)
@@ -99,9 +115,7 @@ def frequency_gradients(lengths_m: np.ndarray, sections: SectionGradient,
         # L_l = x_(l+1) - x_l: station j (index j - 1) lengthens link j - 1, shortens link j
         dE[..., 1:] += G
         dE[..., :-1] -= G
-    d_station = -lam[..., None] * dE
-    d_stiffness = Phi.swapaxes(1, 2) ** 2
-    return lam, d_station, d_stiffness
+    return dE
 
 
 def static_tip_gradient(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,

@@ -85,9 +85,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_fit_options(p)
     p.add_argument("--workers", type=int, default=1, help="processes for the starts")
     p.add_argument("--gain-points", default=None, metavar="P1,P2",
-                   help="spatial fits: also match the modal amplitudes of the plate truth at "
-                        "these tip points (tip, tip_corner_left, tip_corner_right), so the "
-                        "model moves them as the truth does (the FRFs a controller sees)")
+                   help="also match the truth's modal amplitudes at these tip points (tip, "
+                        "tip_corner_left, tip_corner_right: the plate truth's, spatial fits), "
+                        "so the model moves them as the truth does (the FRFs a controller "
+                        "sees); the planar chain (--axes y, --stiffness joint) takes tip alone")
     p.add_argument("--gain-modes", type=int, default=None, metavar="K",
                    help="with --gain-points: the lowest K matched modes of each kind (default "
                         "all, each weighted by its share of the FRF)")

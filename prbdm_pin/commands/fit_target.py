@@ -76,7 +76,7 @@ def _base_target(args, beam):
 
         if gain_points(args):
             raise BeamInputError("--gain-points: the modal amplitudes come from a computed "
-                                 "plate truth, not from --truth TRUTH.json")
+                                 "truth (--truth-model), not from --truth TRUTH.json")
 
         t = read_truth_file(args.truth)
         fingerprint = t.beam_fingerprint

@@ -1,7 +1,8 @@
 """Residuals of the ``joint`` parametrisation.
 
 It has one pose-independent factor s_j per joint on the finite-segment springs, over
-x = [u (n), ln s (n)] (u the stick-breaking length coordinates).
+x = [u (n), ln s (n)] (u the stick-breaking length coordinates). With ``gain_points`` the
+tip amplitude rows of :mod:`.planar_gains` follow the frequency and tip rows.
 
 Like every parametrisation it has ``nfev``, ``design(x) -> (lengths m, factors)`` and
 ``loss(x)`` (fraction); the local solvers use its residuals and analytic Jacobians
@@ -23,6 +24,7 @@ from ..errors import BeamInputError, SolveError
 from .evaluate import chain_frequencies
 from .joint_jacobian import joint_residual_jacobian
 from .objectives import eigen_residuals, eigen_weights
+from .planar_gains import planar_gain_term, straight_modes
 from .problem import lengths_from_unit
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
@@ -53,6 +55,9 @@ class JointResiduals:
         wc = 1.0 / math.sqrt(max(len(self.cases), 1))
         self.tip_scale = [wc / norm for norm in self.norms]
         self.q0 = [None] * len(self.cases)  # warm starts, one per load case
+        # the tip amplitudes at the straight pose (options.check_planar_gains: one pose)
+        self.gains = planar_gain_term(p.target, p.options, p.n_freq)
+        self.n_gains = 0 if self.gains is None else self.gains.size
         self.nfev = 0
         # (x as a tuple, what the Jacobian at the same x reuses) of the last residuals
         self._last = None
@@ -87,7 +92,8 @@ class JointResiduals:
         -------
         ndarray, shape (size(),)
             The frequency residuals over the poses, scaled by ``1/sqrt(m)`` (fractions), then
-            each load case's tip error over its tip scale (dimensionless).
+            each load case's tip error over its tip scale, then with ``gain_points`` each
+            mode's weighted tip amplitude error (:mod:`.planar_gains`) (dimensionless).
         """
         self.nfev += 1
         p, spec = self.p, self.spec
@@ -95,12 +101,7 @@ class JointResiduals:
         out = np.empty(self.size())
         row = 0
         try:
-            # evaluate.chain_mass_matrices, keeping the sections and the chain's points for
-            # the Jacobian at x
-            sec = planar_sections(p.beam, lengths)
-            K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
-            points = chain_points(lengths[None], sec[1][None], p.poses_rad)
-            M = planar_mass_matrices(lengths, *sec[:3], p.poses_rad, points)
+            sec, K0, M, points = self._chain(lengths)
             K = s * K0
             if spec.objective.has_eigen_term:
                 w = chain_frequencies(M, K)[:, : p.n_freq]
@@ -114,6 +115,8 @@ class JointResiduals:
                 out[row:row + 3] = (tip_positions(lengths, q) - case.tip_position_m) \
                     * self.tip_scale[c]
                 row += 3
+            if self.gains is not None:
+                out[row:] = self.gains.residual(lengths, straight_modes(M[0], K))
         except (SolveError, BeamInputError, np.linalg.LinAlgError):
             self._last = None
             return np.full(self.size(), BAD_LOSS)
@@ -121,11 +124,23 @@ class JointResiduals:
                       (lengths, s, sec, K0, M, points), list(self.q0))
         return out
 
+    def _chain(self, lengths):
+        """Return the sections, unit springs, mass matrices and points of valid lengths.
+
+        As ``evaluate.chain_mass_matrices``, keeping the sections and the chain's points for
+        the Jacobian.
+        """
+        p = self.p
+        sec = planar_sections(p.beam, lengths)
+        K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
+        points = chain_points(lengths[None], sec[1][None], p.poses_rad)
+        return sec, K0, planar_mass_matrices(lengths, *sec[:3], p.poses_rad, points), points
+
     def size(self):
         """Return the length of the residual vector."""
         p = self.p
         return (p.n_poses * p.n_freq if self.spec.objective.has_eigen_term else 0) \
-            + 3 * len(self.cases)
+            + 3 * len(self.cases) + self.n_gains
 
     def jac(self, x):
         """Return the analytic Jacobian of :meth:`residuals` (:mod:`.joint_jacobian`).
@@ -168,6 +183,8 @@ class JointResiduals:
     def loss(self, x):
         """Return the true loss at x: mean of per-pose eigen norms, hypot with the tip term.
 
+        With ``gain_points`` the norm of the amplitude rows joins the hypot.
+
         Parameters
         ----------
         x : ndarray, shape (2n,)
@@ -189,5 +206,6 @@ class JointResiduals:
         if o.has_deflection_term:
             # residuals scaled by 1/sqrt(k): the loss averages the k cases' errors (Eq. 18)
             k = len(self.cases)
-            d = float(np.mean(np.linalg.norm(r.reshape(k, 3), axis=1))) * math.sqrt(k)
-        return math.hypot(e, d)
+            d = float(np.mean(np.linalg.norm(r[:3 * k].reshape(k, 3), axis=1))) * math.sqrt(k)
+        g = float(np.linalg.norm(r[r.size - self.n_gains:])) if self.n_gains else 0.0
+        return math.hypot(e, d, g)

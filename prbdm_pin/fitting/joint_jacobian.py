@@ -7,13 +7,16 @@ sums) and through the finite-segment springs K0(x), and on ln s through the spri
 
 with dr/dx and dr/dk from :mod:`prbdm_pin.chain.chain_derivatives` (eigen residuals: mode
 derivatives at
-each pose; tip residuals: implicit differentiation of each load case's equilibrium).
+each pose; tip residuals: implicit differentiation of each load case's equilibrium) and, with
+``gain_points``, :mod:`prbdm_pin.chain.amplitude_derivatives` (each mode's tip amplitude: the
+modal expansion of its shape's derivative).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..chain.amplitude_derivatives import tip_amplitude_gradients
 from ..chain.chain_derivatives import frequency_gradients, static_tip_gradient
 from ..chain.sections_derivatives import finite_segment_stiffness_gradient, planar_sections_gradient
 
@@ -83,4 +86,11 @@ def joint_residual_jacobian(res, x: np.ndarray, chain: tuple, static_poses: list
         _, _, dtip = static_tip_gradient(lengths, k, case.tip_force_N, q)
         chain_rule(slice(row, row + 3), scale, dtip[:, :n], dtip[:, n:])
         row += 3
+    term = res.gains
+    if term is not None:  # one point (tip), at the straight pose (the only pose)
+        a, d_x, d_k = tip_amplitude_gradients(lengths, sec, k, M[0], points)
+        rows = term.rows
+        # r = w (s a - a_truth) / norm: the sign s as the residual aligned it
+        scale = (term.weight * term.signs(a[rows, None]) / term.norm)[:, None]
+        chain_rule(slice(row, row + rows.size), scale, d_x[rows], d_k[rows])
     return out

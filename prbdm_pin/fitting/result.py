@@ -17,6 +17,7 @@ from ..options.choices import Objective
 from .evaluate import evaluate
 from .mode_records import mode_records
 from .objectives import mode_errors_pct, worst_mode_error_pct
+from .planar_gains import planar_gain_records
 from .problem import FitProblem
 from .results import FitResult
 
@@ -121,6 +122,11 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: Ob
                      f"eigen loss of {ev.eigen_loss_pct:.3g} % does not show it"
                      + P.export_advice)
     notes.extend(_bound_notes(ev.lengths_m, problem.length_m, problem.min_fraction))
+    gains = planar_gain_records(problem, ev.lengths_m, K)
+    worst = max(gains, key=lambda g: abs(g["error_pct"]), default=None)
+    if worst is not None and abs(worst["error_pct"]) > EXPORT_WARN_PCT:
+        notes.append(f"modal gains: worst {worst['error_pct']:+.3g} % (mode at "
+                     f"{worst['omega_truth_rad_s']:.6g} rad/s, {worst['point']})")
     return FitResult(
         beam_name=problem.beam.name, beam_fingerprint=problem.beam.fingerprint(),
         joints=problem.n_joints, frequencies=problem.n_freq, objective=objective.value,
@@ -155,7 +161,7 @@ def result_from_design(problem: FitProblem, lengths_m, factors, *, objective: Ob
         stiffness_pose=described, omega_export_rad_s=w_export,
         omega_export_errors_pct=export_errors, worst_export_error_pct=worst_export,
         options=problem.options,
-        modes=mode_records(t.labels, t.omega_truth_rad_s, w_export),
+        modes=mode_records(t.labels, t.omega_truth_rad_s, w_export), gains=gains,
     )
 
 

@@ -154,8 +154,8 @@ class FitResult(JsonRecord):
         rad/s) and ``error_pct`` (signed, %); a spatial fit adds the truth modes in its band
         that no chain mode represents (``chordwise``...), with null model frequency and error.
     gains : tuple of dict
-        A spatial fit with ``gain_points``: one record per matched mode and point, with the
-        keys ``point``, ``kind``, ``omega_truth_rad_s``, ``truth_per_sqrt_kg`` and
+        A fit with ``gain_points`` (spatial, or planar ``tip``): one record per matched mode and
+        point, with the keys ``point``, ``kind``, ``omega_truth_rad_s``, ``truth_per_sqrt_kg`` and
         ``model_per_sqrt_kg`` (mass-normalised z amplitudes, 1/sqrt(kg)) and ``error_pct``
         (relative to the mode's largest truth amplitude over the points, %).
     versions : tuple of (name, version)

@@ -46,15 +46,16 @@ def with_point_gains(target: FitTarget, truth, beam, points=None) -> FitTarget:
         From :func:`~prbdm_pin.fitting.target.target_from_truth` of ``truth``.
     truth : TruthResult
         A plate truth (``"plate"`` or ``"plate-morley"``): its modes are recomputed once and
-        read at (L, 0) and (L, +-w(L)) (:func:`prbdm_pin.truth.plant.truth_modal_gains`).
+        read at (L, 0) and (L, +-w(L)) (:func:`prbdm_pin.truth.plant.truth_modal_gains`); or
+        the 1D beam truth (``"beam"``), read at the tip alone (a planar fit's ``tip``).
     beam : Beam
     points : sequence of str, optional
-        Default all three.
+        Default all three (the 1D beam: ``tip``).
 
     Raises
     ------
     BeamInputError
-        A truth without a width (the 1D beam) or of another beam.
+        Tip corners of a truth without a width (the 1D beam), or a truth of another beam.
     """
     from ..member.geometry import Beam
     from ..options.validate import check_type
@@ -68,12 +69,16 @@ def with_point_gains(target: FitTarget, truth, beam, points=None) -> FitTarget:
         raise BeamInputError("target: needs every truth mode (target_from_truth) for its gains")
     k = int(np.asarray(target.all_omega_rad_s).size)
     g = truth_modal_gains(truth, beam, mode_index=np.arange(k))
-    if g.corner_per_sqrt_kg is None:
-        raise BeamInputError(f"truth model = {truth.model!r}: has no tip corners; the modal "
-                             "gains at the tip points need the plate truth")
-    values = {"tip": g.tip_z_per_sqrt_kg, "tip_corner_left": g.corner_per_sqrt_kg[0],
-              "tip_corner_right": g.corner_per_sqrt_kg[1]}
+    values = {"tip": g.tip_z_per_sqrt_kg}
+    if g.corner_per_sqrt_kg is not None:
+        values.update(tip_corner_left=g.corner_per_sqrt_kg[0],
+                      tip_corner_right=g.corner_per_sqrt_kg[1])
     names = tuple(values) if points is None else tuple(points)
+    missing = [p for p in names if p not in values]
+    if missing:
+        raise BeamInputError(f"points = {list(names)}: the {truth.model!r} truth has no tip "
+                             f"corners ({', '.join(missing)}); the modal gains there need "
+                             "the plate truth")
     return replace(target, point_gains=tuple((p, values[p]) for p in names))
 
 
@@ -82,7 +87,8 @@ def _truth_gains(target: FitTarget, sel: SpatialSelection, points: tuple[str, ..
     missing = [p for p in points if p not in have]
     if missing:
         raise BeamInputError(f"gain_points = {list(points)}: the target has no truth amplitude "
-                             f"at {', '.join(missing)} (with_point_gains, a plate truth)")
+                             f"at {', '.join(missing)} (with_point_gains of a computed "
+                             "truth)")
     return np.stack([np.asarray(have[p])[sel.index] for p in points], axis=1)  # (N, P)
 
 
@@ -120,11 +126,14 @@ class GainsTerm:
             out[rows] = (J @ shapes[:, : rows.size]).T
         return out[self.rows]
 
+    def signs(self, gains: np.ndarray) -> np.ndarray:
+        """Return s_k = +-1, aligning each mode's model amplitudes (N, P) with the truth's."""
+        return np.where(np.sum(gains * self.truth, axis=1) < 0.0, -1.0, 1.0)
+
     def aligned(self, design, model) -> np.ndarray:
         """Return the model's amplitudes with each mode's sign aligned to the truth's."""
         g = self.model_gains(design, model)
-        s = np.where(np.sum(g * self.truth, axis=1) < 0.0, -1.0, 1.0)
-        return g * s[:, None]
+        return g * self.signs(g)[:, None]
 
     def residual(self, design, model) -> np.ndarray:
         """Return the weighted relative amplitude errors (dimensionless), (N P,)."""

@@ -33,7 +33,7 @@ from .choices import (
     UniqueRule,
 )
 from .simulation import SimulationOptions
-from .spatial import check_spatial_fit, gain_points
+from .spatial import check_planar_gains, check_spatial_fit, gain_points
 from .validate import (
     MAX_GENERATIONS,
     MAX_NFEV,
@@ -178,10 +178,11 @@ class FitOptions(_ProblemOptions):
         A warm start (``fit(..., start=previous)``): the local solver runs from these link
         lengths (m) and stiffness factors only, instead of random starts.
     gain_points : tuple of str
-        Spatial fits: points of the tip link (``tip``, ``tip_corner_left``,
-        ``tip_corner_right``; ``--gain-points``) whose modal amplitudes the fit matches beside
-        the frequencies (``fitting/spatial_gains.py``): how much each mode moves the points a
-        controller sees. Default none.
+        Points of the tip link (``tip``, ``tip_corner_left``, ``tip_corner_right``;
+        ``--gain-points``) whose modal amplitudes the fit matches beside the frequencies
+        (``fitting/spatial_gains.py``): how much each mode moves the points a controller sees.
+        The planar chain takes ``tip`` alone with the ``joint`` springs
+        (``fitting/planar_gains.py``). Default none.
     gain_weight : float
         The weight of those amplitude errors against the frequency errors (> 0, default 1).
     gain_modes : int or None
@@ -246,10 +247,8 @@ class FitOptions(_ProblemOptions):
                                    optional=True))
         if self.axes.spatial:
             check_spatial_fit(self)
-        elif self.gain_points:
-            raise BeamInputError(f"gain_points = {list(self.gain_points)}: the modal gains at "
-                                 "the tip corners are a spatial fit's term; give axes 'xy', "
-                                 "'yz' or 'xyz'")
+        else:
+            check_planar_gains(self)
 
 
 @dataclass(frozen=True)
