@@ -12,7 +12,7 @@ linear in c. :func:`modal_fit_damping` solves min ||xi(c) - xi_requested|| over 
 changes neither the feasible set nor the optimum). With as many joints as modes the fit is
 usually exact in the approximation; a requested set that needs a negative c is met as
 closely as c >= 0 allows. The ratios each mode then really has (:func:`damped_ratios`) come
-from the complex eigenvalues lambda of the damped chain, zeta = -Re(lambda) / |lambda|, and
+from the complex eigenvalues lambda of the damped chain, zeta = ``-Re(lambda) / |lambda|``, and
 differ from the approximation by the dropped coupling (second order in C).
 
 The alternatives a diagonal C can carry: the stiffness form C = beta K (:mod:`.damping`) is
@@ -60,7 +60,7 @@ class ModalFitDamping:
     projected_ratios : ndarray, shape (n,)
         diag(Phi^T C Phi) / (2 omega): the ratios in the approximation the fit solves.
     achieved_ratios : ndarray, shape (n,)
-        The ratios from the damped chain's complex eigenvalues, -Re(lambda) / |lambda|.
+        The ratios from the damped chain's complex eigenvalues, ``-Re(lambda) / |lambda|``.
     ratio_errors : ndarray, shape (n,)
         ``achieved_ratios - requested_ratios`` (absolute, dimensionless).
     frequencies_rad_s : ndarray, shape (n,)
@@ -115,7 +115,7 @@ def damped_ratios(M: np.ndarray, K: np.ndarray, C: np.ndarray, n_free: int = 0
     """Return each mode's frequency and ratio from the damped chain's complex eigenvalues.
 
     The eigenvalues lambda of [[0, I], [-M^-1 K, -M^-1 C]]: an underdamped mode is a conjugate
-    pair with omega_n = |lambda| and zeta = -Re(lambda) / |lambda|; an overdamped one two real
+    pair with ``omega_n = |lambda|`` and zeta = ``-Re(lambda) / |lambda|``; an overdamped one two real
     roots r1, r2 with omega_n = sqrt(r1 r2) and zeta = -(r1 + r2) / (2 omega_n) (the real roots
     are paired in sorted order, exact for one overdamped mode). The 2 ``n_free`` eigenvalues
     nearest zero (the rigid modes of a hub or bus) are left out.

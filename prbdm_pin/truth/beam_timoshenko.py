@@ -39,7 +39,7 @@ from ..member.geometry import Beam
 from .beam import _check_count, _eigh, beam_stations
 from .result import Timings
 from .timoshenko_elements import ELEMENTS, assemble
-from .timoshenko_sections import SectionLaws, rectangle_section_laws
+from .timoshenko_sections import SectionLaws, member_section_laws
 
 __all__ = ["TimoshenkoModes", "TimoshenkoStatic", "timoshenko_modal", "timoshenko_static",
            "beam_timoshenko_modal", "beam_timoshenko_static"]
@@ -241,7 +241,7 @@ def beam_timoshenko_modal(beam: Beam, n_modes: int = 5, n_elements: int = 200,
     -------
     TimoshenkoModes
     """
-    laws = rectangle_section_laws(beam)
+    laws = member_section_laws(beam)
     return _modal(beam_stations(beam, n_elements), laws, _check_count("n_modes", n_modes),
                   _check_element(element))
 
@@ -264,7 +264,7 @@ def beam_timoshenko_static(beam: Beam, tip_force_N: np.ndarray | None = None,
     TimoshenkoStatic
         The tip's z deflection (m) and rotation about y (rad, positive with a positive slope).
     """
-    laws = rectangle_section_laws(beam)
+    laws = member_section_laws(beam)
     F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)
     if F.shape != (3,) or not np.all(np.isfinite(F)):
         raise BeamInputError(f"tip_force_N = {F.tolist()}: must be 3 finite numbers in N")

@@ -41,7 +41,7 @@ import numpy as np
 
 from ..errors import BeamInputError, InputTypeError
 from ..member.geometry import Beam
-from .timoshenko_sections import shear_coefficient
+from .timoshenko_sections import member_section_laws, shear_coefficient
 
 __all__ = ["TIMOSHENKO_TOL_PCT", "TRUTH_WARNING_PCT", "CANTILEVER_C", "eb_error_estimate_pct",
            "TimoshenkoCriterion", "timoshenko_criterion", "timoshenko_warnings"]
@@ -129,8 +129,17 @@ class TimoshenkoCriterion:
 
 
 def _estimate(beam: Beam, n_modes: int) -> tuple[np.ndarray, float, float]:
-    kappa = shear_coefficient("rectangle", beam.material.nu)
-    rg = beam.thickness_m / np.sqrt(12.0)  # the thickest section's (thickness_m is the max)
+    if beam.section is None:
+        kappa = shear_coefficient("rectangle", beam.material.nu)
+        rg = beam.thickness_m / np.sqrt(12.0)  # the thickest section's (thickness_m is the max)
+    else:  # a round member: r_g^2 = I / A = rho I_y / rho A, at its thickest station
+        laws = member_section_laws(beam)  # refuses a section table by name
+        x = beam.x_m
+        r2 = np.asarray(laws.rhoI_kg_m(x), dtype=float) / np.asarray(laws.rhoA_kg_m(x))
+        i = int(np.argmax(r2))
+        rg = float(np.sqrt(r2[i]))
+        kappa = float(np.asarray(laws.kappaGA_N(x))[i] * beam.material.rho_kg_m3
+                      / (beam.material.G_Pa * np.asarray(laws.rhoA_kg_m(x))[i]))
     E_kG = beam.material.E_Pa / (kappa * beam.material.G_Pa)
     return eb_error_estimate_pct(n_modes, rg / beam.length_m, E_kG), beam.length_m / rg, kappa
 
@@ -181,12 +190,19 @@ def timoshenko_warnings(beam: Beam, modes: int,
     """Return the 1D Euler-Bernoulli truth's warning when its highest mode is past ``tol_pct`` %.
 
     Closed form only (no solve), so a slender member's truth is unchanged and costs nothing more.
+    A section table has no shear stiffness to estimate from: no warning.
     """
+    from ..member.section_table import SectionTable
+
+    if isinstance(beam.section, SectionTable):
+        return ()
     est, slender, _ = _estimate(beam, max(int(modes), 1))
     if est[-1] <= tol_pct:
         return ()
     first = int(np.flatnonzero(est > tol_pct)[0]) + 1
-    return (f"thickness = {beam.thickness_m:g} m (L / r_g = {slender:.3g}): the 1D "
+    size = (f"thickness = {beam.thickness_m:g} m" if beam.section is None
+            else f"outer diameter = {beam.thickness_m:g} m")  # a round member's D as thickness
+    return (f"{size} (L / r_g = {slender:.3g}): the 1D "
             f"Euler-Bernoulli truth neglects shear and rotary inertia, which lower mode "
             f"{first} by about {est[first - 1]:.2g} % and mode {est.size} by about "
             f"{est[-1]:.2g} %; compare prbdm_pin.timoshenko_criterion(beam) and "

@@ -27,7 +27,7 @@ from ..member.geometry import Beam
 from ..member.section import area_moment_y_m4
 
 __all__ = ["SHEAR_KINDS", "SectionLaws", "shear_coefficient", "section_law",
-           "rectangle_section_laws"]
+           "member_section_laws", "rectangle_section_laws"]
 
 SHEAR_KINDS = ("rectangle", "solid_circle", "thin_tube", "tube")
 
@@ -151,6 +151,52 @@ class SectionLaws:
         """Turn every law into a checked callable (errors name the field)."""
         for name in ("EI_Nm2", "kappaGA_N", "rhoA_kg_m", "rhoI_kg_m"):
             object.__setattr__(self, name, section_law(name, getattr(self, name)))
+
+
+def member_section_laws(beam: Beam) -> SectionLaws:
+    """Return a member's laws for bending about y: the planform's rectangle or a round section.
+
+    The stiffness and inertias come from :func:`~prbdm_pin.member.section_law.section_properties`
+    (the one place every model reads); the shear stiffness kappa G A from Cowper's coefficient of
+    the section (rectangle; a round member's hollow circle at each station's d / D, the solid
+    circle at d = 0). A section table carries no shear stiffness, so it is refused by name.
+
+    Parameters
+    ----------
+    beam : Beam
+
+    Returns
+    -------
+    SectionLaws
+    """
+    if not isinstance(beam, Beam):
+        raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")
+    if beam.section is None:
+        return rectangle_section_laws(beam)
+    from ..member.round_section import RoundSection
+    from ..member.section_law import section_properties
+
+    if not isinstance(beam.section, RoundSection):
+        raise BeamInputError("beam.section: a section table gives no shear stiffness (kappa G "
+                             "A): the Timoshenko truth and its criterion take a planform or a "
+                             "round member")
+    mat, sec = beam.material, beam.section
+    D = sec.outer_diameter_m
+    d = np.zeros_like(D) if sec.inner_diameter_m is None else sec.inner_diameter_m
+
+    def kappa(x):
+        ratio = np.interp(x, beam.x_m, d) / np.interp(x, beam.x_m, D)
+        return np.vectorize(lambda r: shear_coefficient("tube", mat.nu, float(r)))(ratio)
+
+    def area(x):
+        return section_properties(beam, x).rhoA_kg_m / mat.rho_kg_m3
+
+    return SectionLaws(
+        EI_Nm2=lambda x: section_properties(beam, x).EI_y_Nm2,
+        kappaGA_N=lambda x: kappa(x) * mat.G_Pa * area(x),
+        rhoA_kg_m=lambda x: section_properties(beam, x).rhoA_kg_m,
+        rhoI_kg_m=lambda x: section_properties(beam, x).rhoI_y_kg_m,
+    )
 
 
 def rectangle_section_laws(beam: Beam) -> SectionLaws:

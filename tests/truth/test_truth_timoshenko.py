@@ -169,6 +169,53 @@ def test_a_planform_beam_is_the_rectangle_of_the_closed_form():
     assert np.all(m.deflection_m[:, -1] > 0) and m.x_m[-1] == L
 
 
+@pytest.mark.parametrize("inner_ratio", [0.0, 0.8])
+def test_a_round_member_is_the_tube_of_the_closed_form(inner_ratio):
+    # a uniform rod (d = 0) and tube (d = 0.8 D) at L / r_g = 20, r_g = sqrt(D^2 + d^2) / 4,
+    # against the exact frequency equation with the section's values written out by hand
+    import prbdm_pin as pp
+
+    D = 0.04
+    d = inner_ratio * D
+    L = 20 * np.sqrt(D**2 + d**2) / 4
+    mat = Material(E_Pa=E, rho_kg_m3=RHO, nu=NU)
+    beam = pp.round_beam(np.array([0.0, L]), np.array([D, D]), np.array([d, d]), material=mat)
+    A = np.pi * (D**2 - d**2) / 4
+    Iy = np.pi * (D**4 - d**4) / 64
+    m = 1 - 1e-12 if inner_ratio == 0.0 else inner_ratio  # Cowper's hollow circle, by hand
+    q = (1 + m * m) ** 2 if inner_ratio else 1.0
+    m2 = m * m if inner_ratio else 0.0
+    kappa = 6 * (1 + NU) * q / ((7 + 6 * NU) * q + (20 + 12 * NU) * m2)
+    G = E / (2 * (1 + NU))
+    exact = timoshenko_cantilever_omega(L, E * Iy, kappa * G * A, RHO * A, RHO * Iy, 4)
+    w = beam_timoshenko_modal(beam, n_modes=4, n_elements=40).omega_rad_s
+    # the discretisation at 40 elements, L / r_g = 20 (below 1.2e-5, as the rectangle's)
+    np.testing.assert_allclose(w, exact, rtol=1.2e-5)
+    # the criterion's estimate of mode 1 against the exact equation's gap to Euler-Bernoulli
+    from prbdm_pin.truth.timoshenko_criterion import timoshenko_criterion
+
+    c = timoshenko_criterion(beam, 2, solve=False)
+    eb = BETA_L[0] ** 2 / L**2 * np.sqrt(E * Iy / (RHO * A))
+    gap = 100 * (1 - exact[0] / eb)
+    assert c.slenderness == pytest.approx(20.0, rel=50 * EPS)  # L / r_g: a few roundings
+    # first order in (r_g / L)^2: within 10 % of the exact gap at L / r_g = 20
+    assert c.estimate_pct[0] == pytest.approx(gap, rel=0.1)
+
+
+def test_a_section_table_has_no_shear_stiffness():
+    import prbdm_pin as pp
+    from prbdm_pin.truth.timoshenko_criterion import timoshenko_warnings
+
+    x = np.array([0.0, 1.0])
+    one = np.ones(2)
+    table = pp.table_beam(x, pp.SectionTable(EI_y_Nm2=100 * one, EI_z_Nm2=400 * one,
+                                             GJ_Nm2=50 * one, rhoA_kg_m=one,
+                                             rhoI_y_kg_m=1e-6 * one, rhoI_z_kg_m=4e-6 * one))
+    with pytest.raises(BeamInputError, match="section table"):
+        beam_timoshenko_modal(table, 2)
+    assert timoshenko_warnings(table, 5) == ()  # the truth computes, without the estimate
+
+
 def test_first_order_coefficients_are_the_closed_form_modes():
     # quadrature of the closed-form modes (quad's relative 1.5e-8 default) against the table
     np.testing.assert_allclose(CANTILEVER_C, first_order_coefficients(6), rtol=1e-8)
