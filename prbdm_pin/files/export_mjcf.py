@@ -30,6 +30,7 @@ from ..truth.self_weight import check_gravity
 from ..version import __version__
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
+from .export_geometry import mjcf_assets, mjcf_link_geom, mjcf_tip_body
 from .export_plant import mujoco_name
 from .export_record import export_record
 
@@ -46,7 +47,8 @@ def _gravity_text(g: np.ndarray) -> str:
 
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
               *, damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-              actuators=(), inputs=None, gravity_m_s2=None) -> str:
+              actuators=(), inputs=None, gravity_m_s2=None,
+              mesh_folder: str | None = None) -> str:
     """Write the model as an MJCF string for MuJoCo.
 
     Parameters
@@ -77,6 +79,11 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     gravity_m_s2 : array_like (3,), optional
         The gravity the model was fitted in, m/s^2, world (``FitResult.gravity_m_s2``):
         ``<option gravity>``; default none, ``0 0 0`` (a model fitted without gravity).
+    mesh_folder : str, optional
+        The links' STL folder relative to the MJCF file (:mod:`prbdm_pin.files.export_geometry`
+        writes it): a mesh asset and geom per link, and the tip body ``tip_body`` with the
+        sites ``tip``, ``tip_corner_left``, ``tip_corner_right``. Default none: no geometry,
+        the ``tip`` site in ``link_n`` (the files as they were before geometry).
 
     Returns
     -------
@@ -122,6 +129,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         "       each link's body turns on hinges about "
         + ", ".join(model.axes.joint_order) + " in that order (joint_j_y, ...), at one",
         "       point; each hinge carries its own torsional spring and the"]
+    if mesh_folder is not None and model.beam is None:
+        raise BeamInputError("model: read from a URDF, it carries no beam, so no geometry")
     lines = [
         f"<mujoco model={quoteattr(name)}>",
         f"  <!-- Pseudo-rigid-body dynamic model written by prbdm_pin {__version__}: {root[0]}",
@@ -135,6 +144,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         # integration (3R and 5R reference chains), the default Euler 0.1-0.6 % (1st order)
         f'  <option gravity="{_gravity_text(gravity)}" timestep="{_f(timestep_s)}" '
         'integrator="RK4"/>',
+        *([] if mesh_folder is None else mjcf_assets(mesh_folder, n + 1)),
         "  <worldbody>",
     ]
     indent = "    "
@@ -152,6 +162,8 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         indent += "  "
     lines += [f'{indent}<body name="link_0" pos="{"0" if hub is None else _f(hub.radius_m)} 0 0">',
               f"{indent}  {inertial(0)}"]
+    if mesh_folder is not None:
+        lines.append(f"{indent}  {mjcf_link_geom(0)}")
     indent += "  "
     names = iter(joint_names(n, model.axes))
     springs = iter(range(k.size))
@@ -165,8 +177,13 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
                          f'pos="0 0 0" stiffness="{_f(k[i])}" springref="0" '
                          f'damping="{_f(c[i])}"/>')
         lines.append(f"{indent}  {inertial(j)}")
+        if mesh_folder is not None:
+            lines.append(f"{indent}  {mjcf_link_geom(j)}")
         indent += "  "
-    lines.append(f'{indent}<site name="tip" pos="{_f(lengths[n])} 0 0" size="0.005"/>')
+    if mesh_folder is None:
+        lines.append(f'{indent}<site name="tip" pos="{_f(lengths[n])} 0 0" size="0.005"/>')
+    else:
+        lines += mjcf_tip_body(model, indent)
     for _ in range(n + 1 + (hub is not None)):
         indent = indent[:-2]
         lines.append(f"{indent}</body>")
