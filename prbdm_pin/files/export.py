@@ -252,7 +252,7 @@ def export_model(model, path: str | os.PathLike, fmt: str,
         none): the MJCF's ``<option gravity>``, stated in the URDF's comment (URDF has no
         gravity element); a model JSON records it as ``gravity_m_s2``.
     geometry : bool
-        URDF and MJCF: write each link's solid as ``NAME_meshes/link_j.stl`` beside ``path``
+        URDF and MJCF: write each link's solid as ``NAME_meshes/link_j.obj`` beside ``path``
         and use it as visual and collision geometry, and (MJCF) the tip body with its sites
         (:mod:`~prbdm_pin.files.export_geometry`); default True. False, or a model read from a
         URDF (no planform), writes the bare file as before geometry.

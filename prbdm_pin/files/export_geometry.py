@@ -1,19 +1,20 @@
-"""The links' solids in an export: binary STL meshes beside the file, and the XML that uses them.
+"""The links' solids in an export: OBJ meshes beside the file, and the XML that uses them.
 
 An export to ``DIR/NAME.urdf`` (or ``.xml``, ``.mjcf``) writes each link's solid
-(:mod:`prbdm_pin.files.link_mesh`) as ``DIR/NAME_meshes/link_j.stl`` (binary STL through
-trimesh), one per link ``link_0`` ... ``link_n`` in the link's frame; the massless node links
+(:mod:`prbdm_pin.files.link_mesh`) as ``DIR/NAME_meshes/link_j.obj`` (Wavefront OBJ through
+trimesh, 17 decimals: the file is the exact mesh, where a binary STL's float32 would move its
+volume by 1e-7), one per link ``link_0`` ... ``link_n`` in the link's frame; the massless node links
 of a spatial URDF (``link_j_y``, ``link_j_z``) and the hub carry no geometry. The folder name
 follows the export's, so two exports in one folder never share (or overwrite) meshes.
 
 URDF: each link gets ``<visual>`` and ``<collision>`` with ``<mesh filename="NAME_meshes/
-link_j.stl"/>``, a path relative to the URDF, which yourdfpy, MuJoCo's URDF import and
-RViz-free tools resolve beside the file; Pinocchio's ``buildGeomFromUrdf(model, path,
+link_j.obj"/>``, a path relative to the URDF, which yourdfpy, MuJoCo's URDF import and
+RViz resolve beside the file; Pinocchio's ``buildGeomFromUrdf(model, path,
 pin.GeometryType.VISUAL, package_dirs=[DIR])`` finds it through ``package_dirs``. For a ROS
 package put the folder in the package and replace the prefix by ``package://PKG/`` (e.g.
 ``sed 's#filename="#filename="package://my_beam/#'``).
 
-MJCF: an ``<asset>`` ``<mesh name="link_j" file="NAME_meshes/link_j.stl"/>`` per link (paths
+MJCF: an ``<asset>`` ``<mesh name="link_j" file="NAME_meshes/link_j.obj"/>`` per link (paths
 relative to the MJCF file: load it with ``mujoco.MjModel.from_xml_path``) and a mesh geom in each
 link body. The geoms have ``contype="1" conaffinity="0"``: two beam geoms never collide (MuJoCo
 collides a pair when one's contype meets the other's conaffinity), so neighbouring links, which
@@ -28,7 +29,7 @@ points of those names). ``data.xfrc_applied[tip_body_id, :3] = F`` is then a dea
 tip: MuJoCo applies it at the body's centre of mass, which is the tip, at every stage of RK4 with
 the stage's pose (a force written as joint torques J^T F from a callback keeps the step's first
 pose through the stages). The tiny mass keeps MuJoCo's ``xfrc_applied`` and ``xipos`` defined on a
-body of its own and changes the mass matrix by m_tip J^T J, about 1e-9 of it (measured in the
+body of its own and changes the mass matrix by m_tip J^T J, about 1e-12 of it (measured in the
 tests and the guide).
 """
 
@@ -42,18 +43,18 @@ import numpy as np
 
 from ..chain.points import point_offset_m
 from ..errors import BeamInputError
-from ..io.atomic import atomic_write_bytes
+from ..io.atomic import atomic_write_text
 from ..io.paths import writable_dir
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
 from .link_mesh import LinkMesh, planform_link_mesh
 
 __all__ = ["TIP_MASS_FRACTION", "TIP_SITES", "link_meshes", "mesh_folder", "write_meshes",
-           "stl_bytes", "urdf_geometry", "mjcf_assets", "mjcf_link_geom", "mjcf_tip_body"]
+           "obj_text", "urdf_geometry", "mjcf_assets", "mjcf_link_geom", "mjcf_tip_body"]
 
 # the tip body's mass over the member's: far below anything the model resolves (the mass
 # matrix moves by about this fraction) yet a body MuJoCo gives a centre of mass
-TIP_MASS_FRACTION = 1.0e-9
+TIP_MASS_FRACTION = 1.0e-12
 TIP_SITES = ("tip", "tip_corner_left", "tip_corner_right")
 _RGBA = "0.55 0.6 0.7 1"
 
@@ -83,29 +84,34 @@ def mesh_folder(path: str | os.PathLike) -> Path:
     return p.with_name(f"{p.stem}_meshes")
 
 
-def stl_bytes(mesh: LinkMesh) -> bytes:
-    """Binary STL of ``mesh`` (trimesh's writer: a maintained, exact float32 STL encoder)."""
+def obj_text(mesh: LinkMesh) -> str:
+    """Return the Wavefront OBJ text of ``mesh`` (trimesh's writer, no normals).
+
+    Coordinates carry 17 decimals (m): the file's volume and centroid are the double-precision
+    mesh's to rounding, where a binary STL's float32 would lose them at 1e-7.
+    """
     import trimesh
 
     tm = trimesh.Trimesh(vertices=np.asarray(mesh.vertices_m), faces=np.asarray(mesh.faces),
                          process=False)
-    return tm.export(file_type="stl")
+    return trimesh.exchange.obj.export_obj(tm, include_normals=False, include_color=False,
+                                           include_texture=False, digits=17)
 
 
 def write_meshes(model, path: str | os.PathLike) -> tuple[Path, ...]:
-    """Write the links' STL files into :func:`mesh_folder` of ``path``, each atomically.
+    """Write the links' OBJ files into :func:`mesh_folder` of ``path``, each atomically.
 
     The folder is checked first (``BeamInputError`` naming it, nothing written); all meshes are
     built before the first file is written.
     """
     folder = writable_dir(mesh_folder(path), "mesh folder")
-    data = [stl_bytes(m) for m in link_meshes(model)]
-    return tuple(atomic_write_bytes(folder / f"link_{i}.stl", b) for i, b in enumerate(data))
+    data = [obj_text(m) for m in link_meshes(model)]
+    return tuple(atomic_write_text(folder / f"link_{i}.obj", t) for i, t in enumerate(data))
 
 
 def urdf_geometry(folder_name: str, i: int) -> str:
     """Return ``link_i``'s URDF ``<visual>`` and ``<collision>`` (a relative mesh path)."""
-    mesh = f'<mesh filename="{folder_name}/link_{i}.stl"/>'
+    mesh = f'<mesh filename="{folder_name}/link_{i}.obj"/>'
     return (f"    <visual>\n      <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n"
             f"      <geometry>\n        {mesh}\n      </geometry>\n    </visual>\n"
             f"    <collision>\n      <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n"
@@ -115,7 +121,7 @@ def urdf_geometry(folder_name: str, i: int) -> str:
 def mjcf_assets(folder_name: str, n_links: int) -> list[str]:
     """Return the MJCF ``<asset>`` lines: one mesh per link."""
     return ["  <asset>",
-            *[f'    <mesh name="link_{i}" file="{folder_name}/link_{i}.stl"/>'
+            *[f'    <mesh name="link_{i}" file="{folder_name}/link_{i}.obj"/>'
               for i in range(n_links)],
             "  </asset>"]
 

@@ -45,6 +45,23 @@ def _gravity_text(g: np.ndarray) -> str:
     return "0 0 0" if not np.any(g) else _vec(g)
 
 
+def _fastest_rate(model, k: np.ndarray, c: np.ndarray) -> float:
+    """Largest |lambda| (1/s) of the damped linear chain at the straight pose.
+
+    Stiffness-proportional damping overdamps the high modes: their fast real root ~ 2 xi_k
+    omega_k can exceed omega_max many times (a spatial chain's torsion), and RK4's real-axis
+    stability bound is h |lambda| < 2.79.
+    """
+    M = np.asarray(model.mass_matrix(), dtype=float)
+    nv = M.shape[0]
+    K, C = np.zeros((nv, nv)), np.zeros((nv, nv))
+    K[nv - k.size:, nv - k.size:] = np.diag(k)  # the hub's coordinate, if any, comes first
+    C[nv - k.size:, nv - k.size:] = np.diag(c)
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((nv, nv)), np.eye(nv)], [-Minv @ K, -Minv @ C]])
+    return float(np.abs(np.linalg.eigvals(A)).max())
+
+
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
               *, damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
               actuators=(), inputs=None, gravity_m_s2=None,
@@ -67,7 +84,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         joints.
     timestep_s : float, optional
         MuJoCo time step, s (default: a twentieth of the shortest natural period, of the
-        clamped and the hub model; the integrator is RK4).
+        clamped and the hub model, or 2 / |lambda|_max of the damped chain if shorter, which
+        keeps RK4 stable where stiffness-proportional damping overdamps the high modes, as on
+        a spatial chain's torsion; the integrator is RK4).
     damping_form, omega_truth_rad_s
         See :func:`export_record`; the record is written as a comment.
     actuators : sequence of StrainActuator
@@ -80,7 +99,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         The gravity the model was fitted in, m/s^2, world (``FitResult.gravity_m_s2``):
         ``<option gravity>``; default none, ``0 0 0`` (a model fitted without gravity).
     mesh_folder : str, optional
-        The links' STL folder relative to the MJCF file (:mod:`prbdm_pin.files.export_geometry`
+        The links' OBJ folder relative to the MJCF file (:mod:`prbdm_pin.files.export_geometry`
         writes it): a mesh asset and geom per link, and the tip body ``tip_body`` with the
         sites ``tip``, ``tip_corner_left``, ``tip_corner_right``. Default none: no geometry,
         the ``tip`` site in ``link_n`` (the files as they were before geometry).
@@ -108,6 +127,10 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         if rec.hub_frequencies_rad_s is not None:
             w_max = max(w_max, float(rec.hub_frequencies_rad_s[-1]))
         timestep_s = 2.0 * np.pi / w_max / 20.0
+        # and inside RK4's stability region with margin (h |lambda| <= 2 < 2.79) when the
+        # damping's fastest root is faster than omega_max (overdamped high modes)
+        if np.any(c):
+            timestep_s = min(timestep_s, 2.0 / _fastest_rate(model, k, c))
     if not (math.isfinite(timestep_s) and timestep_s > 0.0):
         raise BeamInputError(f"timestep = {timestep_s!r} s: must be finite and > 0")
     name = "prbdm" if model.beam is None else f"prbdm_{model.beam.name}"

@@ -260,7 +260,7 @@ def test_export_is_atomic_and_checks_format(model, tmp_path):
     # no temporary file left: the MJCF and its mesh folder with one STL per link
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.xml", "m_meshes"]
     assert sorted(p.name for p in (tmp_path / "m_meshes").iterdir()) == \
-        [f"link_{i}.stl" for i in range(model.n_joints + 1)]
+        [f"link_{i}.obj" for i in range(model.n_joints + 1)]
 
 
 def test_export_cli_and_simulate_cli(model, tmp_path, capsys):
