@@ -45,6 +45,7 @@ from ..chain.points import point_offset_m
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
 from ..io.paths import writable_dir
+from ..model.checks import check_model
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
 from .link_mesh import LinkMesh, planform_link_mesh
@@ -66,7 +67,10 @@ def link_meshes(model) -> tuple[LinkMesh, ...]:
     ------
     BeamInputError
         A model without a beam (read from a URDF): it carries no planform to mesh.
+    InputTypeError
+        ``model`` not a PrbdmModel.
     """
+    check_model(model)
     beam = model.beam
     if beam is None:
         raise BeamInputError("model: read from a URDF, it carries no beam, so no geometry; "

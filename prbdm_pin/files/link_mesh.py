@@ -26,6 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import BeamInputError
+from ..member.geometry import Beam
+from ..options.checks import check_float, check_int
+from ..options.validate import check_type
 
 __all__ = ["LinkMesh", "planform_link_mesh", "round_link_mesh", "ROUND_SEGMENTS"]
 
@@ -119,8 +122,12 @@ def planform_link_mesh(beam, start_m: float, end_m: float) -> LinkMesh:
     ------
     BeamInputError
         A span outside [0, L] or of no length.
+    InputTypeError
+        ``beam`` not a Beam, a station not a real number.
     """
-    a, e = float(start_m), float(end_m)
+    check_type("beam", beam, Beam)
+    a = check_float("start_m", start_m, unit="m")
+    e = check_float("end_m", end_m, unit="m")
     if not (0.0 <= a < e <= beam.length_m):
         raise BeamInputError(f"span = [{start_m!r}, {end_m!r}] m: needs 0 <= start < end <= "
                              f"L = {beam.length_m!r} m")
@@ -210,15 +217,16 @@ def round_link_mesh(length_m: float, D0_m: float, D1_m: float, d0_m: float = 0.0
     ------
     BeamInputError
         A length or diameter that is not finite, D <= 0, d < 0 or d >= D, segments < 3.
+    InputTypeError
+        A size that is not a real number, ``segments`` not an integer.
     """
-    for name, v in (("length_m", length_m), ("D0_m", D0_m), ("D1_m", D1_m)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
-            raise BeamInputError(f"{name} = {v!r}: must be a finite length > 0 (m)")
-    for name, v, D in (("d0_m", d0_m, D0_m), ("d1_m", d1_m, D1_m)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and 0.0 <= v < D):
-            raise BeamInputError(f"{name} = {v!r}: must be an inner diameter in [0, {D!r}) m")
-    if not (isinstance(segments, int) and segments >= 3):
-        raise BeamInputError(f"segments = {segments!r}: must be an integer >= 3")
+    length_m = check_float("length_m", length_m, low=0.0, low_open=True, unit="m")
+    D0_m = check_float("D0_m", D0_m, low=0.0, low_open=True, unit="m")
+    D1_m = check_float("D1_m", D1_m, low=0.0, low_open=True, unit="m")
+    # an inner diameter equal to the outer one would leave a wall of no thickness
+    d0_m = check_float("d0_m", d0_m, low=0.0, high=D0_m, high_open=True, unit="m")
+    d1_m = check_float("d1_m", d1_m, low=0.0, high=D1_m, high_open=True, unit="m")
+    segments = check_int("segments", segments, 3)
     scale = math.sqrt(2.0 * math.pi / (segments * math.sin(2.0 * math.pi / segments)))
     phi = 2.0 * math.pi * np.arange(segments) / segments
     cs = np.column_stack([np.cos(phi), np.sin(phi)])

@@ -242,3 +242,26 @@ def test_an_unwritable_mesh_folder_is_refused_before_anything_is_written(tmp_pat
     # without geometry the bare file is written, as before geometry
     path = export_model(model, tmp_path / "beam.xml", "mjcf", geometry=False)
     assert path.read_text() == mjcf_text(model)
+
+
+def test_cli_geometry_and_its_bad_folder(tmp_path, capsys):
+    """prbdm export writes the meshes beside --out; a mesh folder that cannot be made is one
+    line, exit 2, nothing written; --no-geometry writes the bare file."""
+    from prbdm_pin.cli import main
+
+    source = export_model(_planar(), tmp_path / "model.json", "json")
+    assert main(["export", str(source), "--format", "urdf", "--out",
+                 str(tmp_path / "a.urdf"), "-q"]) == 0
+    assert sorted(p.name for p in (tmp_path / "a_meshes").iterdir()) == \
+        [f"link_{i}.obj" for i in range(PLANAR_LENGTHS.size)]
+    (tmp_path / "b_meshes").write_text("in the way")
+    capsys.readouterr()
+    assert main(["export", str(source), "--format", "mjcf", "--out",
+                 str(tmp_path / "b.xml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "mesh folder of --out" in err, err
+    assert not (tmp_path / "b.xml").exists()
+    assert main(["export", str(source), "--format", "mjcf", "--no-geometry", "--out",
+                 str(tmp_path / "c.xml"), "-q"]) == 0
+    assert not (tmp_path / "c_meshes").exists()
+    assert 'type="mesh"' not in (tmp_path / "c.xml").read_text()

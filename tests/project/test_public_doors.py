@@ -111,6 +111,8 @@ def test_a_dataclass_field_of_the_wrong_type_is_a_type_error_naming_it(case, dat
     wrong = WRONG_TYPES + ([2.5, "3"] if kind == "int" else [])
     if field == "damping_ratio":  # one ratio per mode is a list
         wrong = [v for v in wrong if not isinstance(v, list)]
+    if name == "round_link_mesh":  # 3 and 2.5 are valid lengths (m)
+        wrong = [v for v in wrong if not isinstance(v, (int, float))]
     value = data.draw(st.sampled_from(wrong))
     _refused(InputTypeError, shown, cls, **{**base, field: value})
 
@@ -251,6 +253,9 @@ DOORS = {
     "fit_joint_damping": ("model", lambda v: pp.fit_joint_damping(v, 0.02)),
     "read_model_json": ("path", lambda v: pp.read_model_json(v)),
     "read_plant_json": ("path", lambda v: pp.read_plant_json(v)),
+    "link_meshes": ("model", lambda v: pp.link_meshes(v)),
+    "planform_link_mesh": ("beam", lambda v: pp.planform_link_mesh(v, 0.0, 0.1)),
+    "round_link_mesh": ("length_m", lambda v: pp.round_link_mesh(v, 0.02, 0.02)),
     "run_batch": ("spec", lambda v: pp.run_batch(v, "never-batch")),
     "calibrate": ("model", lambda v: pp.calibrate(v, RING, "E")),
     "read_ring_down": ("path", lambda v: pp.read_ring_down(v)),
@@ -286,6 +291,8 @@ def test_a_wrong_type_at_a_public_door_is_a_type_error_naming_the_argument(
         wrong = [v for v in wrong if not isinstance(v, dict)]
     if name == "shear_coefficient":  # a section kind is a str: an unknown one is a value error
         wrong = [v for v in wrong if not isinstance(v, str)]
+    if name == "round_link_mesh":  # 3 and 2.5 are valid lengths (m)
+        wrong = [v for v in wrong if not isinstance(v, (int, float))]
     value = data.draw(st.sampled_from(wrong))
     _refused(InputTypeError, f"{arg}", call, value)
     assert os.listdir(".") == []  # nothing written
