@@ -99,11 +99,10 @@ MJCF (``--format mjcf --out beam.xml``)
     transmission at ``tip`` with ``refsite="world_ref"``, a site at the world origin: the force
     is along world z/x, a dead load). Default inputs: ``hub_torque`` with a hub and
     ``strain[i]`` for every actuator; the record's ``inputs`` line lists them in actuator order.
-    Without a tip force actuator apply a tip force on the tip body:
-    ``data.xfrc_applied[m.body("tip_body").id, :3] = F``, at the tip at every RK4 stage
-    (geometry, :mod:`~prbdm_pin.files.export_geometry`; without it, on ``link_n``: the force
-    at its centre of mass plus the moment (tip - com) x F, refreshed every step). For a time-varying input, set ``data.ctrl`` to its value at the
-    middle of each step: RK4 holds it over the step.
+    Without a tip force actuator push on the tip body, ``data.xfrc_applied[m.body("tip_body")
+    .id, :3] = F``, at the tip at every RK4 stage (:mod:`~prbdm_pin.files.export_geometry`;
+    without geometry: on ``link_n``, F plus (tip - com) x F, refreshed every step). For a
+    time-varying input, set ``data.ctrl`` to its value mid-step: RK4 holds it over the step.
 JSON (``--format json --out model.json``)
     The model parameters (beam, link lengths, springs, link inertias, natural frequencies), the
     plant (``hub``: null or inertia_kg_m2 and radius_m; ``actuators``: x_start_m and x_end_m
