@@ -188,22 +188,15 @@ def test_the_tip_body_changes_mujoco_s_mass_matrix_by_less_than_its_bound(export
     print(f"{model.n_joints}-node tip body: max |dM| / max |M| = {worst:.1e}")
 
 
-def test_a_constant_tip_load_on_the_tip_body_gives_the_package_s_step_response(exported):
-    """xfrc_applied on tip_body (a dead force at the tip, at every RK4 stage) against simulate
-    with DOP853 at rtol 1e-11 and the same damping: within 0.1 % of the peak (the issue's
-    bound). The 5R at 1e-4 s; the spatial chain at the file's step (T_min / 20, 9.7 us): its
-    torsion mode (32 000 rad/s) puts 1e-4 s beyond RK4's stability bound 2.8 / omega_max."""
-    model, _, mjcf = exported
+def _tip_load_error(model, mjcf, force):
+    """Max |tip - tip_ref| / peak deflection of the MJCF under a constant xfrc_applied force on
+    tip_body (a dead force at the tip at every RK4 stage) against simulate (DOP853, rtol 1e-11,
+    the same stiffness-form damping), past the first peak (1.5 pi / omega_1)."""
     m = mujoco.MjModel.from_xml_path(str(mjcf))
     out_dt = 1e-3
     every = int(np.ceil(out_dt / min(1e-4, m.opt.timestep)))
     m.opt.timestep = out_dt / every  # steps dividing the output interval
     assert m.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4
-    if model.axes.spatial:  # bending about y and z at once
-        force = np.array([0.0, 0.3, -1.0]) * abs(SPATIAL.tip_force_N[2])
-    else:
-        force = np.asarray(PLANAR.tip_force_N, dtype=float)
-    # past the first peak (half a period of mode 1): 0.12 s (5R), 0.047 s (spatial)
     duration = round(1.5 * np.pi / model.natural_frequencies()[0], 3)
     d = mujoco.MjData(m)
     d.xfrc_applied[m.body("tip_body").id, :3] = force  # constant: no refresh needed
@@ -214,14 +207,30 @@ def test_a_constant_tip_load_on_the_tip_body_gives_the_package_s_step_response(e
         if i % every == 0:
             mujoco.mj_kinematics(m, d)
             tips.append(d.site("tip").xpos.copy())
-    tips = np.array(tips)
     ref = simulate_reference(model, force, duration, out_dt)
-    rest = model.tip_position()
-    peak = np.abs(ref - rest).max()
-    err = np.abs(ref - tips).max() / peak
-    print(f"{model.n_joints}-node MuJoCo tip body vs DOP853 (h = {m.opt.timestep:.2e} s): "
-          f"{100 * err:.2e} % of the peak")
-    assert err <= 1e-3
+    peak = np.abs(ref - model.tip_position()).max()
+    err = np.abs(ref - np.array(tips)).max() / peak
+    print(f"{model.n_joints}-node MuJoCo tip body vs DOP853 (h = {m.opt.timestep:.2e} s, "
+          f"{duration} s): {100 * err:.2e} % of the peak")
+    return err
+
+
+def test_a_constant_tip_load_on_the_tip_body_gives_the_5r_step_response(tmp_path):
+    """At RK4's 1e-4 s: within 0.1 % of the peak, the issue's bound (measured 9.7e-7 %)."""
+    model = _planar()
+    mjcf = export_model(model, tmp_path / "beam.xml", "mjcf", 0.02)
+    assert _tip_load_error(model, mjcf, np.asarray(PLANAR.tip_force_N, dtype=float)) <= 1e-3
+
+
+@pytest.mark.slow
+def test_a_constant_tip_load_on_the_tip_body_gives_the_spatial_step_response(tmp_path):
+    """Bending about y and z at once, at the file's step (4.9 us): the torsion roots of the
+    overdamped high modes (2 xi_k omega_k, some 4e5 1/s) put 1e-4 s far outside RK4's stability
+    region. Within 0.1 % of the peak (measured 6.5e-10 %)."""
+    model = _spatial()
+    mjcf = export_model(model, tmp_path / "beam.xml", "mjcf", 0.02)
+    force = np.array([0.0, 0.3, -1.0]) * abs(SPATIAL.tip_force_N[2])
+    assert _tip_load_error(model, mjcf, force) <= 1e-3
 
 
 def simulate_reference(model, force, duration_s, output_dt_s):
