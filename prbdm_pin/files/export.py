@@ -229,7 +229,7 @@ def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray
 def export_model(model, path: str | os.PathLike, fmt: str,
                  damping_ratio: float | np.ndarray = 0.02, *, damping_form: str | None = None,
                  omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None,
-                 gravity_m_s2=None, geometry: bool = True) -> Path:
+                 gravity_m_s2=None, geometry: bool = True, sensor_stations_m=()) -> Path:
     """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt``.
 
     Parameters
@@ -256,6 +256,8 @@ def export_model(model, path: str | os.PathLike, fmt: str,
         and use it as visual and collision geometry, and (MJCF) the tip body with its sites
         (:mod:`~prbdm_pin.files.export_geometry`); default True. False, or a model read from a
         URDF (no planform), writes the bare file as before geometry.
+    sensor_stations_m : sequence of float
+        MJCF: a site ``station_k`` at each station (m from the root), default none.
 
     Returns
     -------
@@ -282,16 +284,15 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     g = None if gravity_m_s2 is None else check_gravity(gravity_m_s2, planar=False)
     kw = {"damping_form": damping_form, "omega_truth_rad_s": omega_truth_rad_s,
           "actuators": actuators, "gravity_m_s2": g}
+    for what, given in (("inputs", () if inputs is None else inputs),
+                        ("sensor_stations_m", sensor_stations_m)):
+        if len(given) and fmt != "mjcf":  # MuJoCo actuators and sites
+            raise BeamInputError(f"{what} = {list(given)!r}: a {fmt} file carries no "
+                                 "actuators or sites (only the MJCF does)")
     if fmt == "json":
-        if inputs is not None and len(inputs):
-            raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
-                                 "(only the MJCF does)")
         return write_json(model, path, damping_ratio, **kw)
     if fmt == "mjcf":
-        kw["inputs"] = inputs
-    elif inputs is not None and len(inputs):
-        raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
-                             "(only the MJCF does)")
+        kw |= {"inputs": inputs, "sensor_stations_m": sensor_stations_m}
     text_of = mjcf_text if fmt == "mjcf" else urdf_text
     if not geometry or model.beam is None:  # a model read from a URDF has no planform
         return atomic_write_text(path, text_of(model, damping_ratio, **kw))

@@ -46,12 +46,14 @@ from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
 from ..io.paths import writable_dir
 from ..model.checks import check_model
+from ..options.checks import check_float
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
 from .link_mesh import LinkMesh, planform_link_mesh
 
-__all__ = ["TIP_MASS_FRACTION", "TIP_SITES", "link_meshes", "mesh_folder", "write_meshes",
-           "obj_text", "urdf_geometry", "mjcf_assets", "mjcf_link_geom", "mjcf_tip_body"]
+__all__ = ["TIP_MASS_FRACTION", "TIP_SITES", "link_meshes", "station_sites", "mesh_folder",
+           "write_meshes", "obj_text", "urdf_geometry", "mjcf_assets", "mjcf_link_geom",
+           "mjcf_tip_body"]
 
 # the tip body's mass over the member's: far below anything the model resolves (the mass
 # matrix moves by about this fraction) yet a body MuJoCo gives a centre of mass
@@ -155,3 +157,29 @@ def mjcf_tip_body(model, indent: str) -> list[str]:
             'conaffinity="0" group="1" rgba="0.9 0.3 0.2 1"/>',
             *sites,
             f"{indent}</body>"]
+
+
+def station_sites(model, stations_m) -> dict[int, list[str]]:
+    """Return the MJCF sites ``station_k`` at the member's stations, by the link that holds each.
+
+    Station k (m from the root, on the beam axis) sits on the link whose span holds it, at
+    ``x - start`` in that body; one on a joint goes on the outboard link, at its origin (a
+    section there moves with both links: the package's ``slope@X`` reads their mean).
+
+    Raises
+    ------
+    BeamInputError
+        A station off the member, naming ``sensor_stations_m[k]``.
+    """
+    from ..model.stations import check_station, section_links
+
+    s = model.sections
+    out: dict[int, list[str]] = {}
+    for k, x in enumerate(stations_m):
+        xs = check_station(model, check_float(f"sensor_stations_m[{k}]", x, unit="m"),
+                           f"sensor_stations_m[{k}]")
+        i = section_links(model, xs)[-1][0]
+        pos = max(xs - float(s.start_m[i]), 0.0)
+        out.setdefault(i, []).append(f'<site name="station_{k}" pos="{_f(pos)} 0 0" '
+                                     'size="0.002"/>')
+    return out

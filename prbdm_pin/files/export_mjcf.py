@@ -30,7 +30,7 @@ from ..truth.self_weight import check_gravity
 from ..version import __version__
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
-from .export_geometry import mjcf_assets, mjcf_link_geom, mjcf_tip_body
+from .export_geometry import mjcf_assets, mjcf_link_geom, mjcf_tip_body, station_sites
 from .export_plant import mujoco_name
 from .export_record import export_record
 
@@ -65,7 +65,7 @@ def _fastest_rate(model, k: np.ndarray, c: np.ndarray) -> float:
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
               *, damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
               actuators=(), inputs=None, gravity_m_s2=None,
-              mesh_folder: str | None = None) -> str:
+              mesh_folder: str | None = None, sensor_stations_m=()) -> str:
     """Write the model as an MJCF string for MuJoCo.
 
     Parameters
@@ -103,6 +103,10 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         writes it): a mesh asset and geom per link, and the tip body ``tip_body`` with the
         sites ``tip``, ``tip_corner_left``, ``tip_corner_right``. Default none: no geometry,
         the ``tip`` site in ``link_n`` (the files as they were before geometry).
+    sensor_stations_m : sequence of float
+        Stations (m from the root) that get a site ``station_k`` on the link holding them
+        (:func:`~prbdm_pin.files.export_geometry.station_sites`), where a MuJoCo sensor or load
+        can be attached; default none.
 
     Returns
     -------
@@ -152,6 +156,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         "       each link's body turns on hinges about "
         + ", ".join(model.axes.joint_order) + " in that order (joint_j_y, ...), at one",
         "       point; each hinge carries its own torsional spring and the"]
+    sites = station_sites(model, sensor_stations_m)
     if mesh_folder is not None and model.beam is None:
         raise BeamInputError("model: read from a URDF, it carries no beam, so no geometry")
     lines = [
@@ -187,6 +192,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
               f"{indent}  {inertial(0)}"]
     if mesh_folder is not None:
         lines.append(f"{indent}  {mjcf_link_geom(0)}")
+    lines += [f"{indent}  {t}" for t in sites.get(0, ())]
     indent += "  "
     names = iter(joint_names(n, model.axes))
     springs = iter(range(k.size))
@@ -202,6 +208,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         lines.append(f"{indent}  {inertial(j)}")
         if mesh_folder is not None:
             lines.append(f"{indent}  {mjcf_link_geom(j)}")
+        lines += [f"{indent}  {t}" for t in sites.get(j, ())]
         indent += "  "
     if mesh_folder is None:
         lines.append(f'{indent}<site name="tip" pos="{_f(lengths[n])} 0 0" size="0.005"/>')

@@ -274,3 +274,47 @@ def test_cli_geometry_and_its_bad_folder(tmp_path, capsys):
                  str(tmp_path / "c.xml"), "-q"]) == 0
     assert not (tmp_path / "c_meshes").exists()
     assert 'type="mesh"' not in (tmp_path / "c.xml").read_text()
+    assert main(["export", str(source), "--format", "mjcf", "--sites", "0.1,0.45", "--out",
+                 str(tmp_path / "d.xml"), "-q"]) == 0
+    m = mujoco.MjModel.from_xml_path(str(tmp_path / "d.xml"))
+    assert m.site("station_1").id >= 0 and m.nsite == 5  # tip, two corners, two stations
+    capsys.readouterr()
+    assert main(["export", str(source), "--format", "mjcf", "--sites", "0.1,x", "--out",
+                 str(tmp_path / "e.xml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--sites" in err, err
+    assert not (tmp_path / "e.xml").exists() and not (tmp_path / "e_meshes").exists()
+
+
+@pytest.mark.parametrize("make", [_planar, _spatial], ids=["5R", "4-node xyz"])
+def test_station_sites_ride_their_links(make, tmp_path):
+    """Sites station_k in MuJoCo where the package's Pinocchio chain carries the point
+    (x, 0, 0) of the member: link i's frame (oMf) applied to x - start_i, at random poses; a
+    station on a joint on the outboard link, at its origin (the joint: the same point on both
+    links)."""
+    model = make()
+    s = model.sections
+    stations = [0.0, 0.5 * s.end_m[0], float(s.end_m[1]), 0.7 * model.beam.length_m,
+                model.beam.length_m]
+    mjcf = export_model(model, tmp_path / "beam.xml", "mjcf", sensor_stations_m=stations)
+    m = mujoco.MjModel.from_xml_path(str(mjcf))
+    d = mujoco.MjData(m)
+    pm = model.pin_model
+    data = pm.createData()
+    rng = np.random.default_rng(5)
+    for q in [np.zeros(m.nq), *rng.normal(0.0, 0.3, (2, m.nq))]:
+        d.qpos[:] = q
+        mujoco.mj_kinematics(m, d)
+        pin.framesForwardKinematics(pm, data, q)
+        for k, x in enumerate(stations):
+            i = min(int(np.searchsorted(s.end_m, x, side="right")), s.n_links - 1)
+            oMf = data.oMf[pm.getFrameId(f"link_{i}")]
+            ours = oMf.act(np.array([x - s.start_m[i], 0.0, 0.0]))
+            # two chains of the same rigid transforms: rounding of a few products, 50 EPS of L
+            np.testing.assert_allclose(d.site(f"station_{k}").xpos, ours,
+                                       atol=50 * EPS * model.beam.length_m)
+    with pytest.raises(BeamInputError, match=r"sensor_stations_m\[1\]"):
+        export_model(model, tmp_path / "bad.xml", "mjcf", sensor_stations_m=[0.1, 9.0])
+    with pytest.raises(BeamInputError, match="sensor_stations_m"):
+        export_model(model, tmp_path / "bad.urdf", "urdf", sensor_stations_m=[0.1])
+    assert not (tmp_path / "bad.xml").exists() and not (tmp_path / "bad_meshes").exists()
