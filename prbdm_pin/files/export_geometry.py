@@ -12,7 +12,9 @@ link_j.obj"/>``, a path relative to the URDF, which yourdfpy, MuJoCo's URDF impo
 RViz resolve beside the file; Pinocchio's ``buildGeomFromUrdf(model, path,
 pin.GeometryType.VISUAL, package_dirs=[DIR])`` finds it through ``package_dirs``. For a ROS
 package put the folder in the package and replace the prefix by ``package://PKG/`` (e.g.
-``sed 's#filename="#filename="package://my_beam/#'``).
+``sed 's#filename="#filename="package://my_beam/#'``). The spatial URDF read into MuJoCo through
+``mujoco.MjSpec.from_string`` (:mod:`prbdm_pin.files.export`) needs ``spec.meshdir`` set to the
+URDF's folder (a string has no folder to resolve the paths against).
 
 MJCF: an ``<asset>`` ``<mesh name="link_j" file="NAME_meshes/link_j.obj"/>`` per link (paths
 relative to the MJCF file: load it with ``mujoco.MjModel.from_xml_path``) and a mesh geom in each
