@@ -5,7 +5,7 @@ References: the mesh volumes and centroids against the links' masses and centres
 chain.sections (Gauss quadrature of the planform integrals, another algorithm than the mesh's
 divergence theorem, which trimesh evaluates here) and the round frustum's closed forms; the tip
 load response against the package's simulate with DOP853 at tight tolerances; the tip body's
-effect on MuJoCo's mass matrix against the same file without it and its bound m_tip L^2.
+effect on MuJoCo's mass matrix against the same file without it and its bound m_tip reach^2.
 """
 
 import numpy as np
@@ -22,6 +22,7 @@ from prbdm_pin.files.export import export_model, mjcf_text
 from prbdm_pin.files.export_geometry import TIP_MASS_FRACTION, link_meshes
 from prbdm_pin.files.link_mesh import planform_link_mesh, round_link_mesh
 from prbdm_pin.member.geometry import Beam
+from prbdm_pin.model.hub import Hub
 from prbdm_pin.model.prbdm_model import build_model
 
 mujoco = pytest.importorskip("mujoco")
@@ -119,9 +120,14 @@ def test_planform_link_mesh_refuses_a_span_off_the_beam():
         planform_link_mesh(PLANAR, 0.2, 0.1)
 
 
-@pytest.fixture(scope="module", params=["5R", "4-node xyz"])
+def _on_hub():
+    k = finite_segment_stiffness(PLANAR, PLANAR_LENGTHS)
+    return build_model(PLANAR, PLANAR_LENGTHS, k, hub=Hub(50.0, 0.1))  # heavy: no warning
+
+
+@pytest.fixture(scope="module", params=["5R", "4-node xyz", "5R on a hub"])
 def exported(request, tmp_path_factory):
-    model = _planar() if request.param == "5R" else _spatial()
+    model = {"5R": _planar, "4-node xyz": _spatial, "5R on a hub": _on_hub}[request.param]()
     folder = tmp_path_factory.mktemp("geom")
     urdf = export_model(model, folder / "beam.urdf", "urdf", 0.02)
     mjcf = export_model(model, folder / "beam.xml", "mjcf", 0.02)
@@ -153,14 +159,17 @@ def test_every_consumer_shows_the_links(exported):
 
 def test_the_tip_body_changes_mujoco_s_mass_matrix_by_less_than_its_bound(exported):
     """MuJoCo's M of the file with the tip body against the same model without geometry:
-    they differ by m_tip J^T J (plus the sphere's 0.4 m_tip r^2), so by at most m_tip L^2 with
-    the member's length L; and both against the package's M (consumer bound 1e-9, as in
-    test_spatial_consumers). Sites: tip and corners where the package puts those points."""
+    they differ by m_tip J^T J (plus the sphere's 0.4 m_tip r^2), so by at most m_tip reach^2
+    with reach the member's length (plus the hub radius); and both against the package's M
+    (consumer bound 1e-9, as in test_spatial_consumers). Sites: tip and corners where the
+    package puts those points."""
     model, _, mjcf = exported
     m = mujoco.MjModel.from_xml_path(str(mjcf))
     bare = mujoco.MjModel.from_xml_string(mjcf_text(model, 0.02))
     m_tip = TIP_MASS_FRACTION * float(np.sum(model.sections.mass_kg))
     L = model.beam.length_m
+    # the tip's largest distance from a joint axis: the member, and the hub radius before it
+    reach = L + (0.0 if model.hub is None else model.hub.radius_m)
     rng = np.random.default_rng(3)
     worst = 0.0
     for q in [np.zeros(m.nq), *rng.normal(0.0, 0.3, (2, m.nq))]:
@@ -175,7 +184,8 @@ def test_the_tip_body_changes_mujoco_s_mass_matrix_by_less_than_its_bound(export
         ref = model.mass_matrix(q)
         # rounding of M's sums: 50 EPS of max |M| (kept from the consumers' measured 1e-15)
         diff = np.abs(Ms[0] - Ms[1]).max()
-        assert diff <= m_tip * L * L * 1.1 + 50 * EPS * np.abs(ref).max()
+        # m_tip J^T J <= m_tip reach^2; 1.1 covers the sphere's 0.4 m_tip r^2 (r = w / 2 << L)
+        assert diff <= m_tip * reach * reach * 1.1 + 50 * EPS * np.abs(ref).max()
         worst = max(worst, diff / np.abs(ref).max())
         assert np.abs(Ms[0] - ref).max() <= 1e-9 * np.abs(ref).max()
         d = mujoco.MjData(m)
