@@ -287,7 +287,8 @@ def test_a_wrong_type_at_a_public_door_is_a_type_error_naming_the_argument(
         wrong = [v for v in wrong if v != [1.0]] + [["a", "b"]]
     if name == "beam_from_dict":
         wrong = [v for v in wrong if not isinstance(v, dict)]
-    if name == "shear_coefficient":  # a section kind is a str: an unknown one is a value error
+    # a section kind or a schema name is a str: an unknown one is a value error
+    if name in ("shear_coefficient", "load_schema"):
         wrong = [v for v in wrong if not isinstance(v, str)]
     if name == "round_link_mesh":  # 3 and 2.5 are valid lengths (m)
         wrong = [v for v in wrong if not isinstance(v, (int, float))]
