@@ -143,6 +143,10 @@ _EXPORTS = {
     "export_model": "files.export",
     "read_model_json": "files.export",
     "read_plant_json": "files.export",
+    "link_meshes": "files.export_geometry",
+    "LinkMesh": "files.link_mesh",
+    "planform_link_mesh": "files.link_mesh",
+    "round_link_mesh": "files.link_mesh",
     # calibration to measurements
     "calibrate": "fitting.calibrate",
     "CalibrationResult": "fitting.calibrate",

@@ -123,7 +123,7 @@ def consumer_joint_names(path):
     return bullet, list(robot.actuated_joint_names)
 
 
-def mujoco_from_spatial_urdf(text, node_axes, n_nodes):
+def mujoco_from_spatial_urdf(text, node_axes, n_nodes, folder=None):
     """MuJoCo's model of a spatial chain's URDF, its massless node links fused away.
 
     MuJoCo's compiler refuses a body that has joints when neither it nor a jointless body
@@ -142,6 +142,8 @@ def mujoco_from_spatial_urdf(text, node_axes, n_nodes):
     """
     mujoco = pytest.importorskip("mujoco")
     spec = mujoco.MjSpec.from_string(text)
+    if folder is not None:  # the URDF's mesh paths are relative to its folder
+        spec.meshdir = str(folder)
     for j in range(1, n_nodes + 1):
         first = spec.body(f"link_{j}_{node_axes[0]}")
         for a in node_axes[1:-1]:

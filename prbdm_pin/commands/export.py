@@ -60,6 +60,14 @@ Gravity: a model fitted in gravity (prbdm fit --gravity) carries it on: the MJCF
 <option gravity>, the URDF's comment (URDF has no gravity element: set it in the consumer), the
 model JSON's gravity_m_s2; any other model has none (MJCF gravity 0 0 0).
 
+Geometry: a URDF or MJCF export also writes each link's solid (the planform slice extruded to
+its thickness) as NAME_meshes/link_J.obj beside it, used as URDF <visual>/<collision> and MJCF
+mesh geoms (beam links never collide with each other), and the MJCF gets a tip body tip_body
+(1e-12 of the member's mass) with the sites tip, tip_corner_left, tip_corner_right: apply a tip
+load with data.xfrc_applied[tip_body id, :3]; --sites X,... adds sites station_k at stations
+(m from the root) for MuJoCo sensors. --no-geometry writes the bare file as before.
+A model read from a URDF has no planform and exports without geometry.
+
 Load them with prbdm_pin.load_urdf (URDF, springs in the gazebo tags, gravity zero),
 pinocchio.buildModelFromUrdf (then set model.gravity = pinocchio.Motion.Zero()),
 pybullet.loadURDF(..., useFixedBase=True, flags=pybullet.URDF_USE_INERTIA_FROM_FILE),
@@ -98,6 +106,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "hub_torque, joint_torque[j], strain[i], tip_force_z, tip_force_x "
                         "(default hub_torque with a hub, and every strain[i])")
     p.add_argument("--out", required=True, metavar="FILE", help="output file")
+    p.add_argument("--sites", default=None, metavar="X,...",
+                   help="MJCF: a site station_k at each station X (m from the root) on the link "
+                        "holding it, for MuJoCo sensors and loads")
+    p.add_argument("--no-geometry", dest="geometry", action="store_false",
+                   help="URDF/MJCF: no link meshes (NAME_meshes/ beside --out) and no MJCF tip "
+                        "body: the bare file")
     add_common(p)
     p.set_defaults(func=run)
     return p
@@ -123,8 +137,23 @@ def check_options(args: argparse.Namespace) -> dict:
     if opts["inputs"] is not None and args.format != "mjcf":
         raise BeamInputError(f"--inputs = {args.inputs!r}: only the MJCF carries actuators; "
                              f"drop it for --format {args.format}")
+    opts["sites"] = ()
+    if args.sites is not None:
+        if args.format != "mjcf":
+            raise BeamInputError(f"--sites = {args.sites!r}: only the MJCF carries sites; drop "
+                                 f"it for --format {args.format}")
+        try:
+            opts["sites"] = tuple(float(v) for v in args.sites.split(","))
+        except ValueError:
+            raise BeamInputError(f"--sites = {args.sites!r}: must be stations in m separated "
+                                 "by commas (0.2,0.5)") from None
     check_fit_actuators(args, len(opts["actuators"]) or -1)
     out = writable_file(args.out, "--out")
+    if args.format != "json" and args.geometry:
+        from ..files.export_geometry import mesh_folder
+        from ..io.paths import writable_dir
+
+        writable_dir(mesh_folder(out), "mesh folder of --out")
     if os.path.exists(args.model) and out.exists() and os.path.samefile(args.model, out):
         raise BeamInputError(f"--out = {args.out!r}: is the MODEL file itself; give another "
                              "file name")
@@ -162,6 +191,7 @@ def run(args: argparse.Namespace) -> int:
         actuators = source.actuators
     actuators = fit_actuators(args, model, fitted, actuators)
     plant = {"actuators": actuators}
+    sites = {"sensor_stations_m": opts["sites"]} if opts["sites"] else {}
     if args.format == "mjcf":
         plant["inputs"] = opts["inputs"]
     ratio = damping_option(args, source, opts["hub"] is not None)
@@ -169,7 +199,8 @@ def run(args: argparse.Namespace) -> int:
     # a model fitted in gravity carries it on (MJCF option, URDF comment, JSON field)
     path = export_model(model, args.out, args.format, damping_ratio=ratio,
                         damping_form=args.damping_form, omega_truth_rad_s=omega_truth,
-                        gravity_m_s2=source.gravity_m_s2, seed=getattr(fitted, "seed", None),
+                        gravity_m_s2=source.gravity_m_s2, geometry=args.geometry, **sites,
+                        seed=getattr(fitted, "seed", None),
                         **plant)
     if not args.quiet:
         for note in rec.warnings:
@@ -180,6 +211,11 @@ def run(args: argparse.Namespace) -> int:
         fit = " (joint weights fitted to the truth)" if args.fit_actuators else ""
         acts = f", {len(actuators)} strain actuators{fit}" if len(actuators) else ""
         inputs = f", inputs {', '.join(rec.inputs)}" if rec.inputs else ""
-        print(f"wrote {path} ({args.format}, {model.n_joints} joints{hub}{acts}{inputs})",
+        geom = ""
+        if args.format != "json" and args.geometry and model.beam is not None:
+            from ..files.export_geometry import mesh_folder
+
+            geom = f", link meshes in {mesh_folder(path)}"
+        print(f"wrote {path} ({args.format}, {model.n_joints} joints{hub}{acts}{inputs}{geom})",
               file=sys.stderr)
     return 0

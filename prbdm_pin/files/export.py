@@ -99,10 +99,10 @@ MJCF (``--format mjcf --out beam.xml``)
     transmission at ``tip`` with ``refsite="world_ref"``, a site at the world origin: the force
     is along world z/x, a dead load). Default inputs: ``hub_torque`` with a hub and
     ``strain[i]`` for every actuator; the record's ``inputs`` line lists them in actuator order.
-    Without a tip force actuator apply a tip force through ``data.xfrc_applied`` on ``link_n``
-    (the force at the body's centre of mass plus the moment (tip - com) x F), refreshed every
-    step as the pose changes. For a time-varying input, set ``data.ctrl`` to its value at the
-    middle of each step: RK4 holds it over the step.
+    Without a tip force actuator push on the tip body, ``data.xfrc_applied[m.body("tip_body")
+    .id, :3] = F``, at the tip at every RK4 stage (:mod:`~prbdm_pin.files.export_geometry`;
+    without geometry: on ``link_n``, F plus (tip - com) x F, refreshed every step). For a
+    time-varying input, set ``data.ctrl`` to its value mid-step: RK4 holds it over the step.
 JSON (``--format json --out model.json``)
     The model parameters (beam, link lengths, springs, link inertias, natural frequencies), the
     plant (``hub``: null or inertia_kg_m2 and radius_m; ``actuators``: x_start_m and x_end_m
@@ -121,11 +121,12 @@ import numpy as np
 
 from ..errors import BeamInputError
 from ..io.atomic import atomic_write_text
-from ..io.paths import check_out_file
+from ..io.paths import check_out_file, writable_dir
 from ..io.provenance import provenance
 from ..model.checks import check_model
 from ..truth.self_weight import check_gravity
 from .export_comment import gravity_comment
+from .export_geometry import link_meshes, mesh_folder, urdf_geometry, write_meshes
 from .export_mjcf import mjcf_text
 from .export_plant import mujoco_name
 from .export_record import (
@@ -171,15 +172,17 @@ _FITTED_GRAVITY = ("Gravity: the model was fitted in the\n     gravity_m_s2 stat
 
 def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-              actuators=(), gravity_m_s2=None) -> str:
+              actuators=(), gravity_m_s2=None, mesh_folder: str | None = None) -> str:
     """Return the model's URDF with ``<dynamics damping>`` (stiffness form) and record comment.
 
     Parameters as :func:`export_record`; a hub model gets the revolute joint ``hub`` (see the
     module notes). URDF has no tendons: ``actuators`` are recorded in the comment only, and no
     gravity: the comment states ``gravity_m_s2`` (m/s^2, world; the gravity the model was
     fitted in, default none) and that the consumer must set it
-    (:func:`~prbdm_pin.files.export_comment.gravity_comment`). With ``damping_ratio=0``, no
-    actuators and no comment this is :attr:`PrbdmModel.urdf`.
+    (:func:`~prbdm_pin.files.export_comment.gravity_comment`). ``mesh_folder`` (relative to
+    the URDF) gives each link its ``<visual>`` and ``<collision>`` mesh
+    (:mod:`~prbdm_pin.files.export_geometry`). With ``damping_ratio=0``, no actuators, no
+    comment and no mesh folder this is :attr:`PrbdmModel.urdf`.
     """
     from ..model.urdf import render_urdf
 
@@ -190,7 +193,9 @@ def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
     text = render_urdf(model.sections, model.lengths_m, model.stiffness_Nm_per_rad, name,
                        damping_Nms_per_rad=rec.joint_damping_Nms_per_rad,
                        comment=rec.comment_text() + gravity_comment(g), hub=model.hub,
-                       axes=model.axes)
+                       axes=model.axes,
+                       link_geometry=None if mesh_folder is None else
+                       [urdf_geometry(mesh_folder, i) for i in range(model.n_joints + 1)])
     if g is None or not np.any(g):
         return text
     # the header's convention sentence, for a model fitted in gravity
@@ -200,22 +205,15 @@ def urdf_text(model, damping_ratio: float | np.ndarray = 0.02, *,
 
 
 def write_urdf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
-               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-               actuators=(), gravity_m_s2=None) -> Path:
-    """Write :func:`urdf_text` atomically."""
-    return atomic_write_text(path, urdf_text(model, damping_ratio, damping_form=damping_form,
-                                             omega_truth_rad_s=omega_truth_rad_s,
-                                             actuators=actuators, gravity_m_s2=gravity_m_s2))
+               mesh_folder: str | None = None, **kw) -> Path:
+    """Write :func:`urdf_text` atomically (keywords as it takes them)."""
+    return atomic_write_text(path, urdf_text(model, damping_ratio, mesh_folder=mesh_folder, **kw))
 
 
 def write_mjcf(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
-               damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-               actuators=(), inputs=None, gravity_m_s2=None) -> Path:
-    """Write :func:`mjcf_text` atomically."""
-    return atomic_write_text(path, mjcf_text(model, damping_ratio, damping_form=damping_form,
-                                             omega_truth_rad_s=omega_truth_rad_s,
-                                             actuators=actuators, inputs=inputs,
-                                             gravity_m_s2=gravity_m_s2))
+               mesh_folder: str | None = None, **kw) -> Path:
+    """Write :func:`mjcf_text` atomically (keywords as it takes them)."""
+    return atomic_write_text(path, mjcf_text(model, damping_ratio, mesh_folder=mesh_folder, **kw))
 
 
 def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray = 0.02, *,
@@ -237,7 +235,8 @@ def write_json(model, path: str | os.PathLike, damping_ratio: float | np.ndarray
 def export_model(model, path: str | os.PathLike, fmt: str,
                  damping_ratio: float | np.ndarray = 0.02, *, damping_form: str | None = None,
                  omega_truth_rad_s: np.ndarray | None = None, actuators=(), inputs=None,
-                 gravity_m_s2=None, seed: int | None = None) -> Path:
+                 gravity_m_s2=None, geometry: bool = True, sensor_stations_m=(),
+                 seed: int | None = None) -> Path:
     """Write ``model`` (with its hub, if any) to ``path`` in format ``fmt``.
 
     Parameters
@@ -262,6 +261,13 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     seed : int, optional
         The seed of the fit the model came from, recorded in a model JSON beside the package's
         versions (every JSON the package writes says what made it).
+    geometry : bool
+        URDF and MJCF: write each link's solid as ``NAME_meshes/link_j.obj`` beside ``path``
+        and use it as visual and collision geometry, and (MJCF) the tip body with its sites
+        (:mod:`~prbdm_pin.files.export_geometry`); default True. False, or a model read from a
+        URDF (no planform), writes the bare file as before geometry.
+    sensor_stations_m : sequence of float
+        MJCF: a site ``station_k`` at each station (m from the root), default none.
 
     Returns
     -------
@@ -275,7 +281,8 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     BeamInputError
         A ``path`` that cannot be written as a file (an existing folder, a path under a file,
         in ``/proc``, ``/sys`` or ``/dev``, an unwritable folder), refused before anything is
-        written; a bad format, damping or actuator.
+        written; a bad format, damping or actuator; a mesh folder that cannot be written
+        (named ``mesh folder``), refused before anything is written.
     """
     check_model(model)
     if getattr(model, "bus", None) is not None:  # no file format carries a free bus yet
@@ -287,11 +294,20 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     g = None if gravity_m_s2 is None else check_gravity(gravity_m_s2, planar=False)
     kw = {"damping_form": damping_form, "omega_truth_rad_s": omega_truth_rad_s,
           "actuators": actuators, "gravity_m_s2": g}
+    for what, given in (("inputs", () if inputs is None else inputs),
+                        ("sensor_stations_m", sensor_stations_m)):
+        if len(given) and fmt != "mjcf":  # MuJoCo actuators and sites
+            raise BeamInputError(f"{what} = {list(given)!r}: a {fmt} file carries no "
+                                 "actuators or sites (only the MJCF does)")
+    if fmt == "json":
+        return write_json(model, path, damping_ratio, seed=seed, **kw)
     if fmt == "mjcf":
-        return write_mjcf(model, path, damping_ratio, inputs=inputs, **kw)
-    if inputs is not None and len(inputs):
-        raise BeamInputError(f"inputs = {list(inputs)!r}: a {fmt} file carries no actuators "
-                             "(only the MJCF does)")
-    if fmt == "urdf":
-        return write_urdf(model, path, damping_ratio, **kw)
-    return write_json(model, path, damping_ratio, seed=seed, **kw)
+        kw |= {"inputs": inputs, "sensor_stations_m": sensor_stations_m}
+    text_of = mjcf_text if fmt == "mjcf" else urdf_text
+    if not geometry or model.beam is None:  # a model read from a URDF has no planform
+        return atomic_write_text(path, text_of(model, damping_ratio, **kw))
+    folder = writable_dir(mesh_folder(path), "mesh folder")
+    link_meshes(model)  # a model that cannot be meshed is refused before any file is written
+    text = text_of(model, damping_ratio, mesh_folder=folder.name, **kw)
+    write_meshes(model, path)  # the file that names the meshes comes last
+    return atomic_write_text(path, text)

@@ -30,6 +30,7 @@ from ..truth.self_weight import check_gravity
 from ..version import __version__
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
+from .export_geometry import mjcf_assets, mjcf_link_geom, mjcf_tip_body, station_sites
 from .export_plant import mujoco_name
 from .export_record import export_record
 
@@ -44,9 +45,27 @@ def _gravity_text(g: np.ndarray) -> str:
     return "0 0 0" if not np.any(g) else _vec(g)
 
 
+def _fastest_rate(model, k: np.ndarray, c: np.ndarray) -> float:
+    """Largest |lambda| (1/s) of the damped linear chain at the straight pose.
+
+    Stiffness-proportional damping overdamps the high modes: their fast real root ~ 2 xi_k
+    omega_k can exceed omega_max many times (a spatial chain's torsion), and RK4's real-axis
+    stability bound is h |lambda| < 2.79.
+    """
+    M = np.asarray(model.mass_matrix(), dtype=float)
+    nv = M.shape[0]
+    K, C = np.zeros((nv, nv)), np.zeros((nv, nv))
+    K[nv - k.size:, nv - k.size:] = np.diag(k)  # the hub's coordinate, if any, comes first
+    C[nv - k.size:, nv - k.size:] = np.diag(c)
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((nv, nv)), np.eye(nv)], [-Minv @ K, -Minv @ C]])
+    return float(np.abs(np.linalg.eigvals(A)).max())
+
+
 def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float | None = None,
               *, damping_form: str | None = None, omega_truth_rad_s: np.ndarray | None = None,
-              actuators=(), inputs=None, gravity_m_s2=None) -> str:
+              actuators=(), inputs=None, gravity_m_s2=None,
+              mesh_folder: str | None = None, sensor_stations_m=()) -> str:
     """Write the model as an MJCF string for MuJoCo.
 
     Parameters
@@ -65,7 +84,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         joints.
     timestep_s : float, optional
         MuJoCo time step, s (default: a twentieth of the shortest natural period, of the
-        clamped and the hub model; the integrator is RK4).
+        clamped and the hub model, or 2 / |lambda|_max of the damped chain if shorter, which
+        keeps RK4 stable where stiffness-proportional damping overdamps the high modes, as on
+        a spatial chain's torsion; the integrator is RK4).
     damping_form, omega_truth_rad_s
         See :func:`export_record`; the record is written as a comment.
     actuators : sequence of StrainActuator
@@ -77,6 +98,15 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
     gravity_m_s2 : array_like (3,), optional
         The gravity the model was fitted in, m/s^2, world (``FitResult.gravity_m_s2``):
         ``<option gravity>``; default none, ``0 0 0`` (a model fitted without gravity).
+    mesh_folder : str, optional
+        The links' OBJ folder relative to the MJCF file (:mod:`prbdm_pin.files.export_geometry`
+        writes it): a mesh asset and geom per link, and the tip body ``tip_body`` with the
+        sites ``tip``, ``tip_corner_left``, ``tip_corner_right``. Default none: no geometry,
+        the ``tip`` site in ``link_n`` (the files as they were before geometry).
+    sensor_stations_m : sequence of float
+        Stations (m from the root) that get a site ``station_k`` on the link holding them
+        (:func:`~prbdm_pin.files.export_geometry.station_sites`), where a MuJoCo sensor or load
+        can be attached; default none.
 
     Returns
     -------
@@ -101,6 +131,10 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         if rec.hub_frequencies_rad_s is not None:
             w_max = max(w_max, float(rec.hub_frequencies_rad_s[-1]))
         timestep_s = 2.0 * np.pi / w_max / 20.0
+        # and inside RK4's stability region with margin (h |lambda| <= 2 < 2.79) when the
+        # damping's fastest root is faster than omega_max (overdamped high modes)
+        if np.any(c):
+            timestep_s = min(timestep_s, 2.0 / _fastest_rate(model, k, c))
     if not (math.isfinite(timestep_s) and timestep_s > 0.0):
         raise BeamInputError(f"timestep = {timestep_s!r} s: must be finite and > 0")
     name = "prbdm" if model.beam is None else f"prbdm_{model.beam.name}"
@@ -122,6 +156,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         "       each link's body turns on hinges about "
         + ", ".join(model.axes.joint_order) + " in that order (joint_j_y, ...), at one",
         "       point; each hinge carries its own torsional spring and the"]
+    sites = station_sites(model, sensor_stations_m)
+    if mesh_folder is not None and model.beam is None:
+        raise BeamInputError("model: read from a URDF, it carries no beam, so no geometry")
     lines = [
         f"<mujoco model={quoteattr(name)}>",
         f"  <!-- Pseudo-rigid-body dynamic model written by prbdm_pin {__version__}: {root[0]}",
@@ -135,6 +172,7 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         # integration (3R and 5R reference chains), the default Euler 0.1-0.6 % (1st order)
         f'  <option gravity="{_gravity_text(gravity)}" timestep="{_f(timestep_s)}" '
         'integrator="RK4"/>',
+        *([] if mesh_folder is None else mjcf_assets(mesh_folder, n + 1)),
         "  <worldbody>",
     ]
     indent = "    "
@@ -152,6 +190,9 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
         indent += "  "
     lines += [f'{indent}<body name="link_0" pos="{"0" if hub is None else _f(hub.radius_m)} 0 0">',
               f"{indent}  {inertial(0)}"]
+    if mesh_folder is not None:
+        lines.append(f"{indent}  {mjcf_link_geom(0)}")
+    lines += [f"{indent}  {t}" for t in sites.get(0, ())]
     indent += "  "
     names = iter(joint_names(n, model.axes))
     springs = iter(range(k.size))
@@ -165,8 +206,14 @@ def mjcf_text(model, damping_ratio: float | np.ndarray = 0.02, timestep_s: float
                          f'pos="0 0 0" stiffness="{_f(k[i])}" springref="0" '
                          f'damping="{_f(c[i])}"/>')
         lines.append(f"{indent}  {inertial(j)}")
+        if mesh_folder is not None:
+            lines.append(f"{indent}  {mjcf_link_geom(j)}")
+        lines += [f"{indent}  {t}" for t in sites.get(j, ())]
         indent += "  "
-    lines.append(f'{indent}<site name="tip" pos="{_f(lengths[n])} 0 0" size="0.005"/>')
+    if mesh_folder is None:
+        lines.append(f'{indent}<site name="tip" pos="{_f(lengths[n])} 0 0" size="0.005"/>')
+    else:
+        lines += mjcf_tip_body(model, indent)
     for _ in range(n + 1 + (hub is not None)):
         indent = indent[:-2]
         lines.append(f"{indent}</body>")

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 import string
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -88,6 +89,7 @@ def render_urdf(
     comment: str = "",
     hub=None,
     axes: Axes | str = Axes.Y,
+    link_geometry: Sequence[str] | None = None,
 ) -> str:
     """Render the URDF string of the chain.
 
@@ -113,6 +115,10 @@ def render_urdf(
         ``joint_j_y``, ``joint_j_z``, ``joint_j_x`` (those in ``axes``, in that order) at one
         point, joined by massless links ``link_j_y``, ``link_j_z`` (explicit zero inertial), the
         last one's child ``link_j``; springs and damping are node-major in that order.
+    link_geometry : sequence of str, optional
+        XML placed in ``link_0`` ... ``link_n`` after the inertial (their ``<visual>`` and
+        ``<collision>``: :func:`prbdm_pin.files.export_geometry.urdf_geometry`); the massless
+        node links get none. Default none.
     """
     lengths = np.asarray(lengths_m, dtype=float)
     k = np.asarray(stiffness_Nm_per_rad, dtype=float)
@@ -124,6 +130,10 @@ def render_urdf(
         raise BeamInputError(
             f"damping = {damp.tolist()} N m s/rad: needs {nk} finite values >= 0"
         )
+    geometry = [""] * (n + 1) if link_geometry is None else list(link_geometry)
+    if len(geometry) != n + 1:
+        raise BeamInputError(f"link_geometry: {len(geometry)} entries, needs one per link "
+                             f"({n + 1})")
     if "--" in comment:
         raise BeamInputError("urdf comment: must not contain '--' (XML comments cannot)")
     link_t, joint_t, spring_t = _t("link.urdf.tmpl"), _t("joint.urdf.tmpl"), _t("spring.urdf.tmpl")
@@ -145,13 +155,13 @@ def render_urdf(
                 damping=_f(damp[(i - 1) * len(axes.joint_order) + axes.joint_order.index(a)]),
             ))
             if child != links[-1]:  # a massless link between two joints of one node
-                body.append(link_t.substitute(name=child, **zero))
+                body.append(link_t.substitute(name=child, geometry="", **zero))
             parent, x = child, "0"
         body.append(link_t.substitute(
             name=f"link_{i}", com_x=_f(c[0]), com_y=_f(c[1]), com_z=_f(c[2]),
             mass=_f(sections.mass_kg[i]),
             ixx=_f(I[0, 0]), ixy=_f(I[0, 1]), ixz=_f(I[0, 2]),
-            iyy=_f(I[1, 1]), iyz=_f(I[1, 2]), izz=_f(I[2, 2]),
+            iyy=_f(I[1, 1]), iyz=_f(I[1, 2]), izz=_f(I[2, 2]), geometry=geometry[i],
         ))
     springs = [spring_t.substitute(name=names[j], stiffness=_f(k[j])) for j in range(len(names))]
     hub_text, clamp_parent, clamp_x = "", "world", "0"

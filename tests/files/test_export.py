@@ -257,7 +257,10 @@ def test_export_is_atomic_and_checks_format(model, tmp_path):
     with pytest.raises(BeamInputError, match="format"):
         export_model(model, tmp_path / "x.sdf", "sdf")
     export_model(model, tmp_path / "m.xml", "mjcf")
-    assert [p.name for p in tmp_path.iterdir()] == ["m.xml"]
+    # no temporary file left: the MJCF and its mesh folder with one STL per link
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.xml", "m_meshes"]
+    assert sorted(p.name for p in (tmp_path / "m_meshes").iterdir()) == \
+        [f"link_{i}.obj" for i in range(model.n_joints + 1)]
 
 
 def test_export_cli_and_simulate_cli(model, tmp_path, capsys):

@@ -101,7 +101,7 @@ def test_the_urdf_gives_every_consumer_our_M_and_K(chain, tmp_path):
         np.testing.assert_allclose(got, beta_k, rtol=5 * EPS, atol=0.0)
     # MuJoCo from the URDF, its massless node links fused (consumers.mujoco_from_spatial_urdf
     # says why they must be): our M; MuJoCo's URDF import reads no springs (a Gazebo tag)
-    m = mujoco_from_spatial_urdf(text, chain.axes.joint_order, chain.n_joints)
+    m = mujoco_from_spatial_urdf(text, chain.axes.joint_order, chain.n_joints, path.parent)
     assert [m.joint(i).name for i in range(m.njnt)] == names
     assert m.nbody == chain.n_joints + 1  # world (link 0 fused into it) and one body per link
     _assert_same_M(mujoco_mass_matrices(m, poses), chain, poses, "mujoco (urdf)")

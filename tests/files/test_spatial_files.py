@@ -207,6 +207,8 @@ def test_the_planar_files_are_the_planar_code_s_byte_for_byte():
         warnings.simplefilter("error")  # a heavy hub: no light-hub warning
         hub = build_model(BEAM, LENGTHS, k, hub=Hub(50.0, 0.1))
     acts = (StrainActuator(0.03, 0.27),)
+    # the texts without a mesh folder (no geometry, no MJCF tip body): the goldens hold no
+    # geometry, which export_model adds as files beside these (test_export_geometry.py)
     texts = {
         "tapered_3R.urdf": model.urdf,
         "tapered_3R_hub.urdf": _stable(urdf_text(hub, 0.0, actuators=acts)),

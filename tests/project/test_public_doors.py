@@ -254,6 +254,9 @@ DOORS = {
     "fit_joint_damping": ("model", lambda v: pp.fit_joint_damping(v, 0.02)),
     "read_model_json": ("path", lambda v: pp.read_model_json(v)),
     "read_plant_json": ("path", lambda v: pp.read_plant_json(v)),
+    "link_meshes": ("model", lambda v: pp.link_meshes(v)),
+    "planform_link_mesh": ("beam", lambda v: pp.planform_link_mesh(v, 0.0, 0.1)),
+    "round_link_mesh": ("length_m", lambda v: pp.round_link_mesh(v, 0.02, 0.02)),
     "run_batch": ("spec", lambda v: pp.run_batch(v, "never-batch")),
     "calibrate": ("model", lambda v: pp.calibrate(v, RING, "E")),
     "read_ring_down": ("path", lambda v: pp.read_ring_down(v)),
@@ -294,8 +297,11 @@ def test_a_wrong_type_at_a_public_door_is_a_type_error_naming_the_argument(
         wrong = [v for v in wrong if v != [1.0]] + [["a", "b"]]
     if name == "beam_from_dict":
         wrong = [v for v in wrong if not isinstance(v, dict)]
-    if name == "shear_coefficient":  # a section kind is a str: an unknown one is a value error
+    # a section kind or a schema name is a str: an unknown one is a value error
+    if name in ("shear_coefficient", "load_schema"):
         wrong = [v for v in wrong if not isinstance(v, str)]
+    if name == "round_link_mesh":  # 3 and 2.5 are valid lengths (m)
+        wrong = [v for v in wrong if not isinstance(v, (int, float))]
     value = data.draw(st.sampled_from(wrong))
     _refused(InputTypeError, f"{arg}", call, value)
     assert os.listdir(".") == []  # nothing written
