@@ -117,8 +117,8 @@ def damped_ratios(M: np.ndarray, K: np.ndarray, C: np.ndarray, n_free: int = 0
     The eigenvalues lambda of [[0, I], [-M^-1 K, -M^-1 C]]: an underdamped mode is a conjugate
     pair with ``omega_n = |lambda|`` and ``zeta = -Re(lambda) / |lambda|``; an overdamped one
     two real roots r1, r2 with omega_n = sqrt(r1 r2) and zeta = -(r1 + r2) / (2 omega_n) (the
-    real roots are paired in sorted order, exact for one overdamped mode). The 2 ``n_free`` eigenvalues
-    nearest zero (the rigid modes of a hub or bus) are left out.
+    real roots are paired in sorted order, exact for one overdamped mode). The 2 ``n_free``
+    eigenvalues nearest zero (the rigid modes of a hub or bus) are left out.
 
     Parameters
     ----------
