@@ -126,7 +126,13 @@ from ..io.provenance import provenance
 from ..model.checks import check_model
 from ..truth.self_weight import check_gravity
 from .export_comment import gravity_comment
-from .export_geometry import link_meshes, mesh_folder, urdf_geometry, write_meshes
+from .export_geometry import (
+    has_geometry,
+    link_meshes,
+    mesh_folder,
+    urdf_geometry,
+    write_meshes,
+)
 from .export_mjcf import mjcf_text
 from .export_plant import mujoco_name
 from .export_record import (
@@ -304,7 +310,7 @@ def export_model(model, path: str | os.PathLike, fmt: str,
     if fmt == "mjcf":
         kw |= {"inputs": inputs, "sensor_stations_m": sensor_stations_m}
     text_of = mjcf_text if fmt == "mjcf" else urdf_text
-    if not geometry or model.beam is None:  # a model read from a URDF has no planform
+    if not geometry or not has_geometry(model):  # from a URDF, or a section table: no shape
         return atomic_write_text(path, text_of(model, damping_ratio, **kw))
     folder = writable_dir(mesh_folder(path), "mesh folder")
     link_meshes(model)  # a model that cannot be meshed is refused before any file is written

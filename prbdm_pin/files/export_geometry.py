@@ -51,7 +51,7 @@ from ..model.checks import check_model
 from ..options.checks import check_float
 from .export_comment import number_text as _f
 from .export_comment import vector_text as _vec
-from .link_mesh import LinkMesh, planform_link_mesh
+from .link_mesh import LinkMesh, planform_link_mesh, round_profile_mesh
 
 __all__ = ["TIP_MASS_FRACTION", "TIP_SITES", "link_meshes", "station_sites", "mesh_folder",
            "write_meshes", "obj_text", "urdf_geometry", "mjcf_assets", "mjcf_link_geom",
@@ -79,11 +79,35 @@ def link_meshes(model) -> tuple[LinkMesh, ...]:
     if beam is None:
         raise BeamInputError("model: read from a URDF, it carries no beam, so no geometry; "
                              "export without geometry or from the fit.json")
+    if not has_geometry(model):
+        raise BeamInputError("model: a section-table member has no geometry to mesh; export "
+                             "without geometry")
     s = model.sections
-    # a RoundSection member (outer/inner diameter laws of x) is meshed by
-    # link_mesh.round_link_mesh(end - start, D(start), D(end), d(start), d(end)) here
-    return tuple(planform_link_mesh(beam, float(a), float(b))
-                 for a, b in zip(s.start_m, s.end_m, strict=True))
+    mesh = planform_link_mesh if beam.section is None else _round_member_mesh
+    return tuple(mesh(beam, float(a), float(b)) for a, b in zip(s.start_m, s.end_m, strict=True))
+
+
+def has_geometry(model) -> bool:
+    """Whether ``model``'s member has a solid to mesh: a planform or a round section.
+
+    A model read from a URDF (no beam) and a section-table member (properties, no shape) have
+    none; their exports are the bare files.
+    """
+    from ..member.round_section import RoundSection
+
+    beam = model.beam
+    return beam is not None and (beam.section is None or isinstance(beam.section, RoundSection))
+
+
+def _round_member_mesh(beam, start_m: float, end_m: float) -> LinkMesh:
+    # D and d are linear between stations: rings at the link's ends and the stations inside
+    sec = beam.section
+    D = sec.outer_diameter_m
+    d = np.zeros_like(D) if sec.inner_diameter_m is None else sec.inner_diameter_m
+    inner = beam.x_m[(beam.x_m > start_m) & (beam.x_m < end_m)]
+    cuts = np.concatenate([[start_m], inner, [end_m]])
+    return round_profile_mesh(cuts - start_m, np.interp(cuts, beam.x_m, D),
+                              np.interp(cuts, beam.x_m, d))
 
 
 def mesh_folder(path: str | os.PathLike) -> Path:

@@ -227,6 +227,18 @@ def round_link_mesh(length_m: float, D0_m: float, D1_m: float, d0_m: float = 0.0
     d0_m = check_float("d0_m", d0_m, low=0.0, high=D0_m, high_open=True, unit="m")
     d1_m = check_float("d1_m", d1_m, low=0.0, high=D1_m, high_open=True, unit="m")
     segments = check_int("segments", segments, 3)
+    return round_profile_mesh(np.array([0.0, length_m]), np.array([D0_m, D1_m]),
+                              np.array([d0_m, d1_m]), segments)
+
+
+def round_profile_mesh(x_m: np.ndarray, D_m: np.ndarray, d_m: np.ndarray,
+                       segments: int = ROUND_SEGMENTS) -> LinkMesh:
+    """Mesh of a round solid whose diameters are linear between stations ``x_m`` (checked).
+
+    One closed surface through rings at every station (outer along x, then inner back), so a
+    link spanning a station of its member's diameter laws is one watertight solid; volume and
+    centroid are the circular solid's exactly (see :func:`round_link_mesh`).
+    """
     scale = math.sqrt(2.0 * math.pi / (segments * math.sin(2.0 * math.pi / segments)))
     phi = 2.0 * math.pi * np.arange(segments) / segments
     cs = np.column_stack([np.cos(phi), np.sin(phi)])
@@ -238,9 +250,10 @@ def round_link_mesh(length_m: float, D0_m: float, D1_m: float, d0_m: float = 0.0
         return [(xv, float(r * c), float(r * s)) for c, s in cs]
 
     b = _Builder()
-    L = float(length_m)
-    # the closed loop of rings: outer start -> outer end -> inner end -> inner start -> back
-    loop = [ring(0.0, D0_m), ring(L, D1_m), ring(L, d1_m), ring(0.0, d0_m)]
+    xs = [float(v) for v in x_m]
+    # the closed loop of rings: outer start -> ... -> outer end -> inner end -> ... -> back
+    loop = ([ring(xv, float(D)) for xv, D in zip(xs, D_m, strict=True)]
+            + [ring(xv, float(d)) for xv, d in zip(xs[::-1], d_m[::-1], strict=True)])
     tris = []
     for A, B in zip(loop, loop[1:] + loop[:1], strict=True):
         for i in range(segments):

@@ -14,6 +14,7 @@ import pytest
 from paths import BEAMS
 from tolerances import EPS
 
+import prbdm_pin as pp
 from prbdm_pin.chain.spatial_stiffness import spatial_stiffness
 from prbdm_pin.chain.stiffness import finite_segment_stiffness
 from prbdm_pin.errors import BeamInputError
@@ -75,6 +76,37 @@ def test_link_meshes_are_closed_with_the_link_mass_and_centre(beam, lengths):
         # the mesh's own volume (divergence theorem) against trimesh's: same formula, other
         # code; slack 50 EPS (a sum of ~100 triangle terms)
         assert mesh.volume_m3 == pytest.approx(tm.volume, rel=50 * EPS)
+
+
+# a tube boom whose diameters change slope at a station inside a link, solid at the tip
+ROUND = pp.round_beam(np.array([0.0, 0.3, 1.0]), np.array([0.04, 0.035, 0.025]),
+                      np.array([0.036, 0.03, 0.0]), name="tube")
+
+
+@pytest.mark.parametrize("lengths", [np.array([0.1, 0.3, 0.35, 0.25]),  # a station inside
+                                     np.array([0.3, 0.7])],  # a joint on the station
+                         ids=["station-inside", "station-on-joint"])
+def test_a_round_members_link_meshes_are_its_links(lengths):
+    # one watertight solid per link through rings at the stations inside it: volume x rho and
+    # centroid against the links' Gauss quadrature of the section law (chain.sections)
+    model = build_model(ROUND, lengths, finite_segment_stiffness(ROUND, lengths))
+    for i, mesh in enumerate(link_meshes(model)):
+        tm = trimesh.Trimesh(np.asarray(mesh.vertices_m), np.asarray(mesh.faces), process=False)
+        _check_mesh_is_the_link(tm, model, i)
+
+
+def test_a_section_table_member_exports_bare_files(tmp_path):
+    # a table is properties without a shape: nothing to mesh, the file is the bare export
+    x, one = np.array([0.0, 1.0]), np.ones(2)
+    table = pp.table_beam(x, pp.SectionTable(EI_y_Nm2=100 * one, EI_z_Nm2=400 * one,
+                                             GJ_Nm2=50 * one, rhoA_kg_m=one,
+                                             rhoI_y_kg_m=1e-6 * one, rhoI_z_kg_m=4e-6 * one))
+    lengths = np.array([0.5, 0.5])
+    model = build_model(table, lengths, finite_segment_stiffness(table, lengths))
+    path = pp.export_model(model, tmp_path / "t.xml", "mjcf")
+    assert not (tmp_path / "t_meshes").exists() and "<mesh" not in path.read_text()
+    with pytest.raises(BeamInputError, match="section-table"):
+        link_meshes(model)
 
 
 def _frustum(h, r0, r1):
