@@ -32,7 +32,8 @@ class CalibrationResult:
     parameters : tuple of str
         The names fitted, as asked (``E``, ``rho``, ``damping[k]``, ``offset[CHANNEL]``).
     values, std_errors : ndarray (p,)
-        ``E`` in Pa, ``rho`` in kg/m^3 (the model's times the fitted scale), ``damping[k]``
+        ``E`` in Pa, ``rho`` in kg/m^3 (the model's times the fitted scale; for a section-table
+        member the scales themselves, of its stiffnesses and of its inertias), ``damping[k]``
         the ratio of mode k + 1 (dimensionless), ``offset[CHANNEL]`` the sensor's constant
         offset (the channel's unit); one standard error each, same units.
     E_scale, rho_scale : float
@@ -79,8 +80,13 @@ def estimates(model, names, labels, J: np.ndarray, r: np.ndarray, est: np.ndarra
     """
     s2 = float(r @ r) / (r.size - J.shape[1])
     cov = s2 * np.linalg.pinv(J.T @ J)
+    from ..member.section_table import SectionTable
+
     beam = model.beam
-    base = {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3}
+    # a section table is known by its properties, not by E and rho: its values are the scales
+    # of its stiffnesses and of its inertias (dimensionless)
+    base = ({} if isinstance(beam.section, SectionTable)
+            else {"E": beam.material.E_Pa, "rho": beam.material.rho_kg_m3})
     # the offsets' coefficients multiply a weighted column: they are in the data's units
     column = {n: i for i, n in enumerate(labels) if n}
     values = np.array([base.get(n, 1.0) * est[column[n]] for n in names])
@@ -91,16 +97,34 @@ def estimates(model, names, labels, J: np.ndarray, r: np.ndarray, est: np.ndarra
 def scaled_model(model, s_E: float, s_rho: float):
     """Return ``model`` with its beam's E and rho scaled and its springs scaled with E.
 
+    A section-table member (whose material changes no result) has its table scaled instead:
+    every stiffness (E I_y, E I_z, G J) by ``s_E``, the mass and rotary inertias by ``s_rho``.
     A model on a hub keeps its hub (unscaled: its inertia is known).
     """
+    from ..member.section_table import SectionTable
     from ..model.prbdm_model import build_model
 
     beam = model.beam
     mat = dataclasses.replace(beam.material, E_Pa=beam.material.E_Pa * s_E,
                               rho_kg_m3=beam.material.rho_kg_m3 * s_rho)
-    return build_model(dataclasses.replace(beam, material=mat), model.lengths_m,
+    new = dataclasses.replace(beam, material=mat)
+    t = beam.section
+    if isinstance(t, SectionTable):
+        table = SectionTable(
+            EI_y_Nm2=t.EI_y_Nm2 * s_E, EI_z_Nm2=t.EI_z_Nm2 * s_E, GJ_Nm2=t.GJ_Nm2 * s_E,
+            rhoA_kg_m=t.rhoA_kg_m * s_rho, rhoI_y_kg_m=t.rhoI_y_kg_m * s_rho,
+            rhoI_z_kg_m=t.rhoI_z_kg_m * s_rho, rhoI_x_kg_m=t.rhoI_x_kg_m * s_rho)
+        new = _with_table(beam, table)
+    return build_model(new, model.lengths_m,
                        np.asarray(model.stiffness_Nm_per_rad) * s_E,
                        min_fraction=LINK_FLOOR_FRACTION, hub=model.hub)
+
+
+def _with_table(beam, table):
+    from ..member.section_member import table_beam
+
+    return table_beam(beam.x_m, table, material=beam.material, tip_force_N=beam.tip_force_N,
+                      name=beam.name, description=beam.description)
 
 
 def over_damped(all_z: np.ndarray, what: str = "mode") -> None:
