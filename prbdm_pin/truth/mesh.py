@@ -32,6 +32,8 @@ __all__ = [
     "station_count",
     "planform_tri_mesh",
     "inner_half_width",
+    "law_stations",
+    "station_lines",
     "mirrored_mesh",
     "mirror_nodes",
 ]
@@ -157,28 +159,67 @@ def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndar
 
 
 def delaunay_with_outline(
-    before: np.ndarray, outline: np.ndarray, after: np.ndarray, length_m: float
+    before: np.ndarray, outline: np.ndarray, after: np.ndarray, length_m: float,
+    lines: tuple[np.ndarray, ...] = (),
 ) -> tuple[np.ndarray, np.ndarray]:
     """Triangulate the points so that every piece of the polyline ``outline`` is a mesh edge.
 
     A Delaunay triangulation of the points ``before``, ``outline``, ``after`` (each (2, k), m;
     duplicates within 1e-9 ``length_m`` merged, first kept). Returns nodes (2, N) and triangles
-    (3, M).
+    (3, M). Every piece of each polyline of ``lines`` (each (2, k), m) is made a mesh edge too
+    (the thickness law's station lines: no element straddles one).
 
     The outline of a concave planform is not always made of Delaunay edges: the missing pieces
     are split and the points triangulated again (boundary recovery by refinement).
     """
+    polylines = [outline, *lines]
     for _ in range(20):
-        p = np.hstack([before, outline, after])
+        p = np.hstack([before, *polylines, after])
         _, idx = np.unique(np.round(p.T / (1e-9 * length_m)), axis=0, return_index=True)
         p = p[:, np.sort(idx)]
         t = Delaunay(p.T).simplices.T
-        missing = _missing_edges(p, t, outline)
-        if not missing.size:
+        done = True
+        for i, line in enumerate(polylines):
+            missing = _missing_edges(p, t, line)
+            if missing.size:
+                done = False
+                mid = 0.5 * (line[:, missing] + line[:, missing + 1])
+                polylines[i] = np.insert(line, missing + 1, mid, axis=1)
+        if done:
             break
-        mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
-        outline = np.insert(outline, missing + 1, mid, axis=1)
     return p, t
+
+
+def law_stations(beam: Beam) -> np.ndarray:
+    """Return the inner stations x_k (m) where the thickness law's slope changes.
+
+    Empty for a uniform thickness. The plate and solid meshes make the line x = x_k a chain of
+    mesh edges, so t(x) is linear inside every element and quadrature of E t^3 and rho t is exact.
+    """
+    law = beam.thickness_law_m
+    if law is None:
+        return np.zeros(0)
+    x = beam.x_m
+    keep = np.diff(x) > 0.0
+    xs, ts = x[np.concatenate([[True], keep])], law[np.concatenate([[True], keep])]
+    slope = np.diff(ts) / np.diff(xs)
+    kink = np.abs(np.diff(slope)) > 1e-12 * np.max(np.abs(slope)) + 1e-300
+    return xs[1:-1][kink]
+
+
+def station_lines(beam: Beam, size_m) -> tuple[np.ndarray, ...]:
+    """Polylines (2, k) across the upper half-width at every ``law_stations`` x_k, m.
+
+    From (x_k, 0) to (x_k, w(x_k)) (the narrower side at a width step), points spaced by about
+    ``size_m(x)`` (a function of x in m, returning m).
+    """
+    out = []
+    for xk in law_stations(beam):
+        w = float(inner_half_width(beam, np.array([xk]))[0])
+        n = max(1, int(np.ceil(w / float(size_m(xk)) - 0.25)))
+        y = np.linspace(0.0, w, n + 1)
+        out.append(np.vstack([np.full(y.size, xk), y]))
+    return tuple(out)
 
 
 def inner_half_width(beam: Beam, x_m: np.ndarray) -> np.ndarray:
@@ -283,7 +324,8 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     s_at = np.interp(cp[0], xs, sizes)
     keep = edge_col | (segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
     interior = cp[:, keep]
-    p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m)
+    lines = station_lines(beam, lambda x: np.interp(x, xs, sizes))
+    p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m, lines)
     c = p_up[:, t_up].mean(axis=1)
     t_up = t_up[:, np.abs(c[1]) < inner_half_width(beam, c[0])]
     area = 0.5 * np.abs(

@@ -54,9 +54,11 @@ VTK_HEX = [0, 3, 6, 2, 1, 5, 7, 4]
 
 
 def default_solid_level(beam: Beam) -> int:
-    """Mesh level whose in-plane element size is closest to 2.5 thicknesses."""
-    t_u = beam.uniform_thickness_m("the 3D solid truth")
-    return max(0, int(round(np.log2(element_size(beam, 0) / (2.5 * t_u)))))
+    """Mesh level whose in-plane element size is closest to 2.5 thicknesses.
+
+    The largest thickness of a thickness law (``Beam.thickness_m``).
+    """
+    return max(0, int(round(np.log2(element_size(beam, 0) / (2.5 * beam.thickness_m)))))
 
 
 def solid_level(beam: Beam, level: int | None) -> int:
@@ -69,14 +71,20 @@ def solid_mesh(beam: Beam, level: int | None = None) -> MeshHex:
 
     The planform mesh is ``planform_quad_mesh``'s.
 
-    Nodes in m, z in [-t/2, t/2] (mid-surface at z = 0).
+    Nodes in m, z in [-t(x)/2, t(x)/2] (mid-surface at z = 0). A thickness law is a mapped
+    mesh: each node's z is scaled by t at its x. The planform mesh has edges along the law's
+    stations, so t is linear in x inside every element and the trilinear geometry of the
+    hexahedra follows the faces z = +-t(x)/2 exactly (a mesh generator such as gmsh would
+    add a dependency and lose the one-element-through-the-thickness structure, the mirror
+    symmetry and the column order the solver relies on, for no gain in accuracy).
     """
-    t_u = beam.uniform_thickness_m("the 3D solid truth")
-    quad = planform_quad_mesh(beam, solid_level(beam, level), root_size_m=ROOT_THICKNESSES * t_u)
+    t_root = float(beam.thickness_at(0.0))
+    quad = planform_quad_mesh(beam, solid_level(beam, level),
+                              root_size_m=ROOT_THICKNESSES * t_root)
     p2, t2 = quad.p, quad.t
     n = p2.shape[1]
-    h = 0.5 * t_u
-    p = np.hstack([np.vstack([p2, np.full(n, -h)]), np.vstack([p2, np.full(n, h)])])
+    h = 0.5 * beam.thickness_at(p2[0])
+    p = np.hstack([np.vstack([p2, -h * np.ones(n)]), np.vstack([p2, h * np.ones(n)])])
     a, b, c, d = t2
     # Reference hex vertices (0,0,0), (0,0,1), (0,1,0), (1,0,0), (0,1,1), (1,0,1), (1,1,0), (1,1,1)
     # with the quad's a-b along xi and a-d along eta.
