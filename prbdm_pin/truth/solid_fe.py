@@ -35,6 +35,7 @@ __all__ = [
     "SolidDiscretisation",
     "SpdFactor",
     "assemble",
+    "assemble_elastic",
     "default_solid_level",
     "discretise",
     "mirror_index",
@@ -108,7 +109,12 @@ class SolidDiscretisation:
 
 def lame(beam: Beam) -> tuple[float, float]:
     """Lame constants (lambda, mu) of the beam's material, Pa."""
-    E, nu = beam.material.E_Pa, beam.material.nu
+    return lame_of(beam.material)
+
+
+def lame_of(material) -> tuple[float, float]:
+    """Lame constants (lambda, mu) of a ``Material``, Pa."""
+    E, nu = material.E_Pa, material.nu
     return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
 
 
@@ -165,7 +171,16 @@ def assemble(beam: Beam, d: SolidDiscretisation) -> tuple[sp.csr_matrix, sp.csr_
     A_km[a, b] = int d_k phi_a d_m phi_b, each element's A_km a batched matrix product over the
     Gauss points (scikit-fem's ``asm`` loops over the 27 x 27 basis pairs, several times slower).
     """
-    b = d.basis
+    return assemble_elastic(d.basis, d.lam, d.mu, beam.material.rho_kg_m3)
+
+
+def assemble_elastic(b: Basis, lam_Pa: float, mu_Pa: float,
+                     rho_kg_m3: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Return ``assemble``'s stiffness (N/m) and mass (kg) on any 27-node hexahedral basis ``b``.
+
+    Lame constants ``lam_Pa``, ``mu_Pa``; density ``rho_kg_m3``; DOF 3 a + i is component i at
+    scalar DOF a of ``b``.
+    """
     pattern = ScalarPattern(b.element_dofs, b.N)
     w = b.dx  # (E, Q)
     G = np.stack([np.asarray(f[0].grad) for f in b.basis], axis=0)  # (27, 3, E, Q)
@@ -177,10 +192,10 @@ def assemble(beam: Beam, d: SolidDiscretisation) -> tuple[sp.csr_matrix, sp.csr_
             A[:, k, m] = pattern.data(wg @ G[:, m])
             A[:, m, k] = A[:, k, m] if k == m else pattern.data(np.swapaxes(wg @ G[:, m], 1, 2))
     trace = A[:, 0, 0] + A[:, 1, 1] + A[:, 2, 2]
-    blocks = d.lam * A + d.mu * np.swapaxes(A, 1, 2) + d.mu * trace[:, None, None] * np.eye(3)
+    blocks = lam_Pa * A + mu_Pa * np.swapaxes(A, 1, 2) + mu_Pa * trace[:, None, None] * np.eye(3)
     V = np.stack([np.asarray(f[0]) for f in b.basis], axis=-1)  # (E, Q, 27)
     m = pattern.data(np.swapaxes(V * w[..., None], 1, 2) @ V)
-    mass = beam.material.rho_kg_m3 * m[:, None, None] * np.eye(3)
+    mass = rho_kg_m3 * m[:, None, None] * np.eye(3)
     return pattern.vector_matrix(blocks), pattern.vector_matrix(mass)
 
 
