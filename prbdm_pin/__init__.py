@@ -69,6 +69,8 @@ _EXPORTS = {
     "beam_gravity_static": "truth.beam_gravity",
     "beam_self_weight_buckling": "truth.beam_gravity",
     "elastica_gravity_modes": "truth.elastica_modes",
+    "tube_solid_modes": "truth.tube_solid",
+    "TubeModes": "truth.tube_solid",
     # design sensitivities
     "Design": "member.design",
     "truth_gradient": "truth.compute_derivatives",

@@ -83,6 +83,8 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/solid_fe.py",
     "prbdm_pin/truth/solid_nonlinear.py",
     "prbdm_pin/truth/tip_response.py",
+    "prbdm_pin/truth/tube_mesh.py",
+    "prbdm_pin/truth/tube_solid.py",
     "prbdm_pin/truth/vtu.py",
     "prbdm_pin/version.py",
 )

@@ -179,7 +179,9 @@ def tube_solid_modes(
     free = np.setdiff1d(np.arange(3 * basis.N), fixed)
     Kff, Mff = K[free][:, free], M[free][:, free]
     t2 = time.perf_counter()
-    k = min(n_modes, free.size - 2)
+    # one mode more than asked, so that a degenerate pair cut by n_modes is complete when it is
+    # rotated (``_labelled``); the extra mode is dropped after
+    k = min(n_modes + 1, free.size - 2)
     lu = SpdFactor(Kff)
     OPinv = spla.LinearOperator(Kff.shape, matvec=lu.solve, dtype=float)
     lam, vec = spla.eigsh(Kff, k=k, M=Mff, sigma=0.0, which="LM", OPinv=OPinv, tol=1e-12,
@@ -193,6 +195,8 @@ def tube_solid_modes(
     phi[free] = vec
     phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
     phi, shares = _labelled(basis.doflocs, M, lam, phi)
+    keep = min(n_modes, k)
+    lam, phi, shares = lam[:keep], phi[:, :keep], shares[:keep]
     kinds = tuple(_kind(s) for s in shares)
     return TubeModes(np.sqrt(lam), kinds, shares, phi, mesh, int(free.size),
                      (t1 - t0, t2 - t1, t3 - t2))

@@ -224,6 +224,8 @@ DOORS = {
     "beam_gravity_static": ("beam", lambda v: pp.beam_gravity_static(v, [0.0, 0.0, -9.81])),
     "beam_self_weight_buckling": ("beam", lambda v: pp.beam_self_weight_buckling(v)),
     "elastica_gravity_modes": ("beam", lambda v: pp.elastica_gravity_modes(v, [0, 0, -9.81])),
+    "tube_solid_modes": ("material", lambda v: pp.tube_solid_modes([0.0, 1.0], [0.02, 0.02],
+                                                                   None, v)),
     "truth_gradient": ("beam", lambda v: pp.truth_gradient(v, ("thickness",))),
     "elastica_gradient": ("beam", lambda v: pp.elastica_gradient(v, ("thickness",))),
     "target_from_truth": ("truth", lambda v: pp.target_from_truth(v, [0.0, 0.0, -1.0])),
