@@ -88,7 +88,7 @@ def test_rod_torsion_exact_and_bending_pair():
     torsion = np.pi / (2 * L) * np.sqrt(NU0.G_Pa / NU0.rho_kg_m3)
     np.testing.assert_allclose(rod.of_kind("torsion")[0], torsion, rtol=1e-6)  # as the tube's
     y, z = rod.of_kind("bending-y"), rod.of_kind("bending-z")
-    np.testing.assert_allclose(z, y, rtol=1e-7)  # as the tube's
+    np.testing.assert_allclose(z, y[:z.size], rtol=1e-7)  # as the tube's
     # the twelfth mode starts the sixth pair: still labelled (its partner solved and dropped)
     assert rod.kinds == ("bending-y", "bending-z") * 5 + ("torsion", "bending-y")
     rel = y[:3] / _timoshenko(D, D, 0.0, 0.0) - 1.0
