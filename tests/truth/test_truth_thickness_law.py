@@ -12,16 +12,18 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 from tapered_reference import complete_taper_lambda1, richardson_lambda1
+from tolerances import EPS
 
 from prbdm_pin.member.geometry import Beam
 from prbdm_pin.member.material import Material
+from prbdm_pin.truth import compute_truth
 from prbdm_pin.truth.beam import beam_modal
 from prbdm_pin.truth.cache import cache_key
 from prbdm_pin.truth.feature_mesh import planform_quad_mesh
 from prbdm_pin.truth.mesh import law_stations, planform_tri_mesh
 from prbdm_pin.truth.plate import plate_modes
 from prbdm_pin.truth.plate_static import plate_static
-from prbdm_pin.truth.solid import solid_modal, solid_static
+from prbdm_pin.truth.solid import solid_mesh, solid_modal, solid_static
 
 NU0 = Material("poisson-free aluminium", 70e9, 2700.0, 0.0)
 X = np.array([0.0, 0.4, 1.0])
@@ -148,3 +150,24 @@ def test_solid_static_with_law_between_euler_bernoulli_and_timoshenko():
     # above Euler-Bernoulli by less than Timoshenko's shear term (the clamp blocks some of the
     # root's shear): measured 2.7e-5 against 4.4e-5
     assert eb < u < eb + shear, ((u - eb) / eb, shear / eb)
+
+
+def test_compute_truth_plate_with_law_selects_the_1d_modes(tmp_path):
+    beam = _strip()
+    r = compute_truth(beam, model="plate", modes=3, static=False, cache_dir=tmp_path)
+    ref = beam_modal(beam, 3).omega_rad_s
+    # the selection, labels and error estimate run on the law's plate: the 1D modes at nu = 0
+    # (bound as in the plate test above)
+    np.testing.assert_allclose(r.omega_rad_s, ref, rtol=2e-7)
+    assert all(k == "bending" for k in r.labels[: 3])
+    # a second call is served from the cache under the law's key: the same numbers
+    again = compute_truth(beam, model="plate", modes=3, static=False, cache_dir=tmp_path)
+    np.testing.assert_array_equal(again.omega_rad_s, r.omega_rad_s)
+
+
+def test_solid_nodes_follow_the_law_faces():
+    beam = _strip()
+    nodes = solid_mesh(beam, 0).p.T  # the solid truth's mesh: its VTU's points
+    half = 0.5 * np.interp(nodes[:, 0], X, T)  # t(x) / 2 from the stations directly
+    # every vertex on a face z = +-t(x)/2: the mapped z is t(x) / 2 times +-1, one rounding
+    np.testing.assert_allclose(np.abs(nodes[:, 2]), half, rtol=4 * EPS)
