@@ -62,6 +62,7 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/entry.py",
     "prbdm_pin/truth/estimate.py",
     "prbdm_pin/truth/feature_mesh.py",
+    "prbdm_pin/truth/law_mesh.py",
     "prbdm_pin/truth/mesh.py",
     "prbdm_pin/truth/mesh_budget.py",
     "prbdm_pin/truth/modal.py",

@@ -19,6 +19,7 @@ from scipy.spatial import cKDTree
 from skfem import MeshQuad, MeshTri
 
 from ..member.geometry import Beam
+from .law_mesh import station_lines
 from .mesh import (
     CORNER_FLOOR,
     delaunay_with_outline,
@@ -28,7 +29,6 @@ from .mesh import (
     reentrant_vertices,
     refine_corners,
     segment_distance,
-    station_lines,
 )
 
 __all__ = ["feature_size_tri_mesh", "half_boundary", "size_field", "tri_to_quads",
@@ -215,12 +215,16 @@ def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
     interior = _interior_points(beam, size, h_m, poly)
     # the upper outline (root to tip) must be made of mesh edges
     outline = _outline_polyline(beam, boundary)
-    # a thickness law's stations: lines of mesh edges across the width (interior points within
-    # half a size of one are dropped, or they would make slivers against it)
-    lines = station_lines(beam, lambda x: size(np.array([[x], [0.0]]))[0])
+    # a thickness law's stations: lines of mesh edges across the width (interior points and
+    # axis points within half a size of one are dropped, or they would make slivers against it)
+    lines = station_lines(beam, size, outline)
     for line in lines:
-        near = np.abs(interior[0] - line[0, 0]) < 0.5 * size(interior)
+        xk = line[0, 0]
+        near = np.abs(interior[0] - xk) < 0.5 * size(interior)
         interior = interior[:, ~near]
+        axis = (boundary[1] == 0.0) & (boundary[0] != xk) & (boundary[0] > 0.0) & (
+            boundary[0] < beam.length_m)
+        boundary = boundary[:, ~(axis & (np.abs(boundary[0] - xk) < 0.5 * size(boundary)))]
     p_up, t_up = delaunay_with_outline(np.hstack([boundary, interior]), outline,
                                        np.empty((2, 0)), beam.length_m, lines)
     return _mirror_half(beam, p_up, t_up)

@@ -14,6 +14,7 @@ from scipy.spatial import Delaunay
 from skfem import MeshTri
 
 from ..member.geometry import Beam
+from .law_mesh import station_lines
 
 # elements touching a re-entrant corner are refined to h / 2**CORNER_PASSES (h the level's base
 # element size); measured with scripts/bench_truth.py
@@ -32,8 +33,6 @@ __all__ = [
     "station_count",
     "planform_tri_mesh",
     "inner_half_width",
-    "law_stations",
-    "station_lines",
     "mirrored_mesh",
     "mirror_nodes",
 ]
@@ -190,38 +189,6 @@ def delaunay_with_outline(
     return p, t
 
 
-def law_stations(beam: Beam) -> np.ndarray:
-    """Return the inner stations x_k (m) where the thickness law's slope changes.
-
-    Empty for a uniform thickness. The plate and solid meshes make the line x = x_k a chain of
-    mesh edges, so t(x) is linear inside every element and quadrature of E t^3 and rho t is exact.
-    """
-    law = beam.thickness_law_m
-    if law is None:
-        return np.zeros(0)
-    x = beam.x_m
-    keep = np.diff(x) > 0.0
-    xs, ts = x[np.concatenate([[True], keep])], law[np.concatenate([[True], keep])]
-    slope = np.diff(ts) / np.diff(xs)
-    kink = np.abs(np.diff(slope)) > 1e-12 * np.max(np.abs(slope)) + 1e-300
-    return xs[1:-1][kink]
-
-
-def station_lines(beam: Beam, size_m) -> tuple[np.ndarray, ...]:
-    """Polylines (2, k) across the upper half-width at every ``law_stations`` x_k, m.
-
-    From (x_k, 0) to (x_k, w(x_k)) (the narrower side at a width step), points spaced by about
-    ``size_m(x)`` (a function of x in m, returning m).
-    """
-    out = []
-    for xk in law_stations(beam):
-        w = float(inner_half_width(beam, np.array([xk]))[0])
-        n = max(1, int(np.ceil(w / float(size_m(xk)) - 0.25)))
-        y = np.linspace(0.0, w, n + 1)
-        out.append(np.vstack([np.full(y.size, xk), y]))
-    return tuple(out)
-
-
 def inner_half_width(beam: Beam, x_m: np.ndarray) -> np.ndarray:
     """Return the smaller of the two one-sided half-widths at ``x_m`` (m).
 
@@ -324,7 +291,7 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     s_at = np.interp(cp[0], xs, sizes)
     keep = edge_col | (segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
     interior = cp[:, keep]
-    lines = station_lines(beam, lambda x: np.interp(x, xs, sizes))
+    lines = station_lines(beam, lambda p: np.interp(p[0], xs, sizes), outline)
     p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m, lines)
     c = p_up[:, t_up].mean(axis=1)
     t_up = t_up[:, np.abs(c[1]) < inner_half_width(beam, c[0])]
