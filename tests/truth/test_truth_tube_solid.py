@@ -159,3 +159,15 @@ def test_bad_types_are_input_type_errors():
         tube_solid_modes([0.0, L], [0.02, 0.02], None, material="steel")
     with pytest.raises(InputTypeError, match="n_along"):
         tube_solid_modes([0.0, L], [0.02, 0.02], None, NU0, n_along=2.5)
+
+
+def test_a_station_on_the_line_changes_nothing():
+    # a middle station on the straight diameter laws: the same element edges (4 + 4 vs 8), the
+    # same nodes to rounding, so the same frequencies to the eigensolve's precision
+    two = tube_solid_modes([0.0, L], [0.03, 0.02], [0.02, 0.01], NU0, n_modes=4, n_along=8)
+    three = tube_solid_modes([0.0, 0.5 * L, L], [0.03, 0.025, 0.02], [0.02, 0.015, 0.01], NU0,
+                             n_modes=4, n_along=8)
+    np.testing.assert_allclose(three.mesh.doflocs, two.mesh.doflocs, rtol=0, atol=1e-15)
+    # the eigensolve's precision on a degenerate bending pair, as the pair's own split (up to
+    # 2e-8 in the benchmark): measured 1.8e-9 here
+    np.testing.assert_allclose(three.omega_rad_s, two.omega_rad_s, rtol=5e-8)
