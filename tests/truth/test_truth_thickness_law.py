@@ -137,7 +137,7 @@ def test_solid_strip_with_law_below_euler_bernoulli_by_timoshenko():
     gap = 1.0 - _nearest(solid_modal(beam, 0, 12).omega_rad_s, ref) / ref
     # shear and rotary inertia lower bending mode m by about (beta_m t / L)^2 / 24
     # (1 + E / (kappa G)) (Timoshenko, kappa = 5/6, nu = 0): at the root thickness an upper bound
-    # for a member thinner elsewhere; measured 3.7e-5, 1.6e-4, 3.3e-4 against bounds 5.0e-5,
+    # for a member thinner elsewhere; measured 3.7e-5, 1.5e-4, 3.3e-4 against bounds 5.0e-5,
     # 3.1e-4, 8.7e-4
     beta = np.array([1.8751, 4.6941, 7.8548])
     bound = (beta * T[0]) ** 2 / 24.0 * (1.0 + 2.0 / (5.0 / 6.0))
