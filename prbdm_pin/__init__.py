@@ -87,6 +87,8 @@ _EXPORTS = {
     "TimoshenkoStatic": "truth.beam_timoshenko",
     "timoshenko_criterion": "truth.timoshenko_criterion",
     "TimoshenkoCriterion": "truth.timoshenko_criterion",
+    "tube_solid_modes": "truth.tube_solid",
+    "TubeModes": "truth.tube_solid",
     # design sensitivities
     "Design": "member.design",
     "truth_gradient": "truth.compute_derivatives",

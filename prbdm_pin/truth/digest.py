@@ -68,6 +68,7 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/entry.py",
     "prbdm_pin/truth/estimate.py",
     "prbdm_pin/truth/feature_mesh.py",
+    "prbdm_pin/truth/law_mesh.py",
     "prbdm_pin/truth/mesh.py",
     "prbdm_pin/truth/mesh_budget.py",
     "prbdm_pin/truth/modal.py",
@@ -92,6 +93,8 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/timoshenko_elements.py",
     "prbdm_pin/truth/timoshenko_sections.py",
     "prbdm_pin/truth/tip_response.py",
+    "prbdm_pin/truth/tube_mesh.py",
+    "prbdm_pin/truth/tube_solid.py",
     "prbdm_pin/truth/vtu.py",
     "prbdm_pin/version.py",
 )

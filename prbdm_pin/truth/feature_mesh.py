@@ -19,6 +19,7 @@ from scipy.spatial import cKDTree
 from skfem import MeshQuad, MeshTri
 
 from ..member.geometry import Beam
+from .law_mesh import station_lines
 from .mesh import (
     CORNER_FLOOR,
     delaunay_with_outline,
@@ -214,8 +215,18 @@ def feature_size_tri_mesh(beam: Beam, h_m: float, growth: float = 0.5,
     interior = _interior_points(beam, size, h_m, poly)
     # the upper outline (root to tip) must be made of mesh edges
     outline = _outline_polyline(beam, boundary)
+    # a thickness law's stations: lines of mesh edges across the width (interior points and
+    # axis points within half a size of one are dropped, or they would make slivers against it)
+    lines = station_lines(beam, size, outline)
+    for line in lines:
+        xk = line[0, 0]
+        near = np.abs(interior[0] - xk) < 0.5 * size(interior)
+        interior = interior[:, ~near]
+        axis = (boundary[1] == 0.0) & (boundary[0] != xk) & (boundary[0] > 0.0) & (
+            boundary[0] < beam.length_m)
+        boundary = boundary[:, ~(axis & (np.abs(boundary[0] - xk) < 0.5 * size(boundary)))]
     p_up, t_up = delaunay_with_outline(np.hstack([boundary, interior]), outline,
-                                       np.empty((2, 0)), beam.length_m)
+                                       np.empty((2, 0)), beam.length_m, lines)
     return _mirror_half(beam, p_up, t_up)
 
 
@@ -284,9 +295,10 @@ def planform_quad_mesh(beam: Beam, level: int = 2, corner_passes: int = 2,
     if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or level < 0:
         raise ValueError(f"level = {level!r}: must be an integer >= 0")
     h = 2.0 * element_size(beam, level)
-    t_u = beam.uniform_thickness_m("the plate truth")
-    size = size_field(beam, h, GROWTH, FLOOR_THICKNESSES * t_u)
-    tri = feature_size_tri_mesh(beam, h, GROWTH, FLOOR_THICKNESSES * t_u)
+    # the thinnest section sets the floor (a thickness law's; the thickness when uniform)
+    t_min = float(np.min(beam.thickness_at(beam.x_m)))
+    size = size_field(beam, h, GROWTH, FLOOR_THICKNESSES * t_min)
+    tri = feature_size_tri_mesh(beam, h, GROWTH, FLOOR_THICKNESSES * t_min)
     w0 = beam.half_width_m[0]
     corners = np.hstack([reentrant_vertices(beam), [[0.0, 0.0], [w0, -w0]]])
     local = size(np.vstack([corners[0], np.abs(corners[1])]))  # the field is of the upper half

@@ -14,6 +14,7 @@ from scipy.spatial import Delaunay
 from skfem import MeshTri
 
 from ..member.geometry import Beam
+from .law_mesh import station_lines
 
 # elements touching a re-entrant corner are refined to h / 2**CORNER_PASSES (h the level's base
 # element size); measured with scripts/bench_truth.py
@@ -157,27 +158,34 @@ def _missing_edges(p: np.ndarray, t: np.ndarray, outline: np.ndarray) -> np.ndar
 
 
 def delaunay_with_outline(
-    before: np.ndarray, outline: np.ndarray, after: np.ndarray, length_m: float
+    before: np.ndarray, outline: np.ndarray, after: np.ndarray, length_m: float,
+    lines: tuple[np.ndarray, ...] = (),
 ) -> tuple[np.ndarray, np.ndarray]:
     """Triangulate the points so that every piece of the polyline ``outline`` is a mesh edge.
 
     A Delaunay triangulation of the points ``before``, ``outline``, ``after`` (each (2, k), m;
     duplicates within 1e-9 ``length_m`` merged, first kept). Returns nodes (2, N) and triangles
-    (3, M).
+    (3, M). Every piece of each polyline of ``lines`` (each (2, k), m) is made a mesh edge too
+    (the thickness law's station lines: no element straddles one).
 
     The outline of a concave planform is not always made of Delaunay edges: the missing pieces
     are split and the points triangulated again (boundary recovery by refinement).
     """
+    polylines = [outline, *lines]
     for _ in range(20):
-        p = np.hstack([before, outline, after])
+        p = np.hstack([before, *polylines, after])
         _, idx = np.unique(np.round(p.T / (1e-9 * length_m)), axis=0, return_index=True)
         p = p[:, np.sort(idx)]
         t = Delaunay(p.T).simplices.T
-        missing = _missing_edges(p, t, outline)
-        if not missing.size:
+        done = True
+        for i, line in enumerate(polylines):
+            missing = _missing_edges(p, t, line)
+            if missing.size:
+                done = False
+                mid = 0.5 * (line[:, missing] + line[:, missing + 1])
+                polylines[i] = np.insert(line, missing + 1, mid, axis=1)
+        if done:
             break
-        mid = 0.5 * (outline[:, missing] + outline[:, missing + 1])
-        outline = np.insert(outline, missing + 1, mid, axis=1)
     return p, t
 
 
@@ -283,7 +291,8 @@ def _base_tri_mesh(beam: Beam, h: float, growth: float) -> MeshTri:
     s_at = np.interp(cp[0], xs, sizes)
     keep = edge_col | (segment_distance(cp, outline[:, :-1], outline[:, 1:]) > 0.55 * s_at)
     interior = cp[:, keep]
-    p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m)
+    lines = station_lines(beam, lambda p: np.interp(p[0], xs, sizes), outline)
+    p_up, t_up = delaunay_with_outline(np.empty((2, 0)), outline, interior, beam.length_m, lines)
     c = p_up[:, t_up].mean(axis=1)
     t_up = t_up[:, np.abs(c[1]) < inner_half_width(beam, c[0])]
     area = 0.5 * np.abs(

@@ -27,6 +27,8 @@ __all__ = [
     "plate_forms",
     "assemble_plate",
     "plate_rigidity_Nm",
+    "plate_section",
+    "plate_basis",
     "ROOT_CLAMP_DOFS",
 ]
 
@@ -39,9 +41,39 @@ ROOT_CLAMP_DOFS = {
 
 
 def plate_rigidity_Nm(beam: Beam) -> float:
-    """Flexural rigidity D = E t^3 / (12 (1 - nu^2)) of the beam's plate, N m."""
+    """Flexural rigidity D = E t^3 / (12 (1 - nu^2)) of the beam's plate, N m.
+
+    One thickness only (a law is refused by name): ``plate_section`` takes the law.
+    """
     mat = beam.material
     return mat.E_Pa * beam.uniform_thickness_m("the plate truth")**3 / (12.0 * (1.0 - mat.nu**2))
+
+
+def plate_section(beam: Beam, basis: Basis) -> tuple[float | np.ndarray, float | np.ndarray]:
+    """Flexural rigidity D (N m) and mass per area rho t (kg/m^2) for ``assemble_plate``.
+
+    Floats for a uniform thickness; with a thickness law t(x), arrays (elements, quadrature
+    points) of D(x) = E t(x)^3 / (12 (1 - nu^2)) and rho t(x) at the basis's quadrature points.
+    The mesh has edges along every station of the law (``mesh.law_stations``), so t is linear in
+    each element and ``plate_basis``'s quadrature integrates both exactly.
+    """
+    mat = beam.material
+    if beam.thickness_law_m is None:
+        return plate_rigidity_Nm(beam), mat.rho_kg_m3 * beam.thickness_m
+    t = beam.thickness_at(basis.global_coordinates()[0])
+    return mat.E_Pa * t**3 / (12.0 * (1.0 - mat.nu**2)), mat.rho_kg_m3 * t
+
+
+def plate_basis(beam: Beam, mesh: MeshTri, element) -> Basis:
+    """Return the plate's scikit-fem basis of ``element`` (an element object) on ``mesh``.
+
+    scikit-fem's default rule (degree 2 p for the degree-p element) is exact for a uniform
+    thickness; a thickness law adds degree 3 to the stiffness (t^3, linear t) and 1 to the
+    mass integrand, so its rule is 3 degrees higher.
+    """
+    if beam.thickness_law_m is None:
+        return Basis(mesh, element)
+    return Basis(mesh, element, intorder=2 * element.maxdeg + 3)
 
 
 def plate_forms(D_Nm: float, nu: float, rho_h_kg_m2: float):
@@ -76,6 +108,8 @@ def assemble_plate(basis: Basis, D_Nm: float, nu: float, rho_h_kg_m2: float):
 
     The same forms as ``plate_forms`` but contracted over all basis-function pairs at once
     (scikit-fem's ``asm`` loops over the 21 x 21 pairs, which dominated the solve time).
+    ``D_Nm`` and ``rho_h_kg_m2`` are floats or arrays (elements, quadrature points) of a
+    thickness law (``plate_section``).
     """
     from scipy.sparse import coo_matrix
 
@@ -84,9 +118,15 @@ def assemble_plate(basis: Basis, D_Nm: float, nu: float, rho_h_kg_m2: float):
     V = np.stack([np.asarray(b[0]) for b in basis.basis])  # (Nd, nel, nq)
     B = np.stack([H[:, 0, 0], H[:, 1, 1], np.sqrt(2.0) * H[:, 0, 1]], axis=1)
     T = H[:, 0, 0] + H[:, 1, 1]
-    Ke = D_Nm * ((1.0 - nu) * np.einsum("icEq,jcEq,Eq->Eij", B, B, dx, optimize=True)
-                 + nu * np.einsum("iEq,jEq,Eq->Eij", T, T, dx, optimize=True))
-    Me = rho_h_kg_m2 * np.einsum("iEq,jEq,Eq->Eij", V, V, dx, optimize=True)
+    if np.ndim(D_Nm) == 0 and np.ndim(rho_h_kg_m2) == 0:
+        Ke = D_Nm * ((1.0 - nu) * np.einsum("icEq,jcEq,Eq->Eij", B, B, dx, optimize=True)
+                     + nu * np.einsum("iEq,jEq,Eq->Eij", T, T, dx, optimize=True))
+        Me = rho_h_kg_m2 * np.einsum("iEq,jEq,Eq->Eij", V, V, dx, optimize=True)
+    else:
+        dxD = dx * D_Nm  # D(x) at the quadrature points joins the weights
+        Ke = ((1.0 - nu) * np.einsum("icEq,jcEq,Eq->Eij", B, B, dxD, optimize=True)
+              + nu * np.einsum("iEq,jEq,Eq->Eij", T, T, dxD, optimize=True))
+        Me = np.einsum("iEq,jEq,Eq->Eij", V, V, dx * rho_h_kg_m2, optimize=True)
     dofs = basis.element_dofs  # (Nd, nel)
     rows = np.broadcast_to(dofs.T[:, :, None], Ke.shape).ravel()
     cols = np.broadcast_to(dofs.T[:, None, :], Ke.shape).ravel()
@@ -94,6 +134,11 @@ def assemble_plate(basis: Basis, D_Nm: float, nu: float, rho_h_kg_m2: float):
     K = coo_matrix((Ke.ravel(), (rows, cols)), shape=shape).tocsr()
     M = coo_matrix((Me.ravel(), (rows, cols)), shape=shape).tocsr()
     return K, M
+
+
+def _with_nu(section, nu: float):
+    """(D, nu, rho t): ``assemble_plate``'s argument order from ``plate_section``'s pair."""
+    return section[0], nu, section[1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -192,11 +237,9 @@ def plate_modes(
                + PLATE_DOFS_PER_EDGE * mesh.facets.shape[1], beam)
     t1 = time.perf_counter()
     elem = PLATE_ELEMENTS[element]()  # a new element object per mesh: it caches per-mesh state
-    basis = Basis(mesh, elem)
+    basis = plate_basis(beam, mesh, elem)
     t2 = time.perf_counter()
-    mat = beam.material
-    t_u = beam.uniform_thickness_m("the plate truth")
-    K, M = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * t_u)
+    K, M = assemble_plate(basis, *_with_nu(plate_section(beam, basis), beam.material.nu))
     x0 = float(mesh.p[0].min())
     tol = 1e-9 * float(np.ptp(mesh.p[0]))
     clamped = basis.get_dofs(lambda x: np.abs(x[0] - x0) < tol).all(ROOT_CLAMP_DOFS[element])

@@ -14,12 +14,12 @@ import time
 import numpy as np
 from scipy.sparse import diags
 from scipy.sparse.linalg import splu
-from skfem import Basis, FacetBasis, LinearForm, MeshTri, asm
+from skfem import FacetBasis, LinearForm, MeshTri, asm
 
 from ..errors import BeamInputError, TruthError
 from ..member.geometry import Beam
 from .mesh_budget import PLATE_DOFS_PER_EDGE, PLATE_DOFS_PER_NODE, check_dofs, check_plate_budget
-from .plate import ROOT_CLAMP_DOFS, assemble_plate, plate_rigidity_Nm
+from .plate import ROOT_CLAMP_DOFS, assemble_plate, plate_basis, plate_section
 from .plate_elements import ElementTriArgyrisLocal
 from .result import StaticSolution, Timings
 from .settings import DEFAULT_PLATE_LEVEL, check_level
@@ -97,14 +97,13 @@ def plate_static(
                + PLATE_DOFS_PER_EDGE * mesh.facets.shape[1], beam)
     t1 = time.perf_counter()
     # a new element object per basis: the element caches per-mesh and per-point state
-    basis = Basis(mesh, ElementTriArgyrisLocal())
+    basis = plate_basis(beam, mesh, ElementTriArgyrisLocal())
     tol = 1e-9 * L
     tip_facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - L) < tol)
     fbasis = FacetBasis(mesh, ElementTriArgyrisLocal(), facets=tip_facets)
     t2 = time.perf_counter()
-    mat = beam.material
-    t_u = beam.uniform_thickness_m("the plate truth")
-    K, _ = assemble_plate(basis, plate_rigidity_Nm(beam), mat.nu, mat.rho_kg_m3 * t_u)
+    D, rho_t = plate_section(beam, basis)
+    K, _ = assemble_plate(basis, D, beam.material.nu, rho_t)
     f = tip_edge_load(beam, fbasis, F[2])
     clamped = basis.get_dofs(lambda x: np.abs(x[0]) < tol).all(ROOT_CLAMP_DOFS["argyris"])
     free = np.setdiff1d(np.arange(basis.N), clamped)

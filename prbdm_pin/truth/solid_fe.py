@@ -35,6 +35,7 @@ __all__ = [
     "SolidDiscretisation",
     "SpdFactor",
     "assemble",
+    "assemble_elastic",
     "default_solid_level",
     "discretise",
     "mirror_index",
@@ -54,9 +55,11 @@ VTK_HEX = [0, 3, 6, 2, 1, 5, 7, 4]
 
 
 def default_solid_level(beam: Beam) -> int:
-    """Mesh level whose in-plane element size is closest to 2.5 thicknesses."""
-    t_u = beam.uniform_thickness_m("the 3D solid truth")
-    return max(0, int(round(np.log2(element_size(beam, 0) / (2.5 * t_u)))))
+    """Mesh level whose in-plane element size is closest to 2.5 thicknesses.
+
+    The largest thickness of a thickness law (``Beam.thickness_m``).
+    """
+    return max(0, int(round(np.log2(element_size(beam, 0) / (2.5 * beam.thickness_m)))))
 
 
 def solid_level(beam: Beam, level: int | None) -> int:
@@ -69,14 +72,20 @@ def solid_mesh(beam: Beam, level: int | None = None) -> MeshHex:
 
     The planform mesh is ``planform_quad_mesh``'s.
 
-    Nodes in m, z in [-t/2, t/2] (mid-surface at z = 0).
+    Nodes in m, z in [-t(x)/2, t(x)/2] (mid-surface at z = 0). A thickness law is a mapped
+    mesh: each node's z is scaled by t at its x. The planform mesh has edges along the law's
+    stations, so t is linear in x inside every element and the trilinear geometry of the
+    hexahedra follows the faces z = +-t(x)/2 exactly (a mesh generator such as gmsh would
+    add a dependency and lose the one-element-through-the-thickness structure, the mirror
+    symmetry and the column order the solver relies on, for no gain in accuracy).
     """
-    t_u = beam.uniform_thickness_m("the 3D solid truth")
-    quad = planform_quad_mesh(beam, solid_level(beam, level), root_size_m=ROOT_THICKNESSES * t_u)
+    t_root = float(beam.thickness_at(0.0))
+    quad = planform_quad_mesh(beam, solid_level(beam, level),
+                              root_size_m=ROOT_THICKNESSES * t_root)
     p2, t2 = quad.p, quad.t
     n = p2.shape[1]
-    h = 0.5 * t_u
-    p = np.hstack([np.vstack([p2, np.full(n, -h)]), np.vstack([p2, np.full(n, h)])])
+    h = 0.5 * beam.thickness_at(p2[0])
+    p = np.hstack([np.vstack([p2, -h * np.ones(n)]), np.vstack([p2, h * np.ones(n)])])
     a, b, c, d = t2
     # Reference hex vertices (0,0,0), (0,0,1), (0,1,0), (1,0,0), (0,1,1), (1,0,1), (1,1,0), (1,1,1)
     # with the quad's a-b along xi and a-d along eta.
@@ -100,7 +109,12 @@ class SolidDiscretisation:
 
 def lame(beam: Beam) -> tuple[float, float]:
     """Lame constants (lambda, mu) of the beam's material, Pa."""
-    E, nu = beam.material.E_Pa, beam.material.nu
+    return lame_of(beam.material)
+
+
+def lame_of(material) -> tuple[float, float]:
+    """Lame constants (lambda, mu) of a ``Material``, Pa."""
+    E, nu = material.E_Pa, material.nu
     return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
 
 
@@ -157,7 +171,16 @@ def assemble(beam: Beam, d: SolidDiscretisation) -> tuple[sp.csr_matrix, sp.csr_
     A_km[a, b] = int d_k phi_a d_m phi_b, each element's A_km a batched matrix product over the
     Gauss points (scikit-fem's ``asm`` loops over the 27 x 27 basis pairs, several times slower).
     """
-    b = d.basis
+    return assemble_elastic(d.basis, d.lam, d.mu, beam.material.rho_kg_m3)
+
+
+def assemble_elastic(b: Basis, lam_Pa: float, mu_Pa: float,
+                     rho_kg_m3: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Return ``assemble``'s stiffness (N/m) and mass (kg) on any 27-node hexahedral basis ``b``.
+
+    Lame constants ``lam_Pa``, ``mu_Pa``; density ``rho_kg_m3``; DOF 3 a + i is component i at
+    scalar DOF a of ``b``.
+    """
     pattern = ScalarPattern(b.element_dofs, b.N)
     w = b.dx  # (E, Q)
     G = np.stack([np.asarray(f[0].grad) for f in b.basis], axis=0)  # (27, 3, E, Q)
@@ -169,10 +192,10 @@ def assemble(beam: Beam, d: SolidDiscretisation) -> tuple[sp.csr_matrix, sp.csr_
             A[:, k, m] = pattern.data(wg @ G[:, m])
             A[:, m, k] = A[:, k, m] if k == m else pattern.data(np.swapaxes(wg @ G[:, m], 1, 2))
     trace = A[:, 0, 0] + A[:, 1, 1] + A[:, 2, 2]
-    blocks = d.lam * A + d.mu * np.swapaxes(A, 1, 2) + d.mu * trace[:, None, None] * np.eye(3)
+    blocks = lam_Pa * A + mu_Pa * np.swapaxes(A, 1, 2) + mu_Pa * trace[:, None, None] * np.eye(3)
     V = np.stack([np.asarray(f[0]) for f in b.basis], axis=-1)  # (E, Q, 27)
     m = pattern.data(np.swapaxes(V * w[..., None], 1, 2) @ V)
-    mass = beam.material.rho_kg_m3 * m[:, None, None] * np.eye(3)
+    mass = rho_kg_m3 * m[:, None, None] * np.eye(3)
     return pattern.vector_matrix(blocks), pattern.vector_matrix(mass)
 
 

@@ -24,8 +24,8 @@ from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam, save_beam
 from prbdm_pin.member.geometry import Beam, beam_to_dict
 from prbdm_pin.truth.beam import beam_modal
+from prbdm_pin.truth.beam_spatial import beam_spatial_modal
 from prbdm_pin.truth.elastica import elastica_static
-from prbdm_pin.truth.plate import plate_modal
 
 L, W, T0 = 1.0, 0.05, 0.01  # m: a 1 m strip 0.1 m wide, 10 mm thick at the root
 
@@ -197,6 +197,9 @@ def test_cli_refuses_a_law_reaching_zero_in_one_line(tmp_path, capsys):
     assert not (tmp_path / "o").exists()  # nothing half-written
 
 
-def test_plate_truth_refuses_a_law_by_name(tapered):
-    with pytest.raises(BeamInputError, match="varies along x: the plate truth takes a uniform"):
-        plate_modal(tapered)
+def test_a_model_without_the_law_refuses_it_by_name(tapered):
+    # the plate and solid truths take the law (tests/truth/test_truth_thickness_law.py); the
+    # 1D torsion truth does not
+    with pytest.raises(BeamInputError,
+                       match="varies along x: the 1D torsion truth takes a uniform"):
+        beam_spatial_modal(tapered)
