@@ -215,8 +215,8 @@ class Beam:
             law = self.thickness_law_m
             raise BeamInputError(
                 f"thickness = {float(law.min()):g} ... {float(law.max()):g} m varies along x: "
-                f"{what} takes a uniform thickness only (the 1D beam truth, the elastica and "
-                "the planar chain take the law)")
+                f"{what} takes a uniform thickness only (the 1D beam truth, the plate, the "
+                "solid, the elastica and the chains take the law)")
         return self.thickness_m
 
     def area_moment_at(self, x_m: np.ndarray | float, side: str = "right") -> np.ndarray:

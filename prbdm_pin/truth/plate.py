@@ -57,6 +57,7 @@ def plate_section(beam: Beam, basis: Basis) -> tuple[float | np.ndarray, float |
     The mesh has edges along every station of the law (``mesh.law_stations``), so t is linear in
     each element and ``plate_basis``'s quadrature integrates both exactly.
     """
+    beam.rectangle_only("the plate truth")  # a round or table member is no plate
     mat = beam.material
     if beam.thickness_law_m is None:
         return plate_rigidity_Nm(beam), mat.rho_kg_m3 * beam.thickness_m
@@ -71,6 +72,7 @@ def plate_basis(beam: Beam, mesh: MeshTri, element) -> Basis:
     thickness; a thickness law adds degree 3 to the stiffness (t^3, linear t) and 1 to the
     mass integrand, so its rule is 3 degrees higher.
     """
+    beam.rectangle_only("the plate truth")
     if beam.thickness_law_m is None:
         return Basis(mesh, element)
     return Basis(mesh, element, intorder=2 * element.maxdeg + 3)

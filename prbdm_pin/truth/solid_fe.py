@@ -79,6 +79,8 @@ def solid_mesh(beam: Beam, level: int | None = None) -> MeshHex:
     add a dependency and lose the one-element-through-the-thickness structure, the mirror
     symmetry and the column order the solver relies on, for no gain in accuracy).
     """
+    # a round member's solid is tube_solid_modes' (truth.tube_solid), a table has no shape
+    beam.rectangle_only("the 3D solid truth")
     t_root = float(beam.thickness_at(0.0))
     quad = planform_quad_mesh(beam, solid_level(beam, level),
                               root_size_m=ROOT_THICKNESSES * t_root)

@@ -14,8 +14,8 @@ shrinking slowly with refinement at the root; the docs give the numbers.)
 import numpy as np
 import pytest
 from tapered_reference import richardson_lambda1
-from tube_timoshenko_reference import timoshenko_richardson
 from tolerances import EPS
+from tube_timoshenko_reference import timoshenko_richardson
 
 from prbdm_pin.errors import BeamInputError, InputTypeError
 from prbdm_pin.member.material import Material
