@@ -88,6 +88,7 @@ _EXPORTS = {
     "timoshenko_criterion": "truth.timoshenko_criterion",
     "TimoshenkoCriterion": "truth.timoshenko_criterion",
     "tube_solid_modes": "truth.tube_solid",
+    "round_solid_modes": "truth.tube_solid",
     "TubeModes": "truth.tube_solid",
     # design sensitivities
     "Design": "member.design",

@@ -194,7 +194,7 @@ class Beam:
                 f"section = {{'kind': {self.section.kind!r}, ...}}: {what} takes the planform "
                 "rectangle (half_width, thickness) only; a round or table member takes the 1D beam "
                 "truth (prbdm truth --model beam, prbdm fit --truth-model beam) and the planar "
-                "and spatial chains")
+                "and spatial chains; a round member's 3D solid is prbdm_pin.round_solid_modes")
 
     def uniform_thickness_m(self, what: str) -> float:
         """Return the uniform thickness t in m; a thickness law is refused for ``what``.

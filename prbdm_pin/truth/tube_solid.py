@@ -29,7 +29,7 @@ from .settings import lanczos_start
 from .solid_fe import INTORDER, SpdFactor, assemble_elastic, lame_of
 from .tube_mesh import tube_hex_mesh
 
-__all__ = ["TubeModes", "tube_solid_modes", "MODE_KINDS"]
+__all__ = ["TubeModes", "tube_solid_modes", "round_solid_modes", "MODE_KINDS"]
 
 MODE_KINDS = ("bending-y", "bending-z", "torsion", "axial", "section")
 # frequencies closer than this (relative) are one degenerate cluster: the structured mesh keeps
@@ -251,3 +251,34 @@ def _kind(share: np.ndarray) -> str:
     if ez > _KIND_SHARE:
         return "bending-z"
     return "section"
+
+
+def round_solid_modes(beam, n_modes: int = 12, n_around: int = 16, n_radial: int = 2,
+                      n_along: int = 20) -> TubeModes:
+    """Lowest modes of the 3D solid of a round member given as a Beam (``beam.section`` round).
+
+    :func:`tube_solid_modes` on the member's stations, diameters and material.
+
+    Parameters
+    ----------
+    beam : Beam
+        A round member (:func:`~prbdm_pin.member.section_member.round_beam`, or beam JSON with
+        ``"section": {"kind": "round", ...}``).
+    n_modes, n_around, n_radial, n_along : int
+        As :func:`tube_solid_modes`.
+
+    Returns
+    -------
+    TubeModes
+    """
+    from ..member.geometry import Beam
+    from ..member.round_section import RoundSection
+
+    if not isinstance(beam, Beam):
+        raise InputTypeError(f"beam = {beam!r:.60}: must be a prbdm_pin.Beam")
+    if not isinstance(beam.section, RoundSection):
+        raise BeamInputError("beam.section: round_solid_modes takes a round member; a planform "
+                             "goes to compute_truth(..., model='solid')")
+    sec = beam.section
+    return tube_solid_modes(beam.x_m, sec.outer_diameter_m, sec.inner_diameter_m, beam.material,
+                            n_modes, n_around, n_radial, n_along)

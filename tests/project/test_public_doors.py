@@ -235,6 +235,7 @@ DOORS = {
     "beam_timoshenko_static": ("beam", lambda v: pp.beam_timoshenko_static(v)),
     "rectangle_section_laws": ("beam", lambda v: pp.rectangle_section_laws(v)),
     "shear_coefficient": ("kind", lambda v: pp.shear_coefficient(v, 0.3)),
+    "round_solid_modes": ("beam", lambda v: pp.round_solid_modes(v)),
     "tube_solid_modes": ("material", lambda v: pp.tube_solid_modes([0.0, 1.0], [0.02, 0.02],
                                                                    None, v)),
     "truth_gradient": ("beam", lambda v: pp.truth_gradient(v, ("thickness",))),

@@ -173,3 +173,23 @@ def test_a_station_on_the_line_changes_nothing():
     # the eigensolve's precision on a degenerate bending pair, as the pair's own split (up to
     # 2e-8 in the benchmark): measured 1.8e-9 here
     np.testing.assert_allclose(three.omega_rad_s, two.omega_rad_s, rtol=5e-8)
+
+
+def test_a_round_beam_goes_to_the_tube_solid():
+    # a round member given as a Beam: its first torsion mode against Saint-Venant's
+    # (pi / (2 L)) sqrt(G / rho) of a tube (nu = 0, so the clamp adds no stiffening)
+    import prbdm_pin as pp
+    from paths import BEAMS
+
+    mat = Material(E_Pa=70e9, rho_kg_m3=2700.0, nu=0.0)
+    L = 1.0
+    beam = pp.round_beam(np.array([0.0, L]), np.array([0.04, 0.04]), np.array([0.03, 0.03]),
+                         material=mat)
+    m = pp.round_solid_modes(beam, n_modes=8, n_around=8, n_radial=1, n_along=10)
+    torsion = m.of_kind("torsion")
+    exact = np.pi / (2 * L) * np.sqrt(mat.G_Pa / mat.rho_kg_m3)
+    # the discretisation of 10 quadratic elements along x: 1e-5 (the tube test above: 2.6e-8
+    # at 20 along; h^4)
+    assert torsion[0] == pytest.approx(exact, rel=1e-5)
+    with pytest.raises(BeamInputError, match="takes a round member"):
+        pp.round_solid_modes(pp.load_beam(BEAMS / "uniform-narrow.json"))
