@@ -178,8 +178,9 @@ def test_a_station_on_the_line_changes_nothing():
 def test_a_round_beam_goes_to_the_tube_solid():
     # a round member given as a Beam: its first torsion mode against Saint-Venant's
     # (pi / (2 L)) sqrt(G / rho) of a tube (nu = 0, so the clamp adds no stiffening)
-    import prbdm_pin as pp
     from paths import BEAMS
+
+    import prbdm_pin as pp
 
     mat = Material(E_Pa=70e9, rho_kg_m3=2700.0, nu=0.0)
     L = 1.0
