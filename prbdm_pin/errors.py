@@ -6,7 +6,18 @@ They subclass builtins so that callers who catch ``ValueError``, ``TypeError`` o
 
 
 class BeamInputError(ValueError):
-    """Invalid user input; the message names the offending field and its value."""
+    """Invalid user input; the message names the offending field and its value.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.Material(E_Pa=-1.0)
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: material.E = -1.0: must be a finite number > 0 (Pa)
+    >>> issubclass(pp.BeamInputError, ValueError)
+    True
+    """
 
 
 class InputTypeError(BeamInputError, TypeError):
@@ -14,12 +25,36 @@ class InputTypeError(BeamInputError, TypeError):
 
     A ``TypeError``, and a :class:`BeamInputError` too, so that the command line and every
     handler of bad input report it alike (one line, exit code 2).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.Material(E_Pa="205e9")
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.InputTypeError: material.E = '205e9': must be a finite number > 0 (Pa)
+    >>> issubclass(pp.InputTypeError, TypeError), issubclass(pp.InputTypeError, ValueError)
+    (True, True)
     """
 
 
 class SolveError(RuntimeError):
-    """A numerical solve did not converge or produced a result that cannot be trusted."""
+    """A numerical solve did not converge or produced a result that cannot be trusted.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> issubclass(pp.SolveError, RuntimeError)
+    True
+    """
 
 
 class TruthError(RuntimeError):
-    """The finite-element truth refused to return results it cannot trust."""
+    """The finite-element truth refused to return results it cannot trust.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> issubclass(pp.TruthError, RuntimeError)
+    True
+    """
