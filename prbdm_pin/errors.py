@@ -43,7 +43,15 @@ class SolveError(RuntimeError):
 
     Examples
     --------
+    A load far beyond what double precision resolves, on a 2R chain of a 1 m steel strip:
+
     >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> pp.statics(model, tip_force_N=[0.0, 0.0, -1e12])
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.SolveError: tip_force = [0.0, 0.0, -1000000000000.0] N: load index ...
     >>> issubclass(pp.SolveError, RuntimeError)
     True
     """
