@@ -27,7 +27,6 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")
 
 import argparse  # noqa: E402
-import json  # noqa: E402
 import sys  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -38,7 +37,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
-from ccd_slew_page import write_page  # noqa: E402
+from ccd_slew_page import summary, write_page  # noqa: E402
 
 from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
@@ -243,18 +242,6 @@ def tables(res: dict, case: Case, beam, truth) -> tuple[str, dict[str, str]]:
     return "\n".join(md), {"open_loop.csv": "\n".join(csv1) + "\n",
                            "closed_loop.csv": "\n".join(csv2) + "\n",
                            "codesign.csv": "\n".join(csv3) + "\n"}
-
-
-def summary(res: dict, case: Case, beam, truth) -> str:
-    """The set-up the page states (JSON): hub, truth frequencies, bandwidth, the design model."""
-    return json.dumps({
-        "beam": beam.name, "truth_model": truth.model, "design": res["design"],
-        "J_h_kg_m2": res["J_h"], "r_m": res["r"], "stiffening": case.stiffening,
-        "truth_omega_rad_s": [float(w) for w in res["truth_w"]],
-        "damping_ratio": case.damping_ratio, "omega_c_rad_s": res["wc"],
-        "slew_angle_rad": case.design.angle_rad, "patch_frac": case.patch_frac,
-        "nominal_start_frac": case.nominal_start_frac, "frf_start_frac": case.frf_start_frac,
-    }, indent=1) + "\n"
 
 
 def figure(res: dict, case: Case, path: Path) -> Path:

@@ -43,6 +43,19 @@ def _table(head: list[str], rows: list[list[str]]) -> list[str]:
             *("| " + " | ".join(r) + " |" for r in rows), ""]
 
 
+def summary(res: dict, case, beam, truth) -> str:
+    """The set-up the page states, as ``summary.json``: ``ccd_slew.run``'s result ``res``, its
+    ``Case``, the beam and the truth (hub, truth frequencies, bandwidth, the design model)."""
+    return json.dumps({
+        "beam": beam.name, "truth_model": truth.model, "design": res["design"],
+        "J_h_kg_m2": res["J_h"], "r_m": res["r"], "stiffening": case.stiffening,
+        "truth_omega_rad_s": [float(w) for w in res["truth_w"]],
+        "damping_ratio": case.damping_ratio, "omega_c_rad_s": res["wc"],
+        "slew_angle_rad": case.design.angle_rad, "patch_frac": case.patch_frac,
+        "nominal_start_frac": case.nominal_start_frac, "frf_start_frac": case.frf_start_frac,
+    }, indent=1) + "\n"
+
+
 def maps_figure(open_rows, closed_rows, path: Path) -> Path:
     """strain -> tip z FRF error (open loop) and closed-loop tip error, per fit and strain map."""
     from prbdm_pin.views.plots import new_figure, save_png
