@@ -35,6 +35,9 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "scripts"))
+
+from ccd_slew_page import summary, write_page  # noqa: E402
 
 from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.fitting import fit  # noqa: E402
@@ -290,11 +293,12 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     md, csvs = tables(res, case, beam, truth)
-    atomic_write_text(out / "ccd_slew.md", md + "\n")
+    csvs["summary.json"] = summary(res, case, beam, truth)
     for name, text in csvs.items():
         atomic_write_text(out / name, text)
     print(md)
-    print(f"wrote {out / 'ccd_slew.md'}, {figure(res, case, out / 'ccd_slew.png')}")
+    png = figure(res, case, out / "ccd_slew.png")
+    print(f"wrote {png}, {write_page(out)}")
     return 0
 
 

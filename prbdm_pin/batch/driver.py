@@ -165,6 +165,24 @@ def run_batch(
     KeyboardInterrupt
         After Ctrl-C (or SIGTERM), once every finished beam is on disk and ``results.csv`` is
         written.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> options = pp.FitOptions(objective="eigen", stiffness="joint", starts=1)
+    >>> settings = pp.FitSettings(joints=2, options=options, truth_model="beam")
+    >>> _ = pp.save_beam(beam, folder / "beams" / "strip.json")
+    >>> spec = pp.BatchSpec(seed=0, settings=settings, beams_dir=str(folder / "beams"))
+    >>> summary = pp.run_batch(spec, folder / "out", progress=False)
+    >>> summary.n_ok, summary.n_failed
+    (1, 0)
+    >>> sorted(p.name for p in (folder / "out").iterdir())
+    ['.batch.lock', 'batch.json', 'results.csv', 'results.jsonl']
     """
     t0 = time.perf_counter()
     check_type("spec", spec, BatchSpec)

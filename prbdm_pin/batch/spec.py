@@ -42,6 +42,18 @@ class FitSettings:
         milliseconds).
     cache_dir : str or None
         Truth cache folder (does not change results, so it is not part of the manifest).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> options = pp.FitOptions(objective="eigen", stiffness="joint", starts=1)
+    >>> settings = pp.FitSettings(joints=2, options=options, truth_model="beam")
+    >>> settings.joints, settings.truth_model
+    (2, 'beam')
+    >>> pp.FitSettings(joints=2, truth_model="shell")
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: truth_model = 'shell': must be one of plate, ...
     """
 
     joints: int
@@ -121,6 +133,15 @@ class BatchSpec:
         Folder of beam JSON files (sorted by file name; index = position).
     shard : tuple of int
         ``(i, N)``: this run takes the beams with index % N == i.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> options = pp.FitOptions(objective="eigen", stiffness="joint", starts=1)
+    >>> settings = pp.FitSettings(joints=2, options=options, truth_model="beam")
+    >>> spec = pp.BatchSpec(seed=1, settings=settings, n_beams=3, shard=(0, 1))
+    >>> spec.n_beams, spec.shard
+    (3, (0, 1))
     """
 
     seed: int

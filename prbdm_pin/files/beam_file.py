@@ -81,6 +81,19 @@ def beam_from_dict(d: Any, *, check_caps: bool = False) -> Beam:
 
     ``check_caps`` (the readers of beam, fit.json and model files set it) also refuses more
     than ``limits().max_vertices`` vertices; a mapping built in code is not capped.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.beam_from_dict({"length": 1.0, "x": [0.0, 1.0], "half_width": [0.025, 0.025],
+    ...                           "thickness": 0.01,
+    ...                           "material": {"E": 205e9, "rho": 7850.0, "nu": 0.28}})
+    >>> round(beam.mass_kg, 3)  # kg, 7850 kg/m^3 x 1 m x 0.05 m x 0.01 m
+    3.925
+    >>> pp.beam_from_dict({"x": [0.0, 1.0]})
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: missing key(s) ['half_width', 'thickness']
     """
     if not isinstance(d, dict):
         raise InputTypeError(f"beam = {type(d).__name__}: must be a JSON object (a dict)")
@@ -172,6 +185,19 @@ def load_beam(path: str | os.PathLike) -> Beam:
     -------
     Beam
         The validated beam (SI units).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> path = pp.save_beam(beam, folder / "beam.json")
+    >>> again = pp.load_beam(path)
+    >>> again.length_m, round(again.mass_kg, 3)
+    (1.0, 3.925)
     """
     return beam_from_dict(read_json(path, "beam file"), check_caps=True)
 
@@ -190,6 +216,18 @@ def save_beam(beam: Beam, path: str | os.PathLike) -> Path:
     -------
     pathlib.Path
         The file written.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> path = pp.save_beam(beam, folder / "beam.json")
+    >>> pp.load_beam(path).fingerprint() == beam.fingerprint()
+    True
     """
     from ..io.paths import check_out_file
     from ..options.validate import check_type

@@ -123,6 +123,24 @@ def write_calibration(result: CalibrationResult, out: str | os.PathLike) -> Path
     -------
     Path
         The folder written.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> w = np.sqrt(1.1) * model.natural_frequencies()[0]  # rad/s: E 10 % up
+    >>> t = np.arange(500) * 2e-3  # s
+    >>> y = 1e-3 * np.exp(-0.01 * w * t) * np.cos(w * np.sqrt(1 - 0.01**2) * t)  # m, ratio 0.01
+    >>> data = pp.RingDown(t_s=t, y=y[:, None], channels=("tip_z",))
+    >>> cal = pp.calibrate(model, data, ("E", "damping[0]"))
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> out = pp.write_calibration(cal, folder / "cal")
+    >>> sorted(p.name for p in out.iterdir())
+    ['calibration.json', 'calibration.png', 'model.json']
     """
     if not isinstance(result, CalibrationResult):
         raise InputTypeError(f"result = {result!r:.60}: must be a CalibrationResult")

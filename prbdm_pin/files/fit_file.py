@@ -36,6 +36,25 @@ def save_fit(result: FitResult, path: str | os.PathLike, beam=None):
     -------
     pathlib.Path
         The file written.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> EI = beam.material.E_Pa * 0.05 * 0.01**3 / 12  # N m^2
+    >>> rho_A = beam.material.rho_kg_m3 * 0.05 * 0.01  # kg/m
+    >>> w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, L = 1 m
+    >>> target = pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> path = pp.save_fit(result, folder / "fit.json", beam=beam)
+    >>> again = pp.load_fit(path)
+    >>> bool(np.array_equal(again.lengths_m, result.lengths_m))
+    True
     """
     from ..io.paths import check_out_file
     from ..member.geometry import Beam, beam_to_dict
@@ -87,6 +106,24 @@ def load_fit(path: str | os.PathLike, beam=None) -> FitResult:
     ------
     BeamInputError
         Naming the file, the field and the value.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> EI = beam.material.E_Pa * 0.05 * 0.01**3 / 12  # N m^2
+    >>> rho_A = beam.material.rho_kg_m3 * 0.05 * 0.01  # kg/m
+    >>> w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, L = 1 m
+    >>> target = pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> again = pp.load_fit(pp.save_fit(result, folder / "fit.json", beam=beam))
+    >>> again.joints, again.objective
+    (2, 'eigen')
     """
     from ..io.jsonfile import read_json
     from ..member.geometry import Beam

@@ -185,6 +185,21 @@ def read_plant_json(path: str | os.PathLike):
     BeamInputError
         Naming the file and the field (``hub.inertia_kg_m2``, ``actuators[1].x_end_m``,
         ``actuators[0].joint_weights``, ...).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> patch = pp.StrainActuator(0.1, 0.3)  # over the joint at 0.2 m
+    >>> path = pp.export_model(model, folder / "model.json", "json", actuators=(patch,))
+    >>> again, actuators = pp.read_plant_json(path)
+    >>> again.n_joints, actuators[0].x_start_m, actuators[0].x_end_m
+    (2, 0.1, 0.3)
     """
     from ..io.jsonfile import read_json
     from ..io.record_checks import LINK_FLOOR_FRACTION, check_chain, file_kind
@@ -240,5 +255,19 @@ def read_model_json(path: str | os.PathLike):
     -------
     PrbdmModel
         The model: link lengths in m, springs in N m/rad.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> path = pp.export_model(model, folder / "model.json", "json")
+    >>> again = pp.read_model_json(path)
+    >>> bool(np.allclose(again.natural_frequencies(), model.natural_frequencies()))
+    True
     """
     return read_plant_json(path)[0]

@@ -60,6 +60,19 @@ class ModelFile:
         The per-mode damping ratios a model JSON records in the modal form (a calibration's
         fitted ratios: ``prbdm calibrate``), or those a model JSON's or URDF's ``modal_fit``
         damping was fitted to, mode 1 first; None otherwise.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> source = pp.load_model(model.write_urdf(folder / "model.urdf"))
+    >>> isinstance(source, pp.ModelFile), source.fit is None
+    (True, True)
     """
 
     path: Path
@@ -96,6 +109,20 @@ def load_model(path: str | os.PathLike, beam: Beam | str | os.PathLike | None = 
     BeamInputError
         A missing file, a file of another kind (a beam, a truth, ...), a fit.json without a
         beam, a beam that is not the fit's, or a malformed file (naming the field).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> path = model.write_urdf(folder / "model.urdf")
+    >>> source = pp.load_model(path)
+    >>> source.kind, source.model.n_joints
+    ('urdf', 2)
     """
     from ..io.jsonfile import read_json
     from ..io.record_checks import file_kind

@@ -104,6 +104,20 @@ def load_urdf(path: str | os.PathLike) -> PrbdmModel:
     (``prbdm fit --gravity``) states that gravity in its comment
     (``prbdm_pin.load_model(path).gravity_m_s2`` reads it): simulate it with that gravity
     (``simulate(..., gravity_m_s2=...)``), as it was fitted.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> path = model.write_urdf(folder / "model.urdf")
+    >>> again = pp.load_urdf(path)
+    >>> bool(np.allclose(again.natural_frequencies(), model.natural_frequencies()))
+    True
     """
     text = read_urdf_text(path)
     what = f"urdf file {str(path)!r}"

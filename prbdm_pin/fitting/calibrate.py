@@ -119,6 +119,20 @@ def calibrate(model, data: RingDown | DrivenTrajectory | FrequencyResponse | str
     BeamInputError
         Naming the argument: unknown parameters, too few samples for the unknowns, a
         constant channel, a parameter the data cannot determine (and which).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> w = np.sqrt(1.1) * model.natural_frequencies()[0]  # rad/s: E 10 % up
+    >>> t = np.arange(500) * 2e-3  # s
+    >>> y = 1e-3 * np.exp(-0.01 * w * t) * np.cos(w * np.sqrt(1 - 0.01**2) * t)  # m, ratio 0.01
+    >>> data = pp.RingDown(t_s=t, y=y[:, None], channels=("tip_z",))
+    >>> cal = pp.calibrate(model, data, ("E", "damping[0]"))
+    >>> round(cal.E_scale, 4), round(float(cal.damping_ratio[0]), 4)
+    (1.1, 0.01)
     """
     from ..model.prbdm_model import PrbdmModel
 

@@ -34,6 +34,15 @@ class RingDown:
         Measured outputs (SI units of each output), one column per channel.
     channels : tuple of str
         The outputs' names as :func:`prbdm_pin.linearize` spells them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> t = np.arange(100) * 1e-3  # s
+    >>> data = pp.RingDown(t_s=t, y=1e-3 * np.cos(60.0 * t)[:, None], channels=("tip_z",))
+    >>> data.y.shape, data.channels
+    ((100, 1), ('tip_z',))
     """
 
     t_s: np.ndarray
@@ -140,6 +149,20 @@ def read_ring_down(path: str | os.PathLike) -> RingDown:
     Returns
     -------
     RingDown
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> t = np.arange(100) * 1e-3  # s
+    >>> np.savetxt(folder / "ring.csv", np.c_[t, 1e-3 * np.cos(60.0 * t)], delimiter=",",
+    ...            header="t_s,tip_z_m", comments="")
+    >>> data = pp.read_ring_down(folder / "ring.csv")
+    >>> data.channels, data.y.shape
+    (('tip_z',), (100, 1))
     """
     what, head, vals = read_table(path)
     if not head or head[0] != "t_s" or len(head) < 2:

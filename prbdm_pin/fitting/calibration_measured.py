@@ -52,6 +52,16 @@ class DrivenTrajectory:
         The measured outputs, SI units.
     channels : tuple of str
         The outputs' names as :func:`prbdm_pin.linearize` spells them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> t = np.linspace(0.0, 0.1, 11)  # s
+    >>> run = pp.DrivenTrajectory(t_s=t, u=np.ones((11, 1)), inputs=("tip_force_z",),
+    ...                           y=np.zeros((11, 1)), channels=("tip_z",))
+    >>> run.u.shape, run.y.shape
+    ((11, 1), (11, 1))
     """
 
     t_s: np.ndarray
@@ -73,6 +83,17 @@ class FrequencyResponse:
         Output per unit input of each transfer function (SI units of output / input).
     outputs, inputs : tuple of str
         Each transfer function's output and input, as :func:`prbdm_pin.linearize` names them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> f = np.linspace(1.0, 20.0, 10)  # Hz
+    >>> H = 1e-3 / (1 - (f / 9.0)**2 + 0.04j * f / 9.0)  # m/N
+    >>> frf = pp.FrequencyResponse(f_hz=f, H=H[:, None], outputs=("tip_z",),
+    ...                            inputs=("tip_force_z",))
+    >>> frf.H.shape
+    (10, 1)
     """
 
     f_hz: np.ndarray
@@ -226,6 +247,21 @@ def read_calibration_data(path: str | os.PathLike
     Returns
     -------
     RingDown, DrivenTrajectory or FrequencyResponse
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> f = np.linspace(1.0, 20.0, 10)  # Hz
+    >>> H = 1e-3 / (1 - (f / 9.0)**2 + 0.04j * f / 9.0)  # m/N, one mode at 9 Hz
+    >>> np.savetxt(folder / "frf.csv", np.c_[f, H.real, H.imag], delimiter=",", comments="",
+    ...            header="f_hz,tip_z/tip_force_z_re,tip_z/tip_force_z_im")
+    >>> data = pp.read_calibration_data(folder / "frf.csv")
+    >>> type(data).__name__, data.outputs, data.inputs, data.H.shape
+    ('FrequencyResponse', ('tip_z',), ('tip_force_z',), (10, 1))
     """
     what, head, vals = read_table(path)
     if head and head[0] == "f_hz":

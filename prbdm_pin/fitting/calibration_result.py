@@ -55,6 +55,20 @@ class CalibrationResult:
     model_damping_ratio : ndarray (n_springs,)
         The modal ratio of every mode of the calibrated chain: the fitted ones, the given
         ``damping_ratio`` for the others (with Rayleigh damping, its ratio at each mode).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> w = np.sqrt(1.1) * model.natural_frequencies()[0]  # rad/s: E 10 % up
+    >>> t = np.arange(500) * 2e-3  # s
+    >>> y = 1e-3 * np.exp(-0.01 * w * t) * np.cos(w * np.sqrt(1 - 0.01**2) * t)  # m, ratio 0.01
+    >>> data = pp.RingDown(t_s=t, y=y[:, None], channels=("tip_z",))
+    >>> cal = pp.calibrate(model, data, ("E", "damping[0]"))
+    >>> cal.parameters, round(float(cal.omega_rad_s[0] / w), 4)
+    (('E', 'damping[0]'), 1.0)
     """
 
     parameters: tuple[str, ...]

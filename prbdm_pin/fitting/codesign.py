@@ -64,6 +64,17 @@ class CodesignPoint:
         rad/s and m per unit; None without ``gradient``.
     truth_s, fit_s, gradient_s : float
         Wall time (s) of the truth (with its gradient when asked), the fit, and the chain rule.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> point = pp.codesign_point(pp.Design(beam, ("thickness",)), [0.01], joints=2)
+    >>> point.names, point.units
+    (('thickness',), ('m',))
+    >>> round(float(point.d_mass_kg[0]), 1)  # kg/m: rho L 2 w = 7850 x 1 x 0.05
+    392.5
     """
 
     names: tuple[str, ...]
@@ -173,6 +184,18 @@ def codesign_point(design: Design, p: np.ndarray, joints: int = 3, *, truth_mode
         A design outside its bounds, bad arguments.
     SolveError, TruthError
         The fit's rule or the truth fails at this design.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> design = pp.Design(beam, ("thickness",))
+    >>> point = pp.codesign_point(design, [0.01], joints=2)
+    >>> point.omega_rad_s.round(1), round(point.mass_kg, 3)
+    (array([ 51.9, 325.1]), 3.925)
+    >>> (point.d_omega_rad_s[:, 0] * 0.01 / point.omega_rad_s).round(3)  # omega ~ t
+    array([1., 1.])
     """
     from . import fit
     from .design_derivatives import fit_design_gradient

@@ -74,6 +74,21 @@ class FitDesignGradient:
         In the fit coordinates x = [u, ln s] (both dimensionless), per unit of p_j.
     cond : float
         Condition number of G_z (dimensionless).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> design = pp.Design(beam, ("thickness",))
+    >>> truth = pp.truth_gradient(beam, design, model="beam", modes=2)
+    >>> target = pp.FitTarget(omega_truth_rad_s=truth.omega_rad_s, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint",
+    ...                 unique="nearest", progress=False)
+    >>> g = pp.fit_design_gradient(result, design, [0.01], truth)
+    >>> g.names, g.units, g.d_lengths_m.shape
+    (('thickness',), ('m',), (3, 1))
     """
 
     names: tuple[str, ...]
@@ -158,6 +173,21 @@ def fit_design_gradient(result: FitResult, design: Design, p: np.ndarray,
         Not a ``unique="nearest"`` fit, variables that differ, or a fit of other frequencies.
     SolveError
         Singular KKT conditions.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> design = pp.Design(beam, ("thickness",))
+    >>> truth = pp.truth_gradient(beam, design, model="beam", modes=2)
+    >>> target = pp.FitTarget(omega_truth_rad_s=truth.omega_rad_s, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint",
+    ...                 unique="nearest", progress=False)
+    >>> g = pp.fit_design_gradient(result, design, [0.01], truth)
+    >>> (g.d_stiffness_Nm_per_rad[:, 0] * 0.01 / result.stiffness_Nm_per_rad).round(3)  # k ~ t^3
+    array([3., 3.])
     """
     check_type("result", result, FitResult)
     check_type("design", design, Design)

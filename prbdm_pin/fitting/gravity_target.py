@@ -47,6 +47,15 @@ def gravity_target(beam: Beam, gravity_m_s2, modes: int = 3,
     ------
     BeamInputError
         A bad gravity (naming it), or a member that buckles under its weight.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> target = pp.gravity_target(beam, [0.0, 0.0, -9.81], modes=2)
+    >>> target.omega_truth_rad_s.shape, target.gravity_m_s2
+    ((2,), array([ 0.  ,  0.  , -9.81]))
     """
     from ..truth.elastica import elastica_static
     from ..truth.elastica_modes import elastica_gravity_modes

@@ -218,6 +218,22 @@ def fit(
     BeamInputError
         On invalid options, workers or warm start, or a deflection objective without a truth
         tip or a tip load.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> EI = beam.material.E_Pa * 0.05 * 0.01**3 / 12  # N m^2
+    >>> rho_A = beam.material.rho_kg_m3 * 0.05 * 0.01  # kg/m
+    >>> w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, L = 1 m
+    >>> target = pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> result.omega_model_rad_s.round(2)  # rad/s, the targets above
+    array([[ 51.87, 325.05]])
+    >>> result.stiffness_Nm_per_rad.shape
+    (2,)
     """
     t0 = time.perf_counter()
     check_fit_inputs(beam, target, joints, workers)

@@ -61,6 +61,23 @@ class FitDerivative:
         ``"kkt"`` (unique='nearest') or ``"normal"`` (least squares).
     cond : float
         Condition number of G_z (dimensionless).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> def eb_target(b):  # Euler-Bernoulli frequencies of a uniform 1 m strip, rad/s
+    ...     EI = b.material.E_Pa * 0.05 * b.thickness_m**3 / 12
+    ...     rho_A = b.material.rho_kg_m3 * 0.05 * b.thickness_m
+    ...     w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)
+    ...     return pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, eb_target(beam), 2, objective="eigen", stiffness="joint",
+    ...                 unique="nearest", progress=False)
+    >>> thick = lambda t: pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=t)
+    >>> d = pp.fit_derivative(result, thick, 0.01, eb_target)
+    >>> d.parameter, d.d_lengths_m.shape, d.d_stiffness_Nm_per_rad.shape
+    (0.01, (3,), (2,))
     """
 
     parameter: float
@@ -146,6 +163,23 @@ def fit_derivative(result: FitResult, beam_at: Callable[[float], Beam], paramete
         When ``result`` is not a ``joint`` fit that recorded its options.
     SolveError
         When the optimality conditions are singular (a fit that is not unique).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> def eb_target(b):  # Euler-Bernoulli frequencies of a uniform 1 m strip, rad/s
+    ...     EI = b.material.E_Pa * 0.05 * b.thickness_m**3 / 12
+    ...     rho_A = b.material.rho_kg_m3 * 0.05 * b.thickness_m
+    ...     w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)
+    ...     return pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> result = pp.fit(beam, eb_target(beam), 2, objective="eigen", stiffness="joint",
+    ...                 unique="nearest", progress=False)
+    >>> thick = lambda t: pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=t)
+    >>> d = pp.fit_derivative(result, thick, 0.01, eb_target)
+    >>> (d.d_stiffness_Nm_per_rad / (3 * result.stiffness_Nm_per_rad / 0.01)).round(3)
+    array([1., 1.])
     """
     check_type("result", result, FitResult)
     for name, f in (("beam_at", beam_at), ("target_at", target_at)):

@@ -104,6 +104,19 @@ def fit_pareto(
     ------
     BeamInputError
         On invalid options or workers, or a target without a truth tip or a tip load.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> options = pp.ParetoOptions(pop=12, generations=3, stiffness="joint", seed_starts=1)
+    >>> front = pp.fit_pareto(beam, target, 2, options, progress=False)
+    >>> front.F_pct.shape[1], bool(0 <= front.knee_index < front.F_pct.shape[0])
+    (2, True)
     """
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize

@@ -45,6 +45,19 @@ class ParetoResult(JsonRecord):
     options : ParetoOptions or None
         Every option the front was computed with (None in a file written before they were
         recorded).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> options = pp.ParetoOptions(pop=12, generations=3, stiffness="joint", seed_starts=1)
+    >>> front = pp.fit_pareto(beam, target, 2, options, progress=False)
+    >>> isinstance(front, pp.ParetoResult), front.joints, front.pop
+    (True, 2, 12)
     """
 
     array_fields: ClassVar[frozenset[str]] = ARRAY_FIELDS

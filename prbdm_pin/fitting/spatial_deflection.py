@@ -150,6 +150,18 @@ def spatial_load_target(target: FitTarget, solution) -> FitTarget:
     solution : CornerSolution
         :func:`prbdm_pin.truth.corner_static.corner_static`'s: its force (N), point, moment
         (N m), tip position and displacement (m) and twist (rad) replace the target's load case.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 0.3], half_width_m=[0.05, 0.05], thickness_m=0.002,
+    ...                tip_force_N=[0.0, 0.0, -1.0])
+    >>> target = pp.FitTarget(omega_truth_rad_s=[117.2, 732.6], tip_force_N=beam.tip_force_N)
+    >>> corner = pp.corner_static(beam, "plate", point="tip_corner_left", level=0)
+    >>> loaded = pp.spatial_load_target(target, corner)
+    >>> loaded.load_point, bool(loaded.tip_twist_rad != 0.0)  # a corner force twists the tip
+    ('tip_corner_left', True)
     """
     from ..options.validate import check_type
     from ..truth.corner_static import CornerSolution

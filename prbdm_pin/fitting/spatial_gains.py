@@ -56,6 +56,21 @@ def with_point_gains(target: FitTarget, truth, beam, points=None) -> FitTarget:
     ------
     BeamInputError
         Tip corners of a truth without a width (the 1D beam), or a truth of another beam.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 0.3], half_width_m=[0.05, 0.05], thickness_m=0.002,
+    ...                tip_force_N=[0.0, 0.0, -1.0])
+    >>> truth = pp.compute_truth(beam, model="plate", modes=2, mesh_level=0, error_tol_pct=None)
+    >>> truth.labels[:2]
+    ('bending', 'torsion')
+    >>> target = pp.with_point_gains(pp.target_from_truth(truth, beam.tip_force_N), truth, beam)
+    >>> gains = dict(target.point_gains)  # per mode, the tip centre's and corners' z amplitudes
+    >>> left, right = gains["tip_corner_left"][1], gains["tip_corner_right"][1]  # mode 2, torsion
+    >>> bool(np.isclose(left, -right)), bool(abs(gains["tip"][1]) < 1e-6 * abs(left))
+    (True, True)
     """
     from ..member.geometry import Beam
     from ..options.validate import check_type

@@ -46,6 +46,22 @@ class SweepResult:
         Each fit's time (the truth excluded), s.
     warm : ndarray of bool, shape (S,)
         Whether the step was warm-started from the step before.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> def eb_target(b):  # Euler-Bernoulli frequencies of a uniform 1 m strip, rad/s
+    ...     EI = b.material.E_Pa * 0.05 * b.thickness_m**3 / 12
+    ...     rho_A = b.material.rho_kg_m3 * 0.05 * b.thickness_m
+    ...     w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)
+    ...     return pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> designs = [pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=t)
+    ...            for t in (0.01, 0.011)]
+    >>> sweep = pp.fit_sweep(designs, eb_target, 2, objective="eigen", stiffness="joint",
+    ...                      unique="nearest", parameter=[0.01, 0.011], progress=False)
+    >>> len(sweep.fits), sweep.lengths_m.shape, sweep.parameter
+    (2, (2, 3), array([0.01 , 0.011]))
     """
 
     fits: tuple[FitResult, ...]
@@ -168,6 +184,24 @@ def fit_sweep(
     ------
     BeamInputError
         On a path that cannot be continuous, or parameters or targets that do not match it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> def eb_target(b):  # Euler-Bernoulli frequencies of a uniform 1 m strip, rad/s
+    ...     EI = b.material.E_Pa * 0.05 * b.thickness_m**3 / 12
+    ...     rho_A = b.material.rho_kg_m3 * 0.05 * b.thickness_m
+    ...     w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)
+    ...     return pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> designs = [pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=t)
+    ...            for t in (0.01, 0.011)]
+    >>> sweep = pp.fit_sweep(designs, eb_target, 2, objective="eigen", stiffness="joint",
+    ...                      unique="nearest", progress=False)
+    >>> (sweep.stiffness_Nm_per_rad[1] / sweep.stiffness_Nm_per_rad[0]).round(3)  # k ~ t^3
+    array([1.331, 1.331])
+    >>> round(1.1**3, 3)
+    1.331
     """
     from ..io.progress import progress_bar
 

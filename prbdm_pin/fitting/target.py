@@ -43,6 +43,19 @@ class LoadCase:
         Force at the tip, N (world).
     tip_position_m, tip_displacement_m : ndarray, shape (3,)
         Truth large-deflection tip position and displacement under it, m.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> case = pp.LoadCase(tip_force_N=[0, 0, -10.0], tip_position_m=[1.0, 0, -0.004],
+    ...                    tip_displacement_m=[0, 0, -0.004])
+    >>> case.tip_force_N
+    array([  0.,   0., -10.])
+    >>> pp.LoadCase(tip_force_N=[0, 0, -10.0], tip_position_m=[1.0, 0, 0],
+    ...             tip_displacement_m=[0, 0, 0])
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: tip_displacement_m = 0: a load case needs a deflection
     """
 
     tip_force_N: np.ndarray
@@ -111,6 +124,18 @@ class FitTarget:
         The gravity the truth was computed in, m/s^2, member axes (g_y = 0): its frequencies
         are about its sag and its tips under the loads plus its weight, and a fit evaluates
         the chain in the same gravity (:mod:`prbdm_pin.fitting.gravity_fit`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> EI = beam.material.E_Pa * 0.05 * 0.01**3 / 12  # N m^2
+    >>> rho_A = beam.material.rho_kg_m3 * 0.05 * 0.01  # kg/m
+    >>> w = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, L = 1 m
+    >>> target = pp.FitTarget(omega_truth_rad_s=w, tip_force_N=[0.0, 0.0, -1.0])
+    >>> target.omega_truth_rad_s.round(2)
+    array([ 51.87, 325.05])
     """
 
     omega_truth_rad_s: np.ndarray
@@ -276,6 +301,20 @@ def target_from_truth(truth, tip_force_N: np.ndarray,
     -------
     FitTarget
         The target, with the truth's frequencies, tip, MAC and mode labels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> target.omega_truth_rad_s.round(2)
+    array([ 51.87, 325.05])
+    >>> EI = beam.material.E_Pa * 0.05 * 0.01**3 / 12  # N m^2
+    >>> (np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / 3.925)).round(2)  # Euler-Bernoulli
+    array([ 51.87, 325.05])
     """
     from ..truth.result import TruthResult
 

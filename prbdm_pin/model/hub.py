@@ -54,6 +54,13 @@ class Hub:
         The world axis the hub turns about, through the origin (default ``"y"``: in the
         beam's bending plane). ``"z"``: the beam sweeps the xy-plane and bends out of it;
         ``"x"``: the beam spins about its own axis (the radius then lies along the axis).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> hub = pp.Hub(inertia_kg_m2=0.5, radius_m=0.05)
+    >>> hub.axis, hub.inertia_kg_m2
+    ('y', 0.5)
     """
 
     inertia_kg_m2: float

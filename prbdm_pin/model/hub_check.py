@@ -30,7 +30,14 @@ LIGHT_HUB_SHIFT_PCT = 25.0
 
 
 class LightHubWarning(UserWarning):
-    """A hub light enough that a model fitted to the clamped truth loses accuracy on it."""
+    """A hub light enough that a model fitted to the clamped truth loses accuracy on it.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> issubclass(pp.LightHubWarning, UserWarning)
+    True
+    """
 
 
 def hub_shift(model) -> tuple[float, float, float, float]:

@@ -100,6 +100,17 @@ class StrainActuator:
     ``joint_weights`` (one finite number per joint, N m per N m of patch moment), when given,
     replaces the virtual-work map (see the module notes); its length is checked against the
     model where the actuator is used.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> patch = pp.StrainActuator(x_start_m=0.1, x_end_m=0.3)
+    >>> patch.x_start_m, patch.x_end_m
+    (0.1, 0.3)
+    >>> pp.StrainActuator(x_start_m=0.2, x_end_m=0.1)
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: StrainActuator x_start_m = 0.2: must be < x_end_m = 0.1 (m)
     """
 
     x_start_m: float

@@ -60,6 +60,13 @@ class DistributedLoad:
     Its intensity at station x is u (w_a + (w_b - w_a) (x - x_a) / (x_b - x_a)) N/m, u the
     input (N/m) and w_a, w_b the dimensionless ``start_weight`` and ``end_weight`` (default 1:
     uniform). Where the beam ends is checked where the load is used.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> load = pp.DistributedLoad(0.0, 1.0, start_weight=1.0, end_weight=0.0)  # a triangle
+    >>> load.start_weight, load.end_weight
+    (1.0, 0.0)
     """
 
     x_start_m: float

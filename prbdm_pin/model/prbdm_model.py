@@ -82,6 +82,19 @@ class PrbdmModel(ChainKinematics):
     use, which is for one thread only; a thread or process of its own makes its workspace with
     :meth:`new_data` and passes it in (the fit and batch workers are processes that build their
     own models, so they share none).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> isinstance(model, pp.PrbdmModel)
+    True
+    >>> model.lengths_m, model.stiffness_Nm_per_rad
+    (array([0.2, 0.5, 0.3]), array([2500., 1200.]))
+    >>> round(float(model.sections.mass_kg.sum()), 4), round(beam.mass_kg, 4)  # kg
+    (3.925, 3.925)
     """
 
     beam: Beam | None
@@ -301,6 +314,17 @@ def build_model(
         A hub so light that it moves mode 1 by more than 25 % toward the pinned-free beam,
         where a model fitted to the clamped truth loses accuracy
         (:mod:`prbdm_pin.plant.hub_check` says how it is estimated).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])  # m, N m/rad
+    >>> model.n_joints
+    2
+    >>> model.natural_frequencies().round(1)  # rad/s
+    array([ 59. , 320.9])
     """
     check_type("beam", beam, Beam)
     if support is not None:

@@ -77,6 +77,13 @@ class FreeBus:
         frame's x axis (default the origin).
 
     The bus frame coincides with the world frame at q = 0.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> bus = pp.FreeBus(mass_kg=20.0, inertia_kg_m2=[1.0, 1.2, 0.8])
+    >>> bus.mass_kg
+    20.0
     """
 
     mass_kg: float

@@ -57,6 +57,14 @@ class Objective(Choice):
 
     The fit asks an objective which terms it has (:attr:`has_eigen_term`,
     :attr:`has_deflection_term`) instead of testing its name.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.Objective.values()
+    ('eigen', 'deflection', 'combined')
+    >>> pp.Objective("combined").has_eigen_term, pp.Objective("combined").has_deflection_term
+    (True, True)
     """
 
     EIGEN = "eigen"
@@ -75,21 +83,44 @@ class Objective(Choice):
 
 
 class StiffnessKind(Choice):
-    """One SCF per pose on equation 14 (``paper``), or one factor per joint (``joint``)."""
+    """One SCF per pose on equation 14 (``paper``), or one factor per joint (``joint``).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.StiffnessKind.values()
+    ('paper', 'joint')
+    >>> str(pp.StiffnessKind.JOINT)
+    'joint'
+    """
 
     PAPER = "paper"
     JOINT = "joint"
 
 
 class EigenNorm(Choice):
-    """The eigen error per pose: equation 16's l2 norm, or the rms of per-mode relative errors."""
+    """The eigen error per pose: equation 16's l2 norm, or the rms of per-mode relative errors.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.EigenNorm.values()
+    ('paper', 'relative')
+    """
 
     PAPER = "paper"
     RELATIVE = "relative"
 
 
 class DeflectionNorm(Choice):
-    """What a tip error is divided by: the truth tip position (equation 19) or its displacement."""
+    """What a tip error is divided by: the truth tip position (equation 19) or its displacement.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.DeflectionNorm.values()
+    ('position', 'displacement')
+    """
 
     POSITION = "position"
     DISPLACEMENT = "displacement"
@@ -100,6 +131,14 @@ class Axes(Choice):
 
     ``y``: bending out of the plane only (the planar chain); ``xy`` adds torsion about the link
     axis x; ``yz`` adds bending in the plane (about z); ``xyz`` all three.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> pp.Axes("xyz").joint_order
+    ('y', 'z', 'x')
+    >>> pp.Axes.Y.spatial, pp.Axes.XY.spatial
+    (False, True)
     """
 
     Y = "y"

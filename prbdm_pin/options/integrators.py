@@ -113,6 +113,16 @@ class Exponential(Integrator):
     min_step_ratio : float
         The step control never shortens a step below this fraction of the nominal step, in
         (0, 1].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Exponential(step_rtol=1e-4))
+    >>> run.method, float(run.t_s[-1])
+    ('exponential', 0.05)
     """
 
     method: ClassVar[str] = "exponential"
@@ -164,6 +174,21 @@ class Gauss(Integrator):
     max_halvings : int
         A step whose Newton iteration fails is redone as two half steps, recursively, at most
         this many times over (then SolveError).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Gauss(dt_s=1e-4),
+    ...                   damping_ratio=0.0)
+    >>> run.steps  # 0.05 s / 1e-4 s
+    500
+    >>> pp.Gauss(dt_s=-1.0)
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: dt_s = -1.0: must be a finite number > 0 (s)
     """
 
     method: ClassVar[str] = "gauss"
@@ -192,6 +217,16 @@ class Trapezoidal(Integrator):
         at the initial pose over ``steps_per_period``).
     steps_per_period : float or None
         Default-step rule, >= 1 (None: 100).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Trapezoidal(dt_s=1e-4))
+    >>> run.method
+    'trapezoidal'
     """
 
     method: ClassVar[str] = "trapezoidal"
@@ -219,6 +254,20 @@ class ScipyIVP(Integrator):
     atol : float or None
         Absolute tolerance (None: ``rtol`` times the largest initial joint angle, at least
         1e-6 rad).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> method = pp.ScipyIVP("DOP853", rtol=1e-8)
+    >>> pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=method).method
+    'DOP853'
+    >>> pp.ScipyIVP("Euler")
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: method = 'Euler': must be one of RK45, RK23, DOP853, ...
     """
 
     _spelled: ClassVar[tuple[str, ...]] = ("rtol", "atol")

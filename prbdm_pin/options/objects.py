@@ -195,6 +195,17 @@ class FitOptions(_ProblemOptions):
         ``joint`` springs to the truth's modes of each kind (``frequencies`` of each kind,
         default n) with the ``eigen`` objective, to the tip in 3D and its twist under a tip
         load with ``deflection``, to both with ``combined`` (``fitting/spatial_deflection.py``).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> options = pp.FitOptions(stiffness="joint", objective="eigen", starts=2)
+    >>> str(options.stiffness), str(options.objective), options.starts
+    ('joint', 'eigen', 2)
+    >>> pp.FitOptions(starts=0)
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: starts = 0: must be an integer in 1..100000
     """
 
     kind: ClassVar[str] = "fit"
@@ -272,6 +283,13 @@ class ParetoOptions(_ProblemOptions):
         Starts of each seeding fit.
     polish_knee : bool
         Polish the NSGA-II knee with the Eq. 27 local solver.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> options = pp.ParetoOptions(pop=20, generations=5)
+    >>> options.pop, options.generations
+    (20, 5)
     """
 
     kind: ClassVar[str] = "pareto"

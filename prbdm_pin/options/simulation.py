@@ -64,6 +64,13 @@ class SimulationOptions:
     integrator : Integrator or None
         The integrator whole, with the fields no other option spells (its step control's
         tolerances and caps); None: built from ``method`` and the fields beside it.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> options = pp.SimulationOptions(damping_ratio=0.05)
+    >>> options.method, options.damping_ratio
+    ('exponential', 0.05)
     """
 
     kind: ClassVar[str] = "simulation"

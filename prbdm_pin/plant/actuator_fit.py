@@ -234,6 +234,21 @@ def fit_strain_actuators(model, truth, beam, actuators: Sequence, match: str = "
     BeamInputError
         Bad actuators, a truth of another beam or with fewer modes than joints, model modes not
         well separated or not paired with the truth's, a weight beyond ``WEIGHT_LIMIT``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> patches = pp.fit_strain_actuators(model, truth, beam, [(0.0, 0.1)])
+    >>> len(patches), len(patches[0].joint_weights)
+    (1, 2)
     """
     from ..member.geometry import Beam
     from ..model.checks import check_model

@@ -115,6 +115,25 @@ class PlantComparison:
     not_compared : tuple of (name, kind, reason)
         The PRBDM's inputs and outputs the truth plant does not have.
     notes : tuple of str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> from prbdm_pin.truth.plant import clamped_model
+    >>> truth_plant = clamped_model(truth, beam, damping_ratio=0.02)
+    >>> comparison = pp.compare_plant(pp.linearize(model), truth_plant)
+    >>> isinstance(comparison, pp.PlantComparison)
+    True
+    >>> [(pair.input_name, pair.output_name) for pair in comparison.pairs]
+    [('tip_force_z', 'tip_z')]
     """
 
     hub: bool
@@ -184,6 +203,23 @@ def compare_plant(prbdm, truth, omega_max_rad_s: float | None = None, n_points: 
     BeamInputError
         A loaded PRBDM, a hub on one side only, no common pair, an undamped flexible mode, fewer
         truth modes than PRBDM modes, or a bad band or horizon.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> from prbdm_pin.truth.plant import clamped_model
+    >>> lin = pp.linearize(model, damping_ratio=0.02)
+    >>> comparison = pp.compare_plant(lin, clamped_model(truth, beam, damping_ratio=0.02))
+    >>> [round(m.frequency_error_pct, 3) for m in comparison.modes]
+    [0.0, 0.0]
     """
     _prbdm_unloaded(prbdm)
     p, t = second_order(prbdm, "prbdm"), second_order(truth, "truth")

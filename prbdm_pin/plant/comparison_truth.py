@@ -42,6 +42,21 @@ class TruthPlantComparison:
         Per flexible mode and per (input, output) pair (frequencies rad/s, errors %).
     damping_ratio : float
         Modal damping ratio of every flexible mode of both plants.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> report = pp.compare_truth_plant(pp.linearize(model), model, result.truth_request)
+    >>> isinstance(report, pp.TruthPlantComparison), report.damping_ratio
+    (True, 0.02)
     """
 
     request: TruthRequest
@@ -98,6 +113,22 @@ def compare_truth_plant(lin, model, request: TruthRequest, actuators: Sequence =
     ------
     BeamInputError
         A model without its beam, or a truth model with no modal plant.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> lin = pp.linearize(model, damping_ratio=0.02)
+    >>> report = pp.compare_truth_plant(lin, model, result.truth_request)
+    >>> [round(m.frequency_error_pct, 3) for m in report.comparison.modes]
+    [0.0, 0.0]
     """
     from ..model.checks import check_model
     from ..options.validate import check_type

@@ -177,6 +177,18 @@ def linearize(
     ------
     BeamInputError
         Naming a bad argument. SolveError when no equilibrium is found or M is singular.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> lin = pp.linearize(model, inputs=("tip_force_z",), outputs=("tip_z",))
+    >>> lin.A.shape, lin.B.shape, lin.C.shape
+    ((4, 4), (4, 1), (1, 4))
+    >>> bool(np.allclose(lin.modal().omega_rad_s, model.natural_frequencies()))
+    True
     """
     from ..model.prbdm_model import PrbdmModel
 

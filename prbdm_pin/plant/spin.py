@@ -131,6 +131,18 @@ def spinning_frequencies(model, spin_rad_s: float, hub_free: bool = True,
     ------
     BeamInputError
         ``model`` without a hub, a ``spin_rad_s`` that is not finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> hub_model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0],
+    ...                           hub=pp.Hub(inertia_kg_m2=50.0))
+    >>> still = pp.spinning_frequencies(hub_model, 0.0, hub_free=False)
+    >>> spun = pp.spinning_frequencies(hub_model, 10.0, hub_free=False)
+    >>> bool(np.all(spun > still))  # centrifugal stiffening
+    True
     """
     from ..model.prbdm_model import PrbdmModel
 
@@ -164,6 +176,18 @@ def gyroscopic_frequencies(lin) -> np.ndarray:
     ------
     BeamInputError
         ``lin`` not linearised about a spin (InputTypeError: not a LinearModel).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> hub_model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0],
+    ...                           hub=pp.Hub(inertia_kg_m2=50.0))
+    >>> lin = pp.linearize(hub_model, inputs=("hub_torque",), outputs=("hub_angle",),
+    ...                    spin_rad_s=5.0)
+    >>> pp.gyroscopic_frequencies(lin).round(1)
+    array([ 59.8, 321.3])
     """
     from .state_space import LinearModel
 

@@ -47,6 +47,16 @@ class ModalData:
         Phi^T B_q: modal force per unit input.
     output_gains_position, output_gains_rate : ndarray (p, k)
         C_q Phi and C_v Phi: output per unit modal coordinate and per unit modal rate.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> modes = pp.linearize(model, damping_ratio=0.02).modal()
+    >>> modes.omega_rad_s.round(1), modes.damping_ratio.round(3)
+    (array([ 59. , 320.9]), array([0.02, 0.02]))
     """
 
     omega_rad_s: np.ndarray
@@ -99,6 +109,20 @@ class LinearModel:
 
     The modal gains (:meth:`modal`) are of C_q and C_v only: an output that reads the
     acceleration has its C_a Phi path left out there (the state space has it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> lin = pp.linearize(model)
+    >>> lin.input_names, lin.output_names, lin.output_units
+    (('tip_force_z',), ('tip_z',), ('m',))
+    >>> static = lin.frequency_response(np.array([0.0]))[0].real[0, 0]  # m/N at 0 rad/s
+    >>> tip = pp.statics(model, tip_force_N=[0.0, 0.0, 1e-3]).tip_displacement_m[2] / 1e-3
+    >>> bool(np.isclose(static, tip, rtol=1e-4))
+    True
     """
 
     A: np.ndarray

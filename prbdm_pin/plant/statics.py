@@ -54,6 +54,18 @@ class StaticEquilibrium:
         The distributed load's intensity, N/m, world (zeros where absent).
     distributed_span_m : tuple (2,)
         Its span, m from the root (the whole beam by default).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> eq = pp.statics(model, tip_force_N=[0.0, 0.0, -1.0])
+    >>> isinstance(eq, pp.StaticEquilibrium), eq.q_rad.shape
+    (True, (2,))
+    >>> round(float(eq.tip_force_N[2]), 1)
+    -1.0
     """
 
     q_rad: np.ndarray
@@ -123,6 +135,18 @@ def statics(model, tip_force_N=None, tip_moment_Nm=None, gravity_m_s2=None, *,
     BeamInputError
         A load that is not 3 finite numbers (naming it), or a hub model. SolveError when no
         equilibrium is found.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> one_r = pp.build_model(beam, [0.2, 0.8], [2500.0])  # one joint, 0.8 m from the tip
+    >>> eq = pp.statics(one_r, tip_force_N=[0.0, 0.0, -1.0])
+    >>> round(float(eq.tip_displacement_m[2]) * 1e3, 4)  # mm
+    -0.256
+    >>> round(-1.0 * 0.8**2 / 2500.0 * 1e3, 4)  # mm, small angles: F a^2 / k
+    -0.256
     """
     from ..model.prbdm_model import PrbdmModel
 

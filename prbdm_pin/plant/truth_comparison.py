@@ -47,6 +47,21 @@ class TruthComparison:
         Errors (fractions, phase in rad) and the curves (m/N against s and rad/s).
     damping_ratio : float
         Modal damping ratio of every mode on both sides.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> comparison = pp.compare_truth(model, result.truth_request)
+    >>> isinstance(comparison, pp.TruthComparison), comparison.truth_model
+    (True, 'beam')
     """
 
     request: TruthRequest
@@ -136,6 +151,21 @@ def compare_truth(model, request: TruthRequest | None = None, damping_ratio: flo
     ------
     BeamInputError
         A model without its beam, or a request for another truth model.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> comparison = pp.compare_truth(model, result.truth_request)
+    >>> round(comparison.accuracy.frf_error, 2), round(comparison.accuracy.step_error, 2)
+    (0.1, 0.1)
     """
     from ..model.checks import check_model
 

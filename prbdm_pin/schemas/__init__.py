@@ -31,6 +31,17 @@ def load_schema(name: str) -> dict[str, Any]:
     -------
     dict
         The schema; its ``$id`` is what the others' ``$ref`` name.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> schema = pp.load_schema("beam")
+    >>> sorted(schema["required"])
+    ['x']
+    >>> pp.load_schema("truss")
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: name = 'truss': must be one of beam, fit, model
     """
     if not isinstance(name, str):
         raise InputTypeError(f"name = {type(name).__name__}: must be a str, one of "

@@ -66,6 +66,17 @@ class BaseMotion:
     span_s : tuple of float or None
         The time span the motion is defined on (samples' first and last time), s; None for
         functions defined at every time.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> shake = pp.BaseMotion(pose=lambda t: np.array([0, 0, 1e-3 * np.sin(50 * t), 0, 0, 0]),
+    ...                       rate=lambda t: np.array([0, 0, 5e-2 * np.cos(50 * t), 0, 0, 0]),
+    ...                       acceleration=lambda t: np.array([0, 0, -2.5 * np.sin(50 * t),
+    ...                                                        0, 0, 0]))
+    >>> shake.pose(0.0).shape  # x, y, z (m), roll, pitch, yaw (rad)
+    (6,)
     """
 
     pose: Callable[[float], np.ndarray]

@@ -138,6 +138,19 @@ def simulate(
     Returns
     -------
     Trajectory
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.5, tip_force=[0.0, 0.0, -1.0], damping_ratio=0.3)
+    >>> round(float(run.tip_displacement_m[-1, 2]) * 1e3, 3)  # mm, settled
+    -0.331
+    >>> eq = pp.statics(model, tip_force_N=[0.0, 0.0, -1.0])
+    >>> round(float(eq.tip_displacement_m[2]) * 1e3, 3)  # mm, the static equilibrium
+    -0.331
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
     check_model(model)

@@ -69,6 +69,16 @@ class ModalFitDamping:
         ||projected_ratios - requested_ratios||_2 (the fit's optimum).
     stiffness_residual : float
         The same for the best stiffness form c = beta k, beta >= 0 (never below ``residual``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> damping = pp.fit_joint_damping(model, [0.02, 0.02])
+    >>> isinstance(damping, pp.ModalFitDamping), damping.requested_ratios
+    (True, array([0.02, 0.02]))
     """
 
     joint_damping_Nms_per_rad: np.ndarray
@@ -225,6 +235,18 @@ def fit_joint_damping(model, damping_ratio: float | np.ndarray) -> ModalFitDampi
         ``model`` not a PrbdmModel.
     BeamInputError
         A ratio out of range, or not one per mode (naming ``damping_ratio``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> damping = pp.fit_joint_damping(model, 0.02)
+    >>> damping.joint_damping_Nms_per_rad.shape
+    (2,)
+    >>> damping.achieved_ratios.round(3)
+    array([0.02, 0.02])
     """
     from ..model.checks import check_model
 

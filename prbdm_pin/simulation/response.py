@@ -261,6 +261,22 @@ def dynamic_accuracy(
     -------
     DynamicAccuracy
         The errors (fractions; phase in rad) and the curves compared (m/N).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -100.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> target = pp.target_from_truth(truth, beam.tip_force_N)
+    >>> result = pp.fit(beam, target, 2, objective="eigen", stiffness="joint", starts=1,
+    ...                 progress=False)
+    >>> model = pp.build_model(beam, result.lengths_m, result.stiffness_Nm_per_rad)
+    >>> from prbdm_pin.simulation.response import truth_modal_tip
+    >>> acc = pp.dynamic_accuracy(model, truth_modal_tip(truth, beam), damping_ratio=0.02)
+    >>> round(acc.frf_error, 2), acc.t_s.shape == acc.step_model_m_per_N.shape
+    (0.1, True)
     """
     check_model(model)
     check_type("truth", truth, ModalTip, "a prbdm_pin.response.ModalTip (truth_modal_tip)")

@@ -23,6 +23,14 @@ class StiffnessSchedule:
         Joint angle theta_i of each sweep pose, strictly increasing, rad.
     stiffness_Nm_per_rad : ndarray, shape (m, n)
         Joint stiffness at each pose, N m/rad.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> schedule = pp.StiffnessSchedule(pose_angle_rad=[0.0, 0.5],
+    ...                                 stiffness_Nm_per_rad=[[2500.0, 1200.0], [2600.0, 1250.0]])
+    >>> schedule.stiffness_Nm_per_rad.shape  # (poses, joints)
+    (2, 2)
     """
 
     pose_angle_rad: np.ndarray

@@ -48,6 +48,16 @@ class Trajectory:
         The outputs at each sample (values, not deviations), in their units.
     integrator : Integrator or None
         The integrator whole (``method`` is its name): its step, tolerances and caps.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.02, q0=[0.01, 0.0])
+    >>> run.q_rad.shape[1], run.tip_position_m.shape[1], float(run.t_s[0])
+    (2, 3, 0.0)
     """
 
     t_s: np.ndarray
