@@ -41,6 +41,12 @@ EXAMPLES_TO_DO = frozenset({
     "ElasticaGradient", "corner_static",
     # prbdm_pin/files/export.py
     "export_model",
+    # the sections, the tube solid, the link meshes and the views
+    "RoundSection", "SectionTable", "SectionProperties", "round_beam", "table_beam",
+    "section_properties", "tube_solid_modes", "round_solid_modes", "TubeModes", "link_meshes",
+    "LinkMesh", "planform_link_mesh", "round_link_mesh", "ChainModes", "chain_modes",
+    "TruthShapes", "plot_mode_shapes", "animate_response", "write_model_modes_vtu",
+    "write_trajectory_vtu", "open_meshcat",
 })
 
 PUBLIC = tuple(name for name in pp._EXPORTS)
