@@ -65,7 +65,7 @@ _RGBA = "0.55 0.6 0.7 1"
 
 
 def link_meshes(model) -> tuple[LinkMesh, ...]:
-    """Each link's solid, ``link_0`` ... ``link_n``, in its own frame (m).
+    """Return the solid of every link (``link_0`` to ``link_n``), each in its own frame (m).
 
     Raises
     ------
