@@ -60,7 +60,7 @@ class ModalFitDamping:
     projected_ratios : ndarray, shape (n,)
         diag(Phi^T C Phi) / (2 omega): the ratios in the approximation the fit solves.
     achieved_ratios : ndarray, shape (n,)
-        The ratios from the damped chain's complex eigenvalues, -Re(lambda) / |lambda|.
+        The ratios from the damped chain's complex eigenvalues, ``-Re(lambda) / |lambda|``.
     ratio_errors : ndarray, shape (n,)
         ``achieved_ratios - requested_ratios`` (absolute, dimensionless).
     frequencies_rad_s : ndarray, shape (n,)
