@@ -84,6 +84,6 @@ sphinx_gallery_conf = {
     # no execution-times page (it loads its table scripts from CDNs)
     "write_computation_times": False,
     "show_signature": False,
-    # each run is a fresh process in CI; no caching of stale results between builds
+    # an example that fails stops the build (CI sees it), not a page showing its traceback
     "abort_on_example_error": True,
 }
