@@ -8,12 +8,15 @@ Named in ``sphinx_gallery_conf`` by their qualified names, so the configuration 
 
 from __future__ import annotations
 
+import logging
 import shutil
 from pathlib import Path
 
 from sphinx_gallery.scrapers import figure_rst
 
 OUT = Path(__file__).resolve().parents[1] / "_build" / "gallery_out"
+# the examples' finite-element solves log every assembly at INFO: 260 lines of the build's log
+logging.getLogger("skfem").setLevel(logging.WARNING)
 
 
 def _out(src_file: str) -> Path:
