@@ -11,6 +11,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 # the package documented is the one in this tree, installed or not
 sys.path.insert(0, str(ROOT))
+# the docs build's own hooks (sphinx-gallery's argv and figure scraper)
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
 
 import prbdm_pin  # noqa: E402
 
@@ -28,6 +30,8 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
     "sphinx_copybutton",
+    "sphinx_gallery.gen_gallery",
+    "sphinxarg.ext",
 ]
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
@@ -38,6 +42,11 @@ exclude_patterns = [
     "benchmarks/*.md",
     # the viewing page's table (scripts/view_figures.py) is included there
     "guide/viewing/*.md",
+    # sphinx-gallery's own by-products beside the pages it writes
+    "gallery/*.ipynb",
+    "gallery/*.py",
+    "gallery/*.md5",
+    "gallery/*.zip",
 ]
 
 myst_enable_extensions = ["dollarmath", "colon_fence"]
@@ -58,3 +67,25 @@ html_title = f"prbdm_pin {release}"
 # copy a command without its prompt or a doctest's output
 copybutton_prompt_text = r">>> |\.\.\. |\$ "
 copybutton_prompt_is_regexp = True
+
+# the examples gallery: every script of examples/ runs on each build in quick mode (1D beam
+# truth, seconds each), its --out under docs/_build/gallery_out/, and its page shows the script,
+# what it printed and the figure it wrote; the full-mode numbers and figures are on the example
+# pages of docs/examples/ (scripts/docs_example_figures.py writes those figures)
+sphinx_gallery_conf = {
+    "examples_dirs": "../examples",
+    "gallery_dirs": "gallery",
+    "filename_pattern": r"\.py$",  # run every example, not only plot_*.py
+    "reset_argv": "gallery_hooks.quick_argv",
+    "image_scrapers": ("gallery_hooks.png_scraper",),
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "within_subsection_order": "FileNameSortKey",
+    "min_reported_time": 1,
+    "show_memory": False,
+    # no execution-times page (it loads its table scripts from CDNs)
+    "write_computation_times": False,
+    "show_signature": False,
+    # an example that fails stops the build (CI sees it), not a page showing its traceback
+    "abort_on_example_error": True,
+}

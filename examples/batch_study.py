@@ -1,4 +1,5 @@
 """A small batch study: a folder of beams, each with its truth and fit, over a process pool.
+=========================================================================================
 
 ``prbdm_pin.run_batch`` runs one truth and one fit per beam in worker processes (one BLAS
 thread each), appends every finished beam to ``results.jsonl`` and writes ``results.csv``; rerun
@@ -25,8 +26,8 @@ from prbdm_pin.commands.script_cli import run_example
 from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import new_figure, save_png
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "batch_study.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "batch_study.py")).resolve().parents[1]
 QUICK_BEAMS = ("uniform-narrow", "tapered")
 FULL_BEAMS = ("uniform-narrow", "tapered", "tapered-linear", "stepped-narrow",
               "reference-random")
@@ -76,9 +77,11 @@ def main(quick: bool = False,
     ax.set(xlabel="link lengths (fractions of L); joints at the boundaries", xlim=(0.0, 1.0),
            title=f"fitted {settings.joints}R layouts, {settings.truth_model} truth")
     fig.tight_layout()
-    figure = save_png(fig, out / "batch_study.png" if quick else FIGURE)
+    figure = save_png(fig, out / "batch_study.png")
     return {"spec": spec, "records": records, "beams_dir": beams_dir, "figure": figure}
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "batch_study", main))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "batch_study", main):
+        raise SystemExit(code)

@@ -1,4 +1,5 @@
 """Control co-design, the short version: a hub slews a flexible panel, PRBDM against the truth.
+============================================================================================
 
 A rigid hub (inertia J_h, panel root at radius r = 0.1 L) carries the panel and a full-width
 strain patch over [0, 0.2 L]. J_h is solved for so that the hub raises the truth's first
@@ -30,8 +31,8 @@ from prbdm_pin.plant.slew_study import hub_inertia_for_stiffening
 from prbdm_pin.truth.plant import hybrid_model, truth_modal_gains
 from prbdm_pin.views.plots import new_figure, save_png
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "ccd_slew.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "ccd_slew.py")).resolve().parents[1]
 DAMPING_RATIO = 0.02  # every flexible mode, PRBDM and truth alike
 DESIGN = slew.SlewDesign(angle_rad=0.1)
 
@@ -98,11 +99,13 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "ccd_s
     ax[1].set(xlabel="t (s)", ylabel="elastic tip deflection (mm)", title="tip vibration")
     ax[0].legend(fontsize=7)
     fig.tight_layout()
-    figure = save_png(fig, out / "ccd_slew.png" if quick else FIGURE)
+    figure = save_png(fig, out / "ccd_slew.png")
     return {"t_s": t, "on_prbdm": on_prbdm, "on_truth": on_truth, "trajectory": traj,
             "linear": lin, "gain": comp.state_gain, "angle_rad": DESIGN.angle_rad,
             "figure": figure}
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "ccd_slew", main))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "ccd_slew", main):
+        raise SystemExit(code)

@@ -1,4 +1,5 @@
 """Export a fitted PRBDM as URDF and MJCF and run it in Pinocchio and MuJoCo.
+==========================================================================
 
 The model is fitted (joint springs), bent by the beam's tip force (large-deflection statics)
 and released. The same release runs three ways: ``prbdm_pin.simulate`` with the damping the
@@ -29,8 +30,8 @@ from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.model.urdf import read_springs
 from prbdm_pin.views.plots import new_figure, save_png
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "export_and_simulate.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "export_and_simulate.py")).resolve().parents[1]
 DAMPING_RATIO = 0.02  # mode 1; the files carry C = beta K
 
 
@@ -124,12 +125,14 @@ def main(quick: bool = False,
            title=f"{beam.name}: {model.n_joints}R released from its tip-load deflection")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figure = save_png(fig, out / "export_and_simulate.png" if quick else FIGURE)
+    figure = save_png(fig, out / "export_and_simulate.png")
     return {"t_s": t_mj, "tip_z_mujoco_m": z_mj, "tip_z_pinocchio_m": z_pin,
             "tip_z_simulate_m": z_pp, "peak_m": peak, "model": model, "q0_rad": q0,
             "figure": figure}
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "export_and_simulate",
-                                 main))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "export_and_simulate",
+                           main):
+        raise SystemExit(code)

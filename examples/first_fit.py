@@ -1,4 +1,5 @@
 """First fit: a shipped beam through the Python API, from truth to an exported URDF.
+=================================================================================
 
 The finite-element truth of a beam gives the natural frequencies (and the large-deflection tip)
 to match; a multistart fit places the joints and sizes the springs of an nR chain; the result
@@ -22,8 +23,8 @@ from prbdm_pin.commands.script_cli import run_example
 from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import plot_planform
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "first_fit.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "first_fit.py")).resolve().parents[1]
 
 
 def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "first_fit") -> dict:
@@ -58,7 +59,7 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "first
     reloaded = pp.load_urdf(urdf)  # springs from the file, gravity off
     print(f"wrote {urdf} and {out / 'fit.json'}")
 
-    figure = out / "first_fit.png" if quick else FIGURE
+    figure = out / "first_fit.png"
     plot_planform(beam, result.lengths_m, figure, title=f"{beam.name}: fitted {joints}R PRBDM")
     return {"beam": beam, "result": result, "figure": figure,
             "omega_truth_rad_s": np.asarray(result.omega_truth_rad_s),
@@ -67,4 +68,6 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "first
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "first_fit", main))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "first_fit", main):
+        raise SystemExit(code)

@@ -1,4 +1,7 @@
 """Gradient-based design with the PRBDM in the loop: the lightest panel that is stiff enough.
+==========================================================================================
+
+The problem::
 
     minimise    m(p)                    panel mass; p = thickness, root and tip half-widths
     subject to  omega_1(p) >= 130 rad/s the PRBDM's first natural frequency
@@ -30,8 +33,8 @@ from prbdm_pin.commands.script_cli import run_example
 from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import new_figure, save_png
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "gradient_design.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "gradient_design.py")).resolve().parents[1]
 OMEGA_MIN = 130.0  # rad/s
 DELTA_MAX = 0.09  # m
 LOWER = np.array([0.003, 0.010, 0.010])  # thickness, root and tip half-width, m
@@ -123,11 +126,13 @@ def main(quick: bool = False,
         a.set(xlabel="truth evaluations", ylabel=label)
     ax[1].set_title("SLSQP on the chained gradients", fontsize=9)
     fig.tight_layout()
-    figure = save_png(fig, out / "gradient_design.png" if quick else FIGURE)
+    figure = save_png(fig, out / "gradient_design.png")
     return {"result": res, "optimum": p, "point": best, "design": design, "checks": checks,
             "evaluations": len(chain.history), "figure": figure}
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "gradient_design",
-                                 main, "no plate check, seconds"))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "gradient_design",
+                           main, "no plate check, seconds"):
+        raise SystemExit(code)

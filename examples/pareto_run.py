@@ -1,4 +1,5 @@
 """A Pareto run: the trade-off between matching the frequencies and the large-deflection tip.
+==========================================================================================
 
 NSGA-II (``prbdm_pin.fit_pareto``) evolves designs of an nR joint-spring chain against two
 objectives, the eigen loss (frequencies) and the deflection loss (the tip under the beam's load).
@@ -23,8 +24,8 @@ from prbdm_pin.commands.script_cli import run_example
 from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.views.plots import new_figure, save_png
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "pareto_run.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "pareto_run.py")).resolve().parents[1]
 FLOOR_PCT = 1e-9  # losses drawn on log axes: an exact match (rounding, about 1e-13 %) drawn here
 
 
@@ -71,10 +72,12 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "paret
            title=f"{beam.name}, {truth.model} truth: {joints}R joint springs")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figure = save_png(fig, out / "pareto_run.png" if quick else FIGURE)
+    figure = save_png(fig, out / "pareto_run.png")
     return {"front": front, "alone": alone, "beam": beam, "target": target, "joints": joints,
             "figure": figure}
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "pareto_run", main))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "pareto_run", main):
+        raise SystemExit(code)

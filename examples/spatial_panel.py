@@ -1,4 +1,5 @@
 """Spatial panel: a wide panel's planar and spatial fits side by side against the plate.
+=====================================================================================
 
 A wide panel twists: among the plate's first modes, torsion modes sit between the bending ones,
 and a force at a tip corner (a sensor, an actuator, a load off the centre line) excites them at
@@ -26,8 +27,8 @@ from prbdm_pin.fitting.spatial_gains import with_point_gains
 from prbdm_pin.io.paths import check_out_dir
 from prbdm_pin.simulation.response import ModalTip, modal_frf, relative_l2
 
-ROOT = Path(__file__).resolve().parents[1]
-FIGURE = ROOT / "docs" / "examples" / "figures" / "spatial_panel.png"
+# sphinx-gallery runs the script without __file__, from the examples folder
+ROOT = Path(globals().get("__file__", "spatial_panel.py")).resolve().parents[1]
 POINT = "tip_corner_left"
 ZETA = 0.02
 
@@ -84,7 +85,7 @@ def main(quick: bool = False, out: Path = ROOT / "results" / "examples" / "spati
     mjcf = pp.export_model(models["spatial"], out / "model.xml", "mjcf",
                            omega_truth_rad_s=spatial.omega_truth_rad_s)
     print(f"wrote {out / 'fit.json'} and {mjcf}")
-    figure = out / "spatial_panel.png" if quick else FIGURE
+    figure = out / "spatial_panel.png"
     _plot(w, H_truth, H, errors, figure, f"{beam.name}: {joints} joints, corner FRF")
     return {"beam": beam, "truth": truth, "planar": planar, "spatial": spatial,
             "models": models, "w_rad_s": w, "frf_truth": H_truth, "frf": H,
@@ -108,5 +109,7 @@ def _plot(w, H_truth, H, errors, path: Path, title: str) -> Path:
 
 
 if __name__ == "__main__":
-    raise SystemExit(run_example(__doc__, ROOT / "results" / "examples" / "spatial_panel",
-                                 main))
+    # no SystemExit on success: sphinx-gallery runs this block in the build's process
+    if code := run_example(__doc__, ROOT / "results" / "examples" / "spatial_panel",
+                           main):
+        raise SystemExit(code)

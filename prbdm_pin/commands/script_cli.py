@@ -25,7 +25,9 @@ __all__ = ["example_parser", "run_example"]
 def example_parser(doc: str, default_out: str | os.PathLike, quick_help: str,
                    prog: str | None = None) -> CliParser:
     """Return the parser of an example script: ``--quick`` and ``--out`` (one-line errors)."""
-    p = CliParser(prog=prog or Path(sys.argv[0]).name, description=doc.splitlines()[0])
+    # sphinx-gallery runs a script with an empty __doc__
+    p = CliParser(prog=prog or Path(sys.argv[0]).name,
+                  description=doc.splitlines()[0] if doc else None)
     p.add_argument("--quick", action="store_true", help=quick_help)
     p.add_argument("--out", default=str(default_out), help=f"output folder (default {default_out})")
     return p

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from page_numbers import assert_printed, page_numbers
 from paths import ROOT
 from reference import BETA_L
 from tolerances import EPS
@@ -26,6 +27,9 @@ def _example(name: str):
     sys.modules[spec.name] = module
     spec.loader.exec_module(module)
     return module
+
+
+PAGES = ROOT / "docs" / "examples"
 
 
 def _euler_bernoulli_rad_s(beam: pp.Beam, n: int) -> np.ndarray:
@@ -77,6 +81,47 @@ def test_pareto_front_reaches_the_eigen_fit_alone_and_its_knee_the_combined_fit(
     knee = front.F_pct[front.knee_index]
     assert np.hypot(*knee) == pytest.approx(combined.loss_pct, rel=1e-6)
     _png(res["figure"])
+    _pareto_page_matches(res, "Quick mode")
+
+
+def _pareto_page_matches(res: dict, mode: str) -> None:
+    """The numbers docs/examples/pareto_run.md gives for ``mode`` are this run's."""
+    page = PAGES / "pareto_run.md"
+    n, knee_eigen, knee_deflection = page_numbers(
+        page, mode + r"\b.*?[Tt]he front holds (\d+) designs; its knee has an eigen "
+        r"loss of ([\d.]+) % and a deflection loss of ([\d.]+) %")
+    front, alone = res["front"], res["alone"]
+    # the front's size follows the last bits of every evaluation (the page says so): exact
+    # for one BLAS thread (conftest pins it) on the kernel the page was written with
+    assert int(n) == front.F_pct.shape[0], f"the page's front has {n} designs, the rerun's " \
+        f"{front.F_pct.shape[0]}: rerun the example and update the page"
+    assert_printed(knee_eigen, front.knee.eigen_loss_pct, "knee eigen loss (%)")
+    assert_printed(knee_deflection, front.knee.deflection_loss_pct, "knee deflection loss (%)")
+    if mode == "Quick mode":
+        eigen_deflection, deflection_eigen = page_numbers(
+            page, r"the eigen fit alone has a deflection loss of ([\d.]+) %, the deflection fit "
+            r"alone an eigen loss of ([\d.]+) %")
+    else:
+        combined, eigen_deflection, deflection_eigen = page_numbers(
+            page, r"\(combined ([\d.]+) %\)\. The eigen fit alone matches the four frequencies "
+            r"exactly \(at rounding level\) with a deflection loss of ([\d.]+) %; the deflection "
+            r"fit alone matches the tip exactly with an eigen loss of ([\d.]+) %")
+        assert_printed(combined, float(np.hypot(front.knee.eigen_loss_pct,
+                                                 front.knee.deflection_loss_pct)),
+                       "knee combined loss (%)")
+        # "exactly": an exact match of 8 frequencies and springs sits at rounding, ~1e-12 %
+        assert alone["eigen"].eigen_loss_pct < 1e-8
+        assert alone["deflection"].deflection_loss_pct < 1e-8
+    assert_printed(eigen_deflection, alone["eigen"].deflection_loss_pct,
+                   "eigen fit alone, deflection loss (%)")
+    assert_printed(deflection_eigen, alone["deflection"].eigen_loss_pct,
+                   "deflection fit alone, eigen loss (%)")
+
+
+@pytest.mark.slow
+def test_pareto_page_numbers_full_mode(tmp_path):
+    # the plate truth and a 60 x 60 NSGA-II run: about 15 s
+    _pareto_page_matches(_example("pareto_run").main(quick=False, out=tmp_path), "Full mode")
 
 
 def test_batch_study_matches_a_direct_fit_and_euler_bernoulli(tmp_path):
@@ -136,6 +181,50 @@ def test_gradient_design_optimum_meets_the_truths_constraint(tmp_path):
     assert res["point"].mass_kg < res["design"].beam.mass_kg
     assert res["optimum"][0] == pytest.approx(ex.UPPER[0], rel=1e-9)
     _png(res["figure"])
+    _gradient_page_matches(res)
+
+
+def _gradient_page_matches(res: dict) -> None:
+    """The numbers docs/examples/gradient_design.md gives are this run's (the plate's in full
+    mode only)."""
+    page = PAGES / "gradient_design.md"
+    n, t, root, tip, mass, start = page_numbers(
+        page, r"SLSQP stops after (\d+) truth evaluations at a thickness of ([\d.]+) mm \(its "
+        r"upper bound\) and half-widths of ([\d.]+) mm at the root and ([\d.]+) mm at the tip "
+        r"\(the lower bound\), ([\d.]+) kg against the start's ([\d.]+) kg")
+    # SLSQP's path follows the gradients' last bits (the page says so): exact for one BLAS
+    # thread (conftest pins it) on the kernel the page was written with
+    assert int(n) == res["evaluations"], f"the page says {n} truth evaluations, the rerun " \
+        f"took {res['evaluations']}: rerun the example and update the page"
+    p, point = res["optimum"], res["point"]
+    for printed, value, what in ((t, 1e3 * p[0], "thickness (mm)"),
+                                 (root, 1e3 * p[1], "root half-width (mm)"),
+                                 (tip, 1e3 * p[2], "tip half-width (mm)"),
+                                 (mass, point.mass_kg, "mass (kg)"),
+                                 (start, res["design"].beam.mass_kg, "start mass (kg)")):
+        assert_printed(printed, value, what)
+    omega, delta = page_numbers(page, r"the PRBDM's ω₁ is ([\d.]+) rad/s, its tip ([\d.]+) mm")
+    assert_printed(omega, point.omega_rad_s[0], "PRBDM omega_1 (rad/s)")
+    assert_printed(delta, 1e3 * point.tip_deflection_m, "PRBDM tip (mm)")
+    beam_w, beam_d, plate_w, plate_d = page_numbers(
+        page, r"the 1D beam ([\d.]+) rad/s and ([\d.]+) mm, the plate \(full mode only\) "
+        r"([\d.]+) rad/s and ([\d.]+) mm")
+    checks = res["checks"]
+    assert_printed(beam_w, checks["beam"][0], "1D beam omega_1 (rad/s)")
+    assert_printed(beam_d, 1e3 * checks["beam"][1], "1D beam tip (mm)")
+    (over,) = page_numbers(page, r"overestimates the large-deflection tip by ([\d.]+) % "
+                                 r"\(against the 1D beam\)")
+    assert_printed(over, 100 * (point.tip_deflection_m / checks["beam"][1] - 1.0),
+                   "PRBDM tip over the 1D beam's (%)")
+    if "plate" in checks:
+        assert_printed(plate_w, checks["plate"][0], "plate omega_1 (rad/s)")
+        assert_printed(plate_d, 1e3 * checks["plate"][1], "plate tip (mm)")
+
+
+@pytest.mark.slow
+def test_gradient_design_page_numbers_full_mode(tmp_path):
+    # the optimisation and the plate truth at the optimum: about 25 s
+    _gradient_page_matches(_example("gradient_design").main(quick=False, out=tmp_path))
 
 
 def test_spatial_panel_corner_frf_is_the_linearized_plant(tmp_path):

@@ -23,6 +23,13 @@ def test_every_example_is_covered():
     assert len(SCRIPTS) == 7 and "first_fit" in SCRIPTS and "spatial_panel" in SCRIPTS
 
 
+def test_no_example_names_the_docs_folder():
+    # an example writes under its --out only; the example pages' figures are written by
+    # `scripts/docs_example_figures.py --write-docs` (a full run used to overwrite them)
+    for script in SCRIPTS:
+        assert "docs" not in (ROOT / "examples" / f"{script}.py").read_text(), script
+
+
 def _bad_outs(tmp: Path) -> dict[str, tuple[str, str]]:
     a_file = tmp / "a_file"
     a_file.write_text("mine")
