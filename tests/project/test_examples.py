@@ -91,10 +91,11 @@ def _pareto_page_matches(res: dict, mode: str) -> None:
         page, mode + r"\b.*?[Tt]he front holds (\d+) designs; its knee has an eigen "
         r"loss of ([\d.]+) % and a deflection loss of ([\d.]+) %")
     front, alone = res["front"], res["alone"]
-    # the front's size follows the last bits of every evaluation (the page says so): exact
-    # for one BLAS thread (conftest pins it) on the kernel the page was written with
-    assert int(n) == front.F_pct.shape[0], f"the page's front has {n} designs, the rerun's " \
-        f"{front.F_pct.shape[0]}: rerun the example and update the page"
+    # the front's size follows the last bits of every evaluation: another BLAS kernel or thread
+    # count keeps another set of non-dominated designs (26 to 41 seen in full mode), so the
+    # page's count is one run's, said to follow rounding; the knee below is compared
+    assert int(n) > 0 and front.F_pct.shape[0] > 0
+    assert "follows rounding" in " ".join(page.read_text(encoding="utf-8").split())
     assert_printed(knee_eigen, front.knee.eigen_loss_pct, "knee eigen loss (%)")
     assert_printed(knee_deflection, front.knee.deflection_loss_pct, "knee deflection loss (%)")
     if mode == "Quick mode":
@@ -192,10 +193,11 @@ def _gradient_page_matches(res: dict) -> None:
         page, r"SLSQP stops after (\d+) truth evaluations at a thickness of ([\d.]+) mm \(its "
         r"upper bound\) and half-widths of ([\d.]+) mm at the root and ([\d.]+) mm at the tip "
         r"\(the lower bound\), ([\d.]+) kg against the start's ([\d.]+) kg")
-    # SLSQP's path follows the gradients' last bits (the page says so): exact for one BLAS
-    # thread (conftest pins it) on the kernel the page was written with
-    assert int(n) == res["evaluations"], f"the page says {n} truth evaluations, the rerun " \
-        f"took {res['evaluations']}: rerun the example and update the page"
+    # SLSQP's path follows the gradients' last bits: another BLAS kernel or thread count takes
+    # another number of steps to the same optimum (6 to 24 seen), so the page's count is one
+    # run's, said to follow rounding, and only the optimum below is compared
+    assert int(n) > 0 and res["evaluations"] > 0
+    assert "follows rounding" in " ".join(page.read_text(encoding="utf-8").split())
     p, point = res["optimum"], res["point"]
     for printed, value, what in ((t, 1e3 * p[0], "thickness (mm)"),
                                  (root, 1e3 * p[1], "root half-width (mm)"),
