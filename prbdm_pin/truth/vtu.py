@@ -1,4 +1,11 @@
-"""Mode shapes as VTU (ParaView) through meshio: nodal z displacement of every mode."""
+"""Mode shapes as VTU (ParaView) through meshio: the nodal displacement of every mode.
+
+Each mode k writes ``uz_mode_<k>`` (the z displacement, unit maximum) and, for the plate and the
+1D beam, whose z displacement is their whole displacement (Kirchhoff's mid-surface and
+Euler-Bernoulli's axis do not stretch), ``displacement_mode_<k>``: the vector (0, 0, uz), which
+ParaView's Warp By Vector draws. The solid keeps only z at its nodes, so it writes no vector
+(its in-plane parts are not stored).
+"""
 
 from __future__ import annotations
 
@@ -15,7 +22,8 @@ __all__ = ["write_modes_vtu"]
 def write_modes_vtu(modal: ModalSolution, path, index=None) -> Path:
     """Write the mesh with point fields ``uz_mode_<k>`` (k 1-based, unit maximum), atomically.
 
-    Argyris/Morley DOF vectors are not nodal fields: the nodal values of u are exported.
+    Argyris/Morley DOF vectors are not nodal fields: the nodal values of u are exported. The
+    plate and 1D beam models add ``displacement_mode_<k>`` = (0, 0, uz) (the module's note).
     """
     import meshio
 
@@ -25,7 +33,11 @@ def write_modes_vtu(modal: ModalSolution, path, index=None) -> Path:
     data = {}
     for k in idx:
         u = np.asarray(modal.node_uz[k], dtype=float)
-        data[f"uz_mode_{k + 1}"] = u / max(np.max(np.abs(u)), 1e-300)
+        uz = u / max(np.max(np.abs(u)), 1e-300)
+        data[f"uz_mode_{k + 1}"] = uz
+        if modal.model != "solid":
+            data[f"displacement_mode_{k + 1}"] = np.column_stack(
+                [np.zeros_like(uz), np.zeros_like(uz), uz])
     mesh = meshio.Mesh(np.asarray(modal.nodes_m, dtype=float),
                        [(modal.cell_type, np.asarray(modal.cells))], point_data=data)
     path = Path(path)
