@@ -10,6 +10,8 @@ files (``BatchSpec(n_beams=N)`` draws random panels instead, as the paper's stud
 Full mode: five shipped beams, plate truth, 4R eigen fits with 16 starts, two workers.
 Quick mode (``--quick``): two beams, 1D beam truth, 3R eigen fits with 4 starts, one worker.
 
+Run it with::
+
     python examples/batch_study.py [--quick] [--out results/examples/batch_study]
 """
 

@@ -14,6 +14,8 @@ strain maps, 3-5 joints, the patch position swept) is ``scripts/ccd_slew.py``.
 Full mode: the reference panel, plate truth, 4R combined fit (8 starts).
 Quick mode (``--quick``): the uniform strip, 1D beam truth, 3R combined fit (4 starts).
 
+Run it with::
+
     python examples/ccd_slew.py [--quick] [--out results/examples/ccd_slew]
 """
 

@@ -12,6 +12,8 @@ compared sample by sample.
 Full mode: the reference panel, plate truth, 4R combined fit, 1 s. Quick mode (``--quick``):
 the uniform strip, 1D beam truth, 3R eigen fit, three periods of mode 1.
 
+Run it with::
+
     python examples/export_and_simulate.py [--quick] [--out results/examples/export_and_simulate]
 """
 

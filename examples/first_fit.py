@@ -9,6 +9,8 @@ reports the signed error of every mode; the model goes out as a URDF and comes b
 Full mode: the reference panel, plate truth, 4R joint springs, combined objective, 8 starts.
 Quick mode (``--quick``): the uniform strip, 1D Euler-Bernoulli truth, 3R eigen fit, 4 starts.
 
+Run it with::
+
     python examples/first_fit.py [--quick] [--out results/examples/first_fit]
 """
 

@@ -18,6 +18,8 @@ half-widths, COBYLA for comparison, the plate in the loop) is ``scripts/codesign
 Full mode: as quick, plus the plate truth at the optimum and the figure.
 Quick mode (``--quick``): the optimisation and the 1D beam truth's check.
 
+Run it with::
+
     python examples/gradient_design.py [--quick] [--out results/examples/gradient_design]
 """
 

@@ -21,6 +21,8 @@ Three tasks a user of the package meets with members that are not flat strips of
 Full mode: the panel's plate truth for parts 1 and 3's fits, 8 starts. Quick mode
 (``--quick``): 1D beam truths, 2 starts. The figure: the ring-down against both calibrated chains.
 
+Run it with::
+
     python examples/members_and_calibration.py [--quick] [--out results/examples/members]
 """
 

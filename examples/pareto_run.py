@@ -10,6 +10,8 @@ solver. The figure shows the front, its knee and the single-objective fits run a
 Full mode: the uniform strip against its plate truth, 4R, population 60, 60 generations.
 Quick mode (``--quick``): the uniform strip, 1D beam truth, 3R, population 20, 10 generations.
 
+Run it with::
+
     python examples/pareto_run.py [--quick] [--out results/examples/pareto_run]
 """
 

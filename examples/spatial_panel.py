@@ -12,6 +12,8 @@ figure, and exports the spatial model.
 Full mode: the reference panel, plate truth (30 modes), 5 joints, 8 starts.
 Quick mode (``--quick``): the uniform strip, plate truth at mesh level 1, 3 joints, 4 starts.
 
+Run it with::
+
     python examples/spatial_panel.py [--quick] [--out results/examples/spatial_panel]
 """
 
