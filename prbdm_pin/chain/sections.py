@@ -132,10 +132,9 @@ def link_sections(beam: Beam, lengths_m: np.ndarray,
     >>> m = sec.mass_kg  # kg; below I_yy about the COM, kg m^2, and m (l^2 + t^2) / 12
     >>> sec.inertia_com_kg_m2[:, 1, 1].round(6), (m * (l**2 + 0.01**2) / 12).round(6)
     (array([0.002623, 0.040902, 0.008841]), array([0.002623, 0.040902, 0.008841]))
-    >>> (sec.area_moment_m4 * 1e9).round(4), round(0.05 * 0.01**3 / 12 * 1e9, 4)  # b t^3 / 12
+    >>> # the mean area moments in 1e-9 m^4, and a uniform strip's b t^3 / 12
+    >>> (sec.area_moment_m4 * 1e9).round(4), round(0.05 * 0.01**3 / 12 * 1e9, 4)
     (array([4.1667, 4.1667, 4.1667]), 4.1667)
-
-    The area moments are printed in units of 1e-9 m^4.
     """
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     return link_sections_unchecked(beam, lengths)

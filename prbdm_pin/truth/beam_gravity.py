@@ -213,8 +213,8 @@ def beam_self_weight_buckling(beam: Beam, n_elements: int = 200) -> float:
     >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
     >>> g_cr = pp.beam_self_weight_buckling(beam, n_elements=50)  # m/s^2
     >>> EI, rho_A = 205e9 * 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01  # N m^2, kg/m
-    >>> round(g_cr, 1), round(7.837 * EI / (rho_A * 1.0**3), 1)  # Greenhill: q L^3 / EI = 7.837
-    (1705.6, 1705.5)
+    >>> round(g_cr, 1), round(7.8373 * EI / (rho_A * 1.0**3), 1)  # Greenhill: q L^3 / EI = 7.8373
+    (1705.6, 1705.6)
     """
     _check_beam(beam)
     _, _, K, Kg1, _, _, free, _ = _gravity_system(beam, np.array([-1.0, 0.0, 0.0]),
