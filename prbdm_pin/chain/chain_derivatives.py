@@ -212,6 +212,21 @@ class ModelGradient:
         d p_tip / d variable (m per the variable's unit); None without a load.
     d_static_pose_rad : ndarray, shape (n, 2n), or None
         d q / d variable (rad per the variable's unit); None without a load.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -10.0])
+    >>> l, k = np.array([0.2, 0.5, 0.3]), np.array([2500.0, 1200.0])  # m, N m/rad
+    >>> g = pp.model_gradient(beam, l, k)
+    >>> isinstance(g, pp.ModelGradient), g.variable_units
+    (True, ('m', 'm', 'N m/rad', 'N m/rad'))
+    >>> g.d_omega_rad_s.shape, g.d_tip_position_m.shape
+    ((2, 4), (3, 4))
+    >>> g.omega_rad_s.round(1), pp.build_model(beam, l, k).natural_frequencies().round(1)  # rad/s
+    (array([ 59. , 320.9]), array([ 59. , 320.9]))
     """
 
     variables: tuple[str, ...]
@@ -261,6 +276,23 @@ def model_gradient(beam: Beam, lengths_m: np.ndarray, stiffness_Nm_per_rad: np.n
     ModelGradient
         The frequencies (rad/s) at ``pose_rad``, the static tip (m) and pose (rad) under the
         load, and their derivatives per m of each station and per N m/rad of each spring.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> l, k = np.array([0.2, 0.5, 0.3]), np.array([2500.0, 1200.0])  # m, N m/rad
+    >>> g = pp.model_gradient(beam, l, k)
+    >>> g.variables
+    ('x[1]', 'x[2]', 'k[0]', 'k[1]')
+    >>> g.d_omega_rad_s[:, 2].round(5)  # rad/s per N m/rad of k[0]
+    array([0.01095, 0.00456])
+    >>> h = 1.0  # N m/rad: a central difference of build_model's frequencies
+    >>> w_p = pp.build_model(beam, l, k + [h, 0.0]).natural_frequencies()
+    >>> w_m = pp.build_model(beam, l, k - [h, 0.0]).natural_frequencies()
+    >>> ((w_p - w_m) / (2 * h)).round(5)
+    array([0.01095, 0.00456])
     """
     lengths = validate_lengths(beam, lengths_m)
     n = lengths.size - 1

@@ -101,6 +101,17 @@ def validate_lengths(beam: Any, lengths_m: Any, min_fraction: float = MIN_FRACTI
     ------
     BeamInputError
         Naming the field ``lengths`` and the offending value.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> pp.validate_lengths(beam, [0.2, 0.5, 0.3])  # m
+    array([0.2, 0.5, 0.3])
+    >>> pp.validate_lengths(beam, [0.2, 0.5, 0.2])  # they sum to 0.9 m, not L = 1 m
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: lengths sum to ... m: must ...
     """
     from ..member.geometry import Beam
     from ..options.validate import check_type, real_vector
@@ -171,6 +182,18 @@ def sample_lengths(
     -------
     ndarray, shape (size, n_links)
         The drawn link lengths, m.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> draws = pp.sample_lengths(np.random.default_rng(0), 1.0, n_links=3, size=1000)
+    >>> draws.shape
+    (1000, 3)
+    >>> bool(np.allclose(draws.sum(axis=1), 1.0)), bool(draws.min() >= 0.02)  # sum L, each >= f L
+    (True, True)
+    >>> bool(np.abs(draws.mean(axis=0) - 1 / 3).max() < 0.02)  # a flat draw: L / 3 on average
+    True
     """
     from ..options.checks import check_int
     from ..options.validate import check_size, check_type
@@ -212,6 +235,18 @@ def repair_lengths(lengths: np.ndarray, length_m: float,
     -------
     ndarray, shape of ``lengths``
         The nearest lengths on the bounded simplex, m.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> x = np.array([0.5, 0.6, 0.1])  # m: 0.2 m too long for L = 1 m
+    >>> pp.repair_lengths(x, 1.0).round(4)  # m
+    array([0.4333, 0.5333, 0.0333])
+    >>> (x - (x.sum() - 1.0) / 3).round(4)  # no bound active: the excess shared equally
+    array([0.4333, 0.5333, 0.0333])
+    >>> pp.repair_lengths(np.array([0.9, 0.3, 0.0]), 1.0).round(4)  # the last link at f L = 0.02 m
+    array([0.79, 0.19, 0.02])
     """
     from ..errors import InputTypeError
     from ..options.checks import shown

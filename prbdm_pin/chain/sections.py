@@ -56,6 +56,19 @@ class LinkSections:
         Inertia tensors about the centres of mass, beam axes, kg m^2 (thickness term included).
     area_moment_m4 : ndarray, shape (n+1,)
         Mean bending area moment I_yy = 2 w t^3 / 12 over each link's span, m^4.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> sec = pp.link_sections(beam, [0.2, 0.5, 0.3])  # m
+    >>> isinstance(sec, pp.LinkSections), sec.inertia_com_kg_m2.shape
+    (True, (3, 3, 3))
+    >>> sec.start_m, sec.end_m  # m
+    (array([0. , 0.2, 0.7]), array([0.2, 0.7, 1. ]))
+    >>> sec.com_m[:, 0].round(3)  # m: the links' mid-points on a uniform strip
+    array([0.1 , 0.45, 0.85])
     """
 
     start_m: np.ndarray
@@ -106,6 +119,22 @@ def link_sections(beam: Beam, lengths_m: np.ndarray,
     For a plate of density rho and thickness t spanning z in [-t/2, t/2]:
     Ixx = rho t ∫∫ y^2 dA + m t^2/12, Iyy = rho t ∫∫ (x - xc)^2 dA + m t^2/12,
     Izz = rho t ∫∫ ((x - xc)^2 + y^2) dA; products of inertia vanish by symmetry.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> l = np.array([0.2, 0.5, 0.3])  # m
+    >>> sec = pp.link_sections(beam, l)
+    >>> sec.mass_kg.round(4), (7850.0 * 0.05 * 0.01 * l).round(4)  # kg, rho b t l
+    (array([0.785 , 1.9625, 1.1775]), array([0.785 , 1.9625, 1.1775]))
+    >>> m = sec.mass_kg  # kg; below I_yy about the COM, kg m^2, and m (l^2 + t^2) / 12
+    >>> sec.inertia_com_kg_m2[:, 1, 1].round(6), (m * (l**2 + 0.01**2) / 12).round(6)
+    (array([0.002623, 0.040902, 0.008841]), array([0.002623, 0.040902, 0.008841]))
+    >>> # the mean area moments in 1e-9 m^4, and a uniform strip's b t^3 / 12
+    >>> (sec.area_moment_m4 * 1e9).round(4), round(0.05 * 0.01**3 / 12 * 1e9, 4)
+    (array([4.1667, 4.1667, 4.1667]), 4.1667)
     """
     lengths = validate_lengths(beam, lengths_m, min_fraction)
     return link_sections_unchecked(beam, lengths)

@@ -117,6 +117,21 @@ def spatial_stiffness(beam: Beam, lengths_m: np.ndarray, axes: Axes | str = Axes
     ndarray
         Springs, N m/rad, n times the number of axes: for ``"y"`` the planar chain's
         finite-segment springs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> k = pp.spatial_stiffness(beam, [0.5, 0.5], axes="xyz")  # one joint, axes y, z, x
+    >>> k.shape
+    (3,)
+    >>> b, t, E, G, span = 0.05, 0.01, 205e9, 205e9 / (2 * 1.28), 1.0  # m, m, Pa, Pa, m
+    >>> k[:2].round(1), round(E * b * t**3 / 12 / span, 1), round(E * t * b**3 / 12 / span, 1)
+    (array([  854.2, 21354.2]), 854.2, 21354.2)
+    >>> J = b * t**3 / 3 * (1 - 0.630 * t / b)  # m^4: a strip's J (Timoshenko & Goodier)
+    >>> round(float(k[2])), round(G * J / span)  # N m/rad
+    (1166, 1166)
     """
     check_type("beam", beam, Beam)
     order = check_axes(axes).joint_order

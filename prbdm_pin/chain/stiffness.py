@@ -59,6 +59,18 @@ def pose_sweep(
     -------
     ndarray, shape (m, n_joints)
         The poses' joint angles, rad.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> poses = pp.pose_sweep(2)  # rad, xi = 0.05, eps = 0.1
+    >>> poses.shape  # 2 (0.05 + 0.1 i) <= pi / 2 holds for i = 0, ..., 7
+    (8, 2)
+    >>> poses[:3, 0]
+    array([0.05, 0.15, 0.25])
+    >>> float(np.floor((np.pi / 2 / 2 - 0.05) / 0.1)) + 1  # the count by hand
+    8.0
     """
     n_joints = check_joints(n_joints, "n_joints")
     for name, v in (("xi", xi), ("eps", eps), ("max_tip_angle", max_tip_angle_rad)):
@@ -96,6 +108,20 @@ def paper_stiffness(sections: LinkSections, E_Pa: float, k: float | np.ndarray) 
     Returns
     -------
     ndarray, shape (n,) for a scalar k, (m, n) for an array of k.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> sec = pp.link_sections(beam, [0.2, 0.5, 0.3])
+    >>> pp.paper_stiffness(sec, beam.material.E_Pa, 1.0).round(3)  # N m/rad
+    array([20.863, 26.933])
+    >>> I, m = 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01 * np.array([0.5, 0.3])  # m^4, kg
+    >>> np.sqrt(205e9 * I / m).round(3)  # k sqrt(E I / m) of links 1 and 2
+    array([20.863, 26.933])
+    >>> pp.paper_stiffness(sec, beam.material.E_Pa, [1.0, 2.0]).shape  # one row per factor k
+    (2, 2)
     """
     check_type("sections", sections, LinkSections, "a prbdm_pin.LinkSections (link_sections)")
     base = paper_unit_stiffness(check_modulus("E_Pa", E_Pa), sections.area_moment_m4,
@@ -202,6 +228,16 @@ def finite_segment_stiffness(
     -------
     ndarray, shape (n,)
         The joint springs, N m/rad.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> pp.finite_segment_stiffness(beam, [0.2, 0.5, 0.3]).round(2)  # N m/rad
+    array([1898.15, 1553.03])
+    >>> EI = 205e9 * 0.05 * 0.01**3 / 12  # N m^2
+    >>> round(EI / (0.45 - 0.0), 2), round(EI / (1.0 - 0.45), 2)  # EI / span: [0, 0.45], [0.45, L]
+    (1898.15, 1553.03)
     """
     return finite_segment_stiffness_unchecked(beam, validate_lengths(beam, lengths_m, min_fraction))
 

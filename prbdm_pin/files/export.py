@@ -289,6 +289,26 @@ def export_model(model, path: str | os.PathLike, fmt: str,
         in ``/proc``, ``/sys`` or ``/dev``, an unwritable folder), refused before anything is
         written; a bad format, damping or actuator; a mesh folder that cannot be written
         (named ``mesh folder``), refused before anything is written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> import trimesh
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])  # m, N m/rad
+    >>> path = pp.export_model(model, Path(tempfile.mkdtemp()) / "chain.urdf", "urdf")
+    >>> sorted(p.name for p in (path.parent / "chain_meshes").iterdir())  # the links' solids
+    ['link_0.obj', 'link_1.obj', 'link_2.obj']
+    >>> again = pp.load_urdf(path)  # read back: the same springs and frequencies
+    >>> again.natural_frequencies().round(1), model.natural_frequencies().round(1)  # rad/s
+    (array([ 59. , 320.9]), array([ 59. , 320.9]))
+    >>> obj = trimesh.load(path.parent / "chain_meshes" / "link_1.obj")
+    >>> # link 1's mesh: its volume times the density is the link's mass, kg
+    >>> round(float(obj.volume) * 7850.0, 4), round(float(model.sections.mass_kg[1]), 4)
+    (1.9625, 1.9625)
     """
     check_model(model)
     if getattr(model, "bus", None) is not None:  # no file format carries a free bus yet

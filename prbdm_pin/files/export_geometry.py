@@ -73,6 +73,23 @@ def link_meshes(model) -> tuple[LinkMesh, ...]:
         A model without a beam (read from a URDF): it carries no planform to mesh.
     InputTypeError
         ``model`` not a PrbdmModel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.05, 0.025], thickness_m=0.01)  # a taper
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> meshes = pp.link_meshes(model)
+    >>> len(meshes), all(isinstance(m, pp.LinkMesh) for m in meshes)
+    (3, True)
+    >>> def volume(mesh):  # m^3: the divergence theorem over the triangles
+    ...     v = mesh.vertices_m[mesh.faces]
+    ...     return float(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6)
+    >>> [round(7850.0 * volume(m), 4) for m in meshes]  # kg: rho V
+    [1.4915, 3.0419, 1.3541]
+    >>> model.sections.mass_kg.round(4)  # kg: the links' masses
+    array([1.4915, 3.0419, 1.3541])
     """
     check_model(model)
     beam = model.beam

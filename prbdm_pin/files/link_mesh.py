@@ -47,6 +47,20 @@ class LinkMesh:
         Vertex coordinates in the link frame, m.
     faces : ndarray of int, shape (f, 3)
         Vertex indices of each triangle, counter-clockwise seen from outside.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> mesh = pp.planform_link_mesh(beam, 0.2, 0.7)
+    >>> isinstance(mesh, pp.LinkMesh), mesh.vertices_m.shape[1], mesh.faces.shape[1]
+    (True, 3, 3)
+    >>> edges = np.sort(mesh.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    >>> bool(np.all(np.unique(edges, axis=0, return_counts=True)[1] == 2))  # closed: 2 per edge
+    True
+    >>> mesh.vertices_m.min(axis=0), mesh.vertices_m.max(axis=0)  # m: the link frame's box
+    (array([ 0.   , -0.025, -0.005]), array([0.5  , 0.025, 0.005]))
     """
 
     vertices_m: np.ndarray
@@ -124,6 +138,18 @@ def planform_link_mesh(beam, start_m: float, end_m: float) -> LinkMesh:
         A span outside [0, L] or of no length.
     InputTypeError
         ``beam`` not a Beam, a station not a real number.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.05, 0.025], thickness_m=0.01)  # a taper
+    >>> mesh = pp.planform_link_mesh(beam, 0.2, 0.7)  # m
+    >>> v = mesh.vertices_m[mesh.faces]
+    >>> V = np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6  # m^3
+    >>> b0, b1 = 2 * (0.05 - 0.025 * 0.2), 2 * (0.05 - 0.025 * 0.7)  # m, the widths at the ends
+    >>> round(float(V) * 1e6, 4), round((b0 + b1) / 2 * 0.5 * 0.01 * 1e6, 4)  # cm^3: a trapezoid
+    (387.5, 387.5)
     """
     check_type("beam", beam, Beam)
     a = check_float("start_m", start_m, unit="m")
@@ -219,6 +245,22 @@ def round_link_mesh(length_m: float, D0_m: float, D1_m: float, d0_m: float = 0.0
         A length or diameter that is not finite, D <= 0, d < 0 or d >= D, segments < 3.
     InputTypeError
         A size that is not a real number, ``segments`` not an integer.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> def volume(mesh):  # m^3: the divergence theorem over the triangles
+    ...     v = mesh.vertices_m[mesh.faces]
+    ...     return float(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6)
+    >>> cone = pp.round_link_mesh(0.5, 0.03, 0.02)  # m: a solid frustum
+    >>> L, D0, D1 = 0.5, 0.03, 0.02  # m
+    >>> V_frustum = np.pi * L / 12 * (D0**2 + D0 * D1 + D1**2)  # m^3
+    >>> round(volume(cone) * 1e6, 4), round(V_frustum * 1e6, 4)  # cm^3
+    (248.7094, 248.7094)
+    >>> tube = pp.round_link_mesh(0.5, 0.02, 0.02, 0.016, 0.016, segments=12)
+    >>> round(volume(tube) * 1e6, 4), round(np.pi / 4 * (0.02**2 - 0.016**2) * 0.5 * 1e6, 4)  # cm^3
+    (56.5487, 56.5487)
     """
     length_m = check_float("length_m", length_m, low=0.0, low_open=True, unit="m")
     D0_m = check_float("D0_m", D0_m, low=0.0, low_open=True, unit="m")

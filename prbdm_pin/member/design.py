@@ -88,6 +88,20 @@ class Design:
     variables : tuple of str
         Names (see the module docstring): ``thickness``, ``E``, ``rho``, ``nu``,
         ``half_width[i]``, ``x[i]``; each at most once.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 0.5, 1.0], half_width_m=[0.03, 0.025, 0.02], thickness_m=0.01)
+    >>> design = pp.Design(beam, ("thickness", "half_width[1]", "E"))
+    >>> design.size, design.units
+    (3, ('m', 'm', 'Pa'))
+    >>> design.values.round(4)[:2], float(design.values[2])  # m, m, Pa
+    (array([0.01 , 0.025]), 205000000000.0)
+    >>> thicker = design.beam_at([0.012, 0.025, beam.material.E_Pa])
+    >>> thicker.thickness_m, round(thicker.mass_kg / beam.mass_kg, 4)  # the mass scales with t
+    (0.012, 1.2)
     """
 
     beam: Beam

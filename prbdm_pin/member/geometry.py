@@ -74,6 +74,20 @@ class Beam:
         and thickness are those of the square of the same E I_y / E (side (12 E I_y / E)^(1/4),
         clipped into the size range), for the size checks only: :meth:`half_width_at` and
         :meth:`thickness_at` refuse it.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> beam.length_m, beam.planform_area_m2  # m, m^2
+    (1.0, 0.05)
+    >>> round(beam.mass_kg, 4), round(beam.material.rho_kg_m3 * 1.0 * 0.05 * 0.01, 4)  # rho b t L
+    (3.925, 3.925)
+    >>> round(beam.root_EI_Nm2, 2), round(beam.material.E_Pa * 0.05 * 0.01**3 / 12, 2)  # E b t^3/12
+    (854.17, 854.17)
+    >>> taper = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.05, 0.025], thickness_m=0.01)
+    >>> round(taper.planform_area_m2, 4), round((0.1 + 0.05) / 2 * 1.0, 4)  # a trapezoid, m^2
+    (0.075, 0.075)
     """
 
     x_m: np.ndarray

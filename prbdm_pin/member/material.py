@@ -27,6 +27,20 @@ class Material:
         Density in kg/m^3.
     nu : float
         Poisson's ratio (dimensionless, in (-1, 0.5)).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> steel = pp.Material()
+    >>> steel.E_Pa, steel.rho_kg_m3, steel.nu  # Pa, kg/m^3, -
+    (205000000000.0, 7850.0, 0.28)
+    >>> alu = pp.Material(name="aluminium 6061", E_Pa=69e9, rho_kg_m3=2700.0, nu=0.33)
+    >>> round(alu.E_Pa / alu.rho_kg_m3 / 1e6, 2)  # specific modulus, MN m/kg
+    25.56
+    >>> pp.Material(E_Pa=205.0)  # a modulus in GPa is refused
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: material.E = 205 Pa: outside the plausible ...
     """
 
     name: str = "steel AISI 4340"

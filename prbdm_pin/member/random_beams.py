@@ -57,6 +57,21 @@ def random_beam(
     -------
     Beam
         The drawn beam.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.random_beam(np.random.default_rng(0), p=3)
+    >>> beam.x_m.shape, beam.half_width_m.shape
+    ((5,), (5,))
+    >>> float(beam.x_m[0]), float(beam.x_m[-1])  # m: the clamp and the span
+    (0.0, 1.0)
+    >>> bool(np.all(np.diff(beam.x_m) > 0)), bool(beam.half_width_m.min() >= 0.02)
+    (True, True)
+    >>> again = pp.random_beam(np.random.default_rng(0), p=3)  # the same seed, the same beam
+    >>> bool(np.array_equal(again.half_width_m, beam.half_width_m))
+    True
     """
     if isinstance(p, bool) or not isinstance(p, (int, np.integer)) or p < 0:
         raise BeamInputError(f"p = {p!r}: must be an integer >= 0")

@@ -51,6 +51,21 @@ class RoundSection:
     inner_diameter_m : ndarray, shape (k,), optional
         Inner diameter d(x_k), m, in [0, D(x_k)); linear between stations. Omitted (None): a
         solid rod, stored as zeros.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> tube = pp.RoundSection(outer_diameter_m=[0.02, 0.02], inner_diameter_m=[0.016, 0.016])
+    >>> tube.outer_diameter_m, tube.inner_diameter_m  # m
+    (array([0.02, 0.02]), array([0.016, 0.016]))
+    >>> rod = pp.RoundSection(outer_diameter_m=[0.02, 0.01])  # a solid rod: inner diameter zeros
+    >>> rod.inner_diameter_m
+    array([0., 0.])
+    >>> pp.RoundSection(outer_diameter_m=[0.02, 0.02], inner_diameter_m=[0.02, 0.01])
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: section.inner_diameter[0] = 0.02 m (station ...
     """
 
     outer_diameter_m: np.ndarray

@@ -46,6 +46,16 @@ class SectionProperties:
         Mass per unit length, kg/m.
     rhoI_x_kg_m, rhoI_y_kg_m, rhoI_z_kg_m : ndarray
         Rotary inertia per unit length about x (the axis), y and z, kg m.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> props = pp.section_properties(beam, [0.0, 0.5])
+    >>> isinstance(props, pp.SectionProperties), props.EI_y_Nm2.shape
+    (True, (2,))
+    >>> props.rhoA_kg_m.round(4), round(7850.0 * 0.05 * 0.01, 4)  # kg/m, rho b t
+    (array([3.925, 3.925]), 3.925)
     """
 
     EI_y_Nm2: np.ndarray
@@ -97,6 +107,20 @@ def section_properties(beam: Beam, x_m: np.ndarray | float,
     -------
     SectionProperties
         Arrays of the shape of ``x_m``: N m^2 for stiffnesses, kg/m and kg m per length.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.05, 0.025], thickness_m=0.01)  # a taper
+    >>> props = pp.section_properties(beam, [0.0, 0.5, 1.0])
+    >>> (props.EI_y_Nm2 / 1e3).round(3)  # kN m^2
+    array([1.708, 1.281, 0.854])
+    >>> b = np.array([0.1, 0.075, 0.05])  # m, the width at the stations
+    >>> (205e9 * b * 0.01**3 / 12 / 1e3).round(3)  # E b t^3 / 12, kN m^2
+    array([1.708, 1.281, 0.854])
+    >>> props.rhoA_kg_m.round(4), (7850.0 * b * 0.01).round(4)  # kg/m, rho b t
+    (array([7.85  , 5.8875, 3.925 ]), array([7.85  , 5.8875, 3.925 ]))
     """
     from .geometry import Beam  # at call time: geometry imports this module
 

@@ -36,6 +36,18 @@ def round_beam(x_m, outer_diameter_m, inner_diameter_m=None, material: Material 
     Beam
         With ``section`` the :class:`RoundSection`, half-width the outer radius D / 2 and
         thickness the outer diameter D (m).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.round_beam([0.0, 1.0], [0.02, 0.02], [0.016, 0.016])  # a steel tube, m
+    >>> area = np.pi / 4 * (0.02**2 - 0.016**2)  # m^2
+    >>> round(beam.mass_kg, 5), round(7850.0 * area * 1.0, 5)  # kg, rho A L
+    (0.88781, 0.88781)
+    >>> EI = pp.section_properties(beam, 0.0).EI_y_Nm2  # N m^2
+    >>> round(float(EI), 2), round(205e9 * np.pi / 64 * (0.02**4 - 0.016**4), 2)  # E I
+    (950.58, 950.58)
     """
     section = RoundSection(outer_diameter_m, inner_diameter_m)
     D = section.outer_diameter_m
@@ -83,6 +95,24 @@ def table_beam(x_m, section: SectionTable, material: Material | None = None, tip
         With ``section`` the table; half-width and thickness those of the square of the same
         area moment E I_y / E (side (12 E I_y / E)^(1/4), m, clipped into the size range),
         for the size checks only.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> E, b, t, rho = 205e9, 0.05, 0.01, 7850.0  # Pa, m, m, kg/m^3: a steel strip
+    >>> I_y, I_z = b * t**3 / 12, t * b**3 / 12  # m^4
+    >>> table = pp.SectionTable(EI_y_Nm2=[E * I_y] * 2, EI_z_Nm2=[E * I_z] * 2,
+    ...                         GJ_Nm2=[80e9 * b * t**3 / 3] * 2, rhoA_kg_m=[rho * b * t] * 2,
+    ...                         rhoI_y_kg_m=[rho * I_y] * 2, rhoI_z_kg_m=[rho * I_z] * 2)
+    >>> beam = pp.table_beam([0.0, 1.0], table)
+    >>> round(beam.mass_kg, 4), round(rho * b * t * 1.0, 4)  # kg, rho b t L
+    (3.925, 3.925)
+    >>> strip = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> w_table = pp.build_model(beam, [0.5, 0.5], [2000.0]).natural_frequencies()
+    >>> w_strip = pp.build_model(strip, [0.5, 0.5], [2000.0]).natural_frequencies()
+    >>> w_table.round(2), w_strip.round(2)  # rad/s: the table of the strip, the strip
+    (array([110.58]), array([110.58]))
     """
     from ..options.validate import SIZE_RANGE_M, check_type
 

@@ -55,6 +55,20 @@ class SectionTable:
         About the axis, kg m; None: rho I_y + rho I_z.
 
     Every entry is finite, stiffnesses and mass > 0; every list has one entry per station.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> E, b, t, rho = 205e9, 0.05, 0.01, 7850.0  # Pa, m, m, kg/m^3: a steel strip
+    >>> I_y, I_z = b * t**3 / 12, t * b**3 / 12  # m^4
+    >>> table = pp.SectionTable(EI_y_Nm2=[E * I_y] * 2, EI_z_Nm2=[E * I_z] * 2,
+    ...                         GJ_Nm2=[80e9 * b * t**3 / 3] * 2, rhoA_kg_m=[rho * b * t] * 2,
+    ...                         rhoI_y_kg_m=[rho * I_y] * 2, rhoI_z_kg_m=[rho * I_z] * 2)
+    >>> table.size, round(float(table.EI_y_Nm2[0]), 2)  # stations, N m^2
+    (2, 854.17)
+    >>> round(float(table.rhoI_x_kg_m[0]), 8), round(rho * (I_y + I_z), 8)  # rho (I_y + I_z)
+    (0.00085042, 0.00085042)
     """
 
     EI_y_Nm2: np.ndarray

@@ -103,6 +103,35 @@ def beam_gravity_modal(beam: Beam, gravity_m_s2, n_modes: int = 10, n_elements: 
     ------
     BeamInputError
         A bad gravity or force (naming it), or a member that buckles under the prestress.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> still = pp.beam_gravity_modal(beam, [0.0, 0.0, 0.0], n_modes=2, n_elements=50)
+    >>> EI, rho_A = 205e9 * 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01  # N m^2, kg/m
+    >>> eb = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, Euler-Bernoulli
+    >>> still.omega_rad_s.round(2), eb.round(2)
+    (array([ 51.87, 325.05]), array([ 51.87, 325.05]))
+    >>> hanging = pp.beam_gravity_modal(beam, [9.81, 0.0, 0.0], n_modes=2, n_elements=50)
+    >>> standing = pp.beam_gravity_modal(beam, [-9.81, 0.0, 0.0], n_modes=2, n_elements=50)
+    >>> bool(np.all(hanging.omega_rad_s > still.omega_rad_s))  # tension stiffens
+    True
+    >>> bool(np.all(standing.omega_rad_s < still.omega_rad_s))  # compression softens
+    True
+    >>> round(float(hanging.omega_rad_s[0] / still.omega_rad_s[0] - 1) * 100, 2)  # %, hanging
+    0.29
+    >>> # first order in g (Rayleigh): omega^2 grows by g int (L - x) phi'^2 / int phi^2, phi the
+    >>> # Euler-Bernoulli mode; the tension rho A g (L - x) divided by rho A
+    >>> x, b = np.linspace(0.0, 1.0, 2001), 1.8751041
+    >>> s = (np.sinh(b) - np.sin(b)) / (np.cosh(b) + np.cos(b))
+    >>> phi = np.cosh(b * x) - np.cos(b * x) - s * (np.sinh(b * x) - np.sin(b * x))
+    >>> def integral(f):  # the trapezoid rule on x
+    ...     return float(np.sum(f[1:] + f[:-1]) / 2 * (x[1] - x[0]))
+    >>> d_w2 = 9.81 * integral((1 - x) * np.gradient(phi, x)**2) / integral(phi**2)  # rad^2/s^2
+    >>> round(100 * float(np.sqrt(eb[0]**2 + d_w2) / eb[0] - 1), 2)  # %
+    0.29
     """
     _check_beam(beam)
     g = check_gravity(gravity_m_s2)
@@ -141,6 +170,15 @@ def beam_gravity_static(beam: Beam, gravity_m_s2, tip_force_N=None,
         Tip position (L, 0, w_tip) and displacement (0, 0, w_tip), m: a uniform cantilever
         sags q L^4 / (8 EI) under q = rho A g_z; g_x stiffens (hanging) or softens (standing)
         it through the prestress.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> sag = pp.beam_gravity_static(beam, [0.0, 0.0, -9.81], n_elements=20)
+    >>> q, EI = 7850.0 * 0.05 * 0.01 * 9.81, 205e9 * 0.05 * 0.01**3 / 12  # N/m, N m^2
+    >>> round(float(sag.tip_displacement_m[2]) * 1e3, 4), round(-q / (8 * EI) * 1e3, 4)  # mm, L = 1
+    (-5.6348, -5.6348)
     """
     _check_beam(beam)
     g = check_gravity(gravity_m_s2)
@@ -168,6 +206,15 @@ def beam_self_weight_buckling(beam: Beam, n_elements: int = 200) -> float:
 
     The smallest lambda of K phi = lambda (-K_g1) phi, K_g1 the geometric stiffness of a unit
     standing gravity (g = (-1, 0, 0) m/s^2).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> g_cr = pp.beam_self_weight_buckling(beam, n_elements=50)  # m/s^2
+    >>> EI, rho_A = 205e9 * 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01  # N m^2, kg/m
+    >>> round(g_cr, 1), round(7.8373 * EI / (rho_A * 1.0**3), 1)  # Greenhill: q L^3 / EI = 7.8373
+    (1705.6, 1705.6)
     """
     _check_beam(beam)
     _, _, K, Kg1, _, _, free, _ = _gravity_system(beam, np.array([-1.0, 0.0, 0.0]),

@@ -63,6 +63,17 @@ class TimoshenkoModes:
     dofs : int
         Free DOFs.
     timings : Timings
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> modes = pp.beam_timoshenko_modal(beam, n_modes=2, n_elements=10)
+    >>> isinstance(modes, pp.TimoshenkoModes), modes.x_m.shape, modes.deflection_m.shape
+    (True, (21,), (2, 21))
+    >>> modes.dofs, bool(np.all(modes.deflection_m[:, -1] >= 0))  # 2 per node but the clamp's
+    (40, True)
     """
 
     omega_rad_s: np.ndarray
@@ -82,6 +93,17 @@ class TimoshenkoStatic:
     tip_force_N : float
     tip_deflection_m : float
     tip_rotation_rad : float
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> tip = pp.beam_timoshenko_static(beam, [0.0, 0.0, -10.0], n_elements=20)
+    >>> isinstance(tip, pp.TimoshenkoStatic), tip.tip_force_N  # N
+    (True, -10.0)
+    >>> EI = 205e9 * 0.05 * 0.01**3 / 12  # N m^2
+    >>> round(tip.tip_rotation_rad, 5), round(-10.0 * 1.0**2 / (2 * EI), 5)  # rad: F L^2 / (2 EI)
+    (-0.00585, -0.00585)
     """
 
     tip_force_N: float
@@ -135,6 +157,21 @@ def timoshenko_modal(sections: SectionLaws, length_m: float, n_modes: int = 5,
     Returns
     -------
     TimoshenkoModes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> EI, rho_A = 854.17, 3.925  # N m^2, kg/m: a slender steel strip, L = 1 m
+    >>> stiff = pp.SectionLaws(EI_Nm2=EI, kappaGA_N=1e12, rhoA_kg_m=rho_A, rhoI_kg_m=1e-12)
+    >>> modes = pp.timoshenko_modal(stiff, 1.0, n_modes=2, n_elements=40)
+    >>> modes.omega_rad_s.round(2)  # rad/s: no shear, no rotary inertia: Euler-Bernoulli
+    array([ 51.87, 325.05])
+    >>> (np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)).round(2)
+    array([ 51.87, 325.05])
+    >>> soft = pp.SectionLaws(EI_Nm2=EI, kappaGA_N=1e5, rhoA_kg_m=rho_A, rhoI_kg_m=1e-12)
+    >>> bool(np.all(pp.timoshenko_modal(soft, 1.0, 2, 40).omega_rad_s < modes.omega_rad_s))
+    True
     """
     return _modal(_stations(length_m, n_elements, stations_m), _check_sections(sections),
                   _check_count("n_modes", n_modes), _check_element(element))
@@ -205,6 +242,17 @@ def timoshenko_static(sections: SectionLaws, length_m: float, tip_force_N: float
         For a uniform section w_tip = F L^3 / (3 E I) + F L / (kappa G A): to rounding with the
         interdependent element (its shape functions solve the static equations), to the
         discretisation error (h^2) with the quadratic one.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> laws = pp.SectionLaws(EI_Nm2=1e4, kappaGA_N=1e5, rhoA_kg_m=10.0, rhoI_kg_m=0.01)
+    >>> tip = pp.timoshenko_static(laws, 1.0, tip_force_N=100.0, n_elements=20)
+    >>> F, L = 100.0, 1.0  # N, m
+    >>> round(tip.tip_deflection_m * 1e3, 4), round((F * L**3 / (3 * 1e4) + F * L / 1e5) * 1e3, 4)
+    (4.3333, 4.3333)
+    >>> round(tip.tip_rotation_rad * 1e3, 4), round(F * L**2 / (2 * 1e4) * 1e3, 4)  # mrad
+    (5.0, 5.0)
     """
     import scipy.linalg
 
@@ -240,6 +288,19 @@ def beam_timoshenko_modal(beam: Beam, n_modes: int = 5, n_elements: int = 200,
     Returns
     -------
     TimoshenkoModes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> modes = pp.beam_timoshenko_modal(beam, n_modes=2, n_elements=40)
+    >>> EI, rho_A = 205e9 * 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01  # N m^2, kg/m
+    >>> eb = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, Euler-Bernoulli
+    >>> modes.omega_rad_s.round(1), eb.round(1)
+    (array([ 51.9, 324.9]), array([ 51.9, 325.1]))
+    >>> (100 * (modes.omega_rad_s / eb - 1)).round(3)  # %: shear and rotary inertia lower them
+    array([-0.008, -0.054])
     """
     laws = member_section_laws(beam)
     return _modal(beam_stations(beam, n_elements), laws, _check_count("n_modes", n_modes),
@@ -263,6 +324,16 @@ def beam_timoshenko_static(beam: Beam, tip_force_N: np.ndarray | None = None,
     -------
     TimoshenkoStatic
         The tip's z deflection (m) and rotation about y (rad, positive with a positive slope).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> tip = pp.beam_timoshenko_static(beam, [0.0, 0.0, -10.0], n_elements=20)
+    >>> EI = 205e9 * 0.05 * 0.01**3 / 12  # N m^2
+    >>> kGA = 10 * 1.28 / (12 + 11 * 0.28) * 205e9 / 2.56 * 0.05 * 0.01  # N: Cowper's rectangle
+    >>> round(tip.tip_deflection_m * 1e3, 3), round(-10.0 * (1 / (3 * EI) + 1 / kGA) * 1e3, 3)  # mm
+    (-3.903, -3.903)
     """
     laws = member_section_laws(beam)
     F = np.asarray(beam.tip_force_N if tip_force_N is None else tip_force_N, dtype=float)

@@ -65,6 +65,19 @@ def compute_truth(beam: Beam, request: TruthRequest | None = None, *, cache_dir=
         ``request.error_tol_pct``.
     TypeError
         A keyword that is no field of TruthRequest, or a request given with fields.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> truth = pp.compute_truth(beam, model="beam", modes=3)
+    >>> truth.omega_rad_s.round(1)  # rad/s
+    array([ 51.9, 325.1, 910.2])
+    >>> EI, rho_A = 205e9 * 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01  # N m^2, kg/m
+    >>> beta_L = np.array([1.8751041, 4.6940911, 7.8547574])  # Euler-Bernoulli cantilever, L = 1 m
+    >>> (beta_L**2 * np.sqrt(EI / rho_A)).round(1)
+    array([ 51.9, 325.1, 910.2])
     """
     if not isinstance(beam, Beam):
         raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")

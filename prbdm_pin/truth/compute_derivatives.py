@@ -57,6 +57,17 @@ class TruthGradient:
         The same in CPU time (s) of this process (less disturbed by other processes).
     dofs : int
         Number of degrees of freedom of the truth's finite-element model.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> g = pp.truth_gradient(beam, ("thickness", "rho"), model="beam", modes=2, static=False)
+    >>> isinstance(g, pp.TruthGradient), g.model, g.tip_z_m  # no static case asked
+    (True, 'beam', None)
+    >>> # omega is proportional to rho^(-1/2): d omega / d rho = -omega / (2 rho)
+    >>> g.d_omega_rad_s[:, 1].round(5), (-g.omega_rad_s / (2 * 7850.0)).round(5)  # rad/s per kg/m^3
+    (array([-0.0033, -0.0207]), array([-0.0033, -0.0207]))
     """
 
     model: str
@@ -126,6 +137,20 @@ def truth_gradient(beam: Beam, design: Design | tuple[str, ...] | list[str],
         below ``sensitivity_rules.GAP_TOL``): its derivative is not defined by one mode.
     TypeError
         A keyword that is no field of TruthRequest, or a request given with fields.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -1.0])
+    >>> g = pp.truth_gradient(beam, ("thickness",), model="beam", modes=2)
+    >>> g.names, g.units, g.d_omega_rad_s.shape
+    (('thickness',), ('m',), (2, 1))
+    >>> # omega is proportional to t and the tip to 1 / t^3: d omega/dt = omega/t, d w/dt = -3 w/t
+    >>> g.d_omega_rad_s[:, 0].round(2), (g.omega_rad_s / 0.01).round(2)  # rad/s per m
+    (array([ 5186.83, 32505.33]), array([ 5186.83, 32505.33]))
+    >>> round(float(g.d_tip_z_m[0]), 5), round(-3 * g.tip_z_m / 0.01, 5)  # m per m
+    (0.11707, 0.11707)
     """
     if not isinstance(beam, Beam):
         raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")

@@ -235,6 +235,23 @@ def corner_static(beam: Beam, model: str = "plate", tip_force_N=None,
     BeamInputError
         An unknown model or point, a load that is not 3 finite numbers, a nonlinear plate or a
         moment about y on the plate, each naming the field.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> sol = pp.corner_static(beam, "plate", tip_force_N=[0.0, 0.0, -1.0], level=0)
+    >>> EI = 205e9 * 0.05 * 0.01**3 / 12  # N m^2
+    >>> # the tip centre against the 1D beam's F L^3 / (3 EI): the plate is a little stiffer
+    >>> round(float(sol.tip_displacement_m[2]) * 1e3, 4), round(-1.0 / (3 * EI) * 1e3, 4)  # mm
+    (-0.3884, -0.3902)
+    >>> left, right = sol.corner_displacement_m[:, 2] * 1e3  # mm: the loaded corner sinks more
+    >>> bool(left < right)
+    True
+    >>> J = 0.05 * 0.01**3 / 3 * (1 - 0.630 * 0.01 / 0.05)  # m^4: the strip's Saint-Venant J
+    >>> # the twist against T L / (G J); the clamp's warping restraint makes the plate stiffer
+    >>> round(sol.tip_twist_rad * 1e6, 1), round(-1.0 * 0.025 / (205e9 / 2.56 * J) * 1e6, 1)  # urad
+    (-18.5, -21.4)
     """
     check_type("beam", beam, Beam)
     F = _vector("tip_force_N", beam.tip_force_N if tip_force_N is None else tip_force_N, "N")

@@ -89,6 +89,19 @@ class ElasticaGradient:
         Wall time of the elastica's solve and of all gradients after it (with
         ``ei_scale="plate"`` each includes the part of the two linear truths': ``truth_gradient``
         solves their modes too).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -1.0])
+    >>> g = pp.elastica_gradient(beam, ("thickness", "E"))
+    >>> isinstance(g, pp.ElasticaGradient), g.ei_scale_source, g.d_tip_position_m.shape
+    (True, 'fixed', (3, 2))
+    >>> # the tip depends on E and t through E t^3 only: t dw/dt = 3 E dw/dE
+    >>> w = g.d_tip_position_m[2]
+    >>> round(float(0.01 * w[0]), 7), round(float(3 * 205e9 * w[1]), 7)  # m
+    (0.0011707, 0.0011707)
     """
 
     names: tuple[str, ...]
@@ -175,6 +188,20 @@ def elastica_gradient(
         Bad arguments or design variables (named).
     SolveError
         The elastica or its adjoint did not converge.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -1.0])  # a small load: the elastica is near linear
+    >>> g = pp.elastica_gradient(beam, ("thickness",))
+    >>> EI = 205e9 * 0.05 * 0.01**3 / 12  # N m^2
+    >>> round(float(g.tip_position_m[2]) * 1e3, 4), round(-1.0 / (3 * EI) * 1e3, 4)  # mm, L = 1 m
+    (-0.3902, -0.3902)
+    >>> round(float(g.d_tip_d_force_m_per_N[2, 1]) * 1e3, 4), round(1e3 / (3 * EI), 4)  # mm/N
+    (0.3902, 0.3902)
+    >>> round(float(g.d_tip_position_m[2, 0]), 4), round(3 * 1.0 / (3 * EI) / 0.01, 4)  # -3 w / t
+    (0.1171, 0.1171)
     """
     if not isinstance(beam, Beam):
         raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")

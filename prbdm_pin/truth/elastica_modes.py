@@ -86,6 +86,20 @@ def elastica_gravity_modes(beam: Beam, gravity_m_s2, tip_force_N=None, n_modes: 
     ------
     BeamInputError
         A bad argument (naming it), or an equilibrium that is not stable (it buckles).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> omega, sag = pp.elastica_gravity_modes(beam, [0.0, 0.0, -9.81], n_modes=2, n_elements=40)
+    >>> EI, rho_A = 205e9 * 0.05 * 0.01**3 / 12, 7850.0 * 0.05 * 0.01  # N m^2, kg/m
+    >>> eb = np.array([1.8751041, 4.6940911])**2 * np.sqrt(EI / rho_A)  # rad/s, Euler-Bernoulli
+    >>> omega.round(1), eb.round(1)  # rad/s: a sag this small barely moves them
+    (array([ 51.9, 325.1]), array([ 51.9, 325.1]))
+    >>> q = rho_A * 9.81  # N/m: a 5.6 mm sag, small against L, so the linear q L^4 / (8 EI)
+    >>> round(float(sag.tip_displacement_m[2]) * 1e3, 3), round(-q / (8 * EI) * 1e3, 3)  # mm
+    (-5.635, -5.635)
     """
     if not isinstance(beam, Beam):
         raise InputTypeError(f"beam = {beam!r:.60}: must be a prbdm_pin.Beam")

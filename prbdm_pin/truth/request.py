@@ -100,6 +100,21 @@ class TruthRequest:
         ``"in-plane"``); default False: bending modes only. The selected bending modes are the
         same either way. The plate and solid truths compute every kind they model whatever it
         says (the plate has no in-plane modes).
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> request = pp.TruthRequest(model="beam", modes=2)
+    >>> request.model, request.modes, request.selection, request.error_tol_pct
+    ('beam', 2, 'paper', 0.5)
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> truth = pp.compute_truth(beam, request)
+    >>> truth.omega_rad_s.round(2)  # rad/s
+    array([ 51.87, 325.05])
+    >>> pp.TruthRequest(model="fluid")
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: model = 'fluid': must be one of ('plate', ...
     """
 
     model: str = "plate"

@@ -190,6 +190,20 @@ class TruthResult:
     beam_gap_cause : tuple of str
         The cause of each gap (clamped Poisson effect, plate action, a mode without a 1D
         counterpart).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01,
+    ...                tip_force_N=[0.0, 0.0, -1.0])
+    >>> truth = pp.compute_truth(beam, model="beam", modes=2)
+    >>> isinstance(truth, pp.TruthResult), truth.model, truth.labels[:2]
+    (True, 'beam', ('bending', 'bending'))
+    >>> EI = 205e9 * 0.05 * 0.01**3 / 12  # N m^2
+    >>> w_tip = truth.static_linear.tip_displacement_m[2]  # m
+    >>> round(float(w_tip) * 1e3, 4), round(-1.0 * 1.0**3 / (3 * EI) * 1e3, 4)  # mm: F L^3 / (3 EI)
+    (-0.3902, -0.3902)
     """
 
     beam_fingerprint: str

@@ -112,6 +112,19 @@ class TimoshenkoCriterion:
         L / r_g at the thickest section.
     kappa : float
         The shear coefficient used (Cowper's rectangle).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> crit = pp.timoshenko_criterion(beam, n_modes=2, solve=False)
+    >>> isinstance(crit, pp.TimoshenkoCriterion), crit.gap_pct  # unsolved: the estimate only
+    (True, None)
+    >>> round(crit.slenderness, 2), round(float(np.sqrt(12)) / 0.01, 2)  # L / (t / sqrt(12))
+    (346.41, 346.41)
+    >>> round(crit.kappa, 4), round(10 * 1.28 / (12 + 11 * 0.28), 4)  # Cowper, nu = 0.28
+    (0.8488, 0.8488)
     """
 
     estimate_pct: np.ndarray
@@ -163,6 +176,16 @@ def timoshenko_criterion(beam: Beam, n_modes: int = 5, tol_pct: float = TIMOSHEN
     Returns
     -------
     TimoshenkoCriterion
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> crit = pp.timoshenko_criterion(beam, n_modes=3, tol_pct=0.1, n_elements=50)
+    >>> crit.estimate_pct.round(3), crit.gap_pct.round(3)  # %: the estimate, both 1D truths solved
+    (array([0.008, 0.054, 0.129]), array([0.008, 0.054, 0.129]))
+    >>> crit.needs_timoshenko  # the third mode's error passes 0.1 %
+    array([False, False,  True])
     """
     if not isinstance(beam, Beam):
         raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")

@@ -50,6 +50,17 @@ def shear_coefficient(kind: str, nu: float, inner_ratio: float = 0.0) -> float:
     -------
     float
         kappa, with kappa G A the shear stiffness (N) of the section.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> nu = 0.3
+    >>> round(pp.shear_coefficient("rectangle", nu), 4), round(10 * (1 + nu) / (12 + 11 * nu), 4)
+    (0.8497, 0.8497)
+    >>> round(pp.shear_coefficient("solid_circle", nu), 4), round(6 * (1 + nu) / (7 + 6 * nu), 4)
+    (0.8864, 0.8864)
+    >>> pp.shear_coefficient("tube", nu, 0.0) == pp.shear_coefficient("solid_circle", nu)
+    True
     """
     if not isinstance(kind, str):
         raise InputTypeError(f"kind = {kind!r}: must be one of {SHEAR_KINDS}")
@@ -140,6 +151,19 @@ class SectionLaws:
         Mass per length rho A(x), kg/m.
     rhoI_kg_m : callable
         Rotary inertia per length rho I(x) about the bending axis, kg m.
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> laws = pp.SectionLaws(EI_Nm2=854.17, kappaGA_N=3.4e7, rhoA_kg_m=3.925,
+    ...                       rhoI_kg_m=([0.0, 1.0], [3.3e-5, 1.6e-5]))  # a number, or a table
+    >>> float(laws.EI_Nm2(0.5)), round(float(laws.rhoI_kg_m(0.5)), 8)  # linear between stations
+    (854.17, 2.45e-05)
+    >>> bad = pp.SectionLaws(EI_Nm2=-1.0, kappaGA_N=3.4e7, rhoA_kg_m=3.925, rhoI_kg_m=3.3e-5)
+    >>> bad.EI_Nm2(0.5)  # a law is checked where it is evaluated
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: EI_Nm2 = -1.0 at x = 0.5 m: must be finite and > 0
     """
 
     EI_Nm2: Law
@@ -213,6 +237,19 @@ def rectangle_section_laws(beam: Beam) -> SectionLaws:
     Returns
     -------
     SectionLaws
+
+    Examples
+    --------
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.05, 0.025], thickness_m=0.01)  # a taper
+    >>> laws = pp.rectangle_section_laws(beam)
+    >>> b = 0.075  # m, the width at x = 0.5 m
+    >>> round(float(laws.EI_Nm2(0.5)), 2), round(205e9 * b * 0.01**3 / 12, 2)  # N m^2, E b t^3 / 12
+    (1281.25, 1281.25)
+    >>> kappa = 10 * (1 + 0.28) / (12 + 11 * 0.28)  # Cowper's rectangle
+    >>> G = 205e9 / (2 * (1 + 0.28))  # Pa
+    >>> round(float(laws.kappaGA_N(0.5)) / 1e6, 3), round(kappa * G * b * 0.01 / 1e6, 3)  # MN
+    (50.978, 50.978)
     """
     if not isinstance(beam, Beam):
         raise InputTypeError(f"beam = {beam!r}: must be a prbdm_pin.Beam")

@@ -85,6 +85,19 @@ def animate_response(model, trajectory, path: str | os.PathLike, *, frames: int 
     -------
     Path
         The file, written atomically.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from PIL import Image
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.2, q0=[0.01, 0.0])  # s, rad
+    >>> path = pp.animate_response(model, run, Path(tempfile.mkdtemp()) / "ring.gif", frames=4)
+    >>> path.suffix, Image.open(path).n_frames
+    ('.gif', 4)
     """
     from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
 

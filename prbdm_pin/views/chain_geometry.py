@@ -41,6 +41,20 @@ class ChainModes:
     kinds : tuple of str
         Each mode's kind by where its strain energy lies: ``"bending"`` (springs about y),
         ``"in-plane"`` (about z) or ``"torsion"`` (about x).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> modes = pp.chain_modes(model)
+    >>> isinstance(modes, pp.ChainModes), modes.displacement_m.shape, modes.twist_rad.shape
+    (True, (2, 4, 3), (2, 4))
+    >>> modes.points_m[:, 0]  # m: the root, the two joints and the tip
+    array([0. , 0.2, 0.7, 1. ])
+    >>> modes.kinds, bool(np.allclose(modes.twist_rad, 0.0))  # a planar chain does not twist
+    (('bending', 'bending'), True)
     """
 
     omega_rad_s: np.ndarray
@@ -127,6 +141,21 @@ def chain_modes(model, n_modes: int | None = None) -> ChainModes:
     Returns
     -------
     ChainModes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> modes = pp.chain_modes(model, n_modes=2)
+    >>> modes.omega_rad_s.round(2), model.natural_frequencies().round(2)  # rad/s
+    (array([ 58.96, 320.89]), array([ 58.96, 320.89]))
+    >>> w = modes.displacement_m[:, :, 2]  # z at the root, joints and tip, m per modal unit
+    >>> w[:, 0], bool(np.all(np.abs(w).argmax(axis=1) == 3))  # clamped root; largest at the tip
+    (array([0., 0.]), True)
+    >>> bool(np.all(w[:, 3] > 0))  # the sign: each bending mode's largest z positive
+    True
     """
     frames = chain_frames(model)
     pm = model.pin_model

@@ -46,6 +46,46 @@ def open_meshcat(model, trajectory=None, *, open_browser: bool = True):
     """Show ``model`` in Pinocchio's meshcat visualiser and play ``trajectory`` (if given).
 
     Returns the ``pinocchio.visualize.MeshcatVisualizer`` (its ``viewer.url()`` is the page).
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        The chain (clamped or on a hub); each link is drawn as a box (module docstring).
+    trajectory : Trajectory, optional
+        A response (:func:`prbdm_pin.simulate`) played at its own sample times, s.
+    open_browser : bool
+        Open the page in a browser (default True); False only starts the viewer's server.
+
+    Returns
+    -------
+    pinocchio.visualize.MeshcatVisualizer
+        The visualiser, its model loaded and shown at the straight pose.
+
+    Raises
+    ------
+    InputTypeError
+        ``model`` not a PrbdmModel.
+    BeamInputError
+        meshcat not installed (saying how to install it), refused before anything starts.
+
+    Examples
+    --------
+    >>> import importlib.util
+    >>> import prbdm_pin as pp
+    >>> pp.open_meshcat("chain.urdf")  # a model, not a file name
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.InputTypeError: model = 'chain.urdf': must be a ...
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> if importlib.util.find_spec("meshcat") is None:  # refused, saying how to install it
+    ...     try:
+    ...         pp.open_meshcat(model, open_browser=False)
+    ...     except pp.BeamInputError as err:
+    ...         print("pip install meshcat" in str(err))
+    ... else:  # installed: a viewer would start a server, which a doctest does not do
+    ...     print(True)
+    True
     """
     check_model(model)
     check_meshcat()

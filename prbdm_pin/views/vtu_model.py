@@ -57,6 +57,23 @@ def write_model_modes_vtu(model, path: str | os.PathLike, n_modes: int | None = 
     Returns
     -------
     Path
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import meshio
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> path = pp.write_model_modes_vtu(model, Path(tempfile.mkdtemp()) / "modes.vtu")
+    >>> mesh = meshio.read(path)  # read back as ParaView would
+    >>> mesh.points.shape, sorted(mesh.point_data)[:2]
+    ((4, 3), ['displacement_mode_1', 'displacement_mode_2'])
+    >>> u = mesh.point_data["displacement_mode_1"]  # m per modal unit
+    >>> bool(np.allclose(u, pp.chain_modes(model).displacement_m[0]))
+    True
     """
     check_model(model)
     _vtu_path(path)
@@ -101,6 +118,24 @@ def write_trajectory_vtu(model, trajectory, folder: str | os.PathLike, *, frames
     -------
     Path
         The collection ``<name>.pvd``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import meshio
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.2, q0=[0.01, 0.0])  # s, rad
+    >>> pvd = pp.write_trajectory_vtu(model, run, tempfile.mkdtemp(), frames=3)
+    >>> pvd.name, sorted(p.name for p in pvd.parent.glob("*.vtu"))
+    ('trajectory.pvd', ['trajectory_0000.vtu', 'trajectory_0001.vtu', 'trajectory_0002.vtu'])
+    >>> first = meshio.read(pvd.parent / "trajectory_0000.vtu")  # the first sample, t = 0
+    >>> tip = first.points[-1] + first.point_data["displacement"][-1]  # m
+    >>> bool(np.allclose(tip, run.tip_position_m[0]))  # the trajectory's own tip
+    True
     """
     from .animate import frame_samples
 
