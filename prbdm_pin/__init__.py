@@ -98,7 +98,7 @@ _EXPORTS = {
     "ElasticaGradient": "truth.elastica_derivatives",
     # fitting
     "FitTarget": "fitting.target",
-    "LoadCase": "fitting.target",
+    "LoadCase": "fitting.load_case",
     "target_from_truth": "fitting.target",
     "gravity_target": "fitting.gravity_target",
     "FitOptions": "options.objects",

@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 
 from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
-from prbdm_pin.truth.beam import beam_static  # noqa: E402
+from prbdm_pin.truth.beam_static import beam_static  # noqa: E402
 from prbdm_pin.truth.elastica import elastica_static  # noqa: E402
 from prbdm_pin.truth.solid import solid_static  # noqa: E402
 

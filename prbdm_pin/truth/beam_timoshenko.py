@@ -316,7 +316,7 @@ def beam_timoshenko_static(beam: Beam, tip_force_N: np.ndarray | None = None,
     beam : Beam
     tip_force_N : array_like, shape (3,), optional
         Tip force in N (default: ``beam.tip_force_N``); only F_z bends the beam here, as in
-        :func:`~prbdm_pin.truth.beam.beam_static`.
+        :func:`~prbdm_pin.truth.beam_static.beam_static`.
     n_elements : int
         About this many elements along the span (the planform's vertices are edges).
 

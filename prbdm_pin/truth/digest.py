@@ -50,6 +50,7 @@ TRUTH_MODULES = (
     "prbdm_pin/truth/anticlastic.py",
     "prbdm_pin/truth/argyris_forms.py",
     "prbdm_pin/truth/beam.py",
+    "prbdm_pin/truth/beam_static.py",
     "prbdm_pin/truth/beam_derivatives.py",
     "prbdm_pin/truth/beam_gravity.py",
     "prbdm_pin/truth/beam_spatial.py",

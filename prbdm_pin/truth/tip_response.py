@@ -27,7 +27,7 @@ def tip_response(beam: Beam, model: str, level: int | None, large: str
     the truth model's linear tips (None without a vertical load).
     """
     # the solvers load scikit-fem and scipy: imported here, so that a cached truth never does
-    from .beam import beam_static
+    from .beam_static import beam_static
 
     nonlinear = None
     beam_lin = beam_static(beam)
@@ -72,7 +72,7 @@ def elastica_warnings(beam: Beam, model: str, linear: StaticSolution | None,
     """
     if large != "elastica" or model == "beam" or linear is None:
         return []
-    from .beam import beam_static
+    from .beam_static import beam_static
 
     u_2d = float(linear.tip_displacement_m[2])
     u_1d = float(beam_static(beam).tip_displacement_m[2])

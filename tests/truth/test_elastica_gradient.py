@@ -128,7 +128,8 @@ def _fd_calibrated(beam, names, rel=3e-2):
     planform (fixed topology) and the 1D beam on its moved stations."""
     from skfem import MeshTri
 
-    from prbdm_pin.truth.beam import beam_static, beam_stations
+    from prbdm_pin.truth.beam import beam_stations
+    from prbdm_pin.truth.beam_static import beam_static
     from prbdm_pin.truth.mesh import planform_tri_mesh
     from prbdm_pin.truth.morph import morph_plane, morph_x
     from prbdm_pin.truth.plate_static import plate_static

@@ -18,7 +18,8 @@ from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import beam_from_dict, load_beam
 from prbdm_pin.member.geometry import Beam, beam_to_dict
 from prbdm_pin.model.prbdm_model import build_model
-from prbdm_pin.truth.beam import beam_modal, beam_static, beam_stations
+from prbdm_pin.truth.beam import beam_modal, beam_stations
+from prbdm_pin.truth.beam_static import beam_static
 from prbdm_pin.truth.elastica import elastica_static
 
 E, RHO, T = 205e9, 7850.0, 0.005

@@ -9,7 +9,8 @@ from scipy.integrate import quad
 from prbdm_pin.errors import BeamInputError
 from prbdm_pin.member.geometry import Beam
 from prbdm_pin.member.material import Material
-from prbdm_pin.truth.beam import beam_bending_modes, beam_modal, beam_static
+from prbdm_pin.truth.beam import beam_bending_modes, beam_modal
+from prbdm_pin.truth.beam_static import beam_static
 
 # Cantilever eigenvalues beta_n L (e.g. Blevins, Formulas for Natural Frequency and Mode Shape).
 BETA_L = REF_BETA_L[:5]

@@ -14,7 +14,8 @@ from prbdm_pin.errors import BeamInputError
 from prbdm_pin.files.beam_file import load_beam, save_beam
 from prbdm_pin.member.geometry import Beam
 from prbdm_pin.truth import compute_truth, mesh, solid, solid_fe
-from prbdm_pin.truth.beam import beam_modal, beam_static, beam_stations
+from prbdm_pin.truth.beam import beam_modal, beam_stations
+from prbdm_pin.truth.beam_static import beam_static
 from prbdm_pin.truth.feature_mesh import planform_quad_mesh
 from prbdm_pin.truth.mesh_budget import estimate_plate_dofs
 from prbdm_pin.truth.plate_elements import ElementTriArgyrisLocal

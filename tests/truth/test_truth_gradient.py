@@ -12,7 +12,8 @@ from skfem import MeshTri
 
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError, TruthError
-from prbdm_pin.truth.beam import beam_modes, beam_static, beam_stations
+from prbdm_pin.truth.beam import beam_modes, beam_stations
+from prbdm_pin.truth.beam_static import beam_static
 from prbdm_pin.truth.derivative_rules import check_gaps
 from prbdm_pin.truth.mesh import planform_tri_mesh
 from prbdm_pin.truth.morph import morph_plane, morph_x

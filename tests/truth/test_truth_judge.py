@@ -131,7 +131,7 @@ def test_truth_json_records_estimate_gap_and_fingerprint(tmp_path, capsys):
     assert len(d["error_estimate_pct"]) == len(d["beam_gap_pct"]) == 3
     assert d["large_deflection"] == "calibrated-elastica"
     # the small-load theory gap is the ratio of two independent linear solves
-    from prbdm_pin.truth.beam import beam_static
+    from prbdm_pin.truth.beam_static import beam_static
     from prbdm_pin.truth.plate_static import plate_static
 
     ratio = beam_static(beam).tip_displacement_m[2] / plate_static(beam).tip_displacement_m[2]
