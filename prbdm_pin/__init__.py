@@ -159,6 +159,7 @@ _EXPORTS = {
     "DrivenTrajectory": "fitting.calibration_measured",
     "FrequencyResponse": "fitting.calibration_measured",
     "write_calibration": "files.calibration_file",
+    "plot_calibration": "files.calibration_file",
     # batch studies
     "run_batch": "batch",
     "BatchSpec": "batch",

@@ -21,17 +21,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputTypeError
+from ..errors import BeamInputError, InputTypeError
 from ..fitting.calibrate import CalibrationResult
 from ..fitting.calibration_measured import DrivenTrajectory, FrequencyResponse
 from ..io.atomic import atomic_write_text
 from ..io.output_folder import output_folder
 from ..io.provenance import provenance
+from ..options.validate import check_type
 from ..version import __version__
-from ..views.plots import new_figure, save_png
+from ..views.plots import new_figure, save_figure
 from .model_json import model_dict
 
-__all__ = ["CALIBRATION_FILES", "calibration_record", "write_calibration"]
+__all__ = ["CALIBRATION_FILES", "calibration_record", "plot_calibration", "write_calibration"]
 
 CALIBRATION_FILES = ("calibration.json", "model.json", "calibration.png")
 
@@ -70,42 +71,83 @@ def _kind(data) -> str:
     return "driven" if isinstance(data, DrivenTrajectory) else "ring-down"
 
 
-def _plot_frf(result: CalibrationResult, path: Path) -> None:
+def _unit(channel: str) -> str:
+    """Return the unit of a data channel (an output, or an FRF's OUTPUT/INPUT); "?" if unknown."""
+    from ..model.bus_outputs import bus_output_unit
+    from ..model.inputs import input_unit
+    from ..views.bode import unit_ratio
+
+    try:
+        if "/" in channel:
+            out, inp = channel.split("/", 1)
+            return unit_ratio(bus_output_unit(out), input_unit(inp))
+        return bus_output_unit(channel)
+    except (KeyError, ValueError, BeamInputError):
+        return "?"
+
+
+def plot_calibration(result: CalibrationResult, path: str | os.PathLike | None = None):
+    """Draw each channel's data against the calibrated model; return the Figure.
+
+    A ring-down or a driven run: one axes per channel against time; an FRF: a magnitude and a
+    phase axes per transfer function against frequency. Every axis names its unit.
+
+    Parameters
+    ----------
+    result : CalibrationResult
+    path : path-like, optional
+        Also write the figure there (PNG, PDF or SVG by the suffix, atomically).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> w = np.sqrt(1.1) * model.natural_frequencies()[0]  # rad/s: E 10 % up
+    >>> t = np.arange(500) * 2e-3  # s
+    >>> y = 1e-3 * np.exp(-0.01 * w * t) * np.cos(w * np.sqrt(1 - 0.01**2) * t)  # m
+    >>> cal = pp.calibrate(model, pp.RingDown(t_s=t, y=y[:, None], channels=("tip_z",)),
+    ...                    ("E", "damping[0]"))
+    >>> fig = pp.plot_calibration(cal)
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['tip_z (m)']
+    """
+    check_type("result", result, CalibrationResult, "a CalibrationResult")
     d = result.data
     c = len(d.channels)
-    fig = new_figure((7.0, 3.6 * c + 0.6))
-    for j, ch in enumerate(d.channels):
-        mag = fig.add_subplot(2 * c, 1, 2 * j + 1)
-        mag.semilogy(d.f_hz, np.abs(d.H[:, j]), ".", ms=2, color="0.5", label="data")
-        mag.semilogy(d.f_hz, np.abs(result.fitted[:, j]), "-", lw=0.8, color="C0",
-                     label="calibrated model")
-        mag.set_ylabel(f"|{ch}|")
-        mag.legend(loc="upper right", fontsize="small")
-        ph = fig.add_subplot(2 * c, 1, 2 * j + 2, sharex=mag)
-        ph.plot(d.f_hz, np.degrees(np.angle(d.H[:, j])), ".", ms=2, color="0.5")
-        ph.plot(d.f_hz, np.degrees(np.angle(result.fitted[:, j])), "-", lw=0.8, color="C0")
-        ph.set_ylabel("phase (deg)")
-    ph.set_xlabel("f (Hz)")
-    fig.tight_layout()
-    save_png(fig, path)
-
-
-def _plot(result: CalibrationResult, path: Path) -> None:
-    d = result.data
     if isinstance(d, FrequencyResponse):
-        _plot_frf(result, path)
-        return
-    c = len(d.channels)
-    fig = new_figure((7.0, 2.2 * c + 0.6))
-    for j, ch in enumerate(d.channels):
-        ax = fig.add_subplot(c, 1, j + 1)
-        ax.plot(d.t_s, d.y[:, j], ".", ms=2, color="0.5", label="data")
-        ax.plot(d.t_s, result.fitted[:, j], "-", lw=0.8, color="C0", label="calibrated model")
-        ax.set_ylabel(ch)
-        ax.legend(loc="upper right", fontsize="small")
-    ax.set_xlabel("t (s)")
+        fig = new_figure((7.0, 3.6 * c + 0.6))
+        for j, ch in enumerate(d.channels):
+            mag = fig.add_subplot(2 * c, 1, 2 * j + 1)
+            mag.semilogy(d.f_hz, np.abs(d.H[:, j]), ".", ms=2, color="0.5", label="data")
+            mag.semilogy(d.f_hz, np.abs(result.fitted[:, j]), "-", lw=0.8, color="C0",
+                         label="calibrated model")
+            mag.set_ylabel(f"|{ch}| ({_unit(ch)})")
+            mag.legend(loc="upper right", fontsize="small")
+            ph = fig.add_subplot(2 * c, 1, 2 * j + 2, sharex=mag)
+            ph.plot(d.f_hz, np.degrees(np.angle(d.H[:, j])), ".", ms=2, color="0.5")
+            ph.plot(d.f_hz, np.degrees(np.angle(result.fitted[:, j])), "-", lw=0.8, color="C0")
+            ph.set_ylabel("phase (deg)")
+        ph.set_xlabel("f (Hz)")
+    else:
+        fig = new_figure((7.0, 2.2 * c + 0.6))
+        for j, ch in enumerate(d.channels):
+            ax = fig.add_subplot(c, 1, j + 1)
+            ax.plot(d.t_s, d.y[:, j], ".", ms=2, color="0.5", label="data")
+            ax.plot(d.t_s, result.fitted[:, j], "-", lw=0.8, color="C0",
+                    label="calibrated model")
+            ax.set_ylabel(f"{ch} ({_unit(ch)})")
+            ax.legend(loc="upper right", fontsize="small")
+        ax.set_xlabel("t (s)")
     fig.tight_layout()
-    save_png(fig, path)
+    if path is not None:
+        save_figure(fig, path)
+    return fig
 
 
 def write_calibration(result: CalibrationResult, out: str | os.PathLike) -> Path:
@@ -152,5 +194,5 @@ def write_calibration(result: CalibrationResult, out: str | os.PathLike) -> Path
                           json.dumps({**provenance(), **record}, indent=2) + "\n")
         atomic_write_text(stage / "model.json", json.dumps({**model, **provenance()}, indent=2)
                           + "\n")
-        _plot(result, stage / "calibration.png")
+        plot_calibration(result, stage / "calibration.png")
     return Path(os.path.abspath(out))

@@ -166,6 +166,11 @@ def test_a_tip_force_frf_recovers_e_over_rho_and_the_chain_s_gain_error(chain, p
     # zeta_1 is the peak's width, which a gain error does not move; mode 2's tail under the
     # peak does (measured 3.0e-4)
     assert abs(r.values[2] / ZETA[0] - 1) < 1e-3
+    # the figure: a magnitude and a phase axes per transfer function, the magnitude in m/N
+    from prbdm_pin.files.calibration_file import plot_calibration
+
+    labels = [ax.get_ylabel() for ax in plot_calibration(r).axes]
+    assert labels[0].endswith("(m/N)") and labels[1] == "phase (deg)"
 
 
 def test_base_excitation_frf_recovers_e_and_damping_within_their_errors(chain, plant, narrow):

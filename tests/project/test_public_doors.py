@@ -264,6 +264,7 @@ DOORS = {
     "calibrate": ("model", lambda v: pp.calibrate(v, RING, "E")),
     "read_ring_down": ("path", lambda v: pp.read_ring_down(v)),
     "read_calibration_data": ("path", lambda v: pp.read_calibration_data(v)),
+    "plot_calibration": ("result", lambda v: pp.plot_calibration(v)),
     "write_calibration": ("result", lambda v: pp.write_calibration(v, "never-calibration")),
     "chain_modes": ("model", lambda v: pp.chain_modes(v)),
     "plot_mode_shapes": ("model", lambda v: pp.plot_mode_shapes(v, path="never.png")),
