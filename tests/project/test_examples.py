@@ -266,7 +266,7 @@ def test_members_and_calibration_recovers_e_and_rho_with_the_amplitude_fitted_ch
     # amplitude-fitted chain's model-form error on this hub is measured at 0.3-0.5 %
     cal = res["calibrated"]["5R eigen + tip amplitudes"]
     want = res["want"]
-    np.testing.assert_allclose(cal.values[:2], want[:2], rtol=0.01)
+    np.testing.assert_allclose(cal.values[:2], want[:2], rtol=1e-2)
     np.testing.assert_allclose(cal.values[2:], want[2:], rtol=0.02)
     # the page's quick-mode numbers are this run's
     page = PAGES / "members_and_calibration.md"
