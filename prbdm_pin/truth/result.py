@@ -93,6 +93,10 @@ class ModalSolution:
         The family of every mode where the model solves the families apart (the 1D beam with
         ``spatial=True``: ``"bending"``, ``"torsion"``, ``"in-plane"``); None where the labels
         are judged from the mode shapes (``truth.modes.label_modes``).
+    node_u : ndarray, shape (k, N, 3), optional
+        The whole nodal displacement (x, y, z) of each mode at the scale of ``node_uz`` (the
+        3D solid, whose modes also move in the plane); None where z is the whole displacement
+        (plate mid-surface, Euler-Bernoulli axis).
     """
 
     model: str
@@ -116,6 +120,7 @@ class ModalSolution:
     x_energy_fraction: np.ndarray | None = None
     kinds: tuple[str, ...] | None = None
     eig_residual: np.ndarray | None = None
+    node_u: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)

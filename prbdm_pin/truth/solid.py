@@ -122,6 +122,8 @@ def solid_modal(beam: Beam, level: int | None = None, n_modes: int = 30) -> Moda
         cells=d.mesh.t[VTK_HEX].T.copy(),
         cell_type="hexahedron",
         node_uz=uz[:, verts] * scale[:, None],
+        # the whole displacement at the vertices (k, N, 3), interleaved x, y, z per node
+        node_u=np.stack([phi[c::3][verts].T for c in range(3)], axis=-1) * scale[:, None, None],
         modal_mass_kg=scale**2,  # the eigenvectors are mass-normalised before scaling
         z_energy_fraction=ez,
         x_energy_fraction=ex,

@@ -3,8 +3,8 @@
 Each mode k writes ``uz_mode_<k>`` (the z displacement, unit maximum) and, for the plate and the
 1D beam, whose z displacement is their whole displacement (Kirchhoff's mid-surface and
 Euler-Bernoulli's axis do not stretch), ``displacement_mode_<k>``: the vector (0, 0, uz), which
-ParaView's Warp By Vector draws. The solid keeps only z at its nodes, so it writes no vector
-(its in-plane parts are not stored).
+ParaView's Warp By Vector draws. The solid writes its whole nodal displacement (x, y, z) as that
+vector, at the scale of ``uz_mode_<k>``: torsion and in-plane modes move its nodes sideways too.
 """
 
 from __future__ import annotations
@@ -22,8 +22,9 @@ __all__ = ["write_modes_vtu"]
 def write_modes_vtu(modal: ModalSolution, path, index=None) -> Path:
     """Write the mesh with point fields ``uz_mode_<k>`` (k 1-based, unit maximum), atomically.
 
-    Argyris/Morley DOF vectors are not nodal fields: the nodal values of u are exported. The
-    plate and 1D beam models add ``displacement_mode_<k>`` = (0, 0, uz) (the module's note).
+    Argyris/Morley DOF vectors are not nodal fields: the nodal values of u are exported. Every
+    model adds ``displacement_mode_<k>``: (0, 0, uz) for the plate and the 1D beam, the whole
+    nodal displacement for the solid (the module's note), at the scale of ``uz_mode_<k>``.
     """
     import meshio
 
@@ -33,9 +34,12 @@ def write_modes_vtu(modal: ModalSolution, path, index=None) -> Path:
     data = {}
     for k in idx:
         u = np.asarray(modal.node_uz[k], dtype=float)
-        uz = u / max(np.max(np.abs(u)), 1e-300)
+        peak = max(np.max(np.abs(u)), 1e-300)
+        uz = u / peak
         data[f"uz_mode_{k + 1}"] = uz
-        if modal.model != "solid":
+        if modal.node_u is not None:
+            data[f"displacement_mode_{k + 1}"] = np.asarray(modal.node_u[k], dtype=float) / peak
+        else:
             data[f"displacement_mode_{k + 1}"] = np.column_stack(
                 [np.zeros_like(uz), np.zeros_like(uz), uz])
     mesh = meshio.Mesh(np.asarray(modal.nodes_m, dtype=float),
