@@ -29,6 +29,7 @@ extensions = [
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
+    "sphinx.ext.intersphinx",
     "sphinx_copybutton",
     "sphinx_gallery.gen_gallery",
     "sphinxarg.ext",
@@ -60,6 +61,15 @@ autodoc_member_order = "bysource"
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True
 napoleon_use_rtype = False
+
+# links to numpy, scipy, matplotlib, python-control and pymoo where their inventories can be had
+# (docs/_ext/intersphinx_reach.py: a closed network leaves them out rather than failing -W)
+from intersphinx_reach import intersphinx_mapping as _reach  # noqa: E402
+
+intersphinx_mapping, _unreached = _reach()
+for _note in _unreached:
+    print(_note)
+intersphinx_timeout = 10
 
 # furo: a fluid body (wide diagrams and CLI tables are not cut at a fixed width), light and dark
 html_theme = "furo"
