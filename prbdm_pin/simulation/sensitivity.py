@@ -1,0 +1,307 @@
+"""Trajectory gradients: dJ/dp of a scalar cost of a simulated run, by forward sensitivities.
+
+J = integral over [0, T] of l(t, x, u, z) dt + phi(x(T), z(T)) (:mod:`.trajectory_cost`) of
+the closed loop of :mod:`.sensitivity_field`, with respect to the joint springs, the joint
+stations (the link lengths), the damping (beta, per-joint dampers) and a state-feedback gain.
+
+The sensitivities S = dx/dp obey S' = (df/dx) S + df/dp beside the state, and the cost's
+gradient g' = (dl/dx + dl/du du/dx + dl/dz dz/dx) S + dl/dp. All are stepped by one classic
+fourth-order Runge-Kutta scheme at a fixed step, the state, the cost and the sensitivities in
+one vector: an explicit Runge-Kutta scheme applied to the variational equations is the exact
+derivative of the same scheme's discrete trajectory (the stages are differentiated stage by
+stage), so the gradient is that of the J the run computes, to rounding (and to the stations'
+central difference of the vector field), at any step. A fixed step keeps J a smooth function
+of the design; an error-controlled pair would change its step sequence with p and make J
+piecewise smooth, with a gradient that a central difference of J would not confirm. The step is
+set from the fastest eigenvalue of the closed loop linearised at the start,
+h = 2 pi / (|lambda|_max ``steps_per_period``), and RK4's error in J falls as h^4.
+
+The chain is a clamped planar one (no hub or bus), the inputs those with a constant map
+(``joint_torque[j]``, ``strain[i]``), the tip force a constant.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import BeamInputError, InputTypeError
+from ..model.checks import check_model
+from ..model.inputs import StrainActuator
+from ..options.checks import check_float
+from ..options.validate import real_vector
+from .inputs import InputForce, StateFeedback, input_force
+from .sensitivity_field import Chain, Field, FieldDesign, station_variants
+from .sensitivity_run import rk4_run
+from .system import vector
+from .trajectory import Trajectory
+
+__all__ = ["TrajectoryGradient", "trajectory_gradient", "PARAMETER_GROUPS"]
+
+# the groups of design parameters, in the order their columns take
+PARAMETER_GROUPS = ("springs", "stations", "beta", "dampers", "gain")
+MAX_STEPS = 1_000_000
+
+
+@dataclass(frozen=True, eq=False)
+class TrajectoryGradient:
+    """A trajectory cost J and its gradient with respect to named design parameters.
+
+    Attributes
+    ----------
+    cost : float
+        J, the cost's units times s (the running term's integral) plus its terminal term.
+    gradient : ndarray, shape (P,)
+        dJ/dp, J's units per each parameter's unit.
+    parameter_names : tuple of str
+        ``k[j]`` (springs), ``x[j]`` (joint stations, j = 1..n), ``beta``, ``c[j]``
+        (dampers), ``G[i,j]`` (gain: input i, state j), in column order.
+    parameter_units : tuple of str
+        Each parameter's unit (``N m/rad``, ``m``, ``s``, ``N m s/rad``, an input's unit per rad
+        or per rad/s).
+    trajectory : Trajectory
+        The run, sampled at every step (``method`` "rk4").
+    dt_s : float
+        The fixed step, s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> cost = pp.QuadraticCost(tip_weight_per_m2=1e4)
+    >>> g = pp.trajectory_gradient(model, 0.05, cost, q0=[0.01, 0.0], parameters=("springs",))
+    >>> g.parameter_names, g.parameter_units
+    (('k[0]', 'k[1]'), ('N m/rad', 'N m/rad'))
+    >>> bool(g.of("k[0]") < 0.0)  # a stiffer root lowers the release's tip motion
+    True
+    """
+
+    cost: float
+    gradient: np.ndarray
+    parameter_names: tuple[str, ...]
+    parameter_units: tuple[str, ...]
+    trajectory: Trajectory
+    dt_s: float
+
+    def of(self, name: str) -> float:
+        """Return dJ/d(``name``) (J's units per the parameter's unit)."""
+        if name not in self.parameter_names:
+            raise BeamInputError(f"parameter {name!r}: not among the gradient's "
+                                 f"{', '.join(self.parameter_names) or 'none'}")
+        return float(self.gradient[self.parameter_names.index(name)])
+
+    def as_dict(self) -> dict[str, float]:
+        """Return {parameter name: dJ/dp}."""
+        return {n: float(g) for n, g in zip(self.parameter_names, self.gradient, strict=True)}
+
+
+def _groups(parameters) -> tuple[str, ...]:
+    if isinstance(parameters, str) or not isinstance(parameters, Sequence):
+        raise InputTypeError(f"parameters = {parameters!r:.80}: must be a sequence of names "
+                             f"among {', '.join(PARAMETER_GROUPS)}")
+    for i, p in enumerate(parameters):
+        if p not in PARAMETER_GROUPS:
+            raise BeamInputError(f"parameters[{i}] = {p!r}: unknown; must be among "
+                                 f"{', '.join(PARAMETER_GROUPS)}")
+    if len(set(parameters)) != len(parameters):
+        raise BeamInputError(f"parameters = {list(parameters)}: each group once")
+    return tuple(g for g in PARAMETER_GROUPS if g in parameters)
+
+
+def _check_cost(cost) -> None:
+    for name in ("running", "running_partials"):
+        if not callable(getattr(cost, name, None)):
+            raise InputTypeError(f"cost = {cost!r:.80}: must define {name}(t, x, u, z) (a "
+                                 "prbdm_pin.TrajectoryCost)")
+
+
+def _check_chain(model) -> None:
+    check_model(model)
+    if model.hub is not None or getattr(model, "bus", None) is not None \
+            or model.axes.spatial:
+        raise BeamInputError("model: trajectory_gradient takes a clamped planar chain (no hub, "
+                             "no bus, axes='y')")
+
+
+def _names(groups, n: int, inputs: tuple[str, ...], units: tuple[str, ...]):
+    names, out_units = [], []
+    for g in groups:
+        if g == "springs":
+            names += [f"k[{j}]" for j in range(n)]
+            out_units += ["N m/rad"] * n
+        elif g == "stations":
+            names += [f"x[{j + 1}]" for j in range(n)]
+            out_units += ["m"] * n
+        elif g == "beta":
+            names.append("beta")
+            out_units.append("s")
+        elif g == "dampers":
+            names += [f"c[{j}]" for j in range(n)]
+            out_units += ["N m s/rad"] * n
+        else:
+            for name, unit in zip(inputs, units, strict=True):
+                names += [f"G[{name},q[{j}]]" for j in range(n)]
+                names += [f"G[{name},v[{j}]]" for j in range(n)]
+                out_units += [f"{unit}/rad"] * n + [f"{unit} s/rad"] * n
+    return tuple(names), tuple(out_units)
+
+
+def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip_force=None,
+                        inputs: Sequence[str] = (), feedback: StateFeedback | None = None,
+                        actuators: Sequence[StrainActuator] = (), beta_s: float = 0.0,
+                        joint_damping_Nms_per_rad=None,
+                        parameters: Sequence[str] = ("springs",), dt_s: float | None = None,
+                        steps_per_period: float = 40.0) -> TrajectoryGradient:
+    """Return a trajectory cost and its gradient by forward sensitivities (fixed-step RK4).
+
+    Parameters
+    ----------
+    model : PrbdmModel
+        A clamped planar chain (``build_model(beam, lengths, springs)``).
+    duration_s : float
+        T, s.
+    cost : TrajectoryCost
+        l and phi with their partial derivatives (:class:`~prbdm_pin.QuadraticCost`, or a
+        user's object with the same methods); a NaN or infinity from it is refused.
+    q0, v0 : array_like (n,), optional
+        Initial joint angles (rad) and rates (rad/s); default zero.
+    tip_force : array_like (3,), optional
+        Constant world tip force, N (a step load from t = 0).
+    inputs : sequence of str
+        Inputs with a constant map (``joint_torque[j]``, ``strain[i]``).
+    feedback : StateFeedback, optional
+        u = u_ref - G (x - x_ref) on ``inputs`` (G: m x 2 n); default u = 0.
+    actuators : sequence of StrainActuator
+        The patches ``strain[i]`` names.
+    beta_s : float
+        Stiffness-proportional damping, C = beta K + diag(c), s (>= 0).
+    joint_damping_Nms_per_rad : array_like (n,), optional
+        Per-joint dampers c, N m s/rad (>= 0); default zero.
+    parameters : sequence of str
+        The groups to differentiate by, among ``springs``, ``stations`` (the joint stations
+        x_j = L_0 + ... + L_(j-1), m: the lengths with the beam's length fixed; needs the
+        model's beam), ``beta``, ``dampers``, ``gain``; () gives J alone.
+    dt_s : float, optional
+        The fixed step, s; default from ``steps_per_period``.
+    steps_per_period : float
+        Steps per 2 pi / |lambda|_max of the closed loop linearised at the start (>= 8).
+
+    Returns
+    -------
+    TrajectoryGradient
+
+    Raises
+    ------
+    BeamInputError
+        An unknown parameter group, a gain of the wrong shape, a cost returning NaN or
+        infinity, a model other than a clamped planar chain, more than 1e6 steps.
+    InputTypeError
+        ``model``, ``cost``, ``feedback`` or ``parameters`` of the wrong type.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> law = pp.StateFeedback(np.array([[0.0, 0.0, 2.0, 0.0]]))  # N m s/rad on joint 0
+    >>> g = pp.trajectory_gradient(model, 0.1, pp.QuadraticCost(tip_weight_per_m2=1e4),
+    ...                            q0=[0.01, 0.0], inputs=("joint_torque[0]",), feedback=law,
+    ...                            parameters=("gain",))
+    >>> g.parameter_names[2]
+    'G[joint_torque[0],v[0]]'
+    >>> bool(g.of("G[joint_torque[0],v[0]]") < 0.0)  # more rate feedback, less tip motion
+    True
+    """
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    _check_chain(model)
+    _check_cost(cost)
+    groups = _groups(parameters)
+    n = model.n_joints
+    T = check_float("duration_s", duration_s, low=0.0, low_open=True, unit="s")
+    x0 = np.concatenate((vector("q0", q0, n), vector("v0", v0, n)))
+    force = vector("tip_force", tip_force, 3)
+    beta = check_float("beta_s", beta_s, low=0.0, unit="s")
+    c = np.zeros(n) if joint_damping_Nms_per_rad is None else real_vector(
+        "joint_damping_Nms_per_rad", joint_damping_Nms_per_rad, "N m s/rad", n)
+    if np.any(c < 0.0):
+        raise BeamInputError(f"joint_damping_Nms_per_rad = {c.tolist()}: must be >= 0")
+    if feedback is not None and not isinstance(feedback, StateFeedback):
+        raise InputTypeError(f"feedback = {feedback!r:.80}: must be a prbdm_pin.StateFeedback")
+    if "gain" in groups and feedback is None:
+        raise BeamInputError("parameters: 'gain' needs a feedback (a StateFeedback on inputs)")
+    if "stations" in groups and model.beam is None:
+        raise BeamInputError("parameters: 'stations' needs the model's beam (build_model); "
+                             "this model was read from a file")
+    actuators = tuple(actuators)
+    plant = _plant(model, inputs, feedback, actuators)
+    m = len(plant.names)
+    gain = plant.gain if plant.gain is not None else np.zeros((m, 2 * n))
+    x_ref = np.zeros(2 * n) if feedback is None or feedback.x_ref is None else np.asarray(
+        feedback.x_ref, dtype=float)
+    design = FieldDesign(np.asarray(model.stiffness_Nm_per_rad, dtype=float), beta, c, gain,
+                         x_ref, plant.signal, groups, n, m)
+
+    def input_map(chain_model):
+        if not m:
+            return plant.b0
+        return input_force(chain_model, plant.names, None, actuators, None).b0
+
+    variants = station_variants(model, design.k, input_map) if "stations" in groups else []
+    field = Field(Chain(model, plant.b0), variants, design, force)
+    dt = _step(field, x0, T, dt_s, steps_per_period)
+    steps = max(1, math.ceil(T / dt - 1e-9))
+    if steps > MAX_STEPS:
+        raise BeamInputError(f"dt_s = {dt:.3g} s: {steps} steps over {T:g} s, more than "
+                             f"{MAX_STEPS}")
+    run = rk4_run(field, cost, x0, T, steps)
+    names, units = _names(groups, n, plant.names, plant.units)
+    tip = np.zeros((run.t.size, 3))
+    tip[:] = [_tip(field, q) for q in run.x[:, :n]]
+    for a in (run.t, run.x, run.u, tip, run.gradient):
+        a.setflags(write=False)
+    traj = Trajectory(run.t, run.x[:, :n], run.x[:, n:], tip, steps, "rk4",
+                      time.perf_counter() - wall0, field.evaluations, 0,
+                      time.process_time() - cpu0, plant.names, plant.units, run.u)
+    return TrajectoryGradient(run.cost, run.gradient, names, units, traj, T / steps)
+
+
+def _plant(model, inputs, feedback, actuators) -> InputForce:
+    """Return the inputs' map and feedback law (no inputs: a map of no columns)."""
+    if isinstance(inputs, str) or not isinstance(inputs, Sequence):
+        raise InputTypeError(f"inputs = {inputs!r:.80}: must be a sequence of input names")
+    if not inputs:
+        if feedback is not None:
+            raise BeamInputError("feedback: given without inputs to drive")
+        n = model.n_joints
+        return InputForce((), (), np.zeros((n, 0)), (), lambda t, q, v: np.zeros(0), None,
+                          False, False, None)
+    plant = input_force(model, tuple(inputs), feedback, actuators, None)
+    if plant.tip_rows or plant.pose_cols:
+        raise BeamInputError(f"inputs = {list(inputs)}: trajectory_gradient takes inputs with a "
+                             "constant map only (joint_torque[j], strain[i])")
+    return plant
+
+
+def _tip(field: Field, q: np.ndarray) -> np.ndarray:
+    return field.chain.tip(q, field.force)[0]
+
+
+def _step(field: Field, x0: np.ndarray, T: float, dt_s, steps_per_period) -> float:
+    """Return the fixed step, s: ``dt_s`` or 2 pi / (|lambda|_max ``steps_per_period``)."""
+    if dt_s is not None:
+        return min(check_float("dt_s", dt_s, low=0.0, low_open=True, unit="s"), T)
+    spp = check_float("steps_per_period", steps_per_period, low=8.0, unit="steps")
+    n = field.d.n
+    A = field.derivatives(0.0, x0)[4]
+    full = np.zeros((2 * n, 2 * n))
+    full[:n, n:] = np.eye(n)
+    full[n:] = A
+    fastest = float(np.max(np.abs(np.linalg.eigvals(full))))
+    return T if fastest == 0.0 else min(T, 2.0 * math.pi / (fastest * spp))
