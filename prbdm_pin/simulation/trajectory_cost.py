@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import BeamInputError
+from ..errors import BeamInputError, InputTypeError
 from ..options.checks import check_float
 
 __all__ = ["TrajectoryCost", "QuadraticCost"]
@@ -70,10 +70,13 @@ def _weight(name: str, value) -> np.ndarray | None:
     if value is None:
         return None
     try:
-        a = np.array(value, dtype=float)
+        raw = np.array(value)
     except (TypeError, ValueError):
-        raise BeamInputError(f"QuadraticCost {name} = {value!r:.60}: must be a number, a "
-                             "diagonal or a square matrix") from None
+        raw = np.array(None)
+    if isinstance(value, (bool, str, bytes)) or raw.dtype.kind not in "iuf":
+        raise InputTypeError(f"QuadraticCost {name} = {value!r:.60}: must be a real number, "
+                             "a diagonal or a square matrix")
+    a = raw.astype(float)
     if a.ndim == 1:
         a = np.diag(a)
     if a.ndim not in (0, 2) or (a.ndim == 2 and a.shape[0] != a.shape[1]) \
