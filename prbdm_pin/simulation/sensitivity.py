@@ -74,12 +74,18 @@ class TrajectoryGradient:
     >>> import prbdm_pin as pp
     >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
     >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
-    >>> cost = pp.QuadraticCost(tip_weight_per_m2=1e4)
-    >>> g = pp.trajectory_gradient(model, 0.05, cost, q0=[0.01, 0.0], parameters=("springs",))
+    >>> cost = pp.QuadraticCost(tip_weight_per_m2=1e6)  # the tip's squared height, per mm^2
+    >>> step = dict(tip_force=[0.0, 0.0, -1.0], parameters=("springs",))  # N, from rest
+    >>> g = pp.trajectory_gradient(model, 0.1, cost, **step)
     >>> g.parameter_names, g.parameter_units
     (('k[0]', 'k[1]'), ('N m/rad', 'N m/rad'))
-    >>> bool(g.of("k[0]") < 0.0)  # a stiffer root lowers the release's tip motion
-    True
+    >>> round(g.of("k[0]") * 1e6, 3)  # per N m/rad, x 1e6: a stiffer root, less tip motion
+    -13.736
+    >>> J = [pp.trajectory_gradient(model.with_stiffness([2500.0 + h, 1200.0]), 0.1, cost,
+    ...                             tip_force=[0.0, 0.0, -1.0], parameters=(),
+    ...                             dt_s=g.dt_s).cost for h in (1.0, -1.0)]
+    >>> round((J[0] - J[1]) / 2.0 * 1e6, 3)  # a central difference over two whole runs
+    -13.736
     """
 
     cost: float
