@@ -2,7 +2,8 @@
 
 J = integral over [0, T] of l(t, x, u, z) dt + phi(x(T), z(T)) (:mod:`.trajectory_cost`) of
 the closed loop of :mod:`.sensitivity_field`, with respect to the joint springs, the joint
-stations (the link lengths), the damping (beta, per-joint dampers) and a state-feedback gain.
+stations (the link lengths), the damping (beta, per-joint dampers), a state-feedback gain and
+the start state.
 
 The sensitivities S = dx/dp obey S' = (df/dx) S + df/dp beside the state, and the cost's
 gradient g' = (dl/dx + dl/du du/dx + dl/dz dz/dx) S + dl/dp. All are stepped by one classic
@@ -45,7 +46,7 @@ from .trajectory import Trajectory
 __all__ = ["TrajectoryGradient", "trajectory_gradient", "PARAMETER_GROUPS"]
 
 # the groups of design parameters, in the order their columns take
-PARAMETER_GROUPS = ("springs", "stations", "beta", "dampers", "gain")
+PARAMETER_GROUPS = ("springs", "stations", "beta", "dampers", "gain", "initial")
 MAX_STEPS = 1_000_000
 
 
@@ -61,10 +62,11 @@ class TrajectoryGradient:
         dJ/dp, J's units per each parameter's unit.
     parameter_names : tuple of str
         ``k[j]`` (springs), ``x[j]`` (joint stations, j = 1..n), ``beta``, ``c[j]``
-        (dampers), ``G[i,j]`` (gain: input i, state j), in column order.
+        (dampers), ``G[input,state]`` (gain), ``q0[j]``, ``v0[j]`` (the start state), in
+        column order.
     parameter_units : tuple of str
         Each parameter's unit (``N m/rad``, ``m``, ``s``, ``N m s/rad``, an input's unit per rad
-        or per rad/s).
+        or per rad/s, ``rad``, ``rad/s``).
     trajectory : Trajectory
         The run, sampled at every step (``method`` "rk4").
     dt_s : float
@@ -152,6 +154,9 @@ def _names(groups, n: int, inputs: tuple[str, ...], units: tuple[str, ...]):
         elif g == "dampers":
             names += [f"c[{j}]" for j in range(n)]
             out_units += ["N m s/rad"] * n
+        elif g == "initial":
+            names += [f"q0[{j}]" for j in range(n)] + [f"v0[{j}]" for j in range(n)]
+            out_units += ["rad"] * n + ["rad/s"] * n
         else:
             for name, unit in zip(inputs, units, strict=True):
                 names += [f"G[{name},q[{j}]]" for j in range(n)]
@@ -194,7 +199,8 @@ def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip
     parameters : sequence of str
         The groups to differentiate by, among ``springs``, ``stations`` (the joint stations
         x_j = L_0 + ... + L_(j-1), m: the lengths with the beam's length fixed; needs the
-        model's beam), ``beta``, ``dampers``, ``gain``; () gives J alone.
+        model's beam), ``beta``, ``dampers``, ``gain``, ``initial`` (q0 and v0: a start
+        that depends on the design chains through them); () gives J alone.
     dt_s : float, optional
         The fixed step, s; default from ``steps_per_period``.
     steps_per_period : float

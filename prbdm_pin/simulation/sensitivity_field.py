@@ -56,7 +56,8 @@ class FieldDesign:
         self.k, self.beta, self.c, self.gain, self.x_ref = k, beta, c, gain, x_ref
         self.signal = signal
         self.n, self.m = n, m
-        sizes = {"springs": n, "stations": n, "beta": 1, "dampers": n, "gain": m * 2 * n}
+        sizes = {"springs": n, "stations": n, "beta": 1, "dampers": n, "gain": m * 2 * n,
+                 "initial": 2 * n}
         self.slices, start = {}, 0
         for g in groups:
             self.slices[g] = slice(start, start + sizes[g])
@@ -142,6 +143,8 @@ class Field:
         if "gain" in s:
             MB = Minv @ c.b0
             Fp[:, s["gain"]] = (MB[:, :, None] * -(x - d.x_ref)).reshape(n, -1)
+        if "initial" in s:  # the start state enters through S(0) alone
+            Fp[:, s["initial"]] = 0.0
         if "stations" in s:
             a_m, z_m = self._moved(q, v, u)
             Fp[:, s["stations"]] = ((a_m[1::2] - a_m[0::2]) / self.two_h[:, None]).T

@@ -88,6 +88,9 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
     h = T / steps
     y = np.zeros(iJ + 1 + P)
     y[:nx] = x0
+    start = d.slices.get("initial")
+    if start is not None:  # S(0) = dx0/dx0: the identity on the start state's columns
+        y[nx:iJ].reshape(nx, P)[:, start] = np.eye(nx)
     t_s = np.arange(steps + 1) * h
     X = np.empty((steps + 1, nx))
     U: list = []
