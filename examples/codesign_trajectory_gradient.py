@@ -2,9 +2,10 @@
 =========================================================================================
 
 A panel bent at the end of a manoeuvre (its static pose under a 5 N tip load) is released and
-must settle; a softer panel starts more bent. A strain patch at the root (0-0.35 m) feeds back the joint angles and rates of
-the 3R PRBDM, u = -G x, and the panel's modulus is a design choice too: every spring scales
-with it, k = s k_0, at the same mass (a stiffer material), for a price. The problem::
+must settle. A strain patch at the root (0-0.35 m) feeds back the joint angles and rates of the
+3R PRBDM, u = -G x, and the panel's modulus is a design choice too: every spring scales with
+it, k = s k_0, at the same mass (a stiffer material), for a price; a softer panel also starts
+more bent. The problem::
 
     minimise    F(G, s) = J(G, s) + w_s s
     J           = integral over [0, T] of (w_z z^2 + r u^2) dt   tip height z, patch moment u
@@ -15,7 +16,7 @@ dJ/dq0 by forward sensitivities stepped with the run (fixed-step RK4), one run p
 where central differences would take 2 x 7 runs. The modulus enters twice, dJ/ds = k_0 . dJ/dk
 + dJ/dq0 . dq0/ds, the start pose's derivative from :func:`prbdm_pin.model_gradient`.
 
-Full mode: 1 s of settling, up to 30 iterations. Quick mode (``--quick``): 0.25 s, up to 8
+Full mode: 1 s of settling, up to 30 iterations. Quick mode (``--quick``): 0.15 s, up to 6
 iterations. Both print the cost at each evaluation and the final design, and draw the cost's
 fall and the tip's settling before and after.
 
@@ -60,13 +61,13 @@ class Problem:
         self._last: tuple[bytes, float, np.ndarray] | None = None
 
     def start(self, s: float) -> tuple[np.ndarray, np.ndarray]:
-        """The bent start q0 (rad): the static pose under the load, and dq0/ds."""
+        """Return the bent start q0 (rad), the static pose under the load, and dq0/ds."""
         g = pp.model_gradient(BEAM, LENGTHS, s * self.k0, tip_force_N=LOAD_N)
         n = LENGTHS.size - 1
         return g.static_pose_rad, g.d_static_pose_rad[:, n:] @ self.k0  # springs' columns
 
     def run(self, y: np.ndarray) -> tuple[pp.TrajectoryGradient, np.ndarray]:
-        """The trajectory gradient of the design y (scaled), and dq0/ds."""
+        """Return the trajectory gradient of the design y (scaled), and dq0/ds."""
         p = np.asarray(y, dtype=float) * SCALE
         model = pp.build_model(BEAM, LENGTHS, p[6] * self.k0)
         q0, dq0 = self.start(p[6])
@@ -96,12 +97,12 @@ def main(quick: bool = False,
     """Optimise; returns the start and final designs, costs and runs (SI units)."""
     out = check_out_dir("out", out)  # refused before any work, as --out
     out.mkdir(parents=True, exist_ok=True)
-    problem = Problem(0.25 if quick else 1.0)
+    problem = Problem(0.15 if quick else 1.0)
     y0 = np.zeros(7)
     y0[6] = 1.0  # no feedback, the nominal modulus
     res = minimize(problem, y0, jac=True, method="L-BFGS-B",
                    bounds=list(zip(LOWER, UPPER, strict=True)),
-                   options={"maxiter": 8 if quick else 30})
+                   options={"maxiter": 6 if quick else 30})
     start, final = problem.run(y0)[0], problem.run(res.x)[0]
     p = res.x * SCALE
     print(f"L-BFGS-B: {res.message} after {len(problem.history)} evaluations")
@@ -129,5 +130,5 @@ def main(quick: bool = False,
 if __name__ == "__main__":
     # no SystemExit on success: sphinx-gallery runs this block in the build's process
     if code := run_example(__doc__, ROOT / "results" / "examples" / "codesign_trajectory_gradient",
-                           main, "0.25 s of settling, 8 iterations"):
+                           main, "0.15 s of settling, 6 iterations"):
         raise SystemExit(code)

@@ -11,11 +11,10 @@ plus, for the joint stations, the vector field's own central difference inside t
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 import pytest
 from central_differences import central_difference
-from scipy.integrate import solve_ivp
 from tolerances import EPS, REFERENCE_ATOL, REFERENCE_RTOL
+from trajectory_reference import dop853_cost
 
 import prbdm_pin as pp
 from prbdm_pin.errors import BeamInputError, InputTypeError
@@ -139,31 +138,6 @@ def test_strain_patch_gain_and_stations_match_differences():
     assert np.all(np.abs(g.gradient[2:] - fd) <= bound), (g.gradient[2:], fd, bound)
 
 
-def _reference_cost(model, T, G, beta, c, q0, force, w_z, r):
-    """J by DOP853 on Pinocchio's ABA and frame kinematics, the cost as a last state."""
-    pm = model.pin_model
-    data = pm.createData()
-    n = pm.nv
-    k = model.stiffness_Nm_per_rad
-    fid = model.tip_frame_id
-
-    def rhs(t, y):
-        q, v = y[:n], y[n:2 * n]
-        u = -G @ y[:2 * n]
-        pin.framesForwardKinematics(pm, data, q)
-        z = data.oMf[fid].translation[2]
-        J = pin.computeFrameJacobian(pm, data, q, fid, pin.LOCAL_WORLD_ALIGNED)[:3]
-        tau = -k * q - (beta * k + c) * v + J.T @ force
-        tau[0] += u[0]
-        a = pin.aba(pm, data, q, v, tau)
-        return np.concatenate((v, a, [w_z * z * z + r * u @ u]))
-
-    y0 = np.concatenate((q0, np.zeros(n), [0.0]))
-    sol = solve_ivp(rhs, (0.0, T), y0, method="DOP853", rtol=REFERENCE_RTOL,
-                    atol=REFERENCE_ATOL * 1e-6)  # J is ~1e-5 here: the atol scaled to it
-    return sol.y[-1, -1]
-
-
 def test_cost_matches_dop853_within_rk4_richardson_estimate():
     _, _, model = _three_r()
     G = np.array([[40.0, 10.0, -5.0, 3.0, 0.5, 0.2]])
@@ -175,9 +149,10 @@ def test_cost_matches_dop853_within_rk4_richardson_estimate():
     coarse = pp.trajectory_gradient(model, T, cost, parameters=(), **args)
     fine = pp.trajectory_gradient(model, T, cost, parameters=(), dt_s=0.5 * coarse.dt_s,
                                   **args)
-    ref = _reference_cost(model, T, G, beta=1e-3, c=np.array([0.1, 0.0, 0.05]),
-                          q0=np.array([0.01, 0.0, -0.01]), force=np.array([0.0, 0.0, -3.0]),
-                          w_z=1e4, r=1e-2)
+    B = np.zeros((3, 1))
+    B[0, 0] = 1.0  # joint_torque[0]
+    ref = dop853_cost(model, T, [0.01, 0.0, -0.01], B=B, G=G, beta=1e-3, c=[0.1, 0.0, 0.05],
+                      force=[0.0, 0.0, -3.0], w_z=1e4, r=1e-2, cost_scale=abs(coarse.cost))
     # RK4's error falls as h^4: |J_h - J| = 16/15 |J_h - J_h/2| to higher order; a factor 2
     # for the next order, plus the reference's own tolerance
     err_estimate = 16.0 / 15.0 * abs(coarse.cost - fine.cost)
@@ -202,6 +177,25 @@ def test_trajectory_matches_simulate_with_the_same_closed_loop():
     assert np.allclose(tip, run.tip_position_m[-1], rtol=0.0, atol=1e-7 * 0.02)
     assert np.allclose(g.trajectory.input("joint_torque[0]")[-1],
                        run.input("joint_torque[0]")[-1], rtol=1e-5)  # of the 1e-7 above, over G
+
+
+def test_start_state_gradient_matches_differences():
+    _, _, model = _two_r()
+    q0, v0 = np.array([0.02, -0.01]), np.array([0.3, -0.2])
+    kw = dict(tip_force=[0.0, 0.0, -1.0], beta_s=1e-3, dt_s=5e-4)
+    T = 0.05
+    g = pp.trajectory_gradient(model, T, COST, q0=q0, v0=v0, parameters=("initial",), **kw)
+    assert g.parameter_names == ("q0[0]", "q0[1]", "v0[0]", "v0[1]")
+    assert g.parameter_units == ("rad", "rad", "rad/s", "rad/s")
+
+    def J(x):
+        return pp.trajectory_gradient(model, T, COST, q0=x[:2], v0=x[2:], parameters=(),
+                                      **kw).cost
+
+    # 1e-4 rad and 1e-3 rad/s: well inside the nonlinearity's scale of the start (1e-2 rad)
+    fd, bound = central_difference(J, np.concatenate((q0, v0)), [1e-4, 1e-4, 1e-3, 1e-3],
+                                   _rounding(g))
+    assert np.all(np.abs(g.gradient - fd) <= bound), (g.gradient, fd, bound)
 
 
 class _NanCost(pp.TrajectoryCost):
