@@ -17,7 +17,8 @@ angle and rate feedback on joint 0; 0.5 s simulated, the default step (40 per fa
 oscillation's period, within RK4's stability).
 
 Times are process CPU seconds, the best of ``--repeats`` runs (BLAS on one thread).
-Writes ``<out>/bench_trajectory_gradient.md`` and prints the table.
+Writes ``<out>/bench_trajectory_gradient.md`` (with the default ``--out`` also
+``docs/benchmarks/bench_trajectory_gradient.md``) and prints the table.
 
     python scripts/bench_trajectory_gradient.py [--repeats 3] [--duration 0.5] [--out results]
 """
@@ -38,9 +39,12 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 import prbdm_pin as pp  # noqa: E402
-from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+
+from docs_tables import write_table  # noqa: E402
+
 BEAM = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.03, 0.02], thickness_m=0.01)
 GROUPS = {"springs": ("springs",), "gain": ("gain",), "damping": ("beta", "dampers"),
           "stations": ("stations",),
@@ -129,8 +133,9 @@ def main(argv: list[str] | None = None) -> int:
     text = table(rows, args.duration)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "bench_trajectory_gradient.md",
-                      "# Cost of a trajectory gradient\n\n" + text + "\n")
+    name = "bench_trajectory_gradient"
+    write_table(out / f"{name}.md", "# Cost of a trajectory gradient\n\n" + text + "\n",
+                Path(ap.get_default("out")) / f"{name}.md", name)
     print(text)
     return 0
 
