@@ -39,14 +39,13 @@ from ..options.checks import check_float
 from ..options.validate import real_vector
 from .inputs import InputForce, StateFeedback, input_force
 from .sensitivity_field import Chain, Field, FieldDesign, station_variants
+from .sensitivity_parameters import parameter_groups, parameter_names
 from .sensitivity_run import rk4_run
 from .system import vector
 from .trajectory import Trajectory
 
-__all__ = ["TrajectoryGradient", "trajectory_gradient", "PARAMETER_GROUPS"]
+__all__ = ["TrajectoryGradient", "trajectory_gradient"]
 
-# the groups of design parameters, in the order their columns take
-PARAMETER_GROUPS = ("springs", "stations", "beta", "dampers", "gain", "initial")
 MAX_STEPS = 1_000_000
 
 
@@ -111,19 +110,6 @@ class TrajectoryGradient:
         return {n: float(g) for n, g in zip(self.parameter_names, self.gradient, strict=True)}
 
 
-def _groups(parameters) -> tuple[str, ...]:
-    if isinstance(parameters, str) or not isinstance(parameters, Sequence):
-        raise InputTypeError(f"parameters = {parameters!r:.80}: must be a sequence of names "
-                             f"among {', '.join(PARAMETER_GROUPS)}")
-    for i, p in enumerate(parameters):
-        if p not in PARAMETER_GROUPS:
-            raise BeamInputError(f"parameters[{i}] = {p!r}: unknown; must be among "
-                                 f"{', '.join(PARAMETER_GROUPS)}")
-    if len(set(parameters)) != len(parameters):
-        raise BeamInputError(f"parameters = {list(parameters)}: each group once")
-    return tuple(g for g in PARAMETER_GROUPS if g in parameters)
-
-
 def _check_cost(cost) -> None:
     for name in ("running", "running_partials"):
         if not callable(getattr(cost, name, None)):
@@ -137,32 +123,6 @@ def _check_chain(model) -> None:
             or model.axes.spatial:
         raise BeamInputError("model: trajectory_gradient takes a clamped planar chain (no hub, "
                              "no bus, axes='y')")
-
-
-def _names(groups, n: int, inputs: tuple[str, ...], units: tuple[str, ...]):
-    names, out_units = [], []
-    for g in groups:
-        if g == "springs":
-            names += [f"k[{j}]" for j in range(n)]
-            out_units += ["N m/rad"] * n
-        elif g == "stations":
-            names += [f"x[{j + 1}]" for j in range(n)]
-            out_units += ["m"] * n
-        elif g == "beta":
-            names.append("beta")
-            out_units.append("s")
-        elif g == "dampers":
-            names += [f"c[{j}]" for j in range(n)]
-            out_units += ["N m s/rad"] * n
-        elif g == "initial":
-            names += [f"q0[{j}]" for j in range(n)] + [f"v0[{j}]" for j in range(n)]
-            out_units += ["rad"] * n + ["rad/s"] * n
-        else:
-            for name, unit in zip(inputs, units, strict=True):
-                names += [f"G[{name},q[{j}]]" for j in range(n)]
-                names += [f"G[{name},v[{j}]]" for j in range(n)]
-                out_units += [f"{unit}/rad"] * n + [f"{unit} s/rad"] * n
-    return tuple(names), tuple(out_units)
 
 
 def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip_force=None,
@@ -237,7 +197,7 @@ def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip
     cpu0, wall0 = time.process_time(), time.perf_counter()
     _check_chain(model)
     _check_cost(cost)
-    groups = _groups(parameters)
+    groups = parameter_groups(parameters)
     n = model.n_joints
     T = check_float("duration_s", duration_s, low=0.0, low_open=True, unit="s")
     x0 = np.concatenate((vector("q0", q0, n), vector("v0", v0, n)))
@@ -276,7 +236,7 @@ def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip
         raise BeamInputError(f"dt_s = {dt:.3g} s: {steps} steps over {T:g} s, more than "
                              f"{MAX_STEPS}")
     run = rk4_run(field, cost, x0, T, steps)
-    names, units = _names(groups, n, plant.names, plant.units)
+    names, units = parameter_names(groups, n, plant.names, plant.units)
     tip = np.zeros((run.t.size, 3))
     tip[:] = [_tip(field, q) for q in run.x[:, :n]]
     for a in (run.t, run.x, run.u, tip, run.gradient):
