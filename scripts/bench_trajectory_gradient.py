@@ -13,14 +13,14 @@ The issue's target: a gradient costs <= 3x the trajectory. Per case, process CPU
 
 Cases: planar chains of 2, 3 and 5 joints on the tapered strip, released from 0.01 rad per
 joint under a 2 N step load at the tip, damped (beta = 1e-4 s, dampers 0.05 N m s/rad), with a
-angle and rate feedback on joint 0; 0.5 s simulated, the default step (40 per fastest
+angle and rate feedback on joint 0; 0.2 s simulated, the default step (40 per fastest
 oscillation's period, within RK4's stability).
 
 Times are process CPU seconds, the best of ``--repeats`` runs (BLAS on one thread).
 Writes ``<out>/bench_trajectory_gradient.md`` (with the default ``--out`` also
 ``docs/benchmarks/bench_trajectory_gradient.md``) and prints the table.
 
-    python scripts/bench_trajectory_gradient.py [--repeats 3] [--duration 0.5] [--out results]
+    python scripts/bench_trajectory_gradient.py [--repeats 3] [--duration 0.2] [--out results]
 """
 
 from __future__ import annotations
@@ -125,7 +125,7 @@ def table(rows: dict[int, dict], T: float) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--duration", type=float, default=0.5)
+    ap.add_argument("--duration", type=float, default=0.2)
     ap.add_argument("--joints", type=int, nargs="+", default=[2, 3, 5])
     ap.add_argument("--out", default=str(ROOT / "results"))
     args = ap.parse_args(argv)

@@ -121,11 +121,13 @@ def test_strain_patch_gain_and_stations_match_differences():
               joint_damping_Nms_per_rad=[0.2, 0.2], dt_s=5e-4)
     cost = pp.QuadraticCost(tip_weight_per_m2=1e4, effort_weight=0.1)
     T = 0.05
-    g = pp.trajectory_gradient(model, T, cost, feedback=pp.StateFeedback(G),
+    x_ref = [0.005, -0.002, 0.0, 0.0]  # a reference pose: u = -G (x - x_ref)
+    g = pp.trajectory_gradient(model, T, cost, feedback=pp.StateFeedback(G, x_ref=x_ref),
                                parameters=("stations", "gain"), **kw)
 
     def J(model=model, gain=G):
-        return pp.trajectory_gradient(model, T, cost, feedback=pp.StateFeedback(gain),
+        return pp.trajectory_gradient(model, T, cost,
+                                      feedback=pp.StateFeedback(gain, x_ref=x_ref),
                                       parameters=(), **kw).cost
 
     def at_stations(x):
