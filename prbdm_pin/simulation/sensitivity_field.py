@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain.planar import generalised_force, tip_positions, tip_terms
+from ..chain.planar import chains_at_pose, tip_terms
 from ..model.build import build_model
 
 EPS = float(np.finfo(float).eps)
@@ -93,7 +93,7 @@ class Field:
         self.moved_lengths = np.array([ch.lengths for ch in moved]).reshape(len(moved), n + 1)
         self.moved_b0 = np.array([ch.b0 for ch in moved]).reshape(len(moved), n, d.m)
         self.two_h = np.array([2.0 * h for _, _, h in variants])
-        self._poses = np.empty((len(moved), n))
+        self._moved_a = np.empty((len(moved), n))  # overwritten by every evaluation
         self.evaluations = 0
 
     def _torque(self, chain: Chain, q, v, u):
@@ -155,17 +155,14 @@ class Field:
     def _moved(self, q: np.ndarray, v: np.ndarray, u: np.ndarray):
         """Accelerations (2 n_s, n) and tip heights (2 n_s,) of the moved chains at (q, v, u)."""
         d = self.d
-        Q = self._poses
-        Q[:] = q  # a preallocated copy: cheaper than broadcast_to's view here
-        z = tip_positions(self.moved_lengths, Q)[:, 2]
-        tau = np.empty(Q.shape)
-        tau[:] = -d.k * (q + d.beta * v) - d.c * v
-        if self.loaded:
-            tau += generalised_force(self.moved_lengths, Q, self.force)
+        z, jtf = chains_at_pose(self.moved_lengths, q, self.force)
+        tau = jtf if self.loaded else np.zeros_like(jtf)
+        tau -= d.k * (q + d.beta * v) + d.c * v
         if d.m:
             tau += self.moved_b0 @ u
-        a = np.array([pin.aba(pm, data, q, v, t) for (pm, data), t in zip(self.moved, tau,
-                                                                           strict=True)])
+        a = self._moved_a
+        for i, (pm, data) in enumerate(self.moved):
+            a[i] = pin.aba(pm, data, q, v, tau[i])
         return a, z
 
     def tip_station_derivative(self, q: np.ndarray) -> np.ndarray:
@@ -173,8 +170,7 @@ class Field:
         out = np.zeros(self.d.size)
         s = self.d.slices.get("stations")
         if s is not None:
-            Q = np.broadcast_to(q, (len(self.moved), q.size))
-            z = tip_positions(self.moved_lengths, Q)[:, 2]
+            z = chains_at_pose(self.moved_lengths, q, self.force)[0]
             out[s] = (z[1::2] - z[0::2]) / self.two_h
         return out
 

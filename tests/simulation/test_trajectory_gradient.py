@@ -11,6 +11,7 @@ plus, for the joint stations, the vector field's own central difference inside t
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from central_differences import central_difference
 from tolerances import EPS, REFERENCE_ATOL, REFERENCE_RTOL
@@ -235,3 +236,21 @@ def test_bad_input_is_refused_by_name():
         pp.QuadraticCost(state_weight=[[1.0, 2.0], [0.0, 1.0]])
     with pytest.raises(BeamInputError, match="parameter 'k\\[5\\]'"):
         pp.trajectory_gradient(model, 0.01, COST, q0=[0.01, 0.0]).of("k[5]")
+
+
+def test_chains_at_one_pose_match_pinocchio_per_chain():
+    # the moved chains' tips and J^T F in one call, against each chain's Pinocchio frame
+    from prbdm_pin.chain.planar import chains_at_pose
+
+    lengths = np.array([[0.2, 0.3, 0.25, 0.25], [0.25, 0.25, 0.3, 0.2], [0.3, 0.2, 0.2, 0.3]])
+    q, F = np.array([0.3, -0.5, 0.8]), np.array([1.5, 0.0, -2.0])
+    z, jtf = chains_at_pose(lengths, q, F)
+    for i, L in enumerate(lengths):
+        m = pp.build_model(BEAM, L, [2500.0, 1200.0, 800.0])
+        data = m.pin_model.createData()
+        pin.framesForwardKinematics(m.pin_model, data, q)
+        J = pin.computeFrameJacobian(m.pin_model, data, q, m.tip_frame_id,
+                                     pin.LOCAL_WORLD_ALIGNED)[:3]
+        # a sum of n terms of order 1 m (1 N m): a few roundings each
+        assert abs(z[i] - data.oMf[m.tip_frame_id].translation[2]) <= 16 * EPS
+        assert np.allclose(jtf[i], J.T @ F, rtol=0.0, atol=64 * EPS)
