@@ -32,8 +32,15 @@ def _refuse(cost, what: str, t: float, value) -> None:
                          "a trajectory cost must be finite")
 
 
-def _partials(cost, t, x, u, z):
-    lx, lu, lz = cost.running_partials(t, x, u, z)
+def _running(cost, t, x, u, z):
+    """(l, dl/dx, dl/du, dl/dz), through the cost's one-call method when it has one."""
+    both = getattr(cost, "running_with_partials", None)
+    if both is not None:
+        return both(t, x, u, z)
+    return (cost.running(t, x, u, z), *cost.running_partials(t, x, u, z))
+
+
+def _partials(cost, t, lx, lu, lz, x, u):
     lx = np.asarray(lx, dtype=float).reshape(-1)
     lu = np.asarray(lu, dtype=float).reshape(-1)
     lz = float(lz)
@@ -63,7 +70,10 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
         else:
             a, u, z, _ = field.value(t, x)
         out[n:nx] = a
-        l = cost.running(t, x, u, z)
+        if P:
+            l, lx, lu, lz = _running(cost, t, x, u, z)
+        else:
+            l = cost.running(t, x, u, z)
         if not math.isfinite(l):
             _refuse(cost, "running value", t, l)
         out[iJ] = l
@@ -71,7 +81,7 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
             record.append(u)
         if not P:
             return out
-        lx, lu, lz = _partials(cost, t, x, u, z)
+        lx, lu, lz = _partials(cost, t, lx, lu, lz, x, u)
         # dl/dx through u = u_ref - G (x - x_ref) and z(q)
         lxt = lx - lu @ gain if m else lx.copy()
         lxt[:n] += lz * dz

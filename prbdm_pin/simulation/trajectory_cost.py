@@ -52,6 +52,15 @@ class TrajectoryCost:
         """Return (dl/dx (2 nv,), dl/du (m,), dl/dz) at the same arguments as :meth:`running`."""
         raise NotImplementedError("a TrajectoryCost defines running_partials(t, x, u, z)")
 
+    def running_with_partials(self, t: float, x: np.ndarray, u: np.ndarray, z: float
+                              ) -> tuple[float, np.ndarray, np.ndarray, float]:
+        """Return (l, dl/dx, dl/du, dl/dz) in one call (default: the two methods above).
+
+        A gradient run calls this at every stage; override it when the value and its
+        partials share work.
+        """
+        return (self.running(t, x, u, z), *self.running_partials(t, x, u, z))
+
     def terminal(self, x: np.ndarray, z: float) -> float:
         """Return phi(x(T), z(T)), the cost's terminal term (default 0)."""
         return 0.0
@@ -158,6 +167,14 @@ class QuadraticCost(TrajectoryCost):
         """Return (2 Q x, 2 R u, 2 w_z z)."""
         return (self._quadratic(self.state_weight, x)[1],
                 self._quadratic(self.effort_weight, u)[1], 2.0 * self.tip_weight_per_m2 * z)
+
+    def running_with_partials(self, t: float, x: np.ndarray, u: np.ndarray, z: float
+                              ) -> tuple[float, np.ndarray, np.ndarray, float]:
+        """Return (l, 2 Q x, 2 R u, 2 w_z z), each quadratic form evaluated once."""
+        lq, gq = self._quadratic(self.state_weight, x)
+        lu, gu = self._quadratic(self.effort_weight, u)
+        w = self.tip_weight_per_m2
+        return w * z * z + lq + lu, gq, gu, 2.0 * w * z
 
     def terminal(self, x: np.ndarray, z: float) -> float:
         """Return w_zT z^2 + x^T Q_T x."""
