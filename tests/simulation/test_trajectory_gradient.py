@@ -58,8 +58,10 @@ def test_damped_release_gradient_in_springs_stations_and_damping_matches_differe
     def J(model=model, **change):
         return pp.trajectory_gradient(model, T, COST, parameters=(), **{**kw, **change}).cost
 
-    # springs: steps of 1e-3 k balance the truncation (1e-6 relative) and rounding
-    fd, bound = central_difference(lambda kk: J(pp.build_model(BEAM, L, kk)), k, 1e-3 * k,
+    # steps of 1e-4 of the springs, stations and beta, 1e-3 of the dampers and gains: where the
+    # difference's bound (its truncation, (h/p)^2 (omega T)^2 as J's phase moves with the
+    # springs, plus its rounding, 1e-13 J / h) was smallest over steps of 1e-3, 1e-4, 1e-5
+    fd, bound = central_difference(lambda kk: J(pp.build_model(BEAM, L, kk)), k, 1e-4 * k,
                                    _rounding(g))
     assert np.all(np.abs(g.gradient[:2] - fd) <= bound), (g.gradient[:2], fd, bound)
 
@@ -68,14 +70,14 @@ def test_damped_release_gradient_in_springs_stations_and_damping_matches_differe
         return J(pp.build_model(BEAM, lengths, k))
 
     x = np.cumsum(L)[:-1]
-    fd, bound = central_difference(at_stations, x, 1e-4, _rounding(g))  # 1e-4 m of 0.2 m
+    fd, bound = central_difference(at_stations, x, 2e-5, _rounding(g))  # 1e-4 of 0.2 m
     err = np.abs(g.gradient[2:4] - fd)
     assert np.all(err <= bound + FIELD_REL * np.abs(fd)), (g.gradient[2:4], fd, err, bound)
-    fd, bound = central_difference(lambda b: J(beta_s=float(b[0])), [2e-3], 2e-5,
+    fd, bound = central_difference(lambda b: J(beta_s=float(b[0])), [2e-3], 2e-7,
                                    _rounding(g))
     assert abs(g.gradient[4] - fd[0]) <= bound[0], (g.gradient[4], fd, bound)
-    fd, bound = central_difference(lambda c: J(joint_damping_Nms_per_rad=c), [0.3, 0.1], 1e-3,
-                                   _rounding(g))
+    fd, bound = central_difference(lambda c: J(joint_damping_Nms_per_rad=c), [0.3, 0.1],
+                                   [3e-4, 1e-4], _rounding(g))
     assert np.all(np.abs(g.gradient[5:] - fd) <= bound), (g.gradient[5:], fd, bound)
 
 
@@ -98,14 +100,14 @@ def test_closed_loop_gradient_in_gain_springs_and_stations_under_a_step_load():
                                       parameters=(), **kw).cost
 
     assert g.cost == pytest.approx(J(), rel=100 * EPS)  # the same run without sensitivities
-    fd, bound = central_difference(lambda kk: J(pp.build_model(BEAM, L, kk)), k, 1e-3 * k,
+    fd, bound = central_difference(lambda kk: J(pp.build_model(BEAM, L, kk)), k, 1e-4 * k,
                                    _rounding(g))
     assert np.all(np.abs(g.gradient[:3] - fd) <= bound), (g.gradient[:3], fd, bound)
 
     def at_stations(x):
         return J(pp.build_model(BEAM, np.diff(np.concatenate(([0.0], x, [1.0]))), k))
 
-    fd, bound = central_difference(at_stations, np.cumsum(L)[:-1], 1e-4, _rounding(g))
+    fd, bound = central_difference(at_stations, np.cumsum(L)[:-1], 2e-5, _rounding(g))
     err = np.abs(g.gradient[3:6] - fd)
     assert np.all(err <= bound + FIELD_REL * np.abs(fd)), (g.gradient[3:6], fd, err, bound)
     steps = 1e-3 * np.maximum(np.abs(G[0]), 1.0)  # 1e-3 of each gain
@@ -134,7 +136,7 @@ def test_strain_patch_gain_and_stations_match_differences():
     def at_stations(x):
         return J(pp.build_model(BEAM, np.diff(np.concatenate(([0.0], x, [1.0]))), k))
 
-    fd, bound = central_difference(at_stations, np.cumsum(L)[:-1], 1e-4, _rounding(g))
+    fd, bound = central_difference(at_stations, np.cumsum(L)[:-1], 2e-5, _rounding(g))
     err = np.abs(g.gradient[:2] - fd)
     assert np.all(err <= bound + FIELD_REL * np.abs(fd)), (g.gradient[:2], fd, err, bound)
     fd, bound = central_difference(lambda row: J(gain=row[None]), G[0], 1e-3, _rounding(g))
@@ -195,8 +197,8 @@ def test_start_state_gradient_matches_differences():
         return pp.trajectory_gradient(model, T, COST, q0=x[:2], v0=x[2:], parameters=(),
                                       **kw).cost
 
-    # 1e-4 rad and 1e-3 rad/s: well inside the nonlinearity's scale of the start (1e-2 rad)
-    fd, bound = central_difference(J, np.concatenate((q0, v0)), [1e-4, 1e-4, 1e-3, 1e-3],
+    # 1e-6 rad and 1e-5 rad/s: 1e-4 of the start, whose nonlinearity's scale is 1e-2 rad
+    fd, bound = central_difference(J, np.concatenate((q0, v0)), [1e-6, 1e-6, 1e-5, 1e-5],
                                    _rounding(g))
     assert np.all(np.abs(g.gradient - fd) <= bound), (g.gradient, fd, bound)
 
