@@ -211,10 +211,28 @@ class _NanCost(pp.TrajectoryCost):
         return np.zeros_like(x), np.zeros_like(u), 2.0 * z
 
 
+class _NanPartials(_NanCost):
+    def running(self, t, x, u, z):
+        return z * z
+
+    def running_partials(self, t, x, u, z):
+        return np.full_like(x, np.nan if t > 0.01 else 0.0), np.zeros_like(u), 2.0 * z
+
+
 def test_bad_input_is_refused_by_name():
     _, _, model = _two_r()
     with pytest.raises(BeamInputError, match="cost = .*running value .*must be finite"):
         pp.trajectory_gradient(model, 0.02, _NanCost(), q0=[0.01, 0.0])
+    with pytest.raises(BeamInputError, match="cost = .*running_partials .*must be finite"):
+        pp.trajectory_gradient(model, 0.02, _NanPartials(), q0=[0.01, 0.0])
+    with pytest.raises(BeamInputError, match="duration_s"):
+        pp.trajectory_gradient(model, 0.0, COST)
+    with pytest.raises(BeamInputError, match="dt_s"):
+        pp.trajectory_gradient(model, 0.02, COST, dt_s=-1e-3)
+    with pytest.raises(BeamInputError, match="steps_per_period"):
+        pp.trajectory_gradient(model, 0.02, COST, steps_per_period=2.0)
+    with pytest.raises(BeamInputError, match="dt_s = .*more than"):
+        pp.trajectory_gradient(model, 10.0, COST, dt_s=1e-6)
     with pytest.raises(BeamInputError, match=r"parameters\[1\] = 'lengths'"):
         pp.trajectory_gradient(model, 0.02, COST, parameters=("springs", "lengths"))
     with pytest.raises(BeamInputError, match="StateFeedback gain"):
