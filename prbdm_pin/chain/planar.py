@@ -38,6 +38,7 @@ __all__ = [
     "planar_mass_matrices",
     "chain_points",
     "tip_terms",
+    "chains_at_pose",
     "ChainPotential",
 ]
 
@@ -177,6 +178,20 @@ def tip_terms(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray):
     p[0], p[2] = _tip_xz(L0, links, cs)
     T = _force_terms(rc, rs, float(force_N[0]), float(force_N[2]), True)[1]
     return p, _jacobians(rc, rs), T, cs[0], cs[1]
+
+
+def chains_at_pose(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Return the tip heights (c,) m and J^T F (c, n) N m of c chains at one pose.
+
+    ``lengths_m`` (c, n+1) stacks the chains (m), ``q`` (n,) is their common pose (rad) and
+    ``force_N`` (3,) a dead world tip force (N). The angles are computed once for all chains
+    (a trajectory gradient's moved chains share the state); the tip height is minus the first
+    sine lever arm, -sum L_i sin phi_i. No input checks.
+    """
+    cs = _angles(np.asarray(q, dtype=float))
+    rc, rs = _lever_arms(np.asarray(lengths_m, dtype=float)[:, 1:], cs[:, None, :])
+    return -rs[:, 0], _force_terms(rc, rs, float(force_N[0]), float(force_N[2]), False)[0]
 
 
 def generalised_force(lengths_m: np.ndarray, q: np.ndarray, force_N: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ import scipy.linalg as sla
 from page_numbers import assert_printed, page_numbers
 from paths import ROOT
 from reference import BETA_L
-from tolerances import EPS
+from tolerances import EPS, REFERENCE_RTOL
 
 import prbdm_pin as pp
 
@@ -274,4 +274,46 @@ def test_members_and_calibration_recovers_e_and_rho_with_the_amplitude_fitted_ch
                                 r"rho ([\d.]+) kg/m\^3")
     assert_printed(e, cal.values[0], "E (Pa)")
     assert_printed(rho, cal.values[1], "rho (kg/m^3)")
+    _png(res["figure"])
+
+
+@pytest.mark.slow
+def test_codesign_trajectory_gradient_falls_and_its_runs_are_dop853s(tmp_path):
+    # the quick run (about 4 s) and its checks (about 3 s)
+    from central_differences import central_difference
+    from trajectory_reference import dop853_cost
+
+    from prbdm_pin.model.inputs import input_map
+
+    ex = _example("codesign_trajectory_gradient")
+    res = ex.main(quick=True, out=tmp_path)
+    assert res["history"][-1] < 0.8 * res["history"][0]  # the cost falls (0.73 of it here)
+    p, problem, final = res["design"], res["problem"], res["final"]
+    assert ex.LOWER[6] < p[6] < ex.UPPER[6]  # the stiffness scale is an interior trade
+    # the final design's J against DOP853 on Pinocchio's frame kinematics, within RK4's own
+    # error (Richardson: 16/15 of the step-halving change, a factor 2 for the next order)
+    model = pp.build_model(ex.BEAM, ex.LENGTHS, p[6] * problem.k0)
+    q0 = problem.start(p[6])[0]
+    B = input_map(model, np.zeros(model.n_joints), ["strain[0]"], (ex.PATCH,))
+    ref = dop853_cost(model, problem.T, q0, B=B, G=p[None, :6], beta=ex.BETA_S,
+                      w_z=ex.COST.tip_weight_per_m2, r=float(ex.COST.effort_weight),
+                      cost_scale=final.cost)
+    half = pp.trajectory_gradient(model, problem.T, ex.COST, q0=q0, inputs=("strain[0]",),
+                                  actuators=(ex.PATCH,), feedback=pp.StateFeedback(p[None, :6]),
+                                  beta_s=ex.BETA_S, parameters=(), dt_s=0.5 * final.dt_s)
+    assert abs(final.cost - ref) <= 2.0 * 16.0 / 15.0 * abs(final.cost - half.cost) \
+        + 10 * REFERENCE_RTOL * abs(ref)  # + the reference's own tolerance
+    # dF/ds at the final design (springs and the start pose chained) against a central
+    # difference of F over whole runs
+    y = p / ex.SCALE
+    grad = problem(y)[1]
+
+    def F(s):
+        yy = y.copy()
+        yy[6] = s[0]
+        return problem(yy)[0]
+
+    rounding = 4.0 * final.trajectory.steps * EPS * abs(res["result"].fun)
+    fd, bound = central_difference(F, y[6:], 1e-3, rounding)
+    assert abs(grad[6] - fd[0]) <= bound[0], (grad[6], fd, bound)
     _png(res["figure"])

@@ -20,7 +20,7 @@ SCRIPTS = sorted(p.stem for p in (ROOT / "examples").glob("*.py"))
 
 
 def test_every_example_is_covered():
-    assert len(SCRIPTS) == 8 and "first_fit" in SCRIPTS and "spatial_panel" in SCRIPTS
+    assert len(SCRIPTS) == 9 and "first_fit" in SCRIPTS and "spatial_panel" in SCRIPTS
 
 
 def test_no_example_names_the_docs_folder():
