@@ -29,6 +29,7 @@ larger of the motion's scale and the step's travel (or is not finite) is halved,
 :class:`~prbdm_pin.options.integrators.Exponential`. Its accuracy against DOP853, steps and
 cost are measured by ``scripts/bench_exponential_release.py`` and ``scripts/bench_simulate.py``
 (the benchmarks page).
+``Exponential(order=4)`` takes exprb43 instead (``exponential_rb43``, which says why).
 Limits: it is not symplectic. Linear motion keeps its energy exactly, but undamped nonlinear
 motion drifts, the more the larger the amplitude: use ``"gauss"`` for long undamped runs at
 large amplitude. With a ``stiffness_schedule`` the Jacobian leaves out dK/dq (the remainder
