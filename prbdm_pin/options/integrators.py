@@ -126,6 +126,10 @@ class Exponential(Integrator):
     >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Exponential(step_rtol=1e-4))
     >>> run.method, float(run.t_s[-1])
     ('exponential', 0.05)
+    >>> ref = pp.simulate(model, 0.05, q0=[0.01, 0.0], method="DOP853", rtol=1e-11)
+    >>> rb43 = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Exponential(order=4))
+    >>> bool(abs(rb43.tip_position_m[-1, 2] - ref.tip_position_m[-1, 2]) < 1e-9)  # m
+    True
     """
 
     method: ClassVar[str] = "exponential"
