@@ -32,10 +32,6 @@ motion needs ``dt`` of at most 2 / omega_max (the error message says its value),
 accuracy 0.5 / omega_max; the error-controlled integrators are cheaper there. A step whose
 Newton fails is redone as two half steps, recursively up to ``max_halvings`` (3) times (then
 SolveError asks for a smaller ``dt``).
-Before Newton started from the linearised step, it started from the previous step's stage
-accelerations extrapolated: at omega dt >> 1 those put the stages radians off (dt^2 times the
-stiff modes' accelerations), where the first residual is meaningless, and Newton diverged or
-found another root of the collocation equations (the 5R and 8R releases failed).
 """
 
 from __future__ import annotations
@@ -47,13 +43,12 @@ import pinocchio as pin
 
 from ..errors import SolveError
 from ..options.integrators import Gauss
+from .gauss_newton import iteration_matrix, linear_predictor, omega_max
 from .steps import equal_steps
 from .system import (
     System,
     generalised_force,
-    mass_matrix,
     static_angle_rad,
-    symmetrised,
     weight_angle_rad,
 )
 from .trajectory import hermite_step
@@ -200,78 +195,20 @@ class GaussStepper:
             tau += self._tau_ext(q, self.force(t))
         return pin.aba(sy.pin_model, sy.data, q, v, tau)
 
-    def _stage_jacobians(self, q, v, a, f):
-        """Return M, dR/dv and dR/dq of the residual M a + h + K q + C v - J^T f at one state.
-
-        Analytic: ``pin.computeRNEADerivatives`` (dM/dq a included), the springs, the damping
-        and the load stiffness (closed form for a planar chain). A stiffness schedule's dK/dq q
-        is left out: it only sets the convergence rate.
-        """
-        sy = self.system
-        dq, dv, M = pin.computeRNEADerivatives(sy.pin_model, sy.data, q, v, a)
-        Kt = dq + np.diag(sy.springs(q))
-        if sy.damping_Nms_per_rad is not None:
-            dv = dv + sy.damping_Nms_per_rad
-        if f is not None:
-            Kt = Kt - self._tau_and_stiffness(q, f)[1]
-        return symmetrised(M), dv, Kt
-
-    def _iteration_matrix(self, states):
-        """Return the inverse of dR_i/dA_j = delta_ij M_i + h A_ij D_i + h^2 (A^2)_ij K_i.
-
-        ``states`` holds each stage's (q, v, a, f): the step's start for both (the simplified
-        Newton matrix), or the stages' own iterates (Newton's exact matrix).
-        """
-        n = self.n
-        S = np.empty((2 * n, 2 * n))
-        for i, state in enumerate(states):
-            M, D, K = self._stage_jacobians(*state)
-            if i == 0:
-                self._start_jacobians = (M, K)
-            rows = slice(i * n, (i + 1) * n)
-            for j in range(2):
-                S[rows, j * n:(j + 1) * n] = self.hA[i, j] * D + self.hhAA[i, j] * K
-            S[rows, i * n:(i + 1) * n] += M
+    def _build(self, states) -> None:
+        """Build the iteration matrix at the stages' ``states`` (see ``iteration_matrix``)."""
+        self.B, self._start_jacobians = iteration_matrix(
+            self.system, self._tau_and_stiffness, self.hA, self.hhAA, self.E, states)
         self.jacobian_updates += 1
-        try:
-            # one matvec per iteration is the cheapest solve of 2n <= ~20 unknowns from Python
-            W = np.linalg.inv(S)
-        except np.linalg.LinAlgError:
-            raise SolveError("Gauss-Legendre: singular iteration matrix") from None
-        return np.vstack((W, self.E @ W))
-
-    def _linear_predictor(self, q, v, t0, f_a, f_b) -> None:
-        """Set the stage accelerations to the step of the equations linearised at its start.
-
-        The extrapolated stage accelerations put the stages far off when h omega >> 1 for a
-        mode that swings (a release from a bent pose): the stage positions move by h^2 times
-        the accelerations' error, (h omega)^2 times the mode's amplitude, and Newton's first
-        residual, taken there, is far outside its linear range and diverges. The solution of
-        the linearised collocation equations, R_i ~ M (A_i - a) + D (V_i - v) + K (Q_i - q)
-        + J^T (f(t0) - f(t0 + c_i h)) = 0, keeps every linear mode where the scheme puts it
-        (A-stable): S A = M a - c_i h K v + (the force's change), with the start's exact
-        acceleration a (one ABA at every step's end), and solves a linear chain in one
-        iteration. M and K are those of the iteration matrix's build.
-        """
-        n = self.n
-        M, K = self._start_jacobians
-        Ma = M @ self.a
-        rhs = np.concatenate([Ma - c * K @ v for c in self.hc])
-        if self.force is not None and not self.constant_force:
-            f0 = self.force(t0)
-            tau0 = self._tau_ext(q, f0)
-            rhs[:n] += self._tau_ext(q, f_a) - tau0
-            rhs[n:] += self._tau_ext(q, f_b) - tau0
-        self.Xf[:] = self.B[:2 * n] @ rhs
 
     def _newton(self, q, v, t0, fresh: bool = False) -> bool:
         """Solve the stage accelerations of the step from (q, v) at t0; whether it converged.
 
-        From the linearised step (``_linear_predictor``), simplified Newton with the matrix of
-        an earlier state (``fresh``: of this step's start); when it contracts slowly (rate
-        above ``_SLOW_RATE``: the stages have moved far from where the matrix was built) the
-        matrix is rebuilt at the stages' current iterates, which is Newton's own and converges
-        quadratically near the solution.
+        From the linearised step (``gauss_newton.linear_predictor``), simplified Newton with the
+        matrix of an earlier state (``fresh``: of this step's start); when it contracts slowly
+        (rate above ``_SLOW_RATE``: the stages have moved far from where the matrix was built)
+        the matrix is rebuilt at the stages' current iterates, which is Newton's own and
+        converges quadratically near the solution.
         """
         sy, n, X, Xf, r = self.system, self.n, self.X, self.Xf, self.r
         pm, data, stiffness = sy.pin_model, sy.data, sy.schedule
@@ -290,8 +227,12 @@ class GaussStepper:
         if self.Ct is not None:
             lin0 += np.concatenate((v @ self.Ct, v @ self.Ct))
         if self.B is None or fresh:
-            self.B = self._iteration_matrix(((q, v, self.a, f_a), (q, v, self.a, f_b)))
-        self._linear_predictor(q, v, t0, f_a, f_b)
+            self._build(((q, v, self.a, f_a), (q, v, self.a, f_b)))
+        change = None
+        if self.force is not None and not self.constant_force:
+            tau0 = self._tau_ext(q, self.force(t0))
+            change = (self._tau_ext(q, f_a) - tau0, self._tau_ext(q, f_b) - tau0)
+        Xf[:] = linear_predictor(self.B, self._start_jacobians, self.a, v, self.hc, change)
         prev, rebuilds = math.inf, 0
         for _it in range(_MAX_ITERATIONS):
             Z = base + self.G @ X
@@ -329,8 +270,7 @@ class GaussStepper:
             prev = size2
             if measured and rho > _SLOW_RATE and rebuilds < _MAX_REBUILDS:
                 Z = base + self.G @ X
-                self.B = self._iteration_matrix(((Z[0], Z[2], X[0], f_a),
-                                                 (Z[1], Z[3], X[1], f_b)))
+                self._build(((Z[0], Z[2], X[0], f_a), (Z[1], Z[3], X[1], f_b)))
                 rebuilds += 1
                 prev = math.inf  # the next rate is the new matrix's
         self.B = None
@@ -364,13 +304,6 @@ class GaussStepper:
         self.t = self.t_bound if self.done else self.t0_s + self.k * h
         self.y = np.concatenate((self.q, self.v))
 
-    def _omega_max(self, q) -> float:
-        """Return the highest natural frequency of the chain linearised at ``q``, rad/s."""
-        sy = self.system
-        M = mass_matrix(sy.pin_model, sy.data, q)
-        w2 = np.linalg.eigvals(np.linalg.solve(M, np.diag(sy.springs(q)))).real
-        return math.sqrt(max(float(w2.max()), 1e-300))
-
     def _halve(self, q, v, t0) -> None:
         """Redo the step from (q, v) at t0 as two half steps (recursively)."""
         h, st = self.h, self.settings
@@ -378,7 +311,7 @@ class GaussStepper:
             raise SolveError(f"Gauss-Legendre: Newton did not converge at t = "
                              f"{self.origin_s + self.t0_s + t0 + h:.6g} "
                              f"s (dt = {h:.3g} s after {self.depth} halvings); try a smaller "
-                             f"dt: at most 2 / omega_max = {2.0 / self._omega_max(q):.3g} s "
+                             f"dt: at most 2 / omega_max = {2.0 / omega_max(self.system, q):.3g} s "
                              "for a motion that swings the stiffest mode")
         force = self.force
         sub_force = None if force is None else (lambda t, t0=t0: force(t0 + t))
