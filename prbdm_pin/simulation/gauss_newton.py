@@ -81,8 +81,8 @@ def linear_predictor(B: np.ndarray, start_jacobians: tuple[np.ndarray, np.ndarra
     """
     M, K = start_jacobians
     n = v.size
-    Ma = M @ a
-    rhs = np.concatenate([Ma - c * K @ v for c in hc])
+    Ma, Kv = M @ a, K @ v
+    rhs = np.concatenate((Ma - hc[0] * Kv, Ma - hc[1] * Kv))
     if force_change is not None:
         rhs[:n] += force_change[0]
         rhs[n:] += force_change[1]
