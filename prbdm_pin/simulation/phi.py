@@ -24,7 +24,19 @@ def phi123(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Taylor series (10 terms: truncation below 1e-16) for ``|z| < 0.1``; elsewhere the recurrence
     phi_{k+1} = (phi_k - 1/k!) / z, whose cancellation costs at most ``eps / |z|^3`` ~ 2e-13.
     """
-    return _phis(z, 3)
+    small = np.abs(z) < 0.1
+    zb = np.where(small, 1.0, z)
+    p1 = (np.exp(zb) - 1.0) / zb
+    p2 = (p1 - 1.0) / zb
+    p3 = (p2 - 0.5) / zb
+    if small.any():
+        zs = z[small]
+        for p, coef in zip((p1, p2, p3), _PHI_TAYLOR_10, strict=False):
+            acc = np.full(zs.shape, coef[0], dtype=complex)
+            for c in coef[1:]:
+                acc = acc * zs + c
+            p[small] = acc
+    return p1, p2, p3
 
 
 def phi1234(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -46,21 +58,3 @@ def phi1234(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarr
         for k, p in enumerate((p1, p2, p3, p4)):
             p[small] = series[..., k]
     return p1, p2, p3, p4
-
-
-def _phis(z: np.ndarray, kmax: int, small_below: float = 0.1,
-          taylor: list[list[float]] = _PHI_TAYLOR_10) -> tuple:
-    """phi_1 ... phi_kmax by the recurrence, Horner's Taylor series below ``small_below``."""
-    small = np.abs(z) < small_below
-    zb = np.where(small, 1.0, z)
-    out = [(np.exp(zb) - 1.0) / zb]
-    for k in range(1, kmax):
-        out.append((out[-1] - 1.0 / math.factorial(k)) / zb)
-    if small.any():
-        zs = z[small]
-        for p, coef in zip(out, taylor, strict=False):
-            acc = np.full(zs.shape, coef[0], dtype=complex)
-            for c in coef[1:]:
-                acc = acc * zs + c
-            p[small] = acc
-    return tuple(out)
