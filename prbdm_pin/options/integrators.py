@@ -115,7 +115,7 @@ class Exponential(Integrator):
         (0, 1].
     order : int
         3: exprb32 (two dynamics evaluations per step); 4: exprb43 (three), whose error falls
-        faster as ``step_rtol`` tightens: the cheaper one below about 1e-5 of the peak.
+        faster as ``step_rtol`` tightens: the cheaper one at 0.01 % of the peak and below.
 
     Examples
     --------

@@ -19,7 +19,7 @@ the step's own error is of order h^4. On releases from 0.1 rad per joint the est
 overstates the true local error (DOP853 from the same state) by a median 120x at
 ``step_rtol`` 3e-4 and 1,350x at 1e-5 (5R chain), so its steps grow as step_rtol^(-1/3) while
 the error falls faster. exprb43's estimate is of order h^4 (the controller's exponent 1/4):
-0.01 % of the peak on every release and step load of n = 1 ... 8 at ``step_rtol=3e-5``, 2-4x
+0.01 % of the peak on every release and step load of n = 1 ... 8 at ``step_rtol=3e-5``, 1.3-3x
 cheaper than exprb32 at equal error (``scripts/bench_exponential_release.py``). The
 decomposition's refresh by angle matters to both: at ``refresh_rad`` 0.05 instead of 0.01
 exprb43's error on the 5R release grows 10x at the same step_rtol, unseen by the estimate (the
