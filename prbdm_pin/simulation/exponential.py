@@ -29,6 +29,7 @@ larger of the motion's scale and the step's travel (or is not finite) is halved,
 :class:`~prbdm_pin.options.integrators.Exponential`. Its accuracy against DOP853, steps and
 cost are measured by ``scripts/bench_exponential_release.py`` and ``scripts/bench_simulate.py``
 (the benchmarks page).
+``Exponential(order=4)`` takes exprb43 instead (``exponential_rb43``, which says why).
 Limits: it is not symplectic. Linear motion keeps its energy exactly, but undamped nonlinear
 motion drifts, the more the larger the amplitude: use ``"gauss"`` for long undamped runs at
 large amplitude. With a ``stiffness_schedule`` the Jacobian leaves out dK/dq (the remainder
@@ -44,6 +45,7 @@ import pinocchio as pin
 from ..errors import SolveError
 from ..options.integrators import Exponential
 from .exponential_linear import continuous_extension, eig_with_inverse, soft_springs
+from .exponential_rb43 import rb43_phis, rb43_step
 from .phi import phi123
 from .steps import equal_steps
 from .system import System, generalised_force, static_angle_rad, symmetrised, weight_angle_rad
@@ -197,11 +199,14 @@ class ExponentialStepper:
             # linearly over the step, (J_n - J) (y - y_n) ~ (J_n - J) F_n s
             b = (Jm - self._J) @ Fn
         lam, Vc, Vinv, J = self._lam, self._V, self._Vinv, self._J
+        rb43 = self.settings.order == 4
         if self._phi_h != h:
-            hp1, hhp2, hp3 = phi123(h * lam)
-            self._phi = (h * hp1, h * h * hhp2, 2.0 * h * hp3)
+            if rb43:
+                self._phi = rb43_phis(h, lam)
+            else:
+                hp1, hhp2, hp3 = phi123(h * lam)
+                self._phi = (h * hp1, h * h * hhp2, 2.0 * h * hp3)
             self._phi_h = h
-        hp1, hhp2, hp3 = self._phi
         if self._varying:
             # the force's rate by a short forward difference (no evaluation before t = 0)
             delta = 1e-6 * h
@@ -209,6 +214,19 @@ class ExponentialStepper:
         rate = None if inputs is None else inputs.time_rate(t, q, v)
         if rate is not None:
             b[n:] += Minv @ rate
+        if rb43:
+            def remainder(c, U):
+                qU, vU = U[:n], U[n:]
+                tc = t + c * h
+                aU = pin.aba(pm, data, qU, vU,
+                             self._torque(tc, qU, vU, force(tc) if self._varying else f))
+                self.rhs_evaluations += 1
+                return np.concatenate((vU - Fn[:n], aU - Fn[n:])) - J @ (U - y) - c * h * b
+
+            y1, err, ze, record = rb43_step(y, t, h, lam, Vc, Vinv, Fn, b, self._phi, remainder)
+            ref = max(self._scale, float(np.abs(y1[:n] - q).max()))
+            return y1, float(np.abs(err[:n]).max()), ref, float(self._vq @ np.abs(ze)), record
+        hp1, hhp2, hp3 = self._phi
         c1 = Vinv @ Fn
         cb = Vinv @ b
         U = y + (Vc @ (hp1 * c1 + hhp2 * cb)).real
@@ -258,7 +276,7 @@ class ExponentialStepper:
                 self._halvings = 0
                 err = amp / (st.step_rtol * self._scale)
                 if err > st.reject_factor and h > h0 * st.min_step_ratio:
-                    h = max(h * max(0.2, 0.9 * err ** (-1.0 / 3.0)), h0 * st.min_step_ratio)
+                    h = max(h * max(0.2, 0.9 * err ** (-1.0 / st.order)), h0 * st.min_step_ratio)
                     self._rejected = True
                     continue
                 break
@@ -270,7 +288,10 @@ class ExponentialStepper:
         self.done = not self.t_bound - self.t > 1e-9 * h0
         if self.done:
             self.t = self.t_bound  # the last node is the end itself, not its rounding
-        grow = 2.0 if err <= (0.9 / 2.0) ** 3 else 0.9 * err ** (-1.0 / 3.0)
+        # the estimate is of order h^order (exprb32's embedded second-order step, exprb43's
+        # third-order one)
+        p = st.order
+        grow = 2.0 if err <= (0.9 / 2.0) ** p else 0.9 * err ** (-1.0 / p)
         if self._rejected:
             grow = min(grow, 1.0)  # no growth right after a rejection (Hairer & Wanner)
             self._rejected = False

@@ -12,7 +12,7 @@ import pinocchio as pin
 import scipy.linalg
 
 from ..errors import SolveError
-from .phi import phi123
+from .phi import phi123, phi1234
 from .system import symmetrised
 
 # a coordinate without a spring gets one in the Jacobian at this fraction of the lowest
@@ -67,10 +67,13 @@ def continuous_extension(y_start: np.ndarray, record: tuple, t_s: np.ndarray) ->
     """Return the states (q, v) at the times ``t_s`` (s) of one step, shape (len(t_s), 2n).
 
     The step's formula with h replaced by the offset s from its start (at most h), from its
-    start state ``y_start`` and its record (start time s, step s, eigenvalues, eigenvectors and
-    the modal coefficients of the rate, the correction and the forcing): exact for the linear
-    part.
+    start state ``y_start`` and its record: exact for the linear part. exprb32's record holds
+    the start time (s), the step (s), the eigenvalues, the eigenvectors and the modal
+    coefficients of the rate, the correction and the forcing; exprb43's the remainder's s^2
+    and s^3 terms in place of the correction (``exponential_rb43``).
     """
+    if len(record) == 8:
+        return _cubic_extension(y_start, record, t_s)
     # the same array shapes (one row per sample) as when every step was sampled at once, so
     # the samples keep their bits
     m = len(t_s)
@@ -81,3 +84,13 @@ def continuous_extension(y_start: np.ndarray, record: tuple, t_s: np.ndarray) ->
     coef = (s_col * p1 * c1 + (2.0 * s_col**3 / hs**2) * p3 * cd + s_col**2 * p2 * cb)
     Vs = np.repeat(V[None], m, axis=0)
     return np.repeat(y_start[None], m, axis=0) + np.einsum("sij,sj->si", Vs, coef).real
+
+
+def _cubic_extension(y_start: np.ndarray, record: tuple, t_s: np.ndarray) -> np.ndarray:
+    """exprb43's continuous extension: the remainder a s^2 + c s^3 propagated exactly."""
+    start, h, lam, V, c1, cq, cc, cb = record
+    s_col = np.minimum(t_s - start, h)[:, None]
+    p1, p2, p3, p4 = phi1234(s_col * lam[None])
+    coef = (s_col * p1 * c1 + s_col**2 * p2 * cb + 2.0 * s_col**3 * p3 * cq
+            + 6.0 * s_col**4 * p4 * cc)
+    return y_start[None] + (coef @ V.T).real
