@@ -1,4 +1,4 @@
-"""The kernel's functions in Pinocchio's style, f(kernel, data, ...), each returning a workspace array.
+"""The kernel's functions in Pinocchio's style, f(kernel, data, ...), returning workspace arrays.
 
 Each checks the sizes of its vectors (a BeamInputError naming the argument), runs the compiled
 function (:mod:`.dynamics`, numba, imported on the first call so ``import prbdm_pin`` stays
