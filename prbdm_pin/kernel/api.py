@@ -24,12 +24,15 @@ def _vector(name: str, value, n: int) -> np.ndarray:
     return a
 
 
-def _posed(kernel: ChainKernel, data: KernelData, q) -> tuple:
+def _posed(kernel: ChainKernel, data: KernelData, q):
     from . import dynamics
 
-    K, W = kernel.arrays(), data.arrays()
-    dynamics.kinematics(K, W, _vector("q", q, kernel.n))
-    return dynamics, K, W
+    dynamics.kinematics(kernel.joint_type, kernel.joint_axis, kernel.parent_rotation,
+                        kernel.parent_translation_m, _vector("q", q, kernel.n), data.rotation,
+                        data.origin_m, data.motion_subspace)
+    dynamics.body_inertias(kernel.mass_kg, kernel.com_m, kernel.inertia_kg_m2, data.rotation,
+                           data.origin_m, data.first_moment_kg_m, data.inertia_origin_kg_m2)
+    return dynamics
 
 
 def mass_matrix(kernel: ChainKernel, data: KernelData, q) -> np.ndarray:
@@ -59,10 +62,12 @@ def mass_matrix(kernel: ChainKernel, data: KernelData, q) -> np.ndarray:
     >>> bool(np.allclose(M, M.T)), M.shape
     (True, (2, 2))
     """
-    dyn, K, W = _posed(kernel, data, q)
-    dyn.body_inertias(K, W)
-    dyn.crba(K, W)
-    return data.mass_matrix
+    k, d = kernel, data
+    _posed(k, d, q).crba(k.mass_kg, d.motion_subspace, d.first_moment_kg_m,
+                         d.inertia_origin_kg_m2, d.composite_mass_kg,
+                         d.composite_first_moment_kg_m, d.composite_inertia_kg_m2, d.force,
+                         d.mass_matrix)
+    return d.mass_matrix
 
 
 def bias_forces(kernel: ChainKernel, data: KernelData, q, v) -> np.ndarray:
@@ -91,10 +96,11 @@ def bias_forces(kernel: ChainKernel, data: KernelData, q, v) -> np.ndarray:
     >>> bias_forces(kernel, kernel.new_data(), np.zeros(2), np.zeros(2)).tolist()  # at rest
     [0.0, 0.0]
     """
-    dyn, K, W = _posed(kernel, data, q)
-    dyn.body_inertias(K, W)
-    dyn.rnea_bias(K, W, _vector("v", v, kernel.n))
-    return data.bias
+    k, d = kernel, data
+    _posed(k, d, q).rnea_bias(k.mass_kg, k.gravity_m_s2, d.motion_subspace, d.first_moment_kg_m,
+                              d.inertia_origin_kg_m2, _vector("v", v, k.n), d.velocity,
+                              d.acceleration, d.force, d.bias)
+    return d.bias
 
 
 def forward_dynamics(kernel: ChainKernel, data: KernelData, q, v, tau) -> np.ndarray:
@@ -169,9 +175,9 @@ def tip_position(kernel: ChainKernel, data: KernelData, q) -> np.ndarray:
     >>> tip_position(kernel, kernel.new_data(), np.zeros(2)).round(6).tolist()  # m, straight
     [1.0, 0.0, 0.0]
     """
-    dyn, K, W = _posed(kernel, data, q)
     out = np.empty(3)
-    dyn.tip_position(K, W, out)
+    _posed(kernel, data, q).tip_position(kernel.tip_joint, kernel.tip_translation_m,
+                                         data.rotation, data.origin_m, out)
     return out
 
 
@@ -204,8 +210,10 @@ def tip_force_torque(kernel: ChainKernel, data: KernelData, q, force_N) -> np.nd
     >>> tau.round(6).tolist()  # N m: -1 N at 0.8 m and 0.3 m from the joints, about y
     [0.8, 0.3]
     """
-    dyn, K, W = _posed(kernel, data, q)
     out = data.torque
     out[:] = 0.0
-    dyn.tip_force_torque(K, W, _vector("force_N", force_N, 3), out)
+    _posed(kernel, data, q).tip_force_torque(kernel.tip_joint, kernel.tip_translation_m,
+                                             data.rotation, data.origin_m,
+                                             data.motion_subspace,
+                                             _vector("force_N", force_N, 3), out)
     return out

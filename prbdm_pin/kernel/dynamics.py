@@ -27,10 +27,8 @@ __all__ = ["kinematics", "body_inertias", "crba", "rnea_bias", "cholesky_solve",
 
 
 @numba.njit(cache=True)
-def kinematics(K, W, q):
-    """Joint frames (rotation, origin) and world unit motions S of pose ``q``."""
-    jtype, jaxis, Rp, pp = K[0], K[1], K[2], K[3]
-    Rw, ow, S = W[0], W[1], W[2]
+def kinematics(jtype, jaxis, Rp, pp, q, Rw, ow, S):
+    """Joint frames (rotation Rw, origin ow) and world unit motions S of pose ``q``."""
     n = q.size
     for i in range(n):
         # R_i = R_parent Rp_i (then the joint's rotation), o_i = o_parent + R_parent pp_i
@@ -69,10 +67,8 @@ def kinematics(K, W, q):
 
 
 @numba.njit(cache=True)
-def body_inertias(K, W):
-    """Each body's first moment m c and rotational inertia about the world origin (world)."""
-    mass, com, Ic = K[4], K[5], K[6]
-    Rw, ow, mc, IO = W[0], W[1], W[3], W[4]
+def body_inertias(mass, com, Ic, Rw, ow, mc, IO):
+    """Each body's first moment m c and rotational inertia IO about the world origin (world)."""
     n = mass.size
     for i in range(n):
         m = mass[i]
@@ -108,10 +104,8 @@ def _inertia_times(m, mc, IO, x, out):
 
 
 @numba.njit(cache=True)
-def crba(K, W):
-    """Mass matrix M(q) into ``W``'s mass_matrix (after ``kinematics`` and ``body_inertias``)."""
-    mass = K[4]
-    S, mc, IO, cm, cmc, cIO, F, M = W[2], W[3], W[4], W[5], W[6], W[7], W[10], W[11]
+def crba(mass, S, mc, IO, cm, cmc, cIO, F, M):
+    """Mass matrix M(q) (after ``kinematics`` and ``body_inertias``; cm, cmc, cIO, F scratch)."""
     n = mass.size
     for j in range(n - 1, -1, -1):
         cm[j] = mass[j]
@@ -135,13 +129,11 @@ def crba(K, W):
 
 
 @numba.njit(cache=True)
-def rnea_bias(K, W, v):
-    """Bias forces h(q, v) (Coriolis, centrifugal, weight) into ``W``'s bias.
+def rnea_bias(mass, grav, S, mc, IO, v, V, A, F, h):
+    """Bias forces h(q, v) (Coriolis, centrifugal, weight), with V, A, F the bodies' motion.
 
     After ``kinematics`` and ``body_inertias``.
     """
-    mass, grav = K[4], K[10]
-    S, mc, IO, V, A, F, h = W[2], W[3], W[4], W[8], W[9], W[10], W[13]
     n = v.size
     for i in range(n):
         x0, x1, x2 = S[i, 0] * v[i], S[i, 1] * v[i], S[i, 2] * v[i]
@@ -215,23 +207,19 @@ def cholesky_solve(M, L, b, out):
 
 
 @numba.njit(cache=True)
-def tip_position(K, W, out):
+def tip_position(tj, tp, Rw, ow, out):
     """World position of the tip frame (after ``kinematics``), m, into ``out`` (3,)."""
-    tj, tp = K[7][0], K[9]
-    Rw, ow = W[0], W[1]
     for r in range(3):
         out[r] = ow[tj, r] + Rw[tj, r, 0] * tp[0] + Rw[tj, r, 1] * tp[1] + Rw[tj, r, 2] * tp[2]
 
 
 @numba.njit(cache=True)
-def tip_force_torque(K, W, f, out):
+def tip_force_torque(tj, tp, Rw, ow, S, f, out):
     """Add J(q)^T f of a world force ``f`` (N) at the tip to ``out`` (n,), N m.
 
     After ``kinematics``: the force's wrench at the origin (f, p x f) on each joint's unit motion
-    up to the tip's joint.
+    up to the tip's joint ``tj`` (the tip at ``tp`` in its frame).
     """
-    tj, tp = K[7][0], K[9]
-    Rw, ow, S = W[0], W[1], W[2]
     p0 = ow[tj, 0] + Rw[tj, 0, 0] * tp[0] + Rw[tj, 0, 1] * tp[1] + Rw[tj, 0, 2] * tp[2]
     p1 = ow[tj, 1] + Rw[tj, 1, 0] * tp[0] + Rw[tj, 1, 1] * tp[1] + Rw[tj, 1, 2] * tp[2]
     p2 = ow[tj, 2] + Rw[tj, 2, 0] * tp[0] + Rw[tj, 2, 1] * tp[1] + Rw[tj, 2, 2] * tp[2]
@@ -247,13 +235,15 @@ def tip_force_torque(K, W, f, out):
 def forward_dynamics(K, W, q, v, tau):
     """Joint accelerations a = M(q)^-1 (tau - h(q, v)) into ``W``'s acceleration_joint.
 
-    Returns False when M is not positive definite (a degenerate chain).
+    ``tau`` may be ``W``'s torque array (it is overwritten). Returns False when M is not
+    positive definite (a degenerate chain).
     """
-    kinematics(K, W, q)
-    body_inertias(K, W)
-    crba(K, W)
-    rnea_bias(K, W, v)
-    rhs, h = W[14], W[13]
+    jtype, jaxis, Rp, pp, mass, com, Ic, _, _, _, grav = K
+    Rw, ow, S, mc, IO, cm, cmc, cIO, V, A, F, M, L, h, rhs, a = W
+    kinematics(jtype, jaxis, Rp, pp, q, Rw, ow, S)
+    body_inertias(mass, com, Ic, Rw, ow, mc, IO)
+    crba(mass, S, mc, IO, cm, cmc, cIO, F, M)
+    rnea_bias(mass, grav, S, mc, IO, v, V, A, F, h)
     for i in range(q.size):
         rhs[i] = tau[i] - h[i]
-    return cholesky_solve(W[11], W[12], rhs, W[15])
+    return cholesky_solve(M, L, rhs, a)

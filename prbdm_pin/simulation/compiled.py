@@ -81,9 +81,7 @@ class CompiledStepper:
 
     def step(self) -> None:
         """Run every step to ``t_bound``; SolveError when it cannot go on."""
-        from scipy.integrate._ivp import dop853_coefficients as co
-
-        from .dop853 import N_STAGES, dop853_run
+        from .dop853 import COEFFICIENTS, dop853_run
 
         sy, n = self.system, self._kernel.n
         k = np.ascontiguousarray(sy.stiffness_Nm_per_rad, dtype=float)
@@ -97,8 +95,7 @@ class CompiledStepper:
         status, steps, nfev, t, ts, ys = dop853_run(
             self._kernel.arrays(), self._kernel.new_data().arrays(), k, C, damped, f, forced,
             self._t0, self._y0, float(self.t_bound), self._rtol, float(self._atol), t_out,
-            every, self._max_steps, co.A, co.B, co.C, co.E3, co.E5, co.D, Y)
-        assert N_STAGES == co.N_STAGES
+            every, self._max_steps, *COEFFICIENTS, Y)
         self.steps, self.rhs_evaluations = int(steps), int(nfev)
         if status == 2:
             return  # the loop refuses a run over max_steps, naming it
