@@ -8,6 +8,11 @@ included), ``forward_dynamics`` (Cholesky of M), ``tip_position`` and ``tip_forc
 the ``"compiled"`` integrator does) are in :mod:`.dynamics`, on ``kernel.arrays()`` and
 ``data.arrays()``. Pinocchio stays the reference (the tests compare against ``pin.crba``,
 ``pin.rnea``, ``pin.aba`` and the frame Jacobian) and the engine of every public model.
+
+The compiled functions are cached (``numba.njit(cache=True)``, in ``__pycache__``): the first
+call in a fresh tree compiles them (10-20 s of CPU), later processes load them. numba checks a
+cached function against its own source only: after editing :mod:`.dynamics`, delete the
+``*.nbi``/``*.nbc`` files of its callers (``prbdm_pin/simulation/__pycache__``) too.
 """
 
 from .api import bias_forces, forward_dynamics, mass_matrix, tip_force_torque, tip_position

@@ -91,16 +91,20 @@ def body_inertias(mass, com, Ic, Rw, ow, mc, IO):
 
 
 @numba.njit(cache=True)
-def _inertia_times(m, mc, IO, x, out):
-    """Spatial inertia (m, m c, I_O) about the origin times the motion x = (v, w)."""
-    v0, v1, v2, w0, w1, w2 = x[0], x[1], x[2], x[3], x[4], x[5]
+def _inertia_times(m, mc, IO, x, out, i):
+    """Row i: spatial inertia (m, m c, I_O)[i] about the origin times the motion x[i] = (v, w).
+
+    Rows by index, not views: a view costs its reference count in the inner loop.
+    """
+    v0, v1, v2, w0, w1, w2 = x[i, 0], x[i, 1], x[i, 2], x[i, 3], x[i, 4], x[i, 5]
+    c0, c1, c2 = mc[i, 0], mc[i, 1], mc[i, 2]
     # linear momentum m v + w x (m c); angular (m c) x v + I_O w
-    out[0] = m * v0 + w1 * mc[2] - w2 * mc[1]
-    out[1] = m * v1 + w2 * mc[0] - w0 * mc[2]
-    out[2] = m * v2 + w0 * mc[1] - w1 * mc[0]
-    out[3] = mc[1] * v2 - mc[2] * v1 + IO[0, 0] * w0 + IO[0, 1] * w1 + IO[0, 2] * w2
-    out[4] = mc[2] * v0 - mc[0] * v2 + IO[1, 0] * w0 + IO[1, 1] * w1 + IO[1, 2] * w2
-    out[5] = mc[0] * v1 - mc[1] * v0 + IO[2, 0] * w0 + IO[2, 1] * w1 + IO[2, 2] * w2
+    out[i, 0] = m * v0 + w1 * c2 - w2 * c1
+    out[i, 1] = m * v1 + w2 * c0 - w0 * c2
+    out[i, 2] = m * v2 + w0 * c1 - w1 * c0
+    out[i, 3] = c1 * v2 - c2 * v1 + IO[i, 0, 0] * w0 + IO[i, 0, 1] * w1 + IO[i, 0, 2] * w2
+    out[i, 4] = c2 * v0 - c0 * v2 + IO[i, 1, 0] * w0 + IO[i, 1, 1] * w1 + IO[i, 1, 2] * w2
+    out[i, 5] = c0 * v1 - c1 * v0 + IO[i, 2, 0] * w0 + IO[i, 2, 1] * w1 + IO[i, 2, 2] * w2
 
 
 @numba.njit(cache=True)
@@ -119,7 +123,7 @@ def crba(mass, S, mc, IO, cm, cmc, cIO, F, M):
                 cmc[j, r] += cmc[j + 1, r]
                 for k in range(3):
                     cIO[j, r, k] += cIO[j + 1, r, k]
-        _inertia_times(cm[j], cmc[j], cIO[j], S[j], F[j])
+        _inertia_times(cm[j], cmc, cIO, S, F, j)
         for i in range(j + 1):
             s = 0.0
             for r in range(6):
@@ -157,9 +161,9 @@ def rnea_bias(mass, grav, S, mc, IO, v, V, A, F, h):
         A[i, 4] += w2 * x3 - w0 * x5
         A[i, 5] += w0 * x4 - w1 * x3
         # F_i = I_i A_i + V_i x* p, p = I_i V_i: (w x p_lin, w x p_ang + v x p_lin)
-        _inertia_times(mass[i], mc[i], IO[i], V[i], F[i])
+        _inertia_times(mass[i], mc, IO, V, F, i)
         p0, p1, p2, p3, p4, p5 = F[i, 0], F[i, 1], F[i, 2], F[i, 3], F[i, 4], F[i, 5]
-        _inertia_times(mass[i], mc[i], IO[i], A[i], F[i])
+        _inertia_times(mass[i], mc, IO, A, F, i)
         F[i, 0] += w1 * p2 - w2 * p1
         F[i, 1] += w2 * p0 - w0 * p2
         F[i, 2] += w0 * p1 - w1 * p0
