@@ -94,6 +94,9 @@ FIELDS = [
     (pp.SimulationOptions, {}, "rtol", "rtol", "real", [0.0], []),
     (pp.SimulationOptions, {}, "refresh_rad", "refresh_rad", "real", [-0.1], []),
     (pp.SimulationOptions, {}, "max_steps", "max_steps", "int", [0], []),
+    # the compiled DOP853's tolerance: (1e-14, 0.1), the issue's range
+    (pp.Compiled, {}, "rtol", "rtol", "real", [0.0, -1.0, 1e-15, 1e-14], [0.1, 0.5]),
+    (pp.Compiled, {}, "atol", "atol", "real", [0.0, -1e-9], []),
     (pp.FitSettings, {}, "joints", "joints", "int", [0, -1], [65, 1000]),
     (pp.BatchSpec, {"seed": 0, "settings": pp.FitSettings(joints=3), "n_beams": 5}, "seed",
      "seed", "int", [-1], [2**63]),
