@@ -80,10 +80,16 @@ def test_forward_dynamics_is_pinocchios_aba(chain):
     for q, v, tau in _states(pm.nv):
         a = pin.aba(pm, d, q, v, tau)
         M = pin.crba(pm, d, q)
-        cond = np.linalg.cond(np.triu(M) + np.triu(M, 1).T)
-        # a solve of M a = tau - h: the inputs' n EPS amplified by cond(M) (up to 1e4 on the
+        M = np.triu(M) + np.triu(M, 1).T
+        h = pin.rnea(pm, d, q, v, np.zeros(pm.nv))
+        mine = forward_dynamics(k, kd, q, v, tau).copy()
+        # backward error: the kernel's a satisfies Pinocchio's M a + h = tau to the roundings
+        # of a backward-stable Cholesky solve and of the products, n EPS of the terms' sizes
+        scale = np.abs(M).max() * np.abs(mine).max() + np.abs(h).max() + np.abs(tau).max()
+        assert np.abs(M @ mine + h - tau).max() <= _sum_tol(pm.nv) * scale
+        # forward error against ABA: those roundings amplified by cond(M) (up to 2e4 on the
         # spatial chain, whose twist inertia is small)
-        assert _rel(forward_dynamics(k, kd, q, v, tau), a) <= _sum_tol(pm.nv) * cond
+        assert _rel(mine, a) <= _sum_tol(pm.nv) * np.linalg.cond(M)
 
 
 def test_tip_position_and_force_are_pinocchios_frame(chain):
