@@ -134,6 +134,7 @@ _EXPORTS = {
     "Gauss": "options.integrators",
     "Trapezoidal": "options.integrators",
     "ScipyIVP": "options.integrators",
+    "Compiled": "options.integrators",
     "StiffnessSchedule": "simulation",
     "Controller": "simulation",
     "StateFeedback": "simulation",
@@ -154,6 +155,9 @@ _EXPORTS = {
     "LinkMesh": "files.link_mesh",
     "planform_link_mesh": "files.link_mesh",
     "round_link_mesh": "files.link_mesh",
+    # the compiled kernel of a chain's dynamics
+    "ChainKernel": "kernel",
+    "chain_kernel": "kernel",
     # calibration to measurements
     "calibrate": "fitting.calibrate",
     "CalibrationResult": "fitting.calibrate",

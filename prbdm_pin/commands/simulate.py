@@ -116,7 +116,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--method", default=None,
                    help="exponential (default: exact linear modes, step T1/10), gauss "
                         "(symplectic; long undamped runs, violent starts; the default with "
-                        "--spin), trapezoidal, or a solve_ivp method: DOP853, Radau, BDF ...")
+                        "--spin), trapezoidal, compiled (scipy's DOP853 compiled with the "
+                        "chain's dynamics: constant loads only, no --input), or a solve_ivp "
+                        "method: DOP853, Radau, BDF ...")
     p.add_argument("--dt", type=float, default=None, metavar="S",
                    help="trapezoidal step, s (default: lowest period / 100)")
     p.add_argument("--output-dt", type=float, default=None, metavar="S",

@@ -24,8 +24,8 @@ from .checks import check_float as _float
 from .checks import check_int as _int
 from .choices import FIXED_STEP_METHODS, IVP_METHODS
 
-__all__ = ["Integrator", "Exponential", "Gauss", "Trapezoidal", "ScipyIVP", "integrator_for",
-           "INTEGRATOR_SPELLINGS"]
+__all__ = ["Integrator", "Exponential", "Gauss", "Trapezoidal", "ScipyIVP", "Compiled",
+           "integrator_for", "INTEGRATOR_SPELLINGS"]
 
 # The SimulationOptions fields that spell an integrator (``method="gauss", dt_s=1e-3``); each
 # integrator reads the ones it has and ignores the others, as the options always did.
@@ -297,7 +297,65 @@ class ScipyIVP(Integrator):
         s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
 
 
-_BY_NAME = {cls.method: cls for cls in (Exponential, Gauss, Trapezoidal)}
+# the relative tolerances a tolerance-controlled scheme takes: below 1e-14 the error estimate is
+# rounding (scipy raises anything under 100 EPS to that), above 0.1 it no longer estimates
+RTOL_RANGE = (1e-14, 1e-1)
+
+
+@dataclass(frozen=True)
+class Compiled(Integrator):
+    """scipy's DOP853 (Dormand-Prince 8(5,3)) compiled with the chain's dynamics (numba).
+
+    The same coefficients, error norm, step control, initial step and 7th-order dense output as
+    ``ScipyIVP("DOP853")`` (so the same steps and accuracy for the same ``rtol``/``atol``), with
+    the whole run in one compiled call on the kernel (:mod:`prbdm_pin.kernel`): no Python per
+    step. It serves constant springs, a frozen damping matrix, a constant tip force (a step
+    load), gravity, releases and initial velocities (a spinning hub) on planar, spatial, hub and
+    free-bus chains; a callable tip force, plant inputs, a stiffness schedule or a base motion
+    is refused (``simulate`` names the option).
+
+    Attributes
+    ----------
+    rtol : float
+        Relative tolerance, in (1e-14, 0.1) (under 100 EPS it is raised to that, as scipy does).
+    atol : float or None
+        Absolute tolerance (None: ``rtol`` times the largest initial joint angle, at least
+        1e-6 rad, as ``ScipyIVP``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import prbdm_pin as pp
+    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
+    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
+    >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Compiled(rtol=1e-8))
+    >>> run.method, float(run.t_s[-1])
+    ('compiled', 0.05)
+    >>> pp.Compiled(rtol=0.5)
+    Traceback (most recent call last):
+        ...
+    prbdm_pin.errors.BeamInputError: rtol = 0.5: must be in (1e-14, 0.1)
+    """
+
+    method: ClassVar[str] = "compiled"
+    takes_inputs: ClassVar[bool] = False
+    _spelled: ClassVar[tuple[str, ...]] = ("rtol", "atol")
+
+    rtol: float = 1e-9
+    atol: float | None = None
+
+    def __post_init__(self) -> None:
+        """Validate every field; an error names the field and the value."""
+        s = object.__setattr__
+        r = _float("rtol", self.rtol, low=0.0, low_open=True)
+        if not RTOL_RANGE[0] < r < RTOL_RANGE[1]:
+            raise BeamInputError(f"rtol = {r!r}: must be in ({RTOL_RANGE[0]:g}, "
+                                 f"{RTOL_RANGE[1]:g})")
+        s(self, "rtol", r)
+        s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
+
+
+_BY_NAME = {cls.method: cls for cls in (Exponential, Gauss, Trapezoidal, Compiled)}
 
 
 def integrator_for(method: str, **spellings: Any) -> Integrator:

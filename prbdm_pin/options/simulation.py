@@ -37,15 +37,17 @@ class SimulationOptions:
     Attributes
     ----------
     method : str
-        ``"exponential"`` (default), ``"gauss"`` (symplectic; long undamped runs) or
-        ``"trapezoidal"``, or a ``solve_ivp`` method (``rtol``, ``atol``).
+        ``"exponential"`` (default), ``"gauss"`` (symplectic; long undamped runs),
+        ``"trapezoidal"``, ``"compiled"`` (DOP853 compiled with the chain's dynamics: ``rtol``,
+        ``atol``), or a ``solve_ivp`` method (``rtol``, ``atol``).
     dt_s : float or None
         Step of the fixed-step schemes, s (default: the lowest natural period at the initial
         pose divided by ``steps_per_period``); for ``"exponential"`` the nominal, largest step.
     output_dt_s : float or None
         Sample interval of the trajectory, s (None: every step).
     rtol, atol : float
-        ``solve_ivp`` tolerances (``atol`` None: rtol times a joint-angle scale).
+        ``solve_ivp`` and ``"compiled"`` tolerances (``atol`` None: rtol times a joint-angle
+        scale).
     max_steps : int
         Refuse runs that would take more steps.
     steps_per_period : float or None
@@ -122,7 +124,7 @@ class SimulationOptions:
             return
         if not isinstance(integ, Integrator) or type(integ) is Integrator:
             raise BeamInputError(f"integrator = {integ!r:.80}: must be an Exponential, Gauss, "
-                                 "Trapezoidal or ScipyIVP")
+                                 "Trapezoidal, ScipyIVP or Compiled")
         # the spelling follows the integrator; a field given apart from its default must agree
         defaults = {f.name: f.default for f in fields(self)}
         for name, value in integ.spellings().items():

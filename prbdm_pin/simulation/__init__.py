@@ -32,13 +32,17 @@ the step cap, progress). The integrators are values (``prbdm_pin.options.integra
 - ``Trapezoidal`` (``"trapezoidal"``, ``newmark``): Newmark's average-acceleration rule, fixed
   step (period / 100), second order.
 - ``ScipyIVP`` (``ivp``): a ``scipy.integrate`` solver, ``"DOP853"``, ``"RK45"``, ``"Radau"``, ...
+- ``Compiled`` (``"compiled"``, ``compiled``): scipy's DOP853 (same steps, same accuracy for the
+  same tolerances) run whole inside the compiled chain kernel (:mod:`prbdm_pin.kernel`, numba):
+  10-15 times cheaper than ``"DOP853"``; constant springs, frozen damping, a constant tip force,
+  gravity; no plant inputs, stiffness schedule, base motion or time-varying force.
 
 Each module's docstring gives the scheme, its accuracy as measured and its limits; the
 ``Trajectory`` (``trajectory``) holds the samples, the tip positions and the integrator.
 """
 
 from ..options.choices import FIXED_STEP_METHODS, IVP_METHODS
-from ..options.integrators import Exponential, Gauss, Integrator, ScipyIVP, Trapezoidal
+from ..options.integrators import Compiled, Exponential, Gauss, Integrator, ScipyIVP, Trapezoidal
 from .driver import simulate
 from .gauss import gauss_frequency_ratio
 from .inputs import Controller, StateFeedback
@@ -57,6 +61,7 @@ __all__ = [
     "Gauss",
     "Trapezoidal",
     "ScipyIVP",
+    "Compiled",
     "mechanical_energy",
     "gauss_frequency_ratio",
     "FIXED_STEP_METHODS",

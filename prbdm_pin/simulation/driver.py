@@ -111,7 +111,8 @@ def simulate(
         run's forces) and applied loads.
     integrator : Integrator, optional
         The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
-        ``Trapezoidal(...)``, ``ScipyIVP(...)`` from :mod:`prbdm_pin.options.integrators`),
+        ``Trapezoidal(...)``, ``ScipyIVP(...)``, ``Compiled(...)`` from
+        :mod:`prbdm_pin.options.integrators`),
         applied to ``options``; ``method="gauss"`` with ``dt_s``, ``rtol`` ... spells the same.
     base_motion : BaseMotion, optional
         A prescribed motion of the clamp (a robot flange; clamped models only, not with

@@ -20,6 +20,17 @@ from .system import System, symmetrised
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 
 
+def default_atol(settings, y0: np.ndarray) -> float:
+    """Return ``settings.atol``, or when None ``rtol`` times the largest initial joint angle.
+
+    At least 1e-6 rad (``y0`` is (q, v); a start from rest takes the floor).
+    """
+    if settings.atol is not None:
+        return settings.atol
+    n = y0.size // 2
+    return settings.rtol * max(float(np.max(np.abs(y0[:n]))), 1e-6)
+
+
 class ScipyStepper:
     """A ``scipy.integrate.OdeSolver`` on the system (the stepper of ``ScipyIVP``).
 
@@ -43,9 +54,7 @@ class ScipyStepper:
         stiffness, C = system.springs, system.damping_Nms_per_rad
         tau_external = system.tau_external
         n = y0.size // 2
-        atol = settings.atol
-        if atol is None:
-            atol = settings.rtol * max(float(np.max(np.abs(y0[:n]))), 1e-6)
+        atol = default_atol(settings, y0)
 
         def torque(t, q, v):
             tau = -stiffness(q) * q

@@ -11,7 +11,10 @@ has the interface of ``scipy.integrate.OdeSolver``, which the ``ScipyIVP`` stepp
   a fresh array per step; ``done`` once ``t`` is the end of the run;
 - ``dense_output()``: the last step's interpolant, times (m,) s -> states (m, 2n), valid over
   [t_old, t];
-- ``steps``, ``rhs_evaluations``, ``jacobian_updates``: what it has cost so far.
+- ``steps``, ``rhs_evaluations``, ``jacobian_updates``: what it has cost so far;
+- optionally ``step_samples()``: the times and states of every step the last ``step()`` took,
+  for a stepper whose ``step()`` takes many (``"compiled"`` runs the whole run in one call);
+  with no ``output_dt`` the loop samples those instead of the end state alone.
 
 The loop owns what is common to all: the samples (every step, or every ``output_dt_s`` from
 each step's interpolant), the step cap, the progress report and the raw trajectory.
@@ -25,8 +28,9 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import BeamInputError
-from ..options.integrators import Exponential, Gauss, Integrator, ScipyIVP, Trapezoidal
+from ..options.integrators import Compiled, Exponential, Gauss, Integrator, ScipyIVP, Trapezoidal
 from ..options.limits import check_cap
+from .compiled import CompiledStepper
 from .exponential import ExponentialStepper
 from .gauss import GaussStepper
 from .ivp import ScipyStepper
@@ -78,6 +82,9 @@ def start(integrator: Integrator, system: System, t0: float, y0: np.ndarray, t_b
                                   output_dt_s=output_dt_s, max_steps=max_steps)
     if isinstance(integrator, ScipyIVP):
         return ScipyStepper(integrator, system, t0, y0, t_bound)
+    if isinstance(integrator, Compiled):
+        return CompiledStepper(integrator, system, t0, y0, t_bound, output_dt_s=output_dt_s,
+                               max_steps=max_steps)
     raise BeamInputError(f"integrator = {integrator!r:.80}: not one simulate knows")
 
 
@@ -115,8 +122,13 @@ def integrate(stepper, output_dt_s: float | None, max_steps: int,
             raise BeamInputError(f"the {name} integrator took more than max_steps = "
                                  f"{max_steps} steps")
         if output_dt_s is None:
-            ts.append(stepper.t)
-            ys.append(stepper.y)
+            if hasattr(stepper, "step_samples"):
+                step_t, step_y = stepper.step_samples()
+                ts.extend(step_t)
+                ys.extend(step_y)
+            else:
+                ts.append(stepper.t)
+                ys.append(stepper.y)
         else:
             # every step's interpolant is made, as solve_ivp makes it (DOP853's costs
             # evaluations, which the counts keep); a step samples the times in [t_old, t),

@@ -24,7 +24,8 @@ class Trajectory:
     tip_position_m : ndarray, shape (s, 3)
         Tip point in world coordinates, m.
     steps : int
-        Integrator steps taken (accepted steps for solve_ivp and ``"exponential"``).
+        Integrator steps taken (accepted steps for solve_ivp, ``"compiled"`` and
+        ``"exponential"``).
     method : str
         Integrator used, by name (``integrator.method``).
     wall_time_s : float
@@ -32,7 +33,8 @@ class Trajectory:
     rhs_evaluations : int
         Dynamics evaluations (ABA for solve_ivp; RNEA residuals, plus one ABA per step when
         interpolating, for ``"gauss"`` and ``"trapezoidal"``; ABA and ABA derivatives for
-        ``"exponential"``).
+        ``"exponential"``; the compiled kernel's forward dynamics for ``"compiled"``, three
+        more per step that holds a sample).
     jacobian_updates : int
         Iteration matrices built (``"gauss"``) or eigen-decompositions of the Jacobian
         (``"exponential"``); 0 otherwise.

@@ -98,6 +98,9 @@ FIELDS = [
      [-1.0, -1e-9], []),
     (pp.QuadraticCost, {}, "terminal_tip_weight_per_m2",
      "QuadraticCost terminal_tip_weight_per_m2", "real", [-1.0], []),
+    # the compiled DOP853's tolerance: (1e-14, 0.1), the issue's range
+    (pp.Compiled, {}, "rtol", "rtol", "real", [0.0, -1.0, 1e-15, 1e-14], [0.1, 0.5]),
+    (pp.Compiled, {}, "atol", "atol", "real", [0.0, -1e-9], []),
     (pp.FitSettings, {}, "joints", "joints", "int", [0, -1], [65, 1000]),
     (pp.BatchSpec, {"seed": 0, "settings": pp.FitSettings(joints=3), "n_beams": 5}, "seed",
      "seed", "int", [-1], [2**63]),
@@ -258,6 +261,7 @@ DOORS = {
     "simulate": ("model", lambda v: pp.simulate(v, 0.01)),
     "trajectory_gradient": ("model", lambda v: pp.trajectory_gradient(v, 0.01,
                                                                       pp.QuadraticCost())),
+    "chain_kernel": ("pin_model", lambda v: pp.chain_kernel(v, 0)),
     "dynamic_accuracy": ("model", lambda v: pp.dynamic_accuracy(v, None)),
     "export_model": ("model", lambda v: pp.export_model(v, "never.urdf", "urdf")),
     "fit_joint_damping": ("model", lambda v: pp.fit_joint_damping(v, 0.02)),
