@@ -1,0 +1,180 @@
+"""Dormand-Prince 8(5,3) over a batch of systems: one shared step, numpy over the batch axis.
+
+The scheme, its error estimate, its step-size rule and its seventh-order dense output are
+scipy's ``DOP853`` (the coefficient tables are scipy's own), applied to B states at once: each
+stage is one call of the batched right-hand side. The error is measured per design with
+scipy's norm (each design's own tolerances, the RMS over its coordinates) and the step is set
+by the largest of those norms: every design meets its own tolerance, as it would alone, or
+better. One shared step is what keeps every stage one numpy call over the batch (per-design
+steps would split the batch into designs at different times); the price is that the stiffest
+design sets the step for all of them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SolveError
+
+__all__ = ["BatchSamples", "integrate_batch"]
+
+_SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0  # scipy's step-size rule
+_ERROR_EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1), as scipy's DOP853
+
+
+@dataclass(frozen=True)
+class BatchSamples:
+    """Samples of a batched run: t (s,), states (B, s, d), and what the run cost."""
+
+    t_s: np.ndarray
+    y: np.ndarray
+    steps: int
+    rejected_steps: int
+    rhs_evaluations: int
+
+
+def _tables():
+    # scipy's own DOP853 tables (public class attributes of scipy.integrate.DOP853)
+    from scipy.integrate import DOP853
+
+    n = DOP853.n_stages
+    return (DOP853.A, DOP853.B, DOP853.C, DOP853.E3, DOP853.E5, DOP853.D, DOP853.A_EXTRA,
+            DOP853.C_EXTRA, n)
+
+
+def _rms(x: np.ndarray) -> np.ndarray:
+    """Per-design sum of squares over the coordinates of (B, d)."""
+    return np.einsum("bd,bd->b", x, x)
+
+
+def _first_step(rhs, t0: float, y0: np.ndarray, f0: np.ndarray, t_end: float, rtol: float,
+                atol: np.ndarray) -> float:
+    """Return scipy's initial step (Hairer's rule, order 8), the smallest over the designs."""
+    d = y0.shape[1]
+    scale = atol + np.abs(y0) * rtol
+    d0 = np.sqrt(_rms(y0 / scale) / d)
+    d1 = np.sqrt(_rms(f0 / scale) / d)
+    h0 = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
+    h0 = float(min(np.min(h0), t_end - t0))
+    f1 = rhs(t0 + h0, y0 + h0 * f0)
+    d2 = np.sqrt(_rms((f1 - f0) / scale) / d) / h0
+    h1 = np.where((d1 <= 1e-15) & (d2 <= 1e-15), max(1e-6, h0 * 1e-3),
+                  (0.01 / np.maximum(np.maximum(d1, d2), 1e-300)) ** (1.0 / 8.0))
+    return float(min(100.0 * h0, np.min(h1), t_end - t0))
+
+
+def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
+                    t_end: float, rtol: float, atol: np.ndarray, t_out: np.ndarray | None,
+                    max_steps: int) -> BatchSamples:
+    """Integrate y' = rhs(t, y) for B states y (B, d) from t = 0 to ``t_end`` (s).
+
+    Parameters
+    ----------
+    rhs : callable (t, Y (B, d)) -> (B, d)
+        The batched right-hand side.
+    y0 : ndarray, shape (B, d)
+        Initial states.
+    t_end : float
+        End time, s.
+    rtol : float
+        Relative tolerance, every design.
+    atol : ndarray, shape (B, 1)
+        Absolute tolerance of each design.
+    t_out : ndarray or None
+        Sample times, s, ascending in [0, t_end]; None: every accepted step (and t = 0).
+    max_steps : int
+        Cap on accepted steps; SolveError beyond it.
+
+    Returns
+    -------
+    BatchSamples
+    """
+    A, Bw, C, E3, E5, D, A_extra, C_extra, ns = _tables()
+    B, d = y0.shape
+    K = np.empty((ns + 1 + len(C_extra), B, d))
+    t, y = 0.0, y0.copy()
+    f = rhs(t, y)
+    evals = 2
+    h = _first_step(rhs, t, y, f, t_end, rtol, atol)
+    ts, ys = ([0.0], [y0.copy()]) if t_out is None else ([], [])
+    k_out = 0  # the next sample
+    steps = rejected = 0
+    while t < t_end:
+        if steps >= max_steps:
+            raise SolveError(f"simulate_batch: {max_steps} steps reached at t = {t:.6g} s "
+                             "(max_steps)")
+        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+        accepted = was_rejected = False
+        while not accepted:
+            if h < min_step:
+                raise SolveError(f"simulate_batch: the step fell below {min_step:.3g} s at "
+                                 f"t = {t:.6g} s")
+            t_new = min(t + h, t_end)
+            h = t_new - t
+            K[0] = f
+            for s in range(1, ns):
+                K[s] = rhs(t + C[s] * h, y + h * np.tensordot(A[s, :s], K[:s], axes=1))
+            y_new = y + h * np.tensordot(Bw, K[:ns], axes=1)
+            f_new = rhs(t_new, y_new)
+            K[ns] = f_new
+            evals += ns
+            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
+            # scipy's DOP853 norm, per design: the fifth-order estimate damped by the third's
+            e5 = _rms(np.tensordot(E5, K[:ns + 1], axes=1) / scale)
+            e3 = _rms(np.tensordot(E3, K[:ns + 1], axes=1) / scale)
+            denom = np.sqrt((e5 + 0.01 * e3) * d)
+            err = float(np.max(np.where(denom > 0.0, h * e5 / np.where(denom > 0.0, denom,
+                                                                       1.0), 0.0)))
+            if not np.isfinite(err):
+                raise SolveError(f"simulate_batch: the state is no longer finite at t = {t:.6g}"
+                                 " s")
+            if err < 1.0:
+                factor = _MAX_FACTOR if err == 0.0 else min(_MAX_FACTOR,
+                                                            _SAFETY * err ** _ERROR_EXPONENT)
+                if was_rejected:
+                    factor = min(1.0, factor)
+                accepted = True
+            else:
+                factor = max(_MIN_FACTOR, _SAFETY * err ** _ERROR_EXPONENT)
+                was_rejected = True
+                rejected += 1
+            h_next = h * factor
+            if not accepted:
+                h = h_next
+        steps += 1
+        if t_out is None:
+            ts.append(t_new)
+            ys.append(y_new)
+        else:
+            # as the single run samples: the times in [t, t_new), the last step also the end
+            # and its rounding slack beyond
+            k_end = len(t_out) if t_new >= t_end else int(np.searchsorted(t_out, t_new))
+            if k_end > k_out:
+                ts.extend(t_out[k_out:k_end])
+                ys.extend(_dense(rhs, K, A_extra, C_extra, D, ns, t, h, y, y_new, f, f_new,
+                                 t_out[k_out:k_end]))
+                evals += len(C_extra)
+                k_out = k_end
+        t, y, f, h = t_new, y_new, f_new, h_next
+    return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), steps, rejected,
+                        evals)
+
+
+def _dense(rhs, K, A_extra, C_extra, D, ns, t, h, y_old, y, f_old, f, t_s):
+    """Return scipy's DOP853 interpolant of the last step at the times ``t_s``: a list of (B, d)."""
+    for s, (a, c) in enumerate(zip(A_extra, C_extra, strict=True), start=ns + 1):
+        K[s] = rhs(t + c * h, y_old + h * np.tensordot(a[:s], K[:s], axes=1))
+    dy = y - y_old
+    F = [dy, h * f_old - dy, 2.0 * dy - h * (f + f_old)]
+    F.extend(h * np.tensordot(D, K, axes=1))
+    out = []
+    for x in (t_s - t) / h:
+        acc = np.zeros_like(y_old)
+        for i, fi in enumerate(reversed(F)):
+            acc += fi
+            acc *= x if i % 2 == 0 else 1.0 - x
+        out.append(acc + y_old)
+    return out
