@@ -25,80 +25,76 @@ __all__ = ["batch_accelerations"]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _design(L, mass, off, iyy, q, v, tau, fx, fz, out, M, work):  # pragma: no cover - compiled
-    n = q.size
-    px, pz, cx, cz, co, si = work[0], work[1], work[2], work[3], work[4], work[5]
-    ax, az, w2, rhs = work[6], work[7], work[8], work[9]
-    phi = 0.0
-    w = 0.0
-    for i in range(n):
-        phi += q[i]
-        co[i] = math.cos(phi)
-        si[i] = math.sin(phi)
-        w += v[i]
-        w2[i] = w * w
-    px[0], pz[0], jx, jz = L[0], 0.0, 0.0, 0.0
-    for i in range(n):
-        if i > 0:
-            px[i] = px[i - 1] + L[i] * co[i - 1]
-            pz[i] = pz[i - 1] + L[i] * si[i - 1]
-            jx -= L[i] * w2[i - 1] * co[i - 1]
-            jz -= L[i] * w2[i - 1] * si[i - 1]
-        cx[i] = px[i] + off[i] * co[i]
-        cz[i] = pz[i] + off[i] * si[i]
-        # the centre of mass's acceleration at zero joint accelerations, times its mass
-        ax[i] = mass[i] * (jx - off[i] * w2[i] * co[i])
-        az[i] = mass[i] * (jz - off[i] * w2[i] * si[i])
-    # from the tip down: h_j = sum_(i >= j) (c_i - p_j) x m_i a_i; J^T F with the lever arms
-    t_cxa, t_ax, t_az, rc, rs = 0.0, 0.0, 0.0, 0.0, 0.0
-    for j in range(n - 1, -1, -1):
-        t_cxa += cx[j] * az[j] - cz[j] * ax[j]
-        t_ax += ax[j]
-        t_az += az[j]
-        rc += L[j + 1] * co[j]
-        rs += L[j + 1] * si[j]
-        rhs[j] = tau[j] - (t_cxa - (px[j] * t_az - pz[j] * t_ax)) - fx * rs - fz * rc
-    for k in range(n):
-        s, tx, tz = 0.0, 0.0, 0.0
-        for i in range(k, n):
-            dx, dz = cx[i] - px[k], cz[i] - pz[k]
-            s += mass[i] * (dx * dx + dz * dz) + iyy[i]
-            tx += mass[i] * dx
-            tz += mass[i] * dz
-        for j in range(k + 1):
-            M[k, j] = s + (px[k] - px[j]) * tx + (pz[k] - pz[j]) * tz
-    # Cholesky M = G G^T in the lower triangle, then the two triangular solves
-    for j in range(n):
-        d = M[j, j]
-        for p in range(j):
-            d -= M[j, p] * M[j, p]
-        d = math.sqrt(d)
-        M[j, j] = d
-        for i in range(j + 1, n):
-            e = M[i, j]
-            for p in range(j):
-                e -= M[i, p] * M[j, p]
-            M[i, j] = e / d
-    for i in range(n):
-        e = rhs[i]
-        for p in range(i):
-            e -= M[i, p] * out[p]
-        out[i] = e / M[i, i]
-    for i in range(n - 1, -1, -1):
-        e = out[i]
-        for p in range(i + 1, n):
-            e -= M[p, i] * out[p]
-        out[i] = e / M[i, i]
-
-
-@numba.njit(cache=True, error_model="numpy")
 def _batch(L, mass, off, iyy, Q, V, tau, F, out):  # pragma: no cover - compiled
+    # one flat loop, scratch allocated once: a helper taking row views per design cost as much
+    # as the arithmetic (each view is reference-counted)
     B, n = Q.shape
     M = np.empty((n, n))
-    work = np.empty((10, n))
+    px, pz, cx, cz = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    co, si, ax, az, w2, rhs = (np.empty(n), np.empty(n), np.empty(n), np.empty(n),
+                               np.empty(n), np.empty(n))
     for b in range(B):
-        _design(L[b], mass[b], off[b], iyy[b], Q[b], V[b], tau[b], F[b, 0], F[b, 2], out[b],
-                M, work)
+        phi = 0.0
+        w = 0.0
+        for i in range(n):
+            phi += Q[b, i]
+            co[i] = math.cos(phi)
+            si[i] = math.sin(phi)
+            w += V[b, i]
+            w2[i] = w * w
+        px[0], pz[0], jx, jz = L[b, 0], 0.0, 0.0, 0.0
+        for i in range(n):
+            if i > 0:
+                px[i] = px[i - 1] + L[b, i] * co[i - 1]
+                pz[i] = pz[i - 1] + L[b, i] * si[i - 1]
+                jx -= L[b, i] * w2[i - 1] * co[i - 1]
+                jz -= L[b, i] * w2[i - 1] * si[i - 1]
+            cx[i] = px[i] + off[b, i] * co[i]
+            cz[i] = pz[i] + off[b, i] * si[i]
+            # the centre of mass's acceleration at zero joint accelerations, times its mass
+            ax[i] = mass[b, i] * (jx - off[b, i] * w2[i] * co[i])
+            az[i] = mass[b, i] * (jz - off[b, i] * w2[i] * si[i])
+        # from the tip down: h_j = sum_(i >= j) (c_i - p_j) x m_i a_i; J^T F by lever arms
+        t_cxa, t_ax, t_az, rc, rs = 0.0, 0.0, 0.0, 0.0, 0.0
+        fx, fz = F[b, 0], F[b, 2]
+        for j in range(n - 1, -1, -1):
+            t_cxa += cx[j] * az[j] - cz[j] * ax[j]
+            t_ax += ax[j]
+            t_az += az[j]
+            rc += L[b, j + 1] * co[j]
+            rs += L[b, j + 1] * si[j]
+            rhs[j] = tau[b, j] - (t_cxa - (px[j] * t_az - pz[j] * t_ax)) - fx * rs - fz * rc
+        for k in range(n):
+            s, tx, tz = 0.0, 0.0, 0.0
+            for i in range(k, n):
+                dx, dz = cx[i] - px[k], cz[i] - pz[k]
+                s += mass[b, i] * (dx * dx + dz * dz) + iyy[b, i]
+                tx += mass[b, i] * dx
+                tz += mass[b, i] * dz
+            for j in range(k + 1):
+                M[k, j] = s + (px[k] - px[j]) * tx + (pz[k] - pz[j]) * tz
+        # Cholesky M = G G^T in the lower triangle, then the two triangular solves
+        for j in range(n):
+            d = M[j, j]
+            for p in range(j):
+                d -= M[j, p] * M[j, p]
+            d = math.sqrt(d)
+            M[j, j] = d
+            for i in range(j + 1, n):
+                e = M[i, j]
+                for p in range(j):
+                    e -= M[i, p] * M[j, p]
+                M[i, j] = e / d
+        for i in range(n):
+            e = rhs[i]
+            for p in range(i):
+                e -= M[i, p] * out[b, p]
+            out[b, i] = e / M[i, i]
+        for i in range(n - 1, -1, -1):
+            e = out[b, i]
+            for p in range(i + 1, n):
+                e -= M[p, i] * out[b, p]
+            out[b, i] = e / M[i, i]
 
 
 def batch_accelerations(links, Q: np.ndarray, V: np.ndarray, tau_Nm: np.ndarray,
