@@ -28,11 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import BeamInputError
-from .pin_dynamics import planar_lengths
-from .planar_mass import _lower, max_index
-
-__all__ = ["PlanarLinks", "planar_links", "stack_links", "batch_mass"]
+__all__ = ["PlanarLinks", "planar_links", "stack_links", "design_links", "batch_mass"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -67,27 +63,70 @@ def planar_links(pin_model, tip_frame_id: int) -> tuple[np.ndarray, ...] | None:
 
     Read from Pinocchio's model (what every dynamics call of the model uses). None when the
     chain is not a serial y-revolute chain along x with each centre of mass on its link's
-    x axis (a centre of mass off it, in z, would need the general kinematics).
+    x axis (a centre of mass off it, in z, would need the general kinematics). Plain float
+    checks: a batch reads one layout per design, and ``pin_dynamics.planar_lengths``'s
+    ``np.allclose`` per placement cost ten times this whole read.
     """
-    try:
-        lengths = planar_lengths(pin_model, tip_frame_id)
-    except BeamInputError:
-        return None
-    n = lengths.size - 1
-    mass, off, iyy = np.empty(n), np.empty(n), np.empty(n)
-    for j in range(n):
-        inertia = pin_model.inertias[j + 1]
-        lever = np.asarray(inertia.lever)
-        # a y offset leaves the planar motion alone (y is every joint's axis); a z one does not
-        if abs(lever[2]) > 1e-12 * max(1.0, abs(lever[0])):
+    n = pin_model.njoints - 1
+    lengths, mass, off, iyy = np.empty(n + 1), np.empty(n), np.empty(n), np.empty(n)
+    # each attribute of the model is fetched once (every fetch wraps the whole vector)
+    parents, joints, places = pin_model.parents, pin_model.joints, pin_model.jointPlacements
+    inertias = pin_model.inertias
+    for j in range(1, n + 1):
+        if parents[j] != j - 1 or joints[j].shortname() != "JointModelRY":
             return None
-        mass[j], off[j], iyy[j] = inertia.mass, lever[0], np.asarray(inertia.inertia)[1, 1]
+        x = _along_x(places[j])
+        inertia = inertias[j]
+        lever = inertia.lever
+        # a y offset leaves the planar motion alone (y is every joint's axis); a z one does not
+        if x is None or abs(lever[2]) > 1e-12 * max(1.0, abs(lever[0])):
+            return None
+        lengths[j - 1] = x
+        mass[j - 1], off[j - 1], iyy[j - 1] = inertia.mass, lever[0], inertia.inertia[1, 1]
+    frame = pin_model.frames[tip_frame_id]
+    x = _along_x(frame.placement) if frame.parentJoint == n else None
+    if x is None:
+        return None
+    lengths[n] = x
     return lengths, mass, off, iyy
+
+
+def _along_x(placement) -> float | None:
+    """Return the x offset of a pure x offset placement (to 1e-12 m and rad), else None."""
+    p = placement.translation.tolist()
+    rot = placement.rotation.tolist()  # Python floats: cheaper than numpy's reductions here
+    if abs(p[1]) + abs(p[2]) > 1e-12 or max(abs(rot[i][j] - (i == j)) for i in range(3)
+                                            for j in range(3)) > 1e-12:
+        return None
+    return p[0]
 
 
 def stack_links(rows: list[tuple[np.ndarray, ...]]) -> PlanarLinks:
     """Stack the :func:`planar_links` of B designs of one joint count into a PlanarLinks."""
     return PlanarLinks(*(np.array([r[i] for r in rows], dtype=float) for i in range(4)))
+
+
+def design_links(models) -> PlanarLinks | None:
+    """Return the PlanarLinks of planar clamped designs (PrbdmModel), or None if one is not.
+
+    Read from each model's lengths and link sections, which its Pinocchio model is built from
+    (:mod:`prbdm_pin.model.pin_chain`; the tests check the two readings agree): a few array
+    reads per design, where reading the Pinocchio model (:func:`planar_links`) costs more
+    than a design's frequencies. None for a hub, a free bus, a spatial chain or a centre of
+    mass off its link's axis in z.
+    """
+    for m in models:
+        if m.hub is not None or m.bus is not None or m.axes.spatial:
+            return None
+    secs = [m.sections for m in models]
+    com = np.array([s.com_m[1:] for s in secs])
+    if np.any(np.abs(com[:, :, 2]) > 1e-12 * np.maximum(1.0, np.abs(com[:, :, 0]))):
+        return None
+    start = np.array([s.start_m[1:] for s in secs])
+    return PlanarLinks(np.array([m.lengths_m for m in models], dtype=float),
+                       np.array([s.mass_kg[1:] for s in secs], dtype=float),
+                       com[:, :, 0] - start,
+                       np.array([s.inertia_com_kg_m2[1:, 1, 1] for s in secs], dtype=float))
 
 
 def _points(links: PlanarLinks, Q: np.ndarray):
@@ -107,18 +146,25 @@ def _points(links: PlanarLinks, Q: np.ndarray):
     return e, joints, joints + links.com_offset_m[:, None, :] * e
 
 
-def batch_mass(links: PlanarLinks, Q: np.ndarray, points: tuple | None = None) -> np.ndarray:
+def batch_mass(links: PlanarLinks, Q: np.ndarray) -> np.ndarray:
     """Mass matrices of B designs, each at its own pose ``Q[b]`` (rad), kg m^2, (B, n, n).
 
-    No input checks: the caller passes valid arrays. ``points``: :func:`_points` of the same
-    designs and poses when already computed.
+    Entry (k, j <= k) about joint k, as the compiled kernel has it
+    (:mod:`.planar_batch_kernel`): M_kj = S_k + (p_k - p_j) . T_k, one pass per joint over
+    the batch. No input checks: the caller passes valid arrays.
     """
     B, n = Q.shape
-    _, joints, coms = _points(links, Q) if points is None else points
-    # rows (x or z, i) of R hold sqrt(m_i) (c_i - p_j); link i moves with joint j only if j <= i
-    w = np.sqrt(links.mass_kg)[:, None, :, None] * _lower(n)
-    R = ((coms[:, :, :, None] - joints[:, :, None, :]) * w).reshape(B, 2 * n, n)
-    M = R.swapaxes(1, 2) @ R
-    tail = np.add.accumulate(links.inertia_yy_kg_m2[:, ::-1], axis=1)[:, ::-1]
-    M += tail[:, max_index(n)]
+    _, joints, coms = _points(links, Q)
+    m = links.mass_kg[:, None, :]
+    tail_inertia = np.add.accumulate(links.inertia_yy_kg_m2[:, ::-1], axis=1)[:, ::-1]
+    M = np.empty((B, n, n))
+    for k in range(n):
+        d = coms[:, :, k:] - joints[:, :, k:k + 1]  # (B, 2, n - k): c_i - p_k, i >= k
+        md = m[:, :, k:] * d
+        S = np.einsum("bxi,bxi->b", md, d) + tail_inertia[:, k]
+        T = md.sum(axis=2)  # (B, 2)
+        row = S[:, None] + np.einsum("bxj,bx->bj", joints[:, :, k:k + 1] - joints[:, :, :k + 1],
+                                     T)
+        M[:, k, :k + 1] = row
+        M[:, :k, k] = row[:, :k]
     return M

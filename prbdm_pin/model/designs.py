@@ -35,7 +35,10 @@ def check_designs(models, count: int | None = None, name: str = "models") -> lis
         if not isinstance(m, PrbdmModel):
             raise InputTypeError(f"{name}[{i}] = {m!r:.60}: must be a PrbdmModel")
     first = models[0]
+    key = _key(first)
     for i, m in enumerate(models[1:], start=1):
+        if _key(m) == key:
+            continue
         if m.pin_model.nv != first.pin_model.nv or m.n_joints != first.n_joints:
             raise BeamInputError(f"{name}[{i}]: {m.n_joints} joints ({m.pin_model.nv} "
                                  f"coordinates), the batch has {first.n_joints} "
@@ -47,6 +50,12 @@ def check_designs(models, count: int | None = None, name: str = "models") -> lis
         raise BeamInputError(f"{name}: {len(models)} models for {count} signals; give one "
                              "per design (or one model)")
     return models
+
+
+def _key(model) -> tuple:
+    # what must agree, compared cheaply (a batch checks every design)
+    return (model.pin_model.nv, model.lengths_m.size, model.hub is None, model.bus is None,
+            model.axes)
 
 
 def _support(model) -> str:

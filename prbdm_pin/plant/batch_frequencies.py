@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..chain.eigen import eig_scaled
-from ..chain.planar_batch import batch_mass, planar_links, stack_links
+from ..chain.planar_batch import batch_mass, design_links
 from ..model.designs import check_designs, design_rows
 
 __all__ = ["frequencies_batch"]
@@ -52,12 +52,12 @@ def frequencies_batch(models, q_rad: np.ndarray | None = None, squared: bool = F
     B, nv = len(models), int(models[0].pin_model.nv)
     Q = design_rows("q_rad", q_rad, B, nv)
     m0 = models[0]
-    rows = None
+    links = None
     if m0.hub is None and m0.bus is None and not m0.axes.spatial:
-        rows = [planar_links(m.pin_model, m.tip_frame_id) for m in models]
-    if rows is None or any(r is None for r in rows):
+        links = design_links(models)
+    if links is None:
         return np.array([m.natural_frequencies(q, squared) for m, q in zip(models, Q,
                                                                              strict=True)])
-    M = batch_mass(stack_links(rows), Q)
+    M = batch_mass(links, Q)
     s = 1.0 / np.sqrt(np.array([m.stiffness_Nm_per_rad for m in models], dtype=float))
     return eig_scaled(M, s, squared)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..chain import planar
-from ..chain.planar_batch import PlanarLinks, batch_mass, planar_links, stack_links
+from ..chain.planar_batch import PlanarLinks, batch_mass, design_links
 from ..errors import BeamInputError
 from .damping import damping_matrix, damping_ratios
 from .inputs import Controller, StateFeedback, input_force
@@ -105,10 +105,9 @@ def vectorised_plant(models: list, Q0: np.ndarray, options, inputs: tuple, signa
     designs' input signals (constants, StateFeedback gains or one shared function of time, as
     :func:`.batch._vectorisable` admits them); the damping matrices are frozen at ``Q0``.
     """
-    rows = [planar_links(m.pin_model, m.tip_frame_id) for m in models]
-    if any(r is None for r in rows):
+    links = design_links(models)
+    if links is None:
         return None
-    links = stack_links(rows)
     B, n = Q0.shape
     k = np.array([m.stiffness_Nm_per_rad for m in models], dtype=float)
     ratio = options.damping_ratio
