@@ -59,6 +59,7 @@ _EXPORTS = {
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
     "frequencies_batch": "plant.batch_frequencies",
+    "linearize_batch": "plant.batch_linearize",
     "statics": "plant.statics",
     "spinning_frequencies": "plant.spin",
     "gyroscopic_frequencies": "plant.spin",

@@ -254,6 +254,7 @@ DOORS = {
     "simulate": ("model", lambda v: pp.simulate(v, 0.01)),
     "simulate_batch": ("models", lambda v: pp.simulate_batch(v, 0.01)),
     "frequencies_batch": ("models", lambda v: pp.frequencies_batch(v)),
+    "linearize_batch": ("models", lambda v: pp.linearize_batch(v)),
     "dynamic_accuracy": ("model", lambda v: pp.dynamic_accuracy(v, None)),
     "export_model": ("model", lambda v: pp.export_model(v, "never.urdf", "urdf")),
     "fit_joint_damping": ("model", lambda v: pp.fit_joint_damping(v, 0.02)),
