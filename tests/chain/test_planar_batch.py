@@ -9,8 +9,9 @@ import pinocchio as pin
 import pytest
 from tolerances import EPS
 
-from prbdm_pin.chain.planar_batch import batch_mass, planar_links, stack_links
+from prbdm_pin.chain.planar_batch import batch_mass, design_links, planar_links, stack_links
 from prbdm_pin.chain.spatial_stiffness import spatial_stiffness
+from prbdm_pin.files.urdf_file import load_urdf
 from prbdm_pin.member.geometry import Beam
 from prbdm_pin.model.prbdm_model import build_model
 
@@ -30,7 +31,7 @@ def _designs(n: int, count: int, seed: int):
 @pytest.mark.parametrize("n", [1, 3, 5, 8])
 def test_batched_mass_matrices_match_crba_per_design(n):
     models = _designs(n, 4, seed=n)
-    links = stack_links([planar_links(m.pin_model, m.tip_frame_id) for m in models])
+    links = design_links(models)
     Q = np.random.default_rng(10 + n).uniform(-1.0, 1.0, (4, n))
     M = batch_mass(links, Q)
     for b, m in enumerate(models):
@@ -45,7 +46,7 @@ def test_compiled_accelerations_match_aba_with_the_tip_force(n):
     from prbdm_pin.chain.planar_batch_kernel import batch_accelerations
 
     models = _designs(n, 5, seed=20 + n)
-    links = stack_links([planar_links(m.pin_model, m.tip_frame_id) for m in models])
+    links = design_links(models)
     rng = np.random.default_rng(30 + n)
     Q, V = rng.uniform(-1.0, 1.0, (5, n)), rng.uniform(-20.0, 20.0, (5, n))
     tau, F = rng.normal(size=(5, n)) * 10.0, rng.normal(size=(5, 3)) * 50.0
@@ -84,3 +85,15 @@ def test_chains_the_closed_form_does_not_describe_are_reported_as_none():
     assert lengths_m.tolist() == lengths  # placements read back exactly
     # the links' masses are the sections' (exact copies through the Pinocchio model)
     assert mass.tolist() == plain.sections.mass_kg[1:].tolist()
+
+
+def test_the_sections_reading_is_the_pinocchio_models_own(tmp_path):
+    models = _designs(4, 2, seed=9)
+    models.append(load_urdf(models[0].write_urdf(tmp_path / "m.urdf")))
+    links = design_links(models)
+    pin_read = stack_links([planar_links(m.pin_model, m.tip_frame_id) for m in models])
+    for name in ("lengths_m", "mass_kg", "com_offset_m", "inertia_yy_kg_m2"):
+        a, b = getattr(links, name), getattr(pin_read, name)
+        # the offset is a difference of positions along x (one rounding of ~1 m); the rest
+        # are copies, or one rounding of the URDF's printed digits
+        assert np.abs(a - b).max() <= 2 * EPS * max(1.0, np.abs(b).max()), name
