@@ -21,14 +21,15 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["batch_accelerations"]
+__all__ = ["batch_state_rates"]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _batch(L, mass, off, iyy, Q, V, tau, F, out):  # pragma: no cover - compiled
+def _batch(L, mass, off, iyy, Y, springs, C, tau, F, out):  # pragma: no cover - compiled
     # one flat loop, scratch allocated once: a helper taking row views per design cost as much
     # as the arithmetic (each view is reference-counted)
-    B, n = Q.shape
+    B, n = Y.shape[0], Y.shape[1] // 2
+    damped = C.shape[0] > 0
     M = np.empty((n, n))
     px, pz, cx, cz = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     co, si, ax, az, w2, rhs = (np.empty(n), np.empty(n), np.empty(n), np.empty(n),
@@ -37,11 +38,12 @@ def _batch(L, mass, off, iyy, Q, V, tau, F, out):  # pragma: no cover - compiled
         phi = 0.0
         w = 0.0
         for i in range(n):
-            phi += Q[b, i]
+            phi += Y[b, i]
             co[i] = math.cos(phi)
             si[i] = math.sin(phi)
-            w += V[b, i]
+            w += Y[b, n + i]
             w2[i] = w * w
+            out[b, i] = Y[b, n + i]
         px[0], pz[0], jx, jz = L[b, 0], 0.0, 0.0, 0.0
         for i in range(n):
             if i > 0:
@@ -63,7 +65,11 @@ def _batch(L, mass, off, iyy, Q, V, tau, F, out):  # pragma: no cover - compiled
             t_az += az[j]
             rc += L[b, j + 1] * co[j]
             rs += L[b, j + 1] * si[j]
-            rhs[j] = tau[b, j] - (t_cxa - (px[j] * t_az - pz[j] * t_ax)) - fx * rs - fz * rc
+            e = tau[b, j] - springs[b, j] * Y[b, j]
+            if damped:
+                for p in range(n):
+                    e -= C[b, j, p] * Y[b, n + p]
+            rhs[j] = e - (t_cxa - (px[j] * t_az - pz[j] * t_ax)) - fx * rs - fz * rc
         for k in range(n):
             s, tx, tz = 0.0, 0.0, 0.0
             for i in range(k, n):
@@ -85,44 +91,56 @@ def _batch(L, mass, off, iyy, Q, V, tau, F, out):  # pragma: no cover - compiled
                 for p in range(j):
                     e -= M[i, p] * M[j, p]
                 M[i, j] = e / d
+        a = out[b, n:]
         for i in range(n):
             e = rhs[i]
             for p in range(i):
-                e -= M[i, p] * out[b, p]
-            out[b, i] = e / M[i, i]
+                e -= M[i, p] * a[p]
+            a[i] = e / M[i, i]
         for i in range(n - 1, -1, -1):
-            e = out[b, i]
+            e = a[i]
             for p in range(i + 1, n):
-                e -= M[p, i] * out[b, p]
-            out[b, i] = e / M[i, i]
+                e -= M[p, i] * a[p]
+            a[i] = e / M[i, i]
 
 
-def batch_accelerations(links, Q: np.ndarray, V: np.ndarray, tau_Nm: np.ndarray,
-                        force_N: np.ndarray | None) -> np.ndarray:
-    """Joint accelerations (B, n), rad/s^2, of B planar chains at their own states.
+def batch_state_rates(links, Y: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
+                      damping_Nms_per_rad: np.ndarray | None, tau_Nm: np.ndarray | None,
+                      force_N: np.ndarray | None) -> np.ndarray:
+    """Return the rates (v, a) (B, 2n) of B planar chains at their own states Y = (q, v).
 
-    a = M(q)^-1 (tau - h(q, v) + J(q)^T F) per design.
+    a = M(q)^-1 (tau - K q - C v - h(q, v) + J(q)^T F) per design.
 
     Parameters
     ----------
     links : PlanarLinks
-        The designs (:func:`prbdm_pin.chain.planar_batch.stack_links`).
-    Q, V : ndarray, shape (B, n)
+        The designs (:func:`prbdm_pin.chain.planar_batch.design_links`).
+    Y : ndarray, shape (B, 2n)
         Joint angles (rad) and rates (rad/s).
-    tau_Nm : ndarray, shape (B, n)
-        Joint torques of the springs, damping and inputs, N m.
-    force_N : ndarray, shape (B, 3), or None
+    stiffness_Nm_per_rad : ndarray, shape (B, n)
+        Joint springs K (diagonal), N m/rad.
+    damping_Nms_per_rad : ndarray, shape (B, n, n), or None
+        Damping matrices C, N m s/rad.
+    tau_Nm : ndarray, shape (B, n), or None
+        Other joint torques (the inputs'), N m.
+    force_N : ndarray, shape (B, 3) or (3,), or None
         World-frame tip forces, N.
 
     Returns
     -------
-    ndarray, shape (B, n)
+    ndarray, shape (B, 2n)
     """
-    B = Q.shape[0]
-    F = np.zeros((B, 3)) if force_N is None else np.ascontiguousarray(
-        np.broadcast_to(force_N, (B, 3)), dtype=float)
-    out = np.empty_like(Q)
+    B, n2 = Y.shape
+    F = _ZERO3 if force_N is None else force_N
+    if F.shape != (B, 3):
+        F = np.broadcast_to(F, (B, 3)).copy()
+    C = _NO_DAMPING if damping_Nms_per_rad is None else damping_Nms_per_rad
+    tau = np.zeros((B, n2 // 2)) if tau_Nm is None else tau_Nm
+    out = np.empty((B, n2))
     _batch(links.lengths_m, links.mass_kg, links.com_offset_m, links.inertia_yy_kg_m2,
-           np.ascontiguousarray(Q), np.ascontiguousarray(V), np.ascontiguousarray(tau_Nm), F,
-           out)
+           np.ascontiguousarray(Y), stiffness_Nm_per_rad, C, tau, F, out)
     return out
+
+
+_ZERO3 = np.zeros(3)
+_NO_DAMPING = np.zeros((0, 0, 0))

@@ -18,7 +18,7 @@ import numpy as np
 from ..chain import planar
 from ..chain.planar_batch import PlanarLinks, batch_mass, design_links
 from ..errors import BeamInputError
-from .damping import damping_matrix, damping_ratios
+from .damping import damping_matrix, damping_ratios, spring_modal_damping
 from .inputs import Controller, StateFeedback, input_force
 from .system import force_function
 
@@ -69,28 +69,25 @@ class BatchPlant:
 
     def rhs(self, t: float, Y: np.ndarray) -> np.ndarray:
         """Return (v, a) (B, 2n) of the states Y = (q, v) (B, 2n) at time t (s)."""
-        n = Y.shape[1] // 2
-        q, v = Y[:, :n], Y[:, n:]
-        tau = -self.stiffness_Nm_per_rad * q
-        if self.damping_Nms_per_rad is not None:
-            tau -= np.einsum("bij,bj->bi", self.damping_Nms_per_rad, v)
         F = self.force_N(t) if callable(self.force_N) else self.force_N
         u = self.inputs(t, Y)
+        tau = None
         if u is not None:
-            tau += np.einsum("bim,bm->bi", self.input_map, u)
+            tau = np.einsum("bim,bm->bi", self.input_map, u)
             if self.tip_rows:
                 Fu = np.zeros((len(Y), 3))
                 for col, axis in self.tip_rows:
                     Fu[:, axis] += u[:, col]
                 F = Fu if F is None else Fu + F
-        return np.concatenate((v, self._kernel(self.links, q, v, tau, F)), axis=1)
+        return self._kernel(self.links, Y, self.stiffness_Nm_per_rad,
+                            self.damping_Nms_per_rad, tau, F)
 
     @property
     def _kernel(self):
         # numba (and its compiled kernel's cache) load with the first batched run only
-        from ..chain.planar_batch_kernel import batch_accelerations
+        from ..chain.planar_batch_kernel import batch_state_rates
 
-        return batch_accelerations
+        return batch_state_rates
 
     def tips(self, Q: np.ndarray) -> np.ndarray:
         """Tip positions (B, s, 3), m, of the joint angles Q (B, s, n), rad."""
@@ -116,8 +113,11 @@ def vectorised_plant(models: list, Q0: np.ndarray, options, inputs: tuple, signa
     C = None
     if np.any(xi > 0.0):
         Mc = batch_mass(links, Q0)
-        C = np.stack([damping_matrix(Mc[b], np.diag(k[b]), xi, options.damping)
-                      for b in range(B)])
+        if options.damping == "modal":  # one stacked eigensolve (the joints all have springs)
+            C = spring_modal_damping(Mc, k, xi)
+        else:
+            C = np.stack([damping_matrix(Mc[b], np.diag(k[b]), xi, options.damping)
+                          for b in range(B)])
     if callable(force):
         force = force_function(force)[0]
     plant = BatchPlant(links, k, C, force)

@@ -95,6 +95,11 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
     A, Bw, C, E3, E5, D, A_extra, C_extra, ns = _tables()
     B, d = y0.shape
     K = np.empty((ns + 1 + len(C_extra), B, d))
+    K2 = K.reshape(len(K), B * d)  # the stages' combinations as BLAS matrix-vector products
+
+    def combine(w: np.ndarray, s: int) -> np.ndarray:
+        return (w @ K2[:s]).reshape(B, d)
+
     t, y = 0.0, y0.copy()
     f = rhs(t, y)
     evals = 2
@@ -116,15 +121,15 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
             h = t_new - t
             K[0] = f
             for s in range(1, ns):
-                K[s] = rhs(t + C[s] * h, y + h * np.tensordot(A[s, :s], K[:s], axes=1))
-            y_new = y + h * np.tensordot(Bw, K[:ns], axes=1)
+                K[s] = rhs(t + C[s] * h, y + h * combine(A[s, :s], s))
+            y_new = y + h * combine(Bw, ns)
             f_new = rhs(t_new, y_new)
             K[ns] = f_new
             evals += ns
             scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
             # scipy's DOP853 norm, per design: the fifth-order estimate damped by the third's
-            e5 = _rms(np.tensordot(E5, K[:ns + 1], axes=1) / scale)
-            e3 = _rms(np.tensordot(E3, K[:ns + 1], axes=1) / scale)
+            e5 = _rms(combine(E5, ns + 1) / scale)
+            e3 = _rms(combine(E3, ns + 1) / scale)
             denom = np.sqrt((e5 + 0.01 * e3) * d)
             err = float(np.max(np.where(denom > 0.0, h * e5 / np.where(denom > 0.0, denom,
                                                                        1.0), 0.0)))
@@ -154,8 +159,8 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
             k_end = len(t_out) if t_new >= t_end else int(np.searchsorted(t_out, t_new))
             if k_end > k_out:
                 ts.extend(t_out[k_out:k_end])
-                ys.extend(_dense(rhs, K, A_extra, C_extra, D, ns, t, h, y, y_new, f, f_new,
-                                 t_out[k_out:k_end]))
+                ys.extend(_dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y, y_new, f,
+                                 f_new, t_out[k_out:k_end]))
                 evals += len(C_extra)
                 k_out = k_end
         t, y, f, h = t_new, y_new, f_new, h_next
@@ -163,13 +168,13 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
                         evals)
 
 
-def _dense(rhs, K, A_extra, C_extra, D, ns, t, h, y_old, y, f_old, f, t_s):
+def _dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y_old, y, f_old, f, t_s):
     """Return scipy's DOP853 interpolant of the last step at the times ``t_s``: a list of (B, d)."""
     for s, (a, c) in enumerate(zip(A_extra, C_extra, strict=True), start=ns + 1):
-        K[s] = rhs(t + c * h, y_old + h * np.tensordot(a[:s], K[:s], axes=1))
+        K[s] = rhs(t + c * h, y_old + h * combine(a[:s], s))
     dy = y - y_old
     F = [dy, h * f_old - dy, 2.0 * dy - h * (f + f_old)]
-    F.extend(h * np.tensordot(D, K, axes=1))
+    F.extend(h * np.stack([combine(row, len(K)) for row in D]))
     out = []
     for x in (t_s - t) / h:
         acc = np.zeros_like(y_old)

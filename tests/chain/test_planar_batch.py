@@ -43,34 +43,40 @@ def test_batched_mass_matrices_match_crba_per_design(n):
 
 @pytest.mark.parametrize("n", [1, 2, 5, 8])
 def test_compiled_accelerations_match_aba_with_the_tip_force(n):
-    from prbdm_pin.chain.planar_batch_kernel import batch_accelerations
+    from prbdm_pin.chain.planar_batch_kernel import batch_state_rates
 
     models = _designs(n, 5, seed=20 + n)
     links = design_links(models)
     rng = np.random.default_rng(30 + n)
     Q, V = rng.uniform(-1.0, 1.0, (5, n)), rng.uniform(-20.0, 20.0, (5, n))
     tau, F = rng.normal(size=(5, n)) * 10.0, rng.normal(size=(5, 3)) * 50.0
-    a = batch_accelerations(links, Q, V, tau, F)
+    k = rng.uniform(100.0, 1000.0, (5, n))
+    C = rng.normal(size=(5, n, n))
+    C = C @ C.swapaxes(1, 2)  # any matrix: the kernel applies it as it is
+    rates = batch_state_rates(links, np.hstack((Q, V)), k, C, tau, F)
+    assert np.array_equal(rates[:, :n], V)
+    a = rates[:, n:]
     for b, m in enumerate(models):
         d = m.new_data()
         J = pin.computeFrameJacobian(m.pin_model, d, Q[b], m.tip_frame_id,
                                      pin.LOCAL_WORLD_ALIGNED)[:3]
-        ref = pin.aba(m.pin_model, d, Q[b], V[b], tau[b] + J.T @ F[b])
+        ref = pin.aba(m.pin_model, d, Q[b], V[b],
+                      tau[b] - k[b] * Q[b] - C[b] @ V[b] + J.T @ F[b])
         cond = np.linalg.cond(pin.crba(m.pin_model, d, Q[b]))
         # a solve of M: the right-hand side's roundings (n terms each) times cond(M), x10
         assert np.abs(a[b] - ref).max() <= 10 * n * cond * EPS * np.abs(ref).max()
 
 
-def test_the_batched_kernel_reads_no_force_as_zero():
-    from prbdm_pin.chain.planar_batch_kernel import batch_accelerations
+def test_the_batched_kernel_reads_no_force_damping_or_torque_as_zero():
+    from prbdm_pin.chain.planar_batch_kernel import batch_state_rates
 
     models = _designs(3, 2, seed=3)
-    links = stack_links([planar_links(m.pin_model, m.tip_frame_id) for m in models])
+    links = design_links(models)
     Q, V = np.full((2, 3), 0.2), np.full((2, 3), -1.0)
-    tau = np.ones((2, 3))
+    k = np.full((2, 3), 300.0)
     for b, m in enumerate(models):
-        ref = pin.aba(m.pin_model, m.new_data(), Q[b], V[b], tau[b])
-        a = batch_accelerations(links, Q, V, tau, None)[b]
+        ref = pin.aba(m.pin_model, m.new_data(), Q[b], V[b], -k[b] * Q[b])
+        a = batch_state_rates(links, np.hstack((Q, V)), k, None, None, None)[b, 3:]
         cond = np.linalg.cond(pin.crba(m.pin_model, m.new_data(), Q[b]))
         assert np.abs(a - ref).max() <= 30 * cond * EPS * np.abs(ref).max()  # as above, n = 3
 
