@@ -104,7 +104,9 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
     f = rhs(t, y)
     evals = 2
     h = _first_step(rhs, t, y, f, t_end, rtol, atol)
-    ts, ys = ([0.0], [y0.copy()]) if t_out is None else ([], [])
+    ts, ys = [0.0], [y0.copy()]  # every step's samples (no grid)
+    if t_out is not None:  # the grid's samples are written in place, design-major
+        Y_out = np.empty((B, len(t_out), d))
     k_out = 0  # the next sample
     steps = rejected = 0
     while t < t_end:
@@ -158,28 +160,30 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
             # and its rounding slack beyond
             k_end = len(t_out) if t_new >= t_end else int(np.searchsorted(t_out, t_new))
             if k_end > k_out:
-                ts.extend(t_out[k_out:k_end])
-                ys.extend(_dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y, y_new, f,
-                                 f_new, t_out[k_out:k_end]))
+                _dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y, y_new, f, f_new,
+                       t_out[k_out:k_end], Y_out[:, k_out:k_end])
                 evals += len(C_extra)
                 k_out = k_end
         t, y, f, h = t_new, y_new, f_new, h_next
+    if t_out is not None:
+        return BatchSamples(t_out.copy(), Y_out, steps, rejected, evals)
     return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), steps, rejected,
                         evals)
 
 
-def _dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y_old, y, f_old, f, t_s):
-    """Return scipy's DOP853 interpolant of the last step at the times ``t_s``: a list of (B, d)."""
+def _dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y_old, y, f_old, f, t_s, out):
+    """Write scipy's DOP853 interpolant of the last step at the times ``t_s`` into ``out``.
+
+    ``out`` is (B, len(t_s), d).
+    """
     for s, (a, c) in enumerate(zip(A_extra, C_extra, strict=True), start=ns + 1):
         K[s] = rhs(t + c * h, y_old + h * combine(a[:s], s))
     dy = y - y_old
     F = [dy, h * f_old - dy, 2.0 * dy - h * (f + f_old)]
-    F.extend(h * np.stack([combine(row, len(K)) for row in D]))
-    out = []
-    for x in (t_s - t) / h:
+    F.extend(h * combine(row, len(K)) for row in D)
+    for j, x in enumerate((t_s - t) / h):
         acc = np.zeros_like(y_old)
         for i, fi in enumerate(reversed(F)):
             acc += fi
             acc *= x if i % 2 == 0 else 1.0 - x
-        out.append(acc + y_old)
-    return out
+        out[:, j] = acc + y_old
