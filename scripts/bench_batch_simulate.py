@@ -42,10 +42,10 @@ ROOT = Path(__file__).resolve().parents[1]
 FORCE = np.array([0.0, 0.0, -2500.0])  # N
 TARGET = 1e-3  # 0.1 % of the peak
 SINGLE = ([("exponential", {"integrator": pp.Exponential(step_rtol=r)}, f"step_rtol {r:g}")
-           for r in (3e-4, 1e-4, 3e-5)]
+           for r in (1e-3, 3e-4, 1e-4, 3e-5)]
           + [("DOP853", {"method": "DOP853", "rtol": r}, f"rtol {r:g}")
              for r in (1e-2, 1e-3, 1e-4)])
-BATCH_RTOLS = (1e-2, 3e-3, 1e-3, 1e-4)
+BATCH_RTOLS = (3e-2, 1e-2, 3e-3, 1e-3, 1e-4)
 
 
 def cpu(f, repeats: int):

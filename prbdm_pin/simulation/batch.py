@@ -26,7 +26,7 @@ from ..model.inputs import POSE_INPUTS, StrainActuator, parse_inputs
 from ..options.integrators import ScipyIVP
 from ..options.simulation import SimulationOptions
 from .batch_rhs import BatchPlant, vectorised_plant
-from .batch_rk import integrate_batch
+from .batch_rk import METHODS, integrate_batch
 from .driver import simulate
 from .inputs import Controller, StateFeedback
 from .loop import check_grid
@@ -143,7 +143,7 @@ def _run(plant: BatchPlant, duration_s: float, Q0: np.ndarray, V0: np.ndarray,
             rtol * np.maximum(np.max(np.abs(Q0), axis=1, keepdims=True), 1e-6))
     t_out = None if o.output_dt_s is None else output_times(duration_s, o.output_dt_s)
     s = integrate_batch(plant.rhs, np.hstack((Q0, V0)), duration_s, rtol, atol, t_out,
-                        o.max_steps)
+                        o.max_steps, integ.method)
     Q, V = s.y[:, :, :n], s.y[:, :, n:]
     tip = plant.tips(Q)
     for arr in (s.t_s, Q, V, tip):
@@ -204,7 +204,7 @@ def _options(options, changes: dict) -> SimulationOptions:
 def _vectorisable(models, o: SimulationOptions, inputs, signals, acts: tuple) -> bool:
     """Whether the batch runs vectorised (see the module's docstring for what does not)."""
     m0 = models[0]
-    if not isinstance(o.integrator, ScipyIVP) or o.integrator.method != "DOP853":
+    if not isinstance(o.integrator, ScipyIVP) or o.integrator.method not in METHODS:
         return False
     if m0.hub is not None or m0.bus is not None or m0.axes.spatial:
         return False

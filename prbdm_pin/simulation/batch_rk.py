@@ -1,11 +1,12 @@
-"""Dormand-Prince 8(5,3) over a batch of systems: one shared step, numpy over the batch axis.
+"""Dormand-Prince 8(5,3) and 5(4) over a batch of systems: one shared step, numpy over the batch.
 
-The scheme, its error estimate, its step-size rule and its seventh-order dense output are
-scipy's ``DOP853`` (the coefficient tables are scipy's own), applied to B states at once: each
-stage is one call of the batched right-hand side. The error is measured per design with
-scipy's norm (each design's own tolerances, the RMS over its coordinates) and the step is set
-by the largest of those norms: every design meets its own tolerance, as it would alone, or
-better. One shared step is what keeps every stage one numpy call over the batch (per-design
+Each scheme, its error estimate, its step-size rule and its dense output are scipy's
+``DOP853`` (seventh-order interpolant, three more stages per step that samples) and ``RK45``
+(fourth-order interpolant from the step's own stages) with scipy's own coefficient tables,
+applied to B states at once: each stage is one call of the batched right-hand side. The error
+is measured per design with scipy's norm (each design's own tolerances, the RMS over its
+coordinates) and the step is set by the largest of those norms: every design meets its own
+tolerance, as it would alone, or better. One shared step is what keeps every stage one numpy call over the batch (per-design
 steps would split the batch into designs at different times); the price is that the stiffest
 design sets the step for all of them.
 """
@@ -22,7 +23,7 @@ from ..errors import SolveError
 __all__ = ["BatchSamples", "integrate_batch"]
 
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0  # scipy's step-size rule
-_ERROR_EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1), as scipy's DOP853
+METHODS = ("DOP853", "RK45")
 
 
 @dataclass(frozen=True)
@@ -36,13 +37,60 @@ class BatchSamples:
     rhs_evaluations: int
 
 
-def _tables():
-    # scipy's own DOP853 tables (public class attributes of scipy.integrate.DOP853)
-    from scipy.integrate import DOP853
+class _Scheme:
+    """A scipy explicit Runge-Kutta pair's tables, error norm and interpolant, batched."""
 
-    n = DOP853.n_stages
-    return (DOP853.A, DOP853.B, DOP853.C, DOP853.E3, DOP853.E5, DOP853.D, DOP853.A_EXTRA,
-            DOP853.C_EXTRA, n)
+    def __init__(self, method: str):
+        import scipy.integrate
+
+        solver = getattr(scipy.integrate, method)  # scipy's tables: public class attributes
+        self.A, self.B, self.C, self.ns = solver.A, solver.B, solver.C, solver.n_stages
+        # scipy's step rule: factor = err ** (-1 / (error estimator order + 1))
+        self.exponent = -1.0 / (solver.error_estimator_order + 1)
+        self.dop853 = method == "DOP853"
+        if self.dop853:
+            self.E3, self.E5, self.D = solver.E3, solver.E5, solver.D
+            self.A_extra, self.C_extra = solver.A_EXTRA, solver.C_EXTRA
+        else:
+            self.E, self.P = solver.E, solver.P
+            self.A_extra, self.C_extra = (), ()
+
+    def error(self, combine, h: float, scale: np.ndarray) -> np.ndarray:
+        """Return each design's scaled error norm (B,): scipy's, design by design."""
+        d = scale.shape[1]
+        if not self.dop853:
+            e = combine(self.E, self.ns + 1) / scale
+            return h * np.sqrt(_rms(e) / d)
+        # the fifth-order estimate damped by the third's
+        e5 = _rms(combine(self.E5, self.ns + 1) / scale)
+        e3 = _rms(combine(self.E3, self.ns + 1) / scale)
+        denom = np.sqrt((e5 + 0.01 * e3) * d)
+        return np.where(denom > 0.0, h * e5 / np.where(denom > 0.0, denom, 1.0), 0.0)
+
+    def dense(self, rhs, K, combine, t, h, y_old, y, f_old, f, t_s, out) -> int:
+        """Write the last step's interpolant at the times ``t_s`` into ``out`` (B, len, d).
+
+        Returns the right-hand side evaluations it took.
+        """
+        x_s = (t_s - t) / h
+        if not self.dop853:
+            for j, x in enumerate(x_s):
+                w = self.P @ np.cumprod(np.full(self.P.shape[1], x))
+                out[:, j] = y_old + h * combine(w, self.ns + 1)
+            return 0
+        ns = self.ns
+        for s, (a, c) in enumerate(zip(self.A_extra, self.C_extra, strict=True), start=ns + 1):
+            K[s] = rhs(t + c * h, y_old + h * combine(a[:s], s))
+        dy = y - y_old
+        F = [dy, h * f_old - dy, 2.0 * dy - h * (f + f_old)]
+        F.extend(h * combine(row, len(K)) for row in self.D)
+        for j, x in enumerate(x_s):
+            acc = np.zeros_like(y_old)
+            for i, fi in enumerate(reversed(F)):
+                acc += fi
+                acc *= x if i % 2 == 0 else 1.0 - x
+            out[:, j] = acc + y_old
+        return len(self.C_extra)
 
 
 def _rms(x: np.ndarray) -> np.ndarray:
@@ -51,8 +99,8 @@ def _rms(x: np.ndarray) -> np.ndarray:
 
 
 def _first_step(rhs, t0: float, y0: np.ndarray, f0: np.ndarray, t_end: float, rtol: float,
-                atol: np.ndarray) -> float:
-    """Return scipy's initial step (Hairer's rule, order 8), the smallest over the designs."""
+                atol: np.ndarray, exponent: float) -> float:
+    """Return scipy's initial step (Hairer's rule), the smallest over the designs."""
     d = y0.shape[1]
     scale = atol + np.abs(y0) * rtol
     d0 = np.sqrt(_rms(y0 / scale) / d)
@@ -62,13 +110,13 @@ def _first_step(rhs, t0: float, y0: np.ndarray, f0: np.ndarray, t_end: float, rt
     f1 = rhs(t0 + h0, y0 + h0 * f0)
     d2 = np.sqrt(_rms((f1 - f0) / scale) / d) / h0
     h1 = np.where((d1 <= 1e-15) & (d2 <= 1e-15), max(1e-6, h0 * 1e-3),
-                  (0.01 / np.maximum(np.maximum(d1, d2), 1e-300)) ** (1.0 / 8.0))
+                  (0.01 / np.maximum(np.maximum(d1, d2), 1e-300)) ** -exponent)
     return float(min(100.0 * h0, np.min(h1), t_end - t0))
 
 
 def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
                     t_end: float, rtol: float, atol: np.ndarray, t_out: np.ndarray | None,
-                    max_steps: int) -> BatchSamples:
+                    max_steps: int, method: str = "DOP853") -> BatchSamples:
     """Integrate y' = rhs(t, y) for B states y (B, d) from t = 0 to ``t_end`` (s).
 
     Parameters
@@ -87,14 +135,17 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
         Sample times, s, ascending in [0, t_end]; None: every accepted step (and t = 0).
     max_steps : int
         Cap on accepted steps; SolveError beyond it.
+    method : str
+        ``"DOP853"`` or ``"RK45"``.
 
     Returns
     -------
     BatchSamples
     """
-    A, Bw, C, E3, E5, D, A_extra, C_extra, ns = _tables()
+    sc = _Scheme(method)
+    A, Bw, C, ns = sc.A, sc.B, sc.C, sc.ns
     B, d = y0.shape
-    K = np.empty((ns + 1 + len(C_extra), B, d))
+    K = np.empty((ns + 1 + len(sc.C_extra), B, d))
     K2 = K.reshape(len(K), B * d)  # the stages' combinations as BLAS matrix-vector products
 
     def combine(w: np.ndarray, s: int) -> np.ndarray:
@@ -103,7 +154,7 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
     t, y = 0.0, y0.copy()
     f = rhs(t, y)
     evals = 2
-    h = _first_step(rhs, t, y, f, t_end, rtol, atol)
+    h = _first_step(rhs, t, y, f, t_end, rtol, atol, sc.exponent)
     ts, ys = [0.0], [y0.copy()]  # every step's samples (no grid)
     if t_out is not None:  # the grid's samples are written in place, design-major
         Y_out = np.empty((B, len(t_out), d))
@@ -129,23 +180,18 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
             K[ns] = f_new
             evals += ns
             scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
-            # scipy's DOP853 norm, per design: the fifth-order estimate damped by the third's
-            e5 = _rms(combine(E5, ns + 1) / scale)
-            e3 = _rms(combine(E3, ns + 1) / scale)
-            denom = np.sqrt((e5 + 0.01 * e3) * d)
-            err = float(np.max(np.where(denom > 0.0, h * e5 / np.where(denom > 0.0, denom,
-                                                                       1.0), 0.0)))
+            err = float(np.max(sc.error(combine, h, scale)))
             if not np.isfinite(err):
                 raise SolveError(f"simulate_batch: the state is no longer finite at t = {t:.6g}"
                                  " s")
             if err < 1.0:
                 factor = _MAX_FACTOR if err == 0.0 else min(_MAX_FACTOR,
-                                                            _SAFETY * err ** _ERROR_EXPONENT)
+                                                            _SAFETY * err ** sc.exponent)
                 if was_rejected:
                     factor = min(1.0, factor)
                 accepted = True
             else:
-                factor = max(_MIN_FACTOR, _SAFETY * err ** _ERROR_EXPONENT)
+                factor = max(_MIN_FACTOR, _SAFETY * err ** sc.exponent)
                 was_rejected = True
                 rejected += 1
             h_next = h * factor
@@ -160,30 +206,11 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
             # and its rounding slack beyond
             k_end = len(t_out) if t_new >= t_end else int(np.searchsorted(t_out, t_new))
             if k_end > k_out:
-                _dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y, y_new, f, f_new,
-                       t_out[k_out:k_end], Y_out[:, k_out:k_end])
-                evals += len(C_extra)
+                evals += sc.dense(rhs, K, combine, t, h, y, y_new, f, f_new,
+                                  t_out[k_out:k_end], Y_out[:, k_out:k_end])
                 k_out = k_end
         t, y, f, h = t_new, y_new, f_new, h_next
     if t_out is not None:
         return BatchSamples(t_out.copy(), Y_out, steps, rejected, evals)
     return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), steps, rejected,
                         evals)
-
-
-def _dense(rhs, K, combine, A_extra, C_extra, D, ns, t, h, y_old, y, f_old, f, t_s, out):
-    """Write scipy's DOP853 interpolant of the last step at the times ``t_s`` into ``out``.
-
-    ``out`` is (B, len(t_s), d).
-    """
-    for s, (a, c) in enumerate(zip(A_extra, C_extra, strict=True), start=ns + 1):
-        K[s] = rhs(t + c * h, y_old + h * combine(a[:s], s))
-    dy = y - y_old
-    F = [dy, h * f_old - dy, 2.0 * dy - h * (f + f_old)]
-    F.extend(h * combine(row, len(K)) for row in D)
-    for j, x in enumerate((t_s - t) / h):
-        acc = np.zeros_like(y_old)
-        for i, fi in enumerate(reversed(F)):
-            acc += fi
-            acc *= x if i % 2 == 0 else 1.0 - x
-        out[:, j] = acc + y_old
