@@ -124,6 +124,10 @@ def simulate_batch(
     force = tip_force if callable(tip_force) else (
         None if tip_force is None else design_rows("tip_force", tip_force, B, 3))
     acts = tuple(actuators)
+    m0 = models[0]
+    if m0.bus is None and (isinstance(inputs, (str, bytes)) or inputs):
+        # refused here, as simulate refuses them (a bare name too), before any run
+        parse_inputs(inputs, m0.n_springs, len(acts), m0.hub is not None, 0)
     plant = None
     if _vectorisable(models, o, inputs, signals, acts):
         plant = vectorised_plant(models, Q0, o, tuple(inputs), signals, acts, force)
@@ -210,13 +214,9 @@ def _vectorisable(models, o: SimulationOptions, inputs, signals, acts: tuple) ->
         return False
     if any(np.any(m.pin_model.gravity.linear) for m in models):
         return False
-    if isinstance(inputs, (str, bytes)):
-        return False  # simulate refuses a bare name with its own message
-    names = tuple(inputs)
-    if names:
-        parsed = parse_inputs(names, m0.n_springs, len(acts), False, 0)
-        if any(b in POSE_INPUTS for _, b, _ in parsed):
-            return False
+    if inputs and any(b in POSE_INPUTS for _, b, _ in parse_inputs(
+            inputs, m0.n_springs, len(acts), False, 0)):
+        return False
     shared_time = [s for s in signals if callable(s) and not isinstance(
         s, (Controller, StateFeedback))]
     if any(isinstance(s, Controller) for s in signals):

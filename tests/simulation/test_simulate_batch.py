@@ -111,6 +111,20 @@ def test_designs_the_closed_form_does_not_carry_are_looped_through_simulate():
         assert one.q_rad.shape == (11, 3) and one.steps == runs.steps[b]
 
 
+def test_a_controller_or_a_pose_input_is_looped_through_simulate():
+    models = _designs()[:2]
+    damper = pp.Controller(lambda t, q, v: -2.0 * v[:1])
+    for kw in (dict(inputs=("joint_torque[0]",), u=damper),
+               dict(inputs=("tip_moment_y",), u=[0.5])):
+        runs = pp.simulate_batch(models, 0.05, q0=[0.05, 0.0, 0.0], output_dt_s=0.01,
+                                 rtol=RTOL, damping_ratio=0.0, **kw)
+        assert not runs.vectorised
+        for b, m in enumerate(models):
+            ref = _reference(m, 0.05, q0=[0.05, 0.0, 0.0], output_dt_s=0.01,
+                             damping_ratio=0.0, **kw)
+            assert _peak_error(runs.q_rad[b], ref.q_rad) <= BOUND
+
+
 def test_bad_batches_are_refused_naming_the_argument():
     models = _designs()
     two = pp.build_model(BEAM, [0.2, 0.5, 0.3], [2500.0, 1200.0])
@@ -136,6 +150,8 @@ def test_bad_batches_are_refused_naming_the_argument():
     for rtol in (1e-15, 0.5):
         with pytest.raises(BeamInputError, match=r"rtol = .*: must be in \(1e-14, 0\.1\)"):
             pp.simulate_batch(models, 0.1, rtol=rtol)
+    with pytest.raises(BeamInputError, match="inputs = 'tip_force_z': must be a non-empty"):
+        pp.simulate_batch([hub, hub], 0.1, inputs="tip_force_z")
     with pytest.raises(BeamInputError, match="output_dt_s: these designs"):
         pp.simulate_batch([hub, hub], 0.1)
     runs = pp.simulate_batch(models[:1], 0.01, rtol=1e-6)
