@@ -2,9 +2,11 @@
 
 The batched simulation's right-hand side spends its time here: per design, the closed forms of
 :mod:`.planar_batch` (M(q), the Coriolis/centrifugal forces h, J^T F) and a Cholesky solve of
-M a = tau - h + J^T F, in one compiled loop over the designs (numpy over the batch axis made
-some thirty array calls per evaluation, each a pass over the batch). numba is imported by this
-module only, which :mod:`prbdm_pin.simulation.batch_rhs` imports on first use.
+M a = tau - K q - C v - h + J^T F, in one compiled loop over the designs (numpy over the batch
+axis made some thirty array calls per evaluation, each a pass over the batch). numba (chosen
+over JAX: a small dependency that compiles these loops as they are written, with an on-disk
+cache, and no derivatives are asked of the batch) is imported by this module only, which
+:mod:`prbdm_pin.simulation.batch_rhs` imports on first use; one signature, cached.
 
 With p_k the joints and c_i the centres of mass (xz-plane, z flipped as in
 :mod:`.planar_mass`), the entries of M for j <= k are computed about joint k, free of the

@@ -1,11 +1,13 @@
 """``simulate_batch``: many designs (or controller gains) over one duration, load and grid.
 
 Planar clamped chains are integrated together (:mod:`.batch_rhs`, :mod:`.batch_rk`): one
-Dormand-Prince 8(5,3) run over a leading batch axis, its stages evaluated in closed form
-(:mod:`prbdm_pin.chain.planar_batch`: M(q), Coriolis/centrifugal forces, J^T F of every design
-at once, one stacked linear solve), with a shared step set by the design with the largest
-error. Everything else, spatial chains, hubs, free buses, a weight set on a ``pin_model``, an
-integrator other than ``DOP853``, a ``Controller``, per-design functions of time, the pose
+Dormand-Prince 8(5,3) (``method="DOP853"``, the default) or 5(4) (``"RK45"``) run over a
+leading batch axis, each stage one call of a compiled loop over the designs
+(:mod:`prbdm_pin.chain.planar_batch_kernel`: M(q), the Coriolis/centrifugal forces and J^T F
+in closed form, a Cholesky solve per design), with a shared step set by the design with the
+largest error (each design's error measured against its own tolerances). Everything else,
+spatial chains, hubs, free buses, a weight set on a ``pin_model``, another integrator
+(``"exponential"`` ...), a ``Controller``, per-design functions of time, the pose
 inputs (tip moments, corner and distributed forces, base accelerations), is run as a loop of
 :func:`prbdm_pin.simulate` calls over the designs, with the same options: the same result,
 without the batch's speed.
