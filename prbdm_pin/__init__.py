@@ -58,6 +58,8 @@ _EXPORTS = {
     "DistributedLoad": "model.loads",
     "fit_strain_actuators": "plant.actuator_fit",
     "linearize": "plant.linearize",
+    "frequencies_batch": "plant.batch_frequencies",
+    "linearize_batch": "plant.batch_linearize",
     "statics": "plant.statics",
     "spinning_frequencies": "plant.spin",
     "gyroscopic_frequencies": "plant.spin",
@@ -130,6 +132,8 @@ _EXPORTS = {
     # simulation and exports
     "simulate": "simulation",
     "Trajectory": "simulation",
+    "simulate_batch": "simulation.batch",
+    "TrajectoryBatch": "simulation.trajectory_batch",
     "Exponential": "options.integrators",
     "Gauss": "options.integrators",
     "Trapezoidal": "options.integrators",

@@ -115,12 +115,16 @@ def spring_modal_damping(M: np.ndarray, springs_Nm_per_rad: np.ndarray, xi: np.n
     K = diag(springs) (N m/rad, all > 0), with validated ratios ``xi`` (n,), through the scaled
     standard eigenproblem (:func:`prbdm_pin.chain.eigen.modes_from_mass`, under its guard): a
     linearisation builds this every call, and the generalized problem's set-up costs more than
-    the solve.
+    the solve. ``M`` (m, n, n) and springs (m, n): a stack of designs (``linearize_batch``),
+    one stacked eigensolve, (m, n, n) back.
     """
-    omega, phi = modes_from_mass(M[None], springs_Nm_per_rad)
-    MPhi = M @ phi[0]
-    C = (MPhi * (2.0 * xi * omega[0])) @ MPhi.T
-    return 0.5 * (C + C.T)
+    stack = M.ndim == 3
+    omega, phi = modes_from_mass(M if stack else M[None], springs_Nm_per_rad)
+    if not stack:
+        omega, phi = omega[0], phi[0]
+    MPhi = M @ phi
+    C = (MPhi * (2.0 * xi * omega)[..., None, :]) @ MPhi.swapaxes(-1, -2)
+    return 0.5 * (C + C.swapaxes(-1, -2))
 
 
 def eq5c_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float | np.ndarray) -> np.ndarray:

@@ -1,0 +1,155 @@
+"""The equations of motion of B planar clamped designs, evaluated together.
+
+    M_b(q_b) a_b + h_b(q_b, v_b) + K_b q_b + C_b v_b = J_b(q_b)^T F_b(t) + B_b u_b
+
+for every design b at once: M, h and J^T F in closed form (:mod:`prbdm_pin.chain.planar_batch`),
+the damping matrix of each design frozen at its start pose as ``simulate`` freezes it
+(:mod:`.system`), the inputs' constant map B_0 and tip forces as :mod:`.inputs` builds them, and
+u = u_0 (+ a shared function of time) - G x for constants and state-feedback gains.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..chain import planar
+from ..chain.planar_batch import PlanarLinks, batch_mass, design_links
+from ..errors import BeamInputError
+from .damping import damping_matrix, damping_ratios, spring_modal_damping
+from .inputs import Controller, StateFeedback, input_force
+from .system import force_function
+
+__all__ = ["BatchPlant", "vectorised_plant"]
+
+
+@dataclass(frozen=True, eq=False)
+class BatchPlant:
+    """B designs' equations of motion as one right-hand side over the batch axis.
+
+    Attributes
+    ----------
+    links : PlanarLinks
+    stiffness_Nm_per_rad : ndarray (B, n)
+    damping_Nms_per_rad : ndarray (B, n, n) or None
+    force_N : ndarray (B, 3), callable t -> (3,), or None
+        The tip load, N (world).
+    input_map : ndarray (B, n, m) or None
+        B_0 of the inputs (torques, strain actuators), N m per input unit.
+    tip_rows : tuple of (column, axis)
+        The inputs that are tip forces.
+    u0 : ndarray (B, m) or None
+        The inputs' constant part (u_ref + G x_ref).
+    u_time : callable t -> (m,) or None
+        A shared function of time added to ``u0``.
+    gain : ndarray (B, m, 2n) or None
+        State-feedback gains G.
+    """
+
+    links: PlanarLinks
+    stiffness_Nm_per_rad: np.ndarray
+    damping_Nms_per_rad: np.ndarray | None
+    force_N: np.ndarray | Callable[[float], np.ndarray] | None
+    input_map: np.ndarray | None = None
+    tip_rows: tuple = ()
+    u0: np.ndarray | None = None
+    u_time: Callable[[float], np.ndarray] | None = None
+    gain: np.ndarray | None = None
+
+    def inputs(self, t: float, Y: np.ndarray) -> np.ndarray | None:
+        """Return the inputs u (B, m) at time t (s) and states Y (B, 2n); None without inputs."""
+        if self.u0 is None:
+            return None
+        u = self.u0 if self.u_time is None else self.u0 + self.u_time(t)
+        if self.gain is not None:
+            u = u - np.einsum("bmk,bk->bm", self.gain, Y)
+        return u
+
+    def rhs(self, t: float, Y: np.ndarray) -> np.ndarray:
+        """Return (v, a) (B, 2n) of the states Y = (q, v) (B, 2n) at time t (s)."""
+        F = self.force_N(t) if callable(self.force_N) else self.force_N
+        u = self.inputs(t, Y)
+        tau = None
+        if u is not None:
+            tau = np.einsum("bim,bm->bi", self.input_map, u)
+            if self.tip_rows:
+                Fu = np.zeros((len(Y), 3))
+                for col, axis in self.tip_rows:
+                    Fu[:, axis] += u[:, col]
+                F = Fu if F is None else Fu + F
+        return self._kernel(self.links, Y, self.stiffness_Nm_per_rad,
+                            self.damping_Nms_per_rad, tau, F)
+
+    @property
+    def _kernel(self):
+        # numba (and its compiled kernel's cache) load with the first batched run only
+        from ..chain.planar_batch_kernel import batch_state_rates
+
+        return batch_state_rates
+
+    def tips(self, Q: np.ndarray) -> np.ndarray:
+        """Tip positions (B, s, 3), m, of the joint angles Q (B, s, n), rad."""
+        B, s, n = Q.shape
+        out = np.empty((B, s, 3))
+        # a block of designs at a time: the closed form's temporaries stay in cache (the whole
+        # stack at once, 1000 designs x 1001 samples, cost five times as much)
+        block = max(1, (1 << 18) // max(1, s * n))
+        L = self.links.lengths_m[:, None, :]
+        for i in range(0, B, block):
+            out[i:i + block] = planar.tip_positions(L[i:i + block], Q[i:i + block])
+        return out
+
+
+def vectorised_plant(models: list, Q0: np.ndarray, options, inputs: tuple, signals: list,
+                     actuators: tuple, force) -> BatchPlant | None:
+    """Return the :class:`BatchPlant` of the designs, or None when a chain is not planar.
+
+    ``force`` is the tip load: None, (B, 3) N, or a shared function of time; ``signals`` the
+    designs' input signals (constants, StateFeedback gains or one shared function of time, as
+    :func:`.batch._vectorisable` admits them); the damping matrices are frozen at ``Q0``.
+    """
+    links = design_links(models)
+    if links is None:
+        return None
+    B, n = Q0.shape
+    k = np.array([m.stiffness_Nm_per_rad for m in models], dtype=float)
+    ratio = options.damping_ratio
+    xi = damping_ratios(np.asarray(ratio, dtype=float) if isinstance(ratio, tuple) else ratio,
+                        n)
+    C = None
+    if np.any(xi > 0.0):
+        Mc = batch_mass(links, Q0)
+        if options.damping == "modal":  # one stacked eigensolve (the joints all have springs)
+            C = spring_modal_damping(Mc, k, xi)
+        else:
+            C = np.stack([damping_matrix(Mc[b], np.diag(k[b]), xi, options.damping)
+                          for b in range(B)])
+    if callable(force):
+        force = force_function(force)[0]
+    plant = BatchPlant(links, k, C, force)
+    if not inputs:
+        return plant
+    per_design = any(s is not signals[0] for s in signals)
+    forces = []
+    for b, (model, s) in enumerate(zip(models, signals, strict=True)):
+        try:
+            forces.append(input_force(model, inputs, s, actuators, None))
+        except BeamInputError as exc:
+            raise BeamInputError(f"u[{b}]: {exc}" if per_design else str(exc)) from None
+    zero = np.zeros(n)
+    timed = [s for s in signals if callable(s) and not isinstance(s, (Controller,
+                                                                      StateFeedback))]
+    u_time = None
+    if timed:  # one shared function of time (the batch refuses others)
+        u_time = (lambda f: lambda t: f(t, zero, zero))(forces[0].signal)
+    # u = u_0 - G x: a constant or a feedback's u_ref - G (x - x_ref) read at x = 0
+    u0 = np.array([np.zeros(len(f.names)) if timed else f.signal(0.0, zero, zero)
+                   for f in forces])
+    gains = [f.gain for f in forces]
+    gain = None if all(g is None for g in gains) else np.array(
+        [np.zeros((len(f.names), 2 * n)) if g is None else g for f, g in zip(forces, gains,
+                                                                               strict=True)])
+    return BatchPlant(links, k, C, force, np.array([f.b0 for f in forces]),
+                      forces[0].tip_rows, u0, u_time, gain)
