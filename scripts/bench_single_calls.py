@@ -120,9 +120,9 @@ def main() -> None:
 
     import numpy as np
     import pinocchio as pin
+    from docs_tables import write_table
 
     import prbdm_pin as pp
-    from docs_tables import write_table
 
     load = os.getloadavg()[0]
     beam = pp.load_beam(ROOT / "examples" / "beams" / "reference-random.json")
