@@ -152,8 +152,8 @@ def _ql_eigenvalues(d, e) -> bool:  # pragma: no cover - compiled
     return True
 
 
-@numba.njit("b1(f8[:, :], f8[:], f8[:], b1, b1, f8, f8)", cache=True)
-def scaled_omega(M, s, out, squared, lower, cond_limit, safe_scale):  # pragma: no cover
+@numba.njit("b1(f8[:, :], f8[:], f8[:], f8[:], b1, b1, f8, f8)", cache=True)
+def scaled_omega(M, s, q, out, squared, lower, cond_limit, safe_scale):  # pragma: no cover
     """Frequencies of one chain from its mass matrix and scaled springs, into ``out``.
 
     Parameters
@@ -162,6 +162,9 @@ def scaled_omega(M, s, out, squared, lower, cond_limit, safe_scale):  # pragma: 
         Mass matrix, kg m^2; only the triangle ``lower`` (True: lower) is read.
     s : ndarray (n,)
         s = K^(-1/2), (N m/rad)^(-1/2), finite and > 0.
+    q : ndarray
+        The pose M was computed at, rad (empty if none): refused unless finite (a chain's M
+        does not depend on its first angle, so a NaN there leaves M finite).
     out : ndarray (n,)
         Receives ascending omega (rad/s), or omega^2 (rad^2/s^2) when ``squared``.
     squared, lower : bool
@@ -172,13 +175,16 @@ def scaled_omega(M, s, out, squared, lower, cond_limit, safe_scale):  # pragma: 
     Returns
     -------
     bool
-        False (``out`` undefined) when the fast guard does not pass (mu not positive, not
-        finite or too ill-conditioned; a scale that could overflow) or the iteration does not
-        converge: the caller then takes LAPACK's checked path.
+        False (``out`` undefined) when the fast guard does not pass (q not finite; mu not
+        positive, not finite or too ill-conditioned; a scale that could overflow) or the
+        iteration does not converge: the caller then takes LAPACK's checked path.
     """
     n = s.size
     if n == 0 or M.shape[0] != n or M.shape[1] != n or out.size != n:
         return False  # the numpy path raises what it raises
+    for i in range(q.size):
+        if not math.isfinite(q[i]):
+            return False
     smax = s[0]
     for i in range(1, n):
         smax = max(smax, s[i])
