@@ -189,11 +189,19 @@ def scaled_omega(M, s, q, out, squared, lower, cond_limit, safe_scale):  # pragm
     for i in range(1, n):
         smax = max(smax, s[i])
     sn = s / smax
-    # the same products as eig_scaled's M * sn[:, None] * sn[None, :], in the same order
+    # the same products as eig_scaled's M * sn[:, None] * sn[None, :], in the same order,
+    # from the triangle LAPACK reads; the reduction runs from the last row up, as LAPACK's
+    # from the upper triangle, so the lower triangle's matrix is flipped (a[i, j] =
+    # A[n-1-j, n-1-i]) to be reduced from its first row down, as LAPACK's from the lower: the
+    # direction decides how well a graded matrix's small eigenvalues come out
     a = np.empty((n, n))
     for i in range(n):
         for j in range(i + 1):
-            a[i, j] = M[i, j] * sn[i] * sn[j] if lower else M[j, i] * sn[j] * sn[i]
+            if lower:
+                r, c = n - 1 - j, n - 1 - i
+                a[i, j] = M[r, c] * sn[r] * sn[c]
+            else:
+                a[i, j] = M[j, i] * sn[j] * sn[i]
     d = np.empty(n)
     e = np.empty(n)
     _tridiagonalise(a, d, e)
