@@ -4,12 +4,13 @@ The single-pose path of :func:`prbdm_pin.chain.eigen.eig_scaled`. For an n x n c
 a few tens) LAPACK's ``dsyevd`` spends most of its time in machine-constant queries, norm and
 scaling passes and workspace handling, and numpy's calls around it cost more than the
 arithmetic: here the scaled matrix S M S is reduced to tridiagonal form by Householder
-reflections (as LAPACK's ``dsytd2``, EISPACK's ``tred1``) and its eigenvalues found by the
-implicit QL iteration with Wilkinson shifts (EISPACK's ``tql1``), with the tridiagonal flipped
-so that QL starts at its small end (as LAPACK's ``dsterf`` chooses between QL and QR). Both
-steps are backward stable, so each eigenvalue is off by a small multiple of eps ||S M S||, the
-bound :data:`prbdm_pin.chain.eigen.COND_LIMIT` is set from (tests check it against 50-digit
-mpmath solves and against LAPACK).
+reflections (as LAPACK's ``dsytd2``, EISPACK's ``tred1``; from the end LAPACK starts at for the
+triangle read, which decides how well a graded matrix keeps its small eigenvalues) and its
+eigenvalues found by the implicit QL iteration with Wilkinson shifts (EISPACK's ``tql1``),
+with the tridiagonal flipped so that QL starts at its small end (as LAPACK's ``dsterf``
+chooses between QL and QR). Both steps are backward stable, so each eigenvalue is off by a
+small multiple of eps ||S M S||, the bound :data:`prbdm_pin.chain.eigen.COND_LIMIT` is set
+from (tests check it against 50-digit mpmath solves and against LAPACK).
 
 Compiled with numba (imported here only: the package's import and the CLI do not load it).
 :func:`scaled_omega` returns False whenever the fast guard of
