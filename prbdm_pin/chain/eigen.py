@@ -20,7 +20,7 @@ from scipy.linalg.lapack import dsyevd as _syevd
 from ..errors import SolveError
 
 __all__ = ["FREQUENCY_RTOL", "COND_LIMIT", "check_spectrum", "eig_scaled", "one_chain",
-           "modes_from_mass", "generalized_eigh", "symmetric_eigh"]
+           "one_chain_unchecked", "modes_from_mass", "generalized_eigh", "symmetric_eigh"]
 
 # Largest cond(K^-1/2 M K^-1/2) accepted. The highest omega^2 comes from the smallest eigenvalue
 # mu_min of the scaled matrix, whose relative error is about eps * mu_max / mu_min (measured
