@@ -19,8 +19,8 @@ from scipy.linalg.lapack import dsyevd as _syevd
 
 from ..errors import SolveError
 
-__all__ = ["FREQUENCY_RTOL", "COND_LIMIT", "check_spectrum", "eig_scaled", "modes_from_mass",
-           "generalized_eigh", "symmetric_eigh"]
+__all__ = ["FREQUENCY_RTOL", "COND_LIMIT", "check_spectrum", "eig_scaled", "one_chain",
+           "one_chain_unchecked", "modes_from_mass", "generalized_eigh", "symmetric_eigh"]
 
 # Largest cond(K^-1/2 M K^-1/2) accepted. The highest omega^2 comes from the smallest eigenvalue
 # mu_min of the scaled matrix, whose relative error is about eps * mu_max / mu_min (measured
@@ -81,6 +81,49 @@ def _eigvalsh(A: np.ndarray, lower: int) -> np.ndarray:
     return mu
 
 
+def one_chain(M: np.ndarray, s: np.ndarray, squared: bool = False, lower: bool = False,
+              q: np.ndarray | None = None) -> np.ndarray | None:
+    """Frequencies of one chain by one compiled call (:mod:`.small_eigen`), or None.
+
+    ``M`` (n, n), kg m^2, float64 (only the triangle ``lower`` is read) and s = K^(-1/2)
+    (n,), (N m/rad)^(-1/2), finite and > 0 (no input checks); ``q`` (float64, rad) the pose
+    M was computed at, None if none: a non-finite one is refused. Returns omega (rad/s) or, with
+    ``squared``, omega^2, ascending, as :func:`eig_scaled`; None when the spectrum does not pass
+    the guard's common case at once (then :func:`eig_scaled`'s LAPACK path decides, and raises).
+    """
+    # the compiled entry point does not check types: float64 arrays of the right dimensions
+    # only (dtype singletons: ``is`` is the cheap test, a false negative only costs time)
+    if q is None:
+        q = _NO_POSE
+    if M.dtype is not _F8 or s.dtype is not _F8 or M.ndim != 2 or s.ndim != 1 \
+            or q.dtype is not _F8 or q.ndim != 1:
+        return None
+    return one_chain_unchecked(M, s, q, squared, lower)
+
+
+def one_chain_unchecked(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bool = False,
+                        lower: bool = False) -> np.ndarray | None:
+    """:func:`one_chain` for float64 arrays M (n, n), s (n,) and q (any size, 1-D) only.
+
+    The compiled entry point unboxes them without checks: a caller that cannot promise these
+    types and dimensions calls :func:`one_chain`.
+    """
+    global _SCALED_OMEGA
+    if _SCALED_OMEGA is None:  # numba is imported on first use, not with the package
+        from .small_eigen import scaled_omega_entry
+
+        _SCALED_OMEGA = scaled_omega_entry()
+    out = np.empty(s.shape[0])
+    if _SCALED_OMEGA(M, s, q, out, squared, lower, COND_LIMIT, _SAFE_SCALE):
+        return out
+    return None
+
+
+_SCALED_OMEGA = None
+_F8 = np.dtype(np.float64)
+_NO_POSE = np.empty(0)
+
+
 def _check_finite(w2: np.ndarray) -> np.ndarray:
     if not np.all(np.isfinite(w2)):
         raise SolveError("omega^2 overflows double precision: the stiffness is too large for "
@@ -97,6 +140,14 @@ def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarra
     No input checks: the callers validate once. Raises SolveError when the guard
     (:func:`check_spectrum`) refuses the spectrum or omega^2 overflows.
     """
+    if M.ndim == 2 and s.ndim == 1:
+        w = one_chain(M, s, squared)
+        if w is not None:
+            return w
+    elif M.shape[0] == 1 and s.ndim == 2:  # the fits' stack of one: the triangle eigvalsh reads
+        w = one_chain(M[0], s[0], squared, lower=True)
+        if w is not None:
+            return w[None]
     # S normalised to max 1 keeps S M S as large as M: no underflow for stiff springs
     smax = np.maximum.reduce(s, axis=-1, keepdims=True)
     sn = s / smax

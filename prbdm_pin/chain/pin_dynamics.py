@@ -15,7 +15,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import BeamInputError
-from .eigen import eig_scaled, modes_from_mass
+from .eigen import eig_scaled, modes_from_mass, one_chain_unchecked
 
 __all__ = [
     "mass_matrix",
@@ -23,6 +23,7 @@ __all__ = [
     "checked_stiffness",
     "natural_frequencies",
     "natural_frequencies_batch",
+    "scaled_frequencies",
     "modes",
     "modal_damping",
     "tip_position",
@@ -34,6 +35,7 @@ __all__ = [
 
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_F8 = np.dtype(np.float64)
 
 
 def _all_finite(arr: np.ndarray) -> bool:
@@ -116,7 +118,31 @@ def natural_frequencies(
     ``squared=True`` returns omega^2 (rad^2/s^2), the quantity the paper's code compares.
     """
     k = checked_stiffness(stiffness_Nm_per_rad, pin_model.nv)
-    return eig_scaled(mass_matrix(pin_model, data, q), 1.0 / np.sqrt(k), squared)
+    return scaled_frequencies(pin_model, data, 1.0 / np.sqrt(k), q, squared)
+
+
+def scaled_frequencies(
+    pin_model: pin.Model,
+    data: pin.Data,
+    s: np.ndarray,
+    q: np.ndarray | None = None,
+    squared: bool = False,
+) -> np.ndarray:
+    """Natural frequencies at pose ``q`` (rad; default straight) from s = K^(-1/2), rad/s.
+
+    As :func:`natural_frequencies` with the springs already checked and scaled (a model's
+    own, ``s`` an ndarray in (N m/rad)^(-1/2), shape (n,)): a float64 pose of the right shape
+    goes to CRBA unchecked and the result of the compiled solve is returned when it passes;
+    any other case (a pose to convert or check, a spectrum the guard questions) takes the
+    checked path, which raises what it raises.
+    """
+    # crba returns float64 (n, n), n = nq = nv for these chains: the unchecked call's types
+    if type(q) is np.ndarray and q.dtype is _F8 and s.dtype is _F8 and q.shape == s.shape:
+        # the compiled call refuses a non-finite q: the checked path below then names it
+        w = one_chain_unchecked(pin.crba(pin_model, data, q), s, q, squared)
+        if w is not None:
+            return w
+    return eig_scaled(mass_matrix(pin_model, data, q), s, squared)
 
 
 def natural_frequencies_batch(

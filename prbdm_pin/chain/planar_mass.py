@@ -28,12 +28,7 @@ def max_index(n: int) -> np.ndarray:
     return out
 
 
-@lru_cache(maxsize=64)
-def _lower(n: int) -> np.ndarray:
-    """1.0 where j <= i, else 0.0, for i, j < n (np.tri): link i moves with joint j."""
-    out = np.tri(n)
-    out.setflags(write=False)
-    return out
+_MASS_FROM_POINTS = None
 
 
 def planar_mass_matrices(
@@ -54,7 +49,8 @@ def planar_mass_matrices(
     Link i >= 1 (mass m_i, centre of mass d_i from its joint along its axis, inertia I_i about
     the centre of mass and the y axis) swings about joints 1..i, so
     ``M_jk = sum_(i >= max(j, k)) m_i r_ij . r_ik + I_i`` with ``r_ij`` the vector from joint j
-    to the centre of mass of link i in the xz-plane (link 0 is clamped and adds nothing).
+    to the centre of mass of link i in the xz-plane (link 0 is clamped and adds nothing),
+    summed in one compiled call (:mod:`.planar_mass_kernel`).
 
     Parameters
     ----------
@@ -74,19 +70,22 @@ def planar_mass_matrices(
     ndarray, shape (m, n, n), kg m^2; (B, m, n, n) when the link arrays are stacks (B, n+1)
     of designs.
     """
+    global _MASS_FROM_POINTS
     Q = np.asarray(Q, dtype=float)
     m, n = Q.shape
     L, mass, off, Iyy = (np.asarray(v, dtype=float).reshape(-1, n + 1)
                          for v in (lengths_m, mass_kg, com_offset_m, inertia_yy_kg_m2))
     B = L.shape[0]
     _, joints, coms = chain_points(L, off, Q) if points is None else points
-    # rows (x or z, i) of R hold sqrt(m_i) r_ij; link i moves with joint j only when j <= i
-    w = (np.sqrt(mass[:, 1:])[:, :, None] * _lower(n))[:, None, None]
-    R = ((coms[..., :, None] - joints[..., None, :]) * w).reshape(B, m, 2 * n, n)
-    M = R.swapaxes(-1, -2) @ R
-    # sum over links i >= j of I_i (np.add.accumulate: cumsum without its wrapper's cost)
-    tail = np.add.accumulate(Iyy[:, :0:-1], axis=1)[:, ::-1]
-    M += tail[:, None, max_index(n)]
+    if _MASS_FROM_POINTS is None:  # numba is imported on first use, not with the package
+        from .planar_mass_kernel import mass_from_points
+
+        _MASS_FROM_POINTS = mass_from_points
+    if joints.shape != (B, m, 2, n) or coms.shape != joints.shape:  # the kernel indexes them
+        raise ValueError(f"points of shapes {joints.shape}, {coms.shape}: must be "
+                         f"{(B, m, 2, n)}, those of the same design and poses")
+    M = np.empty((B, m, n, n))
+    _MASS_FROM_POINTS(joints, coms, mass, Iyy, M)
     if np.ndim(lengths_m) == 1:
         return M[0]
     return M

@@ -204,11 +204,12 @@ class PrbdmModel(ChainKinematics):
         self, q: np.ndarray | None = None, squared: bool = False, data: pin.Data | None = None
     ) -> np.ndarray:
         """Natural frequencies at pose ``q`` (rad), rad/s ascending (omega^2 if ``squared``)."""
+        if self.bus is None and self.hub is None:  # the plain chain first: the common call
+            return dyn.scaled_frequencies(self.pin_model, self._workspace(data), self._s, q,
+                                          squared)
         if self.bus is not None:
             return free_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
-        if self.hub is not None:
-            return hub_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
-        return eig_scaled(self.mass_matrix(q, data), self._s, squared)
+        return hub_frequencies(self.mass_matrix(q, data), self.stiffness_Nm_per_rad, squared)
 
     def natural_frequencies_batch(
         self, Q: np.ndarray, stiffness: np.ndarray | None = None, squared: bool = False,

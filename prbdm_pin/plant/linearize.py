@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from scipy.linalg.lapack import dposv as _posv
 
 from ..errors import BeamInputError, InputTypeError, SolveError
 from ..model.inputs import (
@@ -72,12 +73,14 @@ def first_order(M: np.ndarray, K: np.ndarray, Cd: np.ndarray, Bq: np.ndarray
     need. SolveError unless M is positive definite.
     """
     nv, m = M.shape[0], Bq.shape[1]
-    try:
-        np.linalg.cholesky(M)  # the check: M must be positive definite
-        # one solve for the three right-hand sides (small matrices: call overhead dominates)
-        X = np.linalg.solve(M, np.hstack([K, Cd, Bq]))
-    except np.linalg.LinAlgError as exc:
-        raise SolveError(f"linearize: mass matrix not positive definite ({exc})") from None
+    rhs = np.empty((nv, 2 * nv + m))
+    rhs[:, :nv], rhs[:, nv:2 * nv], rhs[:, 2 * nv:] = K, Cd, Bq
+    # the Cholesky factor is the check (M must be positive definite) and the solve, for the
+    # three right-hand sides at once, in one LAPACK call (numpy's wrappers cost more than the
+    # arithmetic for these small matrices)
+    _, X, info = _posv(M, rhs, lower=0, overwrite_a=0, overwrite_b=1)
+    if info != 0:  # info > 0: a leading minor is not positive, as numpy's Cholesky check
+        raise SolveError(f"linearize: mass matrix not positive definite (LAPACK info {info})")
     A = np.zeros((2 * nv, 2 * nv))
     A[:nv, nv:] = np.eye(nv)
     A[nv:, :nv] = -X[:, :nv]
@@ -223,20 +226,22 @@ def linearize(
         raise BeamInputError("outputs: the root reaction and the strain read the acceleration "
                              "of a plant at rest; not with spin_rad_s")
     pm_g = gravity_model(model, g)
+    terms = None
     if q_eq is None:
         q, trim = equilibrium(model, F, pm_g, spin_rad_s=spin)
     else:
         q = _pose(model, q_eq)
-        r = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[0]
-        trim = float(r[0]) if hub else 0.0
+        terms = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())
+        trim = float(terms[0][0]) if hub else 0.0
     Bq = input_map(model, q, in_names, acts, lds)
     Cq, Cv = output_maps(model, q, out_names)
     # the root reaction and the strain read the acceleration and the inputs too
     Lq, Lv, Ca, Du = load_rows(model, q, out_names, in_names, len(acts), F, g, lds)
     Cq, Cv = Cq + Lq, Cv + Lv
     M = model.mass_matrix(q)
-    K = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())[1]
-    K = 0.5 * (K + K.T)
+    if terms is None:  # at the equilibrium's pose (given poses reuse the trim's terms)
+        terms = static_terms(model, q, F, pm_g, None if pm_g is None else pm_g.createData())
+    K = 0.5 * (terms[1] + terms[1].T)
     Cd = plant_damping(model, M, damping_ratio, damping)
     G = None
     if spin:

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import BeamInputError
 from ..model.hub import hub_modes
 from ..model.supports import free_modes
-from .damping import DAMPING_FORMS, damping_matrix, damping_ratios
+from .damping import DAMPING_FORMS, damping_matrix, damping_ratios, spring_modal_damping
 
 __all__ = ["plant_damping"]
 
@@ -41,6 +41,9 @@ def plant_damping(model, M: np.ndarray, damping_ratio: float | np.ndarray, kind:
         raise BeamInputError(f"damping = {kind!r}: must be one of {', '.join(DAMPING_FORMS)}")
     bus = getattr(model, "bus", None) is not None  # six free base coordinates, no spring
     if model.hub is None and not bus:
+        if kind == "modal":  # the model's springs are checked positive: modal_damping's path
+            return spring_modal_damping(M, model.stiffness_Nm_per_rad,
+                                        damping_ratios(damping_ratio, model.n_springs))
         return damping_matrix(M, model.stiffness_matrix(), damping_ratio, kind)
     if kind == "eq5c":
         raise BeamInputError("damping = 'eq5c': the paper's per-joint form has no hub version; "
