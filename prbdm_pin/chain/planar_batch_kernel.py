@@ -23,6 +23,8 @@ import math
 import numba
 import numpy as np
 
+from .small_cholesky import cholesky_solve
+
 __all__ = ["batch_state_rates"]
 
 
@@ -32,7 +34,7 @@ def _batch(L, mass, off, iyy, Y, springs, C, tau, F, out):  # pragma: no cover -
     # as the arithmetic (each view is reference-counted)
     B, n = Y.shape[0], Y.shape[1] // 2
     damped = C.shape[0] > 0
-    M = np.empty((n, n))
+    M, G = np.empty((n, n)), np.empty((n, n))
     px, pz, cx, cz = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     co, si, ax, az, w2, rhs = (np.empty(n), np.empty(n), np.empty(n), np.empty(n),
                                np.empty(n), np.empty(n))
@@ -81,29 +83,9 @@ def _batch(L, mass, off, iyy, Y, springs, C, tau, F, out):  # pragma: no cover -
                 tz += mass[b, i] * dz
             for j in range(k + 1):
                 M[k, j] = s + (px[k] - px[j]) * tx + (pz[k] - pz[j]) * tz
-        # Cholesky M = G G^T in the lower triangle, then the two triangular solves
-        for j in range(n):
-            d = M[j, j]
-            for p in range(j):
-                d -= M[j, p] * M[j, p]
-            d = math.sqrt(d)
-            M[j, j] = d
-            for i in range(j + 1, n):
-                e = M[i, j]
-                for p in range(j):
-                    e -= M[i, p] * M[j, p]
-                M[i, j] = e / d
-        a = out[b, n:]
-        for i in range(n):
-            e = rhs[i]
-            for p in range(i):
-                e -= M[i, p] * a[p]
-            a[i] = e / M[i, i]
-        for i in range(n - 1, -1, -1):
-            e = a[i]
-            for p in range(i + 1, n):
-                e -= M[p, i] * a[p]
-            a[i] = e / M[i, i]
+        # M = G G^T (lower triangle), then the two triangular solves
+        if not cholesky_solve(M, G, rhs, out[b, n:]):
+            out[b, n:] = np.nan  # not positive definite: the integrator's error check sees it
 
 
 def batch_state_rates(links, Y: np.ndarray, stiffness_Nm_per_rad: np.ndarray,

@@ -22,6 +22,8 @@ import math
 
 import numba
 
+from ..chain.small_cholesky import cholesky_solve
+
 __all__ = ["kinematics", "body_inertias", "crba", "rnea_bias", "cholesky_solve",
            "tip_position", "tip_force_torque", "forward_dynamics"]
 
@@ -178,36 +180,6 @@ def rnea_bias(mass, grav, S, mc, IO, v, V, A, F, h):
         for r in range(6):
             s += S[i, r] * F[i, r]
         h[i] = s
-
-
-@numba.njit(cache=True)
-def cholesky_solve(M, L, b, out):
-    """Solve M x = b (M symmetric positive definite) by its Cholesky factor L; False if not SPD."""
-    n = b.size
-    for j in range(n):
-        s = M[j, j]
-        for k in range(j):
-            s -= L[j, k] * L[j, k]
-        if not s > 0.0:
-            return False
-        d = math.sqrt(s)
-        L[j, j] = d
-        for i in range(j + 1, n):
-            s = M[i, j]
-            for k in range(j):
-                s -= L[i, k] * L[j, k]
-            L[i, j] = s / d
-    for i in range(n):
-        s = b[i]
-        for k in range(i):
-            s -= L[i, k] * out[k]
-        out[i] = s / L[i, i]
-    for i in range(n - 1, -1, -1):
-        s = out[i]
-        for k in range(i + 1, n):
-            s -= L[k, i] * out[k]
-        out[i] = s / L[i, i]
-    return True
 
 
 @numba.njit(cache=True)
