@@ -1,0 +1,326 @@
+"""The runs of ``bench_mujoco_accuracy.py``: one scene, MuJoCo on the exported MJCF and the
+package's ``simulate``, each at a sweep of its accuracy setting, timed in CPU time.
+
+A scene is a chain, a load (a step tip force from rest or a release from a bent pose) and a
+damping ratio (the stiffness form C = beta K, the form the MJCF's joint ``damping`` carries).
+Every run samples the tip on the same 1 ms grid over the same simulated time; its error is
+``max_t |tip(t) - tip_ref(t)| / max_t |tip_ref(t) - tip_ref(0)|`` (Euclidean norms, the
+reference's peak excursion from its start: the peak deflection on a step, about twice the
+initial deflection on a release).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import signal
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+OUTPUT_DT_S = 1e-3
+TARGETS = (1e-2, 1e-3, 1e-4)  # 1 %, 0.1 %, 0.01 % of the peak
+# the sweeps, loosest first: solve_ivp-style tolerances, the exponential integrator's step
+# control, fixed steps (s) that divide the 1 ms output or are multiples of it, MuJoCo's steps
+RTOLS = tuple(10.0 ** -k for k in range(3, 12))
+STEP_RTOLS = (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7)
+FIXED_DTS_S = (2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4, 5e-5, 2.5e-5, 1e-5, 5e-6, 2.5e-6, 1e-6)
+MUJOCO_DTS_S = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4, 5e-5, 2.5e-5, 1e-5, 5e-6, 2.5e-6,
+                1e-6)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One case: the chain, the load and the damping, and the reference's tip samples."""
+
+    label: str
+    n_joints: int
+    load: str  # "step" or "release"
+    damping_ratio: float
+    model: object
+    kwargs: dict  # simulate's keyword arguments that set the scene
+    force_N: np.ndarray  # the step tip force (zero on a release)
+    q0_rad: np.ndarray
+    ref_tip_m: np.ndarray  # (samples, 3) on the 1 ms grid
+    peak_m: float
+    q_scale_rad: float  # the reference's largest joint angle
+    ref_cpu_s: float
+
+
+@dataclass(frozen=True)
+class Run:
+    """One setting of one engine on one scene; CPU s per simulated s."""
+
+    case: str
+    engine: str  # "mujoco" or "package"
+    method: str
+    knob: str
+    value: float
+    error: float
+    cpu_s_per_s: float
+    steps: int
+    bare_cpu_s_per_s: float = math.nan  # MuJoCo: mj_step alone, no tip read
+    failure: str = ""
+
+    @property
+    def setting(self) -> str:
+        """The method and its setting as the table prints them."""
+        if self.knob == "default":
+            return f"{self.method} (default)"
+        return f"{self.method} {self.knob}={self.value:.3g}"
+
+
+def tip_error(tip_m: np.ndarray, scene: Scene, stride: int = 1) -> float:
+    """Max |tip - reference| over the samples, over the peak; ``tip_m`` every ``stride`` ms."""
+    ref = scene.ref_tip_m[::stride]
+    if tip_m.shape != ref.shape or not np.all(np.isfinite(tip_m)):
+        return math.inf
+    return float(np.linalg.norm(tip_m - ref, axis=1).max()) / scene.peak_m
+
+
+class OverCap(BaseException):
+    """A run stopped at its CPU-time cap (not an Exception: no handler in the package may
+    take it for a failure of its own)."""
+
+
+def _over_cap(signum, frame):
+    raise OverCap
+
+
+def best_cpu(fn, repeats: int, cheap_s: float = 0.2, cap_s: float | None = None):
+    """Least process CPU time of ``fn()`` (s) and its last result; repeated (up to
+    ``repeats`` runs) only while a run is cheaper than ``cheap_s``, where timing noise is
+    largest against the run.
+
+    ``cap_s``: a run is stopped after this much CPU time (a profiling timer's signal) and
+    :class:`OverCap` raised, so that one slow setting cannot take the whole budget.
+    """
+    cpu, out = math.inf, None
+    old = signal.signal(signal.SIGPROF, _over_cap) if cap_s else None
+    try:
+        for _ in range(max(1, repeats)):
+            if cap_s:
+                signal.setitimer(signal.ITIMER_PROF, cap_s)
+            c0 = time.process_time()
+            out = fn()
+            cpu = min(cpu, time.process_time() - c0)
+            if cap_s:
+                signal.setitimer(signal.ITIMER_PROF, 0.0)
+            if cpu >= cheap_s:
+                break
+    finally:
+        if cap_s:
+            signal.setitimer(signal.ITIMER_PROF, 0.0)
+            signal.signal(signal.SIGPROF, old)
+    return cpu, out
+
+
+# --- the package -----------------------------------------------------------------------------
+def package_methods(names: tuple[str, ...] | None = None) -> list[tuple[str, object]]:
+    """The package's integrators, cheapest first as far as known: (name, constructor).
+
+    ``Compiled`` is taken when ``prbdm_pin.options.integrators`` has it; then the exponential
+    integrator, the solve_ivp methods, the trapezoidal rule and Gauss-Legendre.
+    """
+    from prbdm_pin.options import integrators as integ
+    from prbdm_pin.options.choices import IVP_METHODS
+
+    out: list[tuple[str, object]] = []
+    compiled = getattr(integ, "Compiled", None)
+    if compiled is not None:
+        out.append((getattr(compiled, "method", "") or "compiled", compiled))
+    out.append(("exponential", integ.Exponential))
+    out += [(m, functools.partial(integ.ScipyIVP, m)) for m in IVP_METHODS]
+    out += [("trapezoidal", integ.Trapezoidal), ("gauss", integ.Gauss)]
+    if names is not None:
+        out = [(n, c) for n, c in out if n in names]
+    return out
+
+
+def knob_of(ctor) -> tuple[str, tuple[float, ...]]:
+    """The setting swept for an integrator class and its values: ``rtol`` where it has one,
+    else the exponential integrator's ``step_rtol``, else a fixed step ``dt_s``."""
+    cls = ctor.func if isinstance(ctor, functools.partial) else ctor
+    names = {f.name for f in dataclasses.fields(cls)}
+    if "rtol" in names:
+        return "rtol", RTOLS
+    if "step_rtol" in names:
+        return "step_rtol", STEP_RTOLS
+    return "dt_s", FIXED_DTS_S
+
+
+def _settings(ctor, knob: str, value: float, q_scale_rad: float) -> dict:
+    cls = ctor.func if isinstance(ctor, functools.partial) else ctor
+    kw = {knob: value}
+    if knob == "rtol" and "atol" in {f.name for f in dataclasses.fields(cls)}:
+        # the joint-angle scale of the motion (the default takes it from q0, which is zero
+        # on a step load)
+        kw["atol"] = value * q_scale_rad
+    return kw
+
+
+def package_run(scene: Scene, method: str, knob: str, value: float, integrator,
+                repeats: int, cap_s: float | None = None) -> Run:
+    """One ``simulate`` call on ``scene`` (the whole call timed), ``integrator`` None: default;
+    stopped after ``cap_s`` of CPU."""
+    from prbdm_pin.simulation import simulate
+
+    extra = {} if integrator is None else {"integrator": integrator}
+    try:
+        cpu, tr = best_cpu(lambda: simulate(scene.model, 1.0, output_dt_s=OUTPUT_DT_S,
+                                            **scene.kwargs, **extra), repeats, cap_s=cap_s)
+    except OverCap:
+        return Run(scene.label, "package", method, knob, value, math.inf, cap_s, 0,
+                   failure=f"stopped at the CPU cap ({cap_s:g} s)")
+    except Exception as exc:  # noqa: BLE001 - a failing integrator is a result, recorded
+        return Run(scene.label, "package", method, knob, value, math.inf, math.nan, 0,
+                   failure=f"{type(exc).__name__}: {str(exc)[:120]}")
+    return Run(scene.label, "package", method, knob, value, tip_error(tr.tip_position_m, scene),
+               cpu, int(tr.steps))
+
+
+def package_sweep(scene: Scene, methods, repeats: int, max_run_cpu_s: float,
+                  log=print) -> list[Run]:
+    """The default run, then each method from its loosest setting to the first that reaches
+    the tightest target.
+
+    A method's sweep stops early when a run costs more than ``max_run_cpu_s`` or more than the
+    cheapest run of any method that reached the tightest target: its tighter settings cost
+    more, so neither can be the cheapest at any target.
+    """
+    runs = [package_run(scene, "default", "default", math.nan, None, repeats)]
+    log(runs[-1])
+    for name, ctor in methods:
+        knob, values = knob_of(ctor)
+        stalled = 0
+        for value in values:
+            integ = ctor(**_settings(ctor, knob, value, scene.q_scale_rad))
+            run = package_run(scene, name, knob, value, integ, repeats, max_run_cpu_s)
+            runs.append(run)
+            log(run)
+            if run.failure.startswith("stopped"):
+                break
+            if run.failure:
+                continue  # a finer setting may converge
+            tight = [r.cpu_s_per_s for r in runs if r.error <= TARGETS[-1]]
+            if run.error <= TARGETS[-1] or run.cpu_s_per_s > max_run_cpu_s \
+                    or (tight and run.cpu_s_per_s > min(tight)):
+                break
+            # an error floor (the fixed-step schemes' phase error in the stiff modes): two
+            # finer settings in a row that do not gain 10 % end the sweep
+            prev = [r.error for r in runs[:-1] if r.method == name and not r.failure]
+            stalled = stalled + 1 if prev and run.error > 0.9 * prev[-1] else 0
+            if stalled >= 2:
+                break
+    return runs
+
+
+# --- MuJoCo ----------------------------------------------------------------------------------
+def export_mjcf(scene: Scene, folder: Path):
+    """The scene's model exported as MJCF (with the tip body: the export's default geometry)
+    and loaded: (MjModel, tip body id, tip site id)."""
+    import mujoco
+
+    from prbdm_pin.files.export import export_model
+
+    path = export_model(scene.model, folder / f"{scene.n_joints}r.xml", "mjcf",
+                        scene.damping_ratio)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    return m, m.body("tip_body").id, m.site("tip").id
+
+
+def check_step_s(m, dt_s: float) -> float:
+    """The largest step <= ``dt_s`` and <= the MJCF's own (RK4-stable) step that divides the
+    1 ms output."""
+    return OUTPUT_DT_S / math.ceil(OUTPUT_DT_S / min(dt_s, float(m.opt.timestep)) - 1e-9)
+
+
+def _start(mujoco, m, body: int, scene: Scene):
+    d = mujoco.MjData(m)
+    d.qpos[:] = scene.q0_rad
+    # held constant by MuJoCo across RK4's stages (mj_applyFT's force would be frozen at the
+    # step's start pose); the tip body's origin is the tip point
+    d.xfrc_applied[body, :3] = scene.force_N
+    return d
+
+
+def mujoco_run(m, body: int, site: int, scene: Scene, integrator: str, dt_s: float,
+               repeats: int, cap_s: float | None = None) -> Run:
+    """1 s of ``mj_step`` at ``dt_s``, the tip read from the ``tip`` site every step.
+
+    After an RK4 step the site positions are those of its last stage, so the step is followed by
+    ``mj_kinematics``; after an implicitfast step they are the step's start state (``mj_step``
+    begins with ``mj_forward``), so the read lags one step and the last state gets one
+    ``mj_kinematics`` at the end.
+    """
+    import mujoco
+
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
+    m.opt.timestep = dt_s
+    steps = int(round(1.0 / dt_s))
+    rk4 = integrator == "rk4"
+
+    def run():
+        d = _start(mujoco, m, body, scene)
+        mujoco.mj_forward(m, d)
+        tips = np.empty((steps + 1, 3))
+        tips[0] = d.site_xpos[site]
+        xpos, step, kin = d.site_xpos, mujoco.mj_step, mujoco.mj_kinematics
+        if rk4:
+            for i in range(1, steps + 1):
+                step(m, d)
+                kin(m, d)
+                tips[i] = xpos[site]
+        else:
+            for i in range(steps):
+                step(m, d)
+                tips[i] = xpos[site]
+            kin(m, d)
+            tips[steps] = xpos[site]
+        return tips, int(d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
+
+    def bare():
+        d = _start(mujoco, m, body, scene)
+        mujoco.mj_step(m, d, nstep=steps)
+
+    try:
+        cpu, (tips, bad) = best_cpu(run, repeats, cap_s=cap_s)
+    except OverCap:
+        return Run(scene.label, "mujoco", integrator, "dt_s", dt_s, math.inf, cap_s, steps,
+                   failure=f"stopped at the CPU cap ({cap_s:g} s)")
+    # the bare stepping only beside RK4, the table's yardstick
+    bare_cpu = best_cpu(bare, repeats)[0] if rk4 else math.nan
+    if dt_s <= OUTPUT_DT_S:
+        every = int(round(OUTPUT_DT_S / dt_s))
+        err, stride = tip_error(tips[::every], scene), 1
+    else:
+        stride = int(round(dt_s / OUTPUT_DT_S))
+        err = tip_error(tips, scene, stride)
+    return Run(scene.label, "mujoco", integrator, "dt_s", dt_s, math.inf if bad else err, cpu,
+               steps, bare_cpu, "unstable (MuJoCo reset the state)" if bad else "")
+
+
+def mujoco_sweep(scene: Scene, mjcf, repeats: int, max_run_cpu_s: float,
+                 dts_s=MUJOCO_DTS_S, log=print) -> list[Run]:
+    """RK4 and implicitfast from the largest step down to the first that reaches the tightest
+    target, or the first run dearer than ``max_run_cpu_s``; ``mjcf`` is what
+    :func:`export_mjcf` returns."""
+    m, body, site = mjcf
+    runs = []
+    for integrator in ("rk4", "implicitfast"):
+        for dt in dts_s:
+            runs.append(mujoco_run(m, body, site, scene, integrator, dt, repeats,
+                                   max_run_cpu_s))
+            log(runs[-1])
+            if runs[-1].error <= TARGETS[-1] or runs[-1].cpu_s_per_s >= max_run_cpu_s:
+                break
+    return runs
+
+
+def cheapest(runs: list[Run], target: float) -> Run | None:
+    """The least CPU run whose error is within ``target``, or None."""
+    ok = [r for r in runs if r.error <= target]
+    return min(ok, key=lambda r: r.cpu_s_per_s) if ok else None
