@@ -223,7 +223,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="a sweep stops after a run dearer than this, CPU s")
     ap.add_argument("--quick", action="store_true",
                     help="smoke run: n = 1, 2, the exponential integrator and DOP853 (and "
-                         "Compiled when present), steps down to 1e-5 s, one run each")
+                         "Compiled when present), MuJoCo steps down to 5e-5 s, one run each, "
+                         "runs capped at 0.2 s")
     ap.add_argument("--out", default=str(ROOT / "results" / f"{NAME}.md"))
     args = ap.parse_args(argv)
     wall0, cpu0, load0 = time.perf_counter(), time.process_time(), os.getloadavg()
@@ -232,8 +233,8 @@ def main(argv: list[str] | None = None) -> int:
     dts = MUJOCO_DTS_S
     if args.quick:
         names = names or ("compiled", "exponential", "DOP853")
-        dts = tuple(d for d in MUJOCO_DTS_S if d >= 1e-5)
-        args.repeats, args.max_run_cpu = 1, min(args.max_run_cpu, 0.5)
+        dts = tuple(d for d in MUJOCO_DTS_S if d >= 5e-5)
+        args.repeats, args.max_run_cpu = 1, min(args.max_run_cpu, 0.2)
     methods = package_methods(names)
     beam = load_beam(ROOT / "examples" / "beams" / "reference-random.json")
     scenes, runs, checks = [], {}, []
