@@ -187,10 +187,20 @@ def tables(scenes: list[Scene], runs: dict[str, list[Run]], args, checks: list[s
             f"| {sc.label} | {sc.model.natural_frequencies()[-1]:.0f} | {1e3 * sc.peak_m:.1f} | "
             f"{sc.ref_cpu_s:.2f} | {d.error:.2e} | {1e3 * d.cpu_s_per_s:.3g} | {eng} | "
             f"{'' if close is None else f'{close.error:.1e}'} |")
-    failed = sorted({f"{r.setting}: {r.failure}" for rs in runs.values() for r in rs
-                     if r.failure and r.engine == "package"})
-    notes = checks + [f"Failed runs (every failure is in the CSV): {len(failed)} settings"
-                      + ("; e.g. " + "; ".join(failed[:4]) if failed else "") + "."]
+    failures: dict[str, list[str]] = {}
+    capped = 0
+    for rs in runs.values():
+        for r in rs:
+            if r.failure.startswith("stopped"):
+                capped += 1
+            elif r.failure:
+                cases = failures.setdefault(f"{r.method}: {r.failure}", [])
+                if r.case not in cases:
+                    cases.append(r.case)
+    notes = checks + [
+        f"Runs stopped at the {args.max_run_cpu:g} s CPU cap: {capped} (every run is in the "
+        "CSV beside this table)."] + [
+        f"Failed: {k} ({', '.join(v)})." for k, v in sorted(failures.items())]
     lines += ["", "Notes:", ""] + [f"- {s}" for s in notes]
     return "\n".join(lines) + "\n"
 

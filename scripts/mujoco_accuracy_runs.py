@@ -71,7 +71,7 @@ class Run:
     def setting(self) -> str:
         """The method and its setting as the table prints them."""
         if self.knob == "default":
-            return f"{self.method} (default)"
+            return f"default ({self.method})"
         return f"{self.method} {self.knob}={self.value:.3g}"
 
 
@@ -206,6 +206,8 @@ def package_run(scene: Scene, method: str, knob: str, value: float, integrator,
     except Exception as exc:  # noqa: BLE001 - a failing integrator is a result, recorded
         return Run(scene.label, "package", method, knob, value, math.inf, math.nan, 0,
                    failure=f"{type(exc).__name__}: {str(exc)[:120]}")
+    if integrator is None:
+        method = str(tr.method)  # the default's choice
     return Run(scene.label, "package", method, knob, value, tip_error(tr.tip_position_m, scene),
                cpu, int(tr.steps))
 
@@ -223,13 +225,16 @@ def package_sweep(scene: Scene, methods, repeats: int, max_run_cpu_s: float,
     log(runs[-1])
     for name, ctor in methods:
         knob, values = knob_of(ctor)
-        stalled = 0
+        stalled = failed = 0
         for value in values:
             integ = ctor(**_settings(ctor, knob, value, scene.q_scale_rad))
             run = package_run(scene, name, knob, value, integ, repeats, max_run_cpu_s)
             runs.append(run)
             log(run)
             if run.failure.startswith("stopped"):
+                break
+            failed = failed + 1 if run.failure else 0
+            if failed >= 3:
                 break
             if run.failure:
                 continue  # a finer setting may converge
@@ -239,7 +244,8 @@ def package_sweep(scene: Scene, methods, repeats: int, max_run_cpu_s: float,
                 break
             # an error floor (the fixed-step schemes' phase error in the stiff modes): two
             # finer settings in a row that do not gain 10 % end the sweep
-            prev = [r.error for r in runs[:-1] if r.method == name and not r.failure]
+            prev = [r.error for r in runs[:-1]
+                    if r.method == name and r.knob == knob and not r.failure]
             stalled = stalled + 1 if prev and run.error > 0.9 * prev[-1] else 0
             if stalled >= 2:
                 break
