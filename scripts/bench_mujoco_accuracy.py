@@ -200,7 +200,8 @@ def tables(scenes: list[Scene], runs: dict[str, list[Run]], args, checks: list[s
     notes = checks + [
         f"Runs stopped at the {args.max_run_cpu:g} s CPU cap: {capped} (every run is in the "
         "CSV beside this table)."] + [
-        f"Failed: {k} ({', '.join(v)})." for k, v in sorted(failures.items())]
+        f"Failed: {k} ({', '.join(v) if len(v) <= 4 else f'{len(v)} cases'})."
+        for k, v in sorted(failures.items())]
     lines += ["", "Notes:", ""] + [f"- {s}" for s in notes]
     return "\n".join(lines) + "\n"
 
