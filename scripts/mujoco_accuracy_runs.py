@@ -14,6 +14,7 @@ from __future__ import annotations
 import _thread
 import dataclasses
 import functools
+import inspect
 import math
 import signal
 import threading
@@ -157,12 +158,17 @@ def package_methods(names: tuple[str, ...] | None = None) -> list[tuple[str, obj
     from prbdm_pin.options.choices import IVP_METHODS
 
     out: list[tuple[str, object]] = []
-    compiled = getattr(integ, "Compiled", None)
-    if compiled is not None:
-        out.append((getattr(compiled, "method", "") or "compiled", compiled))
-    out.append(("exponential", integ.Exponential))
+    # each looked up by name, so that a run on a tree without one of them (an integrator added
+    # or removed) still measures the others
+    for cls_name in ("Compiled", "Exponential"):
+        cls = getattr(integ, cls_name, None)
+        if cls is not None:
+            out.append((getattr(cls, "method", "") or cls_name.lower(), cls))
     out += [(m, functools.partial(integ.ScipyIVP, m)) for m in IVP_METHODS]
-    out += [("trapezoidal", integ.Trapezoidal), ("gauss", integ.Gauss)]
+    for cls_name in ("Trapezoidal", "Gauss"):
+        cls = getattr(integ, cls_name, None)
+        if cls is not None:
+            out.append((cls.method, cls))
     if names is not None:
         out = [(n, c) for n, c in out if n in names]
     return out
@@ -171,8 +177,7 @@ def package_methods(names: tuple[str, ...] | None = None) -> list[tuple[str, obj
 def knob_of(ctor) -> tuple[str, tuple[float, ...]]:
     """The setting swept for an integrator class and its values: ``rtol`` where it has one,
     else the exponential integrator's ``step_rtol``, else a fixed step ``dt_s``."""
-    cls = ctor.func if isinstance(ctor, functools.partial) else ctor
-    names = {f.name for f in dataclasses.fields(cls)}
+    names = _field_names(ctor)
     if "rtol" in names:
         return "rtol", RTOLS
     if "step_rtol" in names:
@@ -180,10 +185,17 @@ def knob_of(ctor) -> tuple[str, tuple[float, ...]]:
     return "dt_s", FIXED_DTS_S
 
 
-def _settings(ctor, knob: str, value: float, q_scale_rad: float) -> dict:
+def _field_names(ctor) -> set[str]:
+    """The keyword arguments an integrator class takes (its fields, for a dataclass)."""
     cls = ctor.func if isinstance(ctor, functools.partial) else ctor
+    if dataclasses.is_dataclass(cls):
+        return {f.name for f in dataclasses.fields(cls)}
+    return set(inspect.signature(cls).parameters)
+
+
+def _settings(ctor, knob: str, value: float, q_scale_rad: float) -> dict:
     kw = {knob: value}
-    if knob == "rtol" and "atol" in {f.name for f in dataclasses.fields(cls)}:
+    if knob == "rtol" and "atol" in _field_names(ctor):
         # the joint-angle scale of the motion (the default takes it from q0, which is zero
         # on a step load)
         kw["atol"] = value * q_scale_rad
@@ -227,7 +239,13 @@ def package_sweep(scene: Scene, methods, repeats: int, max_run_cpu_s: float,
         knob, values = knob_of(ctor)
         stalled = failed = 0
         for value in values:
-            integ = ctor(**_settings(ctor, knob, value, scene.q_scale_rad))
+            try:
+                integ = ctor(**_settings(ctor, knob, value, scene.q_scale_rad))
+            except Exception as exc:  # noqa: BLE001 - a setting the class refuses is a result
+                runs.append(Run(scene.label, "package", name, knob, value, math.inf, math.nan,
+                                0, failure=f"{type(exc).__name__}: {str(exc)[:120]}"))
+                log(runs[-1])
+                break
             run = package_run(scene, name, knob, value, integ, repeats, max_run_cpu_s)
             runs.append(run)
             log(run)

@@ -80,3 +80,32 @@ def test_reference_agrees_with_the_exponential_integrator(quick):
     assert expo
     for r in expo:
         assert math.isfinite(float(r["error"])) and float(r["error"]) < 1e-9, r
+
+
+def test_a_compiled_integrator_is_swept_when_the_package_has_one(monkeypatch):
+    """The script discovers the integrators by name: a ``Compiled`` class in
+    ``prbdm_pin.options.integrators`` is swept first, by its ``rtol`` (with atol scaled to the
+    motion), and the others stay."""
+    import dataclasses
+    import importlib.util
+
+    from prbdm_pin.options import integrators
+
+    @dataclasses.dataclass(frozen=True)
+    class Compiled:
+        method = "compiled"
+        rtol: float = 1e-6
+        atol: float | None = None
+
+    monkeypatch.setattr(integrators, "Compiled", Compiled, raising=False)
+    spec = importlib.util.spec_from_file_location(
+        "mujoco_accuracy_runs", ROOT / "scripts" / "mujoco_accuracy_runs.py")
+    runs = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "mujoco_accuracy_runs", runs)  # its dataclasses look it up
+    spec.loader.exec_module(runs)
+    methods = runs.package_methods()
+    assert [n for n, _ in methods][:2] == ["compiled", "exponential"]
+    assert "DOP853" in [n for n, _ in methods]
+    knob, values = runs.knob_of(methods[0][1])
+    assert knob == "rtol" and values[0] == 1e-3 and values[-1] == 1e-11
+    assert runs._settings(methods[0][1], knob, 1e-6, 0.2) == {"rtol": 1e-6, "atol": 1e-6 * 0.2}
