@@ -59,14 +59,17 @@ def test_table_has_every_case_at_every_target(quick):
 
 def test_mjcf_rk4_matches_the_dop853_reference(quick):
     """MuJoCo's RK4 at 1e-4 s on the MJCF against the package's DOP853 at rtol 1e-11 (issue 29's
-    check): RK4's global error at h omega = 0.0064 is (h omega)^4 / 120 per radian, about 1e-11
-    over the run's 64 rad of phase; the bound is the check's 0.1 % of the peak, which the
-    script enforces itself (exit status), and here the figure it prints."""
+    check, which the script itself enforces at 0.1 % of the peak by its exit status). On the 1R
+    chain (omega = 64 rad/s) RK4's relative frequency error is (h omega)^4 / 120 = 1.4e-11, a
+    phase error of 9e-10 rad over the run's 64 rad: the bound 1e-8 leaves a factor 10 for the
+    load's nonlinearity (the link turns 0.37 rad under the world-fixed force); a spring, damper,
+    inertia or load point of the file that differed from the package's would show far above
+    it."""
     text, _ = quick
     errors = [float(x) for x in re.findall(r"RK4 at [0-9.e-]+ s is ([0-9.e+-]+) of the peak",
                                             text)]
     assert len(errors) == 2  # undamped and damped step
-    assert max(errors) < 1e-3
+    assert max(errors) < 1e-8
 
 
 def test_reference_agrees_with_the_exponential_integrator(quick):
