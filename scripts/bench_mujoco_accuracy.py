@@ -55,6 +55,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from docs_tables import DOCS_TABLES, write_table  # noqa: E402
+from mujoco_accuracy_mjcf import check_step_s, export_mjcf, mujoco_run, mujoco_sweep  # noqa: E402
 from mujoco_accuracy_runs import (  # noqa: E402
     MUJOCO_DTS_S,
     OUTPUT_DT_S,
@@ -63,10 +64,6 @@ from mujoco_accuracy_runs import (  # noqa: E402
     Scene,
     best_cpu,
     cheapest,
-    check_step_s,
-    export_mjcf,
-    mujoco_run,
-    mujoco_sweep,
     package_methods,
     package_sweep,
 )
@@ -96,7 +93,10 @@ def scene(beam, n: int, load: str, xi: float) -> Scene:
     q0 = np.full(n, RELEASE_RAD) if load == "release" else zero
     # damping_pose: the MJCF's beta comes from the straight pose, simulate's from q0 by default
     kwargs = dict(damping_ratio=xi, damping="stiffness", damping_pose=zero)
-    kwargs.update(tip_force=force) if load == "step" else kwargs.update(q0=q0)
+    if load == "step":
+        kwargs["tip_force"] = force
+    else:
+        kwargs["q0"] = q0
     cpu, ref = best_cpu(lambda: simulate(model, 1.0, method="DOP853", rtol=REFERENCE_RTOL,
                                          output_dt_s=OUTPUT_DT_S, **kwargs), 1)
     tip = ref.tip_position_m
