@@ -175,7 +175,8 @@ class System:
         if self.tip_force_N is not None:
             J = pin.computeFrameJacobian(self.pin_model, self.data, q, self.tip_frame_id,
                                          pin.LOCAL_WORLD_ALIGNED)
-            out = J[:3].T @ self.tip_force_N(t)
+            # the binding returns a one-joint chain's 6 x 1 Jacobian as a vector
+            out = J.reshape(6, -1)[:3].T @ self.tip_force_N(t)
         if self.inputs is not None:
             tau = self.inputs.torque(t, q, np.zeros_like(q) if v is None else v)
             out = tau if out is None else out + tau
@@ -270,7 +271,7 @@ def generalised_force(pm, data, fid, lengths):
     lwa = pin.LOCAL_WORLD_ALIGNED
 
     def tau_ext(q, f):
-        return pin.computeFrameJacobian(pm, data, q, fid, lwa)[:3].T @ f
+        return pin.computeFrameJacobian(pm, data, q, fid, lwa).reshape(6, -1)[:3].T @ f
 
     def load_stiffness(q, f):
         base = tau_ext(q, f)

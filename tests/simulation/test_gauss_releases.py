@@ -75,3 +75,20 @@ def test_energy_of_a_long_undamped_release_stays_bounded():
     # phases of the modes) and the whole run's within 2x
     assert np.abs(last).max() < 1.5 * np.abs(first).max()
     assert np.abs(d).max() < 2 * np.abs(first).max()
+
+
+def test_trapezoidal_one_joint_under_a_tip_force():
+    """The trapezoidal rule had Gauss's IndexError on a 1R under a tip force (the system's frame
+    Jacobian of one coordinate came back a vector); now on DOP853 within the phase drift of the
+    average-acceleration rule's period error, omega_h = (2 / h) arctan(omega h / 2)."""
+    model = finite_segment_chain(BEAM, 1)
+    duration = 1.0
+    tr0 = simulate(model, duration, method="trapezoidal", tip_force=BEAM.tip_force_N,
+                   damping_ratio=0.0, output_dt_s=1e-3)
+    h = tr0.t_s[-1] / tr0.steps
+    err, _ = _tip_error(model, duration, tr0.integrator, tip_force=BEAM.tip_force_N,
+                        damping_ratio=0.0)
+    omega = model.natural_frequencies()[0]
+    drift = duration * (omega - 2.0 / h * np.arctan(omega * h / 2.0))
+    print(f"1R trapezoidal: {tr0.steps} steps, tip error {err:.2e}, stated drift {drift:.2e}")
+    assert err < drift
