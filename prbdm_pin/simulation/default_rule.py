@@ -13,7 +13,7 @@ step loads and releases, undamped, 2 % modal and 2 % stiffness-form damping):
   real (overdamped) one h |lambda| ~ 6 (stability on the negative real axis). Undamped, its
   steps are ~omega_max T (measured 0.86-0.99 omega_max T for 2R-8R); 2 % modal damping lets
   the step grow after ~ln(0.1 / tolerance) / (zeta omega_max) (3R 480, 5R 828, 8R 1,703 steps
-  per s against 504, 956, 1,975 estimated); the stiffness form's overdamped top modes hold
+  per s against 506, 955, 1,975 estimated); the stiffness form's overdamped top modes hold
   it at |lambda| / 6 (8R 6,722 against 7,154);
 - the exponential integrator (``"exponential"``) propagates every linear mode exactly: from
   rest it keeps its nominal step T1/10 (85-116 steps per s, ~220 us each, 19-23 ms per
