@@ -22,7 +22,7 @@ from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator
 from ..model.supports import N_BASE, free_frequencies
 from ..options.checks import check_float
-from ..options.integrators import Auto, Integrator
+from ..options.integrators import Auto, Exponential, Integrator
 from ..options.simulation import SimulationOptions
 from .base_motion import BaseForce, BaseMotion
 from .damping import damping_ratios
@@ -217,6 +217,9 @@ def simulate(
     if isinstance(integ, Auto):  # the rule's pick for this scene (default_rule)
         integ = default_integrator(system, np.concatenate((q0, v0)), duration_s, integ,
                                    spinning=bool(spin))
+        if isinstance(integ, Exponential):  # the step the options spell, as it always took
+            integ = integ.replace(dt_s=o.dt_s, steps_per_period=o.steps_per_period,
+                                  refresh_rad=o.refresh_rad)
     if integ.default_steps_per_period is not None and dt is None:
         spp = integ.steps_per_period or integ.default_steps_per_period
         dt = min(2.0 * math.pi / _lowest_frequency(system, q0, N_BASE if bus else int(hub))

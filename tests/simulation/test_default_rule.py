@@ -161,3 +161,21 @@ def test_a_batch_under_the_default_records_the_pick(narrow):
                           integrator=runs.integrator)
         # the same run twice: exact
         np.testing.assert_array_equal(runs.q_rad[b], one.q_rad)
+
+
+def test_an_exponential_pick_takes_the_spelled_step(narrow):
+    """Under Auto, dt_s / steps_per_period / refresh_rad spelled beside it reach the
+    exponential integrator the rule picks (a time-varying force), as with the old default."""
+    m = planar(narrow, 2)
+
+    def force(t):
+        return np.array([0.0, 0.0, -0.5 * np.sin(60.0 * t)])
+
+    kw = {"tip_force": force, "output_dt_s": 1e-3, "steps_per_period": 20.0,
+          "refresh_rad": 0.0}
+    run = pp.simulate(m, 0.05, **kw)
+    assert run.integrator == pp.Exponential(steps_per_period=20.0, refresh_rad=0.0)
+    named = pp.simulate(m, 0.05, method="exponential", **kw)
+    # the same integrator and step: the same run, exactly
+    np.testing.assert_array_equal(run.q_rad, named.q_rad)
+    assert run.steps == named.steps
