@@ -139,6 +139,7 @@ _EXPORTS = {
     "Trapezoidal": "options.integrators",
     "ScipyIVP": "options.integrators",
     "Compiled": "options.integrators",
+    "Auto": "options.integrators",
     "StiffnessSchedule": "simulation",
     "Controller": "simulation",
     "StateFeedback": "simulation",

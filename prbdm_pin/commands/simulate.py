@@ -114,11 +114,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "a calibrated model carry). Modal and eq5c are computed at the initial "
                         "pose")
     p.add_argument("--method", default=None,
-                   help="exponential (default: exact linear modes, step T1/10), gauss "
-                        "(symplectic; long undamped runs, violent starts; the default with "
-                        "--spin), trapezoidal, compiled (scipy's DOP853 compiled with the "
-                        "chain's dynamics: constant loads only, no --input), or a solve_ivp "
-                        "method: DOP853, Radau, BDF ...")
+                   help="auto (default: picked per problem by the stated rule of "
+                        "prbdm_pin.simulation.default_rule, compiled or exponential; the one "
+                        "used is printed and recorded in simulation.json), exponential "
+                        "(exact linear modes, step T1/10), gauss (symplectic; long undamped "
+                        "runs, violent starts), trapezoidal, compiled (scipy's DOP853 "
+                        "compiled with the chain's dynamics: constant loads only, no "
+                        "--input), or a solve_ivp method: DOP853, Radau, BDF ...")
     p.add_argument("--dt", type=float, default=None, metavar="S",
                    help="trapezoidal step, s (default: lowest period / 100)")
     p.add_argument("--output-dt", type=float, default=None, metavar="S",
@@ -167,7 +169,7 @@ def parse_force(text: str) -> np.ndarray:
     return f
 
 
-SIMULATE_FILES = ("trajectory.csv", "response.png", "truth_comparison.png",
+SIMULATE_FILES = ("trajectory.csv", "simulation.json", "response.png", "truth_comparison.png",
                   "truth_comparison.json", "comparison.png", "comparison.json")
 
 
@@ -203,8 +205,8 @@ def check_options(args: argparse.Namespace) -> np.ndarray:
              why="a damping ratio of an underdamped response" if not args.compare_truth else
              "--compare-truth needs an underdamped step response")
     methods = FIXED_STEP_METHODS + IVP_METHODS
-    if args.method is None:  # the exponential integrator does not take a spinning hub
-        args.method = "gauss" if args.spin is not None else "exponential"
+    if args.method is None:  # the rule's pick (it leaves the exponential one off a spin)
+        args.method = "auto"
     if args.method not in methods:
         raise BeamInputError(f"--method = {args.method!r}: must be one of {', '.join(methods)}")
     for name, dt in (("--dt", args.dt), ("--output-dt", args.output_dt)):
@@ -242,6 +244,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..files.model_source import load_model
+    from ..files.simulation_record import simulation_record
     from ..files.trajectory_csv import trajectory_csv
     from ..io.atomic import atomic_write_text
     from ..io.output_folder import output_folder
@@ -301,6 +304,9 @@ def run(args: argparse.Namespace) -> int:
     with output_folder(out, SIMULATE_FILES, marker="trajectory.csv") as stage:
         atomic_write_text(stage / "trajectory.csv",
                           trajectory_csv(tr, hub, world, bus=model.bus is not None))
+        # the integrator used (the rule's pick under the default "auto") and its counts
+        atomic_write_text(stage / "simulation.json", json.dumps(
+            {**provenance(None), **simulation_record(tr, args.method)}, indent=2) + "\n")
         plot_response(model, tr, force, args.damping, stage / "response.png")
         if not args.quiet:
             print(f"{tr.steps} steps ({tr.method}) in {tr.wall_time_s:.3f} s for "

@@ -194,8 +194,9 @@ EXPORT_DAMPING_FORMS = ("stiffness", "modal", "modal_fit")
 # joint damping forms of a simulation (``prbdm_pin.simulation.damping``)
 DAMPING_FORMS = ("modal", "eq5c", "stiffness", "modal_fit")
 # time integrators: schemes of our own (fixed-step or step-controlled; "compiled" is scipy's
-# DOP853 compiled with the chain's dynamics), and scipy's solve_ivp methods
-FIXED_STEP_METHODS = ("gauss", "exponential", "trapezoidal", "compiled")
+# DOP853 compiled with the chain's dynamics; "auto" picks one per problem), and scipy's
+# solve_ivp methods
+FIXED_STEP_METHODS = ("auto", "gauss", "exponential", "trapezoidal", "compiled")
 IVP_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
 # the pose sweep of Eqs. 10-11: first pose offset and step, rad (the Pareto fit takes the

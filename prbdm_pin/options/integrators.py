@@ -8,85 +8,33 @@ like the other options; the stepping itself is in ``prbdm_pin.simulation``, one 
 class, all driven by one loop (``prbdm_pin.simulation.loop``).
 
 When to use which, and the accuracy of each, is in ``prbdm_pin.simulation``'s docstring and the
-integrator modules' (``exponential``, ``gauss``, ``newmark``, ``ivp``).
+integrator modules' (``exponential``, ``gauss``, ``newmark``, ``ivp``, ``compiled``);
+``Auto()``, the default, lets ``simulate`` pick one per problem by the rule of
+``prbdm_pin.simulation.default_rule``.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import numbers
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from ..errors import BeamInputError
 from .checks import check_float as _float
 from .checks import check_int as _int
 from .choices import FIXED_STEP_METHODS, IVP_METHODS
+from .integrator_base import INTEGRATOR_SPELLINGS, RTOL_RANGE, Integrator
+from .integrator_base import step_fields as _step_fields
+from .integrators_explicit import Compiled, ScipyIVP
 
-__all__ = ["Integrator", "Exponential", "Gauss", "Trapezoidal", "ScipyIVP", "Compiled",
+__all__ = ["Integrator", "Exponential", "Gauss", "Trapezoidal", "ScipyIVP", "Compiled", "Auto",
            "integrator_for", "INTEGRATOR_SPELLINGS"]
-
-# The SimulationOptions fields that spell an integrator (``method="gauss", dt_s=1e-3``); each
-# integrator reads the ones it has and ignores the others, as the options always did.
-INTEGRATOR_SPELLINGS = ("method", "dt_s", "rtol", "atol", "steps_per_period", "refresh_rad")
-
-
-@dataclass(frozen=True)
-class Integrator:
-    """What every integrator declares; use one of its subclasses.
-
-    Class attributes
-    ----------------
-    method : str
-        The name ``simulate(method=...)`` spells it by (``ScipyIVP``: a field).
-    default_steps_per_period : float or None
-        Default step rule of a scheme with a nominal step: the lowest natural period at the
-        initial pose divided by this (None: the scheme has no nominal step).
-    takes_inputs : bool
-        Whether it integrates plant inputs (``simulate(inputs=...)``) besides a tip force.
-    """
-
-    method: ClassVar[str] = ""
-    default_steps_per_period: ClassVar[float | None] = None
-    takes_inputs: ClassVar[bool] = True
-    # the INTEGRATOR_SPELLINGS this class has as fields (method apart)
-    _spelled: ClassVar[tuple[str, ...]] = ()
-
-    def spellings(self) -> dict[str, Any]:
-        """Return the SimulationOptions fields that spell this integrator, by name."""
-        return {"method": self.method, **{name: getattr(self, name) for name in self._spelled}}
-
-    def extra(self) -> dict[str, Any]:
-        """Return the fields no SimulationOptions field spells, where they differ from default.
-
-        ``SimulationOptions.to_dict`` adds them, so a record keeps them and a default run writes
-        the same keys as before integrators were objects.
-        """
-        return {f.name: getattr(self, f.name) for f in fields(self)
-                if f.name not in INTEGRATOR_SPELLINGS and getattr(self, f.name) != f.default}
-
-    def replace(self, **changes: Any) -> Integrator:
-        """Return a copy with ``changes`` applied and validated (an unknown name is refused)."""
-        names = {f.name for f in fields(self)}
-        unknown = sorted(set(changes) - names)
-        if unknown:
-            raise BeamInputError(f"{unknown[0]} = {changes[unknown[0]]!r}: not a field of "
-                                 f"{type(self).__name__} (fields: {', '.join(sorted(names))})")
-        return dataclasses.replace(self, **changes)
-
-
-def _step_fields(self) -> None:
-    """Check ``dt_s`` and ``steps_per_period`` of a scheme with a nominal step."""
-    s = object.__setattr__
-    s(self, "dt_s", _float("dt_s", self.dt_s, low=0.0, low_open=True, optional=True, unit="s"))
-    s(self, "steps_per_period", _float("steps_per_period", self.steps_per_period, low=1.0,
-                                       optional=True))
 
 
 @dataclass(frozen=True)
 class Exponential(Integrator):
-    """The exponential Rosenbrock method exprb32 with step-size control (the default).
+    """The exponential Rosenbrock method exprb32 with step-size control (stiff chains from rest).
 
     Attributes
     ----------
@@ -252,110 +200,51 @@ class Trapezoidal(Integrator):
         _step_fields(self)
 
 
+
 @dataclass(frozen=True)
-class ScipyIVP(Integrator):
-    """A ``scipy.integrate`` solver (``RK45``, ``RK23``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``).
+class Auto(Integrator):
+    """The default: ``simulate`` picks the integrator per problem by a stated rule.
+
+    After assembling the system ``simulate`` replaces it by what
+    :func:`prbdm_pin.simulation.default_rule.default_integrator` picks for the scene's
+    stiffness, damping, start and ``tolerance`` (``Compiled(rtol=tolerance / 100)`` or
+    ``Exponential()``; ``Exponential()`` wherever the compiled kernel cannot serve the scene);
+    the trajectory records the one used (``run.method``, ``run.integrator``).
 
     Attributes
     ----------
-    method : str
-        The solver, as ``scipy.integrate.solve_ivp`` names it.
-    rtol : float
-        Relative tolerance.
-    atol : float or None
-        Absolute tolerance (None: ``rtol`` times the largest initial joint angle, at least
-        1e-6 rad).
+    tolerance : float
+        The accuracy asked: the largest tip error as a fraction of the peak tip motion, in
+        (1e-14, 0.1) (default 1e-4, 0.01 %).
 
     Examples
     --------
-    >>> import numpy as np
     >>> import prbdm_pin as pp
     >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
     >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
-    >>> method = pp.ScipyIVP("DOP853", rtol=1e-8)
-    >>> pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=method).method
-    'DOP853'
-    >>> pp.ScipyIVP("Euler")
+    >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Auto())
+    >>> run.method, run.integrator
+    ('compiled', Compiled(rtol=1e-06, atol=None))
+    >>> pp.Auto(tolerance=0.5)
     Traceback (most recent call last):
         ...
-    prbdm_pin.errors.BeamInputError: method = 'Euler': must be one of RK45, RK23, DOP853, ...
+    prbdm_pin.errors.BeamInputError: tolerance = 0.5: must be in (1e-14, 0.1)
     """
 
-    _spelled: ClassVar[tuple[str, ...]] = ("rtol", "atol")
+    method: ClassVar[str] = "auto"
 
-    method: str = "DOP853"  # type: ignore[misc]  # a field here, a class attribute elsewhere
-    rtol: float = 1e-9
-    atol: float | None = None
+    tolerance: float = 1e-4
 
     def __post_init__(self) -> None:
-        """Validate every field; an error names the field and the value."""
-        s = object.__setattr__
-        if self.method not in IVP_METHODS:
-            raise BeamInputError(f"method = {self.method!r}: must be one of "
-                                 f"{', '.join(IVP_METHODS)}")
-        s(self, "rtol", _float("rtol", self.rtol, low=0.0, low_open=True))
-        s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
-
-
-# the relative tolerances a tolerance-controlled scheme takes: below 1e-14 the error estimate is
-# rounding (scipy raises anything under 100 EPS to that), above 0.1 it no longer estimates
-RTOL_RANGE = (1e-14, 1e-1)
-
-
-@dataclass(frozen=True)
-class Compiled(Integrator):
-    """scipy's DOP853 (Dormand-Prince 8(5,3)) compiled with the chain's dynamics (numba).
-
-    The same coefficients, error norm, step control, initial step and 7th-order dense output as
-    ``ScipyIVP("DOP853")`` (so the same steps and accuracy for the same ``rtol``/``atol``), with
-    the whole run in one compiled call on the kernel (:mod:`prbdm_pin.kernel`): no Python per
-    step. It serves constant springs, a frozen damping matrix, a constant tip force (a step
-    load), gravity, releases and initial velocities (a spinning hub) on planar, spatial, hub and
-    free-bus chains; a callable tip force, plant inputs, a stiffness schedule or a base motion
-    is refused (``simulate`` names the option).
-
-    Attributes
-    ----------
-    rtol : float
-        Relative tolerance, in (1e-14, 0.1) (under 100 EPS it is raised to that, as scipy does).
-    atol : float or None
-        Absolute tolerance (None: ``rtol`` times the largest initial joint angle, at least
-        1e-6 rad, as ``ScipyIVP``).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> import prbdm_pin as pp
-    >>> beam = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
-    >>> model = pp.build_model(beam, [0.2, 0.5, 0.3], [2500.0, 1200.0])
-    >>> run = pp.simulate(model, 0.05, q0=[0.01, 0.0], integrator=pp.Compiled(rtol=1e-8))
-    >>> run.method, float(run.t_s[-1])
-    ('compiled', 0.05)
-    >>> pp.Compiled(rtol=0.5)
-    Traceback (most recent call last):
-        ...
-    prbdm_pin.errors.BeamInputError: rtol = 0.5: must be in (1e-14, 0.1)
-    """
-
-    method: ClassVar[str] = "compiled"
-    takes_inputs: ClassVar[bool] = False
-    _spelled: ClassVar[tuple[str, ...]] = ("rtol", "atol")
-
-    rtol: float = 1e-9
-    atol: float | None = None
-
-    def __post_init__(self) -> None:
-        """Validate every field; an error names the field and the value."""
-        s = object.__setattr__
-        r = _float("rtol", self.rtol, low=0.0, low_open=True)
+        """Validate ``tolerance``; an error names the field and the value."""
+        r = _float("tolerance", self.tolerance, low=0.0, low_open=True)
         if not RTOL_RANGE[0] < r < RTOL_RANGE[1]:
-            raise BeamInputError(f"rtol = {r!r}: must be in ({RTOL_RANGE[0]:g}, "
+            raise BeamInputError(f"tolerance = {r!r}: must be in ({RTOL_RANGE[0]:g}, "
                                  f"{RTOL_RANGE[1]:g})")
-        s(self, "rtol", r)
-        s(self, "atol", _float("atol", self.atol, low=0.0, low_open=True, optional=True))
+        object.__setattr__(self, "tolerance", r)
 
 
-_BY_NAME = {cls.method: cls for cls in (Exponential, Gauss, Trapezoidal, Compiled)}
+_BY_NAME = {cls.method: cls for cls in (Exponential, Gauss, Trapezoidal, Compiled, Auto)}
 
 
 def integrator_for(method: str, **spellings: Any) -> Integrator:

@@ -27,8 +27,9 @@ class SimulationOptions:
 
     What it integrates (the model, the initial state and the load) is passed beside them.
 
-    The integrator is one object, ``integrator`` (``Exponential``, ``Gauss``, ``Trapezoidal``
-    or ``ScipyIVP``, from :mod:`prbdm_pin.options.integrators`). ``method``, ``dt_s``,
+    The integrator is one object, ``integrator`` (``Auto``, the default, ``Exponential``,
+    ``Gauss``, ``Trapezoidal``, ``ScipyIVP`` or ``Compiled``, from
+    :mod:`prbdm_pin.options.integrators`). ``method``, ``dt_s``,
     ``rtol``, ``atol``, ``steps_per_period`` and ``refresh_rad`` are its other spelling: given
     without ``integrator`` they build it (each integrator reads the ones it has), given with it
     they must agree with it, and they always hold its values, so a record of the options
@@ -37,7 +38,9 @@ class SimulationOptions:
     Attributes
     ----------
     method : str
-        ``"exponential"`` (default), ``"gauss"`` (symplectic; long undamped runs),
+        ``"auto"`` (default: picked per problem by the rule of
+        ``prbdm_pin.simulation.default_rule``), ``"exponential"``, ``"gauss"`` (symplectic;
+        long undamped runs),
         ``"trapezoidal"``, ``"compiled"`` (DOP853 compiled with the chain's dynamics: ``rtol``,
         ``atol``), or a ``solve_ivp`` method (``rtol``, ``atol``).
     dt_s : float or None
@@ -72,12 +75,12 @@ class SimulationOptions:
     >>> import prbdm_pin as pp
     >>> options = pp.SimulationOptions(damping_ratio=0.05)
     >>> options.method, options.damping_ratio
-    ('exponential', 0.05)
+    ('auto', 0.05)
     """
 
     kind: ClassVar[str] = "simulation"
 
-    method: str = "exponential"
+    method: str = "auto"
     dt_s: float | None = None
     output_dt_s: float | None = None
     rtol: float = 1e-9
@@ -123,8 +126,8 @@ class SimulationOptions:
                 self.method, **{k: getattr(self, k) for k in INTEGRATOR_SPELLINGS[1:]}))
             return
         if not isinstance(integ, Integrator) or type(integ) is Integrator:
-            raise BeamInputError(f"integrator = {integ!r:.80}: must be an Exponential, Gauss, "
-                                 "Trapezoidal, ScipyIVP or Compiled")
+            raise BeamInputError(f"integrator = {integ!r:.80}: must be an Auto, Exponential, "
+                                 "Gauss, Trapezoidal, ScipyIVP or Compiled")
         # the spelling follows the integrator; a field given apart from its default must agree
         defaults = {f.name: f.default for f in fields(self)}
         for name, value in integ.spellings().items():

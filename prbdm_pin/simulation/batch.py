@@ -178,9 +178,12 @@ def _loop(models, duration_s, Q0, V0, tip_force, o, inputs, signals, acts, wall0
         arr.setflags(write=False)
     counts = [np.array([getattr(r, a) for r in runs], dtype=int) for a in ("steps",
                                                                           "rhs_evaluations")]
+    # the integrator the runs used (the default "auto" picks per design: kept when they differ)
+    used = {r.integrator for r in runs}
+    integ = runs[0].integrator if len(used) == 1 else o.integrator
     return TrajectoryBatch(runs[0].t_s, *stack, *counts, np.zeros(len(runs), dtype=int),
-                           o.integrator.method, False, time.process_time() - cpu0,
-                           time.perf_counter() - wall0, o.integrator)
+                           integ.method, False, time.process_time() - cpu0,
+                           time.perf_counter() - wall0, integ)
 
 
 def _signals(u) -> list | None:

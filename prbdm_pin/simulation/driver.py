@@ -22,10 +22,11 @@ from ..model.hub import hub_frequencies
 from ..model.inputs import StrainActuator
 from ..model.supports import N_BASE, free_frequencies
 from ..options.checks import check_float
-from ..options.integrators import Integrator
+from ..options.integrators import Auto, Exponential, Integrator
 from ..options.simulation import SimulationOptions
 from .base_motion import BaseForce, BaseMotion
 from .damping import damping_ratios
+from .default_rule import default_integrator
 from .loop import check_grid, integrate, progress_bar, start
 from .schedule import StiffnessSchedule
 from .signals import plant_signals, recorded
@@ -110,10 +111,13 @@ def simulate(
         strain and the root reaction read each sample's acceleration (Pinocchio's ABA of the
         run's forces) and applied loads.
     integrator : Integrator, optional
-        The integrator and its settings (``Exponential(...)``, ``Gauss(...)``,
-        ``Trapezoidal(...)``, ``ScipyIVP(...)``, ``Compiled(...)`` from
+        The integrator and its settings (``Auto(...)``, the default, ``Exponential(...)``,
+        ``Gauss(...)``, ``Trapezoidal(...)``, ``ScipyIVP(...)``, ``Compiled(...)`` from
         :mod:`prbdm_pin.options.integrators`),
         applied to ``options``; ``method="gauss"`` with ``dt_s``, ``rtol`` ... spells the same.
+        ``Auto`` is replaced by the integrator the stated rule picks for the assembled scene
+        (:func:`prbdm_pin.simulation.default_rule.default_integrator`); the trajectory
+        records the one used.
     base_motion : BaseMotion, optional
         A prescribed motion of the clamp (a robot flange; clamped models only, not with
         ``method="gauss"``): :mod:`prbdm_pin.simulation.base_motion`. The member's
@@ -130,9 +134,9 @@ def simulate(
         hub's entry of ``v0`` (which is then the deviation from the spin, as the states of
         ``linearize(..., spin_rad_s=...)``). The hub stays free: with no ``hub_torque`` it keeps
         spinning (the straight pose is the spinning chain's relative equilibrium), and a
-        ``hub_torque`` input changes its rate. Needs ``method="gauss"`` or a solve_ivp method:
-        the exponential integrator is refused (its step control takes its smallest steps on
-        a spinning hub).
+        ``hub_torque`` input changes its rate. Needs ``method="auto"`` (the default),
+        ``"compiled"``, ``"gauss"`` or a solve_ivp method: the exponential integrator is
+        refused (its step control takes its smallest steps on a spinning hub).
     **changes
         Options by name, applied to ``options`` (``simulate(model, 1.0, method="gauss")``).
 
@@ -210,6 +214,12 @@ def simulate(
     if base_motion is not None:
         system = dataclasses.replace(system, inputs=BaseForce(base_motion, system.pin_model,
                                                               system.inputs))
+    if isinstance(integ, Auto):  # the rule's pick for this scene (default_rule)
+        integ = default_integrator(system, np.concatenate((q0, v0)), duration_s, integ,
+                                   spinning=bool(spin))
+        if isinstance(integ, Exponential):  # the step the options spell, as it always took
+            integ = integ.replace(dt_s=o.dt_s, steps_per_period=o.steps_per_period,
+                                  refresh_rad=o.refresh_rad)
     if integ.default_steps_per_period is not None and dt is None:
         spp = integ.steps_per_period or integ.default_steps_per_period
         dt = min(2.0 * math.pi / _lowest_frequency(system, q0, N_BASE if bus else int(hub))
@@ -254,7 +264,8 @@ def _check_base_motion(motion, free: bool, integ: Integrator, duration_s: float)
                              "has a hub or a free bus")
     if not integ.takes_inputs:
         raise BeamInputError(f"base_motion: method {integ.method!r} takes a tip force only; "
-                             "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
+                             "use 'auto' (default), 'exponential', 'trapezoidal' or a "
+                             "solve_ivp method")
     motion.check_span(duration_s)
 
 

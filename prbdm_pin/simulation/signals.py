@@ -57,7 +57,8 @@ def plant_signals(model, inputs, u, actuators, outputs, integrator: Integrator, 
         check_load_inputs(parsed_in)
     if not integrator.takes_inputs:
         raise BeamInputError(f"inputs: method {integrator.method!r} takes a tip force only; "
-                             "use 'exponential' (default), 'trapezoidal' or a solve_ivp method")
+                             "use 'auto' (default), 'exponential', 'trapezoidal' or a "
+                             "solve_ivp method")
     if acts and getattr(getattr(model, "axes", None), "spatial", False):
         raise BeamInputError(f"actuators: strain actuators act on the planar chain's bending "
                              f"joints; this model has axes {model.axes.value!r}")

@@ -27,7 +27,8 @@ class Trajectory:
         Integrator steps taken (accepted steps for solve_ivp, ``"compiled"`` and
         ``"exponential"``).
     method : str
-        Integrator used, by name (``integrator.method``).
+        Integrator used, by name (``integrator.method``): under the default ``Auto()`` the
+        one its rule picked (``"compiled"`` or ``"exponential"``), never ``"auto"``.
     wall_time_s : float
         Wall time of the whole call (set-up, integration, output), s.
     rhs_evaluations : int

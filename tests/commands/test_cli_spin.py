@@ -101,7 +101,7 @@ def test_simulate_spin_keeps_the_free_hub_spinning(model_json, tmp_path):
     data = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
     t = data[:, head.index("t_s")]
     # the straight pose is the spinning chain's relative equilibrium: the hub turns at the
-    # constant rate (the default method with --spin is gauss: its rounding over the run)
+    # constant rate (the default method picks the compiled DOP853: its rounding over the run)
     np.testing.assert_allclose(data[:, head.index("hub_angle_rad")], spin * t, rtol=0.0,
                                atol=1000 * EPS * spin * T)
     np.testing.assert_allclose(data[:, head.index("hub_rate_rad_s")], spin, rtol=1000 * EPS)

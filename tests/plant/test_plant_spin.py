@@ -332,4 +332,4 @@ def test_spin_refusals():
     with pytest.raises(BeamInputError, match="spin_rad_s.*needs a hub"):
         simulate(clamped, 0.01, spin_rad_s=3.0, method="gauss")
     with pytest.raises(BeamInputError, match="spin_rad_s = 3.0: the exponential integrator"):
-        simulate(hub, 0.01, spin_rad_s=3.0)
+        simulate(hub, 0.01, spin_rad_s=3.0, method="exponential")

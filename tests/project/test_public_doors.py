@@ -101,6 +101,8 @@ FIELDS = [
     # the compiled DOP853's tolerance: (1e-14, 0.1), the issue's range
     (pp.Compiled, {}, "rtol", "rtol", "real", [0.0, -1.0, 1e-15, 1e-14], [0.1, 0.5]),
     (pp.Compiled, {}, "atol", "atol", "real", [0.0, -1e-9], []),
+    # the accuracy the default's rule is asked for: the same range as a tolerance
+    (pp.Auto, {}, "tolerance", "tolerance", "real", [0.0, -1.0, 1e-15, 1e-14], [0.1, 0.5]),
     (pp.FitSettings, {}, "joints", "joints", "int", [0, -1], [65, 1000]),
     (pp.BatchSpec, {"seed": 0, "settings": pp.FitSettings(joints=3), "n_beams": 5}, "seed",
      "seed", "int", [-1], [2**63]),

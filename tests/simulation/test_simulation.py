@@ -68,13 +68,14 @@ def test_exponential_free_vibration_frequency_and_energy(model):
     """The default exponential scheme propagates linear modes exactly: period and energy."""
     omega, q0 = _mode1_start(model)
     period = 2 * np.pi / omega[0]
-    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt_s=period / 200)
+    tr = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, output_dt_s=period / 200,
+                  method="exponential")
     assert tr.method == "exponential" and abs(tr.steps - 1000) <= 1
     tc = _zero_crossings(tr.t_s, tr.tip_position_m[:, 2])
     measured = 2 * (tc[-1] - tc[0]) / (len(tc) - 1)
     # no discretisation error in the linear part: only the zero-crossing interpolation is left
     assert abs(measured / period - 1) < 1e-5
-    steps = simulate(model, 100 * period, q0=q0, damping_ratio=0.0)
+    steps = simulate(model, 100 * period, q0=q0, damping_ratio=0.0, method="exponential")
     e = mechanical_energy(model, steps.q_rad, steps.v_rad_s)
     assert np.abs(e / e[0] - 1).max() <= 1e-6
 
@@ -86,7 +87,8 @@ def test_exponential_energy_drift_of_nonlinear_motion_within_stated_bound(model)
     period = 2 * np.pi / omega[0]
     shape = phi[:, 0] / np.abs(phi[:, 0]).max()
     for amplitude, bound in ((0.01, 5e-6), (0.1, 5e-3)):
-        tr = simulate(model, 100 * period, q0=amplitude * shape, damping_ratio=0.0)
+        tr = simulate(model, 100 * period, q0=amplitude * shape, damping_ratio=0.0,
+                      method="exponential")
         e = mechanical_energy(model, tr.q_rad, tr.v_rad_s)
         drift = np.abs(e / e[0] - 1).max()
         print(f"exponential, amplitude {amplitude} rad: energy drift {drift:.2e}")
@@ -271,8 +273,8 @@ def test_schedule_constant_in_pose_matches_scaled_model(model):
     k2 = 2.0 * model.stiffness_Nm_per_rad
     sched = StiffnessSchedule(np.array([0.0, 1.0]), np.vstack([k2, k2]))
     q0 = np.full(5, 1e-3)
-    a = simulate(model, 0.05, q0=q0, stiffness_schedule=sched, dt_s=1e-4)
-    b = simulate(model.with_stiffness(k2), 0.05, q0=q0, dt_s=1e-4)
+    a = simulate(model, 0.05, q0=q0, stiffness_schedule=sched, dt_s=1e-4, method="exponential")
+    b = simulate(model.with_stiffness(k2), 0.05, q0=q0, dt_s=1e-4, method="exponential")
     # the same equations, the springs through the schedule's interpolation of a constant
     # (1.7e-17 rad measured); kept: the test's 1e-12 rad
     np.testing.assert_allclose(a.q_rad, b.q_rad, atol=5000 * EPS)
@@ -310,11 +312,12 @@ def test_default_step_response_within_1_percent_of_dop853(chain5):
     force = np.array([0.0, 0.0, -2500.0])
     ref = simulate(chain5, 1.0, tip_force=force, method="DOP853", rtol=1e-10, output_dt_s=1e-3)
     tr = simulate(chain5, 1.0, tip_force=force, output_dt_s=1e-3)
-    assert tr.method == "exponential"
+    assert tr.method in ("exponential", "compiled")  # the rule's pick, recorded
     peak = np.abs(ref.tip_displacement_m).max()
     err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / peak
-    print(f"exponential, default step: {tr.steps} steps, tip error {err:.2e} of the peak")
-    assert err < 1e-2
+    print(f"{tr.method}, default: {tr.steps} steps, tip error {err:.2e} of the peak")
+    # the default's tolerance, Auto().tolerance: 0.01 % of the peak
+    assert err < 1e-4
 
 
 def test_exponential_harmonic_load_against_dop853(chain5):
@@ -363,7 +366,7 @@ def test_exponential_halves_a_step_instead_of_diverging(model):
     with pytest.raises(SolveError, match="no acceptable step"):
         simulate(model, 0.2, q0=q0, damping_ratio=0.0,
                  integrator=Exponential(max_halvings=0, reject_factor=np.inf))
-    tr = simulate(model, 0.2, q0=q0, damping_ratio=0.0, output_dt_s=1e-3)
+    tr = simulate(model, 0.2, q0=q0, damping_ratio=0.0, output_dt_s=1e-3, method="exponential")
     ref = simulate(model, 0.2, q0=q0, damping_ratio=0.0, method="DOP853", rtol=1e-10,
                    output_dt_s=1e-3)
     err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / np.abs(
@@ -401,7 +404,8 @@ def _release_error(model, duration, xi):
     q0 = np.full(model.n_joints, 0.1)
     ref = simulate(model, duration, q0=q0, damping_ratio=xi, method="DOP853", rtol=1e-10,
                    output_dt_s=1e-3)
-    tr = simulate(model, duration, q0=q0, damping_ratio=xi, output_dt_s=1e-3)
+    tr = simulate(model, duration, q0=q0, damping_ratio=xi, output_dt_s=1e-3,
+                  method="exponential")
     assert tr.method == "exponential"
     peak = np.abs(ref.tip_displacement_m).max()
     return float(np.abs(tr.tip_position_m - ref.tip_position_m).max() / peak), tr
@@ -434,7 +438,8 @@ def test_exponential_keeps_nominal_step_for_a_smooth_release(model):
     omega, phi = model.modes()
     period = 2 * np.pi / omega[0]
     q0 = 0.1 * phi[:, 0] / np.abs(phi[:, 0]).max()
-    tr = simulate(model, 5 * period, q0=q0, damping_ratio=0.0, output_dt_s=1e-3)
+    tr = simulate(model, 5 * period, q0=q0, damping_ratio=0.0, output_dt_s=1e-3,
+                  method="exponential")
     ref = simulate(model, 5 * period, q0=q0, damping_ratio=0.0, method="DOP853", rtol=1e-10,
                    output_dt_s=1e-3)
     err = np.abs(tr.tip_position_m - ref.tip_position_m).max() / np.abs(

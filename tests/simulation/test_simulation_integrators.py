@@ -26,7 +26,8 @@ def model():
 
 
 @pytest.mark.parametrize("spelling, integrator", [
-    ({}, pp.Exponential()),
+    ({}, pp.Auto()),  # the default: the rule picks per problem; rtol is not its tolerance
+    ({"method": "auto", "rtol": 1e-6}, pp.Auto()),
     ({"method": "exponential", "dt_s": 1e-3, "refresh_rad": 0.0, "rtol": 1e-6},
      pp.Exponential(dt_s=1e-3, refresh_rad=0.0)),
     ({"method": "gauss", "steps_per_period": 20, "rtol": 1e-6}, pp.Gauss(steps_per_period=20)),
@@ -37,7 +38,7 @@ def model():
 def test_a_method_name_spells_the_integrator(spelling, integrator):
     """The fields an integrator does not have are ignored, as the options always did."""
     assert SimulationOptions(**spelling).integrator == integrator
-    assert integrator_for(**{"method": "exponential", **spelling}) == integrator
+    assert integrator_for(**{"method": "auto", **spelling}) == integrator
 
 
 @pytest.mark.parametrize("spelling, integrator", [
@@ -94,7 +95,8 @@ def test_the_options_record_the_same_keys():
     assert list(spelled.to_dict()) == keys and spelled.to_dict() == given.to_dict()
     assert given.method == "gauss" and given.dt_s == 1e-3
     tuned = SimulationOptions(integrator=pp.Exponential(max_halvings=2, step_rtol=1e-4))
-    assert tuned.to_dict() == {**SimulationOptions().to_dict(), "step_rtol": 1e-4,
+    assert tuned.to_dict() == {**SimulationOptions(method="exponential").to_dict(),
+                               "step_rtol": 1e-4,
                                "max_halvings": 2}
 
 
