@@ -1,5 +1,5 @@
 """Co-design by trajectory gradients: a strain patch's feedback gain and the panel's stiffness.
-=========================================================================================
+============================================================================================
 
 A panel bent at the end of a manoeuvre (its static pose under a 5 N tip load) is released and
 must settle. A strain patch at the root (0-0.35 m) feeds back the joint angles and rates of the

@@ -144,7 +144,7 @@ def forward_dynamics(kernel: ChainKernel, data: KernelData, q, v, tau) -> np.nda
     ok = dynamics.forward_dynamics(kernel.arrays(), data.arrays(), _vector("q", q, n),
                                    _vector("v", v, n), _vector("tau", tau, n))
     if not ok:
-        raise BeamInputError(f"kernel {kernel.name!r}: the mass matrix is not positive "
+        raise BeamInputError(f"kernel {kernel.model_name!r}: the mass matrix is not positive "
                              "definite at this q")
     return data.acceleration_joint
 

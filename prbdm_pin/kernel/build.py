@@ -53,7 +53,7 @@ class ChainKernel:
         Its translation, m.
     gravity_m_s2 : ndarray (3,)
         Gravity, world, m/s^2 (zeros: none).
-    name : str
+    model_name : str
         The Pinocchio model's name.
 
     Examples
@@ -78,7 +78,7 @@ class ChainKernel:
     tip_rotation: np.ndarray
     tip_translation_m: np.ndarray
     gravity_m_s2: np.ndarray
-    name: str = ""
+    model_name: str = ""
 
     @property
     def n(self) -> int:
@@ -229,4 +229,4 @@ def chain_kernel(pin_model: pin.Model, tip_frame_id: int) -> ChainKernel:
     for a in arrays:
         a.setflags(write=False)
     return ChainKernel(kind, axis, R, p, mass, com, inertia, int(frame.parentJoint) - 1,
-                       *arrays[7:], name=name)
+                       *arrays[7:], model_name=name)

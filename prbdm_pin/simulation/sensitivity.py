@@ -16,7 +16,7 @@ of the design; an error-controlled pair would change its step sequence with p an
 piecewise smooth, with a gradient that a central difference of J would not confirm. The step is
 set from the eigenvalues lambda of the closed loop linearised at the start: the fastest
 oscillation gets ``steps_per_period`` steps, h <= 2 pi / (max |Im lambda| ``steps_per_period``),
-and every mode stays inside RK4's stability region, h <= 2 / max |lambda| (an overdamped mode
+and every mode stays inside RK4's stability region, h <= 2 / max abs(lambda) (an overdamped mode
 decays whatever its accuracy); RK4's error in J falls as h^4.
 
 The chain is a clamped planar one (no hub or bus), the inputs those with a constant map
@@ -165,7 +165,7 @@ def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip
         The fixed step, s; default from ``steps_per_period``.
     steps_per_period : float
         Steps per period of the fastest oscillation of the closed loop linearised at the
-        start (>= 8); the step also stays within RK4's stability, 2 / max |lambda|.
+        start (>= 8); the step also stays within RK4's stability, 2 / max abs(lambda).
 
     Returns
     -------
