@@ -11,27 +11,11 @@ import numpy as np
 
 import prbdm_pin as pp
 from prbdm_pin.cli import main
-
-BEAM = "examples/beams/uniform-narrow.json"
-
-
-def _model(tmp_path):
-    beam = pp.load_beam(BEAM)
-    lengths = np.array([0.25, 0.5, 0.25]) * beam.length_m
-    model = pp.build_model(beam, lengths, pp.finite_segment_stiffness(beam, lengths))
-    path = tmp_path / "m.json"
-    pp.export_model(model, str(path), "json")
-    return path
-
-
-def _tip_z(folder):
-    head = (folder / "trajectory.csv").read_text().splitlines()[0].split(",")
-    return np.loadtxt(folder / "trajectory.csv", delimiter=",", skiprows=1)[
-        :, head.index("tip_z_m")]
+from tests.cli_strip_runs import strip_model_json, tip_z
 
 
 def test_the_default_records_the_integrator_it_ran(tmp_path):
-    path = _model(tmp_path)
+    path = strip_model_json(tmp_path)
     args = ["simulate", str(path), "--duration", "0.1", "--initial-angle", "0.01",
             "--output-dt", "0.001", "-q", "--out"]
     assert main([*args, str(tmp_path / "a")]) == 0
@@ -43,11 +27,11 @@ def test_the_default_records_the_integrator_it_ran(tmp_path):
     model = pp.load_model(str(path)).model
     api = pp.simulate(model, 0.1, q0=np.full(2, 0.01), output_dt_s=0.001,
                       integrator=pp.Compiled(rtol=rec["integrator"]["rtol"]))
-    z = _tip_z(tmp_path / "a")
+    z = tip_z(tmp_path / "a")
     # the command wrote the API's run with the recorded integrator (repr round trip: exact)
     np.testing.assert_array_equal(z, api.tip_position_m[:, 2])
     assert rec["steps"] == api.steps
-    ref = _tip_z(tmp_path / "d")
+    ref = tip_z(tmp_path / "d")
     # Auto's tolerance: 1e-4 of the peak tip motion (against DOP853 at the command's 1e-9)
     assert np.abs(z - ref).max() <= 1e-4 * np.abs(ref - ref[0]).max()
     named = json.loads((tmp_path / "d" / "simulation.json").read_text())
@@ -56,7 +40,7 @@ def test_the_default_records_the_integrator_it_ran(tmp_path):
 
 
 def test_a_bad_method_is_one_line(tmp_path, capsys):
-    path = _model(tmp_path)
+    path = strip_model_json(tmp_path)
     code = main(["simulate", str(path), "--duration", "0.01", "--method", "automatic",
                  "--out", str(tmp_path / "x"), "-q"])
     err = capsys.readouterr().err.strip()

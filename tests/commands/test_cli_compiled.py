@@ -8,32 +8,16 @@ import numpy as np
 
 import prbdm_pin as pp
 from prbdm_pin.cli import main
-
-BEAM = "examples/beams/uniform-narrow.json"
-
-
-def _model(tmp_path):
-    beam = pp.load_beam(BEAM)
-    lengths = np.array([0.25, 0.5, 0.25]) * beam.length_m
-    model = pp.build_model(beam, lengths, pp.finite_segment_stiffness(beam, lengths))
-    path = tmp_path / "m.json"
-    pp.export_model(model, str(path), "json")
-    return path
-
-
-def _tip_z(folder):
-    head = (folder / "trajectory.csv").read_text().splitlines()[0].split(",")
-    return np.loadtxt(folder / "trajectory.csv", delimiter=",", skiprows=1)[
-        :, head.index("tip_z_m")]
+from tests.cli_strip_runs import strip_model_json, tip_z
 
 
 def test_simulate_with_the_compiled_method(tmp_path):
-    path = _model(tmp_path)
+    path = strip_model_json(tmp_path)
     args = ["simulate", str(path), "--duration", "0.1", "--initial-angle", "0.01",
             "--output-dt", "0.001", "--out"]
     assert main([*args, str(tmp_path / "c"), "--method", "compiled", "-q"]) == 0
     assert main([*args, str(tmp_path / "d"), "--method", "DOP853", "-q"]) == 0
-    z, ref = _tip_z(tmp_path / "c"), _tip_z(tmp_path / "d")
+    z, ref = tip_z(tmp_path / "c"), tip_z(tmp_path / "d")
     model = pp.load_model(str(path)).model
     api = pp.simulate(model, 0.1, q0=np.full(2, 0.01), output_dt_s=0.001, method="compiled")
     np.testing.assert_array_equal(z, api.tip_position_m[:, 2])
@@ -46,7 +30,7 @@ def test_simulate_with_the_compiled_method(tmp_path):
 
 
 def test_a_plant_input_with_the_compiled_method_is_one_line(tmp_path, capsys):
-    path = _model(tmp_path)
+    path = strip_model_json(tmp_path)
     code = main(["simulate", str(path), "--duration", "0.01", "--method", "compiled",
                  "--input", "tip_force_z=1", "--out", str(tmp_path / "x"), "-q"])
     err = capsys.readouterr().err.strip()
