@@ -8,10 +8,10 @@ from __future__ import annotations
 import json
 
 import numpy as np
+from cli_strip_runs import strip_model_json, tip_z
 
 import prbdm_pin as pp
 from prbdm_pin.cli import main
-from tests.cli_strip_runs import strip_model_json, tip_z
 
 
 def test_the_default_records_the_integrator_it_ran(tmp_path):

@@ -5,10 +5,10 @@ Pinocchio within the tolerances; a plant input with it is one line, exit 2."""
 from __future__ import annotations
 
 import numpy as np
+from cli_strip_runs import strip_model_json, tip_z
 
 import prbdm_pin as pp
 from prbdm_pin.cli import main
-from tests.cli_strip_runs import strip_model_json, tip_z
 
 
 def test_simulate_with_the_compiled_method(tmp_path):

@@ -4,21 +4,13 @@ over a long undamped release."""
 
 import numpy as np
 import pytest
+from dop853_tip_error import tip_error
 
 from prbdm_pin.bench.run import finite_segment_chain
 from prbdm_pin.files.beam_file import load_beam
-from prbdm_pin.simulation import Gauss, ScipyIVP, gauss_frequency_ratio, mechanical_energy, simulate
+from prbdm_pin.simulation import Gauss, gauss_frequency_ratio, mechanical_energy, simulate
 
 BEAM = load_beam("examples/beams/reference-random.json")
-REFERENCE = ScipyIVP("DOP853", rtol=1e-11)
-
-
-def _tip_error(model, duration_s, integrator, **scene):
-    """Max tip deviation from DOP853 (rtol 1e-11) over the peak tip deflection, and the run."""
-    ref = simulate(model, duration_s, integrator=REFERENCE, output_dt_s=1e-3, **scene)
-    tr = simulate(model, duration_s, integrator=integrator, output_dt_s=1e-3, **scene)
-    peak = np.abs(ref.tip_displacement_m).max()
-    return float(np.abs(tr.tip_position_m - ref.tip_position_m).max() / peak), tr
 
 
 def test_one_joint_under_a_tip_force():
@@ -26,7 +18,7 @@ def test_one_joint_under_a_tip_force():
     DOP853 within the phase drift of Gauss-Legendre's stated period error."""
     model = finite_segment_chain(BEAM, 1)
     duration = 1.0
-    err, tr = _tip_error(model, duration, Gauss(), tip_force=BEAM.tip_force_N,
+    err, tr = tip_error(model, duration, Gauss(), tip_force=BEAM.tip_force_N,
                          damping_ratio=0.0)
     omega = model.natural_frequencies()[0]
     x = 2 * np.pi / 40  # omega dt at the default 40 steps per period
@@ -46,7 +38,7 @@ def test_releases_converge_at_fourth_order(n, duration):
     model = finite_segment_chain(BEAM, n)
     w_max = model.natural_frequencies().max()
     scene = {"q0": np.full(n, 0.1), "damping_ratio": 0.0}
-    errs = [_tip_error(model, duration, Gauss(dt_s=x / w_max), **scene)[0]
+    errs = [tip_error(model, duration, Gauss(dt_s=x / w_max), **scene)[0]
             for x in (1.0, 0.5)]
     print(f"{n}R release: tip error {errs[0]:.2e} at omega_max dt = 1, {errs[1]:.2e} at 0.5")
     # 16x for the fourth order, 8x allowing the coarser step's pre-asymptotic terms; 1e-3:
@@ -86,7 +78,7 @@ def test_trapezoidal_one_joint_under_a_tip_force():
     tr0 = simulate(model, duration, method="trapezoidal", tip_force=BEAM.tip_force_N,
                    damping_ratio=0.0, output_dt_s=1e-3)
     h = tr0.t_s[-1] / tr0.steps
-    err, _ = _tip_error(model, duration, tr0.integrator, tip_force=BEAM.tip_force_N,
+    err, _ = tip_error(model, duration, tr0.integrator, tip_force=BEAM.tip_force_N,
                         damping_ratio=0.0)
     omega = model.natural_frequencies()[0]
     drift = duration * (omega - 2.0 / h * np.arctan(omega * h / 2.0))
