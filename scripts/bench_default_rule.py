@@ -3,7 +3,7 @@ integrators it picks between, at their accuracy.
 
 Writes docs/benchmarks/bench_default_rule.md (or the path given as the first argument). BLAS is
 pinned to one thread before numpy is imported. CPU time (``time.process_time``), best of
-``REPEATS`` (one run for a setting that costs more than half a second), the whole ``simulate``
+three (one run for a setting that costs more than a second), the whole ``simulate``
 call (the rule's eigenvalues included in "auto").
 
 Cases: finite-segment chains nR (n = 1, 2, 3, 5, 8) of the uniform narrow strip, 1 s simulated,
@@ -24,48 +24,25 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import platform  # noqa: E402
 import sys  # noqa: E402
-import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from prbdm_pin.chain.stiffness import finite_segment_stiffness  # noqa: E402
 from prbdm_pin.files.beam_file import load_beam  # noqa: E402
 from prbdm_pin.io.atomic import atomic_write_text  # noqa: E402
-from prbdm_pin.model.prbdm_model import build_model  # noqa: E402
 from prbdm_pin.options.integrators import Auto, Compiled, Exponential, ScipyIVP  # noqa: E402
 from prbdm_pin.simulation import simulate  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the scripts' shared helpers
+from bench_compiled import chain, cpu_per_s, error_pct  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DURATION_S = 1.0
 OUTPUT_DT_S = 1e-3
-REPEATS = 3
 FORCE_N = np.array([0.0, 0.0, -0.5])
 Q0_RAD = 0.1
 DAMPINGS = (("none", "modal", 0.0), ("2 % modal", "modal", 0.02),
             ("2 % stiffness", "stiffness", 0.02))
-
-
-def chain(beam, n: int):
-    lengths = np.full(n + 1, 1.0 / (n + 1)) * beam.length_m
-    return build_model(beam, lengths, finite_segment_stiffness(beam, lengths))
-
-
-def cpu_per_s(fn) -> tuple[float, object]:
-    """Best CPU time of ``fn`` per simulated second (s/s), and its last result."""
-    best, out = np.inf, None
-    for i in range(REPEATS):
-        t0 = time.process_time()
-        out = fn()
-        best = min(best, time.process_time() - t0)
-        if i == 0 and best > 0.5:
-            break
-    return best / DURATION_S, out
-
-
-def error_pct(tip: np.ndarray, ref_tip: np.ndarray) -> float:
-    d_ref = ref_tip - ref_tip[0]
-    return 100.0 * float(np.abs(tip - ref_tip).max() / np.abs(d_ref).max())
 
 
 def main() -> None:
