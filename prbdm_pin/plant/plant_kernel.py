@@ -91,6 +91,8 @@ def assemble_plant(M, k, xi, T, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fixed, cv
     for i in range(n):
         for j in range(n):
             a[i, j] = M[i, j] * s[i] * s[j]
+            if not math.isfinite(a[i, j]):
+                return False  # numba's eigh would raise; the general path says what is wrong
     mu, V = np.linalg.eigh(a)
     if not (mu[0] > 0.0 and mu[n - 1] / mu[0] <= cond_limit and mu[0] >= safe_inverse):
         return False  # NaN fails too

@@ -14,7 +14,7 @@ refuses, takes the general path, which also raises every error.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
@@ -37,6 +37,7 @@ _FIXED_OUTPUTS = ("q", "q_rate", "spring_torque")
 _SAFE_INVERSE = 2.0 / np.finfo(float).max
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _KERNEL = None
+_MAX_RATIOS = 16  # scalar damping ratios kept per layout
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +59,8 @@ class PlantLayout:
         The load stiffness without a load, N m/rad.
     lengths_m : ndarray (n+1,)
         The links' lengths, m (the load stiffness's lever arms).
+    ratios : dict
+        Checked damping ratios (n,) of the scalar ratios seen, by value.
     """
 
     input_names: tuple[str, ...]
@@ -76,6 +79,7 @@ class PlantLayout:
     zeros_pm: np.ndarray
     zeros_nn: np.ndarray
     lengths_m: np.ndarray
+    ratios: dict = field(default_factory=dict)
 
 
 def _layout(model, inputs, outputs) -> PlantLayout | None:
@@ -123,7 +127,7 @@ def plant_layout(model, inputs, outputs) -> PlantLayout | None:
     """Return the short path's layout of ``model`` for these names, or None (general path).
 
     Built once per model and names and kept in the model's cache; None for names the short
-    path does not cover, names that are not a hashable sequence, or names the checks refuse
+    path does not cover, names that are neither a list nor hashable, or names the checks refuse
     (the general path then raises the error).
 
     Examples
@@ -135,10 +139,13 @@ def plant_layout(model, inputs, outputs) -> PlantLayout | None:
     >>> plant_layout(model, ("tip_force_z",), ("tip_z", "q[1]")).state_names
     ('q[0]', 'q[1]', 'q_rate[0]', 'q_rate[1]')
     """
-    key = ("plant_layout", inputs, outputs)
+    # a list of names is as common as a tuple: the same key (a bare string stays one, and
+    # the checks refuse it)
+    key = ("plant_layout", tuple(inputs) if type(inputs) is list else inputs,
+           tuple(outputs) if type(outputs) is list else outputs)
     try:
         found = model._cache.get(key, False)
-    except TypeError:  # a list of names: not a key
+    except TypeError:  # names that are not hashable: not a key
         return None
     if found is False:
         try:
@@ -167,7 +174,14 @@ def fast_linearize(model, inputs, outputs, load_N, damping_ratio) -> LinearModel
     else:
         F = check_vector("load_N", load_N, "N")
         q = equilibrium(model, F, None)[0]
-    xi = damping_ratios(damping_ratio, n)
+    # a scalar ratio's checked broadcast, kept with the layout (the check costs as much as the
+    # kernel's arithmetic); a float is a safe key, its checked vector read-only
+    xi = lay.ratios.get(damping_ratio) if type(damping_ratio) is float else None
+    if xi is None:
+        xi = damping_ratios(damping_ratio, n)
+        if type(damping_ratio) is float and len(lay.ratios) < _MAX_RATIOS:
+            xi.setflags(write=False)
+            lay.ratios[damping_ratio] = xi
     pm, data = model.pin_model, model.default_data
     M = pin.crba(pm, data, q)
     J = pin.computeFrameJacobian(pm, data, q, model.tip_frame_id, _LWA)[:3].reshape(3, n)
@@ -187,12 +201,16 @@ def fast_linearize(model, inputs, outputs, load_N, damping_ratio) -> LinearModel
         return None
     for a in (A, B, C, K, Cd, Bq, Cq, Cv, y, u, M, q):
         a.setflags(write=False)
-    return LinearModel(
+    # the frozen dataclass's __init__ sets its 24 fields one object.__setattr__ at a time
+    # (a fifth of this call); it has no __post_init__, so its instance dict is filled at once
+    lin = object.__new__(LinearModel)
+    lin.__dict__.update(
         A=A, B=B, C=C, D=lay.zeros_pm, state_names=lay.state_names,
         input_names=lay.input_names, output_names=lay.output_names,
         input_units=lay.input_units, output_units=lay.output_units, q_eq=q, u_eq=u, y_eq=y,
         mass_kg_m2=M, stiffness_Nm_per_rad=K, damping_Nms_per_rad=Cd, input_map=Bq,
         output_map_position=Cq, output_map_rate=Cv, hub=False, spin_rad_s=0.0,
         gyroscopic_Nms_per_rad=None, output_map_acceleration=lay.zeros_pn,
-        output_map_input=lay.zeros_pm,
+        output_map_input=lay.zeros_pm, n_free=0,
     )
+    return lin
