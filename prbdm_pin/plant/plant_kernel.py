@@ -3,8 +3,9 @@
 :func:`prbdm_pin.linearize` of a plain planar chain (no hub, bus, gravity, spin or actuators;
 modal damping; tip-force and joint-torque inputs, tip, angle, rate and spring-torque outputs)
 spent about twenty numpy-sized steps of 2-20 us each after Pinocchio's CRBA and frame Jacobian.
-Here, from those quantities (M, J, the tip position, the springs and the dead load's stiffness
-T), one call forms what the general path forms step by step, with the same formulas:
+Here, from those quantities (M, J, the tip position, the springs; the dead load's stiffness T
+from the lengths, :mod:`prbdm_pin.chain.planar_statics_kernel`), one call forms what the
+general path forms step by step, with the same formulas:
 
 - K_e = diag(k) - T, symmetrised (:func:`prbdm_pin.plant.equilibrium.static_terms`);
 - C_d = M Phi diag(2 xi omega) Phi^T M, symmetrised, from the scaled problem S M S (S = K^-1/2)
@@ -29,6 +30,7 @@ import math
 import numba
 import numpy as np
 
+from ..chain.planar_statics_kernel import load_stiffness_into
 from ..chain.small_cholesky import cholesky_solve
 
 __all__ = ["assemble_plant", "assemble_plant_entry"]
@@ -38,7 +40,7 @@ _IN2 = numba.types.Array(numba.float64, 2, "A", readonly=True)
 _OUT1 = numba.types.Array(numba.float64, 1, "C")
 _OUT2 = numba.types.Array(numba.float64, 2, "C")
 _SIGNATURE = numba.types.boolean(
-    _IN2, _IN1, _IN1, _IN2, _IN2, _IN1, _IN1, _IN1,  # M, k, xi, T, J, p, q, F
+    _IN2, _IN1, _IN1, _IN1, _IN2, _IN1, _IN1, _IN1,  # M, k, xi, lengths, J, p, q, F
     _IN2, _IN2, _IN2, _IN2, _IN2, _IN2, _IN2,  # b_sel, b_fixed, cq_sel, cq_fixed, cv_sel, ...
     numba.float64, numba.float64,  # cond_limit, safe_inverse
     _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT1, _OUT1,  # A .. y, u
@@ -46,8 +48,8 @@ _SIGNATURE = numba.types.boolean(
 
 
 @numba.njit(_SIGNATURE, cache=True)
-def assemble_plant(M, k, xi, T, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fixed, cv_sel, cv_fixed,
-                   u_sel, cond_limit, safe_inverse, A, B, C, K, Cd, Bq, Cq, Cv, y, u
+def assemble_plant(M, k, xi, lengths, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fixed, cv_sel,
+                   cv_fixed, u_sel, cond_limit, safe_inverse, A, B, C, K, Cd, Bq, Cq, Cv, y, u
                    ):  # pragma: no cover - compiled
     """Fill the plant's matrices from M, the springs, the load stiffness and the tip kinematics.
 
@@ -57,8 +59,8 @@ def assemble_plant(M, k, xi, T, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fixed, cv
         Mass matrix at the pose, kg m^2 (symmetric).
     k, xi : ndarray (n,)
         Joint springs (N m/rad, > 0) and the modes' damping ratios (ascending frequency).
-    T : ndarray (n, n)
-        Load stiffness d(J^T F)/dq, N m/rad (zero without a load).
+    lengths : ndarray (n+1,)
+        Link lengths, m: the lever arms of the load stiffness T = d(J^T F)/dq.
     J, p : ndarray (3, n), (3,)
         The tip's world-aligned linear Jacobian (m/rad) and position (m).
     q, F : ndarray (n,), (3,)
@@ -108,6 +110,10 @@ def assemble_plant(M, k, xi, T, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fixed, cv
         d[c] = 2.0 * xi[c] * math.sqrt(1.0 / mu[src])
         for i in range(n):
             Phi[i, c] = s[i] * V[i, src] / r
+    T = np.zeros((n, n))
+    if F[0] != 0.0 or F[2] != 0.0:  # the planar chain feels the load's x and z
+        load_stiffness_into(lengths, q, F[0], F[2], np.empty(n), np.empty(n), np.empty(n),
+                            np.empty(n), T)
     # loops, not BLAS: for a short chain a dgemm call costs more than its arithmetic
     MP = np.zeros((n, n))
     for i in range(n):

@@ -20,11 +20,11 @@ import numpy as np
 import pinocchio as pin
 
 from ..chain.eigen import COND_LIMIT
-from ..chain.planar import force_and_load_stiffness
+from ..chain.planar_statics_fast import static_deflection_straight
 from ..model.inputs import input_unit, parse_inputs
 from ..model.outputs import output_unit, parse_outputs
 from ..simulation.damping import damping_ratios
-from .equilibrium import check_vector, equilibrium
+from .equilibrium import check_vector
 from .state_space import LinearModel
 
 __all__ = ["PlantLayout", "plant_layout", "fast_linearize"]
@@ -55,8 +55,6 @@ class PlantLayout:
         u_eq = u_sel F, F the dead tip force (N).
     zeros_pn, zeros_pm : ndarray (p, n), (p, m)
         The acceleration map C_a, the direct map D_u and D (no output here reads either).
-    zeros_nn : ndarray (n, n)
-        The load stiffness without a load, N m/rad.
     lengths_m : ndarray (n+1,)
         The links' lengths, m (the load stiffness's lever arms).
     ratios : dict
@@ -77,7 +75,6 @@ class PlantLayout:
     u_sel: np.ndarray
     zeros_pn: np.ndarray
     zeros_pm: np.ndarray
-    zeros_nn: np.ndarray
     lengths_m: np.ndarray
     ratios: dict = field(default_factory=dict)
 
@@ -113,7 +110,7 @@ def _layout(model, inputs, outputs) -> PlantLayout | None:
             return None
     coords = [f"q[{j}]" for j in range(n)]
     arrays = (b_sel, b_fixed, cq_sel, cq_fixed, cv_sel, cv_fixed, u_sel, np.zeros((p, n)),
-              np.zeros((p, m)), np.zeros((n, n)), np.array(model.lengths_m, dtype=float))
+              np.zeros((p, m)), np.array(model.lengths_m, dtype=float))
     for a in arrays:
         a.setflags(write=False)
     in_names = tuple(s for s, _, _ in ins)
@@ -173,7 +170,9 @@ def fast_linearize(model, inputs, outputs, load_N, damping_ratio) -> LinearModel
         q = np.zeros(n)
     else:
         F = check_vector("load_N", load_N, "N")
-        q = equilibrium(model, F, None)[0]
+        # the general path's equilibrium (the planar statics from the straight pose), its
+        # plain descent compiled
+        q = static_deflection_straight(lay.lengths_m, model.stiffness_Nm_per_rad, F)
     # a scalar ratio's checked broadcast, kept with the layout (the check costs as much as the
     # kernel's arithmetic); a float is a safe key, its checked vector read-only
     xi = lay.ratios.get(damping_ratio) if type(damping_ratio) is float else None
@@ -186,8 +185,6 @@ def fast_linearize(model, inputs, outputs, load_N, damping_ratio) -> LinearModel
     M = pin.crba(pm, data, q)
     J = pin.computeFrameJacobian(pm, data, q, model.tip_frame_id, _LWA)[:3].reshape(3, n)
     tip = pin.updateFramePlacement(pm, data, model.tip_frame_id).translation
-    # the load stiffness of the general path's static_terms: the planar chain feels x and z
-    T = force_and_load_stiffness(lay.lengths_m, q, F)[1] if F[0] or F[2] else lay.zeros_nn
     if _KERNEL is None:  # numba is imported on first use, not with the package
         from .plant_kernel import assemble_plant_entry
 
@@ -195,9 +192,9 @@ def fast_linearize(model, inputs, outputs, load_N, damping_ratio) -> LinearModel
     A, B, C = np.empty((2 * n, 2 * n)), np.empty((2 * n, m)), np.empty((p, 2 * n))
     K, Cd, Bq = np.empty((n, n)), np.empty((n, n)), np.empty((n, m))
     Cq, Cv, y, u = np.empty((p, n)), np.empty((p, n)), np.empty(p), np.empty(m)
-    if not _KERNEL(M, model.stiffness_Nm_per_rad, xi, T, J, tip, q, F, lay.b_sel, lay.b_fixed,
-                   lay.cq_sel, lay.cq_fixed, lay.cv_sel, lay.cv_fixed, lay.u_sel, COND_LIMIT,
-                   _SAFE_INVERSE, A, B, C, K, Cd, Bq, Cq, Cv, y, u):
+    if not _KERNEL(M, model.stiffness_Nm_per_rad, xi, lay.lengths_m, J, tip, q, F, lay.b_sel,
+                   lay.b_fixed, lay.cq_sel, lay.cq_fixed, lay.cv_sel, lay.cv_fixed, lay.u_sel,
+                   COND_LIMIT, _SAFE_INVERSE, A, B, C, K, Cd, Bq, Cq, Cv, y, u):
         return None
     for a in (A, B, C, K, Cd, Bq, Cq, Cv, y, u, M, q):
         a.setflags(write=False)
