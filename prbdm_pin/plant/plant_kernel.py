@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from ..chain.planar_statics_kernel import load_stiffness_into
-from ..chain.small_cholesky import cholesky_solve
+from ..chain.small_cholesky import cholesky_solve, cholesky_substitute
 
 __all__ = ["assemble_plant", "assemble_plant_entry"]
 
@@ -147,8 +147,11 @@ def assemble_plant(M, k, xi, lengths, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fix
     for c in range(2 * n + m):
         for i in range(n):
             rhs[i] = K[i, c] if c < n else (Cd[i, c - n] if c < 2 * n else Bq[i, c - 2 * n])
-        if not cholesky_solve(M, L, rhs, x):
-            return False
+        if c == 0:
+            if not cholesky_solve(M, L, rhs, x):  # the factor, once
+                return False
+        else:
+            cholesky_substitute(L, rhs, x)
         for i in range(n):
             if c < 2 * n:
                 A[n + i, c] = -x[i]
