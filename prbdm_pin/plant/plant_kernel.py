@@ -43,13 +43,13 @@ _SIGNATURE = numba.types.boolean(
     _IN2, _IN1, _IN1, _IN1, _IN2, _IN1, _IN1, _IN1,  # M, k, xi, lengths, J, p, q, F
     _IN2, _IN2, _IN2, _IN2, _IN2, _IN2, _IN2,  # b_sel, b_fixed, cq_sel, cq_fixed, cv_sel, ...
     numba.float64, numba.float64,  # cond_limit, safe_inverse
-    _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT1, _OUT1,  # A .. y, u
+    _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT2, _OUT1, _OUT1,  # A, B, C, K, Cd, Bq, y, u
 )
 
 
 @numba.njit(_SIGNATURE, cache=True)
 def assemble_plant(M, k, xi, lengths, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fixed, cv_sel,
-                   cv_fixed, u_sel, cond_limit, safe_inverse, A, B, C, K, Cd, Bq, Cq, Cv, y, u
+                   cv_fixed, u_sel, cond_limit, safe_inverse, A, B, C, K, Cd, Bq, y, u
                    ):  # pragma: no cover - compiled
     """Fill the plant's matrices from M, the springs, the load stiffness and the tip kinematics.
 
@@ -74,9 +74,9 @@ def assemble_plant(M, k, xi, lengths, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fix
     cond_limit, safe_inverse : float
         :data:`prbdm_pin.chain.eigen.COND_LIMIT` and the smallest eigenvalue whose inverse
         cannot overflow.
-    A, B, C, K, Cd, Bq, Cq, Cv, y, u : ndarray
-        Outputs, shapes (2n, 2n), (2n, m), (p, 2n), (n, n) twice, (n, m), (p, n) twice, (p,),
-        (m,).
+    A, B, C, K, Cd, Bq, y, u : ndarray
+        Outputs, shapes (2n, 2n), (2n, m), (p, 2n), (n, n) twice, (n, m), (p,), (m,); C is
+        [C_q, C_v].
 
     Returns
     -------
@@ -167,8 +167,6 @@ def assemble_plant(M, k, xi, lengths, J, p, q, F, b_sel, b_fixed, cq_sel, cq_fix
             for t in range(3):
                 vq += cq_sel[r, t] * J[t, i]
                 vv += cv_sel[r, t] * J[t, i]
-            Cq[r, i] = vq
-            Cv[r, i] = vv
             C[r, i] = vq
             C[r, n + i] = vv
             yr += cq_fixed[r, i] * q[i]

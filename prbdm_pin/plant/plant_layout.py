@@ -191,13 +191,15 @@ def fast_linearize(model, inputs, outputs, load_N, damping_ratio) -> LinearModel
         _KERNEL = assemble_plant_entry()
     A, B, C = np.empty((2 * n, 2 * n)), np.empty((2 * n, m)), np.empty((p, 2 * n))
     K, Cd, Bq = np.empty((n, n)), np.empty((n, n)), np.empty((n, m))
-    Cq, Cv, y, u = np.empty((p, n)), np.empty((p, n)), np.empty(p), np.empty(m)
+    y, u = np.empty(p), np.empty(m)
     if not _KERNEL(M, model.stiffness_Nm_per_rad, xi, lay.lengths_m, J, tip, q, F, lay.b_sel,
                    lay.b_fixed, lay.cq_sel, lay.cq_fixed, lay.cv_sel, lay.cv_fixed, lay.u_sel,
-                   COND_LIMIT, _SAFE_INVERSE, A, B, C, K, Cd, Bq, Cq, Cv, y, u):
+                   COND_LIMIT, _SAFE_INVERSE, A, B, C, K, Cd, Bq, y, u):
         return None
-    for a in (A, B, C, K, Cd, Bq, Cq, Cv, y, u, M, q):
+    for a in (A, B, C, K, Cd, Bq, y, u, M, q):
         a.setflags(write=False)
+    # no output reads the acceleration: C = [C_q, C_v], whose halves are read-only views
+    Cq, Cv = C[:, :n], C[:, n:]
     # the frozen dataclass's __init__ sets its 24 fields one object.__setattr__ at a time
     # (a fifth of this call); it has no __post_init__, so its instance dict is filled at once
     lin = object.__new__(LinearModel)
