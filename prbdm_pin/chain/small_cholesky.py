@@ -13,7 +13,7 @@ import math
 
 import numba
 
-__all__ = ["cholesky_solve"]
+__all__ = ["cholesky_solve", "cholesky_substitute"]
 
 
 @numba.njit(cache=True)
@@ -33,6 +33,17 @@ def cholesky_solve(M, L, b, out):
             for k in range(j):
                 s -= L[i, k] * L[j, k]
             L[i, j] = s / d
+    cholesky_substitute(L, b, out)
+    return True
+
+
+@numba.njit(cache=True)
+def cholesky_substitute(L, b, out):
+    """Solve L L^T x = b into ``out`` by the factor L of :func:`cholesky_solve` (lower).
+
+    A further right-hand side of the same matrix, without factoring it again.
+    """
+    n = b.size
     for i in range(n):
         s = b[i]
         for k in range(i):
@@ -43,4 +54,3 @@ def cholesky_solve(M, L, b, out):
         for k in range(i + 1, n):
             s -= L[k, i] * out[k]
         out[i] = s / L[i, i]
-    return True

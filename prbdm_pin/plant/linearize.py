@@ -30,6 +30,7 @@ from ..model.outputs import (
 from ..simulation.hub_damping import plant_damping
 from .acceleration_outputs import load_rows, output_matrices
 from .equilibrium import check_vector, equilibrium, gravity_model, static_terms
+from .plant_layout import fast_linearize
 from .spin import check_spin, spin_terms
 from .state_space import LinearModel
 
@@ -197,6 +198,15 @@ def linearize(
 
     if not isinstance(model, PrbdmModel):
         raise InputTypeError(f"model = {model!r}: must be a PrbdmModel")
+    if (q_eq is None and gravity_m_s2 is None and spin_rad_s is None
+            and isinstance(damping, str) and damping == "modal"
+            and isinstance(actuators, tuple) and not actuators
+            and isinstance(loads, tuple) and not loads
+            and model.bus is None and model.hub is None and not model.axes.spatial):
+        # the common plant: one compiled call (:mod:`.plant_layout`); None: the general path
+        lin = fast_linearize(model, inputs, outputs, load_N, damping_ratio)
+        if lin is not None:
+            return lin
     acts = _actuators(actuators)
     if acts and model.axes.spatial:
         # a patch's moment pair is defined on the bending joints of the planar chain
