@@ -36,6 +36,7 @@ class Chain:
     def __init__(self, model, b0: np.ndarray):
         self.pm = model.pin_model
         self.data = self.pm.createData()
+        self.tip_frame = int(model.tip_frame_id)
         self.lengths = np.asarray(model.lengths_m, dtype=float)
         self.b0 = b0
 
@@ -87,13 +88,16 @@ class Field:
         self.dtau_dx = np.hstack((-np.diag(d.k) - BG[:, :n], -np.diag(d.beta * d.k + d.c)
                                   - BG[:, n:]))
         self.loaded = bool(force.any())
-        # the moved chains side by side: (lo_1, hi_1, lo_2, ...), their kinematics in one call
+        # the moved chains side by side: (lo_1, hi_1, lo_2, ...), all evaluated in one call
         moved = [ch for lo, hi, _ in variants for ch in (lo, hi)]
-        self.moved = [(ch.pm, ch.data) for ch in moved]
         self.moved_lengths = np.array([ch.lengths for ch in moved]).reshape(len(moved), n + 1)
-        self.moved_b0 = np.array([ch.b0 for ch in moved]).reshape(len(moved), n, d.m)
         self.two_h = np.array([2.0 * h for _, _, h in variants])
-        self._moved_a = np.empty((len(moved), n))  # overwritten by every evaluation
+        self.stations = None
+        if moved:
+            from .sensitivity_stations import MovedChains  # numba loads with the stations
+
+            self.stations = MovedChains([(ch.pm, ch.tip_frame, ch.b0) for ch in moved],
+                                        self.two_h)
         self.evaluations = 0
 
     def _torque(self, chain: Chain, q, v, u):
@@ -146,24 +150,10 @@ class Field:
         if "initial" in s:  # the start state enters through S(0) alone
             Fp[:, s["initial"]] = 0.0
         if "stations" in s:
-            a_m, z_m = self._moved(q, v, u)
-            Fp[:, s["stations"]] = ((a_m[1::2] - a_m[0::2]) / self.two_h[:, None]).T
-            dzp[s["stations"]] = (z_m[1::2] - z_m[0::2]) / self.two_h
+            self.stations.columns(q, v, u, d.k, d.beta, d.c, self.force, self.loaded, Fp, dzp,
+                                  s["stations"].start)
         self.evaluations += 1
         return a, u, z, dz, A, Fp, dzp
-
-    def _moved(self, q: np.ndarray, v: np.ndarray, u: np.ndarray):
-        """Accelerations (2 n_s, n) and tip heights (2 n_s,) of the moved chains at (q, v, u)."""
-        d = self.d
-        z, jtf = chains_at_pose(self.moved_lengths, q, self.force)
-        tau = jtf if self.loaded else np.zeros_like(jtf)
-        tau -= d.k * (q + d.beta * v) + d.c * v
-        if d.m:
-            tau += self.moved_b0 @ u
-        a = self._moved_a
-        for i, (pm, data) in enumerate(self.moved):
-            a[i] = pin.aba(pm, data, q, v, tau[i])
-        return a, z
 
     def tip_station_derivative(self, q: np.ndarray) -> np.ndarray:
         """Return dz/dp (P,) of the tip height at pose q: the stations' central difference."""
