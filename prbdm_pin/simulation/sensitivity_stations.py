@@ -1,12 +1,14 @@
 """The stations' columns of a trajectory gradient's design derivative, compiled (numba).
 
-The field's derivative by a joint station s_j is the central difference of its accelerations
-and tip height between the two chains with the station moved by -h and +h (the formula and
-its step: :mod:`.sensitivity_field`). Here every moved chain's forward dynamics runs in one
-compiled call on the chain kernel (:mod:`prbdm_pin.kernel.dynamics`, CRBA, RNEA and Cholesky,
-checked against Pinocchio's ABA to 1e-12 in its tests) instead of one Pinocchio call per
-chain and stage: at 5 stations the ten ``pin.aba`` calls and their Python overhead were about
-a third of an all-groups gradient's CPU.
+The accelerations a(s) solve r(s, a) = tau(s) - M(s) a - h(s) = 0, so their derivative by a
+joint station s_j is da/ds_j = M^-1 dr/ds_j at the nominal a, and dr/ds_j is taken as the
+central difference of r between the two chains with the station moved by -h and +h (the step:
+:mod:`.sensitivity_field`), the tip height's derivative likewise. r needs no factorisation
+of the moved chains' mass matrices: M^-1 is the nominal one, from Pinocchio's ABA
+derivatives. Every moved chain runs in one compiled call on the chain kernel
+(:mod:`prbdm_pin.kernel.dynamics`: kinematics, CRBA, RNEA, J^T F, checked against Pinocchio
+in its tests) instead of one ``pin.aba`` call per chain and stage: at 5 stations those ten
+calls and their Python overhead were about a third of an all-groups gradient's CPU.
 
 Imported only by a gradient with stations (numba loads with it).
 """
@@ -16,7 +18,6 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..chain.small_cholesky import cholesky_solve
 from ..kernel.build import chain_kernel
 from ..kernel.dynamics import body_inertias, crba, kinematics, rnea_bias, tip_force_torque
 
@@ -25,13 +26,13 @@ __all__ = ["MovedChains"]
 
 @numba.njit(cache=True)
 def _station_columns(jtype, jaxis, Rp, pp, mass, com, Ic, tj, tp, grav, B, two_h,
-                     Rw, ow, S, mc, IO, cm, cmc, cIO, V, A, F, M, L, h, tau, a,
-                     q, v, u, k, beta, c, force, loaded, a_out, z_out, Fp, dzp, col):
+                     Rw, ow, S, mc, IO, cm, cmc, cIO, V, A, F, M, h, q, v, u, k, beta, c,
+                     force, loaded, acc, Minv, r_out, z_out, Fp, dzp, col):
     """Write the stations' columns of d a/dp into Fp[:, col:] and of dz/dp into dzp[col:].
 
     The moved chains are stacked on the first axis of the kernel arrays (lo_1, hi_1, lo_2,
-    ...); the others are one chain's workspace, reused chain after chain. Returns False when
-    a moved chain's mass matrix is not positive definite.
+    ...); the others are one chain's workspace, reused chain after chain. ``acc`` (n,) and
+    ``Minv`` (n, n) are the nominal chain's accelerations and inverse mass matrix at (q, v).
     """
     n = q.size
     for i in range(jtype.shape[0]):
@@ -45,22 +46,24 @@ def _station_columns(jtype, jaxis, Rp, pp, mass, com, Ic, tj, tp, grav, B, two_h
             s = -k[r] * (q[r] + beta * v[r]) - c[r] * v[r]
             for j in range(u.size):
                 s += B[i, r, j] * u[j]
-            tau[r] = s
+            r_out[i, r] = s
         if loaded:
-            tip_force_torque(t, tp[i], Rw, ow, S, force, tau)
+            tip_force_torque(t, tp[i], Rw, ow, S, force, r_out[i])
+        # the residual tau - M a - h of the moved chain at the nominal accelerations
         crba(mass[i], S, mc, IO, cm, cmc, cIO, F, M)
         rnea_bias(mass[i], grav, S, mc, IO, v, V, A, F, h)
         for r in range(n):
-            tau[r] -= h[r]
-        if not cholesky_solve(M, L, tau, a):
-            return False
-        for r in range(n):
-            a_out[i, r] = a[r]
+            s = r_out[i, r] - h[r]
+            for m in range(n):
+                s -= M[r, m] * acc[m]
+            r_out[i, r] = s
     for j in range(two_h.size):
         dzp[col + j] = (z_out[2 * j + 1] - z_out[2 * j]) / two_h[j]
         for r in range(n):
-            Fp[r, col + j] = (a_out[2 * j + 1, r] - a_out[2 * j, r]) / two_h[j]
-    return True
+            s = 0.0
+            for m in range(n):
+                s += Minv[r, m] * (r_out[2 * j + 1, m] - r_out[2 * j, m])
+            Fp[r, col + j] = s / two_h[j]
 
 
 class MovedChains:
@@ -86,14 +89,20 @@ class MovedChains:
         self.gravity = np.ascontiguousarray(first.gravity_m_s2, dtype=float)
         self.B = np.ascontiguousarray(np.array([b for _, _, b in chains], dtype=float))
         self.two_h = np.ascontiguousarray(two_h, dtype=float)
-        self.work = first.new_data().arrays()
+        w = first.new_data()
+        self.work = (w.rotation, w.origin_m, w.motion_subspace, w.first_moment_kg_m,
+                     w.inertia_origin_kg_m2, w.composite_mass_kg, w.composite_first_moment_kg_m,
+                     w.composite_inertia_kg_m2, w.velocity, w.acceleration, w.force,
+                     w.mass_matrix, w.bias)
         self.a = np.empty((len(kernels), first.n))
         self.z = np.empty(len(kernels))
 
-    def columns(self, q, v, u, k, beta, c, force, loaded, Fp, dzp, col: int) -> None:
-        """Fill the stations' columns (from ``col``) of Fp (n, P) and dzp (P,) at (q, v, u)."""
-        ok = _station_columns(*self.stack, self.tip_joint, self.tip_point, self.gravity,
-                              self.B, self.two_h, *self.work, q, v, u, k, float(beta), c,
-                              force, bool(loaded), self.a, self.z, Fp, dzp, col)
-        if not ok:
-            raise FloatingPointError("a moved chain's mass matrix is not positive definite")
+    def columns(self, q, v, u, k, beta, c, force, loaded, acc, Minv, Fp, dzp, col: int
+                ) -> None:
+        """Fill the stations' columns (from ``col``) of Fp (n, P) and dzp (P,) at (q, v, u).
+
+        ``acc`` (n,) and ``Minv`` (n, n): the nominal chain's accelerations and M^-1 there.
+        """
+        _station_columns(*self.stack, self.tip_joint, self.tip_point, self.gravity, self.B,
+                         self.two_h, *self.work, q, v, u, k, float(beta), c, force,
+                         bool(loaded), acc, Minv, self.a, self.z, Fp, dzp, col)
