@@ -15,7 +15,11 @@ The stations move the links' masses, centres and inertias and the joints' placem
 derivative is a central difference of this vector field (not of a trajectory) between two
 chains rebuilt by ``build_model`` with the station moved by +-h, h = EPS^(1/3) L (L the
 beam length): truncation h^2/6 |a'''| and rounding EPS |a| / h balance there, about 1e-10
-relative to a on a member whose planform varies over its length.
+relative to a on a member whose planform varies over its length. The difference is taken of
+the residual tau - M a - h at the nominal a, then multiplied by M^-1 (:mod:`.sensitivity_stations`):
+the implicit function's derivative, with no factorisation of the moved chains.
+
+Everything but Pinocchio's ABA and its derivatives runs compiled (:mod:`.sensitivity_kernel`).
 """
 
 from __future__ import annotations
