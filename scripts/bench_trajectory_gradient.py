@@ -5,7 +5,7 @@ The issue's target: a gradient costs <= 3x the trajectory. Per case, process CPU
 - the trajectory: the same fixed-step RK4 run with its cost integral and no sensitivities
   (``parameters=()``, the same steps);
 - the gradient in each parameter group (``springs``, ``gain``, ``beta`` + ``dampers``,
-  ``stations``) and in all of them at once;
+  ``stations``, ``initial``: the start state) and in all of them at once;
 - the central differences of J the gradient replaces: 2 runs per parameter;
 - ``simulate``'s default integrator on the same closed loop, as a reference of what one
   simulated response costs in the package (its own steps and accuracy; the stiffness-proportional
@@ -47,8 +47,8 @@ from docs_tables import write_table  # noqa: E402
 
 BEAM = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.03, 0.02], thickness_m=0.01)
 GROUPS = {"springs": ("springs",), "gain": ("gain",), "damping": ("beta", "dampers"),
-          "stations": ("stations",),
-          "all": ("springs", "stations", "beta", "dampers", "gain")}
+          "stations": ("stations",), "initial": ("initial",),
+          "all": ("springs", "stations", "beta", "dampers", "gain", "initial")}
 
 
 def case(n: int):
