@@ -15,9 +15,8 @@ The stations move the links' masses, centres and inertias and the joints' placem
 derivative is a central difference of this vector field (not of a trajectory) between two
 chains rebuilt by ``build_model`` with the station moved by +-h, h = EPS^(1/3) L (L the
 beam length): truncation h^2/6 |a'''| and rounding EPS |a| / h balance there, about 1e-10
-relative to a on a member whose planform varies over its length. The difference is taken of
-the residual tau - M a - h at the nominal a, then multiplied by M^-1 (:mod:`.sensitivity_stations`):
-the implicit function's derivative, with no factorisation of the moved chains.
+relative to a on a member whose planform varies over its length. Every moved chain is
+evaluated in one compiled call per stage (:mod:`.sensitivity_stations`).
 
 Everything but Pinocchio's ABA and its derivatives runs compiled (:mod:`.sensitivity_kernel`).
 """
@@ -40,6 +39,7 @@ class Chain:
     def __init__(self, model, b0: np.ndarray):
         self.pm = model.pin_model
         self.data = self.pm.createData()
+        self.model = model
         self.tip_frame = int(model.tip_frame_id)
         self.lengths = np.array(model.lengths_m, dtype=float)  # a writable copy: one numba type
         self.b0 = b0
@@ -111,12 +111,8 @@ class Field:
         moved = [ch for lo, hi, _ in variants for ch in (lo, hi)]
         self.moved_lengths = np.array([ch.lengths for ch in moved]).reshape(len(moved), n + 1)
         self.two_h = np.array([2.0 * h for _, _, h in variants])
-        self.stations = None
-        if moved:
-            from .sensitivity_stations import MovedChains  # numba loads with the stations
-
-            self.stations = MovedChains([(ch.pm, ch.tip_frame, ch.b0) for ch in moved],
-                                        self.two_h)
+        self.stations = _moved_chains(moved, design.k, self.force, self.two_h) if moved \
+            else None
         self.evaluations = 0
 
     def _torque(self, t: float, x: np.ndarray):
@@ -180,6 +176,21 @@ class Field:
             z = chains_at_pose(self.moved_lengths, q, self.force)[0]
             out[s] = (z[1::2] - z[0::2]) / self.two_h
         return out
+
+
+def _moved_chains(moved: list, k: np.ndarray, force: np.ndarray, two_h: np.ndarray):
+    """Return the stations' evaluator: the planar closed forms when every moved chain has them.
+
+    That is a clamped planar chain without gravity and with its centres of mass on the links'
+    axes (what ``build_model`` gives); otherwise the general kernel's residual.
+    """
+    from ..chain.planar_batch import design_links
+    from .sensitivity_stations import MovedChains, PlanarMovedChains  # numba loads here
+
+    links = design_links([ch.model for ch in moved])
+    if links is not None and not any(ch.pm.gravity.linear.any() for ch in moved):
+        return PlanarMovedChains(links, np.array([ch.b0 for ch in moved]), k, force, two_h)
+    return MovedChains([(ch.pm, ch.tip_frame, ch.b0) for ch in moved], two_h)
 
 
 def station_variants(model, k: np.ndarray, input_map) -> list:

@@ -100,13 +100,15 @@ def stage_rates(dq, dv, Minv, dtau0, rc, rs, force, loaded, B, x, x_ref, k, beta
                     mb += Minv[i, r] * B[r, a]
                 for b in range(2 * n):
                     Fp[i, s_g + a * 2 * n + b] = -mb * (x[b] - x_ref[b])
+    # row by row, the inner loops along the contiguous parameter axis
     for i in range(n):
         for p in range(P):
             dS[i, p] = S[n + i, p]
-            s = Fp[i, p]
-            for j in range(2 * n):
-                s += A[i, j] * S[j, p]
-            dS[n + i, p] = s
+            dS[n + i, p] = Fp[i, p]
+        for j in range(2 * n):
+            w = A[i, j]
+            for p in range(P):
+                dS[n + i, p] += w * S[j, p]
     # dl/dx through u = u_ref - G (x - x_ref) and z(q): lx - lu G, plus lz dz/dq on the angles
     for p in range(P):
         dg[p] = lz * dzp[p]

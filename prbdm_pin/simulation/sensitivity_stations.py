@@ -1,27 +1,41 @@
 """The stations' columns of a trajectory gradient's design derivative, compiled (numba).
 
-The accelerations a(s) solve r(s, a) = tau(s) - M(s) a - h(s) = 0, so their derivative by a
-joint station s_j is da/ds_j = M^-1 dr/ds_j at the nominal a, and dr/ds_j is taken as the
-central difference of r between the two chains with the station moved by -h and +h (the step:
-:mod:`.sensitivity_field`), the tip height's derivative likewise. r needs no factorisation
-of the moved chains' mass matrices: M^-1 is the nominal one, from Pinocchio's ABA
-derivatives. Every moved chain runs in one compiled call on the chain kernel
-(:mod:`prbdm_pin.kernel.dynamics`: kinematics, CRBA, RNEA, J^T F, checked against Pinocchio
-in its tests) instead of one ``pin.aba`` call per chain and stage: at 5 stations those ten
-calls and their Python overhead were about a third of an all-groups gradient's CPU.
+The columns are central differences of the vector field between the two chains with a joint
+station moved by -h and +h (the step: :mod:`.sensitivity_field`), all moved chains in one
+compiled call per stage instead of one ``pin.aba`` call per chain and stage (at 5 stations
+those ten calls and their Python overhead were about a third of an all-groups gradient's CPU).
+Two evaluators:
+
+- :class:`PlanarMovedChains`, for the chains ``build_model`` gives (clamped, planar, no
+  gravity, centres of mass on the links' axes): the moved chains' accelerations and tip
+  heights by the batched simulation's planar closed forms
+  (:mod:`prbdm_pin.chain.planar_batch_kernel`), differenced;
+- :class:`MovedChains`, for any other serial chain: a(s) solves r(s, a) = tau(s) - M(s) a -
+  h(s) = 0, so da/ds_j = M^-1 dr/ds_j at the nominal a, with dr/ds_j the central difference
+  of r on the general kernel (:mod:`prbdm_pin.kernel.dynamics`: kinematics, CRBA, RNEA,
+  J^T F) and M^-1 the nominal chain's from Pinocchio's ABA derivatives (no factorisation of
+  the moved chains).
+
+Both are the same derivative to the difference's truncation, O(h^2) (about 1e-10 of the
+accelerations); the tests check both against central differences of Pinocchio's ABA on
+rebuilt models.
 
 Imported only by a gradient with stations (numba loads with it).
 """
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
+# the batched simulation's compiled planar accelerations, called from compiled code here
+from ..chain.planar_batch_kernel import _batch
 from ..kernel.build import chain_kernel
 from ..kernel.dynamics import body_inertias, crba, kinematics, rnea_bias, tip_force_torque
 
-__all__ = ["MovedChains"]
+__all__ = ["MovedChains", "PlanarMovedChains"]
 
 
 @numba.njit(cache=True)
@@ -106,3 +120,78 @@ class MovedChains:
         _station_columns(*self.stack, self.tip_joint, self.tip_point, self.gravity, self.B,
                          self.two_h, *self.work, q, v, u, k, float(beta), c, force,
                          bool(loaded), acc, Minv, self.a, self.z, Fp, dzp, col)
+
+
+@numba.njit(cache=True)
+def _planar_station_columns(L, mass, off, iyy, K, Bm, F, q, v, u, beta, c, Y, tau, out, z_out,
+                            two_h, Fp, dzp, col):
+    """Write the stations' columns from the moved chains' accelerations, planar closed forms.
+
+    One row per moved chain (lo_1, hi_1, lo_2, ...) of the :class:`PlanarLinks` arrays ``L``,
+    ``mass``, ``off``, ``iyy``, of the springs ``K`` (rows alike), inputs maps ``Bm`` and tip
+    forces ``F``; ``Y``, ``tau``, ``out`` (rows), ``z_out`` scratch. The columns are the central
+    differences of the accelerations and tip heights between each station's pair.
+    """
+    n = q.size
+    for i in range(Y.shape[0]):
+        phi, z = 0.0, 0.0
+        for r in range(n):
+            Y[i, r] = q[r]
+            Y[i, n + r] = v[r]
+            s = -(beta * K[i, r] + c[r]) * v[r]
+            for j in range(u.size):
+                s += Bm[i, r, j] * u[j]
+            tau[i, r] = s
+            phi += q[r]
+            z -= L[i, r + 1] * math.sin(phi)
+        z_out[i] = z
+    _batch(L, mass, off, iyy, Y, K, np.zeros((0, 0, 0)), tau, F, out)
+    for j in range(two_h.size):
+        dzp[col + j] = (z_out[2 * j + 1] - z_out[2 * j]) / two_h[j]
+        for r in range(n):
+            Fp[r, col + j] = (out[2 * j + 1, n + r] - out[2 * j, n + r]) / two_h[j]
+
+
+class PlanarMovedChains:
+    """The moved chains of every station in the planar closed forms, and their workspace.
+
+    The planar chains the package builds (clamped, no gravity, centres of mass on the links'
+    axes: :func:`prbdm_pin.chain.planar_batch.design_links`) take the batched simulation's
+    compiled accelerations (:mod:`prbdm_pin.chain.planar_batch_kernel`: the closed-form M, h
+    and J^T F and a Cholesky solve per chain), about half the arithmetic of the general
+    kernel's kinematics, CRBA and RNEA per chain.
+
+    Parameters
+    ----------
+    links : PlanarLinks
+        The moved chains (lo_1, hi_1, lo_2, ...).
+    B : ndarray (c, n, m)
+        Their inputs maps.
+    k : ndarray (n,)
+        The joint springs, N m/rad.
+    force : ndarray (3,)
+        The tip force, N.
+    two_h : ndarray (n_s,)
+        Twice each station's step, m.
+    """
+
+    def __init__(self, links, B, k, force, two_h):
+        c, n = links.mass_kg.shape
+        self.links = tuple(np.ascontiguousarray(a, dtype=float) for a in (
+            links.lengths_m, links.mass_kg, links.com_offset_m, links.inertia_yy_kg_m2))
+        self.K = np.tile(np.asarray(k, dtype=float), (c, 1))
+        self.B = np.ascontiguousarray(B, dtype=float).reshape(c, n, -1)
+        self.F = np.tile(np.asarray(force, dtype=float), (c, 1))
+        self.two_h = np.array(two_h, dtype=float)
+        self.Y, self.tau = np.empty((c, 2 * n)), np.empty((c, n))
+        self.out, self.z = np.empty((c, 2 * n)), np.empty(c)
+
+    def columns(self, q, v, u, k, beta, c, force, loaded, acc, Minv, Fp, dzp, col: int
+                ) -> None:
+        """Fill the stations' columns as :meth:`MovedChains.columns` does.
+
+        ``k`` and ``force`` were fixed at construction, ``loaded`` is read from the force
+        (zero rows add nothing) and ``acc``, ``Minv`` are not needed.
+        """
+        _planar_station_columns(*self.links, self.K, self.B, self.F, q, v, u, float(beta), c,
+                                self.Y, self.tau, self.out, self.z, self.two_h, Fp, dzp, col)

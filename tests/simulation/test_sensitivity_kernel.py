@@ -2,8 +2,9 @@
 against Pinocchio and central differences at one state.
 
 The closed loop's torque and tip terms against Pinocchio's frame Jacobian and placement; df/dx
-and every design column of df/dp (springs, beta, dampers, gain, stations) and the tip height's
-station derivative against central differences of Pinocchio's ABA (and frame placement) on
+and every design column of df/dp (springs, beta, dampers, gain, stations: by the planar closed
+forms and by the general kernel's residual) and the tip height's station derivative against
+central differences of Pinocchio's ABA (and frame placement) on
 models rebuilt by ``build_model`` with the parameter moved. The whole-run gradients are checked
 against differences of re-simulated runs in test_trajectory_gradient.py.
 """
@@ -12,11 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import pytest
 from central_differences import central_difference
 from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.simulation.sensitivity_field import Chain, Field, FieldDesign, station_variants
+from prbdm_pin.simulation.sensitivity_stations import MovedChains
 
 # a tapered strip: the links' masses and inertias move non-linearly with the stations
 BEAM = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.03, 0.02], thickness_m=0.01)
@@ -89,9 +92,15 @@ def test_state_jacobian_matches_central_differences_of_aba():
     assert np.all(np.abs(A - fd) <= bound)
 
 
-def test_design_columns_match_central_differences_of_rebuilt_models():
+@pytest.mark.parametrize("stations", ["planar", "kernel"])
+def test_design_columns_match_central_differences_of_rebuilt_models(stations):
     groups = ("springs", "stations", "beta", "dampers", "gain")
     model, field = _field(groups)
+    assert type(field.stations).__name__ == "PlanarMovedChains"  # build_model's chains
+    if stations == "kernel":  # the general kernel's residual, for chains the closed forms omit
+        moved = [ch for lo, hi, _ in field.variants for ch in (lo, hi)]
+        field.stations = MovedChains([(ch.pm, ch.tip_frame, ch.b0) for ch in moved],
+                                     field.two_h)
     x = np.concatenate((Q, V))
     a, u, z = field.sensitivity_stage(0.0, x)
     P = field.d.size
