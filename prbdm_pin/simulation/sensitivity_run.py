@@ -60,9 +60,8 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
     nx = 2 * n
     iJ = nx + nx * P  # J's entry; the gradient follows
 
-    def rates(t: float, y: np.ndarray, record: list | None = None) -> np.ndarray:
+    def rates(t: float, y: np.ndarray, out: np.ndarray, record: list | None = None) -> None:
         x = y[:nx]
-        out = np.empty_like(y)
         out[:n] = x[n:]
         if P:
             a, u, z = field.sensitivity_stage(t, x)
@@ -80,7 +79,6 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
             lx, lu, lz = _partials(cost, t, lx, lu, lz, x, u)
             field.stage_rates(x, y[nx:iJ].reshape(nx, P), lx, lu, lz,
                               out[nx:iJ].reshape(nx, P), out[iJ + 1:])
-        return out
 
     h = T / steps
     y = np.zeros(iJ + 1 + P)
@@ -91,14 +89,30 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
     t_s = np.arange(steps + 1) * h
     X = np.empty((steps + 1, nx))
     U: list = []
+    # the stages' rates and the stage state in buffers, updated in place: the same operations
+    # in the same order as y + (h/2) k1, ..., y + (h/6) (k1 + 2 (k2 + k3) + k4), without an
+    # allocation per operation (the vector holds the 2n x P sensitivities)
+    k1, k2, k3, k4 = np.empty((4, y.size))
+    ys = np.empty(y.size)
     for i in range(steps):
         t = t_s[i]
         X[i] = y[:nx]
-        k1 = rates(t, y, U)
-        k2 = rates(t + 0.5 * h, y + (0.5 * h) * k1)
-        k3 = rates(t + 0.5 * h, y + (0.5 * h) * k2)
-        k4 = rates(t + h, y + h * k3)
-        y = y + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4)
+        rates(t, y, k1, U)
+        np.multiply(k1, 0.5 * h, out=ys)
+        ys += y
+        rates(t + 0.5 * h, ys, k2)
+        np.multiply(k2, 0.5 * h, out=ys)
+        ys += y
+        rates(t + 0.5 * h, ys, k3)
+        np.multiply(k3, h, out=ys)
+        ys += y
+        rates(t + h, ys, k4)
+        np.add(k2, k3, out=ys)
+        ys *= 2.0
+        ys += k1
+        ys += k4
+        ys *= h / 6.0
+        y += ys
     X[steps] = y[:nx]
     t_end = float(t_s[-1])
     xT = y[:nx]
