@@ -147,16 +147,17 @@ class Field:
         self.evaluations += 1
         return c.data.ddq, u, z
 
-    def stage_rates(self, x, S, lx, lu, lz: float, dS, dg) -> None:
+    def stage_rates(self, x, S, lx, lu, lz: float, dS, dg) -> bool:
         """Write S' (2 n, P) into dS and the gradient's rate (P,) into dg.
 
-        At the state of the last :meth:`sensitivity_stage`, with the cost's partials there.
+        At the state of the last :meth:`sensitivity_stage`, with the cost's partials there;
+        False when a partial is NaN or infinite.
         """
         d = self.d
-        self.kernel.stage_rates(self._dq, self._dv, self._minv, self.dtau_dx, self.rc, self.rs,
-                                self.force, self.loaded, self.B, x, d.x_ref, d.k, d.beta,
-                                self.gain, self.starts, S, lx, lu, lz, self.dzp, self.A,
-                                self.Fp, dS, dg)
+        return self.kernel.stage_rates(self._dq, self._dv, self._minv, self.dtau_dx, self.rc,
+                                       self.rs, self.force, self.loaded, self.B, x, d.x_ref,
+                                       d.k, d.beta, self.gain, self.starts, S, lx, lu, lz,
+                                       self.dzp, self.A, self.Fp, dS, dg)
 
     def state_jacobian(self, t: float, x: np.ndarray) -> np.ndarray:
         """Return df/dx's lower half (n, 2 n) at time t (s) and state x."""

@@ -74,7 +74,8 @@ def stage_rates(dq, dv, Minv, dtau0, rc, rs, force, loaded, B, x, x_ref, k, beta
     ``starts`` (4,) are the first columns of the springs, beta, dampers and gain (-1 absent);
     the stations' columns of ``Fp`` (n, P) and ``dzp`` (P,) are filled before the call, the
     start state's columns of ``Fp`` stay zero (it enters through S(0) alone). ``A`` (n, 2 n)
-    is scratch (receives df/dx's lower half).
+    is scratch (receives df/dx's lower half). Returns False when a partial of the cost is
+    NaN or infinite (their sum is then not finite).
     """
     n = x.size // 2
     P = S.shape[1]
@@ -124,3 +125,9 @@ def stage_rates(dq, dv, Minv, dtau0, rc, rs, force, loaded, B, x, x_ref, k, beta
         for a in range(m):
             for b in range(2 * n):
                 dg[s_g + a * 2 * n + b] += lu[a] * (x_ref[b] - x[b])
+    check = lz
+    for j in range(2 * n):
+        check += lx[j]
+    for a in range(m):
+        check += lu[a]
+    return math.isfinite(check)
