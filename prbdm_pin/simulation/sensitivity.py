@@ -237,8 +237,7 @@ def trajectory_gradient(model, duration_s: float, cost, *, q0=None, v0=None, tip
                              f"{MAX_STEPS}")
     run = rk4_run(field, cost, x0, T, steps)
     names, units = parameter_names(groups, n, plant.names, plant.units)
-    tip = np.zeros((run.t.size, 3))
-    tip[:] = [_tip(field, q) for q in run.x[:, :n]]
+    tip = run.tip
     for a in (run.t, run.x, run.u, tip, run.gradient):
         a.setflags(write=False)
     traj = Trajectory(run.t, run.x[:, :n], run.x[:, n:], tip, steps, "rk4",
@@ -264,17 +263,13 @@ def _plant(model, inputs, feedback, actuators) -> InputForce:
     return plant
 
 
-def _tip(field: Field, q: np.ndarray) -> np.ndarray:
-    return field.chain.tip(q, field.force)[0]
-
-
 def _step(field: Field, x0: np.ndarray, T: float, dt_s, steps_per_period) -> float:
     """Return the fixed step, s: ``dt_s`` or the eigenvalues' rule (the module's docstring)."""
     if dt_s is not None:
         return min(check_float("dt_s", dt_s, low=0.0, low_open=True, unit="s"), T)
     spp = check_float("steps_per_period", steps_per_period, low=8.0, unit="steps")
     n = field.d.n
-    A = field.derivatives(0.0, x0)[4]
+    A = field.state_jacobian(0.0, x0)
     full = np.zeros((2 * n, 2 * n))
     full[:n, n:] = np.eye(n)
     full[n:] = A

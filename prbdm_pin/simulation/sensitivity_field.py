@@ -15,7 +15,10 @@ The stations move the links' masses, centres and inertias and the joints' placem
 derivative is a central difference of this vector field (not of a trajectory) between two
 chains rebuilt by ``build_model`` with the station moved by +-h, h = EPS^(1/3) L (L the
 beam length): truncation h^2/6 |a'''| and rounding EPS |a| / h balance there, about 1e-10
-relative to a on a member whose planform varies over its length.
+relative to a on a member whose planform varies over its length. Every moved chain is
+evaluated in one compiled call per stage (:mod:`.sensitivity_stations`).
+
+Everything but Pinocchio's ABA and its derivatives runs compiled (:mod:`.sensitivity_kernel`).
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..chain.planar import chains_at_pose, tip_terms
+from ..chain.planar import chains_at_pose
 from ..model.build import build_model
 
 EPS = float(np.finfo(float).eps)
@@ -36,12 +39,10 @@ class Chain:
     def __init__(self, model, b0: np.ndarray):
         self.pm = model.pin_model
         self.data = self.pm.createData()
-        self.lengths = np.asarray(model.lengths_m, dtype=float)
+        self.model = model
+        self.tip_frame = int(model.tip_frame_id)
+        self.lengths = np.array(model.lengths_m, dtype=float)  # a writable copy: one numba type
         self.b0 = b0
-
-    def tip(self, q: np.ndarray, force: np.ndarray):
-        """Return the tip (3,) m, its Jacobian (3, n) and d(J^T F)/dq (n, n)."""
-        return tip_terms(self.lengths, q, force)[:3]
 
 
 class FieldDesign:
@@ -53,7 +54,9 @@ class FieldDesign:
 
     def __init__(self, k, beta, c, gain, x_ref, signal, groups: tuple[str, ...], n: int,
                  m: int):
-        self.k, self.beta, self.c, self.gain, self.x_ref = k, beta, c, gain, x_ref
+        # writable float copies: the compiled stage takes one array type
+        self.k, self.c = np.array(k, dtype=float), np.array(c, dtype=float)
+        self.beta, self.gain, self.x_ref = float(beta), gain, np.array(x_ref, dtype=float)
         self.signal = signal
         self.n, self.m = n, m
         sizes = {"springs": n, "stations": n, "beta": 1, "dampers": n, "gain": m * 2 * n,
@@ -68,6 +71,10 @@ class FieldDesign:
 class Field:
     """The vector field f(t, x) of the closed loop and, on demand, df/dx and df/dp.
 
+    The torque, the tip terms and everything around Pinocchio's ABA and its derivatives run
+    compiled (:mod:`.sensitivity_kernel`), on workspace arrays this object keeps: the arrays
+    its methods return are overwritten by the next call.
+
     Parameters
     ----------
     chain : Chain
@@ -80,90 +87,87 @@ class Field:
     """
 
     def __init__(self, chain: Chain, variants, design: FieldDesign, force: np.ndarray):
-        self.chain, self.variants, self.d, self.force = chain, variants, design, force
+        from . import sensitivity_kernel  # numba loads with a gradient's first use
+
+        self.kernel = sensitivity_kernel
+        self.chain, self.variants, self.d = chain, variants, design
+        self.force = np.ascontiguousarray(force, dtype=float)
         n, d = design.n, design
         BG = chain.b0 @ d.gain
         # d tau/dx without the load stiffness (constant over the run)
         self.dtau_dx = np.hstack((-np.diag(d.k) - BG[:, :n], -np.diag(d.beta * d.k + d.c)
                                   - BG[:, n:]))
         self.loaded = bool(force.any())
-        # the moved chains side by side: (lo_1, hi_1, lo_2, ...), their kinematics in one call
+        self.B = np.ascontiguousarray(chain.b0, dtype=float).reshape(n, d.m)
+        self.gain = np.ascontiguousarray(d.gain, dtype=float).reshape(d.m, 2 * n)
+        self.starts = np.array([d.slices[g].start if g in d.slices else -1
+                                for g in ("springs", "beta", "dampers", "gain")], dtype=np.int64)
+        self.rc, self.rs, self.tau = np.empty(n), np.empty(n), np.empty(n)
+        self.A = np.empty((n, 2 * n))
+        self.Fp = np.zeros((n, d.size))  # the start state's columns stay zero
+        self.dzp = np.zeros(d.size)  # nonzero on the stations only
+        self._minv = None
+        # the moved chains side by side: (lo_1, hi_1, lo_2, ...), all evaluated in one call
         moved = [ch for lo, hi, _ in variants for ch in (lo, hi)]
-        self.moved = [(ch.pm, ch.data) for ch in moved]
         self.moved_lengths = np.array([ch.lengths for ch in moved]).reshape(len(moved), n + 1)
-        self.moved_b0 = np.array([ch.b0 for ch in moved]).reshape(len(moved), n, d.m)
         self.two_h = np.array([2.0 * h for _, _, h in variants])
-        self._moved_a = np.empty((len(moved), n))  # overwritten by every evaluation
+        self.stations = _moved_chains(moved, design.k, self.force, self.two_h) if moved \
+            else None
         self.evaluations = 0
 
-    def _torque(self, chain: Chain, q, v, u):
-        tip, J, T = chain.tip(q, self.force)
-        d = self.d
-        tau = -d.k * (q + d.beta * v) - d.c * v + J.T @ self.force
-        if d.m:
-            tau += chain.b0 @ u
-        return tau, tip[2], J[2], T
+    def _torque(self, t: float, x: np.ndarray):
+        """Return (q, v, u, z m) with the torque and lever arms in the workspace."""
+        d, n = self.d, self.d.n
+        q, v = x[:n], x[n:]
+        u = np.asarray(d.signal(t, q, v), dtype=float)
+        z = self.kernel.closed_loop_torque(self.chain.lengths, q, v, u, d.k, d.beta, d.c,
+                                           self.B, self.force, self.rc, self.rs, self.tau)
+        return q, v, u, z
+
+    def tip_x(self) -> float:
+        """Return the tip's x (m) of the last evaluation, L_0 + c_0 (z is its return value)."""
+        return float(self.chain.lengths[0] + self.rc[0])
 
     def value(self, t: float, x: np.ndarray):
         """Return (a (n,), u (m,), z m, dz/dq (n,)) at time t (s) and state x."""
-        n = self.d.n
-        q, v = x[:n], x[n:]
-        u = self.d.signal(t, q, v)
-        tau, z, dz, _ = self._torque(self.chain, q, v, u)
+        q, v, u, z = self._torque(t, x)
         c = self.chain
         self.evaluations += 1
-        return pin.aba(c.pm, c.data, q, v, tau), u, z, dz
+        return pin.aba(c.pm, c.data, q, v, self.tau), u, z, -self.rc
 
-    def derivatives(self, t: float, x: np.ndarray):
-        """Return what :meth:`value` does plus df/dx's lower half (n, 2 n) and the design terms.
-
-        The design terms: d a/dp (n, P) and the tip's dz/dp (P,) at fixed state (nonzero on
-        the stations only); with u, dz/dq, d u/dp is -(x - x_ref) on the gain's columns.
-        """
-        d, c = self.d, self.chain
-        n = d.n
-        q, v = x[:n], x[n:]
-        u = d.signal(t, q, v)
-        tau, z, dz, T = self._torque(c, q, v, u)
-        dq, dv, Minv = pin.computeABADerivatives(c.pm, c.data, q, v, tau)
-        a = c.data.ddq.copy()
-        dtau = self.dtau_dx.copy()
-        if self.loaded:
-            dtau[:, :n] += T
-        A = np.hstack((dq, dv)) + Minv @ dtau
-        Fp = np.empty((n, d.size))
-        dzp = np.zeros(d.size)
-        s = d.slices
-        if "springs" in s:
-            Fp[:, s["springs"]] = Minv * -(q + d.beta * v)
-        if "beta" in s:
-            Fp[:, s["beta"]] = (Minv @ (-d.k * v))[:, None]
-        if "dampers" in s:
-            Fp[:, s["dampers"]] = Minv * -v
-        if "gain" in s:
-            MB = Minv @ c.b0
-            Fp[:, s["gain"]] = (MB[:, :, None] * -(x - d.x_ref)).reshape(n, -1)
-        if "initial" in s:  # the start state enters through S(0) alone
-            Fp[:, s["initial"]] = 0.0
-        if "stations" in s:
-            a_m, z_m = self._moved(q, v, u)
-            Fp[:, s["stations"]] = ((a_m[1::2] - a_m[0::2]) / self.two_h[:, None]).T
-            dzp[s["stations"]] = (z_m[1::2] - z_m[0::2]) / self.two_h
+    def sensitivity_stage(self, t: float, x: np.ndarray):
+        """Return (a (n,), u (m,), z m) and keep df/dx's parts for :meth:`stage_rates`."""
+        q, v, u, z = self._torque(t, x)
+        c, d = self.chain, self.d
+        self._dq, self._dv, self._minv = pin.computeABADerivatives(c.pm, c.data, q, v, self.tau)
+        if self.stations is not None:
+            self.stations.columns(q, v, u, d.k, d.beta, d.c, self.force, self.loaded,
+                                  c.data.ddq, self._minv, self.Fp, self.dzp,
+                                  d.slices["stations"].start)
         self.evaluations += 1
-        return a, u, z, dz, A, Fp, dzp
+        return c.data.ddq, u, z
 
-    def _moved(self, q: np.ndarray, v: np.ndarray, u: np.ndarray):
-        """Accelerations (2 n_s, n) and tip heights (2 n_s,) of the moved chains at (q, v, u)."""
+    def stage_rates(self, x, S, lx, lu, lz: float, dS, dg) -> bool:
+        """Write S' (2 n, P) into dS and the gradient's rate (P,) into dg.
+
+        At the state of the last :meth:`sensitivity_stage`, with the cost's partials there;
+        False when a partial is NaN or infinite.
+        """
         d = self.d
-        z, jtf = chains_at_pose(self.moved_lengths, q, self.force)
-        tau = jtf if self.loaded else np.zeros_like(jtf)
-        tau -= d.k * (q + d.beta * v) + d.c * v
-        if d.m:
-            tau += self.moved_b0 @ u
-        a = self._moved_a
-        for i, (pm, data) in enumerate(self.moved):
-            a[i] = pin.aba(pm, data, q, v, tau[i])
-        return a, z
+        return self.kernel.stage_rates(self._dq, self._dv, self._minv, self.dtau_dx, self.rc,
+                                       self.rs, self.force, self.loaded, self.B, x, d.x_ref,
+                                       d.k, d.beta, self.gain, self.starts, S, lx, lu, lz,
+                                       self.dzp, self.A, self.Fp, dS, dg)
+
+    def state_jacobian(self, t: float, x: np.ndarray) -> np.ndarray:
+        """Return df/dx's lower half (n, 2 n) at time t (s) and state x."""
+        q, v, _, _ = self._torque(t, x)
+        c = self.chain
+        dq, dv, minv = pin.computeABADerivatives(c.pm, c.data, q, v, self.tau)
+        A = np.empty((self.d.n, 2 * self.d.n))
+        self.kernel.state_jacobian(dq, dv, minv, self.dtau_dx, self.rc, self.rs, self.force,
+                                   self.loaded, A)
+        return A
 
     def tip_station_derivative(self, q: np.ndarray) -> np.ndarray:
         """Return dz/dp (P,) of the tip height at pose q: the stations' central difference."""
@@ -173,6 +177,21 @@ class Field:
             z = chains_at_pose(self.moved_lengths, q, self.force)[0]
             out[s] = (z[1::2] - z[0::2]) / self.two_h
         return out
+
+
+def _moved_chains(moved: list, k: np.ndarray, force: np.ndarray, two_h: np.ndarray):
+    """Return the stations' evaluator: the planar closed forms when every moved chain has them.
+
+    That is a clamped planar chain without gravity and with its centres of mass on the links'
+    axes (what ``build_model`` gives); otherwise the general kernel's residual.
+    """
+    from ..chain.planar_batch import design_links
+    from .sensitivity_stations import MovedChains, PlanarMovedChains  # numba loads here
+
+    links = design_links([ch.model for ch in moved])
+    if links is not None and not any(ch.pm.gravity.linear.any() for ch in moved):
+        return PlanarMovedChains(links, np.array([ch.b0 for ch in moved]), k, force, two_h)
+    return MovedChains([(ch.pm, ch.tip_frame, ch.b0) for ch in moved], two_h)
 
 
 def station_variants(model, k: np.ndarray, input_map) -> list:

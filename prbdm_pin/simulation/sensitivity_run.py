@@ -18,11 +18,12 @@ from .sensitivity_field import Field
 
 @dataclass(frozen=True)
 class Run:
-    """The samples at every step (t s, x, u) and J with its gradient."""
+    """The samples at every step (t s, x, u, the tip m) and J with its gradient."""
 
     t: np.ndarray
     x: np.ndarray
     u: np.ndarray
+    tip: np.ndarray
     cost: float
     gradient: np.ndarray
 
@@ -47,9 +48,7 @@ def _partials(cost, t, lx, lu, lz, x, u):
     if lx.size != x.size or lu.size != u.size:
         raise BeamInputError(f"cost = {cost!r:.60}: running_partials must return dl/dx "
                              f"({x.size},), dl/du ({u.size},) and dl/dz")
-    if not math.isfinite(float(lx.sum() + lu.sum()) + lz):
-        _refuse(cost, "running_partials", t, (lx, lu, lz))
-    return lx, lu, lz
+    return lx, lu, lz  # their finiteness: checked by the compiled stage (Field.stage_rates)
 
 
 def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
@@ -57,43 +56,28 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
     d = field.d
     n, P, m = d.n, d.size, d.m
     nx = 2 * n
-    gain, x_ref = d.gain, d.x_ref
-    gain_cols = d.slices.get("gain")
     iJ = nx + nx * P  # J's entry; the gradient follows
 
-    def rates(t: float, y: np.ndarray, record: list | None = None) -> np.ndarray:
+    def rates(t: float, y: np.ndarray, out: np.ndarray, record: list | None = None) -> None:
         x = y[:nx]
-        out = np.empty_like(y)
         out[:n] = x[n:]
         if P:
-            a, u, z, dz, A, Fp, dzp = field.derivatives(t, x)
-        else:
-            a, u, z, _ = field.value(t, x)
-        out[n:nx] = a
-        if P:
+            a, u, z = field.sensitivity_stage(t, x)
             l, lx, lu, lz = _running(cost, t, x, u, z)
         else:
+            a, u, z, _ = field.value(t, x)
             l = cost.running(t, x, u, z)
+        out[n:nx] = a
         if not math.isfinite(l):
             _refuse(cost, "running value", t, l)
         out[iJ] = l
         if record is not None:
-            record.append(u)
-        if not P:
-            return out
-        lx, lu, lz = _partials(cost, t, lx, lu, lz, x, u)
-        # dl/dx through u = u_ref - G (x - x_ref) and z(q)
-        lxt = lx - lu @ gain if m else lx.copy()
-        lxt[:n] += lz * dz
-        S = y[nx:iJ].reshape(nx, P)
-        dS = out[nx:iJ].reshape(nx, P)
-        dS[:n] = S[n:]
-        dS[n:] = A @ S + Fp
-        dlp = lz * dzp
-        if gain_cols is not None:
-            dlp[gain_cols] += np.outer(lu, x_ref - x).ravel()
-        out[iJ + 1:] = lxt @ S + dlp
-        return out
+            record.append((u, field.tip_x(), z))
+        if P:
+            lx, lu, lz = _partials(cost, t, lx, lu, lz, x, u)
+            if not field.stage_rates(x, y[nx:iJ].reshape(nx, P), lx, lu, lz,
+                                     out[nx:iJ].reshape(nx, P), out[iJ + 1:]):
+                _refuse(cost, "running_partials", t, (lx, lu, lz))
 
     h = T / steps
     y = np.zeros(iJ + 1 + P)
@@ -104,19 +88,35 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
     t_s = np.arange(steps + 1) * h
     X = np.empty((steps + 1, nx))
     U: list = []
+    # the stages' rates and the stage state in buffers, updated in place: the same operations
+    # in the same order as y + (h/2) k1, ..., y + (h/6) (k1 + 2 (k2 + k3) + k4), without an
+    # allocation per operation (the vector holds the 2n x P sensitivities)
+    k1, k2, k3, k4 = np.empty((4, y.size))
+    ys = np.empty(y.size)
     for i in range(steps):
         t = t_s[i]
         X[i] = y[:nx]
-        k1 = rates(t, y, U)
-        k2 = rates(t + 0.5 * h, y + (0.5 * h) * k1)
-        k3 = rates(t + 0.5 * h, y + (0.5 * h) * k2)
-        k4 = rates(t + h, y + h * k3)
-        y = y + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4)
+        rates(t, y, k1, U)
+        np.multiply(k1, 0.5 * h, out=ys)
+        ys += y
+        rates(t + 0.5 * h, ys, k2)
+        np.multiply(k2, 0.5 * h, out=ys)
+        ys += y
+        rates(t + 0.5 * h, ys, k3)
+        np.multiply(k3, h, out=ys)
+        ys += y
+        rates(t + h, ys, k4)
+        np.add(k2, k3, out=ys)
+        ys *= 2.0
+        ys += k1
+        ys += k4
+        ys *= h / 6.0
+        y += ys
     X[steps] = y[:nx]
     t_end = float(t_s[-1])
     xT = y[:nx]
     a, uT, zT, dzT = field.value(t_end, xT)
-    U.append(uT)
+    U.append((uT, field.tip_x(), zT))
     phi = float(cost.terminal(xT, zT)) if hasattr(cost, "terminal") else 0.0
     if not math.isfinite(phi):
         _refuse(cost, "terminal value", t_end, phi)
@@ -134,4 +134,7 @@ def rk4_run(field: Field, cost, x0: np.ndarray, T: float, steps: int) -> Run:
     if not math.isfinite(J) or not np.all(np.isfinite(grad)):
         raise BeamInputError(f"the run diverged (J = {J!r}): take a smaller dt_s or a larger "
                              "steps_per_period")
-    return Run(t_s, X, np.array(U).reshape(steps + 1, m), J, grad)
+    tip = np.zeros((steps + 1, 3))
+    tip[:, 0] = [r[1] for r in U]
+    tip[:, 2] = [r[2] for r in U]
+    return Run(t_s, X, np.array([r[0] for r in U]).reshape(steps + 1, m), tip, J, grad)
