@@ -16,7 +16,7 @@ import math
 
 import numba
 
-__all__ = ["closed_loop_torque", "state_jacobian", "stage_rates"]
+__all__ = ["closed_loop_torque", "joint_torque", "state_jacobian", "stage_rates"]
 
 
 @numba.njit(cache=True)
@@ -38,11 +38,21 @@ def closed_loop_torque(L, q, v, u, k, beta, c, B, force, rc, rs, tau):
         rs[i] += rs[i + 1]
     fx, fz = force[0], force[2]
     for r in range(n):
-        s = -k[r] * (q[r] + beta * v[r]) - c[r] * v[r] - fx * rs[r] - fz * rc[r]
-        for j in range(u.size):
-            s += B[r, j] * u[j]
-        tau[r] = s
+        tau[r] = joint_torque(r, q, v, u, k, beta, c, B) - fx * rs[r] - fz * rc[r]
     return -rs[0]
+
+
+@numba.njit(cache=True)
+def joint_torque(r, q, v, u, k, beta, c, B):
+    """Return joint r's spring, damper and input torque -k (q + beta v) - c v + (B u), N m.
+
+    ``B`` (n, m) the inputs' map; the one place this torque is written (the stations' moved
+    chains call it too).
+    """
+    s = -k[r] * (q[r] + beta * v[r]) - c[r] * v[r]
+    for j in range(u.size):
+        s += B[r, j] * u[j]
+    return s
 
 
 @numba.njit(cache=True)

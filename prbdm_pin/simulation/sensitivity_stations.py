@@ -34,6 +34,7 @@ import numpy as np
 from ..chain.planar_batch_kernel import _batch
 from ..kernel.build import chain_kernel
 from ..kernel.dynamics import body_inertias, crba, kinematics, rnea_bias, tip_force_torque
+from .sensitivity_kernel import joint_torque
 
 __all__ = ["MovedChains", "PlanarMovedChains"]
 
@@ -57,10 +58,7 @@ def _station_columns(jtype, jaxis, Rp, pp, mass, com, Ic, tj, tp, grav, B, two_h
         z_out[i] = ow[t, 2] + Rw[t, 2, 0] * tp[i, 0] + Rw[t, 2, 1] * tp[i, 1] \
             + Rw[t, 2, 2] * tp[i, 2]
         for r in range(n):
-            s = -k[r] * (q[r] + beta * v[r]) - c[r] * v[r]
-            for j in range(u.size):
-                s += B[i, r, j] * u[j]
-            r_out[i, r] = s
+            r_out[i, r] = joint_torque(r, q, v, u, k, beta, c, B[i])
         if loaded:
             tip_force_torque(t, tp[i], Rw, ow, S, force, r_out[i])
         # the residual tau - M a - h of the moved chain at the nominal accelerations
