@@ -12,6 +12,7 @@ through :func:`generalized_eigh`, and a plain symmetric matrix through :func:`sy
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import scipy.linalg as sla
@@ -90,6 +91,7 @@ def one_chain(M: np.ndarray, s: np.ndarray, squared: bool = False, lower: bool =
     M was computed at, None if none: a non-finite one is refused. Returns omega (rad/s) or, with
     ``squared``, omega^2, ascending, as :func:`eig_scaled`; None when the spectrum does not pass
     the guard's common case at once (then :func:`eig_scaled`'s LAPACK path decides, and raises).
+    Compiled whether or not the process is warm (see :func:`one_chain_unchecked`).
     """
     # the compiled entry point does not check types: float64 arrays of the right dimensions
     # only (dtype singletons: ``is`` is the cheap test, a false negative only costs time)
@@ -98,16 +100,44 @@ def one_chain(M: np.ndarray, s: np.ndarray, squared: bool = False, lower: bool =
     if M.dtype is not _F8 or s.dtype is not _F8 or M.ndim != 2 or s.ndim != 1 \
             or q.dtype is not _F8 or q.ndim != 1:
         return None
-    return one_chain_unchecked(M, s, q, squared, lower)
+    return _compiled(M, s, q, squared, lower)
 
 
 def one_chain_unchecked(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bool = False,
                         lower: bool = False) -> np.ndarray | None:
     """:func:`one_chain` for float64 arrays M (n, n), s (n,) and q (any size, 1-D) only.
 
-    The compiled entry point unboxes them without checks: a caller that cannot promise these
-    types and dimensions calls :func:`one_chain`.
+    None also until the compiled solve is worth loading (``COLD_SOLVES``): then LAPACK's path
+    answers. The compiled entry point unboxes them without checks: a caller that cannot
+    promise these types and dimensions calls :func:`one_chain`.
     """
+    if _SCALED_OMEGA is None and not _worth_loading():
+        return None
+    return _compiled(M, s, q, squared, lower)
+
+
+# Loading the compiled solve costs about 0.27 s of CPU once per process when numba is not
+# loaded yet (import numba 0.11 s; its typing and target registries, set up at the first
+# cached function, 0.16 s), and it saves about 9 us a solve (5R: 11.5 -> 2.1 us): a process
+# that solves a few chains (an export's record, one CLI command's model) would never earn it
+# back. So LAPACK answers the first COLD_SOLVES solves of a process (in a long loop at most
+# COLD_SOLVES x 9 us = 18 ms more), unless numba is loaded already (then it costs ~7 ms).
+# Both paths are backward stable: their frequencies differ by rounding only.
+COLD_SOLVES = 2000
+_cold_solves = 0
+
+
+def _worth_loading() -> bool:
+    """Whether this process has asked for COLD_SOLVES solves, or loaded numba already."""
+    global _cold_solves
+    if "numba" in sys.modules:
+        return True
+    _cold_solves += 1
+    return _cold_solves > COLD_SOLVES
+
+
+def _compiled(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bool,
+              lower: bool) -> np.ndarray | None:
     global _SCALED_OMEGA
     if _SCALED_OMEGA is None:  # numba is imported on first use, not with the package
         from .small_eigen import scaled_omega_entry
@@ -140,14 +170,13 @@ def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarra
     No input checks: the callers validate once. Raises SolveError when the guard
     (:func:`check_spectrum`) refuses the spectrum or omega^2 overflows.
     """
-    if M.ndim == 2 and s.ndim == 1:
-        w = one_chain(M, s, squared)
+    single = M.ndim == 2 and s.ndim == 1
+    # the fits' stack of one: the triangle eigvalsh reads
+    if (single or (M.shape[0] == 1 and s.ndim == 2)) and (
+            _SCALED_OMEGA is not None or _worth_loading()):
+        w = one_chain(M, s, squared) if single else one_chain(M[0], s[0], squared, lower=True)
         if w is not None:
-            return w
-    elif M.shape[0] == 1 and s.ndim == 2:  # the fits' stack of one: the triangle eigvalsh reads
-        w = one_chain(M[0], s[0], squared, lower=True)
-        if w is not None:
-            return w[None]
+            return w if single else w[None]
     # S normalised to max 1 keeps S M S as large as M: no underflow for stiff springs
     smax = np.maximum.reduce(s, axis=-1, keepdims=True)
     sn = s / smax
