@@ -22,7 +22,9 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_v] = "1"
 
 import argparse  # noqa: E402
+import atexit  # noqa: E402
 import json  # noqa: E402
+import shutil  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -40,6 +42,7 @@ RELEASE_RAD = 0.1
 # simulations (the default integrator) and their DOP853 references at rtol 1e-11 (the driver's
 # error): chain size and scene
 SIMULATIONS = {"simulate 5R step": (5, "step"), "simulate 3R release": (3, "release")}
+EXPONENTIAL = ", exponential"
 
 
 def chain(beam, n: int):
@@ -52,8 +55,9 @@ def chain(beam, n: int):
 
 
 def simulation(name: str, reference: bool):
-    """(call, scene) of a simulation row: the default integrator, or DOP853 at rtol 1e-11."""
-    n, load = SIMULATIONS[name]
+    """A simulation row's call: the default integrator, ``Exponential()`` (a name ending in
+    ", exponential": the same integrator at both revisions), or DOP853 at rtol 1e-11."""
+    n, load = SIMULATIONS[name.removesuffix(EXPONENTIAL)]
     beam = pp.load_beam(BEAMS / "reference-random.json")
     model = chain(beam, n)
     kw = {"output_dt_s": OUTPUT_DT_S}
@@ -63,6 +67,8 @@ def simulation(name: str, reference: bool):
         kw["q0"] = np.full(n, RELEASE_RAD)
     if reference:
         kw["integrator"] = pp.ScipyIVP("DOP853", rtol=1e-11)
+    elif name.endswith(EXPONENTIAL):
+        kw["integrator"] = pp.Exponential()
     return lambda: pp.simulate(model, DURATION_S, **kw)
 
 
@@ -81,7 +87,7 @@ def fit_problem(beam, n: int):
 
 def make_call(name: str):
     """The zero-argument call timed as ``name``."""
-    if name in SIMULATIONS or name.startswith("reference "):
+    if name.removesuffix(EXPONENTIAL) in SIMULATIONS or name.startswith("reference "):
         return simulation(name.removeprefix("reference "), name.startswith("reference "))
     beam = pp.load_beam(BEAMS / "reference-random.json")
     model = chain(beam, N_MODEL)
@@ -90,7 +96,6 @@ def make_call(name: str):
     Q = rng.uniform(0, np.pi / 2 / N_MODEL, (BATCH, N_MODEL))
     EI, L = beam.root_EI_Nm2, beam.length_m
     tip = np.asarray(beam.tip_force_N, dtype=float)
-    tmp = Path(tempfile.mkdtemp(prefix="bench_rev_"))
     if name == "build_model 5R":
         return lambda: chain(beam, N_MODEL)
     if name == "frequencies 5R, one pose":
@@ -116,6 +121,8 @@ def make_call(name: str):
         return lambda: evaluate(p, lengths, factors)
     if name.startswith("export_model 5R"):
         fmt = name.split()[-1].lower()
+        tmp = Path(tempfile.mkdtemp(prefix="bench_rev_"))
+        atexit.register(shutil.rmtree, tmp, True)
         return lambda: pp.export_model(model, tmp / f"model.{fmt}", fmt)
     if name == "truth: plate modes (uniform-narrow)":
         narrow = pp.load_beam(BEAMS / "uniform-narrow.json")
