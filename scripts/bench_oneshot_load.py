@@ -7,7 +7,7 @@ Each figure is CPU time (``time.process_time``) in a fresh interpreter on this c
 one thread, the least over ``--repeats`` processes. The scene of the simulations: the 3R
 equal-link chain of ``uniform-narrow.json`` under a -0.5 N tip step, 1 s (``prbdm simulate``'s
 scene in ``bench_revisions.py``). Writes a Markdown table to ``--out`` (default
-results/bench_oneshot_load.md).
+results/bench_oneshot_load.md, then also docs/benchmarks/bench_oneshot_load.md).
 
 usage: python scripts/bench_oneshot_load.py [--repeats 5] [--out FILE]
 """
@@ -22,6 +22,9 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "scripts"))  # the scripts' shared helpers
+DEFAULT_OUT = ROOT / "results" / "bench_oneshot_load.md"
 
 _SET_UP = """
 import json, sys, time
@@ -81,8 +84,10 @@ def run(code: str) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--out", default=str(ROOT / "results" / "bench_oneshot_load.md"))
+    ap.add_argument("--out", default=str(DEFAULT_OUT))
     a = ap.parse_args()
+    from docs_tables import write_table
+
     load = os.getloadavg()[0]
     best: dict = {}
     for _ in range(a.repeats):
@@ -106,10 +111,9 @@ def main() -> None:
         "",
     ]
     text = "\n".join(lines)
-    out = Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(text)
     print(text)
+    for f in write_table(a.out, text, DEFAULT_OUT, "bench_oneshot_load"):
+        print(f"wrote {f}")
 
 
 if __name__ == "__main__":

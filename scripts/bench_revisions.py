@@ -31,6 +31,7 @@ import json
 import os
 import platform
 import resource
+import signal
 import subprocess
 import sys
 import tempfile
@@ -172,6 +173,8 @@ def main() -> None:
     ap.add_argument("--out", default=str(ROOT / "docs" / "benchmarks" / "bench_revisions.md"))
     ap.add_argument("--only", default="", help="only the rows whose label contains this")
     a = ap.parse_args()
+    # a kill (SIGTERM) unwinds like Ctrl-C, so a temporary worktree is removed
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     load0, c_start, t_start = os.getloadavg(), children_cpu_s(), time.perf_counter()
     with tree_of(a.base) as (base, base_rev), tree_of(a.head) as (head, head_rev), \
             tempfile.TemporaryDirectory() as tmp:

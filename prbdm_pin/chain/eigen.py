@@ -12,7 +12,6 @@ through :func:`generalized_eigh`, and a plain symmetric matrix through :func:`sy
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 import scipy.linalg as sla
@@ -91,7 +90,6 @@ def one_chain(M: np.ndarray, s: np.ndarray, squared: bool = False, lower: bool =
     M was computed at, None if none: a non-finite one is refused. Returns omega (rad/s) or, with
     ``squared``, omega^2, ascending, as :func:`eig_scaled`; None when the spectrum does not pass
     the guard's common case at once (then :func:`eig_scaled`'s LAPACK path decides, and raises).
-    Compiled whether or not the process is warm (see :func:`one_chain_unchecked`).
     """
     # the compiled entry point does not check types: float64 arrays of the right dimensions
     # only (dtype singletons: ``is`` is the cheap test, a false negative only costs time)
@@ -100,44 +98,16 @@ def one_chain(M: np.ndarray, s: np.ndarray, squared: bool = False, lower: bool =
     if M.dtype is not _F8 or s.dtype is not _F8 or M.ndim != 2 or s.ndim != 1 \
             or q.dtype is not _F8 or q.ndim != 1:
         return None
-    return _compiled(M, s, q, squared, lower)
+    return one_chain_unchecked(M, s, q, squared, lower)
 
 
 def one_chain_unchecked(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bool = False,
                         lower: bool = False) -> np.ndarray | None:
     """:func:`one_chain` for float64 arrays M (n, n), s (n,) and q (any size, 1-D) only.
 
-    None also until the compiled solve is worth loading (``COLD_SOLVES``): then LAPACK's path
-    answers. The compiled entry point unboxes them without checks: a caller that cannot
-    promise these types and dimensions calls :func:`one_chain`.
+    The compiled entry point unboxes them without checks: a caller that cannot promise these
+    types and dimensions calls :func:`one_chain`.
     """
-    if _SCALED_OMEGA is None and not _worth_loading():
-        return None
-    return _compiled(M, s, q, squared, lower)
-
-
-# Loading the compiled solve costs about 0.27 s of CPU once per process when numba is not
-# loaded yet (import numba 0.11 s; its typing and target registries, set up at the first
-# cached function, 0.16 s), and it saves about 9 us a solve (5R: 11.5 -> 2.1 us): a process
-# that solves a few chains (an export's record, one CLI command's model) would never earn it
-# back. So LAPACK answers the first COLD_SOLVES solves of a process (in a long loop at most
-# COLD_SOLVES x 9 us = 18 ms more), unless numba is loaded already (then it costs ~7 ms).
-# Both paths are backward stable: their frequencies differ by rounding only.
-COLD_SOLVES = 2000
-_cold_solves = 0
-
-
-def _worth_loading() -> bool:
-    """Whether this process has asked for COLD_SOLVES solves, or loaded numba already."""
-    global _cold_solves
-    if "numba" in sys.modules:
-        return True
-    _cold_solves += 1
-    return _cold_solves > COLD_SOLVES
-
-
-def _compiled(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bool,
-              lower: bool) -> np.ndarray | None:
     global _SCALED_OMEGA
     if _SCALED_OMEGA is None:  # numba is imported on first use, not with the package
         from .small_eigen import scaled_omega_entry
@@ -150,6 +120,11 @@ def _compiled(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bool,
 
 
 _SCALED_OMEGA = None
+# In a process that has not loaded numba, the first compiled call costs about
+# 0.25 s of CPU (import numba ~0.10 s; its typing and target registries, set up at the first
+# cached function, ~0.14 s; each further cached function a few ms), measured by
+# scripts/bench_oneshot_load.py; the compiled one-chain solve saves ~9 us a call (5R: 11 ->
+# 2 us), so it pays from some 30,000 solves in a process, not for one.
 _F8 = np.dtype(np.float64)
 _NO_POSE = np.empty(0)
 
@@ -161,22 +136,29 @@ def _check_finite(w2: np.ndarray) -> np.ndarray:
     return w2
 
 
-def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarray:
+def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False,
+               compiled: bool = True) -> np.ndarray:
     """Compute frequencies from mass matrices and scaled springs.
 
     Frequencies are in rad/s, ascending (omega^2 in rad^2/s^2 when ``squared``), from mass
     matrices M (n, n) or (m, n, n), kg m^2, and s = K^(-1/2) (n,) or (m, n), (N m/rad)^(-1/2).
+    ``compiled=False`` skips the compiled one-chain solve and its numba load: a caller that
+    solves once per command (an export's record, the default integrator's rule) would pay
+    ~0.25 s of CPU loading numba in a fresh process to save ~9 us (the note at the module's
+    end).
 
     No input checks: the callers validate once. Raises SolveError when the guard
     (:func:`check_spectrum`) refuses the spectrum or omega^2 overflows.
     """
-    single = M.ndim == 2 and s.ndim == 1
-    # the fits' stack of one: the triangle eigvalsh reads
-    if (single or (M.shape[0] == 1 and s.ndim == 2)) and (
-            _SCALED_OMEGA is not None or _worth_loading()):
-        w = one_chain(M, s, squared) if single else one_chain(M[0], s[0], squared, lower=True)
+    if compiled and M.ndim == 2 and s.ndim == 1:
+        w = one_chain(M, s, squared)
         if w is not None:
-            return w if single else w[None]
+            return w
+    elif compiled and M.shape[0] == 1 and s.ndim == 2:
+        # the fits' stack of one: the triangle eigvalsh reads
+        w = one_chain(M[0], s[0], squared, lower=True)
+        if w is not None:
+            return w[None]
     # S normalised to max 1 keeps S M S as large as M: no underflow for stiff springs
     smax = np.maximum.reduce(s, axis=-1, keepdims=True)
     sn = s / smax
