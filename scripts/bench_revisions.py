@@ -72,6 +72,9 @@ CLI = {  # label: arguments after ``python -m prbdm_pin``; {fit} is the fit's fo
     "prbdm fit (the same at the default 64 starts)": (*FIT_ARGS[:10], *FIT_ARGS[12:]),
     "prbdm simulate (3R fit, 1 s step load)": (
         "simulate", "{fit}/fit.json", "--duration", "1", "--tip-force", "0,0,-0.5", "-q"),
+    "prbdm simulate --method exponential (the same)": (
+        "simulate", "{fit}/fit.json", "--duration", "1", "--tip-force", "0,0,-0.5", "--method",
+        "exponential", "-q"),
     "prbdm export --format mjcf (3R fit)": (
         "export", "{fit}/fit.json", "--format", "mjcf", "-q"),
 }
