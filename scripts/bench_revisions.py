@@ -75,6 +75,9 @@ CLI = {  # label: arguments after ``python -m prbdm_pin``; {fit} is the fit's fo
     "prbdm simulate --method exponential (the same)": (
         "simulate", "{fit}/fit.json", "--duration", "1", "--tip-force", "0,0,-0.5", "--method",
         "exponential", "-q"),
+    "prbdm linearize (3R fit)": ("linearize", "{fit}/fit.json", "-q"),
+    "prbdm statics (3R fit, -0.5 N tip force)": (
+        "statics", "{fit}/fit.json", "--tip-force", "0,0,-0.5", "-q"),
     "prbdm export --format mjcf (3R fit)": (
         "export", "{fit}/fit.json", "--format", "mjcf", "-q"),
 }
@@ -210,7 +213,7 @@ def main() -> None:
                 works[side].mkdir()
                 run_cli(tree, works[side], FIT_ARGS, works[side] / "fit")
                 for _, args in cli_rows:
-                    if args[0] in ("simulate", "export"):
+                    if args[0] != "fit" and args[0] != "--help":
                         run_cli(tree, works[side], args, out_path(works[side], args))
             for label, args in cli_rows:
                 best = {s: [np.inf, np.inf] for s in trees}
