@@ -31,6 +31,7 @@ import json
 import os
 import platform
 import resource
+import shutil
 import signal
 import subprocess
 import sys
@@ -156,6 +157,7 @@ def tree_of(spec: str):
     finally:
         subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tmp)],
                        check=False, capture_output=True)
+        shutil.rmtree(tmp.parent, ignore_errors=True)
 
 
 def fmt_s(s: float) -> str:

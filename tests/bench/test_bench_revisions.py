@@ -9,6 +9,8 @@ import importlib.util
 import re
 import subprocess
 import sys
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -45,10 +47,12 @@ def _worktrees() -> str:
 def test_a_revision_is_measured_in_a_temporary_worktree_then_removed(tmp_path):
     out = tmp_path / "table.md"
     before = _worktrees()
+    folders = set(Path(tempfile.gettempdir()).glob("bench_rev_*"))
     subprocess.run([sys.executable, str(ROOT / "scripts" / "bench_revisions.py"), "--base",
                     "HEAD", "--only", "3R release, exponential", "--repeats", "1", "--out",
                     str(out)], check=True, cwd=ROOT, capture_output=True, text=True)
-    assert _worktrees() == before  # the temporary worktree is removed
+    assert _worktrees() == before  # the temporary worktree is removed, and its folder
+    assert set(Path(tempfile.gettempdir()).glob("bench_rev_*")) <= folders
     head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                           capture_output=True, text=True, check=True).stdout.strip()
     text = out.read_text()
