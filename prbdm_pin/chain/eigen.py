@@ -120,6 +120,11 @@ def one_chain_unchecked(M: np.ndarray, s: np.ndarray, q: np.ndarray, squared: bo
 
 
 _SCALED_OMEGA = None
+# In a process that has not loaded numba, the first compiled call costs about
+# 0.25 s of CPU (import numba ~0.10 s; its typing and target registries, set up at the first
+# cached function, ~0.14 s; each further cached function a few ms), measured by
+# scripts/bench_oneshot_load.py; the compiled one-chain solve saves ~9 us a call (5R: 11 ->
+# 2 us), so it pays from some 30,000 solves in a process, not for one.
 _F8 = np.dtype(np.float64)
 _NO_POSE = np.empty(0)
 
@@ -131,20 +136,26 @@ def _check_finite(w2: np.ndarray) -> np.ndarray:
     return w2
 
 
-def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False) -> np.ndarray:
+def eig_scaled(M: np.ndarray, s: np.ndarray, squared: bool = False,
+               compiled: bool = True) -> np.ndarray:
     """Compute frequencies from mass matrices and scaled springs.
 
     Frequencies are in rad/s, ascending (omega^2 in rad^2/s^2 when ``squared``), from mass
     matrices M (n, n) or (m, n, n), kg m^2, and s = K^(-1/2) (n,) or (m, n), (N m/rad)^(-1/2).
+    ``compiled=False`` skips the compiled one-chain solve and its numba load: a caller that
+    solves once per command (an export's record, the default integrator's rule) would pay
+    ~0.25 s of CPU loading numba in a fresh process to save ~9 us (the note at the module's
+    end).
 
     No input checks: the callers validate once. Raises SolveError when the guard
     (:func:`check_spectrum`) refuses the spectrum or omega^2 overflows.
     """
-    if M.ndim == 2 and s.ndim == 1:
+    if compiled and M.ndim == 2 and s.ndim == 1:
         w = one_chain(M, s, squared)
         if w is not None:
             return w
-    elif M.shape[0] == 1 and s.ndim == 2:  # the fits' stack of one: the triangle eigvalsh reads
+    elif compiled and M.shape[0] == 1 and s.ndim == 2:
+        # the fits' stack of one: the triangle eigvalsh reads
         w = one_chain(M[0], s[0], squared, lower=True)
         if w is not None:
             return w[None]

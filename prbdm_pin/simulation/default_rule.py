@@ -84,7 +84,9 @@ def _flexible_frequencies(system: System, q: np.ndarray, M: np.ndarray | None = 
         rigid = ~flex
         M = M[np.ix_(flex, flex)] - M[np.ix_(flex, rigid)] @ np.linalg.solve(
             M[np.ix_(rigid, rigid)], M[np.ix_(rigid, flex)])
-    return eig_scaled(M, 1.0 / np.sqrt(k[flex]))
+    # one solve per run: LAPACK's, since the compiled solve's first load costs ~0.25 s (a run
+    # the rule gives the exponential integrator then loads no numba at all)
+    return eig_scaled(M, 1.0 / np.sqrt(k[flex]), compiled=False)
 
 
 def _eigenvalues(system: System, q: np.ndarray, M: np.ndarray) -> np.ndarray:

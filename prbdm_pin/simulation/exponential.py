@@ -1,6 +1,7 @@
 """Exponential Rosenbrock integrator exprb32 with step-size control (``Exponential``).
 
-``Exponential()`` (the default; ``method="exponential"``): the exponential Rosenbrock method
+``Exponential()`` (``method="exponential"``; the default ``Auto()`` picks it or the compiled
+DOP853 per problem, ``simulation.default_rule``): the exponential Rosenbrock method
 exprb32 (Hochbruck, Ostermann & Schweitzer 2009) with step-size control; nominal (largest) step
 ``dt_s`` (default: lowest natural period at ``q0`` / 10). The dynamics y' = F(t, y),
 y = (q, v), are linearised, F ~ F_n + J (y - y_n) + b (t - t_n), with J from
