@@ -263,7 +263,8 @@ def run(args: argparse.Namespace) -> int:
     lin = linearize(model, inputs=opts["inputs"], outputs=opts["outputs"],
                     load_N=opts["load"], damping_ratio=ratio,
                     damping=args.damping_form, actuators=opts["actuators"],
-                    gravity_m_s2=gravity, loads=opts["loads"], spin_rad_s=args.spin)
+                    gravity_m_s2=gravity, loads=opts["loads"], spin_rad_s=args.spin,
+                    compiled=False)  # one plant a command: numba's load would cost more
     record_provenance = provenance(getattr(fitted, "seed", None))
     record = {
         **record_provenance,

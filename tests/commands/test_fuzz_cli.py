@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import os
+import shutil
 import tempfile
 import warnings
 from pathlib import Path
@@ -115,10 +116,21 @@ def _path(kind: str, scratch: Path, n: int) -> str:
             "trailing/": str(scratch / f"new{n}") + "/"}[kind]
 
 
+# every drawn command line's scratch folder lives under one root, removed after the module
+# (hypothesis draws hundreds of lines a run; one folder each would pile up in the temp dir)
+_SCRATCH_ROOT = Path(tempfile.mkdtemp(prefix="prbdm-fuzz-"))
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _remove_scratch_root():
+    yield
+    shutil.rmtree(_SCRATCH_ROOT, ignore_errors=True)
+
+
 @st.composite
 def command_lines(draw, cmd: str):
     """(argv, fresh paths that must not exist after a refusal)."""
-    scratch = Path(tempfile.mkdtemp(prefix="prbdm-fuzz-"))
+    scratch = Path(tempfile.mkdtemp(dir=_SCRATCH_ROOT))
     (scratch / "afile").write_text("a file\n")
     fresh = scratch / "out"
     argv = _base(cmd, fresh)

@@ -13,9 +13,8 @@ import pytest
 from tolerances import EPS
 
 import prbdm_pin as pp
-import prbdm_pin.plant.linearize as lin_module
 from prbdm_pin.chain.eigen import COND_LIMIT
-from prbdm_pin.errors import BeamInputError
+from prbdm_pin.errors import BeamInputError, InputTypeError
 from prbdm_pin.plant.plant_layout import plant_layout
 
 BEAM = pp.Beam(x_m=[0.0, 1.0], half_width_m=[0.025, 0.025], thickness_m=0.01)
@@ -35,11 +34,9 @@ def _model(n: int):
     return pp.build_model(BEAM, lengths, np.linspace(900.0, 400.0, n))
 
 
-def _general(monkeypatch, *args, **kwargs):
+def _general(*args, **kwargs):
     """linearize with the short path switched off: the Pinocchio/LAPACK steps."""
-    with monkeypatch.context() as mp:
-        mp.setattr(lin_module, "fast_linearize", lambda *a, **k: None)
-        return pp.linearize(*args, **kwargs)
+    return pp.linearize(*args, compiled=False, **kwargs)
 
 
 def _cond(a: np.ndarray) -> float:
@@ -49,12 +46,12 @@ def _cond(a: np.ndarray) -> float:
 @pytest.mark.parametrize("n", [1, 2, 5])
 @pytest.mark.parametrize("names", ["default", "mixed"])
 @pytest.mark.parametrize("load", [None, (300.0, 0.0, -400.0)])
-def test_the_short_path_equals_the_general_path(monkeypatch, n, names, load):
+def test_the_short_path_equals_the_general_path(n, names, load):
     model = _model(n)
     inputs, outputs = _names(names, n)
     xi = np.linspace(0.01, 0.05, n)  # one ratio per mode: the modes' order matters
     fast = pp.linearize(model, inputs, outputs, load_N=load, damping_ratio=xi)
-    ref = _general(monkeypatch, model, inputs, outputs, load_N=load, damping_ratio=xi)
+    ref = _general(model, inputs, outputs, load_N=load, damping_ratio=xi)
     assert plant_layout(model, inputs, outputs) is not None  # the short path answered
     for f in ("state_names", "input_names", "output_names", "input_units", "output_units",
               "hub", "n_free", "spin_rad_s", "gyroscopic_Nms_per_rad"):
@@ -151,3 +148,8 @@ def test_the_kernel_refuses_a_mass_matrix_that_is_not_positive_definite():
     assert run(np.array([[1.0, 0.2], [0.2, 1.0]]))
     assert not run(np.array([[1.0, 2.0], [2.0, 1.0]]))  # eigenvalues 3 and -1
     assert not run(np.array([[1.0, np.nan], [np.nan, 1.0]]))
+
+
+def test_compiled_must_be_a_bool():
+    with pytest.raises(InputTypeError, match="compiled = 1"):
+        pp.linearize(_model(2), compiled=1)
