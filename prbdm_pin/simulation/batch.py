@@ -148,7 +148,7 @@ def _run(plant: BatchPlant, duration_s: float, Q0: np.ndarray, V0: np.ndarray,
     atol = (np.full((B, 1), float(integ.atol)) if integ.atol is not None else
             rtol * np.maximum(np.max(np.abs(Q0), axis=1, keepdims=True), 1e-6))
     t_out = None if o.output_dt_s is None else output_times(duration_s, o.output_dt_s)
-    s = integrate_batch(plant.rhs, np.hstack((Q0, V0)), duration_s, rtol, atol, t_out,
+    s = integrate_batch(plant, np.hstack((Q0, V0)), duration_s, rtol, atol, t_out,
                         o.max_steps, integ.method)
     Q, V = s.y[:, :, :n], s.y[:, :, n:]
     tip = plant.tips(Q)

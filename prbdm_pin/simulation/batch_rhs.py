@@ -11,7 +11,7 @@ u = u_0 (+ a shared function of time) - G x for constants and state-feedback gai
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -57,37 +57,57 @@ class BatchPlant:
     u0: np.ndarray | None = None
     u_time: Callable[[float], np.ndarray] | None = None
     gain: np.ndarray | None = None
+    _zeros: tuple | None = field(default=None, repr=False)
 
-    def inputs(self, t: float, Y: np.ndarray) -> np.ndarray | None:
-        """Return the inputs u (B, m) at time t (s) and states Y (B, 2n); None without inputs."""
-        if self.u0 is None:
-            return None
-        u = self.u0 if self.u_time is None else self.u0 + self.u_time(t)
-        if self.gain is not None:
-            u = u - np.einsum("bmk,bk->bm", self.gain, Y)
-        return u
+    def block_constants(self, W: int) -> tuple:
+        """Return the designs' constants in blocks of W and what the compiled stages need.
 
-    def rhs(self, t: float, Y: np.ndarray) -> np.ndarray:
-        """Return (v, a) (B, 2n) of the states Y = (q, v) (B, 2n) at time t (s)."""
-        F = self.force_N(t) if callable(self.force_N) else self.force_N
-        u = self.inputs(t, Y)
-        tau = None
-        if u is not None:
-            tau = np.einsum("bim,bm->bi", self.input_map, u)
-            if self.tip_rows:
-                Fu = np.zeros((len(Y), 3))
-                for col, axis in self.tip_rows:
-                    Fu[:, axis] += u[:, col]
-                F = Fu if F is None else Fu + F
-        return self._kernel(self.links, Y, self.stiffness_Nm_per_rad,
-                            self.damping_Nms_per_rad, tau, F)
+        (P (blocks, R, W), n, m, damped, gained, T (3, m)): P the rows of
+        :func:`prbdm_pin.chain.planar_batch_kernel.param_rows`, the last block padded with
+        copies of design 0; T maps the inputs that are tip forces onto the force's axes.
+        """
+        from ..chain.planar_batch_kernel import param_rows
+        from .batch_rk import blocks
 
-    @property
-    def _kernel(self):
-        # numba (and its compiled kernel's cache) load with the first batched run only
-        from ..chain.planar_batch_kernel import batch_state_rates
+        B, n = self.stiffness_Nm_per_rad.shape
+        m = 0 if self.input_map is None else self.input_map.shape[2]
+        damped, gained = self.damping_Nms_per_rad is not None, self.gain is not None
+        rows = param_rows(n, m, damped, gained)
+        P = np.zeros((B, rows["end"]))
+        lk = self.links
+        parts = [("L", lk.lengths_m), ("mass", lk.mass_kg), ("off", lk.com_offset_m),
+                 ("iyy", lk.inertia_yy_kg_m2), ("k", self.stiffness_Nm_per_rad)]
+        if self.force_N is not None and not callable(self.force_N):
+            parts.append(("F", self.force_N))
+        if m:
+            parts += [("u0", self.u0), ("B0", self.input_map.reshape(B, n * m))]
+        if damped:
+            parts.append(("C", self.damping_Nms_per_rad.reshape(B, n * n)))
+        if gained:
+            parts.append(("G", self.gain.reshape(B, 2 * n * m)))
+        for name, a in parts:
+            P[:, rows[name]:rows[name] + a.shape[1]] = a
+        T = np.zeros((3, m))
+        for col, axis in self.tip_rows:
+            T[axis, col] += 1.0
+        return blocks(P, W), n, m, damped, gained, T
 
-        return batch_state_rates
+    def stage_inputs(self, times: np.ndarray, stages: int) -> tuple[np.ndarray, np.ndarray]:
+        """Return the shared functions of time at the stage times (s): force (S, 3), u (S, m)."""
+        m = 0 if self.input_map is None else self.input_map.shape[2]
+        timed_force, timed_u = callable(self.force_N), self.u_time is not None
+        if not (timed_force or timed_u):
+            if self._zeros is None or len(self._zeros[0]) != stages:
+                object.__setattr__(self, "_zeros", (np.zeros((stages, 3)),
+                                                    np.zeros((stages, m))))
+            return self._zeros
+        FT, UT = np.zeros((stages, 3)), np.zeros((stages, m))
+        for s, t in enumerate(times):
+            if timed_force:
+                FT[s] = self.force_N(t)
+            if timed_u:
+                UT[s] = self.u_time(t)
+        return FT, UT
 
     def tips(self, Q: np.ndarray) -> np.ndarray:
         """Tip positions (B, s, 3), m, of the joint angles Q (B, s, n), rad."""

@@ -1,30 +1,32 @@
-"""Dormand-Prince 8(5,3) and 5(4) over a batch of systems: one shared step, numpy over the batch.
+"""Dormand-Prince 8(5,3) and 5(4) over a batch of planar chains: one shared step, compiled stages.
 
 Each scheme, its error estimate, its step-size rule and its dense output are scipy's
 ``DOP853`` (seventh-order interpolant, three more stages per step that samples) and ``RK45``
 (fourth-order interpolant from the step's own stages) with scipy's own coefficient tables,
-applied to B states at once: each stage is one call of the batched right-hand side. The error
+applied to B designs at once. A step's twelve stages (six for RK45) and each design's error
+norm are one compiled call over the batch (:mod:`.batch_rk_kernel`), the designs in blocks of
+``BLOCK`` along the arrays' last axis (SIMD lanes); this loop only decides the step. The error
 is measured per design with scipy's norm (each design's own tolerances, the RMS over its
 coordinates) and the step is set by the largest of those norms: every design meets its own
-tolerance, as it would alone, or better. One shared step is what keeps every stage one call
-over the batch (per-design steps would split the batch into designs at different times); the
-price is that the stiffest design sets the step for all of them: on a lightly damped chain the
-highest mode bounds an explicit step (h omega_max of about 5 for DOP853), not the tolerance.
+tolerance, as it would alone, or better. One shared step keeps the designs in lockstep (the
+same stage on every lane); the price is that the stiffest design sets the step for all of
+them: on a lightly damped chain the highest mode bounds an explicit step (h omega_max of about
+5 for DOP853), not the tolerance, and it bounds each design's own run about as much.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import SolveError
 
-__all__ = ["BatchSamples", "integrate_batch"]
+__all__ = ["BatchSamples", "integrate_batch", "stage_table", "blocks", "BLOCK"]
 
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0  # scipy's step-size rule
 METHODS = ("DOP853", "RK45")
+BLOCK = 64  # designs per block: a block's stages (16 x 10 x 64 doubles for a 5R) stay in L2
 
 
 @dataclass(frozen=True)
@@ -38,92 +40,88 @@ class BatchSamples:
     rhs_evaluations: int
 
 
+@dataclass(frozen=True, eq=False)
 class _Scheme:
-    """A scipy explicit Runge-Kutta pair's tables, error norm and interpolant, batched."""
+    """A scipy explicit Runge-Kutta pair: its stage table and its error and dense weights."""
 
-    def __init__(self, method: str):
-        import scipy.integrate
-
-        solver = getattr(scipy.integrate, method)  # scipy's tables: public class attributes
-        self.A, self.B, self.C, self.ns = solver.A, solver.B, solver.C, solver.n_stages
-        # scipy's step rule: factor = err ** (-1 / (error estimator order + 1))
-        self.exponent = -1.0 / (solver.error_estimator_order + 1)
-        self.dop853 = method == "DOP853"
-        if self.dop853:
-            self.E3, self.E5, self.D = solver.E3, solver.E5, solver.D
-            self.A_extra, self.C_extra = solver.A_EXTRA, solver.C_EXTRA
-        else:
-            self.E, self.P = solver.E, solver.P
-            self.A_extra, self.C_extra = (), ()
-
-    def error(self, combine, h: float, scale: np.ndarray) -> np.ndarray:
-        """Return each design's scaled error norm (B,): scipy's, design by design."""
-        d = scale.shape[1]
-        if not self.dop853:
-            e = combine(self.E, self.ns + 1) / scale
-            return h * np.sqrt(_rms(e) / d)
-        # the fifth-order estimate damped by the third's
-        e5 = _rms(combine(self.E5, self.ns + 1) / scale)
-        e3 = _rms(combine(self.E3, self.ns + 1) / scale)
-        denom = np.sqrt((e5 + 0.01 * e3) * d)
-        return np.where(denom > 0.0, h * e5 / np.where(denom > 0.0, denom, 1.0), 0.0)
-
-    def dense(self, rhs, K, combine, t, h, y_old, y, f_old, f, t_s, out) -> int:
-        """Write the last step's interpolant at the times ``t_s`` into ``out`` (B, len, d).
-
-        Returns the right-hand side evaluations it took.
-        """
-        x_s = (t_s - t) / h
-        if not self.dop853:
-            for j, x in enumerate(x_s):
-                w = self.P @ np.cumprod(np.full(self.P.shape[1], x))
-                out[:, j] = y_old + h * combine(w, self.ns + 1)
-            return 0
-        ns = self.ns
-        for s, (a, c) in enumerate(zip(self.A_extra, self.C_extra, strict=True), start=ns + 1):
-            K[s] = rhs(t + c * h, y_old + h * combine(a[:s], s))
-        dy = y - y_old
-        F = [dy, h * f_old - dy, 2.0 * dy - h * (f + f_old)]
-        F.extend(h * combine(row, len(K)) for row in self.D)
-        for j, x in enumerate(x_s):
-            acc = np.zeros_like(y_old)
-            for i, fi in enumerate(reversed(F)):
-                acc += fi
-                acc *= x if i % 2 == 0 else 1.0 - x
-            out[:, j] = acc + y_old
-        return len(self.C_extra)
+    A: np.ndarray  # (S, S): stage s's weights; row ns is the step's end, then the extra stages
+    C: np.ndarray  # (S,): stage times over h
+    ns: int  # stages of the step (the step's end f is stage ns)
+    E5: np.ndarray
+    E3: np.ndarray
+    exponent: float
+    dop853: bool
+    P: np.ndarray | None  # RK45's interpolant
+    D: np.ndarray | None  # DOP853's interpolant
 
 
-def _rms(x: np.ndarray) -> np.ndarray:
-    """Per-design sum of squares over the coordinates of (B, d)."""
-    return np.einsum("bd,bd->b", x, x)
+def stage_table(method: str) -> _Scheme:
+    """Return scipy's tables of ``method`` (``"DOP853"`` or ``"RK45"``) as one stage table."""
+    import scipy.integrate
+
+    solver = getattr(scipy.integrate, method)  # scipy's tables: public class attributes
+    ns = solver.n_stages
+    dop = method == "DOP853"
+    extra_a, extra_c = (solver.A_EXTRA, solver.C_EXTRA) if dop else ((), ())
+    S = ns + 1 + len(extra_c)
+    A = np.zeros((S, S))
+    A[:ns, :solver.A.shape[1]] = solver.A
+    A[ns, :ns] = solver.B
+    for i, row in enumerate(extra_a):
+        A[ns + 1 + i, :ns + 1 + i] = row[:ns + 1 + i]
+    C = np.concatenate((solver.C, [1.0], extra_c))
+    if dop:
+        E5, E3 = solver.E5, solver.E3
+    else:
+        E5, E3 = solver.E, np.zeros(ns + 1)
+    # scipy's step rule: factor = err ** (-1 / (error estimator order + 1))
+    return _Scheme(np.ascontiguousarray(A), C, ns, np.ascontiguousarray(E5, dtype=float),
+                   np.ascontiguousarray(E3, dtype=float),
+                   -1.0 / (solver.error_estimator_order + 1), dop,
+                   None if dop else solver.P, solver.D if dop else None)
 
 
-def _first_step(rhs, t0: float, y0: np.ndarray, f0: np.ndarray, t_end: float, rtol: float,
-                atol: np.ndarray, exponent: float) -> float:
-    """Return scipy's initial step (Hairer's rule), the smallest over the designs."""
-    d = y0.shape[1]
-    scale = atol + np.abs(y0) * rtol
-    d0 = np.sqrt(_rms(y0 / scale) / d)
-    d1 = np.sqrt(_rms(f0 / scale) / d)
-    h0 = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
-    h0 = float(min(np.min(h0), t_end - t0))
-    f1 = rhs(t0 + h0, y0 + h0 * f0)
-    d2 = np.sqrt(_rms((f1 - f0) / scale) / d) / h0
-    h1 = np.where((d1 <= 1e-15) & (d2 <= 1e-15), max(1e-6, h0 * 1e-3),
-                  (0.01 / np.maximum(np.maximum(d1, d2), 1e-300)) ** -exponent)
-    return float(min(100.0 * h0, np.min(h1), t_end - t0))
+def _dense_weights(sc: _Scheme, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return the interpolant at x = (t - t_old) / h as y_old + a (y - y_old) + h w . K.
+
+    scipy's interpolants are linear in the step's increment and stages with coefficients that
+    depend on x only: DOP853's seven terms F (dy, h f_old - dy, 2 dy - h (f + f_old), h D K)
+    nested in x and 1 - x, RK45's h K^T P (x, x^2, x^3, x^4).
+    """
+    S = len(sc.C)
+    w, a = np.zeros((x.size, S)), np.zeros(x.size)
+    for r, xr in enumerate(x):
+        if not sc.dop853:
+            w[r, :len(sc.P)] = sc.P @ np.cumprod(np.full(sc.P.shape[1], xr))
+            continue
+        # the coefficient of F_k: the product of the factors applied after it was added
+        mult = [xr if i % 2 == 0 else 1.0 - xr for i in range(7)]
+        c = [float(np.prod(mult[6 - k:])) for k in range(7)]
+        a[r] = c[0] - c[1] + 2.0 * c[2]
+        w[r, 0] += c[1] - c[2]
+        w[r, sc.ns] -= c[2]
+        w[r] += np.asarray(c[3:]) @ sc.D
+    return w, a
 
 
-def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
-                    t_end: float, rtol: float, atol: np.ndarray, t_out: np.ndarray | None,
-                    max_steps: int, method: str = "DOP853") -> BatchSamples:
-    """Integrate y' = rhs(t, y) for B states y (B, d) from t = 0 to ``t_end`` (s).
+def blocks(arr: np.ndarray, W: int) -> np.ndarray:
+    """(B, ...) -> (blocks, ..., W), the last block padded with copies of design 0."""
+    B = arr.shape[0]
+    nc = -(-B // W)
+    idx = np.arange(nc * W)
+    idx[idx >= B] = 0  # a copy of a real design: finite, and no new largest error
+    return np.ascontiguousarray(np.moveaxis(arr[idx].reshape((nc, W) + arr.shape[1:]), 1, -1))
+
+
+def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.ndarray,
+                    t_out: np.ndarray | None, max_steps: int, method: str = "DOP853"
+                    ) -> BatchSamples:
+    """Integrate the designs' y' = f(t, y), y (B, d), from t = 0 to ``t_end`` (s).
 
     Parameters
     ----------
-    rhs : callable (t, Y (B, d)) -> (B, d)
-        The batched right-hand side.
+    plant : BatchPlant
+        The designs' equations (:mod:`.batch_rhs`).
     y0 : ndarray, shape (B, d)
         Initial states.
     t_end : float
@@ -143,19 +141,29 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
     -------
     BatchSamples
     """
-    sc = _Scheme(method)
-    A, Bw, C, ns = sc.A, sc.B, sc.C, sc.ns
+    from ..chain.planar_batch_kernel import scratch_rows
+    from .batch_rk_kernel import dense, stages
+
+    sc = stage_table(method)
     B, d = y0.shape
-    K = np.empty((ns + 1 + len(sc.C_extra), B, d))
-    K2 = K.reshape(len(K), B * d)  # the stages' combinations as BLAS matrix-vector products
+    W = min(BLOCK, B)
+    P, n, m, damped, gained, T = plant.block_constants(W)
+    nc, S = P.shape[0], len(sc.C)
+    Y, Ynew = blocks(y0, W), np.empty((nc, d, W))
+    K, X = np.empty((nc, S, d, W)), np.empty((d, W))
+    scratch = np.empty((max(scratch_rows(n, m), 4), W))
+    atol_b = blocks(np.broadcast_to(atol, (B, 1))[:, 0], W)
+    errs = np.empty(nc * W)
+    consts = (P, n, m, damped, gained)
 
-    def combine(w: np.ndarray, s: int) -> np.ndarray:
-        return (w @ K2[:s]).reshape(B, d)
+    def run(t, h, s0, s1):
+        FT, UT = plant.stage_inputs(t + sc.C * h, S)
+        stages(*consts, FT, UT, T, Y, K, Ynew, sc.A, h, s0, s1, sc.ns, sc.E5, sc.E3,
+               sc.dop853, rtol, atol_b, errs, X, scratch)
 
-    t, y = 0.0, y0.copy()
-    f = rhs(t, y)
+    t = 0.0
+    h = _first_step(run, sc, Y, K, t_end, rtol, atol_b)
     evals = 2
-    h = _first_step(rhs, t, y, f, t_end, rtol, atol, sc.exponent)
     ts, ys = [0.0], [y0.copy()]  # every step's samples (no grid)
     if t_out is not None:  # the grid's samples are written in place, design-major
         Y_out = np.empty((B, len(t_out), d))
@@ -173,15 +181,9 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
                                  f"t = {t:.6g} s")
             t_new = min(t + h, t_end)
             h = t_new - t
-            K[0] = f
-            for s in range(1, ns):
-                K[s] = rhs(t + C[s] * h, y + h * combine(A[s, :s], s))
-            y_new = y + h * combine(Bw, ns)
-            f_new = rhs(t_new, y_new)
-            K[ns] = f_new
-            evals += ns
-            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
-            err = float(np.max(sc.error(combine, h, scale)))
+            run(t, h, 1, sc.ns + 1)
+            evals += sc.ns
+            err = float(errs.max())
             if not np.isfinite(err):
                 raise SolveError(f"simulate_batch: the state is no longer finite at t = {t:.6g}"
                                  " s")
@@ -201,17 +203,50 @@ def integrate_batch(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarr
         steps += 1
         if t_out is None:
             ts.append(t_new)
-            ys.append(y_new)
+            ys.append(_unblock(Ynew, B))
         else:
             # as the single run samples: the times in [t, t_new), the last step also the end
             # and its rounding slack beyond
             k_end = len(t_out) if t_new >= t_end else int(np.searchsorted(t_out, t_new))
             if k_end > k_out:
-                evals += sc.dense(rhs, K, combine, t, h, y, y_new, f, f_new,
-                                  t_out[k_out:k_end], Y_out[:, k_out:k_end])
+                if S > sc.ns + 1:  # DOP853's interpolant: three more stages
+                    run(t, h, sc.ns + 1, S)
+                    evals += S - sc.ns - 1
+                w, a = _dense_weights(sc, (t_out[k_out:k_end] - t) / h)
+                dense(Y, Ynew, K, w, a, h, Y_out, k_out, B)
                 k_out = k_end
-        t, y, f, h = t_new, y_new, f_new, h_next
+        t, h = t_new, h_next
+        Y, Ynew = Ynew, Y
+        K[:, 0] = K[:, sc.ns]  # f at the new start (FSAL)
     if t_out is not None:
         return BatchSamples(t_out.copy(), Y_out, steps, rejected, evals)
     return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), steps, rejected,
                         evals)
+
+
+def _unblock(Y: np.ndarray, B: int) -> np.ndarray:
+    """(blocks, d, W) -> (B, d)."""
+    return np.moveaxis(Y, 2, 1).reshape(-1, Y.shape[1])[:B].copy()
+
+
+def _first_step(run, sc: _Scheme, Y, K, t_end: float, rtol: float, atol) -> float:
+    """Return scipy's initial step (Hairer's rule), the smallest over the designs.
+
+    f(y0) is stage 0 at h = 0; f(y0 + h0 f0) is stage 1 with h = h0 / A[1, 0].
+    """
+    d = Y.shape[1]
+
+    def rms(x):  # (blocks, d, W) -> per design
+        return np.sqrt(np.einsum("cdw,cdw->cw", x, x) / d)
+
+    run(0.0, 0.0, 0, 1)
+    f0 = K[:, 0].copy()
+    scale = atol[:, None, :] + np.abs(Y) * rtol
+    d0, d1 = rms(Y / scale), rms(f0 / scale)
+    h0 = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
+    h0 = float(min(np.min(h0), t_end))
+    run(0.0, h0 / sc.A[1, 0], 1, 2)
+    d2 = rms((K[:, 1] - f0) / scale) / h0
+    h1 = np.where((d1 <= 1e-15) & (d2 <= 1e-15), max(1e-6, h0 * 1e-3),
+                  (0.01 / np.maximum(np.maximum(d1, d2), 1e-300)) ** -sc.exponent)
+    return float(min(100.0 * h0, np.min(h1), t_end))
