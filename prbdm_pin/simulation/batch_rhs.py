@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..chain import planar
 from ..chain.planar_batch import PlanarLinks, batch_mass, design_links
 from ..errors import BeamInputError
 from .damping import damping_matrix, damping_ratios, spring_modal_damping
@@ -66,7 +65,7 @@ class BatchPlant:
         :func:`prbdm_pin.chain.planar_batch_kernel.param_rows`, the last block padded with
         copies of design 0; T maps the inputs that are tip forces onto the force's axes.
         """
-        from ..chain.planar_batch_kernel import param_rows
+        from ..chain.planar_batch_kernel import mass_rows, param_rows
         from .batch_rk import blocks
 
         B, n = self.stiffness_Nm_per_rad.shape
@@ -75,8 +74,9 @@ class BatchPlant:
         rows = param_rows(n, m, damped, gained)
         P = np.zeros((B, rows["end"]))
         lk = self.links
+        Ma, Mb = mass_rows(lk)
         parts = [("L", lk.lengths_m), ("mass", lk.mass_kg), ("off", lk.com_offset_m),
-                 ("iyy", lk.inertia_yy_kg_m2), ("k", self.stiffness_Nm_per_rad)]
+                 ("Ma", Ma), ("Mb", Mb), ("k", self.stiffness_Nm_per_rad)]
         if self.force_N is not None and not callable(self.force_N):
             parts.append(("F", self.force_N))
         if m:
@@ -109,18 +109,11 @@ class BatchPlant:
                 UT[s] = self.u_time(t)
         return FT, UT
 
-    def tips(self, Q: np.ndarray) -> np.ndarray:
-        """Tip positions (B, s, 3), m, of the joint angles Q (B, s, n), rad."""
-        B, s, n = Q.shape
-        out = np.empty((B, s, 3))
-        # a block of designs at a time: the closed form's temporaries stay in cache (the whole
-        # stack at once, 1000 designs x 1001 samples, cost five times as much)
-        block = max(1, (1 << 18) // max(1, s * n))
-        L = self.links.lengths_m[:, None, :]
-        for i in range(0, B, block):
-            out[i:i + block] = planar.tip_positions(L[i:i + block], Q[i:i + block])
-        return out
+    def tips(self, Y: np.ndarray) -> np.ndarray:
+        """Tip positions (B, s, 3), m, of the states Y (B, s, 2n) (joint angles first, rad)."""
+        from ..chain.planar_batch_kernel import batch_tips
 
+        return batch_tips(self.links.lengths_m, Y)
 
 def vectorised_plant(models: list, Q0: np.ndarray, options, inputs: tuple, signals: list,
                      actuators: tuple, force) -> BatchPlant | None:

@@ -26,7 +26,7 @@ __all__ = ["BatchSamples", "integrate_batch", "stage_table", "blocks", "BLOCK"]
 
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0  # scipy's step-size rule
 METHODS = ("DOP853", "RK45")
-BLOCK = 64  # designs per block: a block's stages (16 x 10 x 64 doubles for a 5R) stay in L2
+BLOCK = 128  # designs per block: a block's stages (16 x 10 x 128 doubles for a 5R) stay in L2
 
 
 @dataclass(frozen=True)
@@ -213,7 +213,7 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
                     run(t, h, sc.ns + 1, S)
                     evals += S - sc.ns - 1
                 w, a = _dense_weights(sc, (t_out[k_out:k_end] - t) / h)
-                dense(Y, Ynew, K, w, a, h, Y_out, k_out, B)
+                dense(Y, Ynew, K, w, a, h, Y_out, k_out, B, scratch[0])
                 k_out = k_end
         t, h = t_new, h_next
         Y, Ynew = Ynew, Y

@@ -83,23 +83,26 @@ def _errors(Y, Ynew, K, E5, E3, dop, h, rtol, atol, out, ns, S):  # pragma: no c
 
 
 @numba.njit(cache=True)
-def dense(Y, Ynew, K, wts, a, h, out, j0, B):  # pragma: no cover - compiled
+def dense(Y, Ynew, K, wts, a, h, out, j0, B, acc):  # pragma: no cover - compiled
     """Write the interpolant at some times into out[:, j0 + r] (B, samples, d), r < len(a).
 
     Sample r is Y + a_r (Ynew - Y) + h sum_s wts[r, s] K_s (the weights of the sample's time,
-    the same for every design); the blocks' padding designs (index >= B) are skipped.
+    the same for every design); the blocks' padding designs (index >= B) are skipped. acc:
+    scratch (W,).
     """
     nc, d, W = Y.shape
     ns = wts.shape[1]
     for c in range(nc):
         Yc, Zc, Kc = Y[c], Ynew[c], K[c]
+        w = min(W, B - c * W)
         for r in range(a.size):
+            ar = a[r]
             for i in range(d):
                 for b in range(W):
-                    g = c * W + b
-                    if g < B:
-                        acc = 0.0
-                        for s in range(ns):
-                            acc += wts[r, s] * Kc[s, i, b]
-                        out[g, j0 + r, i] = Yc[i, b] + a[r] * (Zc[i, b] - Yc[i, b]) + h * acc
-
+                    acc[b] = Yc[i, b] + ar * (Zc[i, b] - Yc[i, b])
+                for s in range(ns):
+                    hw = h * wts[r, s]
+                    for b in range(W):
+                        acc[b] += hw * Kc[s, i, b]
+                for b in range(w):
+                    out[c * W + b, j0 + r, i] = acc[b]
