@@ -58,12 +58,30 @@ class BatchPlant:
     gain: np.ndarray | None = None
     _zeros: tuple | None = field(default=None, repr=False)
 
-    def block_constants(self, W: int) -> tuple:
-        """Return the designs' constants in blocks of W and what the compiled stages need.
+    @property
+    def timed(self) -> bool:
+        """Whether a tip force or the inputs are a function of time."""
+        return callable(self.force_N) or self.u_time is not None
+
+    def stiffness_order(self, y0: np.ndarray) -> np.ndarray:
+        """Return the designs (B,) sorted by their highest natural frequency at y0's pose.
+
+        What bounds an explicit step on a lightly damped chain: designs of like frequency
+        share a block, whose step its stiffest design sets.
+        """
+        n = self.stiffness_Nm_per_rad.shape[1]
+        M = batch_mass(self.links, y0[:, :n])
+        w2 = np.linalg.eigvals(np.linalg.solve(M, self.stiffness_Nm_per_rad[:, :, None]
+                                               * np.eye(n))).real.max(axis=1)
+        return np.argsort(w2, kind="stable")
+
+    def block_constants(self, W: int, order: np.ndarray) -> tuple:
+        """Return the designs' constants, in ``order``, in blocks of W, and the stages' flags.
 
         (P (blocks, R, W), n, m, damped, gained, T (3, m)): P the rows of
         :func:`prbdm_pin.chain.planar_batch_kernel.param_rows`, the last block padded with
-        copies of design 0; T maps the inputs that are tip forces onto the force's axes.
+        copies of its first design; T maps the inputs that are tip forces onto the force's
+        axes.
         """
         from ..chain.planar_batch_kernel import mass_rows, param_rows
         from .batch_rk import blocks
@@ -90,13 +108,13 @@ class BatchPlant:
         T = np.zeros((3, m))
         for col, axis in self.tip_rows:
             T[axis, col] += 1.0
-        return blocks(P, W), n, m, damped, gained, T
+        return blocks(P[order], W), n, m, damped, gained, T
 
     def stage_inputs(self, times: np.ndarray, stages: int) -> tuple[np.ndarray, np.ndarray]:
         """Return the shared functions of time at the stage times (s): force (S, 3), u (S, m)."""
         m = 0 if self.input_map is None else self.input_map.shape[2]
         timed_force, timed_u = callable(self.force_N), self.u_time is not None
-        if not (timed_force or timed_u):
+        if not self.timed:
             if self._zeros is None or len(self._zeros[0]) != stages:
                 object.__setattr__(self, "_zeros", (np.zeros((stages, 3)),
                                                     np.zeros((stages, m))))

@@ -24,7 +24,6 @@ from ..errors import SolveError
 
 __all__ = ["BatchSamples", "integrate_batch", "stage_table", "blocks", "BLOCK"]
 
-_SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0  # scipy's step-size rule
 METHODS = ("DOP853", "RK45")
 BLOCK = 128  # designs per block: a block's stages (16 x 10 x 128 doubles for a 5R) stay in L2
 
@@ -35,9 +34,9 @@ class BatchSamples:
 
     t_s: np.ndarray
     y: np.ndarray
-    steps: int
-    rejected_steps: int
-    rhs_evaluations: int
+    steps: np.ndarray
+    rejected_steps: np.ndarray
+    rhs_evaluations: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,29 +80,6 @@ def stage_table(method: str) -> _Scheme:
                    None if dop else solver.P, solver.D if dop else None)
 
 
-def _dense_weights(sc: _Scheme, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Return the interpolant at x = (t - t_old) / h as y_old + a (y - y_old) + h w . K.
-
-    scipy's interpolants are linear in the step's increment and stages with coefficients that
-    depend on x only: DOP853's seven terms F (dy, h f_old - dy, 2 dy - h (f + f_old), h D K)
-    nested in x and 1 - x, RK45's h K^T P (x, x^2, x^3, x^4).
-    """
-    S = len(sc.C)
-    w, a = np.zeros((x.size, S)), np.zeros(x.size)
-    for r, xr in enumerate(x):
-        if not sc.dop853:
-            w[r, :len(sc.P)] = sc.P @ np.cumprod(np.full(sc.P.shape[1], xr))
-            continue
-        # the coefficient of F_k: the product of the factors applied after it was added
-        mult = [xr if i % 2 == 0 else 1.0 - xr for i in range(7)]
-        c = [float(np.prod(mult[6 - k:])) for k in range(7)]
-        a[r] = c[0] - c[1] + 2.0 * c[2]
-        w[r, 0] += c[1] - c[2]
-        w[r, sc.ns] -= c[2]
-        w[r] += np.asarray(c[3:]) @ sc.D
-    return w, a
-
-
 def blocks(arr: np.ndarray, W: int) -> np.ndarray:
     """(B, ...) -> (blocks, ..., W), the last block padded with copies of design 0."""
     B = arr.shape[0]
@@ -117,6 +93,11 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
                     t_out: np.ndarray | None, max_steps: int, method: str = "DOP853"
                     ) -> BatchSamples:
     """Integrate the designs' y' = f(t, y), y (B, d), from t = 0 to ``t_end`` (s).
+
+    With an output grid, the designs are sorted by their highest natural frequency at the
+    start (what bounds an explicit step) and cut into blocks of ``BLOCK``, each stepped on its
+    own: a block's step is set by its stiffest design, not the batch's. Without one (a sample
+    at every step, so one time grid for all) the batch is one block.
 
     Parameters
     ----------
@@ -140,113 +121,88 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
     Returns
     -------
     BatchSamples
+        ``steps``, ``rejected_steps`` and ``rhs_evaluations`` per design (B,).
     """
     from ..chain.planar_batch_kernel import scratch_rows
-    from .batch_rk_kernel import dense, stages
+    from .batch_rk_kernel import advance, block_stages
 
     sc = stage_table(method)
     B, d = y0.shape
-    W = min(BLOCK, B)
-    P, n, m, damped, gained, T = plant.block_constants(W)
+    every = t_out is None
+    W = B if every else min(BLOCK, B)
+    order = plant.stiffness_order(y0) if W < B else np.arange(B)
+    P, n, m, damped, gained, T = plant.block_constants(W, order)
     nc, S = P.shape[0], len(sc.C)
-    Y, Ynew = blocks(y0, W), np.empty((nc, d, W))
-    K, X = np.empty((nc, S, d, W)), np.empty((d, W))
+    Yb = blocks(y0[order], W)
+    atol_b = blocks(np.broadcast_to(atol, (B, 1))[order, 0], W)
+    idx = blocks(order, W)
+    idx[np.arange(nc * W).reshape(nc, W) >= B] = -1  # the padding lanes: not written
+    K, Ynew, X = np.empty((S, d, W)), np.empty((d, W)), np.empty((d, W))
     scratch = np.empty((max(scratch_rows(n, m), 4), W))
-    atol_b = blocks(np.broadcast_to(atol, (B, 1))[:, 0], W)
-    errs = np.empty(nc * W)
-    consts = (P, n, m, damped, gained)
-
-    def run(t, h, s0, s1):
-        FT, UT = plant.stage_inputs(t + sc.C * h, S)
-        stages(*consts, FT, UT, T, Y, K, Ynew, sc.A, h, s0, s1, sc.ns, sc.E5, sc.E3,
-               sc.dop853, rtol, atol_b, errs, X, scratch)
-
-    t = 0.0
-    h = _first_step(run, sc, Y, K, t_end, rtol, atol_b)
-    evals = 2
+    t_grid = np.zeros(0) if every else t_out
+    Y_out = np.empty((B, 0 if every else len(t_out), d))
+    counts = np.zeros((B, 3), dtype=int)
     ts, ys = [0.0], [y0.copy()]  # every step's samples (no grid)
-    if t_out is not None:  # the grid's samples are written in place, design-major
-        Y_out = np.empty((B, len(t_out), d))
-    k_out = 0  # the next sample
-    steps = rejected = 0
-    while t < t_end:
-        if steps >= max_steps:
-            raise SolveError(f"simulate_batch: {max_steps} steps reached at t = {t:.6g} s "
-                             "(max_steps)")
-        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
-        accepted = was_rejected = False
-        while not accepted:
-            if h < min_step:
-                raise SolveError(f"simulate_batch: the step fell below {min_step:.3g} s at "
-                                 f"t = {t:.6g} s")
-            t_new = min(t + h, t_end)
-            h = t_new - t
-            run(t, h, 1, sc.ns + 1)
-            evals += sc.ns
-            err = float(errs.max())
-            if not np.isfinite(err):
-                raise SolveError(f"simulate_batch: the state is no longer finite at t = {t:.6g}"
-                                 " s")
-            if err < 1.0:
-                factor = _MAX_FACTOR if err == 0.0 else min(_MAX_FACTOR,
-                                                            _SAFETY * err ** sc.exponent)
-                if was_rejected:
-                    factor = min(1.0, factor)
-                accepted = True
-            else:
-                factor = max(_MIN_FACTOR, _SAFETY * err ** sc.exponent)
-                was_rejected = True
-                rejected += 1
-            h_next = h * factor
-            if not accepted:
-                h = h_next
-        steps += 1
-        if t_out is None:
-            ts.append(t_new)
-            ys.append(_unblock(Ynew, B))
-        else:
-            # as the single run samples: the times in [t, t_new), the last step also the end
-            # and its rounding slack beyond
-            k_end = len(t_out) if t_new >= t_end else int(np.searchsorted(t_out, t_new))
-            if k_end > k_out:
-                if S > sc.ns + 1:  # DOP853's interpolant: three more stages
-                    run(t, h, sc.ns + 1, S)
-                    evals += S - sc.ns - 1
-                w, a = _dense_weights(sc, (t_out[k_out:k_end] - t) / h)
-                dense(Y, Ynew, K, w, a, h, Y_out, k_out, B, scratch[0])
-                k_out = k_end
-        t, h = t_new, h_next
-        Y, Ynew = Ynew, Y
-        K[:, 0] = K[:, sc.ns]  # f at the new start (FSAL)
-    if t_out is not None:
-        return BatchSamples(t_out.copy(), Y_out, steps, rejected, evals)
-    return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), steps, rejected,
-                        evals)
+    P45 = sc.P if sc.P is not None else np.zeros((1, 1))
+    D = sc.D if sc.D is not None else np.zeros((1, 1))
+    timed = plant.timed
+    for c in range(nc):
+        Y = Yb[c]
+
+        def run(t, h, s0, s1, Y=Y, c=c):
+            FT, UT = plant.stage_inputs(t + sc.C * h, S)
+            block_stages(P[c], n, m, damped, gained, FT, UT, T, Y, K, Ynew, sc.A, h, s0, s1,
+                         sc.ns, X, scratch)
+
+        ints = np.zeros(6, dtype=np.int64)
+        ints[2] = 2
+        fl = np.array([0.0, _first_step(run, sc, Y, K, t_end, rtol, atol_b[c])])
+        FT, UT = plant.stage_inputs(sc.C * 0.0, S)
+        while True:
+            if timed:  # the shared functions of time at the next attempt's stage times
+                h = min(fl[0] + fl[1], t_end) - fl[0]  # the step as advance clips it
+                FT, UT = plant.stage_inputs(fl[0] + sc.C * h, S)
+            status = advance(P[c], n, m, damped, gained, FT, UT, T, Y, K, Ynew, X, scratch,
+                             sc.A, sc.C, sc.ns, sc.E5, sc.E3, sc.dop853, P45, D, sc.exponent,
+                             rtol, atol_b[c], t_end, max_steps, t_grid, Y_out, idx[c], ints, fl,
+                             timed or every)
+            if status:
+                raise SolveError(_FAILURES[status].format(t=fl[0], steps=max_steps))
+            if every and ints[5]:
+                ts.append(float(fl[0]))
+                ys.append(Y.T.copy())
+            if not fl[0] < t_end:
+                break
+        counts[idx[c][idx[c] >= 0]] = ints[[0, 1, 2]]
+    if every:
+        return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), *counts.T)
+    return BatchSamples(t_out.copy(), Y_out, *counts.T)
 
 
-def _unblock(Y: np.ndarray, B: int) -> np.ndarray:
-    """(blocks, d, W) -> (B, d)."""
-    return np.moveaxis(Y, 2, 1).reshape(-1, Y.shape[1])[:B].copy()
+_FAILURES = {1: "simulate_batch: the step fell below scipy's minimum at t = {t:.6g} s",
+             2: "simulate_batch: {steps} steps reached at t = {t:.6g} s (max_steps)",
+             3: "simulate_batch: the state is no longer finite at t = {t:.6g} s"}
 
 
 def _first_step(run, sc: _Scheme, Y, K, t_end: float, rtol: float, atol) -> float:
-    """Return scipy's initial step (Hairer's rule), the smallest over the designs.
+    """Return scipy's initial step (Hairer's rule), the smallest over the block's designs.
 
     f(y0) is stage 0 at h = 0; f(y0 + h0 f0) is stage 1 with h = h0 / A[1, 0].
     """
-    d = Y.shape[1]
+    d = Y.shape[0]
 
-    def rms(x):  # (blocks, d, W) -> per design
-        return np.sqrt(np.einsum("cdw,cdw->cw", x, x) / d)
+    def rms(x):  # (d, W) -> per design
+        return np.sqrt(np.einsum("dw,dw->w", x, x) / d)
 
     run(0.0, 0.0, 0, 1)
-    f0 = K[:, 0].copy()
-    scale = atol[:, None, :] + np.abs(Y) * rtol
+    f0 = K[0].copy()
+    scale = atol + np.abs(Y) * rtol
     d0, d1 = rms(Y / scale), rms(f0 / scale)
     h0 = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
     h0 = float(min(np.min(h0), t_end))
     run(0.0, h0 / sc.A[1, 0], 1, 2)
-    d2 = rms((K[:, 1] - f0) / scale) / h0
+    d2 = rms((K[1] - f0) / scale) / h0
     h1 = np.where((d1 <= 1e-15) & (d2 <= 1e-15), max(1e-6, h0 * 1e-3),
                   (0.01 / np.maximum(np.maximum(d1, d2), 1e-300)) ** -sc.exponent)
+    K[0] = f0  # stage 0 stays f(t0, y0) for the first step
     return float(min(100.0 * h0, np.min(h1), t_end))
