@@ -14,8 +14,9 @@ against ``simulate(method="DOP853", rtol=1e-11)`` of the same design; for a batc
 over ``--checks`` designs (the softest and stiffest highest mode and others drawn at random).
 
 Rows: one design through ``simulate`` at a sweep of settings (the exponential integrator's
-``step_rtol``, DOP853's and the compiled DOP853's ``rtol``), and the batch through
-``simulate_batch`` at a sweep of ``rtol``; the cheapest of each reaching 0.1 % (the issue's
+``step_rtol``, DOP853's and the compiled DOP853's ``rtol``, the latter over the batch's range),
+and the batch through ``simulate_batch`` at a sweep of ``rtol`` (its steps: the most any
+block of designs took); the cheapest of each reaching 0.1 % (the issue's
 target: the batch of 1,000 at most 100 times the cheapest single run). Then the frequencies
 and the linear plants of the B designs at the straight pose: the batched call against a loop
 of ``model.natural_frequencies()`` and of ``linearize(model)``.
@@ -51,7 +52,7 @@ SINGLE = ([("exponential", {"integrator": pp.Exponential(step_rtol=r)}, f"step_r
              for r in (1e-2, 1e-3, 1e-4)]
           # the compiled DOP853 (numba): the cheapest single run of an explicit scheme
           + [("compiled", {"integrator": pp.Compiled(rtol=r)}, f"rtol {r:g}")
-             for r in (1e-2, 1e-3, 1e-4, 1e-6)])
+             for r in (3e-2, 1e-2, 1e-3, 1e-4, 1e-6)])
 BATCH_RTOLS = (3e-2, 1e-2, 3e-3, 1e-3, 1e-4)
 
 
@@ -97,7 +98,7 @@ def simulation_rows(models, damping: float, repeats: int, checks: int):
         t, run = cpu(lambda r=rtol: pp.simulate_batch(models, 1.0, **common, rtol=r), repeats)
         err = max(tip_error(run.tip_displacement_m[i, :, 2], refs[i]) for i in picks)
         rows.append((f"{len(models)} designs", "simulate_batch (DOP853)", f"rtol {rtol:g}", t,
-                     err, int(run.steps[0])))
+                     err, int(run.steps.max())))
     return rows
 
 

@@ -29,6 +29,7 @@ import numba
 import numpy as np
 
 __all__ = ["param_rows", "mass_rows", "block_rates", "batch_state_rates", "batch_tips",
+           "block_tip",
            "scratch_rows"]
 
 # pi/2 in two parts (fdlibm's): k * _PIO2_HI is exact for |k| < 2^20, so the reduction below is
@@ -257,38 +258,47 @@ def _cholesky_solve(S, n, oM, rh, inv, acc, out):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
+def block_tip(L, x, n, out):  # pragma: no cover - compiled
+    """Write the tip's x and z (m) of a block at the joint angles x[:n] (rad) into out[:2].
+
+    p_tip = L_0 e_x + sum_i L_i (cos phi_i, 0, -sin phi_i) (:mod:`.planar`'s closed form), the
+    designs innermost; L: the lengths' rows (n+1, W), m; out (3, W), its last row scratch.
+    """
+    W = x.shape[1]
+    for b in range(W):
+        out[0, b] = L[0, b]
+        out[1, b] = 0.0
+        out[2, b] = 0.0
+    for i in range(n):
+        for b in range(W):
+            p = out[2, b] + x[i, b]
+            out[2, b] = p
+            sn, c = _sincos(p)
+            out[0, b] += L[i + 1, b] * c
+            out[1, b] -= L[i + 1, b] * sn
+
+
+@numba.njit(cache=True)
 def _tips(L, Y, out):  # pragma: no cover - compiled
-    B, s, n = Y.shape[0], Y.shape[1], L.shape[1] - 1
-    phi, x, z = np.empty(s), np.empty(s), np.empty(s)
-    for g in range(B):
-        for t in range(s):  # the samples innermost: SIMD lanes, as in block_rates
-            phi[t] = 0.0
-            x[t] = L[g, 0]
-            z[t] = 0.0
-        for i in range(n):
-            Li = L[g, i + 1]
-            for t in range(s):
-                p = phi[t] + Y[g, t, i]
-                phi[t] = p
-                sn, c = _sincos(p)
-                x[t] += Li * c
-                z[t] -= Li * sn
-        for t in range(s):
-            out[g, t, 0] = x[t]
-            out[g, t, 1] = 0.0
-            out[g, t, 2] = z[t]
+    s = Y.shape[0]
+    n = L.shape[0] - 1
+    xz = np.empty((3, Y.shape[2]))
+    for t in range(s):
+        block_tip(L, Y[t], n, xz)
+        out[t, 0] = xz[0]
+        out[t, 2] = xz[1]
 
 
 def batch_tips(lengths_m: np.ndarray, Y: np.ndarray) -> np.ndarray:
     """Return the tip positions (B, s, 3), m, of B chains' samples Y (B, s, >= n), q first, rad.
 
-    p_tip = L_0 e_x + sum_i L_i (cos phi_i, 0, -sin phi_i) (:mod:`.planar`'s closed form),
-    compiled: numpy's version over a batch's samples cost a tenth of the batched run.
-    ``lengths_m`` (B, n+1), m.
+    :func:`block_tip` over the samples, the B designs one block; ``lengths_m`` (B, n+1), m.
     """
-    out = np.empty(Y.shape[:2] + (3,))
-    _tips(np.ascontiguousarray(lengths_m, dtype=float), Y, out)
-    return out
+    B, s = Y.shape[:2]
+    out = np.zeros((s, 3, B))
+    _tips(np.ascontiguousarray(np.asarray(lengths_m, dtype=float).T),
+          np.ascontiguousarray(np.moveaxis(Y, 0, 2)), out)
+    return np.ascontiguousarray(np.moveaxis(out, 2, 0))
 
 
 def batch_state_rates(links, Y: np.ndarray, stiffness_Nm_per_rad: np.ndarray,

@@ -151,7 +151,7 @@ def _run(plant: BatchPlant, duration_s: float, Q0: np.ndarray, V0: np.ndarray,
     s = integrate_batch(plant, np.hstack((Q0, V0)), duration_s, rtol, atol, t_out,
                         o.max_steps, integ.method)
     Q, V = s.y[:, :, :n], s.y[:, :, n:]
-    tip = plant.tips(s.y)
+    tip = s.tip_m
     for arr in (s.t_s, Q, V, tip):
         arr.setflags(write=False)
     ones = np.ones(B, dtype=int)

@@ -127,11 +127,6 @@ class BatchPlant:
                 UT[s] = self.u_time(t)
         return FT, UT
 
-    def tips(self, Y: np.ndarray) -> np.ndarray:
-        """Tip positions (B, s, 3), m, of the states Y (B, s, 2n) (joint angles first, rad)."""
-        from ..chain.planar_batch_kernel import batch_tips
-
-        return batch_tips(self.links.lengths_m, Y)
 
 def vectorised_plant(models: list, Q0: np.ndarray, options, inputs: tuple, signals: list,
                      actuators: tuple, force) -> BatchPlant | None:

@@ -30,13 +30,14 @@ BLOCK = 128  # designs per block: a block's stages (16 x 10 x 128 doubles for a 
 
 @dataclass(frozen=True)
 class BatchSamples:
-    """Samples of a batched run: t (s,), states (B, s, d), and what the run cost."""
+    """Samples of a batched run: t (s,), states (B, s, d), what the run cost, tip positions."""
 
     t_s: np.ndarray
     y: np.ndarray
     steps: np.ndarray
     rejected_steps: np.ndarray
     rhs_evaluations: np.ndarray
+    tip_m: np.ndarray  # tip positions (B, s, 3), m
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,7 +124,7 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
     BatchSamples
         ``steps``, ``rejected_steps`` and ``rhs_evaluations`` per design (B,).
     """
-    from ..chain.planar_batch_kernel import scratch_rows
+    from ..chain.planar_batch_kernel import batch_tips, scratch_rows
     from .batch_rk_kernel import advance, block_stages
 
     sc = stage_table(method)
@@ -138,9 +139,10 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
     idx = blocks(order, W)
     idx[np.arange(nc * W).reshape(nc, W) >= B] = -1  # the padding lanes: not written
     K, Ynew, X = np.empty((S, d, W)), np.empty((d, W)), np.empty((d, W))
-    scratch = np.empty((max(scratch_rows(n, m), 4), W))
+    scratch = np.empty((max(scratch_rows(n, m), d + 3), W))
     t_grid = np.zeros(0) if every else t_out
     Y_out = np.empty((B, 0 if every else len(t_out), d))
+    tips = np.empty((B, 0 if every else len(t_out), 3))
     counts = np.zeros((B, 3), dtype=int)
     ts, ys = [0.0], [y0.copy()]  # every step's samples (no grid)
     P45 = sc.P if sc.P is not None else np.zeros((1, 1))
@@ -164,8 +166,8 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
                 FT, UT = plant.stage_inputs(fl[0] + sc.C * h, S)
             status = advance(P[c], n, m, damped, gained, FT, UT, T, Y, K, Ynew, X, scratch,
                              sc.A, sc.C, sc.ns, sc.E5, sc.E3, sc.dop853, P45, D, sc.exponent,
-                             rtol, atol_b[c], t_end, max_steps, t_grid, Y_out, idx[c], ints, fl,
-                             timed or every)
+                             rtol, atol_b[c], t_end, max_steps, t_grid, Y_out, tips, idx[c],
+                             ints, fl, timed or every)
             if status:
                 raise SolveError(_FAILURES[status].format(t=fl[0], steps=max_steps))
             if every and ints[5]:
@@ -175,8 +177,10 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
                 break
         counts[idx[c][idx[c] >= 0]] = ints[[0, 1, 2]]
     if every:
-        return BatchSamples(np.asarray(ts, dtype=float), np.stack(ys, axis=1), *counts.T)
-    return BatchSamples(t_out.copy(), Y_out, *counts.T)
+        Y_out = np.stack(ys, axis=1)
+        tips = batch_tips(P[0, :n + 1].T, Y_out)  # one block: P's lanes are the designs
+        return BatchSamples(np.asarray(ts, dtype=float), Y_out, *counts.T, tips)
+    return BatchSamples(t_out.copy(), Y_out, *counts.T, tips)
 
 
 _FAILURES = {1: "simulate_batch: the step fell below scipy's minimum at t = {t:.6g} s",

@@ -19,7 +19,7 @@ import math
 import numba
 import numpy as np
 
-from ..chain.planar_batch_kernel import block_rates
+from ..chain.planar_batch_kernel import block_rates, block_tip
 
 __all__ = ["block_stages", "advance"]
 
@@ -124,30 +124,41 @@ def _weights(dop, ns, P45, D, x, w):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _dense(Y, Ynew, K, h, a, w, out, j, idx, acc):  # pragma: no cover - compiled
-    """Write the sample Y + a (Ynew - Y) + h w . K of each design b into out[idx[b], j]."""
+def _dense(Y, Ynew, K, h, a, w, P, n, out, tips, j, idx, S):  # pragma: no cover - compiled
+    """Write the sample Y + a (Ynew - Y) + h w . K of each design b into out[idx[b], j].
+
+    And its tip position into tips[idx[b], j] (the block's lengths: P's first rows). S: scratch
+    (>= d + 3 rows).
+    """
     d, W = Y.shape
     for i in range(d):
         for b in range(W):
-            acc[b] = Y[i, b] + a * (Ynew[i, b] - Y[i, b])
+            S[i, b] = Y[i, b] + a * (Ynew[i, b] - Y[i, b])
         for s in range(w.size):
             hw = h * w[s]
             for b in range(W):
-                acc[b] += hw * K[s, i, b]
-        for b in range(W):
-            if idx[b] >= 0:
-                out[idx[b], j, i] = acc[b]
+                S[i, b] += hw * K[s, i, b]
+    block_tip(P, S, n, S[d:d + 3])
+    for b in range(W):
+        g = idx[b]
+        if g >= 0:
+            for i in range(d):
+                out[g, j, i] = S[i, b]
+            tips[g, j, 0] = S[d, b]
+            tips[g, j, 1] = 0.0
+            tips[g, j, 2] = S[d + 1, b]
 
 
 @numba.njit(cache=True, error_model="numpy")
 def advance(P, n, m, damped, gained, FT, UT, T, Y, K, Ynew, X, S, A, C, ns, E5, E3, dop, P45,
-            D, exponent, rtol, atol, t_end, max_steps, t_out, Y_out, idx, ints, fl,
+            D, exponent, rtol, atol, t_end, max_steps, t_out, Y_out, tips, idx, ints, fl,
             once):  # pragma: no cover - compiled
     """Step the block from its state to t_end (with ``once``: make one attempt); the status.
 
     The state between calls: fl = [t, h], ints = [steps, rejected, evaluations, next sample,
     last attempt rejected, last attempt accepted]; Y holds y(t) and K[0] f(t, y) (FSAL). The
-    samples at t_out (s) go to Y_out[idx[b]] (idx < 0: a padding lane); with no samples
+    samples at t_out (s) go to Y_out[idx[b]] and their tip positions (m) to tips[idx[b]]
+    (idx < 0: a padding lane); with no samples
     (t_out empty) an accepted step leaves y(t) in Y for the caller to read.
     """
     Sn = K.shape[0]
@@ -187,7 +198,7 @@ def advance(P, n, m, damped, gained, FT, UT, T, Y, K, Ynew, X, S, A, C, ns, E5, 
                 ints[2] += Sn - ns - 1
             for j in range(k, end):
                 a = _weights(dop, ns, P45, D, (t_out[j] - t) / h, w)
-                _dense(Y, Ynew, K, h, a, w, Y_out, j, idx, S[0])
+                _dense(Y, Ynew, K, h, a, w, P, n, Y_out, tips, j, idx, S)
             ints[3] = end
             Y[:] = Ynew
             K[0] = K[ns]  # f at the new start (FSAL)
