@@ -96,7 +96,7 @@ def scratch_rows(n: int, m: int) -> int:
     return 11 * n + n * n + m + 15
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def block_rates(P, n, m, damped, gained, ft, ut, T, x, out, S):  # pragma: no cover
     """Write the rates (v, a) (2n, W) of a block at its states x = (q, v) (2n, W) into out.
 
@@ -217,7 +217,7 @@ def _com(P, S, b, i, om, oo, co, si, px, pz, cx, cz, ax, az, w2, jx, jz):  # pra
     S[az + i, b] = mi * (S[jz, b] - d * v2 * s)
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _cholesky_solve(S, n, oM, rh, inv, acc, out):  # pragma: no cover - compiled
     """Solve M a = rhs for every design (M's lower triangle at rows oM, factored in place).
 

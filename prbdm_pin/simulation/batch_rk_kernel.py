@@ -26,7 +26,7 @@ __all__ = ["block_stages", "advance"]
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0  # scipy's step-size rule
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def block_stages(P, n, m, damped, gained, FT, UT, T, Y, K, Ynew, A, h, s0, s1, ns, X,
                  S):  # pragma: no cover - compiled
     """Evaluate the stages s0 <= s < s1 of the block into K (S, d, W).
@@ -50,7 +50,7 @@ def block_stages(P, n, m, damped, gained, FT, UT, T, Y, K, Ynew, A, h, s0, s1, n
         block_rates(P, n, m, damped, gained, FT[s], UT[s], T, dst, K[s], S)
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _error(Y, Ynew, K, E5, E3, dop, h, rtol, atol, ns, S):  # pragma: no cover - compiled
     """Return the largest over the block of each design's scipy error norm (NaN if any is).
 
@@ -149,7 +149,7 @@ def _dense(Y, Ynew, K, h, a, w, P, n, out, tips, j, idx, S):  # pragma: no cover
             tips[g, j, 2] = S[d + 1, b]
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def advance(P, n, m, damped, gained, FT, UT, T, Y, K, Ynew, X, S, A, C, ns, E5, E3, dop, P45,
             D, exponent, rtol, atol, t_end, max_steps, t_out, Y_out, tips, idx, ints, fl,
             once):  # pragma: no cover - compiled
