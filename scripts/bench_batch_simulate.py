@@ -3,8 +3,8 @@ against one design at a time.
 
 Writes results/bench_batch_simulate.md and, with the default ``--out``, the same table to
 docs/benchmarks/bench_batch_simulate.md (the benchmarks page includes it). BLAS on one thread
-(set before numpy is imported), CPU time (process time), the best of ``--repeats`` (a shared
-machine only ever adds time).
+(set before numpy is imported), CPU time (process time), the best of ``--repeats`` for a batch
+and of five times as many for a single run (a shared machine only ever adds time).
 
 The designs: the finite-segment 5R chain of the reference random beam (springs E / int dx/I),
 its B springs each scaled by a factor drawn uniformly in [0.8, 1.2] (seed 0). The load: a step
@@ -90,7 +90,9 @@ def simulation_rows(models, damping: float, repeats: int, checks: int):
     rows = []
     pp.simulate(models[0], 0.01, **common, method="compiled")  # numba's cache, loaded once
     for name, kw, setting in SINGLE:
-        t, run = cpu(lambda kw=kw: pp.simulate(models[0], 1.0, **common, **kw), repeats)
+        # a single run lasts 15-60 ms: more repeats for its best (the others' load on a shared
+        # machine shows in a short run's figure more than in the batch's seconds)
+        t, run = cpu(lambda kw=kw: pp.simulate(models[0], 1.0, **common, **kw), 5 * repeats)
         rows.append(("one design", name, setting, t, tip_error(run.tip_displacement_m[:, 2],
                                                                 refs[0]), run.steps))
     pp.simulate_batch(models[:2], 0.01, **common, rtol=1e-3)  # numba's cache, loaded once
@@ -128,7 +130,8 @@ def main():
     models = designs(args.designs)
     lines = ["# Many designs at once", "",
              f"{platform.processor() or platform.machine()}, numpy {np.__version__}, BLAS on "
-             f"one thread, CPU time, best of {args.repeats}; 5R finite-segment chain of the "
+             f"one thread, CPU time, best of {args.repeats} (a single run: of "
+             f"{5 * args.repeats}); 5R finite-segment chain of the "
              f"reference random beam, {args.designs} designs (springs x U[0.8, 1.2]), step "
              "tip load 2500 N, 1 s, 1 ms output.", ""]
     for damping in (0.0, 0.02):
