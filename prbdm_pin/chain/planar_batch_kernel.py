@@ -2,7 +2,7 @@
 
 The batched simulation's right-hand side spends its time here: per design, the closed forms of
 :mod:`.planar_batch` (M(q), the Coriolis/centrifugal forces h, J^T F), the inputs and a
-Cholesky solve of M a = tau - K q - C v - h + J^T F. Every array holds a block of W designs
+L D L^T solve of M a = tau - K q - C v - h + J^T F. Every array holds a block of W designs
 along its last axis, and every loop runs over that axis innermost: the same arithmetic on W
 designs side by side, which the compiler turns into SIMD instructions (one design per lane).
 The sines and cosines are a polynomial (:func:`_sincos`) for the same reason: the C library's
@@ -204,7 +204,7 @@ def block_rates(P, n, m, damped, gained, ft, ut, T, x, out, S):  # pragma: no co
             for b in range(W):
                 S[oM + k * n + j, b] = S[s_, b] + (S[px + k, b] - S[px + j, b]) * S[tx, b] \
                     + (S[pz + k, b] - S[pz + j, b]) * S[tz, b]
-    _cholesky_solve(S, n, oM, rh, co, acc, out)
+    _ldl_solve(S, n, oM, rh, co, si, acc, out)
 
 
 @numba.njit(cache=True, inline="always")
@@ -218,11 +218,13 @@ def _com(P, S, b, i, om, oo, co, si, px, pz, cx, cz, ax, az, w2, jx, jz):  # pra
 
 
 @numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _cholesky_solve(S, n, oM, rh, inv, acc, out):  # pragma: no cover - compiled
-    """Solve M a = rhs for every design (M's lower triangle at rows oM, factored in place).
+def _ldl_solve(S, n, oM, rh, dd, inv, acc, out):  # pragma: no cover - compiled
+    """Solve M a = rhs for every design by M = L D L^T (M's lower triangle at rows oM).
 
-    The factor's reciprocal diagonal goes to rows inv (the cosines' rows, no longer needed);
-    a into out[n:]. sqrt of a non-positive pivot is NaN (numpy's error model), and so is a.
+    L (unit lower) is factored in place, D into rows dd and its reciprocal into rows inv (the
+    cosines' and sines' rows, no longer needed); a into out[n:]. No square roots (a
+    vectorised square root costs as much as a dozen multiplications); a non-positive pivot
+    is NaN, and so is a.
     """
     W = S.shape[1]
     for j in range(n):
@@ -230,15 +232,17 @@ def _cholesky_solve(S, n, oM, rh, inv, acc, out):  # pragma: no cover - compiled
             S[acc, b] = S[oM + j * n + j, b]
         for p in range(j):
             for b in range(W):
-                S[acc, b] -= S[oM + j * n + p, b] * S[oM + j * n + p, b]
+                lj = S[oM + j * n + p, b]
+                S[acc, b] -= lj * lj * S[dd + p, b]
         for b in range(W):
-            d = np.sqrt(S[acc, b]) if S[acc, b] > 0.0 else np.nan
-            S[oM + j * n + j, b] = d
+            d = S[acc, b] if S[acc, b] > 0.0 else np.nan
+            S[dd + j, b] = d
             S[inv + j, b] = 1.0 / d
         for i in range(j + 1, n):
             for p in range(j):
                 for b in range(W):
-                    S[oM + i * n + j, b] -= S[oM + i * n + p, b] * S[oM + j * n + p, b]
+                    S[oM + i * n + j, b] -= S[oM + i * n + p, b] * S[oM + j * n + p, b] \
+                        * S[dd + p, b]
             for b in range(W):
                 S[oM + i * n + j, b] *= S[inv + j, b]
     for i in range(n):
@@ -247,14 +251,12 @@ def _cholesky_solve(S, n, oM, rh, inv, acc, out):  # pragma: no cover - compiled
         for p in range(i):
             for b in range(W):
                 out[n + i, b] -= S[oM + i * n + p, b] * out[n + p, b]
+    for i in range(n - 1, -1, -1):
         for b in range(W):
             out[n + i, b] *= S[inv + i, b]
-    for i in range(n - 1, -1, -1):
         for p in range(i + 1, n):
             for b in range(W):
                 out[n + i, b] -= S[oM + p * n + i, b] * out[n + p, b]
-        for b in range(W):
-            out[n + i, b] *= S[inv + i, b]
 
 
 @numba.njit(cache=True)
