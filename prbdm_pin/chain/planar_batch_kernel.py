@@ -5,7 +5,7 @@ The batched simulation's right-hand side spends its time here: per design, the c
 L D L^T solve of M a = tau - K q - C v - h + J^T F. Every array holds a block of W designs
 along its last axis, and every loop runs over that axis innermost: the same arithmetic on W
 designs side by side, which the compiler turns into SIMD instructions (one design per lane).
-The sines and cosines are a polynomial (:func:`_sincos`) for the same reason: the C library's
+The sines and cosines are a polynomial (:func:`sincos`) for the same reason: the C library's
 are calls the compiler cannot vectorise, and they cost more than the rest of the arithmetic.
 numba (chosen over JAX: a small dependency that compiles these loops as they are written, with
 an on-disk cache) is imported by this module only, loaded on the first batched run.
@@ -28,9 +28,8 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["param_rows", "mass_rows", "block_rates", "batch_state_rates", "batch_tips",
-           "block_tip",
-           "scratch_rows"]
+__all__ = ["param_rows", "mass_rows", "block_rates", "batch_state_rates", "scratch_rows",
+           "sincos"]
 
 # pi/2 in two parts (fdlibm's): k * _PIO2_HI is exact for |k| < 2^20, so the reduction below is
 # exact to rounding for |x| < about 8e5 rad, far beyond a chain's joint angles
@@ -39,7 +38,7 @@ _TWO_OVER_PI = 0.63661977236758134308
 
 
 @numba.njit(cache=True, inline="always")
-def _sincos(x):  # pragma: no cover - compiled
+def sincos(x):  # pragma: no cover - compiled
     """Return sin x and cos x: reduced to |r| <= pi/4, then Taylor to x^17, x^16."""
     k = math.floor(x * _TWO_OVER_PI + 0.5)
     r = (x - k * _PIO2_HI) - k * _PIO2_LO
@@ -128,7 +127,7 @@ def block_rates(P, n, m, damped, gained, ft, ut, T, x, out, S):  # pragma: no co
         for b in range(W):
             p = S[phi, b] + x[i, b]
             S[phi, b] = p
-            sn, cs = _sincos(p)
+            sn, cs = sincos(p)
             S[co + i, b] = cs
             S[si + i, b] = sn
             v = S[w, b] + x[n + i, b]
@@ -257,50 +256,6 @@ def _ldl_solve(S, n, oM, rh, dd, inv, acc, out):  # pragma: no cover - compiled
         for p in range(i + 1, n):
             for b in range(W):
                 out[n + i, b] -= S[oM + p * n + i, b] * out[n + p, b]
-
-
-@numba.njit(cache=True)
-def block_tip(L, x, n, out):  # pragma: no cover - compiled
-    """Write the tip's x and z (m) of a block at the joint angles x[:n] (rad) into out[:2].
-
-    p_tip = L_0 e_x + sum_i L_i (cos phi_i, 0, -sin phi_i) (:mod:`.planar`'s closed form), the
-    designs innermost; L: the lengths' rows (n+1, W), m; out (3, W), its last row scratch.
-    """
-    W = x.shape[1]
-    for b in range(W):
-        out[0, b] = L[0, b]
-        out[1, b] = 0.0
-        out[2, b] = 0.0
-    for i in range(n):
-        for b in range(W):
-            p = out[2, b] + x[i, b]
-            out[2, b] = p
-            sn, c = _sincos(p)
-            out[0, b] += L[i + 1, b] * c
-            out[1, b] -= L[i + 1, b] * sn
-
-
-@numba.njit(cache=True)
-def _tips(L, Y, out):  # pragma: no cover - compiled
-    s = Y.shape[0]
-    n = L.shape[0] - 1
-    xz = np.empty((3, Y.shape[2]))
-    for t in range(s):
-        block_tip(L, Y[t], n, xz)
-        out[t, 0] = xz[0]
-        out[t, 2] = xz[1]
-
-
-def batch_tips(lengths_m: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """Return the tip positions (B, s, 3), m, of B chains' samples Y (B, s, >= n), q first, rad.
-
-    :func:`block_tip` over the samples, the B designs one block; ``lengths_m`` (B, n+1), m.
-    """
-    B, s = Y.shape[:2]
-    out = np.zeros((s, 3, B))
-    _tips(np.ascontiguousarray(np.asarray(lengths_m, dtype=float).T),
-          np.ascontiguousarray(np.moveaxis(Y, 0, 2)), out)
-    return np.ascontiguousarray(np.moveaxis(out, 2, 0))
 
 
 def batch_state_rates(links, Y: np.ndarray, stiffness_Nm_per_rad: np.ndarray,

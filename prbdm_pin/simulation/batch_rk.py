@@ -1,19 +1,19 @@
-"""Dormand-Prince 8(5,3) and 5(4) over a batch of planar chains: one shared step, compiled stages.
+"""Dormand-Prince 8(5,3) and 5(4) over a batch of planar chains: blocks of designs, compiled.
 
 Each scheme, its error estimate, its step-size rule and its dense output are scipy's
 ``DOP853`` (seventh-order interpolant, three more stages per step that samples) and ``RK45``
 (fourth-order interpolant from the step's own stages) with scipy's own coefficient tables,
-applied to B designs at once. A step's twelve stages (six for RK45) and each design's error
-norm are one compiled call over the batch (:mod:`.batch_rk_kernel`), the designs in blocks of
-``BLOCK`` along the arrays' last axis (SIMD lanes); this loop only decides the step. The error
-is measured per design with scipy's norm (each design's own tolerances, the RMS over its
-coordinates) and the step is set by the largest of those norms: every design meets its own
-tolerance, as it would alone, or better. One shared step keeps the designs in lockstep (the
-same stage on every lane); the price is that the stiffest design sets the step for all of
-them: on a lightly damped chain the highest mode bounds an explicit step (h omega_max of about
-5 for DOP853), not the tolerance, and it bounds each design's own run about as much.
+applied to blocks of ``BLOCK`` designs side by side (the arrays' last axis: SIMD lanes), each
+block's whole run one compiled call (:mod:`.batch_rk_kernel`; a call per attempt when a load
+is a function of time, evaluated here at the stage times). The error is measured per design
+with scipy's norm (each design's own tolerances, the RMS over its coordinates) and a block's
+step is set by the largest of its designs' norms: every design meets its own tolerance, as it
+would alone, or better. Lockstep keeps every lane at the same stage; the price is that a
+block's stiffest design sets its step: on a lightly damped chain the highest mode bounds an
+explicit step (h omega_max of about 5 for DOP853), not the tolerance. So the designs are
+sorted by their highest natural frequency at the start before they are cut into blocks:
+designs of like stiffness step together.
 """
-
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -124,7 +124,8 @@ def integrate_batch(plant, y0: np.ndarray, t_end: float, rtol: float, atol: np.n
     BatchSamples
         ``steps``, ``rejected_steps`` and ``rhs_evaluations`` per design (B,).
     """
-    from ..chain.planar_batch_kernel import batch_tips, scratch_rows
+    from ..chain.planar_batch_kernel import scratch_rows
+    from ..chain.planar_batch_tip import batch_tips
     from .batch_rk_kernel import advance, block_stages
 
     sc = stage_table(method)

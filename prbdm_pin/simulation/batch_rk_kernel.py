@@ -19,7 +19,8 @@ import math
 import numba
 import numpy as np
 
-from ..chain.planar_batch_kernel import block_rates, block_tip
+from ..chain.planar_batch_kernel import block_rates
+from ..chain.planar_batch_tip import block_tip
 
 __all__ = ["block_stages", "advance"]
 

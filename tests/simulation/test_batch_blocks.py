@@ -115,11 +115,11 @@ def test_a_run_that_blows_up_is_refused_at_the_time_it_does():
 
 
 def test_the_polynomial_sine_and_cosine_match_the_c_librarys():
-    from prbdm_pin.chain.planar_batch_kernel import _sincos
+    from prbdm_pin.chain.planar_batch_kernel import sincos
 
     x = np.concatenate((np.linspace(-20.0, 20.0, 4001), [0.0, np.pi / 4, -np.pi / 2, np.pi,
                                                          1e4 + 0.3, -3e5]))
-    s, c = np.array([_sincos(v) for v in x]).T
+    s, c = np.array([sincos(v) for v in x]).T
     # the Horner sums of terms below 1 and the reduction by pi/2 in two parts: a few roundings
     # of a number below 1 (absolute; near a zero a relative bound means nothing)
     assert np.abs(s - np.sin(x)).max() <= 4 * EPS
@@ -127,7 +127,7 @@ def test_the_polynomial_sine_and_cosine_match_the_c_librarys():
 
 
 def test_the_compiled_tips_match_pinocchios_frame_placements():
-    from prbdm_pin.chain.planar_batch_kernel import batch_tips
+    from prbdm_pin.chain.planar_batch_tip import batch_tips
 
     models = _designs()
     n = models[0].n_joints
