@@ -11,7 +11,7 @@ u = u_0 (+ a shared function of time) - G x for constants and state-feedback gai
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -56,7 +56,6 @@ class BatchPlant:
     u0: np.ndarray | None = None
     u_time: Callable[[float], np.ndarray] | None = None
     gain: np.ndarray | None = None
-    _zeros: tuple | None = field(default=None, repr=False)
 
     @property
     def timed(self) -> bool:
@@ -113,17 +112,11 @@ class BatchPlant:
     def stage_inputs(self, times: np.ndarray, stages: int) -> tuple[np.ndarray, np.ndarray]:
         """Return the shared functions of time at the stage times (s): force (S, 3), u (S, m)."""
         m = 0 if self.input_map is None else self.input_map.shape[2]
-        timed_force, timed_u = callable(self.force_N), self.u_time is not None
-        if not self.timed:
-            if self._zeros is None or len(self._zeros[0]) != stages:
-                object.__setattr__(self, "_zeros", (np.zeros((stages, 3)),
-                                                    np.zeros((stages, m))))
-            return self._zeros
         FT, UT = np.zeros((stages, 3)), np.zeros((stages, m))
-        for s, t in enumerate(times):
-            if timed_force:
+        for s, t in enumerate(times if self.timed else ()):
+            if callable(self.force_N):
                 FT[s] = self.force_N(t)
-            if timed_u:
+            if self.u_time is not None:
                 UT[s] = self.u_time(t)
         return FT, UT
 
