@@ -37,7 +37,7 @@ _PIO2_HI, _PIO2_LO = 1.57079632673412561417e+00, 6.07710050650619224932e-11
 _TWO_OVER_PI = 0.63661977236758134308
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def sincos(x):  # pragma: no cover - compiled
     """Return sin x and cos x: reduced to |r| <= pi/4, then Taylor to x^17, x^16."""
     k = math.floor(x * _TWO_OVER_PI + 0.5)
@@ -206,7 +206,7 @@ def block_rates(P, n, m, damped, gained, ft, ut, T, x, out, S):  # pragma: no co
     _ldl_solve(S, n, oM, rh, co, si, acc, out)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _com(P, S, b, i, om, oo, co, si, px, pz, cx, cz, ax, az, w2, jx, jz):  # pragma: no cover
     """Centre of mass i and its acceleration at zero joint accelerations, times its mass."""
     d, c, s, v2, mi = P[oo + i, b], S[co + i, b], S[si + i, b], S[w2 + i, b], P[om + i, b]
