@@ -137,6 +137,12 @@ def test_a_run_that_blows_up_is_refused_at_the_time_it_does():
         pp.simulate_batch(models, 0.1, v0=[1e200, 0.0, 0.0], output_dt_s=0.01)
 
 
+def test_a_run_over_its_step_cap_is_refused_naming_it(blocks_of_two):
+    with pytest.raises(SolveError, match=r"5 steps reached at t = .* \(max_steps\)"):
+        pp.simulate_batch(_designs(), 0.1, tip_force=[0.0, 0.0, -20.0], output_dt_s=0.01,
+                          max_steps=5)
+
+
 def test_the_polynomial_sine_and_cosine_match_the_c_librarys():
     from prbdm_pin.chain.planar_batch_kernel import sincos
 
