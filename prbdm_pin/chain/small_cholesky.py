@@ -1,7 +1,8 @@
 """A compiled Cholesky solve of a small symmetric positive definite system (numba).
 
-The one factorisation the compiled chain dynamics (:mod:`prbdm_pin.kernel.dynamics`) and the
-batched planar accelerations (:mod:`.planar_batch_kernel`) solve M a = f with: for the n <= 16
+The one factorisation the compiled chain dynamics (:mod:`prbdm_pin.kernel.dynamics`) solve
+M a = f with (the batched planar kernel, :mod:`.planar_batch_kernel`, solves many designs side
+by side with its own L D L^T, the designs innermost): for the n <= 16
 coordinates of a chain, a loop written out costs less than a LAPACK call's overhead from
 compiled code, and it reports a matrix that is not positive definite instead of raising.
 Imported on first use only (the package's import and the CLI do not load numba).

@@ -1,18 +1,19 @@
 """``simulate_batch``: many designs (or controller gains) over one duration, load and grid.
 
 Planar clamped chains are integrated together (:mod:`.batch_rhs`, :mod:`.batch_rk`): one
-Dormand-Prince 8(5,3) (``method="DOP853"``, the default) or 5(4) (``"RK45"``) run over a
-leading batch axis, each stage one call of a compiled loop over the designs
-(:mod:`prbdm_pin.chain.planar_batch_kernel`: M(q), the Coriolis/centrifugal forces and J^T F
-in closed form, a Cholesky solve per design), with a shared step set by the design with the
-largest error (each design's error measured against its own tolerances). Everything else,
+Dormand-Prince 8(5,3) (``method="DOP853"``, the default) or 5(4) (``"RK45"``) run whole in
+compiled code (:mod:`.batch_rk_kernel`) over blocks of designs side by side, each stage one
+call of a compiled kernel on the block (:mod:`prbdm_pin.chain.planar_batch_kernel`: M(q), the
+Coriolis/centrifugal forces and J^T F in closed form, a Cholesky solve, the designs as SIMD
+lanes); a block's step is set by its design with the largest error (each design's error
+measured against its own tolerances), and the designs are sorted by their highest natural
+frequency into blocks so that designs of like stiffness share a step. Everything else,
 spatial chains, hubs, free buses, a weight set on a ``pin_model``, another integrator
 (``"exponential"`` ...), a ``Controller``, per-design functions of time, the pose
 inputs (tip moments, corner and distributed forces, base accelerations), is run as a loop of
 :func:`prbdm_pin.simulate` calls over the designs, with the same options: the same result,
 without the batch's speed.
 """
-
 from __future__ import annotations
 
 import math
@@ -85,8 +86,9 @@ def simulate_batch(
     Returns
     -------
     TrajectoryBatch
-        The vectorised run samples every accepted step of the shared step, or every
-        ``output_dt_s``; the loop needs ``output_dt_s`` (each design steps on its own).
+        The vectorised run samples every ``output_dt_s``, or with none every accepted step
+        (then all designs share one step); the loop needs ``output_dt_s`` (each design steps
+        on its own).
 
     Raises
     ------
@@ -148,10 +150,10 @@ def _run(plant: BatchPlant, duration_s: float, Q0: np.ndarray, V0: np.ndarray,
     atol = (np.full((B, 1), float(integ.atol)) if integ.atol is not None else
             rtol * np.maximum(np.max(np.abs(Q0), axis=1, keepdims=True), 1e-6))
     t_out = None if o.output_dt_s is None else output_times(duration_s, o.output_dt_s)
-    s = integrate_batch(plant.rhs, np.hstack((Q0, V0)), duration_s, rtol, atol, t_out,
+    s = integrate_batch(plant, np.hstack((Q0, V0)), duration_s, rtol, atol, t_out,
                         o.max_steps, integ.method)
     Q, V = s.y[:, :, :n], s.y[:, :, n:]
-    tip = plant.tips(Q)
+    tip = s.tip_m
     for arr in (s.t_s, Q, V, tip):
         arr.setflags(write=False)
     ones = np.ones(B, dtype=int)

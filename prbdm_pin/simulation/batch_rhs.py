@@ -15,7 +15,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..chain import planar
 from ..chain.planar_batch import PlanarLinks, batch_mass, design_links
 from ..errors import BeamInputError
 from .damping import damping_matrix, damping_ratios, spring_modal_damping
@@ -58,48 +57,68 @@ class BatchPlant:
     u_time: Callable[[float], np.ndarray] | None = None
     gain: np.ndarray | None = None
 
-    def inputs(self, t: float, Y: np.ndarray) -> np.ndarray | None:
-        """Return the inputs u (B, m) at time t (s) and states Y (B, 2n); None without inputs."""
-        if self.u0 is None:
-            return None
-        u = self.u0 if self.u_time is None else self.u0 + self.u_time(t)
-        if self.gain is not None:
-            u = u - np.einsum("bmk,bk->bm", self.gain, Y)
-        return u
-
-    def rhs(self, t: float, Y: np.ndarray) -> np.ndarray:
-        """Return (v, a) (B, 2n) of the states Y = (q, v) (B, 2n) at time t (s)."""
-        F = self.force_N(t) if callable(self.force_N) else self.force_N
-        u = self.inputs(t, Y)
-        tau = None
-        if u is not None:
-            tau = np.einsum("bim,bm->bi", self.input_map, u)
-            if self.tip_rows:
-                Fu = np.zeros((len(Y), 3))
-                for col, axis in self.tip_rows:
-                    Fu[:, axis] += u[:, col]
-                F = Fu if F is None else Fu + F
-        return self._kernel(self.links, Y, self.stiffness_Nm_per_rad,
-                            self.damping_Nms_per_rad, tau, F)
-
     @property
-    def _kernel(self):
-        # numba (and its compiled kernel's cache) load with the first batched run only
-        from ..chain.planar_batch_kernel import batch_state_rates
+    def timed(self) -> bool:
+        """Whether a tip force or the inputs are a function of time."""
+        return callable(self.force_N) or self.u_time is not None
 
-        return batch_state_rates
+    def stiffness_order(self, y0: np.ndarray) -> np.ndarray:
+        """Return the designs (B,) sorted by their highest natural frequency at y0's pose.
 
-    def tips(self, Q: np.ndarray) -> np.ndarray:
-        """Tip positions (B, s, 3), m, of the joint angles Q (B, s, n), rad."""
-        B, s, n = Q.shape
-        out = np.empty((B, s, 3))
-        # a block of designs at a time: the closed form's temporaries stay in cache (the whole
-        # stack at once, 1000 designs x 1001 samples, cost five times as much)
-        block = max(1, (1 << 18) // max(1, s * n))
-        L = self.links.lengths_m[:, None, :]
-        for i in range(0, B, block):
-            out[i:i + block] = planar.tip_positions(L[i:i + block], Q[i:i + block])
-        return out
+        What bounds an explicit step on a lightly damped chain: designs of like frequency
+        share a block, whose step its stiffest design sets.
+        """
+        n = self.stiffness_Nm_per_rad.shape[1]
+        M = batch_mass(self.links, y0[:, :n])
+        w2 = np.linalg.eigvals(np.linalg.solve(M, self.stiffness_Nm_per_rad[:, :, None]
+                                               * np.eye(n))).real.max(axis=1)
+        return np.argsort(w2, kind="stable")
+
+    def block_constants(self, W: int, order: np.ndarray) -> tuple:
+        """Return the designs' constants, in ``order``, in blocks of W, and the stages' flags.
+
+        (P (blocks, R, W), n, m, damped, gained, T (3, m)): P the rows of
+        :func:`prbdm_pin.chain.planar_batch_kernel.param_rows`, the last block padded with
+        copies of its first design; T maps the inputs that are tip forces onto the force's
+        axes.
+        """
+        from ..chain.planar_batch_kernel import mass_rows, param_rows
+        from .batch_rk import blocks
+
+        B, n = self.stiffness_Nm_per_rad.shape
+        m = 0 if self.input_map is None else self.input_map.shape[2]
+        damped, gained = self.damping_Nms_per_rad is not None, self.gain is not None
+        rows = param_rows(n, m, damped, gained)
+        P = np.zeros((B, rows["end"]))
+        lk = self.links
+        Ma, Mb = mass_rows(lk)
+        parts = [("L", lk.lengths_m), ("mass", lk.mass_kg), ("off", lk.com_offset_m),
+                 ("Ma", Ma), ("Mb", Mb), ("k", self.stiffness_Nm_per_rad)]
+        if self.force_N is not None and not callable(self.force_N):
+            parts.append(("F", self.force_N))
+        if m:
+            parts += [("u0", self.u0), ("B0", self.input_map.reshape(B, n * m))]
+        if damped:
+            parts.append(("C", self.damping_Nms_per_rad.reshape(B, n * n)))
+        if gained:
+            parts.append(("G", self.gain.reshape(B, 2 * n * m)))
+        for name, a in parts:
+            P[:, rows[name]:rows[name] + a.shape[1]] = a
+        T = np.zeros((3, m))
+        for col, axis in self.tip_rows:
+            T[axis, col] += 1.0
+        return blocks(P[order], W), n, m, damped, gained, T
+
+    def stage_inputs(self, times: np.ndarray, stages: int) -> tuple[np.ndarray, np.ndarray]:
+        """Return the shared functions of time at the stage times (s): force (S, 3), u (S, m)."""
+        m = 0 if self.input_map is None else self.input_map.shape[2]
+        FT, UT = np.zeros((stages, 3)), np.zeros((stages, m))
+        for s, t in enumerate(times if self.timed else ()):
+            if callable(self.force_N):
+                FT[s] = self.force_N(t)
+            if self.u_time is not None:
+                UT[s] = self.u_time(t)
+        return FT, UT
 
 
 def vectorised_plant(models: list, Q0: np.ndarray, options, inputs: tuple, signals: list,

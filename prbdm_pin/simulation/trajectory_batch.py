@@ -27,8 +27,8 @@ class TrajectoryBatch:
     tip_position_m : ndarray, shape (B, s, 3)
         Tip points in world coordinates, m.
     steps : ndarray of int, shape (B,)
-        Accepted steps each design took (the shared step of the vectorised run: the same for
-        every design).
+        Accepted steps each design took (the vectorised run: its block's steps, the same for
+        the designs stepped together; with no output grid, one block for all).
     rhs_evaluations : ndarray of int, shape (B,)
         Dynamics evaluations each design cost (the vectorised run evaluates all at once).
     rejected_steps : ndarray of int, shape (B,)
