@@ -32,9 +32,6 @@ from .layout import validate_lengths
 
 __all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_sections"]
 
-# two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
-_GAUSS_T = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
-_ROWS = np.arange(4)
 # three-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 5 (the thickness law)
 _GAUSS3_T = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
 _GAUSS3_W = np.array([5.0, 8.0, 5.0]) / 18.0
@@ -149,13 +146,20 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     ``lengths`` is (n+1,) or a stack (B, n+1) of designs (the fit's finite differences); every
     output then has the same leading shape. Each design's numbers do not depend on the stack.
     """
-    # called inside optimisation loops on a single design: ndarray methods and preallocated
-    # arrays rather than numpy's wrapper functions, each of which costs as much as the
-    # arithmetic of a short chain
     shape = lengths.shape
     nl = shape[-1]
     L = lengths.reshape(-1, nl)
     B = L.shape[0]
+    if beam.section is None and beam.thickness_law_m is None:
+        # one thickness: the area, its moments and the y^2 moment in one compiled call (the
+        # numpy form's calls cost many times the arithmetic of a short chain)
+        se = np.empty((B, nl + 1))
+        mids = np.empty((B, nl))
+        out = np.empty((4, B, nl))
+        planform_kernel().planform_integrals(beam.x_m, beam.half_width_m, beam.length_m, L,
+                                              se, mids, out)
+        return (se[:, :-1].reshape(shape), se[:, 1:].reshape(shape), mids.reshape(shape),
+                *out.reshape((4,) + shape))
     xv = beam.x_m
     nv = xv.size
     se = np.zeros((B, nl + 1))  # link boundaries: link i spans [se[i], se[i + 1]]
@@ -173,31 +177,19 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     # the link of each sub-interval: how many link ends lie below its middle (at most nl - 1,
     # as no middle lies beyond the tip)
     centre = 0.5 * (u + v)
-    if B == 1:
-        link = ends[0].searchsorted(centre)
-    else:
-        link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
-        link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
+    link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
+    link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
     h = v - u
     if beam.section is not None:
         return _section_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
-    if beam.thickness_law_m is not None:
-        return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
-    xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
-    wg = np.interp(xg, xv, beam.half_width_m)
-    xl = xg - mids.ravel()[link][..., None]  # about the mid-span
-    w2 = 2.0 * wg
-    # rows: area, first and second moment in x, y^2 moment (2 w^3 / 3); Gauss weights h / 2
-    f = np.empty((4,) + xg.shape)
-    f[0] = w2
-    np.multiply(w2, xl, out=f[1])
-    np.multiply(f[1], xl, out=f[2])
-    f[3] = w2 * wg * wg / 3.0
-    f = np.add.reduce(f, axis=3) * (0.5 * h)
-    # all four rows in one bincount: row r's bins are offset by r B nl
-    bins = (link.ravel() + (B * nl) * _ROWS[:, None]).ravel()
-    out = np.bincount(bins, f.ravel(), 4 * B * nl).reshape((4,) + shape)
-    return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
+    return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
+
+
+def planform_kernel():
+    """Return :mod:`.planform_kernel` (numba is imported on first use, not with the package)."""
+    from . import planform_kernel
+
+    return planform_kernel
 
 
 def _law_integrals(beam: Beam, shape, starts, ends, mids, link, u, h, nbins):

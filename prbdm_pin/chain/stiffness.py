@@ -16,7 +16,7 @@ from ..options.checks import check_float
 from ..options.choices import EPS_RAD, MIN_FRACTION, XI_RAD
 from ..options.validate import check_joints, check_modulus, check_type
 from .layout import validate_lengths
-from .sections import LinkSections
+from .sections import LinkSections, planform_kernel
 from .stiffness_law import inverse_moment_integral, inverse_section_integral
 
 __all__ = [
@@ -162,6 +162,10 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     x = beam.x_m
     a2, b2 = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
     B, k = a2.shape
+    if beam.section is None and beam.thickness_law_m is None:  # one compiled call
+        out = np.empty((B, k))
+        planform_kernel().inverse_width_spans(x, beam.half_width_m, a2, b2, out)
+        return out.reshape(a.shape)
     cuts = np.empty((B, 2 * k + x.size))
     cuts[:, :k] = a2
     cuts[:, k:2 * k] = b2
@@ -174,29 +178,15 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _sub_integrals(beam: Beam, cuts: np.ndarray):
-    """Return u, v (m) and the exact ∫_u^v dx / w (dimensionless) of each sub-interval.
+    """Return u, v (m) and the exact integral of each sub-interval under a thickness or section law.
 
     The sub-intervals [u, v] lie between consecutive sorted ``cuts`` (B, c), m, which include
-    the planform vertices, so w is linear on each; empty sub-intervals give exact zeros.
+    the stations. A member of one thickness takes :mod:`.planform_kernel` instead.
     """
     if beam.section is not None:  # a section law: the integral is of 1 / E I_y (1/(N m))
         return inverse_section_integral(beam, cuts)
-    if beam.thickness_law_m is not None:
-        # under a thickness law the integral is of 1 / (w t^3) (m^-3), see stiffness_law
-        return inverse_moment_integral(beam, cuts)
-    u, v = cuts[:, :-1], cuts[:, 1:]
-    # w on [u, v] from its ends' one-sided limits (they differ at a width step)
-    if beam.step_index.size:
-        wu = beam.half_width_at(u, "right")
-        wv = beam.half_width_at(v, "left")
-    else:  # no step (the common case, in the fit's inner loop): one interpolation
-        w = np.interp(cuts, beam.x_m, beam.half_width_m)
-        wu, wv = w[:, :-1], w[:, 1:]
-    d = (wv - wu) / wu
-    # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
-    small = np.abs(d) < 1e-8
-    ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
-    return u, v, (v - u) * ratio / wu
+    # under a thickness law the integral is of 1 / (w t^3) (m^-3), see stiffness_law
+    return inverse_moment_integral(beam, cuts)
 
 
 def finite_segment_stiffness(
@@ -252,14 +242,14 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
     centres[..., 0] = 0.0
     centres[..., -1] = ends[..., -1]
     n = lengths.shape[-1] - 1
-    if lengths.ndim > 1 or n < 2:
+    if lengths.ndim > 1 or n < 2 or beam.section is None and beam.thickness_law_m is None:
         integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     else:
-        # one design (the fit's inner loop): the springs' spans tile the beam, so one
-        # bincount adds each sub-interval to the span its middle lies strictly inside, in
-        # order, where inv_width_integral masks every sub-interval against every span (the
-        # same sums: for one spring its reduction runs in another order, so it keeps that
-        # path); a middle on a span end, or beyond the last span, goes to none (bin n)
+        # one design under a law: the springs' spans tile the beam, so one bincount adds
+        # each sub-interval to the span its middle lies strictly inside, in order, where
+        # inv_width_integral masks every sub-interval against every span (the same sums: for
+        # one spring its reduction runs in another order, so it keeps that path); a middle on
+        # a span end, or beyond the last span, goes to none (bin n)
         cuts = np.empty((1, n + 1 + beam.x_m.size))
         cuts[0, :n + 1] = centres
         cuts[0, n + 1:] = beam.x_m

@@ -1,0 +1,178 @@
+"""The exact planform integrals of a member of one thickness, in compiled calls (numba).
+
+The links' area integrals (:func:`prbdm_pin.chain.sections.link_sections`' area, first and
+second moment in x about the mid-span and y^2 moment, two-point Gauss on every sub-interval
+between planform vertices and link ends) and the finite-segment springs' ∫ dx / w
+(:func:`prbdm_pin.chain.stiffness.finite_segment_stiffness`, logarithms on every
+sub-interval between vertices and span ends). Written as loops: their numpy form spent about
+50 us of a 5-joint fit evaluation in numpy's calls on a dozen numbers each, for arithmetic
+that takes well under a microsecond. The sums run in the order the numpy form ran them
+(sub-intervals from the root, Gauss points in order) and the half-width is interpolated as
+``numpy.interp`` does, so the numbers are the numpy form's to the bit.
+
+A thickness law and a section law keep their numpy paths. Imported on first use only (the
+package's import and the CLI do not load numba).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+__all__ = ["planform_integrals", "inverse_width_spans"]
+
+# two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
+_T0 = 0.5 - 0.5 / math.sqrt(3.0)
+_T1 = 0.5 + 0.5 / math.sqrt(3.0)
+
+# one signature each; inputs read-only (a writable array converts)
+_IN1 = numba.types.Array(numba.float64, 1, "A", readonly=True)
+_IN2 = numba.types.Array(numba.float64, 2, "A", readonly=True)
+_OUT2 = numba.types.Array(numba.float64, 2, "C")
+_OUT3 = numba.types.Array(numba.float64, 3, "C")
+
+
+@numba.njit(cache=True)
+def _last_below(x, xp):  # pragma: no cover - compiled
+    """Return the last j with xp[j] <= x, as numpy.interp's search (xp ascending, xp[0] <= x)."""
+    lo, hi = 0, xp.size  # xp[lo] <= x < xp[hi]
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xp[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@numba.njit(cache=True)
+def _interp(x, xp, fp):  # pragma: no cover - compiled
+    """numpy.interp(x, xp, fp) for one x, with its arithmetic and its clamping."""
+    last = xp.size - 1
+    if x > xp[last]:
+        return fp[last]
+    if x < xp[0]:
+        return fp[0]
+    j = _last_below(x, xp)
+    if j == last or xp[j] == x:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    return slope * (x - xp[j]) + fp[j]
+
+
+@numba.njit(numba.types.void(_IN1, _IN1, numba.float64, _IN2, _OUT2, _OUT2, _OUT3),
+            cache=True)
+def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no cover - compiled
+    """Compute the links' exact planform integrals of B designs at once.
+
+    Parameters
+    ----------
+    xv, hw : ndarray (v,)
+        Planform vertices along the axis and half-widths there, m (piecewise linear).
+    length : float
+        The member's length, m (the tip is the member's end, not a rounded sum).
+    lengths : ndarray (B, nl)
+        Link lengths of B designs, m.
+    se : ndarray (B, nl + 1)
+        Receives the link boundaries: link i spans [se[i], se[i + 1]], m.
+    mids : ndarray (B, nl)
+        Receives the mid-spans, m.
+    out : ndarray (4, B, nl)
+        Receives, per link, the area ∫ 2 w (m^2), its first and second moment in x about the
+        mid-span (m^3, m^4) and the y^2 moment ∫ 2 w^3 / 3 (m^4).
+    """
+    B, nl = lengths.shape
+    nv = xv.size
+    cuts = np.empty(nv + nl)
+    for b in range(B):
+        se[b, 0] = 0.0
+        acc = 0.0
+        for i in range(nl):
+            acc += lengths[b, i]
+            se[b, i + 1] = acc
+        se[b, nl] = length
+        for i in range(nl):
+            mids[b, i] = 0.5 * (se[b, i] + se[b, i + 1])
+            for r in range(4):
+                out[r, b, i] = 0.0
+        # sub-intervals between all planform vertices and link ends (an empty one where
+        # an end meets a vertex adds exact zeros)
+        cuts[:nv] = xv
+        cuts[nv:] = se[b, 1:]
+        cuts.sort()
+        link = 0
+        for k in range(nv + nl - 1):
+            u = cuts[k]
+            v = cuts[k + 1]
+            centre = 0.5 * (u + v)
+            while link < nl - 1 and se[b, link + 1] < centre:  # the link the middle lies in
+                link += 1
+            h = v - u
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            s3 = 0.0
+            for g in range(2):
+                xg = u + h * (_T0 if g == 0 else _T1)
+                wg = _interp(xg, xv, hw)
+                xl = xg - mids[b, link]
+                w2 = 2.0 * wg
+                f1 = w2 * xl
+                s0 += w2
+                s1 += f1
+                s2 += f1 * xl
+                s3 += w2 * wg * wg / 3.0
+            half = 0.5 * h
+            out[0, b, link] += s0 * half
+            out[1, b, link] += s1 * half
+            out[2, b, link] += s2 * half
+            out[3, b, link] += s3 * half
+
+
+@numba.njit(numba.types.void(_IN1, _IN1, _IN2, _IN2, _OUT2), cache=True)
+def inverse_width_spans(xv, hw, a, b, out):  # pragma: no cover - compiled
+    """Compute the exact ∫_a^b dx / w(x) over spans of B designs, 1/m * m.
+
+    Parameters
+    ----------
+    xv, hw : ndarray (v,)
+        Planform vertices and half-widths, m; a width step is two vertices at one station.
+    a, b : ndarray (B, k)
+        Span ends, m, within [xv[0], xv[-1]].
+    out : ndarray (B, k)
+        Receives the integrals: each sub-interval between all span ends and vertices is added,
+        from the root, to every span its middle lies strictly inside.
+
+    On a sub-interval [u, v] w is linear, with its one-sided limits at a width step, and
+    ∫ dx / w = (v - u) ln(wv / wu) / (wv - wu), by its series where wv / wu - 1 < 1e-8.
+    """
+    B, k = a.shape
+    nv = xv.size
+    cuts = np.empty(2 * k + nv)
+    for d in range(B):
+        cuts[:k] = a[d]
+        cuts[k:2 * k] = b[d]
+        cuts[2 * k:] = xv
+        cuts.sort()
+        for i in range(k):
+            out[d, i] = 0.0
+        for s in range(2 * k + nv - 1):
+            u = cuts[s]
+            v = cuts[s + 1]
+            mid = 0.5 * (u + v)
+            # the vertex interval [xv[j], xv[j + 1]] holding [u, v]: the tip side of a step
+            j = min(_last_below(mid, xv), nv - 2)
+            slope = (hw[j + 1] - hw[j]) / (xv[j + 1] - xv[j])
+            wu = hw[j] if u == xv[j] else slope * (u - xv[j]) + hw[j]
+            wv = hw[j + 1] if v == xv[j + 1] else slope * (v - xv[j]) + hw[j]
+            dw = (wv - wu) / wu
+            if abs(dw) < 1e-8:
+                ratio = 1.0 - 0.5 * dw + dw * dw / 3.0
+            else:
+                ratio = math.log1p(dw) / dw
+            part = (v - u) * ratio / wu
+            for i in range(k):
+                if mid > a[d, i] and mid < b[d, i]:
+                    out[d, i] += part
