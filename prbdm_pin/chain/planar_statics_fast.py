@@ -1,7 +1,7 @@
-"""The planar chain's equilibrium under a dead tip force from the straight pose, compiled first.
+"""The planar chain's equilibrium under a dead tip force, compiled first.
 
-:func:`prbdm_pin.chain.statics.static_deflection_planar` from the straight pose, with its
-defaults, as a linearisation under a load asks for it: the load's guard
+:func:`prbdm_pin.chain.statics.static_deflection_planar_unchecked` from a given pose (a fit's
+warm start) or from the straight pose (a linearisation under a load): the load's guard
 (:func:`prbdm_pin.chain.statics_guard.check_load`), then the compiled descent of
 :mod:`.planar_statics_kernel`; wherever that descent does not converge at once, the numpy
 path from the start (load stepping, saddle escape, its errors).
@@ -14,7 +14,7 @@ import numpy as np
 from .statics import static_deflection_planar_unchecked
 from .statics_guard import check_load
 
-__all__ = ["static_deflection_straight"]
+__all__ = ["static_deflection_straight", "static_deflection_warm"]
 
 _NEWTON = None
 
@@ -49,6 +49,34 @@ def static_deflection_straight(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.n
     >>> round(float(100.0 * q[0] - np.cos(q[0])), 12)  # k q = F L cos q
     0.0
     """
+    return static_deflection_warm(lengths_m, stiffness_Nm_per_rad, tip_force_N,
+                                  np.zeros(stiffness_Nm_per_rad.size), rtol, max_iter,
+                                  max_step_rad)
+
+
+def static_deflection_warm(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.ndarray,
+                           tip_force_N: np.ndarray, q0: np.ndarray, rtol: float = 1e-10,
+                           max_iter: int = 60, max_step_rad: float = 0.5) -> np.ndarray:
+    """Return the equilibrium joint angles (rad, (n,)) from the pose ``q0``.
+
+    As :func:`static_deflection_straight` from ``q0`` (rad, (n,), finite, not modified): a
+    fit's static solve from the last design's equilibrium; where the compiled descent does
+    not converge at once, the numpy path from ``q0``.
+
+    Raises
+    ------
+    SolveError
+        A load double precision cannot resolve, or no equilibrium.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from prbdm_pin.chain.planar_statics_fast import static_deflection_warm
+    >>> L, k, F = np.array([0.0, 1.0]), np.array([100.0]), np.array([0.0, 0.0, -1.0])
+    >>> q = static_deflection_warm(L, k, F, np.array([0.3]))  # from 0.3 rad
+    >>> round(float(100.0 * q[0] - np.cos(q[0])), 12)  # k q = F L cos q
+    0.0
+    """
     global _NEWTON
     F = tip_force_N
     n = stiffness_Nm_per_rad.size
@@ -59,9 +87,9 @@ def static_deflection_straight(lengths_m: np.ndarray, stiffness_Nm_per_rad: np.n
         from .planar_statics_kernel import planar_newton
 
         _NEWTON = planar_newton
-    q = np.zeros(n)
+    q = q0.copy()
     if _NEWTON(lengths_m, stiffness_Nm_per_rad, float(F[0]), float(F[2]), rtol, max_iter,
                max_step_rad, q):
         return q
-    return static_deflection_planar_unchecked(lengths_m, stiffness_Nm_per_rad, F, np.zeros(n),
-                                              rtol, max_iter, max_step_rad)
+    return static_deflection_planar_unchecked(lengths_m, stiffness_Nm_per_rad, F, q0, rtol,
+                                              max_iter, max_step_rad)

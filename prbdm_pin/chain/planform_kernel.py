@@ -35,31 +35,40 @@ _OUT3 = numba.types.Array(numba.float64, 3, "C")
 
 
 @numba.njit(cache=True)
-def _last_below(x, xp):  # pragma: no cover - compiled
-    """Return the last j with xp[j] <= x, as numpy.interp's search (xp ascending, xp[0] <= x)."""
-    lo, hi = 0, xp.size  # xp[lo] <= x < xp[hi]
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if xp[mid] <= x:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+def _advance(j, x, xp):  # pragma: no cover - compiled
+    """Return the last i >= j with xp[i] <= x (xp ascending, xp[j] <= x): numpy.interp's search.
+
+    The callers' abscissae ascend, so the search walks on from the last one's index.
+    """
+    while j + 1 < xp.size and xp[j + 1] <= x:
+        j += 1
+    return j
 
 
 @numba.njit(cache=True)
-def _interp(x, xp, fp):  # pragma: no cover - compiled
-    """numpy.interp(x, xp, fp) for one x, with its arithmetic and its clamping."""
+def _interp_at(j, x, xp, fp):  # pragma: no cover - compiled
+    """numpy.interp(x, xp, fp) for one x whose search gave j, with its arithmetic and clamping."""
     last = xp.size - 1
     if x > xp[last]:
         return fp[last]
     if x < xp[0]:
         return fp[0]
-    j = _last_below(x, xp)
     if j == last or xp[j] == x:
         return fp[j]
     slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
     return slope * (x - xp[j]) + fp[j]
+
+
+@numba.njit(cache=True)
+def _sort_small(a):  # pragma: no cover - compiled
+    """Sort a short array in place (insertion: a few tens of entries, mostly in order)."""
+    for i in range(1, a.size):
+        x = a[i]
+        j = i - 1
+        while j >= 0 and a[j] > x:
+            a[j + 1] = a[j]
+            j -= 1
+        a[j + 1] = x
 
 
 @numba.njit(numba.types.void(_IN1, _IN1, numba.float64, _IN2, _OUT2, _OUT2, _OUT3),
@@ -101,8 +110,9 @@ def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no co
         # an end meets a vertex adds exact zeros)
         cuts[:nv] = xv
         cuts[nv:] = se[b, 1:]
-        cuts.sort()
+        _sort_small(cuts)
         link = 0
+        j = 0
         for k in range(nv + nl - 1):
             u = cuts[k]
             v = cuts[k + 1]
@@ -116,7 +126,8 @@ def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no co
             s3 = 0.0
             for g in range(2):
                 xg = u + h * (_T0 if g == 0 else _T1)
-                wg = _interp(xg, xv, hw)
+                j = _advance(j, xg, xv)
+                wg = _interp_at(j, xg, xv, hw)
                 xl = xg - mids[b, link]
                 w2 = 2.0 * wg
                 f1 = w2 * xl
@@ -155,15 +166,16 @@ def inverse_width_spans(xv, hw, a, b, out):  # pragma: no cover - compiled
         cuts[:k] = a[d]
         cuts[k:2 * k] = b[d]
         cuts[2 * k:] = xv
-        cuts.sort()
+        _sort_small(cuts)
         for i in range(k):
             out[d, i] = 0.0
+        j = 0
         for s in range(2 * k + nv - 1):
             u = cuts[s]
             v = cuts[s + 1]
             mid = 0.5 * (u + v)
             # the vertex interval [xv[j], xv[j + 1]] holding [u, v]: the tip side of a step
-            j = min(_last_below(mid, xv), nv - 2)
+            j = min(_advance(j, mid, xv), nv - 2)
             slope = (hw[j + 1] - hw[j]) / (xv[j + 1] - xv[j])
             wu = hw[j] if u == xv[j] else slope * (u - xv[j]) + hw[j]
             wv = hw[j + 1] if v == xv[j + 1] else slope * (v - xv[j]) + hw[j]

@@ -17,8 +17,8 @@ import numpy as np
 
 from ..chain.planar import tip_positions
 from ..chain.planar_mass import chain_points, planar_mass_matrices
+from ..chain.planar_statics_fast import static_deflection_warm
 from ..chain.sections import planar_sections
-from ..chain.statics import static_deflection_planar_unchecked
 from ..chain.stiffness import finite_segment_stiffness_unchecked
 from ..errors import BeamInputError, SolveError
 from .evaluate import chain_frequencies
@@ -110,7 +110,7 @@ class JointResiduals:
                                             weights=self.d).ravel() / math.sqrt(p.n_poses)
             for c, case in enumerate(self.cases):
                 q0 = np.zeros(p.n_joints) if self.q0[c] is None else self.q0[c]
-                q = static_deflection_planar_unchecked(lengths, K, case.tip_force_N, q0)
+                q = static_deflection_warm(lengths, K, case.tip_force_N, q0)
                 self.q0[c] = q
                 out[row:row + 3] = (tip_positions(lengths, q) - case.tip_position_m) \
                     * self.tip_scale[c]
