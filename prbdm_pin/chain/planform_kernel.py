@@ -1,8 +1,9 @@
 """The exact planform integrals of a member of one thickness, in compiled calls (numba).
 
-The links' area integrals (:func:`prbdm_pin.chain.sections.link_sections`' area, first and
-second moment in x about the mid-span and y^2 moment, two-point Gauss on every sub-interval
-between planform vertices and link ends) and the finite-segment springs' ∫ dx / w
+The links' properties (:func:`prbdm_pin.chain.sections.link_sections`: the area, its first
+and second moment in x about the mid-span and its y^2 moment by two-point Gauss on every
+sub-interval between planform vertices and link ends, and the masses, centres and inertias
+made of them) and the finite-segment springs' ∫ dx / w
 (:func:`prbdm_pin.chain.stiffness.finite_segment_stiffness`, logarithms on every
 sub-interval between vertices and span ends). Written as loops: their numpy form spent about
 50 us of a 5-joint fit evaluation in numpy's calls on a dozen numbers each, for arithmetic
@@ -21,7 +22,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["planform_integrals", "inverse_width_spans"]
+__all__ = ["planform_properties", "inverse_width_spans", "entry"]
 
 # two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
 _T0 = 0.5 - 0.5 / math.sqrt(3.0)
@@ -32,6 +33,19 @@ _IN1 = numba.types.Array(numba.float64, 1, "A", readonly=True)
 _IN2 = numba.types.Array(numba.float64, 2, "A", readonly=True)
 _OUT2 = numba.types.Array(numba.float64, 2, "C")
 _OUT3 = numba.types.Array(numba.float64, 3, "C")
+
+
+def entry(kernel):
+    """Return ``kernel``'s compiled entry point for its one signature, or the kernel.
+
+    Calling the entry point skips the dispatcher's type resolution (half the cost of a call
+    on a short chain); it unboxes without checking types, so the caller passes float64
+    arrays of the signature's dimensions and C-contiguous outputs only.
+    """
+    try:
+        return kernel.overloads[kernel.signatures[0]].entry_point
+    except (AttributeError, IndexError, KeyError):  # another numba: its dispatcher checks
+        return kernel
 
 
 @numba.njit(cache=True)
@@ -71,10 +85,11 @@ def _sort_small(a):  # pragma: no cover - compiled
         a[j + 1] = x
 
 
-@numba.njit(numba.types.void(_IN1, _IN1, numba.float64, _IN2, _OUT2, _OUT2, _OUT3),
-            cache=True)
-def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no cover - compiled
-    """Compute the links' exact planform integrals of B designs at once.
+@numba.njit(numba.types.void(_IN1, _IN1, numba.float64, numba.float64, numba.float64,
+                             numba.float64, _IN2, _OUT3), cache=True)
+def planform_properties(xv, hw, length, rho_t, t3_12, t2_12, lengths,
+                        out):  # pragma: no cover - compiled
+    """Compute the links' properties of B designs of a member of one thickness at once.
 
     Parameters
     ----------
@@ -82,34 +97,46 @@ def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no co
         Planform vertices along the axis and half-widths there, m (piecewise linear).
     length : float
         The member's length, m (the tip is the member's end, not a rounded sum).
+    rho_t, t3_12, t2_12 : float
+        rho t (kg/m^2), t^3 / 12 (m^3) and t^2 / 12 (m^2) of the thickness t.
     lengths : ndarray (B, nl)
         Link lengths of B designs, m.
-    se : ndarray (B, nl + 1)
-        Receives the link boundaries: link i spans [se[i], se[i + 1]], m.
-    mids : ndarray (B, nl)
-        Receives the mid-spans, m.
-    out : ndarray (4, B, nl)
-        Receives, per link, the area ∫ 2 w (m^2), its first and second moment in x about the
-        mid-span (m^3, m^4) and the y^2 moment ∫ 2 w^3 / 3 (m^4).
+    out : ndarray (12, B, nl)
+        Receives per link: start, end and mid-span (m); mass (kg); the centre of mass's offset
+        from the mid-span (m); rho t times the second moments about the centre of mass in x
+        and in y (kg m^2); the thickness term m t^2 / 12 (kg m^2); the mean bending area
+        moment (m^4); Izz about the centre of mass (kg m^2); the centre of mass's distance
+        from the link's start (m) and the inertia about it around y (kg m^2).
+
+    The planform integrals (area, its first and second moment in x about the mid-span and
+    the y^2 moment 2 w^3 / 3) by two-point Gauss on every sub-interval between vertices and
+    link ends.
     """
     B, nl = lengths.shape
     nv = xv.size
     cuts = np.empty(nv + nl)
+    A = np.empty(nl)
+    S1 = np.empty(nl)
+    S2 = np.empty(nl)
+    Syy = np.empty(nl)
     for b in range(B):
-        se[b, 0] = 0.0
+        starts, ends, mids = out[0, b], out[1, b], out[2, b]
         acc = 0.0
         for i in range(nl):
+            starts[i] = acc
             acc += lengths[b, i]
-            se[b, i + 1] = acc
-        se[b, nl] = length
+            ends[i] = acc
+        ends[nl - 1] = length
         for i in range(nl):
-            mids[b, i] = 0.5 * (se[b, i] + se[b, i + 1])
-            for r in range(4):
-                out[r, b, i] = 0.0
+            mids[i] = 0.5 * (starts[i] + ends[i])
+            A[i] = 0.0
+            S1[i] = 0.0
+            S2[i] = 0.0
+            Syy[i] = 0.0
         # sub-intervals between all planform vertices and link ends (an empty one where
         # an end meets a vertex adds exact zeros)
         cuts[:nv] = xv
-        cuts[nv:] = se[b, 1:]
+        cuts[nv:] = ends
         _sort_small(cuts)
         link = 0
         j = 0
@@ -117,7 +144,7 @@ def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no co
             u = cuts[k]
             v = cuts[k + 1]
             centre = 0.5 * (u + v)
-            while link < nl - 1 and se[b, link + 1] < centre:  # the link the middle lies in
+            while link < nl - 1 and ends[link] < centre:  # the link the middle lies in
                 link += 1
             h = v - u
             s0 = 0.0
@@ -128,7 +155,7 @@ def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no co
                 xg = u + h * (_T0 if g == 0 else _T1)
                 j = _advance(j, xg, xv)
                 wg = _interp_at(j, xg, xv, hw)
-                xl = xg - mids[b, link]
+                xl = xg - mids[link]
                 w2 = 2.0 * wg
                 f1 = w2 * xl
                 s0 += w2
@@ -136,10 +163,25 @@ def planform_integrals(xv, hw, length, lengths, se, mids, out):  # pragma: no co
                 s2 += f1 * xl
                 s3 += w2 * wg * wg / 3.0
             half = 0.5 * h
-            out[0, b, link] += s0 * half
-            out[1, b, link] += s1 * half
-            out[2, b, link] += s2 * half
-            out[3, b, link] += s3 * half
+            A[link] += s0 * half
+            S1[link] += s1 * half
+            S2[link] += s2 * half
+            Syy[link] += s3 * half
+        for i in range(nl):
+            mass = rho_t * A[i]
+            dx = S1[i] / A[i]  # the centre of mass's offset from the mid-span
+            Sxx_c = S2[i] - A[i] * dx * dx  # second moment about the centre of mass
+            Ixx_c = rho_t * Sxx_c
+            thick = mass * t2_12
+            out[3, b, i] = mass
+            out[4, b, i] = dx
+            out[5, b, i] = Ixx_c
+            out[6, b, i] = rho_t * Syy[i]
+            out[7, b, i] = thick
+            out[8, b, i] = A[i] * t3_12 / (ends[i] - starts[i])  # mean of 2 w t^3 / 12
+            out[9, b, i] = rho_t * (Sxx_c + Syy[i])
+            out[10, b, i] = mids[i] + dx - starts[i]
+            out[11, b, i] = Ixx_c + thick
 
 
 @numba.njit(numba.types.void(_IN1, _IN1, _IN2, _IN2, _OUT2), cache=True)

@@ -150,16 +150,6 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     nl = shape[-1]
     L = lengths.reshape(-1, nl)
     B = L.shape[0]
-    if beam.section is None and beam.thickness_law_m is None:
-        # one thickness: the area, its moments and the y^2 moment in one compiled call (the
-        # numpy form's calls cost many times the arithmetic of a short chain)
-        se = np.empty((B, nl + 1))
-        mids = np.empty((B, nl))
-        out = np.empty((4, B, nl))
-        planform_kernel().planform_integrals(beam.x_m, beam.half_width_m, beam.length_m, L,
-                                              se, mids, out)
-        return (se[:, :-1].reshape(shape), se[:, 1:].reshape(shape), mids.reshape(shape),
-                *out.reshape((4,) + shape))
     xv = beam.x_m
     nv = xv.size
     se = np.zeros((B, nl + 1))  # link boundaries: link i spans [se[i], se[i + 1]]
@@ -185,11 +175,39 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
 
 
+_KERNEL = None
+
+
 def planform_kernel():
     """Return :mod:`.planform_kernel` (numba is imported on first use, not with the package)."""
-    from . import planform_kernel
+    global _KERNEL
+    if _KERNEL is None:
+        from . import planform_kernel as k
 
-    return planform_kernel
+        _KERNEL = k
+    return _KERNEL
+
+
+_PROPERTIES = None
+
+
+def _one_thickness(beam: Beam, lengths: np.ndarray) -> np.ndarray:
+    """Return the rows of :func:`.planform_kernel.planform_properties`, shape (12,) + shape.
+
+    For a member of one thickness and lengths (n+1,) or a stack (B, n+1), m: one compiled call
+    where the numpy form's calls cost many times the arithmetic of a short chain.
+    """
+    global _PROPERTIES
+    if _PROPERTIES is None:
+        k = planform_kernel()
+        _PROPERTIES = k.entry(k.planform_properties)
+    shape = lengths.shape
+    L = np.asarray(lengths, dtype=float).reshape(-1, shape[-1])  # the entry point's type
+    out = np.empty((12,) + L.shape)
+    t = beam.thickness_m
+    _PROPERTIES(beam.x_m, beam.half_width_m, beam.length_m, beam.material.rho_kg_m3 * t,
+                t**3 / 12.0, t * t / 12.0, L, out)
+    return out.reshape((12,) + shape)
 
 
 def _law_integrals(beam: Beam, shape, starts, ends, mids, link, u, h, nbins):
@@ -249,15 +267,7 @@ def _properties(beam: Beam, lengths: np.ndarray):
         Sxx_c = S2 - A * dx * dx
         return (starts, ends, mids, rho * A, dx, rho * Sxx_c, rho * Syy, rho * T3,
                 T3 / (ends - starts), rho * (Sxx_c + Syy))
-    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
-    t = beam.thickness_m
-    rho_t = rho * t
-    mass = rho_t * A
-    dx = S1 / A  # COM offset from mid-span
-    Sxx_c = S2 - A * dx * dx  # second moment about the COM
-    area_moment = A * (t**3 / 12.0) / (ends - starts)  # mean of 2 w t^3 / 12 over the span
-    return (starts, ends, mids, mass, dx, rho_t * Sxx_c, rho_t * Syy, mass * (t * t / 12.0),
-            area_moment, rho_t * (Sxx_c + Syy))
+    return tuple(_one_thickness(beam, lengths)[:10])
 
 
 def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
@@ -284,5 +294,8 @@ def planar_sections(
     With the same arithmetic: mass (kg), centre-of-mass distance from the link's start (m),
     inertia about the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,).
     """
+    if beam.section is None and beam.thickness_law_m is None:
+        rows = _one_thickness(beam, lengths)
+        return rows[3], rows[10], rows[11], rows[8]
     starts, ends, mids, mass, dx, Ixx_c, _, thick, area_moment, _ = _properties(beam, lengths)
     return mass, mids + dx - starts, Ixx_c + thick, area_moment

@@ -146,6 +146,9 @@ def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
     return np.sqrt(E_Pa * area_moment_m4[..., 1:] / mass_kg[..., 1:])
 
 
+_SPANS = None  # the compiled spans' entry point, loaded on first use
+
+
 def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m.
 
@@ -163,8 +166,12 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a2, b2 = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
     B, k = a2.shape
     if beam.section is None and beam.thickness_law_m is None:  # one compiled call
+        global _SPANS
+        if _SPANS is None:
+            kernel = planform_kernel()
+            _SPANS = kernel.entry(kernel.inverse_width_spans)
         out = np.empty((B, k))
-        planform_kernel().inverse_width_spans(x, beam.half_width_m, a2, b2, out)
+        _SPANS(x, beam.half_width_m, a2, b2, out)
         return out.reshape(a.shape)
     cuts = np.empty((B, 2 * k + x.size))
     cuts[:, :k] = a2
