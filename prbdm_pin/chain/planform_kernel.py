@@ -22,7 +22,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["planform_properties", "inverse_width_spans", "entry"]
+__all__ = ["planform_properties", "inverse_width_spans"]
 
 # two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
 _T0 = 0.5 - 0.5 / math.sqrt(3.0)
@@ -33,19 +33,6 @@ _IN1 = numba.types.Array(numba.float64, 1, "A", readonly=True)
 _IN2 = numba.types.Array(numba.float64, 2, "A", readonly=True)
 _OUT2 = numba.types.Array(numba.float64, 2, "C")
 _OUT3 = numba.types.Array(numba.float64, 3, "C")
-
-
-def entry(kernel):
-    """Return ``kernel``'s compiled entry point for its one signature, or the kernel.
-
-    Calling the entry point skips the dispatcher's type resolution (half the cost of a call
-    on a short chain); it unboxes without checking types, so the caller passes float64
-    arrays of the signature's dimensions and C-contiguous outputs only.
-    """
-    try:
-        return kernel.overloads[kernel.signatures[0]].entry_point
-    except (AttributeError, IndexError, KeyError):  # another numba: its dispatcher checks
-        return kernel
 
 
 @numba.njit(cache=True)

@@ -28,6 +28,7 @@ import numpy as np
 from ..member.geometry import Beam
 from ..member.section_law import section_properties
 from ..options.choices import MIN_FRACTION
+from .compiled_entry import entry_point
 from .layout import validate_lengths
 
 __all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_sections"]
@@ -200,7 +201,7 @@ def _one_thickness(beam: Beam, lengths: np.ndarray) -> np.ndarray:
     global _PROPERTIES
     if _PROPERTIES is None:
         k = planform_kernel()
-        _PROPERTIES = k.entry(k.planform_properties)
+        _PROPERTIES = entry_point(k.planform_properties)
     shape = lengths.shape
     L = np.asarray(lengths, dtype=float).reshape(-1, shape[-1])  # the entry point's type
     out = np.empty((12,) + L.shape)

@@ -15,6 +15,7 @@ from ..member.geometry import Beam
 from ..options.checks import check_float
 from ..options.choices import EPS_RAD, MIN_FRACTION, XI_RAD
 from ..options.validate import check_joints, check_modulus, check_type
+from .compiled_entry import entry_point
 from .layout import validate_lengths
 from .sections import LinkSections, planform_kernel
 from .stiffness_law import inverse_moment_integral, inverse_section_integral
@@ -168,8 +169,7 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     if beam.section is None and beam.thickness_law_m is None:  # one compiled call
         global _SPANS
         if _SPANS is None:
-            kernel = planform_kernel()
-            _SPANS = kernel.entry(kernel.inverse_width_spans)
+            _SPANS = entry_point(planform_kernel().inverse_width_spans)
         out = np.empty((B, k))
         _SPANS(x, beam.half_width_m, a2, b2, out)
         return out.reshape(a.shape)

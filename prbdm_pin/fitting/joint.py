@@ -15,9 +15,8 @@ import math
 
 import numpy as np
 
-from ..chain.planar import tip_positions
 from ..chain.planar_mass import chain_points, planar_mass_matrices
-from ..chain.planar_statics_fast import static_deflection_warm
+from ..chain.planar_statics_fast import static_tip_warm
 from ..chain.sections import planar_sections
 from ..chain.stiffness import finite_segment_stiffness_unchecked
 from ..errors import BeamInputError, SolveError
@@ -110,10 +109,9 @@ class JointResiduals:
                                             weights=self.d).ravel() / math.sqrt(p.n_poses)
             for c, case in enumerate(self.cases):
                 q0 = np.zeros(p.n_joints) if self.q0[c] is None else self.q0[c]
-                q = static_deflection_warm(lengths, K, case.tip_force_N, q0)
+                q, tip = static_tip_warm(lengths, K, case.tip_force_N, q0)
                 self.q0[c] = q
-                out[row:row + 3] = (tip_positions(lengths, q) - case.tip_position_m) \
-                    * self.tip_scale[c]
+                out[row:row + 3] = (tip - case.tip_position_m) * self.tip_scale[c]
                 row += 3
             if self.gains is not None:
                 out[row:] = self.gains.residual(lengths, straight_modes(M[0], K))
