@@ -85,8 +85,11 @@ def planar_mass_matrices(
     _load_kernels()
     Q = np.asarray(Q, dtype=float)
     m, n = Q.shape
-    L, mass, off, Iyy = (np.asarray(v, dtype=float).reshape(-1, n + 1)
-                         for v in (lengths_m, mass_kg, com_offset_m, inertia_yy_kg_m2))
+    # a generator's frames cost as much as the kernel on a short chain: four plain lines
+    L = np.asarray(lengths_m, dtype=float).reshape(-1, n + 1)
+    mass = np.asarray(mass_kg, dtype=float).reshape(-1, n + 1)
+    off = np.asarray(com_offset_m, dtype=float).reshape(-1, n + 1)
+    Iyy = np.asarray(inertia_yy_kg_m2, dtype=float).reshape(-1, n + 1)
     B = L.shape[0]
     _, joints, coms = chain_points(L, off, Q) if points is None else points
     if joints.shape != (B, m, 2, n) or coms.shape != joints.shape:  # the kernel indexes them

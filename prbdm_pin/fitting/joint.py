@@ -57,6 +57,7 @@ class JointResiduals:
         # the tip amplitudes at the straight pose (options.check_planar_gains: one pose)
         self.gains = planar_gain_term(p.target, p.options, p.n_freq)
         self.n_gains = 0 if self.gains is None else self.gains.size
+        self._size = self.size()  # fixed for the fit: read on every call
         self.nfev = 0
         # (x as a tuple, what the Jacobian at the same x reuses) of the last residuals
         self._last = None
@@ -97,7 +98,7 @@ class JointResiduals:
         self.nfev += 1
         p, spec = self.p, self.spec
         lengths, s = self.design(x)
-        out = np.empty(self.size())
+        out = np.empty(self._size)
         row = 0
         try:
             sec, K0, M, points = self._chain(lengths)
