@@ -22,7 +22,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["planform_properties", "inverse_width_spans"]
+__all__ = ["planform_properties", "inverse_width_spans", "segment_centres", "segment_springs"]
 
 # two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
 _T0 = 0.5 - 0.5 / math.sqrt(3.0)
@@ -171,6 +171,44 @@ def planform_properties(xv, hw, length, rho_t, t3_12, t2_12, lengths,
             out[11, b, i] = Ixx_c + thick
 
 
+@numba.njit(cache=True)
+def _spans(xv, hw, a, b, out, cuts):  # pragma: no cover - compiled
+    """Write the exact ∫_a^b dx / w(x) of the spans (a, b) (k,) of one design into ``out``.
+
+    ``cuts`` (2 k + v,) scratch. Each sub-interval between all span ends and vertices is added,
+    from the root, to every span its middle lies strictly inside. On a sub-interval [u, v] w
+    is linear, with its one-sided limits at a width step, and
+    ∫ dx / w = (v - u) ln(wv / wu) / (wv - wu), by its series where wv / wu - 1 < 1e-8.
+    """
+    k = a.size
+    nv = xv.size
+    cuts[:k] = a
+    cuts[k:2 * k] = b
+    cuts[2 * k:] = xv
+    _sort_small(cuts)
+    for i in range(k):
+        out[i] = 0.0
+    j = 0
+    for s in range(2 * k + nv - 1):
+        u = cuts[s]
+        v = cuts[s + 1]
+        mid = 0.5 * (u + v)
+        # the vertex interval [xv[j], xv[j + 1]] holding [u, v]: the tip side of a step
+        j = min(_advance(j, mid, xv), nv - 2)
+        slope = (hw[j + 1] - hw[j]) / (xv[j + 1] - xv[j])
+        wu = hw[j] if u == xv[j] else slope * (u - xv[j]) + hw[j]
+        wv = hw[j + 1] if v == xv[j + 1] else slope * (v - xv[j]) + hw[j]
+        dw = (wv - wu) / wu
+        if abs(dw) < 1e-8:
+            ratio = 1.0 - 0.5 * dw + dw * dw / 3.0
+        else:
+            ratio = math.log1p(dw) / dw
+        part = (v - u) * ratio / wu
+        for i in range(k):
+            if mid > a[i] and mid < b[i]:
+                out[i] += part
+
+
 @numba.njit(numba.types.void(_IN1, _IN1, _IN2, _IN2, _OUT2), cache=True)
 def inverse_width_spans(xv, hw, a, b, out):  # pragma: no cover - compiled
     """Compute the exact ∫_a^b dx / w(x) over spans of B designs, 1/m * m.
@@ -182,38 +220,43 @@ def inverse_width_spans(xv, hw, a, b, out):  # pragma: no cover - compiled
     a, b : ndarray (B, k)
         Span ends, m, within [xv[0], xv[-1]].
     out : ndarray (B, k)
-        Receives the integrals: each sub-interval between all span ends and vertices is added,
-        from the root, to every span its middle lies strictly inside.
-
-    On a sub-interval [u, v] w is linear, with its one-sided limits at a width step, and
-    ∫ dx / w = (v - u) ln(wv / wu) / (wv - wu), by its series where wv / wu - 1 < 1e-8.
+        Receives the integrals (:func:`_spans`).
     """
     B, k = a.shape
-    nv = xv.size
-    cuts = np.empty(2 * k + nv)
+    cuts = np.empty(2 * k + xv.size)
     for d in range(B):
-        cuts[:k] = a[d]
-        cuts[k:2 * k] = b[d]
-        cuts[2 * k:] = xv
-        _sort_small(cuts)
-        for i in range(k):
-            out[d, i] = 0.0
-        j = 0
-        for s in range(2 * k + nv - 1):
-            u = cuts[s]
-            v = cuts[s + 1]
-            mid = 0.5 * (u + v)
-            # the vertex interval [xv[j], xv[j + 1]] holding [u, v]: the tip side of a step
-            j = min(_advance(j, mid, xv), nv - 2)
-            slope = (hw[j + 1] - hw[j]) / (xv[j + 1] - xv[j])
-            wu = hw[j] if u == xv[j] else slope * (u - xv[j]) + hw[j]
-            wv = hw[j + 1] if v == xv[j + 1] else slope * (v - xv[j]) + hw[j]
-            dw = (wv - wu) / wu
-            if abs(dw) < 1e-8:
-                ratio = 1.0 - 0.5 * dw + dw * dw / 3.0
-            else:
-                ratio = math.log1p(dw) / dw
-            part = (v - u) * ratio / wu
-            for i in range(k):
-                if mid > a[d, i] and mid < b[d, i]:
-                    out[d, i] += part
+        _spans(xv, hw, a[d], b[d], out[d], cuts)
+
+
+@numba.njit(numba.types.void(_IN2, _OUT2), cache=True)
+def segment_centres(lengths, out):  # pragma: no cover - compiled
+    """Write the finite-segment springs' span ends of B designs (B, n+1) into ``out``, m.
+
+    The links' geometric mid-points, except the clamp (0) at the root and the summed lengths
+    at the tip (:func:`prbdm_pin.chain.stiffness.finite_segment_stiffness`).
+    """
+    B, nl = lengths.shape
+    for b in range(B):
+        acc = 0.0
+        for i in range(nl):
+            acc += lengths[b, i]
+            out[b, i] = acc - 0.5 * lengths[b, i]
+        out[b, 0] = 0.0
+        out[b, nl - 1] = acc
+
+
+@numba.njit(numba.types.void(_IN1, _IN1, numba.float64, _IN2, _OUT2), cache=True)
+def segment_springs(xv, hw, scale, lengths, out):  # pragma: no cover - compiled
+    """Write the finite-segment springs of B designs (B, n+1) of one thickness into ``out``.
+
+    K_j = scale / ∫ dx / w over the span [c_j, c_(j+1)] (:func:`segment_centres`), N m/rad,
+    with ``scale`` = E 2 t^3 / 12 (N m).
+    """
+    B, nl = lengths.shape
+    c = np.empty((B, nl))
+    segment_centres(lengths, c)
+    cuts = np.empty(2 * (nl - 1) + xv.size)
+    for b in range(B):
+        _spans(xv, hw, c[b, :-1], c[b, 1:], out[b], cuts)
+        for j in range(nl - 1):
+            out[b, j] = scale / out[b, j]

@@ -147,7 +147,7 @@ def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
     return np.sqrt(E_Pa * area_moment_m4[..., 1:] / mass_kg[..., 1:])
 
 
-_SPANS = None  # the compiled spans' entry point, loaded on first use
+_SPANS = _SPRINGS = _CENTRES = None  # compiled entry points, loaded on first use
 
 
 def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -244,13 +244,24 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
 
     Shape (n,), or (B, n) for a stack of designs (B, n+1) (the fit's inner loop).
     """
-    ends = np.add.accumulate(lengths, axis=-1)
-    centres = ends - 0.5 * lengths
-    centres[..., 0] = 0.0
-    centres[..., -1] = ends[..., -1]
-    n = lengths.shape[-1] - 1
-    if lengths.ndim > 1 or n < 2 or beam.section is None and beam.thickness_law_m is None:
-        integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
+    global _SPRINGS, _CENTRES
+    if _SPRINGS is None:
+        kernel = planform_kernel()
+        _SPRINGS = entry_point(kernel.segment_springs)
+        _CENTRES = entry_point(kernel.segment_centres)
+    L = np.asarray(lengths, dtype=float)  # the entry points' types
+    L2 = L.reshape(-1, L.shape[-1])
+    n = L.shape[-1] - 1
+    if beam.section is None and beam.thickness_law_m is None:  # one compiled call
+        t = beam.thickness_m
+        K = np.empty((L2.shape[0], n))
+        _SPRINGS(beam.x_m, beam.half_width_m, beam.material.E_Pa * (2.0 * t**3 / 12.0), L2, K)
+        return K.reshape(L.shape[:-1] + (n,))
+    centres = np.empty(L2.shape)
+    _CENTRES(L2, centres)
+    centres = centres.reshape(L.shape)
+    if L.ndim > 1 or n < 2:
+        integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])
     else:
         # one design under a law: the springs' spans tile the beam, so one bincount adds
         # each sub-interval to the span its middle lies strictly inside, in order, where
@@ -268,10 +279,7 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
         integral = np.bincount(span, part[0], n + 1)[:n]
     if beam.section is not None:  # the integral holds 1 / E I_y already
         return 1.0 / integral
-    if beam.thickness_law_m is not None:  # the integral holds 1 / t^3 already
-        return beam.material.E_Pa * (2.0 / 12.0) / integral
-    t = beam.thickness_m
-    return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
+    return beam.material.E_Pa * (2.0 / 12.0) / integral  # the integral holds 1 / t^3 already
 
 
 def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:

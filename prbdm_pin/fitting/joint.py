@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from ..chain.planar_chain_fast import planar_chain_parts
 from ..chain.planar_mass import chain_points, planar_mass_matrices
 from ..chain.planar_statics_fast import static_tip_warm
 from ..chain.sections import planar_sections
@@ -130,6 +131,9 @@ class JointResiduals:
         the Jacobian.
         """
         p = self.p
+        parts = planar_chain_parts(p.beam, lengths, p.poses_rad)  # one compiled call
+        if parts is not None:
+            return parts
         sec = planar_sections(p.beam, lengths)
         K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
         points = chain_points(lengths[None], sec[1][None], p.poses_rad)
