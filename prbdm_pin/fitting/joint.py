@@ -58,7 +58,13 @@ class JointResiduals:
         # the tip amplitudes at the straight pose (options.check_planar_gains: one pose)
         self.gains = planar_gain_term(p.target, p.options, p.n_freq)
         self.n_gains = 0 if self.gains is None else self.gains.size
-        self._size = self.size()  # fixed for the fit: read on every call
+        # fixed for the fit and read on every call (each property look-up costs as much as a
+        # short chain's arithmetic)
+        self._size = self.size()
+        self._box = (p.n_joints, p.length_m, p.min_fraction)
+        self._eigen = spec.objective.has_eigen_term
+        self._n_freq = p.n_freq
+        self._sqrt_poses = math.sqrt(p.n_poses)
         self.nfev = 0
         # (x as a tuple, what the Jacobian at the same x reuses) of the last residuals
         self._last = None
@@ -78,8 +84,8 @@ class JointResiduals:
         factors : ndarray, shape (n,)
             Factors s on the finite-segment springs (dimensionless).
         """
-        n = self.p.n_joints
-        return lengths_from_unit(x[:n], self.p.length_m, self.p.min_fraction), np.exp(x[n:])
+        n, length, min_fraction = self._box
+        return lengths_from_unit(x[:n], length, min_fraction), np.exp(x[n:])
 
     def residuals(self, x):
         """Return the residual vector at x (all ``BAD_LOSS`` where the model cannot be solved).
@@ -97,18 +103,18 @@ class JointResiduals:
             mode's weighted tip amplitude error (:mod:`.planar_gains`) (dimensionless).
         """
         self.nfev += 1
-        p, spec = self.p, self.spec
+        p = self.p
         lengths, s = self.design(x)
         out = np.empty(self._size)
         row = 0
         try:
             sec, K0, M, points = self._chain(lengths)
             K = s * K0
-            if spec.objective.has_eigen_term:
-                w = chain_frequencies(M, K)[:, : p.n_freq]
+            if self._eigen:
+                w = chain_frequencies(M, K)[:, : self._n_freq]
                 row = w.size
                 out[:row] = eigen_residuals(w, p.target.omega_truth_rad_s, p.squared,
-                                            weights=self.d).ravel() / math.sqrt(p.n_poses)
+                                            weights=self.d).ravel() / self._sqrt_poses
             for c, case in enumerate(self.cases):
                 q0 = np.zeros(p.n_joints) if self.q0[c] is None else self.q0[c]
                 q, tip = static_tip_warm(lengths, K, case.tip_force_N, q0)
