@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 # the batched simulation's compiled planar accelerations, called from compiled code here
-from ..chain.planar_batch_kernel import _batch
+from ..chain.planar_batch_kernel import block_rates, mass_rows, param_rows, scratch_rows
 from ..kernel.build import chain_kernel
 from ..kernel.dynamics import body_inertias, crba, kinematics, rnea_bias, tip_force_torque
 from .sensitivity_kernel import joint_torque
@@ -121,33 +121,35 @@ class MovedChains:
 
 
 @numba.njit(cache=True)
-def _planar_station_columns(L, mass, off, iyy, K, Bm, F, q, v, u, beta, c, Y, tau, out, z_out,
+def _planar_station_columns(P, ou, K, Bm, L, q, v, u, beta, c, x, out, S, ft, ut, T, z_out,
                             two_h, Fp, dzp, col):
     """Write the stations' columns from the moved chains' accelerations, planar closed forms.
 
-    One row per moved chain (lo_1, hi_1, lo_2, ...) of the :class:`PlanarLinks` arrays ``L``,
-    ``mass``, ``off``, ``iyy``, of the springs ``K`` (rows alike), inputs maps ``Bm`` and tip
-    forces ``F``; ``Y``, ``tau``, ``out`` (rows), ``z_out`` scratch. The columns are the central
-    differences of the accelerations and tip heights between each station's pair.
+    One column per moved chain (lo_1, hi_1, lo_2, ...) of the batched kernel's constants ``P``
+    (:func:`~prbdm_pin.chain.planar_batch_kernel.param_rows`, the torques other than the
+    springs' as inputs of unit map at row ``ou``), of the springs ``K``, inputs maps ``Bm`` and
+    link lengths ``L`` (rows alike); ``x``, ``out``, ``S``, ``z_out`` scratch, ``ft``, ``ut``,
+    ``T`` zeros. The columns are the central differences of the accelerations and tip heights
+    between each station's pair.
     """
     n = q.size
-    for i in range(Y.shape[0]):
+    for i in range(x.shape[1]):
         phi, z = 0.0, 0.0
         for r in range(n):
-            Y[i, r] = q[r]
-            Y[i, n + r] = v[r]
+            x[r, i] = q[r]
+            x[n + r, i] = v[r]
             s = -(beta * K[i, r] + c[r]) * v[r]
             for j in range(u.size):
                 s += Bm[i, r, j] * u[j]
-            tau[i, r] = s
+            P[ou + r, i] = s
             phi += q[r]
             z -= L[i, r + 1] * math.sin(phi)
         z_out[i] = z
-    _batch(L, mass, off, iyy, Y, K, np.zeros((0, 0, 0)), tau, F, out)
+    block_rates(P, n, n, False, False, ft, ut, T, x, out, S)
     for j in range(two_h.size):
         dzp[col + j] = (z_out[2 * j + 1] - z_out[2 * j]) / two_h[j]
         for r in range(n):
-            Fp[r, col + j] = (out[2 * j + 1, n + r] - out[2 * j, n + r]) / two_h[j]
+            Fp[r, col + j] = (out[n + r, 2 * j + 1] - out[n + r, 2 * j]) / two_h[j]
 
 
 class PlanarMovedChains:
@@ -156,8 +158,8 @@ class PlanarMovedChains:
     The planar chains the package builds (clamped, no gravity, centres of mass on the links'
     axes: :func:`prbdm_pin.chain.planar_batch.design_links`) take the batched simulation's
     compiled accelerations (:mod:`prbdm_pin.chain.planar_batch_kernel`: the closed-form M, h
-    and J^T F and a Cholesky solve per chain), about half the arithmetic of the general
-    kernel's kinematics, CRBA and RNEA per chain.
+    and J^T F and an L D L^T solve, the chains as SIMD lanes), a fraction of the arithmetic of
+    the general kernel's kinematics, CRBA and RNEA per chain.
 
     Parameters
     ----------
@@ -175,14 +177,22 @@ class PlanarMovedChains:
 
     def __init__(self, links, B, k, force, two_h):
         c, n = links.mass_kg.shape
-        self.links = tuple(np.ascontiguousarray(a, dtype=float) for a in (
-            links.lengths_m, links.mass_kg, links.com_offset_m, links.inertia_yy_kg_m2))
+        self.L = np.ascontiguousarray(links.lengths_m, dtype=float)
         self.K = np.tile(np.asarray(k, dtype=float), (c, 1))
         self.B = np.ascontiguousarray(B, dtype=float).reshape(c, n, -1)
-        self.F = np.tile(np.asarray(force, dtype=float), (c, 1))
+        rows = param_rows(n, n, False, False)
+        P = np.zeros((rows["end"], c))
+        Ma, Mb = mass_rows(links)
+        for name, a in (("L", links.lengths_m), ("mass", links.mass_kg),
+                        ("off", links.com_offset_m), ("Ma", Ma), ("Mb", Mb), ("k", self.K)):
+            P[rows[name]:rows[name] + a.shape[1]] = a.T
+        P[rows["F"]:rows["F"] + 3] = np.asarray(force, dtype=float)[:, None]
+        P[rows["B0"]:rows["B0"] + n * n] = np.eye(n).reshape(n * n, 1)
+        self.P, self.ou = P, rows["u0"]
         self.two_h = np.array(two_h, dtype=float)
-        self.Y, self.tau = np.empty((c, 2 * n)), np.empty((c, n))
-        self.out, self.z = np.empty((c, 2 * n)), np.empty(c)
+        self.x, self.out = np.empty((2 * n, c)), np.empty((2 * n, c))
+        self.S, self.z = np.empty((scratch_rows(n, n), c)), np.empty(c)
+        self.zeros = (np.zeros(3), np.zeros(n), np.zeros((3, n)))
 
     def columns(self, q, v, u, k, beta, c, force, loaded, acc, Minv, Fp, dzp, col: int
                 ) -> None:
@@ -191,5 +201,6 @@ class PlanarMovedChains:
         ``k`` and ``force`` were fixed at construction, ``loaded`` is read from the force
         (zero rows add nothing) and ``acc``, ``Minv`` are not needed.
         """
-        _planar_station_columns(*self.links, self.K, self.B, self.F, q, v, u, float(beta), c,
-                                self.Y, self.tau, self.out, self.z, self.two_h, Fp, dzp, col)
+        _planar_station_columns(self.P, self.ou, self.K, self.B, self.L, q, v, u, float(beta), c,
+                                self.x, self.out, self.S, *self.zeros, self.z, self.two_h, Fp,
+                                dzp, col)
