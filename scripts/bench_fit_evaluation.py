@@ -2,12 +2,11 @@
 
 ``JointResiduals.residuals`` and ``.jac`` (4 joints, combined objective, one pose, one load
 case) at the first start of a fit (seed 0), and each part they are made of, called alone with
-the same inputs (the warm static solve as the tree's residuals call it: the compiled descent
-with the tip where the tree has it, numpy's otherwise). Per call, CPU time (process time) with
-BLAS on one thread, the best of several runs (a shared machine only ever adds time). The
-residuals are timed at the same x again and again, so the static solve starts from its own
-equilibrium (warm); in a fit it starts from the last x's equilibrium and takes Newton steps, so
-the calls of one start's local solve are also recorded and replayed in order.
+the same inputs. Per call, CPU time (process time) with BLAS on one thread, the best of several
+runs (a shared machine only ever adds time). The residuals are timed at the same x again and
+again, so the static solve starts from its own equilibrium (warm); in a fit it starts from the
+last x's equilibrium and takes Newton steps, so the calls of one start's local solve are also
+recorded and replayed in order.
 
 Truths: the 1D beam truth (``compute_truth(model="beam", modes=6)``: its frequencies and the
 calibrated-elastica tip under the beam's load) of tapered, reference-random and uniform-narrow,
@@ -136,12 +135,6 @@ def measure(tree: str, name: str, target: dict, calls: int, runs: int) -> dict:
         "frequency_gradients": lambda: frequency_gradients(lengths, sg, k, p.poses_rad, M),
         "static_tip_gradient": lambda: static_tip_gradient(lengths, k, F, q),
     }
-    try:  # the warm static solve as the tree's fit calls it (compiled, with the tip, if it can)
-        from prbdm_pin.chain.planar_statics_fast import static_tip_warm
-
-        calls_of["static_deflection (warm)"] = lambda: static_tip_warm(lengths, k, F, q)
-    except ImportError:
-        pass
     R.residuals(x)
     times = {key: per_call_us(f, calls, runs) for key, f in calls_of.items()}
     times.update(fit_sequence(JointResiduals, R.spec, draw_starts(p, 1, 0)[0], runs))

@@ -12,8 +12,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from .compiled_entry import entry_point
-
 __all__ = ["max_index", "chain_points", "planar_mass_matrices"]
 
 
@@ -30,17 +28,7 @@ def max_index(n: int) -> np.ndarray:
     return out
 
 
-_MASS_FROM_POINTS = _POINTS = None
-
-
-def _load_kernels() -> None:
-    """Load the compiled points and mass sum (numba is imported on first use only)."""
-    global _MASS_FROM_POINTS, _POINTS
-    if _POINTS is None:
-        from .planar_mass_kernel import mass_from_points, points_into
-
-        _MASS_FROM_POINTS = entry_point(mass_from_points)
-        _POINTS = entry_point(points_into)
+_MASS_FROM_POINTS = None
 
 
 def planar_mass_matrices(
@@ -82,16 +70,17 @@ def planar_mass_matrices(
     ndarray, shape (m, n, n), kg m^2; (B, m, n, n) when the link arrays are stacks (B, n+1)
     of designs.
     """
-    _load_kernels()
+    global _MASS_FROM_POINTS
     Q = np.asarray(Q, dtype=float)
     m, n = Q.shape
-    # a generator's frames cost as much as the kernel on a short chain: four plain lines
-    L = np.asarray(lengths_m, dtype=float).reshape(-1, n + 1)
-    mass = np.asarray(mass_kg, dtype=float).reshape(-1, n + 1)
-    off = np.asarray(com_offset_m, dtype=float).reshape(-1, n + 1)
-    Iyy = np.asarray(inertia_yy_kg_m2, dtype=float).reshape(-1, n + 1)
+    L, mass, off, Iyy = (np.asarray(v, dtype=float).reshape(-1, n + 1)
+                         for v in (lengths_m, mass_kg, com_offset_m, inertia_yy_kg_m2))
     B = L.shape[0]
     _, joints, coms = chain_points(L, off, Q) if points is None else points
+    if _MASS_FROM_POINTS is None:  # numba is imported on first use, not with the package
+        from .planar_mass_kernel import mass_from_points
+
+        _MASS_FROM_POINTS = mass_from_points
     if joints.shape != (B, m, 2, n) or coms.shape != joints.shape:  # the kernel indexes them
         raise ValueError(f"points of shapes {joints.shape}, {coms.shape}: must be "
                          f"{(B, m, 2, n)}, those of the same design and poses")
@@ -107,8 +96,7 @@ def chain_points(lengths_m: np.ndarray, com_offset_m: np.ndarray, Q: np.ndarray
     """Link axes, joints and centres of mass of the planar chain at the poses in the rows of Q.
 
     The sign of z is flipped (the quadratic forms of the mass matrix and of the modes' energy
-    do not see it). One compiled call (:func:`.planar_mass_kernel.points_into`); no input
-    checks beyond the shapes.
+    do not see it). No input checks.
 
     Parameters
     ----------
@@ -126,17 +114,12 @@ def chain_points(lengths_m: np.ndarray, com_offset_m: np.ndarray, Q: np.ndarray
     coms : ndarray, shape (B, m, 2, n)
         x and z of the centres of mass of links 1..n, m.
     """
-    _load_kernels()
-    Q = np.asarray(Q, dtype=float)  # the entry point's types
-    L = np.asarray(lengths_m, dtype=float)
-    off = np.asarray(com_offset_m, dtype=float)
-    if Q.ndim != 2 or L.ndim != 2 or L.shape[1] != Q.shape[1] + 1 or off.shape != L.shape:
-        # the kernel indexes them
-        raise ValueError(f"lengths {L.shape}, offsets {off.shape} and poses {Q.shape}: "
-                         "must be (B, n+1), (B, n+1) and (m, n)")
-    (m, n), B = Q.shape, L.shape[0]
+    m, n = Q.shape
+    phi = np.zeros((m, n + 1))
+    np.add.accumulate(Q, axis=1, out=phi[:, 1:])
+    # x and z side by side: one numpy call for both where there were two
     axes = np.empty((m, 2, n + 1))
-    joints = np.empty((B, m, 2, n))
-    coms = np.empty((B, m, 2, n))
-    _POINTS(L, off, Q, axes, joints, coms)
-    return axes, joints, coms
+    np.cos(phi, out=axes[:, 0])
+    np.sin(phi, out=axes[:, 1])
+    joints = np.add.accumulate(lengths_m[:, None, None, :-1] * axes[..., :-1], axis=3)
+    return axes, joints, joints + com_offset_m[:, None, None, 1:] * axes[..., 1:]

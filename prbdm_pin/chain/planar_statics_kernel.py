@@ -23,7 +23,7 @@ import numpy as np
 
 from .small_cholesky import cholesky_solve
 
-__all__ = ["planar_newton", "planar_newton_tip", "tip_into", "load_stiffness_into"]
+__all__ = ["planar_newton", "load_stiffness_into"]
 
 _IN1 = numba.types.Array(numba.float64, 1, "A", readonly=True)
 _OUT1 = numba.types.Array(numba.float64, 1, "C")
@@ -163,28 +163,3 @@ def planar_newton(lengths, k, fx, fz, rtol, max_iter, max_step, q):  # pragma: n
         for i in range(n):
             q[i] = qn[i]
     return False
-
-
-@numba.njit(numba.types.void(_IN1, _IN1, _OUT1), cache=True)
-def tip_into(lengths, q, tip):  # pragma: no cover - compiled
-    """Write the tip position (x, 0, z), m, of the pose ``q`` (rad) into ``tip`` (3,).
-
-    As :func:`_value` places it (x = L_0 + c_0, z = -s_0).
-    """
-    n = q.size
-    c, s, rc, rs = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    _arms(lengths, q, c, s, rc, rs)
-    tip[0] = lengths[0] + rc[0]
-    tip[1] = 0.0
-    tip[2] = -rs[0]
-
-
-@numba.njit(numba.types.boolean(_IN1, _IN1, numba.float64, numba.float64, numba.float64,
-                                numba.int64, numba.float64, _OUT1, _OUT1), cache=True)
-def planar_newton_tip(lengths, k, fx, fz, rtol, max_iter, max_step, q,
-                      tip):  # pragma: no cover - compiled
-    """:func:`planar_newton`, and at a converged minimum the tip there into ``tip`` (3,), m."""
-    ok = planar_newton(lengths, k, fx, fz, rtol, max_iter, max_step, q)
-    if ok:
-        tip_into(lengths, q, tip)
-    return ok

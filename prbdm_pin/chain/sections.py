@@ -28,11 +28,13 @@ import numpy as np
 from ..member.geometry import Beam
 from ..member.section_law import section_properties
 from ..options.choices import MIN_FRACTION
-from .compiled_entry import entry_point
 from .layout import validate_lengths
 
 __all__ = ["LinkSections", "link_sections", "link_sections_unchecked", "planar_sections"]
 
+# two-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 3
+_GAUSS_T = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
+_ROWS = np.arange(4)
 # three-point Gauss-Legendre on [0, 1]: exact for polynomials up to degree 5 (the thickness law)
 _GAUSS3_T = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
 _GAUSS3_W = np.array([5.0, 8.0, 5.0]) / 18.0
@@ -147,6 +149,9 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     ``lengths`` is (n+1,) or a stack (B, n+1) of designs (the fit's finite differences); every
     output then has the same leading shape. Each design's numbers do not depend on the stack.
     """
+    # called inside optimisation loops on a single design: ndarray methods and preallocated
+    # arrays rather than numpy's wrapper functions, each of which costs as much as the
+    # arithmetic of a short chain
     shape = lengths.shape
     nl = shape[-1]
     L = lengths.reshape(-1, nl)
@@ -168,47 +173,31 @@ def _integrals(beam: Beam, lengths: np.ndarray):
     # the link of each sub-interval: how many link ends lie below its middle (at most nl - 1,
     # as no middle lies beyond the tip)
     centre = 0.5 * (u + v)
-    link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
-    link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
+    if B == 1:
+        link = ends[0].searchsorted(centre)
+    else:
+        link = (centre[:, :, None] > ends[:, None, :]).sum(axis=2)
+        link += nl * np.arange(B)[:, None]  # the flat index of (design, link)
     h = v - u
     if beam.section is not None:
         return _section_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
-    return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
-
-
-_KERNEL = None
-
-
-def planform_kernel():
-    """Return :mod:`.planform_kernel` (numba is imported on first use, not with the package)."""
-    global _KERNEL
-    if _KERNEL is None:
-        from . import planform_kernel as k
-
-        _KERNEL = k
-    return _KERNEL
-
-
-_PROPERTIES = None
-
-
-def _one_thickness(beam: Beam, lengths: np.ndarray) -> np.ndarray:
-    """Return the rows of :func:`.planform_kernel.planform_properties`, shape (12,) + shape.
-
-    For a member of one thickness and lengths (n+1,) or a stack (B, n+1), m: one compiled call
-    where the numpy form's calls cost many times the arithmetic of a short chain.
-    """
-    global _PROPERTIES
-    if _PROPERTIES is None:
-        k = planform_kernel()
-        _PROPERTIES = entry_point(k.planform_properties)
-    shape = lengths.shape
-    L = np.asarray(lengths, dtype=float).reshape(-1, shape[-1])  # the entry point's type
-    out = np.empty((12,) + L.shape)
-    t = beam.thickness_m
-    _PROPERTIES(beam.x_m, beam.half_width_m, beam.length_m, beam.material.rho_kg_m3 * t,
-                t**3 / 12.0, t * t / 12.0, L, out)
-    return out.reshape((12,) + shape)
+    if beam.thickness_law_m is not None:
+        return _law_integrals(beam, shape, starts, ends, mids, link, u, h, B * nl)
+    xg = u[..., None] + h[..., None] * _GAUSS_T  # (B, s, 2) Gauss points
+    wg = np.interp(xg, xv, beam.half_width_m)
+    xl = xg - mids.ravel()[link][..., None]  # about the mid-span
+    w2 = 2.0 * wg
+    # rows: area, first and second moment in x, y^2 moment (2 w^3 / 3); Gauss weights h / 2
+    f = np.empty((4,) + xg.shape)
+    f[0] = w2
+    np.multiply(w2, xl, out=f[1])
+    np.multiply(f[1], xl, out=f[2])
+    f[3] = w2 * wg * wg / 3.0
+    f = np.add.reduce(f, axis=3) * (0.5 * h)
+    # all four rows in one bincount: row r's bins are offset by r B nl
+    bins = (link.ravel() + (B * nl) * _ROWS[:, None]).ravel()
+    out = np.bincount(bins, f.ravel(), 4 * B * nl).reshape((4,) + shape)
+    return (starts.reshape(shape), ends.reshape(shape), mids.reshape(shape), *out)
 
 
 def _law_integrals(beam: Beam, shape, starts, ends, mids, link, u, h, nbins):
@@ -268,7 +257,15 @@ def _properties(beam: Beam, lengths: np.ndarray):
         Sxx_c = S2 - A * dx * dx
         return (starts, ends, mids, rho * A, dx, rho * Sxx_c, rho * Syy, rho * T3,
                 T3 / (ends - starts), rho * (Sxx_c + Syy))
-    return tuple(_one_thickness(beam, lengths)[:10])
+    starts, ends, mids, A, S1, S2, Syy = _integrals(beam, lengths)
+    t = beam.thickness_m
+    rho_t = rho * t
+    mass = rho_t * A
+    dx = S1 / A  # COM offset from mid-span
+    Sxx_c = S2 - A * dx * dx  # second moment about the COM
+    area_moment = A * (t**3 / 12.0) / (ends - starts)  # mean of 2 w t^3 / 12 over the span
+    return (starts, ends, mids, mass, dx, rho_t * Sxx_c, rho_t * Syy, mass * (t * t / 12.0),
+            area_moment, rho_t * (Sxx_c + Syy))
 
 
 def link_sections_unchecked(beam: Beam, lengths: np.ndarray) -> LinkSections:
@@ -295,8 +292,5 @@ def planar_sections(
     With the same arithmetic: mass (kg), centre-of-mass distance from the link's start (m),
     inertia about the centre of mass around y (kg m^2) and mean area moment (m^4), each (n+1,).
     """
-    if beam.section is None and beam.thickness_law_m is None:
-        rows = _one_thickness(beam, lengths)
-        return rows[3], rows[10], rows[11], rows[8]
     starts, ends, mids, mass, dx, Ixx_c, _, thick, area_moment, _ = _properties(beam, lengths)
     return mass, mids + dx - starts, Ixx_c + thick, area_moment

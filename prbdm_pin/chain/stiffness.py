@@ -15,9 +15,8 @@ from ..member.geometry import Beam
 from ..options.checks import check_float
 from ..options.choices import EPS_RAD, MIN_FRACTION, XI_RAD
 from ..options.validate import check_joints, check_modulus, check_type
-from .compiled_entry import entry_point
 from .layout import validate_lengths
-from .sections import LinkSections, planform_kernel
+from .sections import LinkSections
 from .stiffness_law import inverse_moment_integral, inverse_section_integral
 
 __all__ = [
@@ -147,9 +146,6 @@ def paper_unit_stiffness(E_Pa: float, area_moment_m4: np.ndarray,
     return np.sqrt(E_Pa * area_moment_m4[..., 1:] / mass_kg[..., 1:])
 
 
-_SPANS = _SPRINGS = _CENTRES = None  # compiled entry points, loaded on first use
-
-
 def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Exact ∫_a^b dx / w(x) for the piecewise-linear half-width w, per interval, 1/m * m.
 
@@ -166,13 +162,6 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     x = beam.x_m
     a2, b2 = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
     B, k = a2.shape
-    if beam.section is None and beam.thickness_law_m is None:  # one compiled call
-        global _SPANS
-        if _SPANS is None:
-            _SPANS = entry_point(planform_kernel().inverse_width_spans)
-        out = np.empty((B, k))
-        _SPANS(x, beam.half_width_m, a2, b2, out)
-        return out.reshape(a.shape)
     cuts = np.empty((B, 2 * k + x.size))
     cuts[:, :k] = a2
     cuts[:, k:2 * k] = b2
@@ -185,15 +174,29 @@ def inv_width_integral(beam: Beam, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _sub_integrals(beam: Beam, cuts: np.ndarray):
-    """Return u, v (m) and the exact integral of each sub-interval under a thickness or section law.
+    """Return u, v (m) and the exact ∫_u^v dx / w (dimensionless) of each sub-interval.
 
     The sub-intervals [u, v] lie between consecutive sorted ``cuts`` (B, c), m, which include
-    the stations. A member of one thickness takes :mod:`.planform_kernel` instead.
+    the planform vertices, so w is linear on each; empty sub-intervals give exact zeros.
     """
     if beam.section is not None:  # a section law: the integral is of 1 / E I_y (1/(N m))
         return inverse_section_integral(beam, cuts)
-    # under a thickness law the integral is of 1 / (w t^3) (m^-3), see stiffness_law
-    return inverse_moment_integral(beam, cuts)
+    if beam.thickness_law_m is not None:
+        # under a thickness law the integral is of 1 / (w t^3) (m^-3), see stiffness_law
+        return inverse_moment_integral(beam, cuts)
+    u, v = cuts[:, :-1], cuts[:, 1:]
+    # w on [u, v] from its ends' one-sided limits (they differ at a width step)
+    if beam.step_index.size:
+        wu = beam.half_width_at(u, "right")
+        wv = beam.half_width_at(v, "left")
+    else:  # no step (the common case, in the fit's inner loop): one interpolation
+        w = np.interp(cuts, beam.x_m, beam.half_width_m)
+        wu, wv = w[:, :-1], w[:, 1:]
+    d = (wv - wu) / wu
+    # ∫ dx / w over [u, v] with w linear: (v - u) ln(wv / wu) / (wv - wu)
+    small = np.abs(d) < 1e-8
+    ratio = np.where(small, 1.0 - 0.5 * d + d * d / 3.0, np.log1p(d) / np.where(small, 1, d))
+    return u, v, (v - u) * ratio / wu
 
 
 def finite_segment_stiffness(
@@ -244,30 +247,19 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
 
     Shape (n,), or (B, n) for a stack of designs (B, n+1) (the fit's inner loop).
     """
-    global _SPRINGS, _CENTRES
-    if _SPRINGS is None:
-        kernel = planform_kernel()
-        _SPRINGS = entry_point(kernel.segment_springs)
-        _CENTRES = entry_point(kernel.segment_centres)
-    L = np.asarray(lengths, dtype=float)  # the entry points' types
-    L2 = L.reshape(-1, L.shape[-1])
-    n = L.shape[-1] - 1
-    if beam.section is None and beam.thickness_law_m is None:  # one compiled call
-        t = beam.thickness_m
-        K = np.empty((L2.shape[0], n))
-        _SPRINGS(beam.x_m, beam.half_width_m, beam.material.E_Pa * (2.0 * t**3 / 12.0), L2, K)
-        return K.reshape(L.shape[:-1] + (n,))
-    centres = np.empty(L2.shape)
-    _CENTRES(L2, centres)
-    centres = centres.reshape(L.shape)
-    if L.ndim > 1 or n < 2:
-        integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])
+    ends = np.add.accumulate(lengths, axis=-1)
+    centres = ends - 0.5 * lengths
+    centres[..., 0] = 0.0
+    centres[..., -1] = ends[..., -1]
+    n = lengths.shape[-1] - 1
+    if lengths.ndim > 1 or n < 2:
+        integral = inv_width_integral(beam, centres[..., :-1], centres[..., 1:])  # ∫ dx / w
     else:
-        # one design under a law: the springs' spans tile the beam, so one bincount adds
-        # each sub-interval to the span its middle lies strictly inside, in order, where
-        # inv_width_integral masks every sub-interval against every span (the same sums: for
-        # one spring its reduction runs in another order, so it keeps that path); a middle on
-        # a span end, or beyond the last span, goes to none (bin n)
+        # one design (the fit's inner loop): the springs' spans tile the beam, so one
+        # bincount adds each sub-interval to the span its middle lies strictly inside, in
+        # order, where inv_width_integral masks every sub-interval against every span (the
+        # same sums: for one spring its reduction runs in another order, so it keeps that
+        # path); a middle on a span end, or beyond the last span, goes to none (bin n)
         cuts = np.empty((1, n + 1 + beam.x_m.size))
         cuts[0, :n + 1] = centres
         cuts[0, n + 1:] = beam.x_m
@@ -279,7 +271,10 @@ def finite_segment_stiffness_unchecked(beam: Beam, lengths: np.ndarray) -> np.nd
         integral = np.bincount(span, part[0], n + 1)[:n]
     if beam.section is not None:  # the integral holds 1 / E I_y already
         return 1.0 / integral
-    return beam.material.E_Pa * (2.0 / 12.0) / integral  # the integral holds 1 / t^3 already
+    if beam.thickness_law_m is not None:  # the integral holds 1 / t^3 already
+        return beam.material.E_Pa * (2.0 / 12.0) / integral
+    t = beam.thickness_m
+    return beam.material.E_Pa * (2.0 * t**3 / 12.0) / integral
 
 
 def validate_stiffness(stiffness_Nm_per_rad: Any, n_joints: int) -> np.ndarray:

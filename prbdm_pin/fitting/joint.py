@@ -15,11 +15,10 @@ import math
 
 import numpy as np
 
-from ..chain.planar_chain_fast import planar_chain_evaluation_parts, planar_chain_parts
+from ..chain.planar import tip_positions
 from ..chain.planar_mass import chain_points, planar_mass_matrices
-from ..chain.planar_statics_fast import static_tip_warm
 from ..chain.sections import planar_sections
-from ..chain.statics_guard import check_load
+from ..chain.statics import static_deflection_planar_unchecked
 from ..chain.stiffness import finite_segment_stiffness_unchecked
 from ..errors import BeamInputError, SolveError
 from .evaluate import chain_frequencies
@@ -30,8 +29,6 @@ from .problem import lengths_from_unit
 from .spec import BAD_LOSS, FitSpec, tip_scales_m
 
 __all__ = ["JointResiduals"]
-
-STATIC_RTOL = 1e-10  # the static solves' convergence request (the planar statics' default)
 
 
 class JointResiduals:
@@ -61,16 +58,6 @@ class JointResiduals:
         # the tip amplitudes at the straight pose (options.check_planar_gains: one pose)
         self.gains = planar_gain_term(p.target, p.options, p.n_freq)
         self.n_gains = 0 if self.gains is None else self.gains.size
-        # fixed for the fit and read on every call (each property look-up costs as much as a
-        # short chain's arithmetic)
-        self._size = self.size()
-        self._box = (p.n_joints, p.length_m, p.min_fraction)
-        self._eigen = spec.objective.has_eigen_term
-        self._n_freq = p.n_freq
-        self._sqrt_poses = math.sqrt(p.n_poses)
-        # each case's tip force in the plane (x, z), N, for the compiled descents
-        self._forces = np.array([[c.tip_force_N[0], c.tip_force_N[2]] for c in self.cases],
-                                dtype=float).reshape(-1, 2)
         self.nfev = 0
         # (x as a tuple, what the Jacobian at the same x reuses) of the last residuals
         self._last = None
@@ -90,8 +77,8 @@ class JointResiduals:
         factors : ndarray, shape (n,)
             Factors s on the finite-segment springs (dimensionless).
         """
-        n, length, min_fraction = self._box
-        return lengths_from_unit(x[:n], length, min_fraction), np.exp(x[n:])
+        n = self.p.n_joints
+        return lengths_from_unit(x[:n], self.p.length_m, self.p.min_fraction), np.exp(x[n:])
 
     def residuals(self, x):
         """Return the residual vector at x (all ``BAD_LOSS`` where the model cannot be solved).
@@ -109,28 +96,24 @@ class JointResiduals:
             mode's weighted tip amplitude error (:mod:`.planar_gains`) (dimensionless).
         """
         self.nfev += 1
-        p = self.p
+        p, spec = self.p, self.spec
         lengths, s = self.design(x)
-        out = np.empty(self._size)
+        out = np.empty(self.size())
         row = 0
         try:
-            sec, K0, K, M, points, w, solved = self._evaluate(lengths, s)
-            if self._eigen:
-                if w is None:  # the spectrum's checked path (LAPACK), which raises its errors
-                    w = chain_frequencies(M, K)
-                w = w[:, : self._n_freq]
+            sec, K0, M, points = self._chain(lengths)
+            K = s * K0
+            if spec.objective.has_eigen_term:
+                w = chain_frequencies(M, K)[:, : p.n_freq]
                 row = w.size
                 out[:row] = eigen_residuals(w, p.target.omega_truth_rad_s, p.squared,
-                                            weights=self.d).ravel() / self._sqrt_poses
+                                            weights=self.d).ravel() / math.sqrt(p.n_poses)
             for c, case in enumerate(self.cases):
-                if solved[c] is None:
-                    q0 = np.zeros(p.n_joints) if self.q0[c] is None else self.q0[c]
-                    q, tip = static_tip_warm(lengths, K, case.tip_force_N, q0, STATIC_RTOL)
-                else:  # the compiled descent's answer, under the load's guard as ever
-                    check_load(lengths, K, case.tip_force_N, STATIC_RTOL)
-                    q, tip = solved[c]
+                q0 = np.zeros(p.n_joints) if self.q0[c] is None else self.q0[c]
+                q = static_deflection_planar_unchecked(lengths, K, case.tip_force_N, q0)
                 self.q0[c] = q
-                out[row:row + 3] = (tip - case.tip_position_m) * self.tip_scale[c]
+                out[row:row + 3] = (tip_positions(lengths, q) - case.tip_position_m) \
+                    * self.tip_scale[c]
                 row += 3
             if self.gains is not None:
                 out[row:] = self.gains.residual(lengths, straight_modes(M[0], K))
@@ -141,26 +124,6 @@ class JointResiduals:
                       (lengths, s, sec, K0, M, points), list(self.q0))
         return out
 
-    def _evaluate(self, lengths, s):
-        """Return the chain of valid lengths, its springs, frequencies and equilibria.
-
-        ``(sections, K0, K, M, points, omega, solved)`` as
-        :func:`~prbdm_pin.chain.planar_chain_fast.planar_chain_evaluation_parts`, in one
-        compiled call where it answers; otherwise the chain of :meth:`_chain`, K = s K0, and
-        None for the frequencies and every equilibrium (the caller's checked paths).
-        """
-        p = self.p
-        if self.cases:
-            starts = np.array([np.zeros(p.n_joints) if q is None else q for q in self.q0])
-        else:
-            starts = np.zeros((0, p.n_joints))
-        fast = planar_chain_evaluation_parts(p.beam, lengths, p.poses_rad, s, self._forces,
-                                             starts, STATIC_RTOL)
-        if fast is not None:
-            return fast
-        sec, K0, M, points = self._chain(lengths)
-        return sec, K0, s * K0, M, points, None, [None] * len(self.cases)
-
     def _chain(self, lengths):
         """Return the sections, unit springs, mass matrices and points of valid lengths.
 
@@ -168,9 +131,6 @@ class JointResiduals:
         the Jacobian.
         """
         p = self.p
-        parts = planar_chain_parts(p.beam, lengths, p.poses_rad)  # one compiled call
-        if parts is not None:
-            return parts
         sec = planar_sections(p.beam, lengths)
         K0 = finite_segment_stiffness_unchecked(p.beam, lengths)
         points = chain_points(lengths[None], sec[1][None], p.poses_rad)

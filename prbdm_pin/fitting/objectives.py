@@ -85,9 +85,7 @@ def _truth(omega_truth: np.ndarray, squared: bool) -> np.ndarray:
 
 
 def _model(omega_model: np.ndarray, n_freq: int, squared: bool) -> np.ndarray:
-    w = np.asarray(omega_model, dtype=float)
-    if w.ndim < 2:  # np.atleast_2d's wrapper costs more than the residuals of a fit's call
-        w = w.reshape(1, -1)
+    w = np.atleast_2d(np.asarray(omega_model, dtype=float))
     if w.shape[-1] < n_freq:
         raise ValueError(f"model has {w.shape[-1]} frequencies per pose: {n_freq} needed")
     w = w[..., :n_freq]

@@ -1,8 +1,8 @@
 """The compiled planar statics (prbdm_pin.chain.planar_statics_kernel, .planar_statics_fast).
 
 Compared with Pinocchio (the static residual K q - J^T F with its frame Jacobian at the
-answer, its tip placement), with the numpy descent of prbdm_pin.chain.statics, and the compiled
-load stiffness with central differences of J^T F.
+answer), with the numpy descent of prbdm_pin.chain.statics, and the compiled load stiffness
+with central differences of J^T F.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from tolerances import EPS
 
 import prbdm_pin as pp
 from prbdm_pin.chain.planar import generalised_force
-from prbdm_pin.chain.planar_statics_fast import static_deflection_straight, static_tip_warm
+from prbdm_pin.chain.planar_statics_fast import static_deflection_straight
 from prbdm_pin.chain.planar_statics_kernel import load_stiffness_into, planar_newton
 from prbdm_pin.chain.statics import static_deflection_planar
 from prbdm_pin.errors import SolveError
@@ -94,54 +94,3 @@ def test_straight_without_in_plane_load_and_an_unresolvable_load_refused():
                                   np.zeros(3))  # no in-plane load: exactly straight
     with pytest.raises(SolveError, match="tip_force"):
         static_deflection_straight(lengths, k, np.array([0.0, 0.0, -1e300]))
-
-
-def _pinocchio_tip(lengths, k, q):
-    model = pp.build_model(BEAM, lengths, k)
-    data = model.pin_model.createData()
-    pin.framesForwardKinematics(model.pin_model, data, q)
-    return data.oMf[model.tip_frame_id].translation.copy()
-
-
-@pytest.mark.parametrize("n", [1, 3, 5])
-@pytest.mark.parametrize("load", LOADS[1:])
-def test_a_warm_start_reaches_the_numpy_equilibrium_and_pinocchios_tip(n, load):
-    # a fit's static solve: from the last design's equilibrium, springs moved by 5 %
-    lengths, k = _chain(n, 10 + n)
-    F = np.array(load)
-    q0 = static_deflection_planar(lengths, k, F)
-    k2 = 1.05 * k
-    q, tip = static_tip_warm(lengths, k2, F, q0)
-    ref = static_deflection_planar(lengths, k2, F, q0)
-    # two converged descents (other summation orders): both within EPS cond(H) of the root
-    H = np.diag(k2) - _load_stiffness(lengths, ref, F)
-    tol = 10 * n * EPS * np.linalg.cond(H) * max(np.abs(ref).max(), 1.0) + RTOL
-    np.testing.assert_allclose(q, ref, rtol=0.0, atol=tol)
-    # the tip of the same q by Pinocchio's kinematics: sums of n + 1 link vectors, a few
-    # roundings of the member's length each
-    np.testing.assert_allclose(tip, _pinocchio_tip(lengths, k2, q), rtol=0.0,
-                               atol=10 * (n + 1) * EPS * lengths.sum())
-
-
-def test_a_warm_start_the_descent_leaves_takes_the_numpy_path_with_its_tip():
-    # from the straight pose of a column past its buckling load: the compiled descent stops
-    # at the saddle, the numpy path leaves it along the negative curvature
-    lengths, k = _chain(3, 1)
-    F = np.array([-4.0 * k.max() / lengths.sum(), 0.0, 0.0])
-    q, tip = static_tip_warm(lengths, k, F, np.zeros(3))
-    ref = static_deflection_planar(lengths, k, F, np.zeros(3))
-    H = np.diag(k) - _load_stiffness(lengths, ref, F)
-    tol = 10 * 3 * EPS * np.linalg.cond(H) * max(np.abs(ref).max(), 1.0) + RTOL
-    np.testing.assert_allclose(q, ref, rtol=0.0, atol=tol)
-    np.testing.assert_allclose(tip, _pinocchio_tip(lengths, k, q), rtol=0.0,
-                               atol=10 * 4 * EPS * lengths.sum())  # as above, n = 3
-    assert np.abs(q).max() > 0.1  # it left the straight saddle
-
-
-def test_a_warm_start_without_in_plane_load_is_straight_with_the_straight_tip():
-    lengths, k = _chain(3, 2)
-    q, tip = static_tip_warm(lengths, k, np.array([0.0, 5.0, 0.0]), np.full(3, 0.2))
-    np.testing.assert_array_equal(q, np.zeros(3))  # exactly straight
-    # the sum of the lengths against numpy's: a few roundings of the member's length
-    np.testing.assert_allclose(tip, [lengths.sum(), 0.0, 0.0], rtol=0.0,
-                               atol=10 * EPS * lengths.sum())
